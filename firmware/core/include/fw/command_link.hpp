@@ -1,0 +1,115 @@
+// The vehicle's end of the compact protocol: decodes every received frame, keeps the
+// setpoint stream and ground heartbeat watchdogs, queues commands for the supervisor, and
+// buffers the frames the vehicle sends. Malformed frames are counted and dropped; nothing
+// here asserts, allocates or loops over unbounded input.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "fw/config.hpp"
+#include "pa/protocol.hpp"
+
+namespace fw {
+
+// A fixed-capacity FIFO of frames (no heap). Pushing into a full queue drops the new frame
+// and counts it; the caller decides what matters more by what it pushes first.
+template <std::size_t Capacity>
+class FrameQueue {
+ public:
+  bool push(const pa::proto::Frame& f) {
+    if (size_ == Capacity) {
+      if (dropped_ != 0xFFFFFFFFu) ++dropped_;
+      return false;
+    }
+    buffer_[(head_ + size_) % Capacity] = f;
+    ++size_;
+    return true;
+  }
+  bool pop(pa::proto::Frame& out) {
+    if (size_ == 0) return false;
+    out = buffer_[head_];
+    head_ = (head_ + 1) % Capacity;
+    --size_;
+    return true;
+  }
+  std::size_t size() const { return size_; }
+  std::uint32_t dropped() const { return dropped_; }
+
+ private:
+  std::array<pa::proto::Frame, Capacity> buffer_{};
+  std::size_t head_ = 0;
+  std::size_t size_ = 0;
+  std::uint32_t dropped_ = 0;
+};
+
+class CommandLink {
+ public:
+  static constexpr std::size_t kCommandQueue = 4;
+  static constexpr std::size_t kTxQueue = 32;
+
+  CommandLink(const LinkConfig& link, const SupervisorConfig& supervisor);
+
+  // Decode and apply one received frame; `now_us` is the vehicle clock when it was read.
+  void on_frame(const pa::proto::Frame& frame, std::uint32_t now_us);
+
+  // A setpoint with a new sequence number arrived within the stale timeout. A stream that
+  // repeats an old sequence does not refresh this, however often it arrives.
+  bool setpoint_fresh(std::uint32_t now_us) const;
+  // The latest accepted setpoint (zero thrust and rates before the first one).
+  const pa::proto::RateThrust& setpoint() const { return setpoint_; }
+  std::uint32_t setpoint_age_us(std::uint32_t now_us) const;
+
+  // Ground heartbeats with advancing sequence numbers and the bound session token.
+  bool heartbeat_live(std::uint32_t now_us) const;
+  // The ground station's session: adopted from heartbeats while `may_rebind` is true
+  // (the vehicle is disarmed), fixed otherwise so a second ground station cannot take over.
+  void set_session_rebind(bool may_rebind) { may_rebind_ = may_rebind; }
+  std::uint16_t session_token() const { return session_token_; }
+  bool has_session() const { return has_session_; }
+
+  // KILL is latched until taken, whatever its token.
+  bool take_kill(pa::proto::KillReason& reason);
+  bool take_command(pa::proto::Command& out);
+  bool take_timesync(pa::proto::TimesyncRequest& request, std::uint32_t& received_us);
+
+  bool send(const pa::proto::Frame& f) { return tx_.push(f); }
+  bool pop_tx(pa::proto::Frame& out) { return tx_.pop(out); }
+  std::uint32_t tx_dropped() const { return tx_.dropped(); }
+
+  const pa::proto::RxCounters& counters() const { return counters_; }
+  std::uint8_t node() const { return node_; }
+
+ private:
+  void apply(const pa::proto::Message& m, std::uint32_t now_us);
+
+  std::uint8_t node_;
+  std::uint32_t setpoint_timeout_us_;
+  std::uint32_t heartbeat_timeout_us_;
+
+  pa::proto::RateThrust setpoint_{};
+  bool has_setpoint_ = false;
+  std::uint32_t setpoint_us_ = 0;
+
+  bool has_heartbeat_ = false;
+  std::uint8_t heartbeat_seq_ = 0;
+  std::uint32_t heartbeat_us_ = 0;
+  bool may_rebind_ = true;
+  bool has_session_ = false;
+  std::uint16_t session_token_ = 0;
+
+  bool kill_pending_ = false;
+  pa::proto::KillReason kill_reason_ = pa::proto::KillReason::operator_request;
+
+  std::array<pa::proto::Command, kCommandQueue> commands_{};
+  std::size_t command_count_ = 0;
+
+  bool timesync_pending_ = false;
+  pa::proto::TimesyncRequest timesync_{};
+  std::uint32_t timesync_rx_us_ = 0;
+
+  pa::proto::RxCounters counters_{};
+  FrameQueue<kTxQueue> tx_{};
+};
+
+}  // namespace fw

@@ -1,0 +1,118 @@
+// The vehicle firmware's composition root: every core module wired in the fixed loop order of
+// ARCHITECTURE.md, and the static task table of the slower periodic work. A port owns one
+// Vehicle (a static instance on the MCU), hands it received frames and IMU samples on one
+// clock, drives the motors with what tick() returns and sends what pop_tx() yields.
+// No heap; every call is bounded in time.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "fw/attitude_estimator.hpp"
+#include "fw/command_link.hpp"
+#include "fw/config.hpp"
+#include "fw/impact_detector.hpp"
+#include "fw/mixer.hpp"
+#include "fw/rate_controller.hpp"
+#include "fw/supervisor.hpp"
+#include "fw/types.hpp"
+#include "pa/protocol.hpp"
+
+namespace fw {
+
+struct TickOutput {
+  Motors motor_command{};  // normalised 0..1 per motor; all zero when the motors are off
+  bool motors_enabled = false;
+};
+
+class Vehicle {
+ public:
+  explicit Vehicle(const VehicleConfig& config);
+
+  // Any frame read from the vehicle bus, on the same clock as the IMU samples.
+  void on_frame(const pa::proto::Frame& frame, std::uint32_t now_us);
+  // The 1 kHz loop, run by each IMU sample.
+  TickOutput tick(const ImuSample& imu);
+  // Frames to send, oldest first.
+  bool pop_tx(pa::proto::Frame& out) { return link_.pop_tx(out); }
+  // The port measures each tick and reports it; the longest is sent in TELEMETRY_STATUS.
+  void note_tick_time_us(std::uint32_t us);
+  void note_battery_mv(std::uint16_t mv) { battery_mv_ = mv; }
+
+  pa::proto::Mode mode() const { return supervisor_.mode(); }
+  pa::proto::FailsafeReason failsafe_reason() const { return supervisor_.reason(); }
+  const CommandLink& link() const { return link_; }
+  const AttitudeEstimator& attitude() const { return attitude_; }
+  std::uint8_t saturation() const { return saturation_; }
+  bool catch_reaction_active() const { return reaction_active_; }
+  std::uint8_t impact_count() const { return impacts_.count(); }
+  std::uint32_t ticks() const { return ticks_; }
+
+ private:
+  // One row of the static task table: run every `period` ticks, `phase` ticks in, so that
+  // no two heavy tasks share a tick.
+  struct PeriodicTask {
+    void (Vehicle::*run)(std::uint32_t now_us);
+    std::uint32_t period_ticks;
+    std::uint32_t phase_ticks;
+  };
+
+  // The steps of tick(), in order.
+  void accept_sample(const ImuSample& imu);
+  void handle_link(std::uint32_t now_us);
+  bool detect_impact(std::uint32_t now_us);  // true when the impact was a crash
+  void supervise(std::uint32_t now_us, bool crash);
+  void choose_setpoint(float dt_s, Vec3& rate_radps, float& thrust_mps2);
+  TickOutput control_and_mix(float dt_s, const Vec3& rate_radps, float thrust_mps2);
+  void run_periodic_tasks(std::uint32_t now_us);
+
+  void handle_command(const pa::proto::Command& command, std::uint32_t now_us);
+  void acknowledge(const pa::proto::Command& command, pa::proto::AckResult result, pa::proto::RefuseReason reason);
+  SupervisorInputs supervisor_inputs(std::uint32_t now_us, bool crash) const;
+  Vec3 levelling_rates() const;
+
+  void send_heartbeat(std::uint32_t now_us);
+  void send_telemetry_rates(std::uint32_t now_us);
+  void send_telemetry_attitude(std::uint32_t now_us);
+  void send_telemetry_motors(std::uint32_t now_us);
+  void send_telemetry_status(std::uint32_t now_us);
+
+  VehicleConfig config_;
+  CommandLink link_;
+  AttitudeEstimator attitude_;
+  ImpactDetector impacts_;
+  Supervisor supervisor_;
+  RateController rate_controller_;
+  Mixer mixer_;
+  std::array<PeriodicTask, 5> tasks_;
+
+  bool started_ = false;
+  std::uint32_t last_imu_us_ = 0;
+  std::uint32_t ticks_ = 0;
+  bool imu_ok_ = false;
+  Vec3 gyro_radps_{};
+  Vec3 accel_mps2_{};
+
+  // Applied control of the last tick, for the detectors and telemetry.
+  float thrust_applied_mps2_ = 0;
+  std::uint8_t saturation_ = 0;
+  Motors motor_command_{};
+
+  // Catch handling: the window in which an impact is a catch, and the on-board reaction.
+  std::uint32_t catch_expected_until_us_ = 0;
+  bool catch_expected_ = false;
+  bool reaction_active_ = false;
+  std::uint32_t reaction_started_us_ = 0;
+
+  // Failsafe vertical channel: velocity integrated from the accelerometer since the failsafe
+  // began (motion capture is out of reach then), and the ground-contact detector.
+  float failsafe_vz_mps_ = 0;
+  float ground_contact_s_ = 0;
+  pa::proto::Mode last_mode_ = pa::proto::Mode::disarmed;
+
+  std::uint32_t tick_time_max_us_ = 0;
+  std::uint32_t overruns_ = 0;
+  std::uint16_t battery_mv_ = 0;
+};
+
+}  // namespace fw

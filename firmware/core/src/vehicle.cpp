@@ -1,0 +1,323 @@
+#include "fw/vehicle.hpp"
+
+#include <cmath>
+
+#include "pa/sequence.hpp"
+
+namespace fw {
+
+using namespace pa::proto;
+
+namespace {
+constexpr float kGravity_mps2 = 9.81f;
+constexpr float kImuGyroLimit_radps = 40.0f;   // beyond the sensor's range: a broken sample
+constexpr float kImuAccelLimit_mps2 = 200.0f;
+constexpr float kNominalDt_s = 0.001f;
+constexpr float kVerticalGain_per_s = 4.0f;    // failsafe vertical-velocity loop
+constexpr float kMinTiltCos = 0.5f;            // thrust compensation for tilt stops at 60 degrees
+constexpr std::int32_t kExpectCatchMax_ms = 10000;
+
+bool finite3(const Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
+bool within3(const Vec3& v, float limit) {
+  return std::fabs(v[0]) <= limit && std::fabs(v[1]) <= limit && std::fabs(v[2]) <= limit;
+}
+float dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+std::uint32_t ticks_for(std::uint32_t period_us) {
+  const std::uint32_t t = period_us / pa::kImuPeriod_us;
+  return t == 0 ? 1u : t;
+}
+std::uint16_t saturate_u16(std::uint32_t v) { return v > 0xFFFFu ? 0xFFFFu : static_cast<std::uint16_t>(v); }
+std::uint8_t saturate_u8(std::uint32_t v) { return v > 0xFFu ? 0xFFu : static_cast<std::uint8_t>(v); }
+}  // namespace
+
+Vehicle::Vehicle(const VehicleConfig& config)
+    : config_(config),
+      link_(config.link, config.supervisor),
+      attitude_(),
+      impacts_(config.impact, config.airframe),
+      supervisor_(config.supervisor),
+      rate_controller_(config.rate, config.airframe),
+      mixer_(config.airframe),
+      // The static task table. Phases keep the heavier frames on different ticks.
+      tasks_{{
+          {&Vehicle::send_telemetry_rates, ticks_for(config.link.telemetry_rates_period_us), 0},
+          {&Vehicle::send_heartbeat, ticks_for(config.link.heartbeat_period_us), 1},
+          {&Vehicle::send_telemetry_attitude, ticks_for(config.link.telemetry_attitude_period_us), 2},
+          {&Vehicle::send_telemetry_motors, ticks_for(config.link.telemetry_motors_period_us), 3},
+          {&Vehicle::send_telemetry_status, ticks_for(config.link.telemetry_status_period_us), 4},
+      }} {}
+
+void Vehicle::on_frame(const Frame& frame, std::uint32_t now_us) { link_.on_frame(frame, now_us); }
+
+// The 1 kHz loop, top to bottom (ARCHITECTURE.md "One tick of the system"):
+// sample -> attitude -> link -> impact detector -> supervisor -> setpoint -> rate controller
+// -> mixer -> motors, then the periodic tasks.
+TickOutput Vehicle::tick(const ImuSample& imu) {
+  const std::uint32_t now_us = imu.t_us;
+  float dt_s = kNominalDt_s;
+  if (started_) {
+    const std::int32_t step_us = pa::elapsed_us(now_us, last_imu_us_);
+    dt_s = static_cast<float>(step_us) * 1e-6f;  // the controllers clamp it into their range
+  }
+  started_ = true;
+  last_imu_us_ = now_us;
+  ++ticks_;
+
+  accept_sample(imu);
+  if (imu_ok_) attitude_.update(gyro_radps_, accel_mps2_, dt_s);
+  handle_link(now_us);
+  const bool crash = detect_impact(now_us);
+  supervise(now_us, crash);
+
+  Vec3 rate_radps{};
+  float thrust_mps2 = 0;
+  choose_setpoint(dt_s, rate_radps, thrust_mps2);
+  const TickOutput out = control_and_mix(dt_s, rate_radps, thrust_mps2);
+  run_periodic_tasks(now_us);
+  return out;
+}
+
+// A sample outside the sensor's range or not finite is not used; the last good one is held
+// and the supervisor is told the IMU is unhealthy.
+void Vehicle::accept_sample(const ImuSample& imu) {
+  imu_ok_ = finite3(imu.gyro_radps) && finite3(imu.accel_mps2) && within3(imu.gyro_radps, kImuGyroLimit_radps) &&
+            within3(imu.accel_mps2, kImuAccelLimit_mps2);
+  if (imu_ok_) {
+    gyro_radps_ = imu.gyro_radps;
+    accel_mps2_ = imu.accel_mps2;
+  }
+}
+
+bool Vehicle::detect_impact(std::uint32_t now_us) {
+  if (!imu_ok_) return false;
+  ImpactEvent event{};
+  const ImpactInput input{now_us, accel_mps2_, gyro_radps_, thrust_applied_mps2_, catch_expected_};
+  if (!impacts_.update(input, event)) return false;
+  Frame f;
+  if (encode(Impact{event.t_us, event.peak_mps2, event.classification, impacts_.count()}, link_.node(), f))
+    link_.send(f);
+  if (event.classification == ImpactClass::catch_impact) {
+    reaction_active_ = true;
+    reaction_started_us_ = now_us;
+    catch_expected_ = false;  // one catch per window
+  }
+  return event.classification == ImpactClass::crash;
+}
+
+void Vehicle::handle_link(std::uint32_t now_us) {
+  KillReason kill_reason{};
+  if (link_.take_kill(kill_reason)) supervisor_.kill(now_us);
+
+  Command command{};
+  while (link_.take_command(command)) handle_command(command, now_us);
+
+  TimesyncRequest request{};
+  std::uint32_t received_us = 0;
+  if (link_.take_timesync(request, received_us)) {
+    Frame f;
+    if (encode(TimesyncReply{request.ground_time_us, received_us}, link_.node(), f)) link_.send(f);
+  }
+
+  // The catch window closes by itself.
+  if (catch_expected_ && pa::elapsed_us(now_us, catch_expected_until_us_) > 0) catch_expected_ = false;
+  // The on-board reaction ends when the ground takes over (CATCH_HANDLED) or times out.
+  if (reaction_active_ &&
+      pa::elapsed_us(now_us, reaction_started_us_) >= static_cast<std::int32_t>(config_.catch_reaction.duration_us))
+    reaction_active_ = false;
+
+  // Only a disarmed vehicle may follow a new ground station session.
+  link_.set_session_rebind(supervisor_.mode() == Mode::disarmed);
+}
+
+void Vehicle::handle_command(const Command& command, std::uint32_t now_us) {
+  if (!link_.has_session() || command.session_token != link_.session_token()) {
+    acknowledge(command, AckResult::refused, RefuseReason::bad_session_token);
+    return;
+  }
+  switch (command.code) {
+    case CommandCode::arm:
+    case CommandCode::disarm:
+    case CommandCode::land: {
+      const Mode before = supervisor_.mode();
+      const CommandResult r = supervisor_.handle_command(command.code, supervisor_inputs(now_us, false));
+      if (r.accepted && command.code == CommandCode::arm && before != Mode::armed) rate_controller_.reset();
+      acknowledge(command, r.accepted ? AckResult::accepted : AckResult::refused, r.reason);
+      return;
+    }
+    case CommandCode::expect_catch:
+      if (command.argument <= 0 || command.argument > kExpectCatchMax_ms) {
+        acknowledge(command, AckResult::refused, RefuseReason::bad_argument);
+      } else if (supervisor_.mode() != Mode::flying) {
+        acknowledge(command, AckResult::refused, RefuseReason::not_flying);
+      } else {
+        catch_expected_ = true;
+        catch_expected_until_us_ = now_us + static_cast<std::uint32_t>(command.argument) * 1000u;
+        acknowledge(command, AckResult::accepted, RefuseReason::none);
+      }
+      return;
+    case CommandCode::catch_handled:
+      reaction_active_ = false;
+      acknowledge(command, AckResult::accepted, RefuseReason::none);
+      return;
+  }
+}
+
+void Vehicle::acknowledge(const Command& command, AckResult result, RefuseReason reason) {
+  Frame f;
+  if (encode(CommandAck{command.seq, command.code, result, supervisor_.mode(), reason}, link_.node(), f))
+    link_.send(f);
+}
+
+SupervisorInputs Vehicle::supervisor_inputs(std::uint32_t now_us, bool crash) const {
+  SupervisorInputs in{};
+  in.now_us = now_us;
+  in.heartbeat_live = link_.heartbeat_live(now_us);
+  in.setpoint_fresh = link_.setpoint_fresh(now_us);
+  in.setpoint_thrust_mps2 = link_.setpoint().thrust_mps2;
+  in.imu_ok = imu_ok_;
+  in.on_ground = ground_contact_s_ * 1e6f >= static_cast<float>(config_.supervisor.ground_contact_us);
+  in.crash = crash;
+  return in;
+}
+
+void Vehicle::supervise(std::uint32_t now_us, bool crash) {
+  supervisor_.update(supervisor_inputs(now_us, crash));
+  const Mode mode = supervisor_.mode();
+  const bool failsafe = mode == Mode::failsafe_hover || mode == Mode::failsafe_descent;
+  const bool was_failsafe = last_mode_ == Mode::failsafe_hover || last_mode_ == Mode::failsafe_descent;
+  if (failsafe && !was_failsafe) {
+    // Motion capture is out of reach: integrate vertical velocity from here on, assuming the
+    // vehicle was near hover when the stream stopped.
+    failsafe_vz_mps_ = 0;
+    ground_contact_s_ = 0;
+  }
+  if (mode != Mode::failsafe_descent) ground_contact_s_ = 0;
+  last_mode_ = mode;
+}
+
+// Levelling law: body rates that turn the measured "up" towards the body z-axis.
+// For an inertial vector seen from the body, u' = -w x u; with w = k (e_z x u) the tilt decays.
+Vec3 Vehicle::levelling_rates() const {
+  const Vec3 up = attitude_.up_in_body();
+  const float k = config_.supervisor.level_gain_per_s;
+  return Vec3{-k * up[1], k * up[0], 0.0f};
+}
+
+void Vehicle::choose_setpoint(float dt_s, Vec3& rate_radps, float& thrust_mps2) {
+  const float tilt_cos = attitude_.tilt_cos() < kMinTiltCos ? kMinTiltCos : attitude_.tilt_cos();
+  const Action action = supervisor_.action();
+  const bool failsafe = action == Action::level_hover || action == Action::descend;
+  if (failsafe && imu_ok_) {
+    const float clamped_dt = dt_s < 0 ? 0 : (dt_s > 0.005f ? 0.005f : dt_s);
+    failsafe_vz_mps_ += (dot(accel_mps2_, attitude_.up_in_body()) - kGravity_mps2) * clamped_dt;
+  }
+  switch (action) {
+    case Action::motors_off:
+    case Action::idle:
+      rate_radps = Vec3{};
+      thrust_mps2 = 0;
+      return;
+    case Action::track_setpoints: {
+      const RateThrust& sp = link_.setpoint();
+      rate_radps = sp.rate_radps;
+      thrust_mps2 = sp.thrust_mps2;
+      if (reaction_active_) {
+        thrust_mps2 += config_.catch_reaction.thrust_add_mps2;
+        if (config_.catch_reaction.hold_level) rate_radps = levelling_rates();
+      }
+      return;
+    }
+    case Action::level_hover:
+      rate_radps = levelling_rates();
+      thrust_mps2 = (kGravity_mps2 + kVerticalGain_per_s * (0.0f - failsafe_vz_mps_)) / tilt_cos;
+      return;
+    case Action::descend: {
+      rate_radps = levelling_rates();
+      const float target = -config_.supervisor.descent_rate_mps;
+      thrust_mps2 = (kGravity_mps2 + kVerticalGain_per_s * (target - failsafe_vz_mps_)) / tilt_cos;
+      if (thrust_mps2 < 0) thrust_mps2 = 0;
+      // Ground contact: the floor holds the vehicle up although the thrust asks it to sink.
+      const float support = dot(accel_mps2_, attitude_.up_in_body()) - thrust_applied_mps2_;
+      if (support > config_.supervisor.ground_contact_mps2) ground_contact_s_ += dt_s > 0 ? dt_s : 0;
+      else ground_contact_s_ = 0;
+      return;
+    }
+  }
+}
+
+TickOutput Vehicle::control_and_mix(float dt_s, const Vec3& rate_radps, float thrust_mps2) {
+  TickOutput out{};
+  if (!supervisor_.motors_enabled()) {
+    rate_controller_.reset();
+    saturation_ = 0;
+    thrust_applied_mps2_ = 0;
+    motor_command_ = Motors{};
+    return out;
+  }
+  const Vec3 torque = rate_controller_.update(rate_radps, gyro_radps_, dt_s, saturation_);
+  const float mass = config_.airframe.mass_kg;
+  const MixerOutput mixed = mixer_.mix(MixerInput{thrust_mps2 * mass, torque});
+  saturation_ = mixed.saturation;
+  motor_command_ = mixed.command;
+  thrust_applied_mps2_ = (thrust_mps2 * mass - mixed.thrust_unallocated_N) / mass;
+  out.motor_command = mixed.command;
+  out.motors_enabled = true;
+  return out;
+}
+
+void Vehicle::run_periodic_tasks(std::uint32_t now_us) {
+  for (const PeriodicTask& task : tasks_)
+    if (ticks_ % task.period_ticks == task.phase_ticks % task.period_ticks) (this->*task.run)(now_us);
+}
+
+void Vehicle::note_tick_time_us(std::uint32_t us) {
+  if (us > tick_time_max_us_) tick_time_max_us_ = us;
+  if (us > pa::kImuPeriod_us && overruns_ != 0xFFFFFFFFu) ++overruns_;
+}
+
+void Vehicle::send_heartbeat(std::uint32_t now_us) {
+  std::uint8_t flags = 0;
+  const Mode mode = supervisor_.mode();
+  if (supervisor_.motors_enabled()) flags |= kFlagArmed;
+  if (imu_ok_) flags |= kFlagImuOk;
+  if (link_.heartbeat_live(now_us)) flags |= kFlagGroundHeartbeatOk;
+  if (link_.setpoint_fresh(now_us)) flags |= kFlagSetpointFresh;
+  if (catch_expected_) flags |= kFlagCatchExpected;
+  if (reaction_active_) flags |= kFlagImpactReaction;
+  if (saturation_ != 0) flags |= kFlagSaturated;
+  const VehicleHeartbeat hb{now_us / 1000u, mode, flags, static_cast<std::uint8_t>(link_.setpoint().seq & 0x0Fu),
+                            supervisor_.reason(), saturate_u8(link_.counters().rejected())};
+  Frame f;
+  if (encode(hb, link_.node(), f)) link_.send(f);
+}
+
+void Vehicle::send_telemetry_rates(std::uint32_t) {
+  // Four bits: roll, pitch, collective, yaw could not be fully allocated.
+  std::uint8_t sat = 0;
+  if (saturation_ & (saturation::roll_pos | saturation::roll_neg)) sat |= 1u;
+  if (saturation_ & (saturation::pitch_pos | saturation::pitch_neg)) sat |= 2u;
+  if (saturation_ & (saturation::collective_high | saturation::collective_low)) sat |= 4u;
+  if (saturation_ & (saturation::yaw_pos | saturation::yaw_neg)) sat |= 8u;
+  Frame f;
+  if (encode(TelemetryRates{gyro_radps_, thrust_applied_mps2_, sat}, link_.node(), f)) link_.send(f);
+}
+
+void Vehicle::send_telemetry_attitude(std::uint32_t) {
+  Frame f;
+  if (encode(TelemetryAttitude{attitude_.quaternion()}, link_.node(), f)) link_.send(f);
+}
+
+void Vehicle::send_telemetry_motors(std::uint32_t) {
+  Frame f;
+  if (encode(TelemetryMotors{motor_command_}, link_.node(), f)) link_.send(f);
+}
+
+void Vehicle::send_telemetry_status(std::uint32_t) {
+  const TelemetryStatus status{saturate_u16(tick_time_max_us_), battery_mv_, saturate_u16(link_.counters().rejected()),
+                               saturate_u8(overruns_), impacts_.count()};
+  tick_time_max_us_ = 0;  // the longest tick of each report period
+  Frame f;
+  if (encode(status, link_.node(), f)) link_.send(f);
+}
+
+}  // namespace fw

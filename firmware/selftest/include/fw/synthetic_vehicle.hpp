@@ -1,0 +1,49 @@
+// A small rigid-body quadrocopter for the self-test: motor lag, thrust and torques from the
+// motor commands, rigid-body rotation, gravity, a floor, an external force pulse (the pole
+// landing on the plate), and an IMU read from its motion. It is the firmware's sparring
+// partner on the MCU, where the HIL plant does not exist; it is not the HIL truth plant.
+// Float, no heap.
+#pragma once
+
+#include <cstdint>
+
+#include "fw/config.hpp"
+#include "fw/mixer.hpp"
+#include "fw/types.hpp"
+
+namespace fw::selftest {
+
+class SyntheticVehicle {
+ public:
+  explicit SyntheticVehicle(const AirframeConfig& airframe);
+
+  // Advance by dt with the given normalised motor commands (zero when off) and an external
+  // force on the vehicle in the inertial frame (N).
+  void step(const Motors& command, const Vec3& external_force_N, float dt_s);
+
+  // The IMU sample at the current state (deterministic pseudo-noise of a few mrad/s).
+  ImuSample imu(std::uint32_t t_us);
+
+  const Vec3& position_m() const { return p_; }
+  const Vec3& velocity_mps() const { return v_; }
+  const Vec3& rate_radps() const { return w_; }
+  bool on_floor() const { return on_floor_; }
+  // Cosine of the tilt of the body z-axis from the vertical.
+  float tilt_cos() const;
+
+ private:
+  float noise();
+
+  AirframeConfig airframe_;
+  Mixer geometry_;
+  Vec3 p_{};
+  Vec3 v_{};
+  Quaternion q_{1, 0, 0, 0};  // body to inertial
+  Vec3 w_{};                  // body rates
+  Motors thrust_N_{};
+  Vec3 specific_force_body_{0, 0, 9.81f};
+  bool on_floor_ = true;
+  std::uint32_t rng_ = 12345u;
+};
+
+}  // namespace fw::selftest

@@ -1,0 +1,208 @@
+// The scripted self-test flight (see selftest.hpp). The ground station's part is played by a
+// short script that sends the frames a ground station would; the vehicle's frames are read
+// back and checked. Times are in 1 kHz ticks.
+#include "fw/selftest.hpp"
+
+#include <cmath>
+
+#include "fw/synthetic_vehicle.hpp"
+#include "fw/vehicle.hpp"
+
+namespace fw::selftest {
+
+namespace {
+
+using namespace pa::proto;
+
+constexpr float kGravity_mps2 = 9.81f;
+constexpr std::uint16_t kSession = 0x5A17;
+constexpr std::uint8_t kNode = 1;
+
+// The script, in ticks (ms).
+constexpr std::uint32_t kArmAt = 200;
+constexpr std::uint32_t kClimbAt = 300;       // g + 2 for 700 ms, then g - 2 for 700 ms: ~1 m up
+constexpr std::uint32_t kBrakeAt = 1000;
+constexpr std::uint32_t kHoverAt = 1700;
+constexpr std::uint32_t kManoeuvreAt = 2500;  // roll and pitch rate doublets
+constexpr std::uint32_t kManoeuvreEnd = 3500;
+constexpr std::uint32_t kExpectCatchAt = 3800;
+constexpr std::uint32_t kImpactAt = 4200;     // the pole lands on the plate
+constexpr std::uint32_t kImpactPulse = 8;     // half-sine contact, ms
+constexpr float kImpactPeak_N = 23.6f;        // 0.03 kg at 4 m/s stopped in 8 ms
+constexpr std::uint32_t kHandledAt = 4300;
+constexpr std::uint32_t kTiltAt = 4800;       // a small roll so the failsafe has to level
+constexpr std::uint32_t kLinkLossAt = 5000;   // setpoints repeat an old sequence from here
+constexpr std::uint32_t kEnd = 9500;
+
+constexpr std::uint32_t kSetpointPeriod = 5;   // 200 Hz
+constexpr std::uint32_t kHeartbeatPeriod = 20; // 50 Hz
+
+struct Ground {
+  std::uint8_t setpoint_seq = 0;
+  std::uint8_t heartbeat_seq = 0;
+  std::uint8_t command_seq = 0;
+  std::uint32_t last_fresh_setpoint_tick = 0;
+
+  void send(Vehicle& v, const Frame& f, std::uint32_t now_us) { v.on_frame(f, now_us); }
+
+  void heartbeat(Vehicle& v, std::uint32_t tick) {
+    Frame f;
+    if (encode(GsHeartbeat{tick, kSession, GroundState::active, heartbeat_seq++}, kBroadcastNode, f))
+      send(v, f, tick * 1000u);
+  }
+  void setpoint(Vehicle& v, std::uint32_t tick, const Vec3& rate, float thrust, bool fresh) {
+    if (fresh) {
+      setpoint_seq = static_cast<std::uint8_t>((setpoint_seq + 1) & 0x0F);
+      last_fresh_setpoint_tick = tick;
+    }
+    Frame f;
+    if (encode(RateThrust{rate, thrust, setpoint_seq}, kNode, f)) send(v, f, tick * 1000u);
+  }
+  void command(Vehicle& v, std::uint32_t tick, CommandCode code, std::int32_t argument) {
+    Frame f;
+    if (encode(Command{code, command_seq++, kSession, argument}, kNode, f)) send(v, f, tick * 1000u);
+  }
+};
+
+// The setpoint the script flies at a tick.
+void script_setpoint(std::uint32_t tick, Vec3& rate, float& thrust) {
+  rate = Vec3{};
+  thrust = 0;
+  if (tick < kClimbAt) return;
+  thrust = kGravity_mps2;
+  if (tick < kBrakeAt) thrust += 2.0f;
+  else if (tick < kHoverAt) thrust -= 2.0f;
+  if (tick >= kManoeuvreAt && tick < kManoeuvreEnd) {
+    // Doublets that return to level: +r, -r, -r, +r in quarters.
+    const std::uint32_t k = (tick - kManoeuvreAt) * 4 / (kManoeuvreEnd - kManoeuvreAt);
+    const float sign = (k == 0 || k == 3) ? 1.0f : -1.0f;
+    rate[0] = 2.0f * sign;
+    rate[1] = -1.5f * sign;
+  }
+  if (tick >= kTiltAt && tick < kTiltAt + 100) rate[0] = 1.5f;  // ~8.6 degrees of roll
+}
+
+}  // namespace
+
+Result run(TickProbe* probe) {
+  VehicleConfig config{};
+  config.link.node = kNode;
+  Vehicle vehicle(config);
+  SyntheticVehicle plant(config.airframe);
+  Ground ground;
+  Result r;
+
+  double manoeuvre_sq_sum = 0;
+  std::uint32_t manoeuvre_samples = 0;
+  bool arm_acked = false;
+  bool catch_acked = false;
+  bool catch_reported = false;
+  bool crash_reported = false;
+  std::uint32_t hover_tick = 0, descent_tick = 0, floor_tick = 0, off_tick = 0;
+  float tilt_cos_at_descent = 0;
+  Motors motors{};
+
+  for (std::uint32_t tick = 0; tick < kEnd; ++tick) {
+    const std::uint32_t now_us = tick * 1000u;
+
+    // Ground station: heartbeats throughout, setpoints at 200 Hz, commands at their times.
+    if (tick % kHeartbeatPeriod == 0) ground.heartbeat(vehicle, tick);
+    Vec3 rate{};
+    float thrust = 0;
+    script_setpoint(tick, rate, thrust);
+    if (tick % kSetpointPeriod == 0) ground.setpoint(vehicle, tick, rate, thrust, tick < kLinkLossAt);
+    if (tick == kArmAt) ground.command(vehicle, tick, CommandCode::arm, 0);
+    if (tick == kExpectCatchAt) ground.command(vehicle, tick, CommandCode::expect_catch, 1000);
+    if (tick == kHandledAt) ground.command(vehicle, tick, CommandCode::catch_handled, 0);
+
+    // The pole: a half-sine contact pulse, then its weight rests on the plate.
+    Vec3 external{};
+    if (tick >= kImpactAt && tick < kImpactAt + kImpactPulse) {
+      const float phase = 3.14159265f * static_cast<float>(tick - kImpactAt) / static_cast<float>(kImpactPulse);
+      external[2] = -kImpactPeak_N * std::sin(phase);
+    } else if (tick >= kImpactAt + kImpactPulse && tick < kLinkLossAt) {
+      external[2] = -0.03f * kGravity_mps2;
+    }
+    plant.step(motors, external, 0.001f);
+
+    // The vehicle's tick, measured by the port's probe.
+    const ImuSample imu = plant.imu(now_us);
+    if (probe != nullptr) probe->before_tick();
+    const TickOutput out = vehicle.tick(imu);
+    if (probe != nullptr) probe->after_tick();
+    motors = out.motors_enabled ? out.motor_command : Motors{};
+    ++r.ticks;
+
+    // Read what the vehicle sent.
+    Frame f;
+    while (vehicle.pop_tx(f)) {
+      Message m;
+      if (decode(f, m) != DecodeStatus::ok) {
+        r.failure = "vehicle sent an undecodable frame";
+        return r;
+      }
+      if (m.type == Type::command_ack && m.command_ack.code == CommandCode::arm)
+        arm_acked = m.command_ack.result == AckResult::accepted;
+      if (m.type == Type::command_ack && m.command_ack.code == CommandCode::expect_catch)
+        catch_acked = m.command_ack.result == AckResult::accepted;
+      if (m.type == Type::impact) {
+        if (m.impact.classification == ImpactClass::catch_impact && !catch_reported) {
+          catch_reported = true;
+          r.impact_detection_latency_ms = static_cast<float>(tick - kImpactAt);
+          r.impact_timestamp_error_ms =
+              (static_cast<float>(m.impact.vehicle_time_us) - static_cast<float>(kImpactAt) * 1000.0f) / 1000.0f;
+        } else {
+          crash_reported = true;
+        }
+      }
+    }
+
+    // Observations.
+    const Mode mode = vehicle.mode();
+    if (tick >= kHoverAt + 300 && tick < kManoeuvreAt) {
+      for (int i = 0; i < 3; ++i) {
+        const float e = std::fabs(plant.rate_radps()[i] - rate[i]);
+        if (e > r.hover_rate_error_max_radps) r.hover_rate_error_max_radps = e;
+      }
+    }
+    if (tick >= kManoeuvreAt && tick < kManoeuvreEnd) {
+      for (int i = 0; i < 2; ++i) {
+        const float e = plant.rate_radps()[i] - rate[i];
+        manoeuvre_sq_sum += static_cast<double>(e * e);
+        ++manoeuvre_samples;
+      }
+    }
+    if (hover_tick == 0 && mode == Mode::failsafe_hover) hover_tick = tick;
+    if (descent_tick == 0 && mode == Mode::failsafe_descent) {
+      descent_tick = tick;
+      tilt_cos_at_descent = plant.tilt_cos();
+    }
+    if (descent_tick != 0 && floor_tick == 0 && plant.on_floor()) floor_tick = tick;
+    if (floor_tick != 0 && off_tick == 0 && !out.motors_enabled) off_tick = tick;
+  }
+
+  if (manoeuvre_samples > 0)
+    r.manoeuvre_rate_error_rms_radps = static_cast<float>(std::sqrt(manoeuvre_sq_sum / manoeuvre_samples));
+  if (hover_tick != 0) r.failsafe_hover_after_ms = static_cast<float>(hover_tick - ground.last_fresh_setpoint_tick);
+  if (descent_tick != 0 && hover_tick != 0) r.descent_after_ms = static_cast<float>(descent_tick - hover_tick);
+  if (off_tick != 0) r.motors_off_after_landing_ms = static_cast<float>(off_tick - floor_tick);
+
+  // The checks, in the order the scenario meets them.
+  if (!arm_acked) r.failure = "arming was not accepted";
+  else if (r.hover_rate_error_max_radps > 0.1f) r.failure = "hover: body-rate error above 0.1 rad/s";
+  else if (r.manoeuvre_rate_error_rms_radps > 0.5f) r.failure = "manoeuvre: rate tracking rms above 0.5 rad/s";
+  else if (!catch_acked) r.failure = "expect-catch was not accepted";
+  else if (!catch_reported) r.failure = "impact: no catch reported";
+  else if (crash_reported) r.failure = "impact: a crash was reported";
+  else if (r.impact_detection_latency_ms > 5.0f) r.failure = "impact: detected later than 5 ms";
+  else if (std::fabs(r.impact_timestamp_error_ms) > 1.0f) r.failure = "impact: timestamp off by more than 1 ms";
+  else if (hover_tick == 0 || r.failsafe_hover_after_ms > 25.0f) r.failure = "link loss: no levelled hover within 25 ms";
+  else if (descent_tick == 0 || std::fabs(r.descent_after_ms - 500.0f) > 2.0f) r.failure = "link loss: descent not 0.5 s after hover";
+  else if (tilt_cos_at_descent < 0.9994f) r.failure = "link loss: not level (within 2 degrees) when descending";
+  else if (off_tick == 0) r.failure = "link loss: motors still on after reaching the ground";
+  else if (vehicle.mode() != Mode::landed) r.failure = "link loss: not landed at the end";
+  r.pass = r.failure == nullptr;
+  return r;
+}
+
+}  // namespace fw::selftest

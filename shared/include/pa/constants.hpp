@@ -1,0 +1,26 @@
+// Physical constants and arena-wide figures shared by the firmware, the ground station
+// and the HIL plant. Values given by the paper cite it; the rest are documented choices.
+// Freestanding: no heap, no exceptions, no OS.
+#pragma once
+
+namespace pa {
+
+inline constexpr double kGravity_mps2 = 9.81;
+
+// The pole (paper, Section VII-A).
+inline constexpr double kPoleHalfLength_m = 0.665;  // 2L = 1.33 m
+inline constexpr double kPoleMass_kg = 0.03;
+inline constexpr double kPoleDragAxial = 0.5e-3;       // c_z, kg/m^2 (0.5 g m^-2)
+inline constexpr double kPoleDragNormal = 3.5e-3;      // c_xy
+inline constexpr double kPoleDragRotational = 2.1e-3;  // c_rot
+
+// The catching plate (paper, Section VII-A).
+inline constexpr double kPlateDiameter_m = 0.12;
+inline constexpr double kPlateHeightAboveCg_m = 0.03;
+
+// Loop rates (ARCHITECTURE.md, "One tick of the system").
+inline constexpr unsigned kImuRate_Hz = 1000;
+inline constexpr unsigned kMocapRate_Hz = 200;
+inline constexpr unsigned kImuPeriod_us = 1000000u / kImuRate_Hz;
+
+}  // namespace pa
