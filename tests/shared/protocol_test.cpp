@@ -88,7 +88,9 @@ TEST_CASE("every frame type survives a round trip") {
     CHECK(m.hil_motors.tick == 4242);
   }
   SECTION("IMPACT") {
-    const Message m = decoded(encoded(Impact{0xFFFFFFF0u, 45.67f, ImpactClass::catch_impact, 9}));
+    const Message m = decoded(encoded(Impact{0xFFFFFFF0u, 45.67f, ImpactClass::catch_impact, true, 9}));
+    CHECK(m.impact.final);
+    CHECK_FALSE(decoded(encoded(Impact{0, 1.0f, ImpactClass::crash, false, 0})).impact.final);
     CHECK(m.impact.vehicle_time_us == 0xFFFFFFF0u);
     CHECK(m.impact.peak_mps2 == Approx(45.67f).margin(0.005));
     CHECK(m.impact.classification == ImpactClass::catch_impact);
@@ -164,7 +166,7 @@ TEST_CASE("encoding saturates values beyond a field's range") {
   CHECK(decoded(encoded(RateThrust{{0, 0, 0}, -5.0f, 0})).rate_thrust.thrust_mps2 == 0.0f);
   CHECK(decoded(encoded(HilMotors{{-1.0f, 2.0f, 0.5f, 0.5f}, 0})).hil_motors.command[0] == 0.0f);
   CHECK(decoded(encoded(HilMotors{{-1.0f, 2.0f, 0.5f, 0.5f}, 0})).hil_motors.command[1] == 1.0f);
-  CHECK(decoded(encoded(Impact{0, 1e6f, ImpactClass::crash, 0})).impact.peak_mps2 == Approx(655.35f));
+  CHECK(decoded(encoded(Impact{0, 1e6f, ImpactClass::crash, true, 0})).impact.peak_mps2 == Approx(655.35f));
   CHECK(decoded(encoded(HilImuAccel{{500.0f, 0, 0}, 0})).hil_imu_accel.accel_mps2[0] == Approx(32767 * kAccelLsb_mps2));
 }
 
@@ -176,8 +178,8 @@ TEST_CASE("encoding refuses non-finite values, bad enumerations and bad nodes, l
   CHECK_FALSE(encode(HilImuGyro{{0, kInf, 0}, 1}, 1, f));
   CHECK_FALSE(encode(HilImuAccel{{0, 0, -kInf}, 1}, 1, f));
   CHECK_FALSE(encode(HilMotors{{0, 0, 0, kNaN}, 1}, 1, f));
-  CHECK_FALSE(encode(Impact{0, kNaN, ImpactClass::crash, 0}, 1, f));
-  CHECK_FALSE(encode(Impact{0, 1.0f, static_cast<ImpactClass>(0), 0}, 1, f));
+  CHECK_FALSE(encode(Impact{0, kNaN, ImpactClass::crash, false, 0}, 1, f));
+  CHECK_FALSE(encode(Impact{0, 1.0f, static_cast<ImpactClass>(0), false, 0}, 1, f));
   CHECK_FALSE(encode(TelemetryAttitude{{kNaN, 0, 0, 0}}, 1, f));
   CHECK_FALSE(encode(TelemetryRates{{0, 0, 0}, kNaN, 0}, 1, f));
   CHECK_FALSE(encode(TelemetryMotors{{0, kInf, 0, 0}}, 1, f));
@@ -230,9 +232,10 @@ TEST_CASE("decoding rejects every malformed frame with its reason") {
     const Frame command = encoded(Command{CommandCode::arm, 1, 1, 0});
     CHECK(decode(with(command, 0, 0), m) == DecodeStatus::out_of_range);
     CHECK(decode(with(command, 0, kCommandCodeMax + 1), m) == DecodeStatus::out_of_range);
-    const Frame impact = encoded(Impact{0, 1, ImpactClass::crash, 0});
+    const Frame impact = encoded(Impact{0, 1, ImpactClass::crash, false, 0});
     CHECK(decode(with(impact, 6, 0), m) == DecodeStatus::out_of_range);
     CHECK(decode(with(impact, 6, kImpactClassMax + 1), m) == DecodeStatus::out_of_range);
+    CHECK(decode(with(impact, 6, kImpactFinalBit | 0x10 | 1), m) == DecodeStatus::out_of_range);  // reserved bits
     const Frame ack = encoded(CommandAck{1, CommandCode::arm, AckResult::accepted, Mode::armed, RefuseReason::none});
     CHECK(decode(with(ack, 1, 0), m) == DecodeStatus::out_of_range);
     CHECK(decode(with(ack, 2, kAckResultMax + 1), m) == DecodeStatus::out_of_range);

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "pa/constants.hpp"
 #include "pa/sequence.hpp"
 
 namespace fw {
@@ -16,6 +17,10 @@ constexpr float kNominalDt_s = 0.001f;
 constexpr float kVerticalGain_per_s = 4.0f;    // failsafe vertical-velocity loop
 constexpr float kMinTiltCos = 0.5f;            // thrust compensation for tilt stops at 60 degrees
 constexpr std::int32_t kExpectCatchMax_ms = 10000;
+// A quadrocopter's accelerometer reads gravity only while the vehicle rests; in flight it
+// reads the thrust direction, which would pull the estimate towards "level" whatever the
+// true tilt. So the tilt is corrected on the ground and integrated from the gyro in flight.
+constexpr float kAttitudeGroundGain_per_s = 2.0f;
 
 bool finite3(const Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
 bool within3(const Vec3& v, float limit) {
@@ -33,7 +38,7 @@ std::uint8_t saturate_u8(std::uint32_t v) { return v > 0xFFu ? 0xFFu : static_ca
 Vehicle::Vehicle(const VehicleConfig& config)
     : config_(config),
       link_(config.link, config.supervisor),
-      attitude_(),
+      attitude_(kAttitudeGroundGain_per_s),
       impacts_(config.impact, config.airframe),
       supervisor_(config.supervisor),
       rate_controller_(config.rate, config.airframe),
@@ -64,6 +69,9 @@ TickOutput Vehicle::tick(const ImuSample& imu) {
   ++ticks_;
 
   accept_sample(imu);
+  const Mode mode_before = supervisor_.mode();
+  const bool resting = mode_before == Mode::disarmed || mode_before == Mode::armed || mode_before == Mode::landed;
+  attitude_.set_accel_gain(resting ? kAttitudeGroundGain_per_s : 0.0f);
   if (imu_ok_) attitude_.update(gyro_radps_, accel_mps2_, dt_s);
   handle_link(now_us);
   const bool crash = detect_impact(now_us);
@@ -88,15 +96,19 @@ void Vehicle::accept_sample(const ImuSample& imu) {
   }
 }
 
+// Each impact is reported twice (impact_detector.hpp): on detection, within a few ms, with a
+// provisional class - the moment to start the catch reaction - and once it is over, with the
+// final peak and class. Both go to the ground as IMPACT frames sharing the impact's count.
 bool Vehicle::detect_impact(std::uint32_t now_us) {
   if (!imu_ok_) return false;
   ImpactEvent event{};
   const ImpactInput input{now_us, accel_mps2_, gyro_radps_, thrust_applied_mps2_, catch_expected_};
   if (!impacts_.update(input, event)) return false;
+  const bool final = event.stage == ImpactStage::classified;
   Frame f;
-  if (encode(Impact{event.t_us, event.peak_mps2, event.classification, impacts_.count()}, link_.node(), f))
+  if (encode(Impact{event.t_us, event.peak_mps2, event.classification, final, event.count}, link_.node(), f))
     link_.send(f);
-  if (event.classification == ImpactClass::catch_impact) {
+  if (event.classification == ImpactClass::catch_impact && !reaction_active_) {
     reaction_active_ = true;
     reaction_started_us_ = now_us;
     catch_expected_ = false;  // one catch per window

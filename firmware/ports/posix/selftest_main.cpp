@@ -8,7 +8,7 @@ int main() {
   const fw::selftest::Result r = fw::selftest::run(nullptr);
   std::printf("firmware core, scripted flight on the host (%u ticks at 1 kHz)\n", r.ticks);
   std::printf("  hover: worst body-rate error            %.3f rad/s\n", static_cast<double>(r.hover_rate_error_max_radps));
-  std::printf("  rate doublets: tracking error (rms)     %.3f rad/s\n", static_cast<double>(r.manoeuvre_rate_error_rms_radps));
+  std::printf("  rate sines: tracking error (rms)        %.3f rad/s\n", static_cast<double>(r.manoeuvre_rate_error_rms_radps));
   std::printf("  pole impact: detected after             %.0f ms (timestamp off by %.0f ms)\n",
               static_cast<double>(r.impact_detection_latency_ms), static_cast<double>(r.impact_timestamp_error_ms));
   std::printf("  link loss: levelled hover after         %.0f ms\n", static_cast<double>(r.failsafe_hover_after_ms));

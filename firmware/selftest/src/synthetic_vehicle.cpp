@@ -6,6 +6,8 @@ namespace fw::selftest {
 
 namespace {
 constexpr float kGravity_mps2 = 9.81f;
+constexpr float kFloorStiffness_Npm = 2000.0f;
+constexpr float kFloorDamping_Nspm = 40.0f;
 
 // v rotated by q (body to inertial) and by its inverse.
 Vec3 rotate(const Quaternion& q, const Vec3& v) {
@@ -17,7 +19,9 @@ Vec3 rotate(const Quaternion& q, const Vec3& v) {
 Vec3 rotate_inverse(const Quaternion& q, const Vec3& v) { return rotate(Quaternion{q[0], -q[1], -q[2], -q[3]}, v); }
 }  // namespace
 
-SyntheticVehicle::SyntheticVehicle(const AirframeConfig& airframe) : airframe_(airframe), geometry_(airframe) {}
+SyntheticVehicle::SyntheticVehicle(const AirframeConfig& airframe) : airframe_(airframe), geometry_(airframe) {
+  p_[2] = -airframe.mass_kg * kGravity_mps2 / kFloorStiffness_Npm;  // at rest on its legs
+}
 
 float SyntheticVehicle::noise() {
   rng_ = rng_ * 1664525u + 1013904223u;  // LCG: reproducible on every target
@@ -36,9 +40,9 @@ void SyntheticVehicle::step(const Motors& command, const Vec3& external_force_N,
   const Vec3 gyroscopic{w_[1] * Jw[2] - w_[2] * Jw[1], w_[2] * Jw[0] - w_[0] * Jw[2], w_[0] * Jw[1] - w_[1] * Jw[0]};
   const float m = airframe_.mass_kg;
   if (!on_floor_) {
-    for (int i = 0; i < 3; ++i) w_[i] += dt_s * (effect.torque_Nm[i] - gyroscopic[i]) / J[i];
+    for (int i = 0; i < 3; ++i) w_[i] += dt_s * (effect.torque_Nm[i] + disturbance_Nm_[i] - gyroscopic[i]) / J[i];
   } else {
-    w_ = Vec3{};  // resting on its legs
+    w_ = Vec3{};  // standing on its legs
   }
   const Quaternion q = q_;
   q_[0] += 0.5f * dt_s * (-q[1] * w_[0] - q[2] * w_[1] - q[3] * w_[2]);
@@ -52,15 +56,16 @@ void SyntheticVehicle::step(const Motors& command, const Vec3& external_force_N,
   const Vec3 thrust_inertial = rotate(q_, Vec3{0, 0, effect.thrust_N});
   Vec3 force{thrust_inertial[0] + external_force_N[0], thrust_inertial[1] + external_force_N[1],
              thrust_inertial[2] + external_force_N[2] - m * kGravity_mps2};
+  // The floor: stiff, well-damped landing gear (about 60 rad/s), so a touchdown is felt as a
+  // deceleration of a few g over some tens of ms, as a real IMU feels it.
   Vec3 floor_force{};
-  if (p_[2] <= 0 && force[2] <= 0 && v_[2] <= 0) {
-    floor_force[2] = -force[2] - m * v_[2] / dt_s;  // stops the fall and holds the vehicle
-    force = Vec3{0, 0, 0};
-    v_ = Vec3{};
-    p_[2] = 0;
-    on_floor_ = true;
-  } else {
-    on_floor_ = false;
+  on_floor_ = p_[2] <= 0;
+  if (on_floor_) {
+    floor_force[2] = -kFloorStiffness_Npm * p_[2] - kFloorDamping_Nspm * v_[2];
+    if (floor_force[2] < 0) floor_force[2] = 0;  // the floor pushes, never pulls
+    force[2] += floor_force[2];
+    force[0] -= kFloorDamping_Nspm * v_[0];  // friction on the legs
+    force[1] -= kFloorDamping_Nspm * v_[1];
   }
   for (int i = 0; i < 3; ++i) {
     v_[i] += dt_s * force[i] / m;
@@ -85,5 +90,7 @@ ImuSample SyntheticVehicle::imu(std::uint32_t t_us) {
 }
 
 float SyntheticVehicle::tilt_cos() const { return rotate(q_, Vec3{0, 0, 1})[2]; }
+
+Vec3 SyntheticVehicle::up_in_body() const { return rotate_inverse(q_, Vec3{0, 0, 1}); }
 
 }  // namespace fw::selftest

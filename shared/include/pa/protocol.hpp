@@ -224,11 +224,13 @@ struct HilMotors {
   std::uint16_t tick;
 };
 struct Impact {
-  std::uint32_t vehicle_time_us;
-  float peak_mps2;  // 0..655.35 m/s^2
+  std::uint32_t vehicle_time_us;  // the impact's onset
+  float peak_mps2;                // 0..655.35 m/s^2
   ImpactClass classification;
-  std::uint8_t count;  // impacts since boot, wrapping
+  bool final;          // false: sent on detection (provisional class); true: the event is over
+  std::uint8_t count;  // impacts since boot, wrapping; both reports of one impact share it
 };
+inline constexpr std::uint8_t kImpactFinalBit = 0x80;
 struct CommandAck {
   std::uint8_t seq;
   CommandCode code;
@@ -428,7 +430,7 @@ inline bool encode(const Impact& m, std::uint8_t node, Frame& out) {
   Frame f = detail::start(Type::impact, node);
   detail::put_u32(&f.data[0], m.vehicle_time_us);
   detail::put_u16(&f.data[4], static_cast<std::uint16_t>(detail::quantise(m.peak_mps2, kImpactPeakLsb_mps2, 0, 65535)));
-  f.data[6] = cls;
+  f.data[6] = static_cast<std::uint8_t>(cls | (m.final ? kImpactFinalBit : 0u));
   f.data[7] = m.count;
   out = f;
   return true;
@@ -591,11 +593,13 @@ inline DecodeStatus decode(const Frame& f, Message& out) {
       m.hil_motors = h;
       break;
     }
-    case Type::impact:
-      if (d[6] < kImpactClassMin || d[6] > kImpactClassMax) return DecodeStatus::out_of_range;
+    case Type::impact: {
+      const std::uint8_t cls = d[6] & static_cast<std::uint8_t>(~kImpactFinalBit);
+      if (cls < kImpactClassMin || cls > kImpactClassMax) return DecodeStatus::out_of_range;
       m.impact = Impact{get_u32(d), static_cast<float>(get_u16(d + 4)) * kImpactPeakLsb_mps2,
-                        static_cast<ImpactClass>(d[6]), d[7]};
+                        static_cast<ImpactClass>(cls), (d[6] & kImpactFinalBit) != 0, d[7]};
       break;
+    }
     case Type::command_ack:
       if (d[1] == 0 || d[1] > kCommandCodeMax || d[2] > kAckResultMax || d[3] > kModeMax || d[4] > kRefuseReasonMax)
         return DecodeStatus::out_of_range;

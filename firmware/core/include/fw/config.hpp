@@ -21,7 +21,7 @@ struct AirframeConfig {
 
 struct RateControllerConfig {
   // Angular-acceleration gains per axis (x, y, z); torque = inertia * (kp e + ki int e).
-  float kp_per_s[3] = {22.0f, 22.0f, 8.0f};
+  float kp_per_s[3] = {40.0f, 40.0f, 12.0f};  // ~27 rad/s crossover with the 30 ms motor lag
   float ki_per_s2[3] = {40.0f, 40.0f, 10.0f};
   float integrator_limit_radps2[3] = {20.0f, 20.0f, 8.0f};  // |ki int e| bound
   float rate_limit_radps = 10.0f;                           // setpoints are clamped to this
@@ -73,7 +73,8 @@ struct SupervisorConfig {
   float arming_thrust_max_mps2 = 0.0f;         // arming requires the setpoint at or below this
   float descent_rate_mps = 0.5f;               // controlled descent speed
   float level_gain_per_s = 6.0f;               // levelling law: rate = -gain * tilt
-  float ground_contact_mps2 = 2.5f;            // extra specific force meaning the floor holds us
+  float ground_contact_mps2 = 1.2f;            // extra specific force meaning the floor holds us
+                                               // (below the descent law's 2 m/s^2 at rest)
   std::uint32_t ground_contact_us = 300000;    // ... sustained this long
 };
 

@@ -18,7 +18,8 @@ class SyntheticVehicle {
   explicit SyntheticVehicle(const AirframeConfig& airframe);
 
   // Advance by dt with the given normalised motor commands (zero when off) and an external
-  // force on the vehicle in the inertial frame (N).
+  // force on the vehicle in the inertial frame (N). A small constant torque (a centre of
+  // gravity slightly off the thrust axis) acts in flight, so the rate loop's integrators work.
   void step(const Motors& command, const Vec3& external_force_N, float dt_s);
 
   // The IMU sample at the current state (deterministic pseudo-noise of a few mrad/s).
@@ -28,8 +29,9 @@ class SyntheticVehicle {
   const Vec3& velocity_mps() const { return v_; }
   const Vec3& rate_radps() const { return w_; }
   bool on_floor() const { return on_floor_; }
-  // Cosine of the tilt of the body z-axis from the vertical.
+  // Cosine of the tilt of the body z-axis from the vertical, and inertial up in the body frame.
   float tilt_cos() const;
+  Vec3 up_in_body() const;
 
  private:
   float noise();
@@ -44,6 +46,7 @@ class SyntheticVehicle {
   Vec3 specific_force_body_{0, 0, 9.81f};
   bool on_floor_ = true;
   std::uint32_t rng_ = 12345u;
+  Vec3 disturbance_Nm_{0.002f, -0.0015f, 0.0005f};
 };
 
 }  // namespace fw::selftest

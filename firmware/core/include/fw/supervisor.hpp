@@ -1,0 +1,185 @@
+// Supervisor: arming, failsafes and KILL, as a table-driven state machine over the vehicle
+// modes of the protocol (pa::proto::Mode).
+//
+// Shape (after Crazyflie's supervisor_state_machine.c): every update() turns its inputs into a
+// word of condition bits; the constexpr table kSupervisorTransitions lists, in order, the rows
+// "from mode M, when all of these bits hold and none of those, go to mode N with reason R";
+// the first row of the current mode that matches wins, at most one transition per update.
+// Modes without rows (disarmed, landed, killed) only leave by a command.
+//
+// Commands are edges, not levels, so they are not table rows: handle_command() checks the
+// preconditions of ARM, DISARM and LAND and answers with the protocol's refuse reason; kill()
+// is always honoured. The caller (the vehicle composition) owns the link and the detectors and
+// computes the inputs each tick; action() tells it what to fly without knowing the table.
+//
+// Choices the issue left open, and why:
+// - IMU lost in the air (imu_ok false for imu_timeout_us): motors off (killed, reason imu_lost).
+//   Without rates and attitude neither the levelled hover nor the descent can be flown; thrust
+//   on a vehicle that tumbles accelerates it in an arbitrary direction, which is worse next to
+//   the other vehicle and the pole than a drop. A single bad sample does not count: the IMU is
+//   lost only after imu_timeout_us of unhealthy samples. On the ground (armed) it disarms.
+// - A crash reported by the impact detector while the motors run: motors off (killed, reason
+//   crash), as Crazyflie does on a tumble; the rotors of a vehicle that hit something are the
+//   danger.
+// - DISARM in the air is refused (PX4 style: the operator uses LAND, or KILL). The protocol has
+//   no "in flight" refuse reason; the answer is not_disarmed and the COMMAND_ACK's mode shows why.
+// - LAND while already in a failsafe descent is accepted and turns it into a commanded landing
+//   (it no longer ends when the stream resumes); its timeout keeps running.
+// - A failsafe ends (back to flying) when the ground station retakes control: a fresh setpoint
+//   stream and a live heartbeat together. A commanded landing only ends on the ground.
+// - Landed keeps the reason that led there and the motors off until DISARM: re-arming needs
+//   the DISARM -> ARM edge again.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+#include "fw/config.hpp"
+#include "pa/protocol.hpp"
+
+namespace fw {
+
+// What the caller computes once per tick.
+struct SupervisorInputs {
+  std::uint32_t now_us = 0;
+  bool heartbeat_live = false;       // ground heartbeats arriving within the timeout
+  bool setpoint_fresh = false;       // a new-sequence setpoint within setpoint_timeout_us
+  float setpoint_thrust_mps2 = 0.0f; // the latest accepted collective thrust setpoint
+  bool imu_ok = false;               // this tick's IMU sample is healthy
+  bool on_ground = false;            // the landing detector: the floor carries the vehicle
+  bool crash = false;                // the impact detector reported a crash this tick
+};
+
+// What to fly. The failsafe actions are ordered by severity (PX4 style): automatic
+// transitions only ever move to a more severe action, except the recovery to track_setpoints
+// when the ground station retakes control. idle is the armed vehicle waiting on the ground.
+enum class Action : std::uint8_t {
+  idle = 0,             // armed on the ground: motors at idle, no control
+  track_setpoints = 1,  // fly the ground station's rate and thrust setpoints
+  level_hover = 2,      // hold level and height on board
+  descend = 3,          // level, sink at descent_rate_mps until the ground
+  motors_off = 4,       // disarmed, landed or killed
+};
+
+constexpr Action action_for(pa::proto::Mode mode) {
+  switch (mode) {
+    case pa::proto::Mode::armed: return Action::idle;
+    case pa::proto::Mode::flying: return Action::track_setpoints;
+    case pa::proto::Mode::failsafe_hover: return Action::level_hover;
+    case pa::proto::Mode::failsafe_descent: return Action::descend;
+    case pa::proto::Mode::disarmed:
+    case pa::proto::Mode::landed:
+    case pa::proto::Mode::killed: return Action::motors_off;
+  }
+  return Action::motors_off;
+}
+
+// The condition bits a transition row tests.
+namespace condition {
+inline constexpr std::uint16_t heartbeat_live = 1u << 0;
+inline constexpr std::uint16_t setpoint_fresh = 1u << 1;
+inline constexpr std::uint16_t takeoff_thrust = 1u << 2;   // the setpoint is fresh and above takeoff_thrust_mps2
+inline constexpr std::uint16_t imu_lost = 1u << 3;         // IMU unhealthy for imu_timeout_us
+inline constexpr std::uint16_t on_ground = 1u << 4;
+inline constexpr std::uint16_t crash = 1u << 5;
+inline constexpr std::uint16_t hover_timeout = 1u << 6;    // time in mode >= hover_before_descent_us
+inline constexpr std::uint16_t descent_timeout = 1u << 7;  // time in mode >= descent_max_us
+inline constexpr std::uint16_t land_commanded = 1u << 8;   // the current failsafe is a LAND command
+inline constexpr unsigned kCount = 9;
+inline constexpr std::uint16_t kAll = (1u << kCount) - 1u;
+}  // namespace condition
+
+struct SupervisorTransition {
+  pa::proto::Mode from;
+  std::uint16_t all_of;   // every one of these conditions holds ...
+  std::uint16_t none_of;  // ... and none of these
+  pa::proto::Mode to;
+  pa::proto::FailsafeReason reason;  // recorded on entry ...
+  bool keep_reason;                  // ... unless the row escalates and keeps the original cause
+};
+
+// The transition table. Within each mode the rows are in priority order: crash, IMU, then the
+// link, recovery, ground contact and timers.
+inline constexpr std::array<SupervisorTransition, 18> kSupervisorTransitions{{
+    // armed: on the ground, motors idle, waiting for a take-off setpoint
+    {pa::proto::Mode::armed, condition::crash, 0, pa::proto::Mode::killed, pa::proto::FailsafeReason::crash, false},
+    {pa::proto::Mode::armed, condition::imu_lost, 0, pa::proto::Mode::disarmed, pa::proto::FailsafeReason::imu_lost, false},
+    {pa::proto::Mode::armed, 0, condition::heartbeat_live, pa::proto::Mode::disarmed, pa::proto::FailsafeReason::heartbeat_lost, false},
+    {pa::proto::Mode::armed, condition::setpoint_fresh | condition::takeoff_thrust, 0, pa::proto::Mode::flying, pa::proto::FailsafeReason::none, false},
+    // flying: tracking the ground station's setpoints
+    {pa::proto::Mode::flying, condition::crash, 0, pa::proto::Mode::killed, pa::proto::FailsafeReason::crash, false},
+    {pa::proto::Mode::flying, condition::imu_lost, 0, pa::proto::Mode::killed, pa::proto::FailsafeReason::imu_lost, false},
+    {pa::proto::Mode::flying, 0, condition::heartbeat_live, pa::proto::Mode::failsafe_hover, pa::proto::FailsafeReason::heartbeat_lost, false},
+    {pa::proto::Mode::flying, 0, condition::setpoint_fresh, pa::proto::Mode::failsafe_hover, pa::proto::FailsafeReason::setpoint_stale, false},
+    // failsafe_hover: levelled hover, then a descent
+    {pa::proto::Mode::failsafe_hover, condition::crash, 0, pa::proto::Mode::killed, pa::proto::FailsafeReason::crash, false},
+    {pa::proto::Mode::failsafe_hover, condition::imu_lost, 0, pa::proto::Mode::killed, pa::proto::FailsafeReason::imu_lost, false},
+    {pa::proto::Mode::failsafe_hover, condition::setpoint_fresh | condition::heartbeat_live, 0, pa::proto::Mode::flying, pa::proto::FailsafeReason::none, false},
+    {pa::proto::Mode::failsafe_hover, condition::on_ground, 0, pa::proto::Mode::landed, pa::proto::FailsafeReason::none, true},
+    {pa::proto::Mode::failsafe_hover, condition::hover_timeout, 0, pa::proto::Mode::failsafe_descent, pa::proto::FailsafeReason::none, true},
+    // failsafe_descent: levelled descent until the floor holds the vehicle
+    {pa::proto::Mode::failsafe_descent, condition::crash, 0, pa::proto::Mode::killed, pa::proto::FailsafeReason::crash, false},
+    {pa::proto::Mode::failsafe_descent, condition::imu_lost, 0, pa::proto::Mode::killed, pa::proto::FailsafeReason::imu_lost, false},
+    {pa::proto::Mode::failsafe_descent, condition::on_ground, 0, pa::proto::Mode::landed, pa::proto::FailsafeReason::none, true},
+    {pa::proto::Mode::failsafe_descent, condition::descent_timeout, 0, pa::proto::Mode::landed, pa::proto::FailsafeReason::none, true},
+    {pa::proto::Mode::failsafe_descent, condition::setpoint_fresh | condition::heartbeat_live, condition::land_commanded, pa::proto::Mode::flying, pa::proto::FailsafeReason::none, false},
+}};
+
+// The index of the first row for `from` that `conditions` satisfy, or kSupervisorTransitions.size().
+constexpr std::size_t find_transition(pa::proto::Mode from, std::uint16_t conditions) {
+  for (std::size_t i = 0; i < kSupervisorTransitions.size(); ++i) {
+    const SupervisorTransition& row = kSupervisorTransitions[i];
+    if (row.from == from && (conditions & row.all_of) == row.all_of && (conditions & row.none_of) == 0) return i;
+  }
+  return kSupervisorTransitions.size();
+}
+
+struct CommandResult {
+  bool accepted = false;
+  pa::proto::RefuseReason reason = pa::proto::RefuseReason::none;  // why, when refused
+};
+
+class Supervisor {
+ public:
+  explicit Supervisor(const SupervisorConfig& config) : config_(config) {}
+
+  // Evaluate the table once (call every tick, after the detectors).
+  void update(const SupervisorInputs& in);
+
+  // ARM: only from disarmed, with a live ground heartbeat, the setpoint thrust at or below
+  //      arming_thrust_max_mps2 and a healthy IMU; refused with killed / not_disarmed /
+  //      no_ground_heartbeat / thrust_not_zero / imu_unhealthy (checked in that order).
+  // DISARM: from disarmed, armed, landed or killed (clears the KILL latch); refused in the air.
+  // LAND: from flying or a failsafe -> failsafe_descent (reason land_command); refused with
+  //      not_flying on the ground, killed when killed.
+  // EXPECT_CATCH and CATCH_HANDLED are not the supervisor's: refused with bad_argument.
+  CommandResult handle_command(pa::proto::CommandCode code, const SupervisorInputs& now);
+
+  // KILL: motors off from any mode, latched until DISARM.
+  void kill(std::uint32_t now_us);
+
+  pa::proto::Mode mode() const { return mode_; }
+  pa::proto::FailsafeReason reason() const { return reason_; }
+  // Time since the mode was entered; saturates at kTimeInModeMax_us (about 18 minutes) while
+  // update() runs, zero for a clock reading from before the entry.
+  std::uint32_t time_in_mode_us(std::uint32_t now_us) const;
+  static constexpr std::int32_t kTimeInModeMax_us = 1 << 30;
+  Action action() const { return action_for(mode_); }
+  bool motors_enabled() const { return action() != Action::motors_off; }  // armed, flying, failsafes
+  std::uint16_t conditions() const { return conditions_; }  // the bits of the last update
+
+ private:
+  void enter(pa::proto::Mode mode, pa::proto::FailsafeReason reason, std::uint32_t now_us);
+
+  SupervisorConfig config_;
+  pa::proto::Mode mode_ = pa::proto::Mode::disarmed;
+  pa::proto::FailsafeReason reason_ = pa::proto::FailsafeReason::none;
+  std::uint32_t entered_us_ = 0;
+  bool imu_unhealthy_ = false;
+  bool imu_lost_ = false;
+  std::uint32_t imu_unhealthy_since_us_ = 0;
+  std::uint16_t conditions_ = 0;
+};
+
+}  // namespace fw

@@ -1,0 +1,121 @@
+#include "fw/attitude_estimator.hpp"
+
+#include <cmath>
+
+#include "pa/constants.hpp"
+
+namespace fw {
+namespace {
+
+static_assert(AttitudeEstimator::kGravity_mps2 == static_cast<float>(pa::kGravity_mps2));
+
+float clampf(float v, float lo, float hi) { return v < lo ? lo : (v > hi ? hi : v); }
+
+bool finite(const Vec3& v) {
+  return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
+}
+
+// Normalises q in place; returns false (leaving q alone) if it cannot.
+bool normalise(Quaternion& q) {
+  const float n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
+  if (!std::isfinite(n2) || n2 < 1.0e-12f) return false;
+  const float inv = 1.0f / std::sqrt(n2);
+  for (float& c : q) c *= inv;
+  return true;
+}
+
+}  // namespace
+
+AttitudeEstimator::AttitudeEstimator(float accel_gain_per_s)
+    : accel_gain_per_s_(std::isfinite(accel_gain_per_s) && accel_gain_per_s > 0.0f ? accel_gain_per_s
+                                                                                   : 0.0f) {}
+
+void AttitudeEstimator::set_accel_gain(float accel_gain_per_s) {
+  accel_gain_per_s_ = std::isfinite(accel_gain_per_s) && accel_gain_per_s > 0.0f ? accel_gain_per_s : 0.0f;
+}
+
+void AttitudeEstimator::reset_level() {
+  q_ = {1.0f, 0.0f, 0.0f, 0.0f};
+  aligned_ = false;
+}
+
+Vec3 AttitudeEstimator::up_in_body() const {
+  // Third row of the body-to-inertial rotation matrix of q.
+  const float w = q_[0], x = q_[1], y = q_[2], z = q_[3];
+  return {2.0f * (x * z - w * y), 2.0f * (y * z + w * x), 1.0f - 2.0f * (x * x + y * y)};
+}
+
+float AttitudeEstimator::tilt_cos() const {
+  return 1.0f - 2.0f * (q_[1] * q_[1] + q_[2] * q_[2]);
+}
+
+void AttitudeEstimator::update(const Vec3& gyro_radps, const Vec3& accel_mps2, float dt_s) {
+  if (!finite(gyro_radps) || !std::isfinite(dt_s)) return;
+  const float dt_clamped_s = clampf(dt_s, 0.0f, kDtMax_s);
+
+  // Is the accelerometer a usable gravity reference on this sample?
+  bool accel_usable = false;
+  Vec3 up_meas{};
+  if (finite(accel_mps2)) {
+    const float n2 = accel_mps2[0] * accel_mps2[0] + accel_mps2[1] * accel_mps2[1] +
+                     accel_mps2[2] * accel_mps2[2];
+    const float lo = (1.0f - kAccelGateFraction) * kGravity_mps2;
+    const float hi = (1.0f + kAccelGateFraction) * kGravity_mps2;
+    if (std::isfinite(n2) && n2 >= lo * lo && n2 <= hi * hi) {
+      const float inv = 1.0f / std::sqrt(n2);
+      up_meas = {accel_mps2[0] * inv, accel_mps2[1] * inv, accel_mps2[2] * inv};
+      accel_usable = true;
+    }
+  }
+
+  if (!aligned_ && accel_usable) {
+    // Shortest rotation taking the measured up (body) onto inertial z: q = (1 + u.z, u x z).
+    Quaternion q{1.0f + up_meas[2], up_meas[1], -up_meas[0], 0.0f};
+    if (q[0] < 1.0e-6f) q = {0.0f, 1.0f, 0.0f, 0.0f};  // upside down: half a turn about x
+    if (normalise(q)) {
+      q_ = q;
+      aligned_ = true;
+    }
+    return;
+  }
+
+  Vec3 omega_radps{clampf(gyro_radps[0], -kGyroLimit_radps, kGyroLimit_radps),
+                   clampf(gyro_radps[1], -kGyroLimit_radps, kGyroLimit_radps),
+                   clampf(gyro_radps[2], -kGyroLimit_radps, kGyroLimit_radps)};
+  if (accel_usable) {
+    // Rotating the body at k (u_meas x u_est) moves the estimated up towards the measured one
+    // at rate k sin(angle): d/dt u_est = u_est x omega for a fixed inertial vector. The sample's
+    // accelerometer belongs to the end of this step, so it is compared with the estimate
+    // predicted over the step (to first order); comparing it with the start of the step would
+    // leave a steady lead of omega dt while rotating.
+    const Vec3 up_prev = up_in_body();
+    const float g0 = omega_radps[0] * dt_clamped_s;
+    const float g1 = omega_radps[1] * dt_clamped_s;
+    const float g2 = omega_radps[2] * dt_clamped_s;
+    const Vec3 up_est{up_prev[0] + (up_prev[1] * g2 - up_prev[2] * g1),
+                      up_prev[1] + (up_prev[2] * g0 - up_prev[0] * g2),
+                      up_prev[2] + (up_prev[0] * g1 - up_prev[1] * g0)};
+    const float k = accel_gain_per_s_;
+    omega_radps[0] += k * (up_meas[1] * up_est[2] - up_meas[2] * up_est[1]);
+    omega_radps[1] += k * (up_meas[2] * up_est[0] - up_meas[0] * up_est[2]);
+    omega_radps[2] += k * (up_meas[0] * up_est[1] - up_meas[1] * up_est[0]);
+  }
+
+  // q <- q (x) dq with dq the rotation by omega dt, from the series of cos and sin of half the
+  // angle to second order (no trig), then renormalised.
+  const float hx = 0.5f * omega_radps[0] * dt_clamped_s;
+  const float hy = 0.5f * omega_radps[1] * dt_clamped_s;
+  const float hz = 0.5f * omega_radps[2] * dt_clamped_s;
+  const float h2 = hx * hx + hy * hy + hz * hz;
+  const float dw = 1.0f - 0.5f * h2;
+  const float s = 1.0f - h2 * (1.0f / 6.0f);
+  const float dx = s * hx, dy = s * hy, dz = s * hz;
+  const float w = q_[0], x = q_[1], y = q_[2], z = q_[3];
+  Quaternion q{w * dw - x * dx - y * dy - z * dz,
+               w * dx + x * dw + y * dz - z * dy,
+               w * dy - x * dz + y * dw + z * dx,
+               w * dz + x * dy - y * dx + z * dw};
+  if (normalise(q)) q_ = q;
+}
+
+}  // namespace fw

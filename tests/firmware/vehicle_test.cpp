@@ -1,0 +1,200 @@
+// The vehicle composition through its only interface, frames and IMU samples.
+#include <catch2/catch.hpp>
+
+#include <vector>
+
+#include "fw/selftest.hpp"
+#include "fw/vehicle.hpp"
+
+using namespace pa::proto;
+
+namespace {
+
+constexpr std::uint8_t kNode = 1;
+constexpr std::uint16_t kToken = 0x4242;
+constexpr float kG = 9.81f;
+
+struct Bench {
+  fw::VehicleConfig config{};
+  fw::Vehicle vehicle;
+  std::uint32_t now_us = 0;
+  std::uint8_t sp_seq = 0, hb_seq = 0, cmd_seq = 0;
+  std::vector<Message> sent;
+
+  Bench() : vehicle(config) {}
+
+  template <class M>
+  void receive(const M& m, std::uint8_t node = kNode) {
+    Frame f;
+    REQUIRE(encode(m, node, f));
+    vehicle.on_frame(f, now_us);
+  }
+  void heartbeat(std::uint16_t token = kToken) {
+    receive(GsHeartbeat{now_us / 1000, token, GroundState::active, hb_seq++}, kBroadcastNode);
+  }
+  void setpoint(float thrust, fw::Vec3 rates = {}) {
+    sp_seq = static_cast<std::uint8_t>((sp_seq + 1) & 0x0F);
+    receive(RateThrust{rates, thrust, sp_seq});
+  }
+  void command(CommandCode code, std::int32_t arg = 0, std::uint16_t token = kToken) {
+    receive(Command{code, cmd_seq++, token, arg});
+  }
+  // One ms at rest (level, on the ground), with the ground's streams as asked.
+  fw::TickOutput tick(bool with_heartbeat = true, float thrust = -1) {
+    if (with_heartbeat && now_us % 20000 == 0) heartbeat();
+    if (thrust >= 0 && now_us % 5000 == 0) setpoint(thrust);
+    fw::ImuSample s;
+    s.t_us = now_us;
+    s.accel_mps2 = {0, 0, kG};
+    const fw::TickOutput out = vehicle.tick(s);
+    Frame f;
+    while (vehicle.pop_tx(f)) {
+      Message m;
+      REQUIRE(decode(f, m) == DecodeStatus::ok);
+      sent.push_back(m);
+    }
+    now_us += 1000;
+    return out;
+  }
+  const CommandAck* last_ack() const {
+    for (auto it = sent.rbegin(); it != sent.rend(); ++it)
+      if (it->type == Type::command_ack) return &it->command_ack;
+    return nullptr;
+  }
+  void settle(int ms, float thrust = 0) {
+    for (int i = 0; i < ms; ++i) tick(true, thrust);
+  }
+};
+
+}  // namespace
+
+TEST_CASE("arming over the link: accepted with the session, a live heartbeat and zero thrust") {
+  Bench b;
+  b.settle(50);
+  b.command(CommandCode::arm);
+  b.tick(true, 0);
+  REQUIRE(b.last_ack() != nullptr);
+  CHECK(b.last_ack()->result == AckResult::accepted);
+  CHECK(b.vehicle.mode() == Mode::armed);
+}
+
+TEST_CASE("arming is refused with the reason the operator needs") {
+  Bench b;
+  SECTION("a command from another session") {
+    b.settle(50);
+    b.command(CommandCode::arm, 0, 0x9999);
+    b.tick(true, 0);
+    CHECK(b.last_ack()->reason == RefuseReason::bad_session_token);
+  }
+  SECTION("no live ground heartbeat") {
+    b.settle(50);
+    for (int i = 0; i < 150; ++i) b.tick(false, 0);
+    b.command(CommandCode::arm);
+    b.tick(false, 0);
+    CHECK(b.last_ack()->reason == RefuseReason::no_ground_heartbeat);
+  }
+  SECTION("thrust not zero") {
+    b.settle(50, 3.0f);
+    b.command(CommandCode::arm);
+    b.tick(true, 3.0f);
+    CHECK(b.last_ack()->reason == RefuseReason::thrust_not_zero);
+  }
+  CHECK(b.last_ack()->result == AckResult::refused);
+  CHECK(b.vehicle.mode() == Mode::disarmed);
+}
+
+TEST_CASE("flying, a KILL stops the motors at once and stays latched until disarmed") {
+  Bench b;
+  b.settle(50);
+  b.command(CommandCode::arm);
+  b.settle(20);
+  b.settle(50, kG);
+  REQUIRE(b.vehicle.mode() == Mode::flying);
+  CHECK(b.tick(true, kG).motors_enabled);
+  b.receive(Kill{0, KillReason::operator_request});  // any token
+  CHECK_FALSE(b.tick(true, kG).motors_enabled);
+  CHECK(b.vehicle.mode() == Mode::killed);
+  b.settle(100, 0);
+  CHECK(b.vehicle.mode() == Mode::killed);
+  b.command(CommandCode::disarm);
+  b.tick(true, 0);
+  CHECK(b.vehicle.mode() == Mode::disarmed);
+}
+
+TEST_CASE("expect-catch is checked: its window must be sane and the vehicle flying") {
+  Bench b;
+  b.settle(50);
+  b.command(CommandCode::expect_catch, 500);
+  b.tick(true, 0);
+  CHECK(b.last_ack()->reason == RefuseReason::not_flying);
+  b.command(CommandCode::arm);
+  b.settle(20);
+  b.settle(50, kG);
+  b.command(CommandCode::expect_catch, 0);
+  b.tick(true, kG);
+  CHECK(b.last_ack()->reason == RefuseReason::bad_argument);
+  b.command(CommandCode::expect_catch, 500);
+  b.tick(true, kG);
+  CHECK(b.last_ack()->result == AckResult::accepted);
+}
+
+TEST_CASE("the vehicle reports itself: heartbeats, telemetry and time-sync replies") {
+  Bench b;
+  b.receive(TimesyncRequest{123456, 1});
+  b.settle(100);
+  int heartbeats = 0, rates = 0, status = 0, replies = 0;
+  for (const Message& m : b.sent) {
+    if (m.type == Type::vehicle_heartbeat) {
+      ++heartbeats;
+      CHECK(m.node == kNode);
+      CHECK(m.vehicle_heartbeat.mode == Mode::disarmed);
+      CHECK((m.vehicle_heartbeat.flags & kFlagImuOk) != 0);
+    }
+    if (m.type == Type::telemetry_rates) ++rates;
+    if (m.type == Type::telemetry_status) ++status;
+    if (m.type == Type::timesync_reply) {
+      ++replies;
+      CHECK(m.timesync_reply.ground_time_us == 123456);
+    }
+  }
+  CHECK(heartbeats == 5);   // 50 Hz
+  CHECK(rates == 20);       // 200 Hz
+  CHECK(status == 1);       // 10 Hz
+  CHECK(replies == 1);
+}
+
+TEST_CASE("a broken IMU sample is not used and marks the IMU unhealthy") {
+  Bench b;
+  b.settle(30);
+  fw::ImuSample bad;
+  bad.t_us = b.now_us;
+  bad.gyro_radps = {std::numeric_limits<float>::quiet_NaN(), 0, 0};
+  b.vehicle.tick(bad);
+  b.now_us += 1000;
+  b.command(CommandCode::arm);
+  fw::ImuSample bad2 = bad;
+  bad2.t_us = b.now_us;
+  b.vehicle.tick(bad2);
+  Frame f;
+  bool acked = false;
+  CommandAck ack{};
+  Message m;
+  while (b.vehicle.pop_tx(f)) {
+    if (decode(f, m) == DecodeStatus::ok && m.type == Type::command_ack) {
+      ack = m.command_ack;
+      acked = true;
+    }
+  }
+  REQUIRE(acked);
+  CHECK(ack.result == AckResult::refused);
+  CHECK(ack.reason == RefuseReason::imu_unhealthy);
+}
+
+TEST_CASE("the scripted self-test flight passes on the host") {
+  const fw::selftest::Result r = fw::selftest::run(nullptr);
+  INFO((r.failure ? r.failure : "pass"));
+  CHECK(r.pass);
+  CHECK(r.impact_detection_latency_ms <= 5.0f);
+  CHECK(r.failsafe_hover_after_ms <= 25.0f);
+  CHECK(r.descent_after_ms == Approx(500.0f).margin(2.0f));
+}
