@@ -16,13 +16,25 @@ std::atomic<long> g_allocations{0};
 }
 
 // Counting replacements of the global allocation functions: the loop must not call them.
+// AddressSanitizer owns these functions in the sanitizer build, where the count is not taken
+// (the host build runs this test too).
+#ifndef __SANITIZE_ADDRESS__
+#define PA_COUNT_ALLOCATIONS 1
 void* operator new(std::size_t n) {
+  ++g_allocations;
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void* operator new[](std::size_t n) {
   ++g_allocations;
   if (void* p = std::malloc(n ? n : 1)) return p;
   throw std::bad_alloc();
 }
 void operator delete(void* p) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+#endif
 
 TEST_CASE("a vehicle on the in-memory bus answers every IMU sample with its motors, allocating nothing") {
   enum { kPlant = 0, kVehicle = 1, kGround = 2 };
@@ -56,7 +68,9 @@ TEST_CASE("a vehicle on the in-memory bus answers every IMU sample with its moto
     }
   }
   // No Catch2 assertion runs inside the loop, so any allocation counted is the port's.
+#ifdef PA_COUNT_ALLOCATIONS
   CHECK(g_allocations.load() == before);
+#endif
   CHECK(undecodable == 0);
   CHECK(motors_on == 0);
   CHECK(motor_frames == 2000);
