@@ -1,6 +1,8 @@
 // The vehicle composition through its only interface, frames and IMU samples.
 #include <catch2/catch.hpp>
 
+#include <cmath>
+#include <limits>
 #include <vector>
 
 #include "fw/selftest.hpp"
@@ -40,12 +42,12 @@ struct Bench {
     receive(Command{code, cmd_seq++, token, arg});
   }
   // One ms at rest (level, on the ground), with the ground's streams as asked.
-  fw::TickOutput tick(bool with_heartbeat = true, float thrust = -1) {
+  fw::TickOutput tick(bool with_heartbeat = true, float thrust = -1, float accel_z = kG) {
     if (with_heartbeat && now_us % 20000 == 0) heartbeat();
     if (thrust >= 0 && now_us % 5000 == 0) setpoint(thrust);
     fw::ImuSample s;
     s.t_us = now_us;
-    s.accel_mps2 = {0, 0, kG};
+    s.accel_mps2 = {0, 0, accel_z};
     const fw::TickOutput out = vehicle.tick(s);
     Frame f;
     while (vehicle.pop_tx(f)) {
@@ -136,6 +138,82 @@ TEST_CASE("expect-catch is checked: its window must be sane and the vehicle flyi
   b.command(CommandCode::expect_catch, 500);
   b.tick(true, kG);
   CHECK(b.last_ack()->result == AckResult::accepted);
+}
+
+namespace {
+// Arm and fly a hover stream; the IMU reads the hover's specific force.
+void take_off(Bench& b) {
+  b.settle(50);
+  b.command(CommandCode::arm);
+  b.settle(20);
+  b.settle(100, kG);
+  REQUIRE(b.vehicle.mode() == Mode::flying);
+}
+// A pole landing on the plate: an 8 ms half-sine drop of the body-z specific force.
+void pole_lands(Bench& b, float peak_mps2) {
+  for (int i = 0; i < 8; ++i) b.tick(true, kG, kG - peak_mps2 * std::sin(3.14159265f * static_cast<float>(i) / 8.0f));
+}
+const Message* find_impact(const Bench& b, bool final) {
+  for (const Message& m : b.sent)
+    if (m.type == Type::impact && m.impact.final == final) return &m;
+  return nullptr;
+}
+}  // namespace
+
+TEST_CASE("a catch while one is expected: reported at once, not a crash, and the on-board reaction runs") {
+  Bench b;
+  take_off(b);
+  b.command(CommandCode::expect_catch, 1000);
+  b.settle(100, kG);
+  const std::uint32_t onset_us = b.now_us;
+  pole_lands(b, 40.0f);
+  const Message* first = find_impact(b, false);
+  REQUIRE(first != nullptr);
+  CHECK(first->impact.classification == ImpactClass::catch_impact);
+  CHECK(first->impact.vehicle_time_us >= onset_us);
+  CHECK(first->impact.vehicle_time_us <= onset_us + 1000);
+  CHECK(b.vehicle.catch_reaction_active());
+  b.settle(30, kG);
+  const Message* last = find_impact(b, true);
+  REQUIRE(last != nullptr);
+  CHECK(last->impact.classification == ImpactClass::catch_impact);
+  CHECK(last->impact.count == first->impact.count);
+  CHECK(b.vehicle.mode() == Mode::flying);
+
+  SECTION("the ground takes over with CATCH_HANDLED") {
+    b.command(CommandCode::catch_handled);
+    b.tick(true, kG);
+    CHECK_FALSE(b.vehicle.catch_reaction_active());
+  }
+  SECTION("or the reaction ends by itself") {
+    b.settle(static_cast<int>(b.config.catch_reaction.duration_us / 1000), kG);
+    CHECK_FALSE(b.vehicle.catch_reaction_active());
+  }
+}
+
+TEST_CASE("the same impact with no catch expected is reported as unexpected and starts no reaction") {
+  Bench b;
+  take_off(b);
+  pole_lands(b, 40.0f);
+  b.settle(30, kG);
+  const Message* last = find_impact(b, true);
+  REQUIRE(last != nullptr);
+  CHECK(last->impact.classification == ImpactClass::unexpected_impact);
+  CHECK_FALSE(b.vehicle.catch_reaction_active());
+  CHECK(b.vehicle.mode() == Mode::flying);
+}
+
+TEST_CASE("a crash in flight stops the motors") {
+  Bench b;
+  take_off(b);
+  for (int i = 0; i < 5; ++i) b.tick(true, kG, kG + 120.0f);
+  b.settle(30, kG);
+  const Message* last = find_impact(b, true);
+  REQUIRE(last != nullptr);
+  CHECK(last->impact.classification == ImpactClass::crash);
+  CHECK(b.vehicle.mode() == Mode::killed);
+  CHECK(b.vehicle.failsafe_reason() == FailsafeReason::crash);
+  CHECK_FALSE(b.tick(true, kG).motors_enabled);
 }
 
 TEST_CASE("the vehicle reports itself: heartbeats, telemetry and time-sync replies") {
