@@ -1,11 +1,15 @@
 # Turns an executable target into an MCU image: links it with its linker script, writes the
 # .bin (and .hex), prints its size and runs the no-heap check after every link (so an image
-# that allocates fails to build), and adds the ctests <prefix>_no_heap and <prefix>_size.
+# that allocates fails to build), and adds the ctests <prefix>_no_heap and <prefix>_size, and
+# once per build the tests that prove the no-heap check itself catches a heap user.
 #
 #   pa_firmware_image(<target> TEST_PREFIX <prefix> LINKER_SCRIPT <file.ld>
 #                     RAM_BUDGET_BYTES <n> FLASH_BUDGET_BYTES <n> [HEX])
 #
-# pa_no_heap_check_selftest() adds the tests that prove the check itself catches a heap user.
+# pa_qemu_test() adds a ctest that runs an image in qemu-system-arm through one of the
+# cmake/RunQemu*.cmake scripts.
+#
+#   pa_qemu_test(<name> SCRIPT <RunQemu....cmake> TIMEOUT <s> ARGS -D<var>=<value>...)
 include_guard(GLOBAL)
 
 set(PA_CMAKE_SCRIPTS_DIR ${CMAKE_CURRENT_LIST_DIR})
@@ -45,6 +49,26 @@ function(pa_firmware_image target)
                    -DRAM_BUDGET_BYTES=${ARG_RAM_BUDGET_BYTES} -DFLASH_BUDGET_BYTES=${ARG_FLASH_BUDGET_BYTES}
                    -P ${PA_CMAKE_SCRIPTS_DIR}/SizeCheck.cmake)
   set_tests_properties(${ARG_TEST_PREFIX}_no_heap ${ARG_TEST_PREFIX}_size PROPERTIES LABELS "mcu")
+  pa_no_heap_check_selftest()
+endfunction()
+
+# The script gets -DQEMU=<qemu-system-arm> before ARGS. PARSE_ARGV keeps a semicolon inside one
+# argument ("-DLIST=a;b") in that argument.
+function(pa_qemu_test name)
+  cmake_parse_arguments(PARSE_ARGV 1 ARG "" "SCRIPT;TIMEOUT" "ARGS")
+  foreach(required SCRIPT TIMEOUT)
+    if(NOT ARG_${required})
+      message(FATAL_ERROR "pa_qemu_test(${name}): ${required} is required")
+    endif()
+  endforeach()
+  find_program(PA_QEMU_SYSTEM_ARM qemu-system-arm)
+  set(qemu ${PA_QEMU_SYSTEM_ARM})
+  if(NOT qemu)
+    set(qemu qemu-system-arm)  # the test then fails saying so
+  endif()
+  add_test(NAME ${name}
+           COMMAND ${CMAKE_COMMAND} -DQEMU=${qemu} ${ARG_ARGS} -P ${PA_CMAKE_SCRIPTS_DIR}/${ARG_SCRIPT})
+  set_tests_properties(${name} PROPERTIES TIMEOUT ${ARG_TIMEOUT} LABELS "mcu")
 endfunction()
 
 # A small library (never linked into an image) whose code allocates, throws and uses RTTI;

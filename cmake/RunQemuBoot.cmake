@@ -10,18 +10,12 @@
 #         [-DEXECUTED=<regex>;<regex>...] -P RunQemuBoot.cmake
 cmake_minimum_required(VERSION 3.25)
 
-foreach(var QEMU MACHINE ELF LOG SECONDS REACH REACH_INSTRUCTION)
-  if(NOT DEFINED ${var} OR "${${var}}" STREQUAL "")
-    message(FATAL_ERROR "RunQemuBoot.cmake: -D${var}=... is required")
-  endif()
-endforeach()
+include(${CMAKE_CURRENT_LIST_DIR}/RunQemuCommon.cmake)
+pa_qemu_require(QEMU MACHINE ELF LOG SECONDS REACH REACH_INSTRUCTION)
 
 file(REMOVE "${LOG}")
-set(command "${QEMU}" -M ${MACHINE} -nographic -monitor none -serial none -kernel "${ELF}"
-            -d in_asm,int -D "${LOG}")
-string(REPLACE ";" " " shown "${command}")
-message("qemu: ${shown} (stopped after ${SECONDS} s)")
-execute_process(COMMAND ${command} TIMEOUT ${SECONDS} RESULT_VARIABLE status OUTPUT_VARIABLE output ERROR_VARIABLE output)
+pa_run_qemu(${MACHINE} ${SECONDS} status output -d in_asm,int -D "${LOG}")
+
 # The image never exits, so QEMU is expected to be stopped by the timeout; any other end is
 # QEMU failing (a bad image, an unknown machine).
 if(NOT status MATCHES "timeout")

@@ -1,25 +1,27 @@
 # Runs the mps2-an386 image in QEMU and passes only when it printed `selftest: pass` and
 # exited with status 0 (semihosting SYS_EXIT_EXTENDED carries the image's exit code).
 #
-#   cmake -DQEMU=qemu-system-arm -DELF=<image> -DICOUNT_SHIFT=<n> [-DTIMEOUT_S=<s>] -P RunQemuSelftest.cmake
+#   cmake -DQEMU=qemu-system-arm -DELF=<image> -DICOUNT_SHIFT=<n> [-DTIMEOUT_S=<s>]
+#         [-DTICK_INSTRUCTIONS_BUDGET=<n>] -P RunQemuSelftest.cmake
 #
 # -icount shift=N makes QEMU's virtual clock advance exactly 2^N ns per instruction; the
 # image's instruction counter assumes the same N (it is compiled in) and calibrates itself.
+# With a TICK_INSTRUCTIONS_BUDGET the test also fails when the image's `tick_instructions_max`
+# (the worst tick, in instructions net of the measurement's own cost) is over it or missing.
 cmake_minimum_required(VERSION 3.25)
 
-if(NOT QEMU OR NOT ELF OR "${ICOUNT_SHIFT}" STREQUAL "")
-  message(FATAL_ERROR "usage: cmake -DQEMU=<qemu-system-arm> -DELF=<image> -DICOUNT_SHIFT=<n> -P RunQemuSelftest.cmake")
-endif()
+include(${CMAKE_CURRENT_LIST_DIR}/RunQemuCommon.cmake)
+pa_qemu_require(QEMU ELF ICOUNT_SHIFT)
 if(NOT DEFINED TIMEOUT_S)
   set(TIMEOUT_S 240)
 endif()
+set(budget "${TICK_INSTRUCTIONS_BUDGET}")
+if(NOT budget STREQUAL "" AND NOT budget MATCHES "^[0-9]+$")
+  message(FATAL_ERROR "RunQemuSelftest.cmake: -DTICK_INSTRUCTIONS_BUDGET='${budget}' is not a whole number of instructions")
+endif()
 
-set(command "${QEMU}" -M mps2-an386 -nographic -monitor none -serial none
-            -semihosting-config enable=on,target=native -icount shift=${ICOUNT_SHIFT} -kernel "${ELF}")
-string(REPLACE ";" " " shown "${command}")
-message("qemu: ${shown}")
-execute_process(COMMAND ${command} TIMEOUT ${TIMEOUT_S}
-                RESULT_VARIABLE status OUTPUT_VARIABLE output ERROR_VARIABLE output)
+pa_run_qemu(mps2-an386 ${TIMEOUT_S} status output
+            -semihosting-config enable=on,target=native -icount shift=${ICOUNT_SHIFT})
 message("${output}")
 
 if(NOT status STREQUAL "0")
@@ -30,5 +32,20 @@ if(output MATCHES "selftest: fail")
 endif()
 if(NOT output MATCHES "(^|\n)selftest: pass\r?\n")
   message(FATAL_ERROR "qemu: the image did not print 'selftest: pass'")
+endif()
+
+# The worst tick's instructions (net of the probe, as the image prints it) against the budget.
+if(NOT budget STREQUAL "")
+  if(NOT output MATCHES "(^|\n)tick_instructions_max: ([^\r\n]*)")
+    message(FATAL_ERROR "qemu: no 'tick_instructions_max: N' line in the output, so the tick budget of ${budget} instructions cannot be checked")
+  endif()
+  set(tick_max "${CMAKE_MATCH_2}")
+  if(NOT tick_max MATCHES "^[0-9]+$")
+    message(FATAL_ERROR "qemu: 'tick_instructions_max: ${tick_max}' is not a whole number, so the tick budget of ${budget} instructions cannot be checked")
+  endif()
+  if(tick_max GREATER budget)
+    message(FATAL_ERROR "qemu: the worst tick took ${tick_max} instructions, over the budget of ${budget}")
+  endif()
+  message("qemu: the worst tick took ${tick_max} instructions, within the budget of ${budget}")
 endif()
 message("qemu: selftest passed")

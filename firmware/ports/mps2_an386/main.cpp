@@ -5,9 +5,9 @@
 #include <cstdint>
 
 #include "console.hpp"
+#include "cortex_m/runtime.hpp"
 #include "fw/selftest.hpp"
 #include "instruction_counter.hpp"
-#include "startup.hpp"
 
 namespace {
 
@@ -136,8 +136,8 @@ int main() {
 
   // The start-up code painted the stack; a high-water mark at the very end of it means the
   // stack may have run into .bss and nothing above can be trusted.
-  const std::uint32_t stack_used = mps2::stack_used_bytes();
-  const std::uint32_t stack_size = mps2::stack_size_bytes();
+  const std::uint32_t stack_used = cortex_m::stack_used_bytes();
+  const std::uint32_t stack_size = cortex_m::stack_size_bytes();
   ConsoleLine().text("stack_used_bytes: ").u32(stack_used).text(" of ").u32(stack_size).emit();
   const bool stack_ok = stack_used + 64u <= stack_size;
 

@@ -6,13 +6,13 @@
 
 #include "bxcan.hpp"
 #include "clock.hpp"
+#include "cortex_m/runtime.hpp"
 #include "cycle_counter.hpp"
 #include "fw/config.hpp"
 #include "hil_can_node.hpp"
 #include "microsecond_clock.hpp"
 #include "pa/sequence.hpp"
 #include "registers.hpp"
-#include "startup.hpp"
 
 #ifndef PA_STM32F405_NODE
 #define PA_STM32F405_NODE 1
@@ -67,7 +67,9 @@ int main() {
       if (ticks_seen != 0 && gap_us > g_board_status.hil_sample_gap_max_us) g_board_status.hil_sample_gap_max_us = gap_us;
       last_tick_us = now_us;
       ticks_seen = node.stats().ticks;
-      if ((ticks_seen & 1023u) == 0u) g_board_status.stack_used_bytes = stack_used_bytes();  // ~1 Hz
+      if ((ticks_seen & 1023u) == 0u) {  // ~1 Hz
+        g_board_status.stack_used_bytes = cortex_m::stack_used_bytes();
+      }
     }
     g_board_status.can = Can1::stats();
     g_board_status.hil = node.stats();
