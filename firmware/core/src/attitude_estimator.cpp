@@ -1,7 +1,9 @@
 #include "fw/attitude_estimator.hpp"
 
 #include <cmath>
+#include <limits>
 
+#include "fw/float_ops.hpp"
 #include "pa/constants.hpp"
 
 namespace fw {
@@ -9,18 +11,13 @@ namespace {
 
 static_assert(AttitudeEstimator::kGravity_mps2 == static_cast<float>(pa::kGravity_mps2));
 
-float clampf(float v, float lo, float hi) { return v < lo ? lo : (v > hi ? hi : v); }
-
-bool finite(const Vec3& v) {
-  return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
-}
-
 // Normalises q in place; returns false (leaving q alone) if it cannot.
-bool normalise(Quaternion& q) {
+[[gnu::always_inline]] inline bool normalise(Quaternion& q) {
   const float n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
-  if (!std::isfinite(n2) || n2 < 1.0e-12f) return false;
+  // Near 1 (as after every step) it is certainly normalisable; otherwise check (NaN fails both).
+  if (!(std::fabs(n2 - 1.0f) <= 0.5f) && !(n2 >= 1.0e-12f && n2 <= std::numeric_limits<float>::max())) return false;
   const float inv = 1.0f / std::sqrt(n2);
-  for (float& c : q) c *= inv;
+  q = {q[0] * inv, q[1] * inv, q[2] * inv, q[3] * inv};
   return true;
 }
 
@@ -30,38 +27,27 @@ AttitudeEstimator::AttitudeEstimator(float accel_gain_per_s)
     : accel_gain_per_s_(std::isfinite(accel_gain_per_s) && accel_gain_per_s > 0.0f ? accel_gain_per_s
                                                                                    : 0.0f) {}
 
-void AttitudeEstimator::set_accel_gain(float accel_gain_per_s) {
-  accel_gain_per_s_ = std::isfinite(accel_gain_per_s) && accel_gain_per_s > 0.0f ? accel_gain_per_s : 0.0f;
-}
-
 void AttitudeEstimator::reset_level() {
   q_ = {1.0f, 0.0f, 0.0f, 0.0f};
   aligned_ = false;
 }
 
-Vec3 AttitudeEstimator::up_in_body() const {
-  // Third row of the body-to-inertial rotation matrix of q.
-  const float w = q_[0], x = q_[1], y = q_[2], z = q_[3];
-  return {2.0f * (x * z - w * y), 2.0f * (y * z + w * x), 1.0f - 2.0f * (x * x + y * y)};
-}
-
-float AttitudeEstimator::tilt_cos() const {
-  return 1.0f - 2.0f * (q_[1] * q_[1] + q_[2] * q_[2]);
-}
-
 void AttitudeEstimator::update(const Vec3& gyro_radps, const Vec3& accel_mps2, float dt_s) {
-  if (!finite(gyro_radps) || !std::isfinite(dt_s)) return;
+  if (!(nonfinite_marker(gyro_radps) + nonfinite_marker(dt_s) == 0.0f)) return;
   const float dt_clamped_s = clampf(dt_s, 0.0f, kDtMax_s);
 
-  // Is the accelerometer a usable gravity reference on this sample?
+  // Is the accelerometer a usable gravity reference on this sample? It is needed only to align
+  // and while the correction has a gain (the vehicle sets none in flight), and a zero gain
+  // would add nothing below.
   bool accel_usable = false;
   Vec3 up_meas{};
-  if (finite(accel_mps2)) {
+  if (!aligned_ || accel_gain_per_s_ > 0.0f) {
     const float n2 = accel_mps2[0] * accel_mps2[0] + accel_mps2[1] * accel_mps2[1] +
                      accel_mps2[2] * accel_mps2[2];
     const float lo = (1.0f - kAccelGateFraction) * kGravity_mps2;
     const float hi = (1.0f + kAccelGateFraction) * kGravity_mps2;
-    if (std::isfinite(n2) && n2 >= lo * lo && n2 <= hi * hi) {
+    // A non-finite component makes n2 NaN or infinite, which fails the upper bound.
+    if (n2 >= lo * lo && n2 <= hi * hi) {
       const float inv = 1.0f / std::sqrt(n2);
       up_meas = {accel_mps2[0] * inv, accel_mps2[1] * inv, accel_mps2[2] * inv};
       accel_usable = true;
@@ -79,9 +65,10 @@ void AttitudeEstimator::update(const Vec3& gyro_radps, const Vec3& accel_mps2, f
     return;
   }
 
-  Vec3 omega_radps{clampf(gyro_radps[0], -kGyroLimit_radps, kGyroLimit_radps),
-                   clampf(gyro_radps[1], -kGyroLimit_radps, kGyroLimit_radps),
-                   clampf(gyro_radps[2], -kGyroLimit_radps, kGyroLimit_radps)};
+  Vec3 omega_radps = gyro_radps;
+  if (!all_within(omega_radps, kGyroLimit_radps)) {  // inside the range (as usual) the clamp changes nothing
+    for (float& w : omega_radps) w = clampf(w, -kGyroLimit_radps, kGyroLimit_radps);
+  }
   if (accel_usable) {
     // Rotating the body at k (u_meas x u_est) moves the estimated up towards the measured one
     // at rate k sin(angle): d/dt u_est = u_est x omega for a fixed inertial vector. The sample's
@@ -103,9 +90,10 @@ void AttitudeEstimator::update(const Vec3& gyro_radps, const Vec3& accel_mps2, f
 
   // q <- q (x) dq with dq the rotation by omega dt, from the series of cos and sin of half the
   // angle to second order (no trig), then renormalised.
-  const float hx = 0.5f * omega_radps[0] * dt_clamped_s;
-  const float hy = 0.5f * omega_radps[1] * dt_clamped_s;
-  const float hz = 0.5f * omega_radps[2] * dt_clamped_s;
+  const float half_dt_s = 0.5f * dt_clamped_s;
+  const float hx = omega_radps[0] * half_dt_s;
+  const float hy = omega_radps[1] * half_dt_s;
+  const float hz = omega_radps[2] * half_dt_s;
   const float h2 = hx * hx + hy * hy + hz * hz;
   const float dw = 1.0f - 0.5f * h2;
   const float s = 1.0f - h2 * (1.0f / 6.0f);

@@ -80,42 +80,16 @@ void CommandLink::apply(const Message& m, std::uint32_t now_us) {
   RxCounters::bump(counters_.accepted);
 }
 
-bool CommandLink::setpoint_fresh(std::uint32_t now_us) const {
-  return has_setpoint_ && pa::elapsed_us(now_us, setpoint_us_) <= static_cast<std::int32_t>(setpoint_timeout_us_);
-}
-
 std::uint32_t CommandLink::setpoint_age_us(std::uint32_t now_us) const {
   if (!has_setpoint_) return 0xFFFFFFFFu;
   const std::int32_t age = pa::elapsed_us(now_us, setpoint_us_);
   return age < 0 ? 0u : static_cast<std::uint32_t>(age);
 }
 
-bool CommandLink::heartbeat_live(std::uint32_t now_us) const {
-  return has_heartbeat_ &&
-         pa::elapsed_us(now_us, heartbeat_us_) <= static_cast<std::int32_t>(heartbeat_timeout_us_);
-}
-
-bool CommandLink::take_kill(KillReason& reason) {
-  if (!kill_pending_) return false;
-  kill_pending_ = false;
-  reason = kill_reason_;
-  return true;
-}
-
-bool CommandLink::take_command(Command& out) {
-  if (command_count_ == 0) return false;
+void CommandLink::pop_command(Command& out) {
   out = commands_[0];
   for (std::size_t i = 1; i < command_count_; ++i) commands_[i - 1] = commands_[i];
   --command_count_;
-  return true;
-}
-
-bool CommandLink::take_timesync(TimesyncRequest& request, std::uint32_t& received_us) {
-  if (!timesync_pending_) return false;
-  timesync_pending_ = false;
-  request = timesync_;
-  received_us = timesync_rx_us_;
-  return true;
 }
 
 }  // namespace fw

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "fw/float_ops.hpp"
 #include "pa/sequence.hpp"
 
 namespace fw {
@@ -10,13 +11,11 @@ using pa::proto::ImpactClass;
 
 namespace {
 
-bool finite3(const Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
+[[gnu::always_inline]] inline Vec3 minus(const Vec3& a, const Vec3& b) {
+  return Vec3{a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+}
 
-Vec3 minus(const Vec3& a, const Vec3& b) { return Vec3{a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-
-float norm(const Vec3& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
-
-float clampf(float v, float lo, float hi) { return v < lo ? lo : (v > hi ? hi : v); }
+[[gnu::always_inline]] inline float norm(const Vec3& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
 
 std::uint8_t clamp_u8(std::uint8_t v, std::uint8_t lo, std::uint8_t hi) { return v < lo ? lo : (v > hi ? hi : v); }
 
@@ -35,12 +34,14 @@ ImpactDetectorConfig sanitised(ImpactDetectorConfig c) {
 
 }  // namespace
 
-static_assert(ImpactDetector::kMaxReferenceDelay + ImpactDetector::kMaxConfirmSamples < ImpactDetector::kHistory,
-              "the history must hold the reference and every sample up to the confirmation");
+static_assert(ImpactDetector::kMaxReferenceDelay < ImpactDetector::kHistory, "the history must hold the reference");
 
 ImpactDetector::ImpactDetector(const ImpactDetectorConfig& config, const AirframeConfig& airframe)
     : config_(sanitised(config)),
-      motor_time_constant_s_(airframe.motor_time_constant_s > 0.0f ? airframe.motor_time_constant_s : 0.0f) {}
+      motor_time_constant_s_(airframe.motor_time_constant_s > 0.0f ? airframe.motor_time_constant_s : 0.0f),
+      trigger2_(config_.trigger_mps2 * config_.trigger_mps2),
+      crash_peak2_(config_.crash_peak_mps2 * config_.crash_peak_mps2),
+      crash_lateral2_(config_.crash_lateral_mps2 * config_.crash_lateral_mps2) {}
 
 void ImpactDetector::reset() {
   started_ = false;
@@ -50,7 +51,7 @@ void ImpactDetector::reset() {
   filled_ = 0;
   phase_ = Phase::idle;
   reference_ = {};
-  reference_age_ = 0;
+  edge_ = {};
   above_ = 0;
   crash_level_only_ = false;
   catch_expected_ = false;
@@ -65,12 +66,14 @@ void ImpactDetector::reset() {
 
 Vec3 ImpactDetector::residual_mps2() const { return filled_ == 0 ? Vec3{} : history(0).residual_mps2; }
 
-const ImpactDetector::Sample& ImpactDetector::history(std::size_t samples_ago) const {
+[[gnu::always_inline]] inline const ImpactDetector::Sample& ImpactDetector::history(std::size_t samples_ago) const {
   return history_[(newest_ + kHistory - samples_ago) % kHistory];
 }
 
 bool ImpactDetector::update(const ImpactInput& in, ImpactEvent& out) {
-  if (!finite3(in.accel_mps2) || !finite3(in.gyro_radps) || !std::isfinite(in.commanded_thrust_mps2)) return false;
+  const float marker =
+      nonfinite_marker(in.accel_mps2) + nonfinite_marker(in.gyro_radps) + nonfinite_marker(in.commanded_thrust_mps2);
+  if (!(marker == 0.0f)) return false;
   // A fixed-pitch rotor cannot pull down: a negative command means zero thrust.
   const float command_mps2 = in.commanded_thrust_mps2 > 0.0f ? in.commanded_thrust_mps2 : 0.0f;
 
@@ -80,15 +83,21 @@ bool ImpactDetector::update(const ImpactInput& in, ImpactEvent& out) {
     expected_mps2_ = command_mps2;  // assume the motors had settled
     started_ = true;
   } else {
-    const float dt_s = clampf(static_cast<float>(pa::elapsed_us(in.t_us, last_t_us_)) * 1e-6f, config_.dt_min_s,
-                              config_.dt_max_s);
-    float alpha = 1.0f;
-    if (motor_time_constant_s_ > 0.0f) {
-      const float x = dt_s / motor_time_constant_s_;
-      alpha = x / (1.0f + 0.5f * x);
-      if (alpha > 1.0f) alpha = 1.0f;
+    // The step's gain depends on the sample interval only, which is nearly always the last one.
+    const std::int32_t step_us = pa::elapsed_us(in.t_us, last_t_us_);
+    if (!has_lag_gain_ || step_us != lag_gain_step_us_) {
+      const float dt_s = clampf(static_cast<float>(step_us) * 1e-6f, config_.dt_min_s, config_.dt_max_s);
+      float alpha = 1.0f;
+      if (motor_time_constant_s_ > 0.0f) {
+        const float x = dt_s / motor_time_constant_s_;
+        alpha = x / (1.0f + 0.5f * x);
+        if (alpha > 1.0f) alpha = 1.0f;
+      }
+      lag_gain_ = alpha;
+      lag_gain_step_us_ = step_us;
+      has_lag_gain_ = true;
     }
-    expected_mps2_ += alpha * (command_mps2 - expected_mps2_);
+    expected_mps2_ += lag_gain_ * (command_mps2 - expected_mps2_);
   }
   last_t_us_ = in.t_us;
 
@@ -118,8 +127,7 @@ bool ImpactDetector::update(const ImpactInput& in, ImpactEvent& out) {
         has_settled_ = false;
       }
       if (!triggered(minus(s.residual_mps2, reference.residual_mps2), refractory)) return false;
-      reference_ = reference;
-      reference_age_ = delay;
+      begin_event(delay);
       above_ = 1;
       crash_level_only_ = refractory;
       catch_expected_ = in.catch_expected;
@@ -127,7 +135,6 @@ bool ImpactDetector::update(const ImpactInput& in, ImpactEvent& out) {
       break;
     }
     case Phase::pending:
-      ++reference_age_;
       catch_expected_ = catch_expected_ || in.catch_expected;
       if (!triggered(minus(s.residual_mps2, reference_.residual_mps2), crash_level_only_)) {
         phase_ = Phase::idle;  // a spike too short to confirm
@@ -136,11 +143,12 @@ bool ImpactDetector::update(const ImpactInput& in, ImpactEvent& out) {
         return false;
       }
       ++above_;
+      accumulate(0, reference_, acc_, edge_);
       break;
     case Phase::active:
     case Phase::tail: {
       catch_expected_ = catch_expected_ || in.catch_expected;
-      const float change_mps2 = add(acc_, s);
+      const float change_mps2 = add(acc_, s, reference_);
       const bool released = change_mps2 < config_.release_mps2;
       const bool expired = pa::elapsed_us(in.t_us, onset_us_) >= static_cast<std::int32_t>(config_.event_window_us);
       if (released || expired) {
@@ -167,16 +175,15 @@ bool ImpactDetector::update(const ImpactInput& in, ImpactEvent& out) {
   return true;
 }
 
-bool ImpactDetector::triggered(const Vec3& change_mps2, bool crash_level_only) const {
+[[gnu::always_inline]] inline bool ImpactDetector::triggered(const Vec3& change_mps2, bool crash_level_only) const {
   const float total2 = change_mps2[0] * change_mps2[0] + change_mps2[1] * change_mps2[1] + change_mps2[2] * change_mps2[2];
-  if (!crash_level_only) return total2 >= config_.trigger_mps2 * config_.trigger_mps2;
+  if (!crash_level_only) return total2 >= trigger2_;
   const float lateral2 = change_mps2[0] * change_mps2[0] + change_mps2[1] * change_mps2[1];
-  return total2 > config_.crash_peak_mps2 * config_.crash_peak_mps2 ||
-         lateral2 > config_.crash_lateral_mps2 * config_.crash_lateral_mps2;
+  return total2 > crash_peak2_ || lateral2 > crash_lateral2_;
 }
 
-float ImpactDetector::add(Accumulator& acc, const Sample& s) const {
-  const Vec3 d = minus(s.residual_mps2, reference_.residual_mps2);
+[[gnu::always_inline]] inline float ImpactDetector::add(Accumulator& acc, const Sample& s, const Sample& reference) {
+  const Vec3 d = minus(s.residual_mps2, reference.residual_mps2);
   const float m = norm(d);
   if (m > acc.peak_mps2) {
     acc.before_peak_mps2 = acc.last_mps2;
@@ -189,10 +196,45 @@ float ImpactDetector::add(Accumulator& acc, const Sample& s) const {
   }
   const float lateral = std::sqrt(d[0] * d[0] + d[1] * d[1]);
   if (lateral > acc.lateral_max_mps2) acc.lateral_max_mps2 = lateral;
-  const float rate_change = norm(minus(s.gyro_radps, reference_.gyro_radps));
+  const float rate_change = norm(minus(s.gyro_radps, reference.gyro_radps));
   if (rate_change > acc.rate_change_max_radps) acc.rate_change_max_radps = rate_change;
   acc.last_mps2 = m;
   return m;
+}
+
+// 3./4. The samples since the reference, oldest first, measured against it as they come (here
+// the ones up to the triggering sample, then one per pending sample), so that no sample has to
+// replay the whole rise. Out of line: the idle path that calls it keeps its registers, and the
+// copies here stay in registers.
+[[gnu::noinline]] void ImpactDetector::begin_event(std::size_t delay) {
+  const Sample& reference = history(delay);
+  reference_ = reference;
+  Accumulator acc{};
+  RisingEdge edge{};
+  edge.quiet_us = reference.t_us;
+  accumulate(delay - 1, reference, acc, edge);
+  acc_ = acc;
+  edge_ = edge;
+}
+
+[[gnu::always_inline]] inline void ImpactDetector::accumulate(std::size_t oldest_age, const Sample& reference,
+                                                               Accumulator& acc, RisingEdge& edge) const {
+  for (std::size_t age = oldest_age + 1; age-- > 0;) {
+    const Sample& s = history(age);
+    const float change_mps2 = add(acc, s, reference);
+    if (change_mps2 < config_.onset_mps2) {
+      edge.quiet_us = s.t_us;  // still inside the onset band: the edge has not begun
+      edge.count = 0;
+    } else if (edge.count == 0) {
+      edge.first_us = s.t_us;
+      edge.first_mps2 = change_mps2;
+      edge.count = 1;
+    } else if (edge.count == 1) {
+      edge.second_us = s.t_us;
+      edge.second_mps2 = change_mps2;
+      edge.count = 2;
+    }
+  }
 }
 
 bool ImpactDetector::crash_seen(const Accumulator& acc, float peak_mps2) const {
@@ -221,32 +263,25 @@ float ImpactDetector::refined_peak() const {
   return b - 0.25f * (a - c) * p;
 }
 
-// 3. The event is confirmed: replay the samples since the reference (at most kHistory - 1) to
-// find the rising edge and the peak so far.
+// 3. The event is confirmed: the rising edge begins with the first sample after the latest one
+// inside the onset band (the latest sample is above the trigger, so there is one). Extend the
+// line through its first two samples back to zero, no further back than the quiet sample; a
+// single-sample edge starts half-way.
 void ImpactDetector::confirm(std::uint32_t now_us, ImpactEvent& out) {
-  std::array<float, kHistory> change_mps2{};  // by age
-  Accumulator acc{};
-  std::size_t quiet_age = reference_age_;  // the latest sample inside the onset band
-  for (std::size_t age = reference_age_; age-- > 0;) {
-    change_mps2[age] = add(acc, history(age));
-    if (change_mps2[age] < config_.onset_mps2) quiet_age = age;
-  }
-  // The rising edge begins with the sample after quiet_age (the latest sample is above the
-  // trigger, so quiet_age >= 1). Extend the line through its first two samples back to zero,
-  // no further back than the quiet sample; a single-sample edge starts half-way.
-  const Sample& first = history(quiet_age - 1);
-  const float span_us = static_cast<float>(pa::elapsed_us(first.t_us, history(quiet_age).t_us));
+  // Only a configuration whose crash levels lie below onset_mps2 can confirm with the latest
+  // sample inside the band; the edge is then that sample.
+  const std::uint32_t first_us = edge_.count > 0 ? edge_.first_us : now_us;
+  const float span_us = edge_.count > 0 ? static_cast<float>(pa::elapsed_us(first_us, edge_.quiet_us)) : 0.0f;
   float back_us = 0.5f * span_us;
-  if (quiet_age >= 2) {
-    const float v0 = change_mps2[quiet_age - 1];
-    const float v1 = change_mps2[quiet_age - 2];
-    const float step_us = static_cast<float>(pa::elapsed_us(history(quiet_age - 2).t_us, first.t_us));
+  if (edge_.count >= 2) {
+    const float v0 = edge_.first_mps2;
+    const float v1 = edge_.second_mps2;
+    const float step_us = static_cast<float>(pa::elapsed_us(edge_.second_us, first_us));
     if (v1 > v0 && step_us > 0.0f) back_us = v0 * step_us / (v1 - v0);
   }
   back_us = clampf(back_us, 0.0f, span_us > 0.0f ? span_us : 0.0f);
-  onset_us_ = first.t_us - static_cast<std::uint32_t>(back_us + 0.5f);
+  onset_us_ = first_us - static_cast<std::uint32_t>(back_us + 0.5f);
 
-  acc_ = acc;
   detected_us_ = now_us;
   count_ = static_cast<std::uint8_t>(count_ + 1u);
   phase_ = Phase::active;

@@ -2,16 +2,47 @@
 
 #include <cmath>
 
+#include "fw/float_ops.hpp"
+
 namespace fw {
 namespace {
 
 constexpr float kInvSqrt2 = 0.70710678f;
 
-float clampf(float v, float lo, float hi) { return v < lo ? lo : (v > hi ? hi : v); }
-
 bool finite(const MixerInput& in) {
   return std::isfinite(in.thrust_N) && std::isfinite(in.torque_Nm[0]) &&
          std::isfinite(in.torque_Nm[1]) && std::isfinite(in.torque_Nm[2]);
+}
+
+// Every value inside the limit, and therefore finite (a NaN or an infinity makes the sum fail the
+// comparison). Conservative: a request whose values are each inside but whose sum is not takes
+// the general path, where the clip then changes nothing.
+[[gnu::always_inline]] inline bool within_request_limit(const MixerInput& in) {
+  const float sum = std::fabs(in.thrust_N) + std::fabs(in.torque_Nm[0]) + std::fabs(in.torque_Nm[1]) +
+                    std::fabs(in.torque_Nm[2]);
+  return sum <= Mixer::kRequestLimit;
+}
+
+// Lowers `fraction` (the share of the yaw differential applied) so that motor_N + fraction *
+// diff_N stays inside [lo_N, hi_N], for a non-zero diff_N.
+// The collective and torques of the motor thrusts: the sums over the sign tables, motor by
+// motor from zero (the equations in mixer.hpp).
+[[gnu::always_inline]] inline MixerInput wrench(const Motors& thrust_N, float half_span_m, float yaw_moment_m) {
+  const float f0 = thrust_N[0], f1 = thrust_N[1], f2 = thrust_N[2], f3 = thrust_N[3];
+  const float roll = 0.0f - f0 + f1 + f2 - f3;
+  const float pitch = 0.0f - f0 + f1 - f2 + f3;
+  const float yaw = 0.0f - f0 - f1 + f2 + f3;
+  return MixerInput{0.0f + f0 + f1 + f2 + f3, {half_span_m * roll, half_span_m * pitch, yaw_moment_m * yaw}};
+}
+
+[[gnu::always_inline]] inline void fit_yaw(float motor_N, float diff_N, float lo_N, float hi_N, float& fraction) {
+  if (diff_N > 0.0f) {
+    const float room_N = hi_N - motor_N;
+    if (room_N < fraction * diff_N) fraction = room_N / diff_N;
+  } else {
+    const float room_N = lo_N - motor_N;
+    if (room_N > fraction * diff_N) fraction = room_N / diff_N;
+  }
 }
 
 }  // namespace
@@ -42,50 +73,44 @@ MixerOutput Mixer::rejected(float motor_thrust_N) const {
   return out;
 }
 
-MixerInput Mixer::effect(const Motors& thrust_N) const {
-  MixerInput e;
-  float roll = 0.0f, pitch = 0.0f, yaw = 0.0f;
-  for (int i = 0; i < 4; ++i) {
-    e.thrust_N += thrust_N[i];
-    roll += kRollSign[i] * thrust_N[i];
-    pitch += kPitchSign[i] * thrust_N[i];
-    yaw += kYawSign[i] * thrust_N[i];
-  }
-  e.torque_Nm = {half_span_m_ * roll, half_span_m_ * pitch, yaw_moment_m_ * yaw};
-  return e;
-}
+MixerInput Mixer::effect(const Motors& thrust_N) const { return wrench(thrust_N, half_span_m_, yaw_moment_m_); }
 
 MixerOutput Mixer::mix(const MixerInput& input) const {
   if (!valid_) return rejected(0.0f);
-  if (!finite(input)) return rejected(thrust_min_N_);
+
+  float collective_N = input.thrust_N;
+  float roll_Nm = input.torque_Nm[0];
+  float pitch_Nm = input.torque_Nm[1];
+  float yaw_Nm = input.torque_Nm[2];
+  // The common request is finite and inside the limit, where the clip changes nothing.
+  if (!within_request_limit(input)) {
+    if (!finite(input)) return rejected(thrust_min_N_);
+    collective_N = clampf(collective_N, -kRequestLimit, kRequestLimit);
+    roll_Nm = clampf(roll_Nm, -kRequestLimit, kRequestLimit);
+    pitch_Nm = clampf(pitch_Nm, -kRequestLimit, kRequestLimit);
+    yaw_Nm = clampf(yaw_Nm, -kRequestLimit, kRequestLimit);
+  }
 
   const float lo_N = thrust_min_N_;
   const float hi_N = thrust_max_N_;
   const float span_N = hi_N - lo_N;
-
-  const float thrust_N = clampf(input.thrust_N, -kRequestLimit, kRequestLimit);
-  const float roll_Nm = clampf(input.torque_Nm[0], -kRequestLimit, kRequestLimit);
-  const float pitch_Nm = clampf(input.torque_Nm[1], -kRequestLimit, kRequestLimit);
-  const float yaw_Nm = clampf(input.torque_Nm[2], -kRequestLimit, kRequestLimit);
 
   std::uint8_t flags = 0;
 
   // 1. Roll and pitch: the per-motor differential must fit the motors' span. If it does not,
   //    both axes are scaled by the same factor, which keeps the direction of the tilt torque
   //    (what a balancing or catching manoeuvre needs most) and gives up only its magnitude.
-  Motors rp{};
-  float rp_lo = 0.0f, rp_hi = 0.0f;
-  for (int i = 0; i < 4; ++i) {
-    rp[i] = (kRollSign[i] * roll_Nm + kPitchSign[i] * pitch_Nm) * inv_4a_per_m_;
-    rp_lo = i == 0 ? rp[i] : (rp[i] < rp_lo ? rp[i] : rp_lo);
-    rp_hi = i == 0 ? rp[i] : (rp[i] > rp_hi ? rp[i] : rp_hi);
-  }
-  const float rp_range = rp_hi - rp_lo;
-  if (rp_range > span_N) {
-    const float scale = span_N / rp_range;
-    for (float& v : rp) v *= scale;
-    rp_lo *= scale;
-    rp_hi *= scale;
+  //    With the sign tables the four differentials are (-s, +s, +d, -d) with
+  //    s = (roll + pitch) / 4a and d = (roll - pitch) / 4a, so they span [-m, m] with
+  //    m = max(|s|, |d|). (Each is summed in its own signs, as the tables do, so that even the
+  //    sign of a zero is the tables'.)
+  Motors rp_N{(-roll_Nm - pitch_Nm) * inv_4a_per_m_, (roll_Nm + pitch_Nm) * inv_4a_per_m_,
+              (roll_Nm - pitch_Nm) * inv_4a_per_m_, (pitch_Nm - roll_Nm) * inv_4a_per_m_};
+  float m_N = std::fabs(rp_N[1]) > std::fabs(rp_N[2]) ? std::fabs(rp_N[1]) : std::fabs(rp_N[2]);
+  if (m_N + m_N > span_N) {
+    const float scale = span_N / (m_N + m_N);
+    for (float& v : rp_N) v *= scale;
+    m_N *= scale;
     if (roll_Nm > 0.0f) flags |= saturation::roll_pos;
     if (roll_Nm < 0.0f) flags |= saturation::roll_neg;
     if (pitch_Nm > 0.0f) flags |= saturation::pitch_pos;
@@ -96,10 +121,10 @@ MixerOutput Mixer::mix(const MixerInput& input) const {
   //    differential stays inside [min, max]. After step 1 the band is never empty; when the
   //    differential fills the span exactly, rounding may invert it by an ulp, and it is then
   //    the single point between (the final clamp absorbs the ulp).
-  float base_lo_N = lo_N - rp_lo;
-  float base_hi_N = hi_N - rp_hi;
+  float base_lo_N = lo_N + m_N;
+  float base_hi_N = hi_N - m_N;
   if (base_hi_N < base_lo_N) base_lo_N = base_hi_N = 0.5f * (base_lo_N + base_hi_N);
-  float base_N = 0.25f * thrust_N;
+  float base_N = 0.25f * collective_N;
   if (base_N > base_hi_N) {
     base_N = base_hi_N;
     flags |= saturation::collective_high;
@@ -110,38 +135,39 @@ MixerOutput Mixer::mix(const MixerInput& input) const {
 
   // 3. Yaw: the largest fraction in [0, 1] of the yaw differential that keeps every motor in
   //    bounds. The yaw differential sums to zero, so it leaves the collective untouched.
-  Motors motor_N{};
-  Motors yaw_diff{};
+  //    With kYawSign, motors 0 and 1 get -yaw_N and motors 2 and 3 +yaw_N.
+  const Motors motor_N{base_N + rp_N[0], base_N + rp_N[1], base_N + rp_N[2], base_N + rp_N[3]};
+  //    Usually all of it fits, which the extreme motor of each pair decides: motors 0 and 1 sit
+  //    at base_N -+ |rp_N[1]|, motors 2 and 3 at base_N +- |rp_N[2]|, and rounding is monotonic,
+  //    so these two comparisons decide exactly what fit_yaw() would for the four motors.
+  const float yaw_N = yaw_Nm * inv_4k_per_m_;
+  const float pair01_N = std::fabs(rp_N[1]);
+  const float pair23_N = std::fabs(rp_N[2]);
+  const bool yaw_fits = yaw_N > 0.0f ? hi_N - (base_N + pair23_N) >= yaw_N && lo_N - (base_N - pair01_N) <= -yaw_N
+                                     : hi_N - (base_N + pair01_N) >= -yaw_N && lo_N - (base_N - pair23_N) <= yaw_N;
   float yaw_fraction = 1.0f;
-  for (int i = 0; i < 4; ++i) {
-    motor_N[i] = base_N + rp[i];
-    yaw_diff[i] = kYawSign[i] * yaw_Nm * inv_4k_per_m_;
-    if (yaw_diff[i] > 0.0f) {
-      const float room_N = hi_N - motor_N[i];
-      if (room_N < yaw_fraction * yaw_diff[i]) yaw_fraction = room_N / yaw_diff[i];
-    } else if (yaw_diff[i] < 0.0f) {
-      const float room_N = lo_N - motor_N[i];
-      if (room_N > yaw_fraction * yaw_diff[i]) yaw_fraction = room_N / yaw_diff[i];
-    }
-  }
-  yaw_fraction = clampf(yaw_fraction, 0.0f, 1.0f);
-  if (yaw_fraction < 1.0f) {
-    if (yaw_Nm > 0.0f) flags |= saturation::yaw_pos;
-    if (yaw_Nm < 0.0f) flags |= saturation::yaw_neg;
+  if (yaw_N != 0.0f && !yaw_fits) {
+    fit_yaw(motor_N[0], -yaw_N, lo_N, hi_N, yaw_fraction);
+    fit_yaw(motor_N[1], -yaw_N, lo_N, hi_N, yaw_fraction);
+    fit_yaw(motor_N[2], yaw_N, lo_N, hi_N, yaw_fraction);
+    fit_yaw(motor_N[3], yaw_N, lo_N, hi_N, yaw_fraction);
+    yaw_fraction = clampf(yaw_fraction, 0.0f, 1.0f);
+    if (yaw_fraction < 1.0f) flags |= yaw_N > 0.0f ? saturation::yaw_pos : saturation::yaw_neg;
   }
 
-  MixerOutput out;
-  for (int i = 0; i < 4; ++i) {
-    out.thrust_N[i] = clampf(motor_N[i] + yaw_fraction * yaw_diff[i], lo_N, hi_N);
-    out.command[i] = out.thrust_N[i] / hi_N;
-  }
-  out.saturation = flags;
+  const Motors thrust_N{clampf(motor_N[0] - yaw_fraction * yaw_N, lo_N, hi_N),
+                        clampf(motor_N[1] - yaw_fraction * yaw_N, lo_N, hi_N),
+                        clampf(motor_N[2] + yaw_fraction * yaw_N, lo_N, hi_N),
+                        clampf(motor_N[3] + yaw_fraction * yaw_N, lo_N, hi_N)};
 
   // What was not allocated, measured on the motor thrusts actually commanded.
-  const MixerInput achieved = effect(out.thrust_N);
-  out.thrust_unallocated_N = input.thrust_N - achieved.thrust_N;
-  for (int a = 0; a < 3; ++a) out.torque_unallocated_Nm[a] = input.torque_Nm[a] - achieved.torque_Nm[a];
-  return out;
+  const MixerInput achieved = wrench(thrust_N, half_span_m_, yaw_moment_m_);
+  return MixerOutput{thrust_N,
+                     {thrust_N[0] / hi_N, thrust_N[1] / hi_N, thrust_N[2] / hi_N, thrust_N[3] / hi_N},
+                     flags,
+                     {input.torque_Nm[0] - achieved.torque_Nm[0], input.torque_Nm[1] - achieved.torque_Nm[1],
+                      input.torque_Nm[2] - achieved.torque_Nm[2]},
+                     input.thrust_N - achieved.thrust_N};
 }
 
 }  // namespace fw

@@ -61,8 +61,15 @@ void Supervisor::update(const SupervisorInputs& in) {
   if (reason_ == FailsafeReason::land_command) c |= condition::land_commanded;
   conditions_ = c;
 
+  // The table is a function of the mode and the conditions only: a pair that matched no row
+  // before matches none now, which spares the scan on the steady ticks.
+  if (mode_ == unmatched_mode_ && c == unmatched_conditions_) return;
   const std::size_t i = find_transition(mode_, c);
-  if (i == kSupervisorTransitions.size()) return;
+  if (i == kSupervisorTransitions.size()) {
+    unmatched_mode_ = mode_;
+    unmatched_conditions_ = c;
+    return;
+  }
   const SupervisorTransition& row = kSupervisorTransitions[i];
   enter(row.to, row.keep_reason ? reason_ : row.reason, in.now_us);
 }

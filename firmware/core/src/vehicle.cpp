@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "fw/float_ops.hpp"
 #include "pa/constants.hpp"
 #include "pa/sequence.hpp"
 
@@ -22,10 +23,6 @@ constexpr std::int32_t kExpectCatchMax_ms = 10000;
 // true tilt. So the tilt is corrected on the ground and integrated from the gyro in flight.
 constexpr float kAttitudeGroundGain_per_s = 2.0f;
 
-bool finite3(const Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
-bool within3(const Vec3& v, float limit) {
-  return std::fabs(v[0]) <= limit && std::fabs(v[1]) <= limit && std::fabs(v[2]) <= limit;
-}
 float dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 std::uint32_t ticks_for(std::uint32_t period_us) {
   const std::uint32_t t = period_us / pa::kImuPeriod_us;
@@ -41,22 +38,33 @@ Vehicle::Vehicle(const VehicleConfig& config)
       attitude_(kAttitudeGroundGain_per_s),
       impacts_(config.impact, config.airframe),
       supervisor_(config.supervisor),
+      ground_contact_us_(static_cast<float>(config.supervisor.ground_contact_us)),
       rate_controller_(config.rate, config.airframe),
       mixer_(config.airframe),
       // The static task table. Phases keep the heavier frames on different ticks.
       tasks_{{
-          {&Vehicle::send_telemetry_rates, ticks_for(config.link.telemetry_rates_period_us), 0},
-          {&Vehicle::send_heartbeat, ticks_for(config.link.heartbeat_period_us), 1},
-          {&Vehicle::send_telemetry_attitude, ticks_for(config.link.telemetry_attitude_period_us), 2},
-          {&Vehicle::send_telemetry_motors, ticks_for(config.link.telemetry_motors_period_us), 3},
-          {&Vehicle::send_telemetry_status, ticks_for(config.link.telemetry_status_period_us), 4},
+          task(&Vehicle::send_telemetry_rates, ticks_for(config.link.telemetry_rates_period_us), 0),
+          task(&Vehicle::send_heartbeat, ticks_for(config.link.heartbeat_period_us), 1),
+          task(&Vehicle::send_telemetry_attitude, ticks_for(config.link.telemetry_attitude_period_us), 2),
+          task(&Vehicle::send_telemetry_motors, ticks_for(config.link.telemetry_motors_period_us), 3),
+          task(&Vehicle::send_telemetry_status, ticks_for(config.link.telemetry_status_period_us), 4),
       }} {}
+
+// A task runs on the ticks whose count (1 on the first tick) is `phase` modulo `period`; the
+// countdown reaches zero on exactly those ticks.
+Vehicle::PeriodicTask Vehicle::task(void (Vehicle::*run)(std::uint32_t), std::uint32_t period_ticks,
+                                    std::uint32_t phase_ticks) {
+  const std::uint32_t first = phase_ticks % period_ticks;
+  return PeriodicTask{run, period_ticks, first == 0 ? period_ticks : first};
+}
 
 void Vehicle::on_frame(const Frame& frame, std::uint32_t now_us) { link_.on_frame(frame, now_us); }
 
 // The 1 kHz loop, top to bottom (ARCHITECTURE.md "One tick of the system"):
 // sample -> attitude -> link -> impact detector -> supervisor -> setpoint -> rate controller
 // -> mixer -> motors, then the periodic tasks.
+// Its steps below are called from here only and forced inline (even at -Os), so the loop pays
+// no call overhead for being written as readable steps.
 TickOutput Vehicle::tick(const ImuSample& imu) {
   const std::uint32_t now_us = imu.t_us;
   float dt_s = kNominalDt_s;
@@ -69,13 +77,16 @@ TickOutput Vehicle::tick(const ImuSample& imu) {
   ++ticks_;
 
   accept_sample(imu);
+  // The link's watchdogs and the sensors' health, once per tick: no frame arrives during it.
+  update_inputs(now_us);
   const Mode mode_before = supervisor_.mode();
   const bool resting = mode_before == Mode::disarmed || mode_before == Mode::armed || mode_before == Mode::landed;
-  attitude_.set_accel_gain(resting ? kAttitudeGroundGain_per_s : 0.0f);
+  if (resting) attitude_.set_accel_gain(kAttitudeGroundGain_per_s);
+  else attitude_.set_accel_gain(0.0f);
   if (imu_ok_) attitude_.update(gyro_radps_, accel_mps2_, dt_s);
   handle_link(now_us);
   const bool crash = detect_impact(now_us);
-  supervise(now_us, crash);
+  supervise(crash);
 
   Vec3 rate_radps{};
   float thrust_mps2 = 0;
@@ -87,9 +98,9 @@ TickOutput Vehicle::tick(const ImuSample& imu) {
 
 // A sample outside the sensor's range or not finite is not used; the last good one is held
 // and the supervisor is told the IMU is unhealthy.
-void Vehicle::accept_sample(const ImuSample& imu) {
-  imu_ok_ = finite3(imu.gyro_radps) && finite3(imu.accel_mps2) && within3(imu.gyro_radps, kImuGyroLimit_radps) &&
-            within3(imu.accel_mps2, kImuAccelLimit_mps2);
+[[gnu::always_inline]] inline void Vehicle::accept_sample(const ImuSample& imu) {
+  // all_within is false for NaN and the infinities too.
+  imu_ok_ = all_within(imu.gyro_radps, kImuGyroLimit_radps) && all_within(imu.accel_mps2, kImuAccelLimit_mps2);
   if (imu_ok_) {
     gyro_radps_ = imu.gyro_radps;
     accel_mps2_ = imu.accel_mps2;
@@ -99,15 +110,13 @@ void Vehicle::accept_sample(const ImuSample& imu) {
 // Each impact is reported twice (impact_detector.hpp): on detection, within a few ms, with a
 // provisional class - the moment to start the catch reaction - and once it is over, with the
 // final peak and class. Both go to the ground as IMPACT frames sharing the impact's count.
-bool Vehicle::detect_impact(std::uint32_t now_us) {
+[[gnu::always_inline]] inline bool Vehicle::detect_impact(std::uint32_t now_us) {
   if (!imu_ok_) return false;
   ImpactEvent event{};
   const ImpactInput input{now_us, accel_mps2_, gyro_radps_, thrust_applied_mps2_, catch_expected_};
   if (!impacts_.update(input, event)) return false;
   const bool final = event.stage == ImpactStage::classified;
-  Frame f;
-  if (encode(Impact{event.t_us, event.peak_mps2, event.classification, final, event.count}, link_.node(), f))
-    link_.send(f);
+  link_.send_message(Impact{event.t_us, event.peak_mps2, event.classification, final, event.count});
   if (event.classification == ImpactClass::catch_impact && !reaction_active_) {
     reaction_active_ = true;
     reaction_started_us_ = now_us;
@@ -116,7 +125,7 @@ bool Vehicle::detect_impact(std::uint32_t now_us) {
   return event.classification == ImpactClass::crash;
 }
 
-void Vehicle::handle_link(std::uint32_t now_us) {
+[[gnu::always_inline]] inline void Vehicle::handle_link(std::uint32_t now_us) {
   KillReason kill_reason{};
   if (link_.take_kill(kill_reason)) supervisor_.kill(now_us);
 
@@ -126,8 +135,7 @@ void Vehicle::handle_link(std::uint32_t now_us) {
   TimesyncRequest request{};
   std::uint32_t received_us = 0;
   if (link_.take_timesync(request, received_us)) {
-    Frame f;
-    if (encode(TimesyncReply{request.ground_time_us, received_us}, link_.node(), f)) link_.send(f);
+    link_.send_message(TimesyncReply{request.ground_time_us, received_us});
   }
 
   // The catch window closes by itself.
@@ -151,7 +159,7 @@ void Vehicle::handle_command(const Command& command, std::uint32_t now_us) {
     case CommandCode::disarm:
     case CommandCode::land: {
       const Mode before = supervisor_.mode();
-      const CommandResult r = supervisor_.handle_command(command.code, supervisor_inputs(now_us, false));
+      const CommandResult r = supervisor_.handle_command(command.code, inputs_);
       if (r.accepted && command.code == CommandCode::arm && before != Mode::armed) rate_controller_.reset();
       acknowledge(command, r.accepted ? AckResult::accepted : AckResult::refused, r.reason);
       return;
@@ -175,25 +183,22 @@ void Vehicle::handle_command(const Command& command, std::uint32_t now_us) {
 }
 
 void Vehicle::acknowledge(const Command& command, AckResult result, RefuseReason reason) {
-  Frame f;
-  if (encode(CommandAck{command.seq, command.code, result, supervisor_.mode(), reason}, link_.node(), f))
-    link_.send(f);
+  link_.send_message(CommandAck{command.seq, command.code, result, supervisor_.mode(), reason});
 }
 
-SupervisorInputs Vehicle::supervisor_inputs(std::uint32_t now_us, bool crash) const {
-  SupervisorInputs in{};
-  in.now_us = now_us;
-  in.heartbeat_live = link_.heartbeat_live(now_us);
-  in.setpoint_fresh = link_.setpoint_fresh(now_us);
-  in.setpoint_thrust_mps2 = link_.setpoint().thrust_mps2;
-  in.imu_ok = imu_ok_;
-  in.on_ground = ground_contact_s_ * 1e6f >= static_cast<float>(config_.supervisor.ground_contact_us);
-  in.crash = crash;
-  return in;
+[[gnu::always_inline]] inline void Vehicle::update_inputs(std::uint32_t now_us) {
+  inputs_.now_us = now_us;
+  inputs_.heartbeat_live = link_.heartbeat_live(now_us);
+  inputs_.setpoint_fresh = link_.setpoint_fresh(now_us);
+  inputs_.setpoint_thrust_mps2 = link_.setpoint().thrust_mps2;
+  inputs_.imu_ok = imu_ok_;
+  inputs_.on_ground = ground_contact_s_ * 1e6f >= ground_contact_us_;
+  inputs_.crash = false;  // until the impact detector has run
 }
 
-void Vehicle::supervise(std::uint32_t now_us, bool crash) {
-  supervisor_.update(supervisor_inputs(now_us, crash));
+[[gnu::always_inline]] inline void Vehicle::supervise(bool crash) {
+  inputs_.crash = crash;
+  supervisor_.update(inputs_);
   const Mode mode = supervisor_.mode();
   const bool failsafe = mode == Mode::failsafe_hover || mode == Mode::failsafe_descent;
   const bool was_failsafe = last_mode_ == Mode::failsafe_hover || last_mode_ == Mode::failsafe_descent;
@@ -209,20 +214,13 @@ void Vehicle::supervise(std::uint32_t now_us, bool crash) {
 
 // Levelling law: body rates that turn the measured "up" towards the body z-axis.
 // For an inertial vector seen from the body, u' = -w x u; with w = k (e_z x u) the tilt decays.
-Vec3 Vehicle::levelling_rates() const {
-  const Vec3 up = attitude_.up_in_body();
+[[gnu::always_inline]] inline Vec3 Vehicle::levelling_rates(const Vec3& up) const {
   const float k = config_.supervisor.level_gain_per_s;
   return Vec3{-k * up[1], k * up[0], 0.0f};
 }
 
-void Vehicle::choose_setpoint(float dt_s, Vec3& rate_radps, float& thrust_mps2) {
-  const float tilt_cos = attitude_.tilt_cos() < kMinTiltCos ? kMinTiltCos : attitude_.tilt_cos();
+[[gnu::always_inline]] inline void Vehicle::choose_setpoint(float dt_s, Vec3& rate_radps, float& thrust_mps2) {
   const Action action = supervisor_.action();
-  const bool failsafe = action == Action::level_hover || action == Action::descend;
-  if (failsafe && imu_ok_) {
-    const float clamped_dt = dt_s < 0 ? 0 : (dt_s > 0.005f ? 0.005f : dt_s);
-    failsafe_vz_mps_ += (dot(accel_mps2_, attitude_.up_in_body()) - kGravity_mps2) * clamped_dt;
-  }
   switch (action) {
     case Action::motors_off:
     case Action::idle:
@@ -235,29 +233,39 @@ void Vehicle::choose_setpoint(float dt_s, Vec3& rate_radps, float& thrust_mps2) 
       thrust_mps2 = sp.thrust_mps2;
       if (reaction_active_) {
         thrust_mps2 += config_.catch_reaction.thrust_add_mps2;
-        if (config_.catch_reaction.hold_level) rate_radps = levelling_rates();
+        if (config_.catch_reaction.hold_level) rate_radps = levelling_rates(attitude_.up_in_body());
       }
       return;
     }
     case Action::level_hover:
-      rate_radps = levelling_rates();
-      thrust_mps2 = (kGravity_mps2 + kVerticalGain_per_s * (0.0f - failsafe_vz_mps_)) / tilt_cos;
-      return;
-    case Action::descend: {
-      rate_radps = levelling_rates();
-      const float target = -config_.supervisor.descent_rate_mps;
-      thrust_mps2 = (kGravity_mps2 + kVerticalGain_per_s * (target - failsafe_vz_mps_)) / tilt_cos;
-      if (thrust_mps2 < 0) thrust_mps2 = 0;
-      // Ground contact: the floor holds the vehicle up although the thrust asks it to sink.
-      const float support = dot(accel_mps2_, attitude_.up_in_body()) - thrust_applied_mps2_;
-      if (support > config_.supervisor.ground_contact_mps2) ground_contact_s_ += dt_s > 0 ? dt_s : 0;
-      else ground_contact_s_ = 0;
-      return;
-    }
+    case Action::descend:
+      break;
   }
+
+  // The failsafes: level, hold (or sink at) the vertical speed integrated on board.
+  const Vec3 up = attitude_.up_in_body();
+  const float tilt_cos = up[2] < kMinTiltCos ? kMinTiltCos : up[2];
+  const float up_accel_mps2 = dot(accel_mps2_, up);  // specific force along inertial up
+  if (imu_ok_) {
+    const float clamped_dt = dt_s < 0 ? 0 : (dt_s > 0.005f ? 0.005f : dt_s);
+    failsafe_vz_mps_ += (up_accel_mps2 - kGravity_mps2) * clamped_dt;
+  }
+  rate_radps = levelling_rates(up);
+  if (action == Action::level_hover) {
+    thrust_mps2 = (kGravity_mps2 + kVerticalGain_per_s * (0.0f - failsafe_vz_mps_)) / tilt_cos;
+    return;
+  }
+  const float target = -config_.supervisor.descent_rate_mps;
+  thrust_mps2 = (kGravity_mps2 + kVerticalGain_per_s * (target - failsafe_vz_mps_)) / tilt_cos;
+  if (thrust_mps2 < 0) thrust_mps2 = 0;
+  // Ground contact: the floor holds the vehicle up although the thrust asks it to sink.
+  const float support = up_accel_mps2 - thrust_applied_mps2_;
+  if (support > config_.supervisor.ground_contact_mps2) ground_contact_s_ += dt_s > 0 ? dt_s : 0;
+  else ground_contact_s_ = 0;
 }
 
-TickOutput Vehicle::control_and_mix(float dt_s, const Vec3& rate_radps, float thrust_mps2) {
+[[gnu::always_inline]] inline TickOutput Vehicle::control_and_mix(float dt_s, const Vec3& rate_radps,
+                                                                  float thrust_mps2) {
   TickOutput out{};
   if (!supervisor_.motors_enabled()) {
     rate_controller_.reset();
@@ -277,9 +285,13 @@ TickOutput Vehicle::control_and_mix(float dt_s, const Vec3& rate_radps, float th
   return out;
 }
 
-void Vehicle::run_periodic_tasks(std::uint32_t now_us) {
-  for (const PeriodicTask& task : tasks_)
-    if (ticks_ % task.period_ticks == task.phase_ticks % task.period_ticks) (this->*task.run)(now_us);
+[[gnu::always_inline]] inline void Vehicle::run_periodic_tasks(std::uint32_t now_us) {
+#pragma GCC unroll 8  // five countdowns, straight-line: a loop would cost as much as its bodies
+  for (PeriodicTask& task : tasks_) {
+    if (--task.countdown_ticks != 0) continue;
+    task.countdown_ticks = task.period_ticks;
+    (this->*task.run)(now_us);
+  }
 }
 
 void Vehicle::note_tick_time_us(std::uint32_t us) {
@@ -292,15 +304,14 @@ void Vehicle::send_heartbeat(std::uint32_t now_us) {
   const Mode mode = supervisor_.mode();
   if (supervisor_.motors_enabled()) flags |= kFlagArmed;
   if (imu_ok_) flags |= kFlagImuOk;
-  if (link_.heartbeat_live(now_us)) flags |= kFlagGroundHeartbeatOk;
-  if (link_.setpoint_fresh(now_us)) flags |= kFlagSetpointFresh;
+  if (inputs_.heartbeat_live) flags |= kFlagGroundHeartbeatOk;  // this tick's (same clock)
+  if (inputs_.setpoint_fresh) flags |= kFlagSetpointFresh;
   if (catch_expected_) flags |= kFlagCatchExpected;
   if (reaction_active_) flags |= kFlagImpactReaction;
   if (saturation_ != 0) flags |= kFlagSaturated;
   const VehicleHeartbeat hb{now_us / 1000u, mode, flags, static_cast<std::uint8_t>(link_.setpoint().seq & 0x0Fu),
                             supervisor_.reason(), saturate_u8(link_.counters().rejected())};
-  Frame f;
-  if (encode(hb, link_.node(), f)) link_.send(f);
+  link_.send_message(hb);
 }
 
 void Vehicle::send_telemetry_rates(std::uint32_t) {
@@ -310,26 +321,22 @@ void Vehicle::send_telemetry_rates(std::uint32_t) {
   if (saturation_ & (saturation::pitch_pos | saturation::pitch_neg)) sat |= 2u;
   if (saturation_ & (saturation::collective_high | saturation::collective_low)) sat |= 4u;
   if (saturation_ & (saturation::yaw_pos | saturation::yaw_neg)) sat |= 8u;
-  Frame f;
-  if (encode(TelemetryRates{gyro_radps_, thrust_applied_mps2_, sat}, link_.node(), f)) link_.send(f);
+  link_.send_message(TelemetryRates{gyro_radps_, thrust_applied_mps2_, sat});
 }
 
 void Vehicle::send_telemetry_attitude(std::uint32_t) {
-  Frame f;
-  if (encode(TelemetryAttitude{attitude_.quaternion()}, link_.node(), f)) link_.send(f);
+  link_.send_message(TelemetryAttitude{attitude_.quaternion()});
 }
 
 void Vehicle::send_telemetry_motors(std::uint32_t) {
-  Frame f;
-  if (encode(TelemetryMotors{motor_command_}, link_.node(), f)) link_.send(f);
+  link_.send_message(TelemetryMotors{motor_command_});
 }
 
 void Vehicle::send_telemetry_status(std::uint32_t) {
   const TelemetryStatus status{saturate_u16(tick_time_max_us_), battery_mv_, saturate_u16(link_.counters().rejected()),
                                saturate_u8(overruns_), impacts_.count()};
   tick_time_max_us_ = 0;  // the longest tick of each report period
-  Frame f;
-  if (encode(status, link_.node(), f)) link_.send(f);
+  link_.send_message(status);
 }
 
 }  // namespace fw

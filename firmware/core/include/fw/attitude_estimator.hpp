@@ -19,6 +19,8 @@
 //   integrator, so accelerated flight cannot corrupt a bias estimate); calibrate the gyro at rest.
 #pragma once
 
+#include <cmath>
+
 #include "fw/types.hpp"
 
 namespace fw {
@@ -37,7 +39,9 @@ class AttitudeEstimator {
   // The tilt correction's bandwidth, changed at run time (the vehicle uses it on the ground
   // only: in flight the accelerometer reads the thrust direction, not gravity). A non-finite
   // or negative gain is replaced by zero.
-  void set_accel_gain(float accel_gain_per_s);
+  void set_accel_gain(float accel_gain_per_s) {
+    accel_gain_per_s_ = std::isfinite(accel_gain_per_s) && accel_gain_per_s > 0.0f ? accel_gain_per_s : 0.0f;
+  }
 
   // Back to level, and align again to the next usable accelerometer sample.
   void reset_level();
@@ -51,11 +55,15 @@ class AttitudeEstimator {
 
   const Quaternion& quaternion() const { return q_; }
 
-  // Unit inertial-up vector expressed in the body frame.
-  Vec3 up_in_body() const;
+  // Unit inertial-up vector expressed in the body frame: the third row of the body-to-inertial
+  // rotation matrix of q. (Inline: the failsafe reads it every tick.)
+  Vec3 up_in_body() const {
+    const float w = q_[0], x = q_[1], y = q_[2], z = q_[3];
+    return {2.0f * (x * z - w * y), 2.0f * (y * z + w * x), 1.0f - 2.0f * (x * x + y * y)};
+  }
 
   // Cosine of the tilt: the body z-axis' component along inertial up (1 level, -1 inverted).
-  float tilt_cos() const;
+  float tilt_cos() const { return 1.0f - 2.0f * (q_[1] * q_[1] + q_[2] * q_[2]); }
 
   // True once aligned to an accelerometer sample.
   bool aligned() const { return aligned_; }

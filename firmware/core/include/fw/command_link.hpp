@@ -9,6 +9,7 @@
 
 #include "fw/config.hpp"
 #include "pa/protocol.hpp"
+#include "pa/sequence.hpp"
 
 namespace fw {
 
@@ -18,13 +19,21 @@ template <std::size_t Capacity>
 class FrameQueue {
  public:
   bool push(const pa::proto::Frame& f) {
-    if (size_ == Capacity) {
-      if (dropped_ != 0xFFFFFFFFu) ++dropped_;
+    pa::proto::Frame* slot = next_slot();
+    if (slot == nullptr) {
+      count_drop();
       return false;
     }
-    buffer_[(head_ + size_) % Capacity] = f;
-    ++size_;
+    *slot = f;
+    commit();
     return true;
+  }
+  // In two steps, for a frame written in place: the slot the next push fills (nullptr when the
+  // queue is full), then commit() to queue what was written there.
+  pa::proto::Frame* next_slot() { return size_ == Capacity ? nullptr : &buffer_[(head_ + size_) % Capacity]; }
+  void commit() { ++size_; }
+  void count_drop() {
+    if (dropped_ != 0xFFFFFFFFu) ++dropped_;
   }
   bool pop(pa::proto::Frame& out) {
     if (size_ == 0) return false;
@@ -55,25 +64,59 @@ class CommandLink {
 
   // A setpoint with a new sequence number arrived within the stale timeout. A stream that
   // repeats an old sequence does not refresh this, however often it arrives.
-  bool setpoint_fresh(std::uint32_t now_us) const;
+  bool setpoint_fresh(std::uint32_t now_us) const {
+    return has_setpoint_ && pa::elapsed_us(now_us, setpoint_us_) <= static_cast<std::int32_t>(setpoint_timeout_us_);
+  }
   // The latest accepted setpoint (zero thrust and rates before the first one).
   const pa::proto::RateThrust& setpoint() const { return setpoint_; }
   std::uint32_t setpoint_age_us(std::uint32_t now_us) const;
 
   // Ground heartbeats with advancing sequence numbers and the bound session token.
-  bool heartbeat_live(std::uint32_t now_us) const;
+  bool heartbeat_live(std::uint32_t now_us) const {
+    return has_heartbeat_ && pa::elapsed_us(now_us, heartbeat_us_) <= static_cast<std::int32_t>(heartbeat_timeout_us_);
+  }
   // The ground station's session: adopted from heartbeats while `may_rebind` is true
   // (the vehicle is disarmed), fixed otherwise so a second ground station cannot take over.
   void set_session_rebind(bool may_rebind) { may_rebind_ = may_rebind; }
   std::uint16_t session_token() const { return session_token_; }
   bool has_session() const { return has_session_; }
 
-  // KILL is latched until taken, whatever its token.
-  bool take_kill(pa::proto::KillReason& reason);
-  bool take_command(pa::proto::Command& out);
-  bool take_timesync(pa::proto::TimesyncRequest& request, std::uint32_t& received_us);
+  // KILL is latched until taken, whatever its token. (These are asked every tick and nearly
+  // always answer no, so the question is inline.)
+  bool take_kill(pa::proto::KillReason& reason) {
+    if (!kill_pending_) return false;
+    kill_pending_ = false;
+    reason = kill_reason_;
+    return true;
+  }
+  bool take_command(pa::proto::Command& out) {
+    if (command_count_ == 0) return false;
+    pop_command(out);
+    return true;
+  }
+  bool take_timesync(pa::proto::TimesyncRequest& request, std::uint32_t& received_us) {
+    if (!timesync_pending_) return false;
+    timesync_pending_ = false;
+    request = timesync_;
+    received_us = timesync_rx_us_;
+    return true;
+  }
 
   bool send(const pa::proto::Frame& f) { return tx_.push(f); }
+  // encode() then send(), with the frame encoded straight into the transmit queue: nothing is
+  // sent when the message does not encode, and a full queue drops (and counts) it.
+  template <class Message>
+  bool send_message(const Message& message) {
+    pa::proto::Frame* slot = tx_.next_slot();
+    if (slot == nullptr) {
+      pa::proto::Frame f;
+      if (encode(message, node_, f)) tx_.count_drop();
+      return false;
+    }
+    if (!encode(message, node_, *slot)) return false;  // encode() leaves the slot alone then
+    tx_.commit();
+    return true;
+  }
   bool pop_tx(pa::proto::Frame& out) { return tx_.pop(out); }
   std::uint32_t tx_dropped() const { return tx_.dropped(); }
 
@@ -82,6 +125,7 @@ class CommandLink {
 
  private:
   void apply(const pa::proto::Message& m, std::uint32_t now_us);
+  void pop_command(pa::proto::Command& out);  // the oldest; command_count_ > 0
 
   std::uint8_t node_;
   std::uint32_t setpoint_timeout_us_;

@@ -37,8 +37,10 @@
 // refractory_us (the absorber's ringing is not a second impact, a crash just after a catch is).
 //
 // Non-finite input is ignored: no report, state untouched. Clocks are free-running uint32
-// microseconds and may wrap. Float, no heap, bounded time (the longest path scans the fixed
-// 16-sample history once).
+// microseconds and may wrap. Float, no heap, bounded time: the samples of an event are measured
+// against its reference as they arrive, so the longest path (the sample that starts an event)
+// measures the reference_delay_samples samples since the reference once, and no sample replays
+// the whole rise.
 #pragma once
 
 #include <array>
@@ -113,9 +115,21 @@ class ImpactDetector {
     float rate_change_max_radps = 0.0f;
     float last_mps2 = 0.0f;       // |q - reference| of the latest sample
   };
+  // The rising edge so far: the latest sample inside the onset band and the first two after it.
+  struct RisingEdge {
+    std::uint32_t quiet_us = 0;        // the latest sample with |q - reference| < onset_mps2
+    std::uint8_t count = 0;            // samples after it (counted up to 2), the first two kept:
+    std::uint32_t first_us = 0;
+    float first_mps2 = 0.0f;           // |q - reference|
+    std::uint32_t second_us = 0;
+    float second_mps2 = 0.0f;
+  };
 
   const Sample& history(std::size_t samples_ago) const;
-  float add(Accumulator& acc, const Sample& s) const;  // returns |q - reference| of s
+  static float add(Accumulator& acc, const Sample& s, const Sample& reference);  // returns |q - reference| of s
+  void begin_event(std::size_t delay);  // the reference delay samples ago and the samples since
+  // add() the samples from oldest_age to the latest, following the rising edge.
+  void accumulate(std::size_t oldest_age, const Sample& reference, Accumulator& acc, RisingEdge& edge) const;
   bool triggered(const Vec3& change_mps2, bool crash_level_only) const;
   bool crash_seen(const Accumulator& acc, float peak_mps2) const;
   pa::proto::ImpactClass classify(const Accumulator& acc, float peak_mps2) const;
@@ -125,17 +139,23 @@ class ImpactDetector {
 
   ImpactDetectorConfig config_;
   float motor_time_constant_s_;
+  float trigger2_;        // the squared levels triggered() compares with
+  float crash_peak2_;
+  float crash_lateral2_;
 
   bool started_ = false;
   std::uint32_t last_t_us_ = 0;
   float expected_mps2_ = 0.0f;
+  bool has_lag_gain_ = false;       // the motor-lag step's gain for a step of lag_gain_step_us_
+  std::int32_t lag_gain_step_us_ = 0;
+  float lag_gain_ = 0.0f;
   std::array<Sample, kHistory> history_{};
   std::size_t newest_ = 0;  // index of the latest sample
   std::size_t filled_ = 0;  // samples held, up to kHistory
 
   Phase phase_ = Phase::idle;
   Sample reference_{};
-  std::size_t reference_age_ = 0;  // samples between the reference and the latest (pending only)
+  RisingEdge edge_{};              // pending only
   std::uint8_t above_ = 0;         // consecutive samples above the trigger (pending only)
   bool crash_level_only_ = false;  // the event began inside the refractory period
   bool catch_expected_ = false;    // a catch was expected at some sample of the event

@@ -39,6 +39,9 @@ class RateController {
   const Vec3& integrator() const { return integrator_radps2_; }
 
  private:
+  float axis_step(int axis, float setpoint_radps, float gyro_radps, float dt_s, std::uint8_t saturation_flags,
+                  float& integrator_radps2) const;
+
   RateControllerConfig config_;
   Vec3 inertia_kgm2_{};
   Vec3 integrator_radps2_{};

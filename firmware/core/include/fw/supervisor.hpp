@@ -126,11 +126,45 @@ inline constexpr std::array<SupervisorTransition, 18> kSupervisorTransitions{{
     {pa::proto::Mode::failsafe_descent, condition::setpoint_fresh | condition::heartbeat_live, condition::land_commanded, pa::proto::Mode::flying, pa::proto::FailsafeReason::none, false},
 }};
 
+// Each mode's rows, [begin, end) in kSupervisorTransitions, so that an update scans only the
+// rows of the current mode (in table order, so the first match still wins). Built from the
+// table, which must keep each mode's rows together.
+struct TransitionRows {
+  std::uint8_t begin = 0;
+  std::uint8_t end = 0;
+};
+
+constexpr std::array<TransitionRows, pa::proto::kModeMax + 1> make_transition_rows() {
+  std::array<TransitionRows, pa::proto::kModeMax + 1> rows{};
+  for (std::size_t i = kSupervisorTransitions.size(); i-- > 0;) {
+    TransitionRows& r = rows[static_cast<std::size_t>(kSupervisorTransitions[i].from)];
+    if (r.end == 0) r.end = static_cast<std::uint8_t>(i + 1);
+    r.begin = static_cast<std::uint8_t>(i);
+  }
+  return rows;
+}
+
+inline constexpr std::array<TransitionRows, pa::proto::kModeMax + 1> kTransitionRows = make_transition_rows();
+
+constexpr bool transition_rows_grouped() {
+  std::size_t rows = 0;
+  for (std::size_t m = 0; m < kTransitionRows.size(); ++m) {
+    for (std::size_t i = kTransitionRows[m].begin; i < kTransitionRows[m].end; ++i)
+      if (static_cast<std::size_t>(kSupervisorTransitions[i].from) != m) return false;
+    rows += static_cast<std::size_t>(kTransitionRows[m].end - kTransitionRows[m].begin);
+  }
+  return rows == kSupervisorTransitions.size();
+}
+static_assert(kSupervisorTransitions.size() < 256, "row indices are bytes");
+static_assert(transition_rows_grouped(), "each mode's transition rows must be consecutive in the table");
+
 // The index of the first row for `from` that `conditions` satisfy, or kSupervisorTransitions.size().
 constexpr std::size_t find_transition(pa::proto::Mode from, std::uint16_t conditions) {
-  for (std::size_t i = 0; i < kSupervisorTransitions.size(); ++i) {
+  const auto mode = static_cast<std::size_t>(from);
+  if (mode >= kTransitionRows.size()) return kSupervisorTransitions.size();
+  for (std::size_t i = kTransitionRows[mode].begin; i < kTransitionRows[mode].end; ++i) {
     const SupervisorTransition& row = kSupervisorTransitions[i];
-    if (row.from == from && (conditions & row.all_of) == row.all_of && (conditions & row.none_of) == 0) return i;
+    if ((conditions & row.all_of) == row.all_of && (conditions & row.none_of) == 0) return i;
   }
   return kSupervisorTransitions.size();
 }
@@ -180,6 +214,9 @@ class Supervisor {
   bool imu_lost_ = false;
   std::uint32_t imu_unhealthy_since_us_ = 0;
   std::uint16_t conditions_ = 0;
+  // The last mode and conditions that matched no row (0xFFFF: none yet, beyond condition::kAll).
+  pa::proto::Mode unmatched_mode_ = pa::proto::Mode::disarmed;
+  std::uint16_t unmatched_conditions_ = 0xFFFFu;
 };
 
 }  // namespace fw

@@ -50,26 +50,27 @@ class Vehicle {
 
  private:
   // One row of the static task table: run every `period` ticks, `phase` ticks in, so that
-  // no two heavy tasks share a tick.
+  // no two heavy tasks share a tick (counted down rather than divided on every tick).
   struct PeriodicTask {
     void (Vehicle::*run)(std::uint32_t now_us);
     std::uint32_t period_ticks;
-    std::uint32_t phase_ticks;
+    std::uint32_t countdown_ticks;  // ticks until the next run, this one included
   };
+  static PeriodicTask task(void (Vehicle::*run)(std::uint32_t), std::uint32_t period_ticks, std::uint32_t phase_ticks);
 
   // The steps of tick(), in order.
   void accept_sample(const ImuSample& imu);
   void handle_link(std::uint32_t now_us);
   bool detect_impact(std::uint32_t now_us);  // true when the impact was a crash
-  void supervise(std::uint32_t now_us, bool crash);
+  void supervise(bool crash);
   void choose_setpoint(float dt_s, Vec3& rate_radps, float& thrust_mps2);
   TickOutput control_and_mix(float dt_s, const Vec3& rate_radps, float thrust_mps2);
   void run_periodic_tasks(std::uint32_t now_us);
 
   void handle_command(const pa::proto::Command& command, std::uint32_t now_us);
   void acknowledge(const pa::proto::Command& command, pa::proto::AckResult result, pa::proto::RefuseReason reason);
-  SupervisorInputs supervisor_inputs(std::uint32_t now_us, bool crash) const;
-  Vec3 levelling_rates() const;
+  void update_inputs(std::uint32_t now_us);  // inputs_ for this tick, crash false
+  Vec3 levelling_rates(const Vec3& up_in_body) const;
 
   void send_heartbeat(std::uint32_t now_us);
   void send_telemetry_rates(std::uint32_t now_us);
@@ -82,6 +83,7 @@ class Vehicle {
   AttitudeEstimator attitude_;
   ImpactDetector impacts_;
   Supervisor supervisor_;
+  float ground_contact_us_;  // config_.supervisor.ground_contact_us, as the float it is compared in
   RateController rate_controller_;
   Mixer mixer_;
   std::array<PeriodicTask, 5> tasks_;
@@ -90,6 +92,7 @@ class Vehicle {
   std::uint32_t last_imu_us_ = 0;
   std::uint32_t ticks_ = 0;
   bool imu_ok_ = false;
+  SupervisorInputs inputs_{};  // this tick's, from the start of tick()
   Vec3 gyro_radps_{};
   Vec3 accel_mps2_{};
 
