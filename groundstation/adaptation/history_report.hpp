@@ -1,0 +1,33 @@
+// The adaptation store as a person reads it: the throw history as a table or as CSV, and the
+// adapted values with what they rest on. Pure formatting; `groundstation history` and
+// `groundstation adaptation` (adaptation_cli.hpp) print these.
+#pragma once
+
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "groundstation/adaptation/adaptation_store.hpp"
+
+namespace gs::adaptation {
+
+// A fixed-width table, one line per throw, "-" where a figure is absent. Columns: id, launch
+// time, outcome, launch position and velocity, alpha and its rate, the catching height used, the
+// predicted and the actual catch point with their times after the launch, the optimal catch
+// (42) (height, point, time), the bias sample (catcher minus target), |E - E*| and the note.
+void writeHistoryTable(std::ostream& out, const std::vector<StoredThrow>& throws);
+
+// The column names of writeHistoryCsv's header row.
+std::string historyCsvHeader();
+// A header row and one row per throw with every stored column and the bias sample (SI units,
+// each number the shortest text that reads back as the same double, empty where absent; the
+// note quoted as RFC 4180 asks when it holds a comma, a quote or a line break).
+void writeHistoryCsv(std::ostream& out, const std::vector<StoredThrow>& throws);
+
+// The adapted catching height, waiting point and offset bias, how many throws they rest on,
+// the nominal values, the window, and the consistency verdict.
+void writeAdaptationSummary(std::ostream& out, const std::string& path,
+                            const AdaptationSettings& settings, const AdaptationSnapshot& snapshot,
+                            const ConsistencyReport& consistency);
+
+}  // namespace gs::adaptation

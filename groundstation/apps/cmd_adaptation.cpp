@@ -1,0 +1,14 @@
+// `groundstation adaptation`: the adapted catching height, waiting position and catcher offset
+// bias of Section VI, and their reset (groundstation/adaptation/adaptation_cli.hpp).
+#include <iostream>
+
+#include "groundstation/adaptation/adaptation_cli.hpp"
+#include "groundstation/apps/commands.hpp"
+
+namespace gs::apps {
+
+int cmdAdaptation(int argc, char** argv) {
+  return adaptation::runAdaptationCommand(argc, argv, std::cout, std::cerr);
+}
+
+}  // namespace gs::apps

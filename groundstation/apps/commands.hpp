@@ -1,0 +1,15 @@
+// The subcommands of the `groundstation` executable, one file each (cmd_<name>.cpp), listed in
+// the table in main.cpp. Each takes argv[0] = its own name and argv[1..] = its arguments, returns
+// the process exit code (0 done, 2 bad arguments with a usage message on stderr) and never lets
+// an exception escape (main.cpp also catches, as a last resort).
+#pragma once
+
+namespace gs::apps {
+
+int cmdAdaptation(int argc, char** argv);
+int cmdCatchInstant(int argc, char** argv);
+int cmdHistory(int argc, char** argv);
+int cmdPlanCatch(int argc, char** argv);
+int cmdPlanThrow(int argc, char** argv);
+
+}  // namespace gs::apps

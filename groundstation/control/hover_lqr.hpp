@@ -1,0 +1,36 @@
+// The hover LQR of the vehicle alone: eqs. (4), (5) linearised about hover.
+//
+// State (eq. (6)) s_q = (x, y, z, vx, vy, vz, phi, theta, psi), inputs (eq. (7)) u_q = (a_q,
+// Omega_x, Omega_y, Omega_z); the hover is a_q = g, all angles zero. With
+// B_I R = R_x(phi) R_y(theta) R_z(psi) (eq. (3)) the thrust direction is
+// (cos psi sin theta cos phi + sin psi sin phi, sin psi sin theta cos phi - cos psi sin phi,
+//  cos theta cos phi), so to first order
+//   x'' = g theta,  y'' = -g phi,  z'' = a_q - g,
+// and the matrix of (5) is the identity at zero angles: (phi', theta', psi') = Omega.
+// The weights are a documented choice (NOTES.md leaves them open), see hoverLqrWeights().
+#pragma once
+
+#include "groundstation/control/lqr.hpp"
+#include "pa/constants.hpp"
+
+namespace gs::control {
+
+namespace hover {
+inline constexpr int kStateSize = 9;
+inline constexpr int kInputSize = 4;
+enum State : int { kX = 0, kY, kZ, kVx, kVy, kVz, kRoll, kPitch, kYaw };
+enum Input : int { kThrust = 0, kRateX, kRateY, kRateZ };
+}  // namespace hover
+
+LinearSystem hoverLinearisation(double gravity_mps2 = pa::kGravity_mps2);
+
+// Q = diag(4, 4, 4 | 1, 1, 1 | 0.5, 0.5, 0.5) on (m | m/s | rad),
+// R = diag(0.5 | 0.2, 0.2, 0.2) on (m/s^2 | rad/s): position errors of 0.5 m cost as much as
+// 1.4 m/s^2 of extra thrust or 2.2 rad/s of rate, which keeps a 1 m step within the default
+// limits (a_q in [1, 20] m/s^2, |Omega| <= 10 rad/s; tested).
+LqrWeights hoverLqrWeights();
+
+LqrGain hoverLqr(const LqrWeights& weights = hoverLqrWeights(),
+                 double gravity_mps2 = pa::kGravity_mps2);
+
+}  // namespace gs::control

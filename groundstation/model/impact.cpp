@@ -1,0 +1,77 @@
+#include "groundstation/model/impact.hpp"
+
+#include <cmath>
+
+namespace gs::model {
+
+PoleState withLowerEndAsBase(const PoleState& state) {
+  PoleState out = state;
+  if (state.n.z() < 0.0) out.n = -state.n;
+  return out;
+}
+
+Eigen::Vector3d poleAngularMomentumAbout(const PoleState& state, const Eigen::Vector3d& point_m,
+                                         const PoleParams& params) {
+  const Eigen::Vector3d omega_normal =
+      state.omega_radps - state.omega_radps.dot(state.n) * state.n;
+  return poleInertia_kgm2(params) * omega_normal +
+         params.mass_kg * (state.p_m - point_m).cross(state.v_mps);
+}
+
+ImpactResult impactMap(const PoleState& before, const Eigen::Vector3d& plate_velocity_mps,
+                       const PoleParams& params) {
+  const double length = params.half_length_m;
+  const PoleState pole = normalisedPoleState(withLowerEndAsBase(before));
+  ImpactResult result;
+  result.contact_point_m = pole.p_m - length * pole.n;
+  result.after = pole;
+  result.after.omega_radps =
+      0.25 * pole.omega_radps + (0.75 / length) * pole.n.cross(pole.v_mps - plate_velocity_mps);
+  result.after.v_mps = plate_velocity_mps + length * result.after.omega_radps.cross(pole.n);
+  result.on_vehicle = poleOnVehicleStateFromFreeFlight(result.after, params);
+  result.impulse_Ns = params.mass_kg * (result.after.v_mps - pole.v_mps);
+  return result;
+}
+
+PlanarPoleKinematics planarKinematics(const PoleState& state) {
+  return {std::atan2(state.n.x(), state.n.z()), state.omega_radps.y(), state.v_mps.x(),
+          state.v_mps.z()};
+}
+
+PlanarPoleKinematics planarKinematicsFromLowerEnd(const PoleState& state) {
+  return planarKinematics(withLowerEndAsBase(state));
+}
+
+double postImpactRate_radps(const PlanarPoleKinematics& before, const PoleParams& params) {
+  const double c = std::cos(before.alpha_rad);
+  const double s = std::sin(before.alpha_rad);
+  return 0.25 * before.alpha_dot_radps +
+         (0.75 / params.half_length_m) * (before.x_dot_mps * c - before.z_dot_mps * s);  // (40)
+}
+
+double uprightEnergy_J(const PoleParams& params) {
+  return params.mass_kg * params.gravity_mps2 * params.half_length_m;
+}
+
+double pivotedPoleEnergy_J(double alpha_rad, double alpha_dot_radps, const PoleParams& params) {
+  const double length = params.half_length_m;
+  const double tip_speed = length * alpha_dot_radps;
+  return params.mass_kg * params.gravity_mps2 * length * std::cos(alpha_rad) +
+         0.5 * params.mass_kg * tip_speed * tip_speed +
+         0.5 * poleInertia_kgm2(params) * alpha_dot_radps * alpha_dot_radps;  // (41)
+}
+
+double swingUpRate_radps(double alpha_rad, const PoleParams& params) {
+  return -std::sqrt(3.0 * params.gravity_mps2 / params.half_length_m) * std::sin(0.5 * alpha_rad);
+}
+
+double catchingConditionResidual_radps(const PlanarPoleKinematics& before,
+                                       const PoleParams& params) {
+  return 4.0 * (postImpactRate_radps(before, params) - swingUpRate_radps(before.alpha_rad, params));
+}
+
+double catchingConditionResidual_radps(const PoleState& before, const PoleParams& params) {
+  return catchingConditionResidual_radps(planarKinematicsFromLowerEnd(before), params);
+}
+
+}  // namespace gs::model

@@ -1,0 +1,93 @@
+#include "groundstation/model/vehicle.hpp"
+
+#include <cmath>
+
+namespace gs::model {
+
+VehicleState operator+(const VehicleState& lhs, const VehicleState& rhs) {
+  return {lhs.p_m + rhs.p_m, lhs.v_mps + rhs.v_mps, lhs.phi_rad + rhs.phi_rad,
+          lhs.theta_rad + rhs.theta_rad, lhs.psi_rad + rhs.psi_rad};
+}
+
+VehicleState operator*(double scale, const VehicleState& state) {
+  return {scale * state.p_m, scale * state.v_mps, scale * state.phi_rad, scale * state.theta_rad,
+          scale * state.psi_rad};
+}
+
+// Passive rotations: the coordinates of a fixed vector in a frame turned by +angle about the axis.
+Eigen::Matrix3d rotationX(double angle_rad) {
+  const double c = std::cos(angle_rad);
+  const double s = std::sin(angle_rad);
+  Eigen::Matrix3d r;
+  r << 1.0, 0.0, 0.0, 0.0, c, s, 0.0, -s, c;
+  return r;
+}
+
+Eigen::Matrix3d rotationY(double angle_rad) {
+  const double c = std::cos(angle_rad);
+  const double s = std::sin(angle_rad);
+  Eigen::Matrix3d r;
+  r << c, 0.0, -s, 0.0, 1.0, 0.0, s, 0.0, c;
+  return r;
+}
+
+Eigen::Matrix3d rotationZ(double angle_rad) {
+  const double c = std::cos(angle_rad);
+  const double s = std::sin(angle_rad);
+  Eigen::Matrix3d r;
+  r << c, s, 0.0, -s, c, 0.0, 0.0, 0.0, 1.0;
+  return r;
+}
+
+Eigen::Matrix3d rotationBodyFromInertial(double phi_rad, double theta_rad, double psi_rad) {
+  return rotationX(phi_rad) * rotationY(theta_rad) * rotationZ(psi_rad);  // eq. (3)
+}
+
+Eigen::Matrix3d rotationInertialFromBody(double phi_rad, double theta_rad, double psi_rad) {
+  return rotationBodyFromInertial(phi_rad, theta_rad, psi_rad).transpose();
+}
+
+// The columns of W are the body-frame images of the three Euler axes: e_x for phi',
+// R_x(phi) e_y for theta', R_x(phi) R_y(theta) e_z for psi'. That is the printed matrix of (5).
+Eigen::Vector3d bodyRatesFromEulerRates(double phi_rad, double theta_rad,
+                                        const Eigen::Vector3d& euler_rates_radps) {
+  const double sp = std::sin(phi_rad);
+  const double cp = std::cos(phi_rad);
+  const double st = std::sin(theta_rad);
+  const double ct = std::cos(theta_rad);
+  Eigen::Matrix3d w;
+  w << 1.0, 0.0, -st, 0.0, cp, sp * ct, 0.0, -sp, cp * ct;
+  return w * euler_rates_radps;
+}
+
+// Eq. (5) is the inverse of the printed matrix applied to Omega (NOTES.md); written out:
+//   phi'   = Omega_x + tan(theta) (sin(phi) Omega_y + cos(phi) Omega_z)
+//   theta' = cos(phi) Omega_y - sin(phi) Omega_z
+//   psi'   = (sin(phi) Omega_y + cos(phi) Omega_z) / cos(theta)
+Eigen::Vector3d eulerRatesFromBodyRates(double phi_rad, double theta_rad,
+                                        const Eigen::Vector3d& body_rates_radps) {
+  const double sp = std::sin(phi_rad);
+  const double cp = std::cos(phi_rad);
+  const double ct = std::cos(theta_rad);
+  const double yz = sp * body_rates_radps.y() + cp * body_rates_radps.z();
+  return {body_rates_radps.x() + std::tan(theta_rad) * yz,
+          cp * body_rates_radps.y() - sp * body_rates_radps.z(), yz / ct};
+}
+
+// ^I_B R e_z is the third row of ^B_I R = R_x R_y R_z.
+Eigen::Vector3d vehicleAcceleration_mps2(const VehicleState& state, double a_q_mps2,
+                                         double gravity_mps2) {
+  const Eigen::Vector3d thrust_direction =
+      rotationBodyFromInertial(state.phi_rad, state.theta_rad, state.psi_rad).row(2).transpose();
+  return a_q_mps2 * thrust_direction - Eigen::Vector3d(0.0, 0.0, gravity_mps2);
+}
+
+VehicleState vehicleDynamics(const VehicleState& state, const VehicleInput& input,
+                             double gravity_mps2) {
+  const Eigen::Vector3d euler_rates =
+      eulerRatesFromBodyRates(state.phi_rad, state.theta_rad, input.omega_radps);
+  return {state.v_mps, vehicleAcceleration_mps2(state, input.a_q_mps2, gravity_mps2),
+          euler_rates.x(), euler_rates.y(), euler_rates.z()};
+}
+
+}  // namespace gs::model

@@ -1,0 +1,62 @@
+// The quadrocopter model of Section II-A, eq. (1)-(8): a rigid body whose inputs are the
+// mass-normalised collective thrust a_q along the body z-axis and the body rates Omega_q, tracked
+// on board by a high-bandwidth rate loop so that the rotational dynamics are neglected.
+//
+// Conventions (helper brief, NOTES.md): inertial frame z up, gravity (0, 0, -g); zyx Euler angles
+// (yaw psi, pitch theta, roll phi) with ^B_I R = R_x(phi) R_y(theta) R_z(psi) (eq. 3), each
+// R_(.) the passive (frame) rotation, so that the thrust direction ^I_B R e_z is
+// (sin theta, 0, cos theta) for phi = psi = 0: the planar model's (sin theta, cos theta).
+#pragma once
+
+#include <Eigen/Dense>
+
+#include "pa/constants.hpp"
+
+namespace gs::model {
+
+// s_q = (p_q, p_q', phi, theta, psi), eq. (6). The same struct carries the time derivative
+// f_q(s_q, u_q) of eq. (8), each field then holding the rate of that field.
+struct VehicleState {
+  Eigen::Vector3d p_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d v_mps = Eigen::Vector3d::Zero();
+  double phi_rad = 0.0;    // roll
+  double theta_rad = 0.0;  // pitch
+  double psi_rad = 0.0;    // yaw
+};
+
+VehicleState operator+(const VehicleState& lhs, const VehicleState& rhs);
+VehicleState operator*(double scale, const VehicleState& state);
+
+// u_q = (a_q, Omega_q), eq. (7).
+struct VehicleInput {
+  double a_q_mps2 = pa::kGravity_mps2;
+  Eigen::Vector3d omega_radps = Eigen::Vector3d::Zero();  // body rates (x, y, z)
+};
+
+// The elementary passive rotations of eq. (3).
+Eigen::Matrix3d rotationX(double angle_rad);
+Eigen::Matrix3d rotationY(double angle_rad);
+Eigen::Matrix3d rotationZ(double angle_rad);
+
+// ^B_I R (eq. 3): maps inertial coordinates into body coordinates.
+Eigen::Matrix3d rotationBodyFromInertial(double phi_rad, double theta_rad, double psi_rad);
+// ^I_B R, its inverse (transpose).
+Eigen::Matrix3d rotationInertialFromBody(double phi_rad, double theta_rad, double psi_rad);
+
+// Body rates from Euler rates: the matrix printed in eq. (5), Omega = W (phi', theta', psi').
+Eigen::Vector3d bodyRatesFromEulerRates(double phi_rad, double theta_rad,
+                                        const Eigen::Vector3d& euler_rates_radps);
+// Euler rates (phi', theta', psi') from body rates: eq. (5), i.e. W^-1 Omega (singular at
+// cos theta = 0, the zyx gimbal lock).
+Eigen::Vector3d eulerRatesFromBodyRates(double phi_rad, double theta_rad,
+                                        const Eigen::Vector3d& body_rates_radps);
+
+// p_q'' = ^I_B R (0, 0, a_q) + (0, 0, -g), eq. (4).
+Eigen::Vector3d vehicleAcceleration_mps2(const VehicleState& state, double a_q_mps2,
+                                         double gravity_mps2 = pa::kGravity_mps2);
+
+// s_q' = f_q(s_q, u_q), eq. (8): (4) and (5).
+VehicleState vehicleDynamics(const VehicleState& state, const VehicleInput& input,
+                             double gravity_mps2 = pa::kGravity_mps2);
+
+}  // namespace gs::model

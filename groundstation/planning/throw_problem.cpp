@@ -1,0 +1,64 @@
+#include "groundstation/planning/throw_problem.hpp"
+
+#include <cmath>
+
+namespace gs::planning {
+
+namespace planar = model::planar;
+
+model::PlanarState<double> ThrowProblem::figure5LaunchState() {
+  model::PlanarState<double> s;
+  s(planar::kX) = 1.5;
+  s(planar::kZ) = 2.0;
+  s(planar::kVx) = 0.3;
+  s(planar::kVz) = 5.5;
+  s(planar::kTheta) = -0.48;
+  s(planar::kAlpha) = 0.48;
+  s(planar::kAlphaDot) = 2.5;
+  return s;
+}
+
+model::VehicleLimits ThrowProblem::defaultLimits() {
+  model::VehicleLimits limits;
+  limits.a_q_min_mps2 = 1.0;
+  limits.a_q_max_mps2 = 20.0;
+  limits.omega_max_radps = 10.0;
+  return limits;
+}
+
+double ThrowProblem::launchThrust_mps2() const {
+  return model::planarLaunchThrust_mps2(launch_state(planar::kTheta), launch_state(planar::kAlpha),
+                                        launch_state(planar::kAlphaDot), params);
+}
+
+model::PlanarInput<double> ThrowProblem::launchInput() const {
+  return model::PlanarInput<double>(launchThrust_mps2(), launch_pitch_rate_radps);
+}
+
+model::PlanarInput<double> ThrowProblem::hoverInput() const {
+  return model::PlanarInput<double>(params.gravity_mps2, 0.0);
+}
+
+std::string ThrowProblem::validate() const {
+  if (!(duration_s > 0.0) || !std::isfinite(duration_s)) return "duration must be positive";
+  if (!launch_state.allFinite() || !std::isfinite(launch_pitch_rate_radps)) {
+    return "launch state is not finite";
+  }
+  if (!(limits.a_q_min_mps2 > 0.0) || !(limits.a_q_max_mps2 > limits.a_q_min_mps2) ||
+      !(limits.omega_max_radps > 0.0)) {
+    return "input limits violate eq. (1)/(2)";
+  }
+  const auto in_box = [&](const model::PlanarInput<double>& u) {
+    return u(planar::kThrust) >= limits.a_q_min_mps2 &&
+           u(planar::kThrust) <= limits.a_q_max_mps2 &&
+           std::abs(u(planar::kPitchRate)) <= limits.omega_max_radps;
+  };
+  if (!in_box(hoverInput())) return "the hover input (g, 0) is outside the input limits";
+  if (!in_box(launchInput())) {
+    return "the launch input (a_q,T = " + std::to_string(launchThrust_mps2()) +
+           " m/s^2 from F_N = 0, Omega_T) is outside the input limits";
+  }
+  return {};
+}
+
+}  // namespace gs::planning
