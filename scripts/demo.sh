@@ -18,3 +18,16 @@ echo "== 3. The images' memory (RAM includes the stack) against their budgets"
 for preset in cortex-m4 stm32f405; do
   ctest --test-dir "build/$preset" -R '_size$' -V 2>/dev/null | sed -n 's/^[0-9]*: \(size: .*\)/  \1/p'
 done
+
+echo
+echo "== 4. The ground station's planners (paper Sections III and V)"
+out=build/demo
+mkdir -p "$out"
+build/host/groundstation/groundstation plan-throw --out "$out"
+echo
+build/host/groundstation/groundstation catch-instant --launch-from "$out/throw.csv"
+echo
+build/host/groundstation/groundstation plan-catch --from 0,0 --to 0.25,0 --catch-height 1.343 \
+  --txy 0.65 --amax 4.19 --kmax 18 --out "$out/catch.csv"
+echo
+echo "demo: CSV files written to $out/"
