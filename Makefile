@@ -49,7 +49,7 @@ test-firmware: firmware
 	ctest --preset cortex-m4
 	ctest --preset stm32f405
 
-test: test-host test-sanitize test-firmware
+test: demo test-host test-sanitize test-firmware
 	@echo "make test: every preset built and every test passed"
 
 bench: host

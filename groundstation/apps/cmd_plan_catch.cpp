@@ -14,6 +14,7 @@
 #include "groundstation/apps/commands.hpp"
 #include "groundstation/model/vehicle_limits.hpp"
 #include "groundstation/planning/catch_trajectory.hpp"
+#include "pa/cli/arguments.hpp"
 
 namespace gs::apps {
 
@@ -65,22 +66,10 @@ int usageError(const std::string& message) {
   return 2;
 }
 
-std::optional<double> parseNumber(std::string_view text) {
-  if (text.empty()) return std::nullopt;
-  const std::string s(text);
-  char* end = nullptr;
-  const double value = std::strtod(s.c_str(), &end);
-  if (end != s.c_str() + s.size() || !std::isfinite(value)) return std::nullopt;
-  return value;
-}
-
 std::optional<Eigen::Vector2d> parsePair(std::string_view text) {
-  const std::size_t comma = text.find(',');
-  if (comma == std::string_view::npos) return std::nullopt;
-  const auto x = parseNumber(text.substr(0, comma));
-  const auto y = parseNumber(text.substr(comma + 1));
-  if (!x || !y) return std::nullopt;
-  return Eigen::Vector2d(*x, *y);
+  const std::optional<pa::cli::NumberPair> p = pa::cli::parseNumberPair(text);
+  if (!p) return std::nullopt;
+  return Eigen::Vector2d(p->first, p->second);
 }
 
 struct Peaks {
@@ -157,7 +146,7 @@ int run(int argc, char** argv) {
     if (i + 1 >= argc) return usageError("missing value after " + std::string(flag));
     const std::string_view value = argv[++i];
     auto number = [&](double& target) {
-      const auto v = parseNumber(value);
+      const auto v = pa::cli::parseNumber(value);
       if (v) target = *v;
       return v.has_value();
     };

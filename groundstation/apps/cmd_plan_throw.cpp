@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
@@ -18,6 +19,7 @@
 #include "groundstation/model/vehicle_limits.hpp"
 #include "groundstation/planning/throw_planner.hpp"
 #include "groundstation/planning/throw_tracking.hpp"
+#include "pa/cli/arguments.hpp"
 
 namespace gs::apps {
 
@@ -68,16 +70,6 @@ int usageError(const std::string& message) {
 int failure(const std::string& message) {
   std::fprintf(stderr, "groundstation plan-throw: %s\n", message.c_str());
   return 1;
-}
-
-std::optional<int> parseCount(std::string_view text) {
-  if (text.empty() || text.size() > 9) return std::nullopt;
-  int value = 0;
-  for (char c : text) {
-    if (c < '0' || c > '9') return std::nullopt;
-    value = value * 10 + (c - '0');
-  }
-  return value;
 }
 
 bool writeTrajectory(const std::filesystem::path& path, const planning::ThrowTrajectory& traj) {
@@ -139,9 +131,9 @@ int run(int argc, char** argv) {
       out_dir = value;
       if (out_dir.empty()) return usageError("--out wants a directory name");
     } else if (flag == "--intervals") {
-      const std::optional<int> n = parseCount(value);
+      const std::optional<std::uint64_t> n = pa::cli::parseCount(value);
       if (!n || *n < 100 || *n > 2000) return usageError("--intervals wants an integer in 100..2000");
-      options.intervals = *n;
+      options.intervals = static_cast<int>(*n);
     } else if (flag == "--limits") {
       limits_path = value;
       if (limits_path.empty()) return usageError("--limits wants a file name");
@@ -240,6 +232,9 @@ int run(int argc, char** argv) {
   std::printf("  limits (%s): a_q in [%.3f, %.3f] m/s^2, |Omega| <= %.3f rad/s\n",
               limits_source.c_str(), problem.limits.a_q_min_mps2, problem.limits.a_q_max_mps2,
               problem.limits.omega_max_radps);
+  std::printf("  input slew limits (not in (34), so that a vehicle can fly the plan): |a_q'| <= %g "
+              "m/s^3, |Omega_y'| <= %g rad/s^2\n",
+              problem.thrust_rate_max_mps3, problem.pitch_acceleration_max_radps2);
   const Eigen::VectorXd q = weights.Q().diagonal(), r = weights.R().diagonal();
   std::printf("  TV-LQR: Q = diag(%g, %g, %g, %g, %g, %g, %g), R = diag(%g, %g), Q_f = %g x Q,"
               " %zu gain rows\n",

@@ -8,6 +8,7 @@ namespace gs::apps {
 
 int cmdAdaptation(int argc, char** argv);
 int cmdCatchInstant(int argc, char** argv);
+int cmdEstimate(int argc, char** argv);
 int cmdHistory(int argc, char** argv);
 int cmdPlanCatch(int argc, char** argv);
 int cmdPlanThrow(int argc, char** argv);

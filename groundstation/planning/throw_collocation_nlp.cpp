@@ -188,6 +188,19 @@ void ThrowCollocationNlp::forEachJacobianEntry(bool with_values, Emit&& emit) co
       emit(row, var(j, d), jac(j, kNormalForceOutput, d));
     }
   }
+  for (int j = 0; j + 1 < pointCount(); ++j) {
+    for (int i = 0; i < planar::kInputSize; ++i) {
+      emit(slewRow(j, i), var(j + 1, kS + i), 1.0);
+      emit(slewRow(j, i), var(j, kS + i), -1.0);
+    }
+  }
+}
+
+double ThrowCollocationNlp::slewLimit(int row) const {
+  const int j = (row - slewRow(0, 0)) / 2, i = (row - slewRow(0, 0)) % 2;
+  const double rate = i == planar::kThrust ? problem_.thrust_rate_max_mps3
+                                           : problem_.pitch_acceleration_max_radps2;
+  return rate > 0.0 ? rate * (pointTime(j + 1) - pointTime(j)) : kInfinity;
 }
 
 void ThrowCollocationNlp::evaluatePoints(const double* x) {
@@ -276,6 +289,9 @@ double ThrowCollocationNlp::maxViolation(const Eigen::VectorXd& x) const {
   for (int r = 0; r < 14 * intervals_; ++r) worst = std::max(worst, std::abs(g(r)));
   // F_N >= 0 at every point, the fixed end points included.
   for (int j = 0; j < pointCount(); ++j) worst = std::max(worst, -values[j](kNormalForceOutput));
+  for (int r = slewRow(0, 0); r < m; ++r) {
+    worst = std::max(worst, std::abs(g(r)) - slewLimit(r));
+  }
   fixedBounds(lower, upper);
   for (int i = 0; i < n; ++i) worst = std::max({worst, lower(i) - x(i), x(i) - upper(i)});
   return worst;
@@ -298,10 +314,15 @@ bool ThrowCollocationNlp::get_bounds_info(Ipopt::Index n, Ipopt::Number* x_l,
   fixedBounds(lower, upper);
   Eigen::Map<Eigen::VectorXd>(x_l, n) = lower;
   Eigen::Map<Eigen::VectorXd>(x_u, n) = upper;
-  for (int r = 0; r < m; ++r) {
+  for (int r = 0; r < slewRow(0, 0); ++r) {
     const bool is_defect = r < 14 * intervals_;
     g_l[r] = 0.0;
     g_u[r] = is_defect ? 0.0 : kInfinity;
+  }
+  for (int r = slewRow(0, 0); r < m; ++r) {
+    const double limit = slewLimit(r);
+    g_l[r] = -limit;
+    g_u[r] = limit;
   }
   return true;
 }
@@ -354,6 +375,11 @@ bool ThrowCollocationNlp::constraintsFrom(const double* x, const std::vector<Out
   }
   for (int j = 1; j < pointCount() - 1; ++j) {
     g[14 * intervals_ + (j - 1)] = values[j](kNormalForceOutput);
+  }
+  for (int j = 0; j + 1 < pointCount(); ++j) {
+    for (int i = 0; i < planar::kInputSize; ++i) {
+      g[slewRow(j, i)] = x[kP * (j + 1) + kS + i] - x[kP * j + kS + i];
+    }
   }
   for (int r = 0; r < constraintCount(); ++r) {
     if (!std::isfinite(g[r])) return false;

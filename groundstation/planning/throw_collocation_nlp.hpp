@@ -5,7 +5,9 @@
 //   Simpson defect   s_b - s_a - h/6 (f_a + 4 f_m + f_b)       = 0   (7 rows)
 //   Hermite midpoint s_m - (s_a + s_b)/2 - h/8 (f_a - f_b)     = 0   (7 rows)
 // then F_N(p_j) >= 0 at every point with free variables (j = 1 .. 2N-1; the end points are fixed
-// and F_N there is g and, by the choice of a_q,T, exactly 0). The objective is the Simpson
+// and F_N there is g and, by the choice of a_q,T, exactly 0), then the input slew limits between
+// consecutive points, |u_{j+1} - u_j| <= rate (t_{j+1} - t_j) (2 rows per pair, linear, in the
+// inputs' units so that IPOPT's bound relaxation stays far below 1e-6; a rate of 0 is no bound). The objective is the Simpson
 // quadrature of the running cost of (34). Boundary conditions are fixed variable bounds, which
 // IPOPT removes from the problem.
 //
@@ -47,7 +49,7 @@ class ThrowCollocationNlp final : public Ipopt::TNLP {
   int intervals() const { return intervals_; }
   int pointCount() const { return 2 * intervals_ + 1; }
   int variableCount() const { return kPointSize * pointCount(); }
-  int constraintCount() const { return 14 * intervals_ + (pointCount() - 2); }
+  int constraintCount() const { return slewRow(pointCount() - 1, 0); }
   int jacobianNonzeros() const { return static_cast<int>(jac_rows_.size()); }
   int hessianNonzeros() const { return static_cast<int>(hess_rows_.size()); }
 
@@ -104,6 +106,9 @@ class ThrowCollocationNlp final : public Ipopt::TNLP {
   bool constraintsFrom(const double* x, const std::vector<OutputVector>& values, double* g) const;
   double quadratureWeight(int point) const;
   double intervalLength(int k) const { return knots_s_[k + 1] - knots_s_[k]; }
+  // The row of input i's slew between points j and j + 1.
+  int slewRow(int j, int i) const { return 14 * intervals_ + (pointCount() - 2) + 2 * j + i; }
+  double slewLimit(int row) const;  // the bound of a slew row; infinity when off
   double pointTime(int point) const;
   void fixedBounds(Eigen::VectorXd& lower, Eigen::VectorXd& upper) const;
 

@@ -48,6 +48,9 @@ std::string ThrowProblem::validate() const {
       !(limits.omega_max_radps > 0.0)) {
     return "input limits violate eq. (1)/(2)";
   }
+  if (!(thrust_rate_max_mps3 >= 0.0) || !(pitch_acceleration_max_radps2 >= 0.0)) {
+    return "input slew limits must be >= 0 (0: none)";
+  }
   const auto in_box = [&](const model::PlanarInput<double>& u) {
     return u(planar::kThrust) >= limits.a_q_min_mps2 &&
            u(planar::kThrust) <= limits.a_q_max_mps2 &&

@@ -27,6 +27,14 @@ struct ThrowProblem {
   model::PlanarState<double> launch_state = figure5LaunchState();
   double launch_pitch_rate_radps = 2.5;
   ThrowCostWeights weights;
+  // Input slew limits, not in (34): without them the optimum jumps to the fixed launch input at
+  // T (from about (11.2 m/s^2, -2.8 rad/s) to (4.8 m/s^2, +2.5 rad/s) in the last millisecond),
+  // which no vehicle flies: the motors' thrust lags (30 ms) and spins down no faster than it
+  // lags, and the pitch rate changes only as fast as differential thrust allows. Flown on the
+  // truth plant, such a plan leaves the pole sliding on the plate for 0.1 s after T. The bounds
+  // hold between consecutive collocation points; 0 turns one off (the paper's problem).
+  double thrust_rate_max_mps3 = 100.0;
+  double pitch_acceleration_max_radps2 = 60.0;
   model::VehicleLimits limits = defaultLimits();
   model::PlanarPoleVehicleParams params;
 

@@ -76,7 +76,7 @@ TEST_CASE("the NLP's gradient, Jacobian and Hessian match finite differences",
   Ipopt::TNLP::IndexStyleEnum style;
   REQUIRE(nlp.get_nlp_info(n, m, nnz_jac, nnz_h, style));
   REQUIRE(n == 9 * 9);
-  REQUIRE(m == 14 * 4 + 7);
+  REQUIRE(m == 14 * 4 + 7 + 2 * 8);  // defects, F_N >= 0 inside, input slew per point pair
 
   // A generic point: the straight line with a deterministic wiggle in every variable.
   Eigen::VectorXd x = nlp.initialGuess();
@@ -261,7 +261,7 @@ TEST_CASE("flown open loop on the planar model, the pole stays on the plate unti
   PlanarState<double> s = PlanarState<double>::Zero();
   const int steps = 25000;
   const double h = problem.duration_s / steps;
-  double min_fn_early = 1e9;  // on [0, T - 5 ms]
+  double min_fn_early = 1e9;  // on [0, T - 0.1 s]
   double min_fn_all = 1e9;
   for (int k = 0; k < steps; ++k) {
     s = rk4Step(s, k * h, h, traj);
@@ -269,11 +269,10 @@ TEST_CASE("flown open loop on the planar model, the pole stays on the plate unti
     const double fn =
         gs::model::planarNormalForcePerMass_mps2<double>(s, traj.inputAt(t), traj.params);
     min_fn_all = std::min(min_fn_all, fn);
-    if (t <= problem.duration_s - 0.005) min_fn_early = std::min(min_fn_early, fn);
+    if (t <= problem.duration_s - 0.1) min_fn_early = std::min(min_fn_early, fn);
   }
-  // The pole is pressed firmly onto the plate throughout the throw (F_N falls from about 6 to 3
-  // m/s^2 over the last 0.1 s and to 0 in the last, 2.5 ms interval, where the thrust drops to
-  // a_q,T) ...
+  // The pole is pressed firmly onto the plate throughout the throw; over the last 0.1 s the
+  // thrust ramps down to a_q,T at the slew limit and F_N falls smoothly to 0 ...
   CHECK(min_fn_early > 2.0);
   CHECK(min_fn_all >= -1e-3);
   // ... and at T it is at the launch state. The tolerance is the transcription's error grown

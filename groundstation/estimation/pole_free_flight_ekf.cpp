@@ -1,0 +1,169 @@
+#include "groundstation/estimation/pole_free_flight_ekf.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "groundstation/estimation/mocap_pose.hpp"
+
+namespace gs::estimation {
+namespace {
+
+using StateVector = Eigen::Matrix<double, PoleFreeFlightEkf::kSize, 1>;
+using PoleIndex = PoleFreeFlightEkf::Index;
+
+constexpr double kMaxDragScale = 5.0;
+
+// Linear and angular drag accelerations (16), (19) for the nominal coefficients.
+void dragAccelerations(const model::PoleState& s, const model::PoleParams& nominal,
+                       double inertia_kgm2, Eigen::Vector3d& linear, Eigen::Vector3d& angular) {
+  const model::PoleDrag d = model::poleDrag(s, nominal);
+  linear = (d.axial_force_N + d.normal_force_N) / nominal.mass_kg;
+  angular = d.torque_Nm / inertia_kgm2;
+}
+
+// Jacobian of the normalisation x -> (p, v, n/|n|, Omega - (Omega.n) n, k) at a normalised
+// state: it removes the radial part of n and the axial part of Omega.
+PoleFreeFlightEkf::StateCovariance normalisationJacobian(const model::PoleState& s) {
+  PoleFreeFlightEkf::StateCovariance t = PoleFreeFlightEkf::StateCovariance::Identity();
+  const Eigen::Matrix3d proj = Eigen::Matrix3d::Identity() - s.n * s.n.transpose();
+  t.block<3, 3>(PoleIndex::kN, PoleIndex::kN) = proj;
+  t.block<3, 3>(PoleIndex::kW, PoleIndex::kW) = proj;
+  t.block<3, 3>(PoleIndex::kW, PoleIndex::kN) = -s.n * s.omega_radps.transpose();
+  return t;
+}
+
+}  // namespace
+
+PoleFreeFlightEkf::PoleFreeFlightEkf(const PoleFreeFlightEkfParams& params) : params_(params) {}
+
+model::PoleParams PoleFreeFlightEkf::scaledModel() const {
+  model::PoleParams m = params_.pole;
+  m.drag_axial *= drag_scale_;
+  m.drag_normal *= drag_scale_;
+  m.drag_rotational *= drag_scale_;
+  return m;
+}
+
+void PoleFreeFlightEkf::reset(const model::PoleState& state, const PoleCovariance& covariance,
+                              double drag_scale, double drag_scale_sigma) {
+  state_ = model::normalisedPoleState(state);
+  drag_scale_ = std::clamp(drag_scale, 0.0, kMaxDragScale);
+  p_.setZero();
+  p_.topLeftCorner<12, 12>() = 0.5 * (covariance + covariance.transpose());
+  p_(kK, kK) = params_.estimate_drag_scale ? drag_scale_sigma * drag_scale_sigma : 0.0;
+  const StateCovariance t = normalisationJacobian(state_);
+  p_ = t * p_ * t.transpose();
+  last_nis_ = 0.0;
+}
+
+PoleFreeFlightEkf::StateCovariance PoleFreeFlightEkf::jacobian() const {
+  StateCovariance f = StateCovariance::Zero();
+  f.block<3, 3>(kP, kV).setIdentity();
+  f.block<3, 3>(kN, kN) = crossMatrix(state_.omega_radps);    // d(Omega x n)/dn, (22)
+  f.block<3, 3>(kN, kW) = -crossMatrix(state_.n);             // d(Omega x n)/dOmega
+
+  const double inertia = model::poleInertia_kgm2(params_.pole);
+  Eigen::Vector3d lin0;
+  Eigen::Vector3d ang0;
+  dragAccelerations(state_, params_.pole, inertia, lin0, ang0);
+  // Columns of v (3..5), n (6..8) and Omega (9..11) by forward differences.
+  for (int j = 0; j < 9; ++j) {
+    model::PoleState s = state_;
+    Eigen::Vector3d* block = j < 3 ? &s.v_mps : (j < 6 ? &s.n : &s.omega_radps);
+    const int c = j % 3;
+    const double eps = 1e-6 * std::max(1.0, std::abs((*block)(c)));
+    (*block)(c) += eps;
+    Eigen::Vector3d lin;
+    Eigen::Vector3d ang;
+    dragAccelerations(s, params_.pole, inertia, lin, ang);
+    f.block<3, 1>(kV, kV + j) = drag_scale_ * (lin - lin0) / eps;  // (16)
+    f.block<3, 1>(kW, kV + j) = drag_scale_ * (ang - ang0) / eps;  // (19)
+  }
+  if (params_.estimate_drag_scale) {
+    f.block<3, 1>(kV, kK) = lin0;  // the drag is linear in k
+    f.block<3, 1>(kW, kK) = ang0;
+  }
+  return f;
+}
+
+void PoleFreeFlightEkf::step(double h) {
+  const StateCovariance f = jacobian();
+  StateCovariance m = StateCovariance::Zero();  // G Q G^T
+  m.block<3, 3>(kV, kV) = params_.acceleration_psd * Eigen::Matrix3d::Identity();
+  m.block<3, 3>(kW, kW) = params_.angular_acceleration_psd *
+                          (Eigen::Matrix3d::Identity() - state_.n * state_.n.transpose());
+  if (params_.estimate_drag_scale) m(kK, kK) = params_.drag_scale_psd;
+
+  const StateCovariance fh = f * h;
+  const StateCovariance phi = StateCovariance::Identity() + fh + 0.5 * fh * fh;
+  const StateCovariance fm = f * m;
+  const StateCovariance qd =
+      m * h + 0.5 * h * h * (fm + fm.transpose()) + (h * h * h / 3.0) * fm * f.transpose();
+  p_ = phi * p_ * phi.transpose() + qd;
+
+  state_ = model::poleFreeFlightStep(state_, h, scaledModel());
+  normalise();
+}
+
+void PoleFreeFlightEkf::normalise() {
+  state_ = model::normalisedPoleState(state_);
+  const StateCovariance t = normalisationJacobian(state_);
+  p_ = t * p_ * t.transpose();
+  p_ = 0.5 * (p_ + p_.transpose()).eval();
+}
+
+void PoleFreeFlightEkf::predict(double dt_s) {
+  if (!(dt_s > 0.0) || !std::isfinite(dt_s)) return;
+  const double max_step = params_.max_step_s > 0.0 ? params_.max_step_s : dt_s;
+  const int steps = std::max(1, static_cast<int>(std::ceil(dt_s / max_step - 1e-9)));
+  const double h = dt_s / steps;
+  for (int i = 0; i < steps; ++i) step(h);
+}
+
+LinearisedPoleMeasurement<PoleFreeFlightEkf::kSize> PoleFreeFlightEkf::linearise(
+    const PoleMeasurement& m) const {
+  LinearisedPoleMeasurement<kSize> out;
+  const Eigen::Matrix<double, 3, 2> b = tangentBasis(state_.n);
+  out.nu.head<3>() = m.p_m - state_.p_m;
+  out.nu.tail<2>() = b.transpose() * m.n;  // B^T n_pred = 0
+  out.h.block<3, 3>(0, kP).setIdentity();
+  out.h.block<2, 3>(3, kN) = b.transpose();
+  out.r = poleMeasurementNoise(params_.mocap_position_sigma_m, params_.mocap_direction_sigma_rad);
+  return out;
+}
+
+PoleInnovation PoleFreeFlightEkf::innovation(const PoleMeasurement& measurement) const {
+  return poleInnovation(linearise(measurement), p_);
+}
+
+PoleInnovation PoleFreeFlightEkf::update(const PoleMeasurement& measurement) {
+  const LinearisedPoleMeasurement<kSize> m = linearise(measurement);
+  const PoleInnovation inn = poleInnovation(m, p_);
+  if (!inn.valid) return inn;
+  const StateVector dx = kalmanCorrection(m, inn, p_);
+  state_.p_m += dx.segment<3>(kP);
+  state_.v_mps += dx.segment<3>(kV);
+  state_.n += dx.segment<3>(kN);
+  state_.omega_radps += dx.segment<3>(kW);
+  if (params_.estimate_drag_scale) drag_scale_ = std::clamp(drag_scale_ + dx(kK), 0.0, kMaxDragScale);
+  normalise();
+  last_nis_ = inn.nis;
+  return inn;
+}
+
+double freeFlightNees(const PoleFreeFlightEkf& ekf, const model::PoleState& truth) {
+  const model::PoleState& s = ekf.state();
+  const Eigen::Matrix<double, 3, 2> b = tangentBasis(s.n);
+  Eigen::Matrix<double, 10, 12> j = Eigen::Matrix<double, 10, 12>::Zero();
+  j.block<3, 3>(0, 0).setIdentity();
+  j.block<3, 3>(3, 3).setIdentity();
+  j.block<2, 3>(6, 6) = b.transpose();
+  j.block<2, 3>(8, 9) = b.transpose();
+  Eigen::Matrix<double, 12, 1> e;
+  e << s.p_m - truth.p_m, s.v_mps - truth.v_mps, s.n - truth.n, s.omega_radps - truth.omega_radps;
+  const Eigen::Matrix<double, 10, 1> e10 = j * e;
+  const Eigen::Matrix<double, 10, 10> p10 = j * ekf.poleCovariance() * j.transpose();
+  return e10.dot(p10.ldlt().solve(e10));
+}
+
+}  // namespace gs::estimation

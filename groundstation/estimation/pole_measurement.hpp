@@ -1,0 +1,74 @@
+// The pole's motion-capture measurement and the innovation statistics every pole filter reports.
+//
+// Measurement: the pole's centre p_p and its direction n (the body z-axis, eq. (21)). The
+// direction is used through its two components in the plane normal to the predicted direction
+// (tangentBasis), so a filter sees 5 independent measurements: 3 of position and 2 of direction,
+// with noise sigma_p and sigma_n (1 mm / 1 mrad for a typical arena).
+//
+// Innovation statistics (Section IV, "the ratio of the innovation to the measurement
+// covariance"): NIS = nu^T S^-1 nu (chi-square with 5 dof when the filter is consistent) and the
+// Gaussian log-likelihood -1/2 (NIS + ln det S + 5 ln 2 pi), which the mode selection compares
+// between the filters.
+#pragma once
+
+#include <Eigen/Dense>
+
+namespace gs::estimation {
+
+inline constexpr int kPoleMeasurementSize = 5;
+using PoleMeasurementVector = Eigen::Matrix<double, kPoleMeasurementSize, 1>;
+using PoleMeasurementMatrix = Eigen::Matrix<double, kPoleMeasurementSize, kPoleMeasurementSize>;
+
+struct PoleMeasurement {
+  Eigen::Vector3d p_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d n = Eigen::Vector3d::UnitZ();  // unit
+};
+
+struct PoleInnovation {
+  bool valid = false;  // false: the filter cannot explain a pole measurement at all
+  PoleMeasurementVector nu = PoleMeasurementVector::Zero();
+  PoleMeasurementMatrix s = PoleMeasurementMatrix::Identity();
+  double nis = 0.0;
+  double log_likelihood = 0.0;
+};
+
+// NIS and log-likelihood of an innovation nu with covariance s (valid = false if s is not
+// positive definite or nu is not finite).
+PoleInnovation makePoleInnovation(const PoleMeasurementVector& nu, const PoleMeasurementMatrix& s);
+
+// The measurement noise covariance: sigma_p^2 + extra_position_variance on the position,
+// sigma_n^2 on the two direction components.
+PoleMeasurementMatrix poleMeasurementNoise(double sigma_p_m, double sigma_n_rad,
+                                           double extra_position_variance_m2 = 0.0);
+
+// A pole filter's measurement linearised at its prediction: the innovation nu, the Jacobian H
+// of the measurement with respect to the filter's N states, and the noise R.
+template <int N>
+struct LinearisedPoleMeasurement {
+  PoleMeasurementVector nu = PoleMeasurementVector::Zero();
+  Eigen::Matrix<double, kPoleMeasurementSize, N> h = Eigen::Matrix<double, kPoleMeasurementSize, N>::Zero();
+  PoleMeasurementMatrix r = PoleMeasurementMatrix::Identity();
+};
+
+// The innovation statistics of a linearised measurement against the state covariance P.
+template <int N>
+PoleInnovation poleInnovation(const LinearisedPoleMeasurement<N>& m,
+                              const Eigen::Matrix<double, N, N>& p) {
+  return makePoleInnovation(m.nu, m.h * p * m.h.transpose() + m.r);
+}
+
+// The Kalman correction for a valid innovation `inn` of `m`: returns the state step K nu and
+// updates P in the Joseph form (kept symmetric), which stays positive definite when K is off.
+template <int N>
+Eigen::Matrix<double, N, 1> kalmanCorrection(const LinearisedPoleMeasurement<N>& m,
+                                             const PoleInnovation& inn,
+                                             Eigen::Matrix<double, N, N>& p) {
+  const Eigen::Matrix<double, N, kPoleMeasurementSize> k =
+      p * m.h.transpose() * inn.s.llt().solve(PoleMeasurementMatrix::Identity());
+  const Eigen::Matrix<double, N, N> ikh = Eigen::Matrix<double, N, N>::Identity() - k * m.h;
+  p = ikh * p * ikh.transpose() + k * m.r * k.transpose();
+  p = 0.5 * (p + p.transpose()).eval();
+  return k * m.nu;
+}
+
+}  // namespace gs::estimation

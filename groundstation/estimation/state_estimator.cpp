@@ -1,0 +1,554 @@
+#include "groundstation/estimation/state_estimator.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace gs::estimation {
+namespace {
+
+constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+constexpr double kTimeEps_s = 1e-9;
+constexpr double kVehicleNisGate = 16.81;  // chi-square 99 %, 6 dof
+constexpr double kPoleNisGate = 15.09;     // chi-square 99 %, 5 dof
+
+PlateKinematics interpolate(const PlateKinematics& a, const PlateKinematics& b, double frac) {
+  PlateKinematics k = b;
+  k.p_m = a.p_m + frac * (b.p_m - a.p_m);
+  k.v_mps = a.v_mps + frac * (b.v_mps - a.v_mps);
+  k.a_mps2 = a.a_mps2 + frac * (b.a_mps2 - a.a_mps2);
+  k.inertial_from_body = frac < 0.5 ? a.inertial_from_body : b.inertial_from_body;
+  return k;
+}
+
+int vehicleIndex(int vehicle) { return vehicle == 2 ? 1 : 0; }
+bool validVehicle(int vehicle) { return vehicle == 1 || vehicle == 2; }
+
+}  // namespace
+
+std::string_view switchReasonName(SwitchReason reason) {
+  switch (reason) {
+    case SwitchReason::initial:
+      return "initial";
+    case SwitchReason::contact_force:
+      return "contact_force";
+    case SwitchReason::plate_contact:
+      return "plate_contact";
+    case SwitchReason::impact_report:
+      return "impact_report";
+    case SwitchReason::innovation:
+      return "innovation";
+    case SwitchReason::filter_invalid:
+      return "filter_invalid";
+    case SwitchReason::reinitialised:
+      return "reinitialised";
+  }
+  return "initial";
+}
+
+StateEstimator::StateEstimator(const StateEstimatorConfig& config)
+    : config_(config),
+      vehicles_{VehicleObserver(config.vehicle), VehicleObserver(config.vehicle)},
+      impact_report_t_s_{kNan, kNan},
+      free_(config.free_flight),
+      on_{PoleOnVehicleEkf(config.on_vehicle), PoleOnVehicleEkf(config.on_vehicle)},
+      selector_(config.selector),
+      vehicle_health_{BodyHealthTracker(kVehicleNisGate), BodyHealthTracker(kVehicleNisGate)},
+      pole_health_(kPoleNisGate) {}
+
+// ---------------------------------------------------------------------------------------------
+// Commands and impact reports
+
+void StateEstimator::setCommand(int vehicle, double t_s, const model::VehicleInput& input) {
+  if (!validVehicle(vehicle) || !std::isfinite(t_s) || !std::isfinite(input.a_q_mps2) ||
+      !input.omega_radps.allFinite()) {
+    return;
+  }
+  CommandQueue& q = commands_[vehicleIndex(vehicle)];
+  if (q.count > 0) {
+    TimedCommand& last = q.items[(q.head + q.count - 1) % kCommandQueueCapacity];
+    if (t_s < last.t_s - kTimeEps_s) return;  // out of order: the newer command stands
+    if (t_s <= last.t_s + kTimeEps_s) {
+      last.input = input;
+      return;
+    }
+  }
+  if (q.count == kCommandQueueCapacity) {
+    q.head = (q.head + 1) % kCommandQueueCapacity;
+    --q.count;
+  }
+  q.items[(q.head + q.count) % kCommandQueueCapacity] = {t_s, input};
+  ++q.count;
+}
+
+const model::VehicleInput* StateEstimator::commandAt(int index, double t_s) const {
+  const CommandQueue& q = commands_[index];
+  const TimedCommand* found = nullptr;
+  for (int i = 0; i < q.count; ++i) {
+    const TimedCommand& c = q.at(i);
+    if (c.t_s > t_s + kTimeEps_s) break;
+    found = &c;
+  }
+  if (found == nullptr || t_s - found->t_s > config_.command_timeout_s) return nullptr;
+  return &found->input;
+}
+
+double StateEstimator::nextCommandChange(double after_t_s, double until_t_s) const {
+  double next = until_t_s;
+  for (const CommandQueue& q : commands_) {
+    for (int i = 0; i < q.count; ++i) {
+      const double t = q.at(i).t_s;
+      if (t > after_t_s + kTimeEps_s) {
+        next = std::min(next, t);
+        break;
+      }
+    }
+  }
+  return next;
+}
+
+void StateEstimator::dropOldCommands(double t_s) {
+  for (CommandQueue& q : commands_) {
+    while (q.count >= 2 && q.at(1).t_s <= t_s + kTimeEps_s) {
+      q.head = (q.head + 1) % kCommandQueueCapacity;
+      --q.count;
+    }
+  }
+}
+
+void StateEstimator::reportImpact(int vehicle, double t_s) {
+  if (!validVehicle(vehicle) || !std::isfinite(t_s)) return;
+  impact_report_t_s_[vehicleIndex(vehicle)] = t_s;
+}
+
+bool StateEstimator::impactReportPending(int index) const {
+  const double t = impact_report_t_s_[index];
+  return std::isfinite(t) && t_s_ >= t - config_.max_step_s &&
+         t_s_ <= t + config_.impact_report_window_s;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Propagation
+
+void StateEstimator::advanceTo(double t_s) {
+  if (!std::isfinite(t_s)) return;
+  if (!started_) {
+    t_s_ = t_s;
+    started_ = true;
+    return;
+  }
+  if (t_s - t_s_ > config_.max_coast_s) {
+    startOver(t_s);
+    return;
+  }
+  const double max_step = config_.max_step_s > 0.0 ? config_.max_step_s : 0.005;
+  while (t_s_ < t_s - kTimeEps_s) {
+    const double next = nextCommandChange(t_s_, std::min(t_s, t_s_ + max_step));
+    step(next - t_s_);
+    t_s_ = next;
+    dropOldCommands(t_s_);
+  }
+}
+
+void StateEstimator::startOver(double t_s) {
+  vehicles_ = {VehicleObserver(config_.vehicle), VehicleObserver(config_.vehicle)};
+  pole_seen_ = false;  // the next pole pose initialises it (SwitchReason::initial)
+  on_candidate_valid_ = {};
+  impact_report_t_s_ = {kNan, kNan};
+  pole_rejections_ = 0;
+  t_s_ = t_s;
+  dropOldCommands(t_s_);
+  ++start_overs_;
+}
+
+void StateEstimator::step(double h) {
+  std::array<PlateKinematics, 2> before;
+  std::array<PlateKinematics, 2> after;
+  for (int i = 0; i < 2; ++i) {
+    if (!vehicles_[i].initialised()) continue;
+    before[i] = vehicles_[i].plate();
+    vehicles_[i].predict(h, commandAt(i, t_s_));
+    after[i] = vehicles_[i].plate();
+  }
+  if (pole_seen_) stepPole(h, before, after);
+}
+
+void StateEstimator::stepPole(double h, const std::array<PlateKinematics, 2>& before,
+                              const std::array<PlateKinematics, 2>& after) {
+  const PoleMode active = selector_.active();
+  const model::PoleParams& params = config_.on_vehicle.pole;
+  if (active == PoleMode::free) {
+    const PoleFreeFlightEkf start = free_;
+    free_.predict(h);
+    for (int i = 0; i < 2; ++i) {
+      if (!vehicles_[i].initialised()) continue;
+      // Impact: the lower end crossed the plate's plane inside the rim, closing on it.
+      const PlateContactGeometry g0 = plateContactGeometry(start.state(), before[i], params);
+      const PlateContactGeometry g1 = plateContactGeometry(free_.state(), after[i], params);
+      if (!(g0.height_m > 0.0 && g1.height_m <= 0.0)) continue;
+      const double frac = g0.height_m / (g0.height_m - g1.height_m);
+      const double radial = g0.radial_m + frac * (g1.radial_m - g0.radial_m);
+      const double approach =
+          g0.approach_speed_mps + frac * (g1.approach_speed_mps - g0.approach_speed_mps);
+      if (radial > config_.candidate_gate.plate_radius_m + config_.impact_radial_margin_m ||
+          approach < config_.impact_min_approach_speed_mps) {
+        continue;
+      }
+      free_ = start;
+      free_.predict(frac * h);
+      const PlateKinematics plate = interpolate(before[i], after[i], frac);
+      const OnVehicleSeed seed = onVehicleSeedAfterImpact(
+          free_.state(), free_.poleCovariance(), plate, params, config_.impact_rate_sigma_mps);
+      on_[i].reset(seed.state, seed.covariance, seed.direction_sign);
+      on_[i].predict((1.0 - frac) * h, after[i].a_mps2);
+      switchTo(onVehicleMode(i + 1), SwitchReason::plate_contact, t_s_ + frac * h, t_s_ + h);
+      reseedCandidates();
+      return;
+    }
+    for (int i = 0; i < 2; ++i) {
+      if (on_candidate_valid_[i]) on_[i].predict(h, 0.5 * (before[i].a_mps2 + after[i].a_mps2));
+    }
+    return;
+  }
+
+  const int j = vehicleOfMode(active) - 1;
+  if (!vehicles_[j].initialised()) return;
+  const PoleOnVehicleEkf start = on_[j];
+  const NormalForceEstimate f0 = start.normalForce(before[j]);
+  on_[j].predict(h, 0.5 * (before[j].a_mps2 + after[j].a_mps2));
+  const NormalForceEstimate f1 = on_[j].normalForce(after[j]);
+  const double threshold = -(config_.launch_margin_mps2 + config_.launch_sigmas * f1.sigma_mps2);
+  if (f1.value_mps2 < threshold || !on_[j].valid()) {
+    // Launch: the pole is free from the instant F_N crossed zero (or the step's start).
+    const bool lost_geometry = !on_[j].valid() && !(f1.value_mps2 < threshold);
+    const double frac = f0.value_mps2 > 0.0 && f1.value_mps2 < 0.0
+                            ? f0.value_mps2 / (f0.value_mps2 - f1.value_mps2)
+                            : 0.0;
+    on_[j] = start;
+    on_[j].predict(frac * h, 0.5 * (before[j].a_mps2 + after[j].a_mps2));
+    const PlateKinematics plate = interpolate(before[j], after[j], frac);
+    const FreeFlightSeed seed = freeFlightSeedFromOnVehicle(on_[j], plate);
+    free_.reset(seed.state, seed.covariance, drag_scale_, config_.drag_scale_sigma);
+    free_.predict((1.0 - frac) * h);
+    switchTo(PoleMode::free,
+             lost_geometry ? SwitchReason::filter_invalid : SwitchReason::contact_force,
+             t_s_ + frac * h, t_s_ + h);
+    reseedCandidates();
+    return;
+  }
+  free_.predict(h);  // the free-flight candidate
+}
+
+// ---------------------------------------------------------------------------------------------
+// Mode bookkeeping
+
+void StateEstimator::switchTo(PoleMode mode, SwitchReason reason, double event_t_s,
+                              double detected_t_s) {
+  const PoleMode from = selector_.active();
+  // The drag scale learnt in a flight that ended on a plate seeds the next launch, if the flight
+  // taught it something (a pole sliding on the floor teaches nothing about drag).
+  const bool caught = reason == SwitchReason::plate_contact || reason == SwitchReason::impact_report;
+  if (from == PoleMode::free && caught && config_.carry_drag_scale &&
+      config_.free_flight.estimate_drag_scale) {
+    const double sigma = std::sqrt(std::max(
+        0.0, free_.covariance()(PoleFreeFlightEkf::kK, PoleFreeFlightEkf::kK)));
+    if (sigma < 0.5 * config_.drag_scale_sigma) drag_scale_ = free_.dragScale();
+  }
+  selector_.reset(mode);
+  ModeSwitch s;
+  s.event_t_s = event_t_s;
+  s.detected_t_s = detected_t_s;
+  s.from = from;
+  s.to = mode;
+  s.reason = reason;
+  switch_log_[switch_count_ % kSwitchLogCapacity] = s;
+  ++switch_count_;
+  mode_since_s_ = event_t_s;
+  last_switch_detected_s_ = detected_t_s;
+  if (mode != PoleMode::free) impact_report_t_s_[vehicleOfMode(mode) - 1] = kNan;
+}
+
+void StateEstimator::reseedCandidates() {
+  const PoleMode active = selector_.active();
+  if (active == PoleMode::free) {
+    for (int i = 0; i < 2; ++i) {
+      const PoleMode m = onVehicleMode(i + 1);
+      if (!vehicles_[i].initialised()) {
+        on_candidate_valid_[i] = false;
+        continue;
+      }
+      if (on_candidate_valid_[i] && selector_.accumulating(m) && on_[i].valid()) continue;
+      const std::optional<OnVehicleSeed> seed =
+          onVehicleSeedFromFreeFlight(free_.state(), free_.poleCovariance(), vehicles_[i].plate(),
+                                      config_.on_vehicle.pole, config_.candidate_gate);
+      on_candidate_valid_[i] = false;
+      if (seed) {
+        on_[i].reset(seed->state, seed->covariance, seed->direction_sign);
+        on_candidate_valid_[i] = on_[i].valid();
+      }
+    }
+    return;
+  }
+  const int j = vehicleOfMode(active) - 1;
+  on_candidate_valid_ = {false, false};
+  if (selector_.accumulating(PoleMode::free) || !vehicles_[j].initialised()) return;
+  const FreeFlightSeed seed = freeFlightSeedFromOnVehicle(on_[j], vehicles_[j].plate());
+  free_.reset(seed.state, seed.covariance, drag_scale_, config_.drag_scale_sigma);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Measurements
+
+void StateEstimator::update(const MocapFrame& frame) {
+  if (!std::isfinite(frame.t_s)) return;
+  if (started_ && frame.t_s < t_s_ - kTimeEps_s) {
+    ++frames_out_of_order_;
+    return;
+  }
+  advanceTo(frame.t_s);
+  ++frames_;
+  for (int i = 0; i < 2; ++i) {
+    if (!frame.vehicle[i]) continue;
+    vehicle_health_[i].sample(frame.t_s);
+    const VehicleUpdateResult r = vehicles_[i].update(*frame.vehicle[i]);
+    if (!r.accepted) {
+      vehicle_health_[i].rejected();
+    } else if (!r.reinitialised) {
+      vehicle_health_[i].innovation(r.nis);
+    }
+  }
+  if (!frame.pole) return;
+  pole_health_.sample(frame.t_s);
+  if (!isUsablePose(*frame.pole)) {
+    pole_health_.rejected();
+    return;
+  }
+  const PoleMeasurement m{frame.pole->p_m, poleDirectionFromQuaternion(frame.pole->q)};
+  if (!pole_seen_) {
+    initialisePole(m, SwitchReason::initial);
+  } else {
+    updatePole(m);
+  }
+}
+
+void StateEstimator::initialisePole(const PoleMeasurement& m, SwitchReason reason) {
+  model::PoleState s;
+  s.p_m = m.p_m;
+  s.n = m.n;
+  PoleCovariance p = PoleCovariance::Zero();
+  const double sp = config_.free_flight.mocap_position_sigma_m;
+  const double sn = config_.free_flight.mocap_direction_sigma_rad;
+  const double sv = config_.initial_velocity_sigma_mps;
+  const double sw = config_.initial_rate_sigma_radps;
+  p.diagonal() << sp * sp, sp * sp, sp * sp, sv * sv, sv * sv, sv * sv, sn * sn, sn * sn, sn * sn,
+      sw * sw, sw * sw, sw * sw;
+  free_.reset(s, p, drag_scale_, config_.drag_scale_sigma);
+  pole_seen_ = true;
+  PoleMode mode = PoleMode::free;
+  for (int i = 0; i < 2 && mode == PoleMode::free; ++i) {
+    if (!vehicles_[i].initialised()) continue;
+    // At rest relative to the vehicle, if it rests on it.
+    model::PoleState rel = s;
+    rel.v_mps = vehicles_[i].plate().v_mps;
+    const std::optional<OnVehicleSeed> seed =
+        onVehicleSeedFromFreeFlight(rel, free_.poleCovariance(), vehicles_[i].plate(),
+                                    config_.on_vehicle.pole, config_.candidate_gate);
+    if (!seed) continue;
+    on_[i].reset(seed->state, seed->covariance, seed->direction_sign);
+    if (on_[i].valid()) mode = onVehicleMode(i + 1);
+  }
+  switchTo(mode, reason, t_s_, t_s_);
+  reseedCandidates();
+  pole_rejections_ = 0;
+}
+
+void StateEstimator::updatePole(const PoleMeasurement& m) {
+  const model::PoleParams& params = config_.on_vehicle.pole;
+  std::array<PlateKinematics, 2> plates;
+  for (int i = 0; i < 2; ++i) {
+    if (vehicles_[i].initialised()) plates[i] = vehicles_[i].plate();
+  }
+
+  // An impact reported by a vehicle, with the MEASURED pole's lower end at its plate: switch at
+  // once. The report arrives over the radio after the impact, when the free-flight filter has
+  // already been pulled by a few frames of a pole that stopped, so the geometry comes from the
+  // measurement and only the rates (through the impact map, with its uncertainty) from the
+  // free-flight estimate.
+  if (selector_.active() == PoleMode::free) {
+    model::PoleState measured = free_.state();
+    measured.p_m = m.p_m;
+    measured.n = m.n;
+    measured = model::normalisedPoleState(measured);
+    for (int i = 0; i < 2; ++i) {
+      if (!impactReportPending(i) || !vehicles_[i].initialised()) continue;
+      const PlateContactGeometry g = plateContactGeometry(measured, plates[i], params);
+      const PlateContactGate& gate = config_.impact_report_gate;
+      if (g.radial_m > gate.plate_radius_m + gate.radial_margin_m ||
+          std::abs(g.height_m) > gate.height_margin_m) {
+        continue;
+      }
+      const OnVehicleSeed seed = onVehicleSeedAfterImpact(
+          measured, free_.poleCovariance(), plates[i], params, config_.impact_rate_sigma_mps);
+      on_[i].reset(seed.state, seed.covariance, seed.direction_sign);
+      if (!on_[i].valid()) continue;
+      switchTo(onVehicleMode(i + 1), SwitchReason::impact_report, impact_report_t_s_[i], t_s_);
+      reseedCandidates();
+      break;
+    }
+  }
+  // The active on-vehicle filter lost its geometry: the pole is no longer on the plate.
+  if (const int v = vehicleOfMode(selector_.active()); v != 0 && !on_[v - 1].valid()) {
+    const FreeFlightSeed seed = freeFlightSeedFromOnVehicle(on_[v - 1], plates[v - 1]);
+    free_.reset(seed.state, seed.covariance, drag_scale_, config_.drag_scale_sigma);
+    switchTo(PoleMode::free, SwitchReason::filter_invalid, t_s_, t_s_);
+    reseedCandidates();
+  }
+
+  const PoleMode active = selector_.active();
+  std::array<bool, kPoleModeCount> evaluated{};
+  evaluated[modeIndex(PoleMode::free)] = true;  // active, or the candidate of an on-vehicle mode
+  for (int i = 0; i < 2; ++i) {
+    const PoleMode mi = onVehicleMode(i + 1);
+    evaluated[modeIndex(mi)] =
+        active == mi || (active == PoleMode::free && on_candidate_valid_[i] && on_[i].valid());
+  }
+  std::array<PoleInnovation, kPoleModeCount> inn;
+  std::array<std::optional<double>, kPoleModeCount> ll;
+  std::array<bool, kPoleModeCount> favoured{};
+  for (PoleMode mode : kPoleModes) {
+    const int k = modeIndex(mode);
+    if (!evaluated[k]) continue;
+    const int v = vehicleOfMode(mode);
+    inn[k] = v == 0 ? free_.innovation(m) : on_[v - 1].innovation(m, plates[v - 1]);
+    if (inn[k].valid) ll[k] = inn[k].log_likelihood;
+    if (v != 0) favoured[k] = impactReportPending(v - 1);
+  }
+  // A pose that no filter explains: a glitch, or (if it persists) a pole that is elsewhere.
+  bool explained = false;
+  for (PoleMode mode : kPoleModes) {
+    const int k = modeIndex(mode);
+    explained |= evaluated[k] && inn[k].valid && inn[k].nis <= config_.pole_outlier_nis;
+  }
+  if (!explained) {
+    pole_health_.rejected();
+    if (++pole_rejections_ > config_.pole_max_rejections) {
+      pole_seen_ = false;
+      initialisePole(m, SwitchReason::reinitialised);
+    }
+    return;
+  }
+  pole_rejections_ = 0;
+
+  const bool holding_off = t_s_ - last_switch_detected_s_ < config_.switch_hold_off_s;
+  if (holding_off) {
+    selector_.reset(active);  // the candidates keep being re-seeded from the new estimate
+  } else if (const std::optional<PoleMode> chosen = selector_.step(ll, favoured)) {
+    // The selector has already made the switch; record it (at the reported impact if a report
+    // favoured the mode).
+    const PoleMode to = *chosen;
+    const int v = vehicleOfMode(to);
+    const double event_t = v != 0 && favoured[modeIndex(to)] ? impact_report_t_s_[v - 1] : t_s_;
+    selector_.reset(active);
+    switchTo(to, SwitchReason::innovation, event_t, t_s_);
+  }
+  pole_health_.innovation(inn[modeIndex(selector_.active())].nis);
+
+  for (PoleMode mode : kPoleModes) {
+    const int k = modeIndex(mode);
+    if (!evaluated[k] || !inn[k].valid) continue;
+    const int v = vehicleOfMode(mode);
+    if (v == 0) {
+      free_.update(m);
+    } else {
+      on_[v - 1].update(m, plates[v - 1]);
+    }
+  }
+  reseedCandidates();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Outputs
+
+PoleEstimate StateEstimator::pole() const {
+  PoleEstimate e;
+  e.valid = pole_seen_;
+  e.t_s = t_s_;
+  e.mode = selector_.active();
+  const int v = vehicleOfMode(e.mode);
+  if (v == 0 || !vehicles_[v - 1].initialised()) {
+    e.state = free_.state();
+    e.covariance = free_.poleCovariance();
+    e.drag_scale = free_.dragScale();
+  } else {
+    const FreeFlightSeed s = freeFlightSeedFromOnVehicle(on_[v - 1], vehicles_[v - 1].plate());
+    e.state = s.state;
+    e.covariance = s.covariance;
+    e.drag_scale = drag_scale_;
+  }
+  return e;
+}
+
+bool StateEstimator::vehicleInitialised(int vehicle) const {
+  return validVehicle(vehicle) && vehicles_[vehicleIndex(vehicle)].initialised();
+}
+
+VehicleEstimate StateEstimator::vehicle(int vehicle) const {
+  return vehicles_[vehicleIndex(vehicle)].estimate();
+}
+
+PlateKinematics StateEstimator::plate(int vehicle) const {
+  return vehicles_[vehicleIndex(vehicle)].plate();
+}
+
+std::optional<NormalForceEstimate> StateEstimator::normalForce() const {
+  const int v = vehicleOfMode(selector_.active());
+  if (v == 0 || !vehicles_[v - 1].initialised()) return std::nullopt;
+  return on_[v - 1].normalForce(vehicles_[v - 1].plate());
+}
+
+PoleEstimate StateEstimator::predictPole(double t_s) const {
+  StateEstimator ahead = *this;
+  ahead.advanceTo(t_s);
+  return ahead.pole();
+}
+
+VehicleEstimate StateEstimator::predictVehicle(int vehicle, double t_s) const {
+  StateEstimator ahead = *this;
+  ahead.advanceTo(t_s);
+  return ahead.vehicle(vehicle);
+}
+
+EstimatorHealth StateEstimator::health(double t_now_s) const {
+  EstimatorHealth h;
+  h.t_s = t_now_s;
+  for (int i = 0; i < 2; ++i) h.vehicle[i] = snapshot(vehicle_health_[i], t_now_s);
+  h.pole = snapshot(pole_health_, t_now_s);
+  h.mode = selector_.active();
+  h.time_in_mode_s = pole_seen_ ? t_now_s - mode_since_s_ : 0.0;
+  h.mode_switches = switch_count_;
+  h.frames = frames_;
+  h.frames_out_of_order = frames_out_of_order_;
+  if (pole_seen_) {
+    const PoleEstimate e = pole();
+    h.pole_position_sigma_m = std::sqrt(std::max(0.0, e.covariance.topLeftCorner<3, 3>().trace() / 3.0));
+    h.drag_scale = e.drag_scale;
+  }
+  return h;
+}
+
+std::optional<ModeSwitch> StateEstimator::lastSwitch() const {
+  if (switch_count_ == 0) return std::nullopt;
+  return switch_log_[(switch_count_ - 1) % kSwitchLogCapacity];
+}
+
+std::vector<ModeSwitch> StateEstimator::recentSwitches() const {
+  std::vector<ModeSwitch> out;
+  const std::uint64_t n = std::min<std::uint64_t>(switch_count_, kSwitchLogCapacity);
+  out.reserve(n);
+  for (std::uint64_t i = switch_count_ - n; i < switch_count_; ++i) {
+    out.push_back(switch_log_[i % kSwitchLogCapacity]);
+  }
+  return out;
+}
+
+}  // namespace gs::estimation

@@ -1,0 +1,224 @@
+// The ground station's estimator (Section IV): both vehicles from their motion-capture poses and
+// commands, and the pole by a hybrid estimator with one EKF per mode (free flight (20); on
+// vehicle 1 or 2, (30)), the mode chosen from the innovations and from physical evidence, the
+// chosen estimate fed back to the other modes. Time is always passed in.
+//
+// One update (a motion-capture frame at t):
+//  1. Everything is propagated to t in steps of at most max_step_s, split at command changes:
+//     the vehicles by their observers (commands drive them), the pole's active mode and its
+//     candidates by their EKFs. Dropped frames are coasted through the same way, the
+//     covariances growing with the process noise.
+//     Hard evidence is checked inside each step, and the switch is placed at the event:
+//       - launch: in an on-vehicle mode, the plate's normal force F_N (pole_on_vehicle_ekf.hpp)
+//         falling below -(launch_margin + launch_sigmas sigma): the contact is unilateral, so the
+//         pole is free from the instant F_N crossed zero;
+//       - impact: in free flight, the pole's lower end crossing a plate's plane inside its rim
+//         while closing on it: the pole cannot pass through the plate; the impact map (35)-(40)
+//         gives the on-vehicle state.
+//  2. The vehicles are corrected with their poses.
+//  3. The pole: each evaluated filter's innovation; an impact reported by a vehicle (IMPACT frame)
+//     switches at once when the measured pole's lower end is at that plate, and otherwise
+//     favours that mode in the CUSUM selection (mode_selector.hpp) for impact_report_window_s
+//     (the CUSUM rests for switch_hold_off_s after any switch); a pose no filter explains is
+//     rejected as a glitch (re-initialising after several in a row); then all evaluated filters
+//     are corrected and the candidates not accumulating evidence are re-seeded from the chosen
+//     estimate (pole_mode_conversion.hpp).
+//
+// Time: frames carry the capture time of their poses (the motion-capture system's clock);
+// impact reports the impact's time on the same clock (the link converts the vehicle's clock with
+// TIMESYNC). Commands are stamped with the time they act on the vehicle.
+//
+// Latency compensation: predictPole / predictVehicle propagate a copy of the whole estimator
+// (commands, mode switches and all) to the time a command will act.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "groundstation/estimation/estimator_health.hpp"
+#include "groundstation/estimation/mocap_pose.hpp"
+#include "groundstation/estimation/mode_selector.hpp"
+#include "groundstation/estimation/pole_free_flight_ekf.hpp"
+#include "groundstation/estimation/pole_mode.hpp"
+#include "groundstation/estimation/pole_mode_conversion.hpp"
+#include "groundstation/estimation/pole_on_vehicle_ekf.hpp"
+#include "groundstation/estimation/vehicle_observer.hpp"
+
+namespace gs::estimation {
+
+struct StateEstimatorConfig {
+  VehicleObserverParams vehicle;
+  PoleFreeFlightEkfParams free_flight;
+  PoleOnVehicleEkfParams on_vehicle;
+  ModeSelectorParams selector;
+  PlateContactGate candidate_gate;  // where an on-vehicle candidate is seeded at all
+  // After a switch the innovations do not switch again for this long: a freshly seeded filter's
+  // innovations are unreliable while it converges (e.g. through a compliant plate's first
+  // tens of milliseconds after an impact). Physical evidence still switches at once.
+  double switch_hold_off_s = 0.05;
+  double max_step_s = 0.005;
+  double command_timeout_s = 0.2;  // an older command no longer drives a vehicle's model
+  // A gap in the frames longer than this is not coasted through (it would cost a step per
+  // max_step_s and the estimate means nothing after it): the estimator starts over from the
+  // next poses, as after its first frame.
+  double max_coast_s = 1.0;
+  // Launch (see the header comment). With the commands driving the vehicle model the estimated
+  // F_N is good to about 0.5 m/s^2 (sigma ~0.6); without them the vehicle's acceleration, and
+  // so F_N, is known only to several m/s^2 and the sigma term keeps noise from launching.
+  double launch_margin_mps2 = 0.2;
+  double launch_sigmas = 1.0;
+  // Impact on a plate (see the header comment).
+  double impact_radial_margin_m = 0.02;
+  double impact_min_approach_speed_mps = 0.3;
+  double impact_rate_sigma_mps = 0.2;  // post-impact rate uncertainty (impact model)
+  // IMPACT frames from the vehicles.
+  double impact_report_window_s = 0.15;
+  PlateContactGate impact_report_gate{0.5 * pa::kPlateDiameter_m, 0.04, 0.05, 1.3};
+  // A pole pose that no mode's filter explains (NIS above this in every evaluated filter) is a
+  // glitch and is ignored; after pole_max_rejections such poses in a row the pole estimate
+  // starts over from the pose (the pole really is elsewhere, e.g. moved by hand).
+  double pole_outlier_nis = 1e4;
+  int pole_max_rejections = 5;
+  // The pole first seen in the air.
+  double initial_velocity_sigma_mps = 3.0;
+  double initial_rate_sigma_radps = 10.0;
+  // The drag scale k at each launch: the value learnt in the last caught flight (or 1) and this
+  // sigma. 0.1 trades the early prediction when the coefficients are right (a wide prior lets
+  // k wander while the flight has told little) against the speed of learning a wrong one.
+  double drag_scale_sigma = 0.1;
+  bool carry_drag_scale = true;
+};
+
+struct MocapFrame {
+  double t_s = 0.0;
+  std::array<std::optional<MocapPose>, 2> vehicle;  // vehicle 1, vehicle 2
+  std::optional<MocapPose> pole;
+};
+
+struct PoleEstimate {
+  bool valid = false;  // false until the pole has been seen
+  double t_s = 0.0;
+  PoleMode mode = PoleMode::free;
+  model::PoleState state;  // n in the motion capture's convention (the pole's body z-axis)
+  PoleCovariance covariance = PoleCovariance::Identity();  // of (p, v, n, Omega)
+  double drag_scale = 1.0;
+};
+
+enum class SwitchReason : std::uint8_t {
+  initial,         // the pole's first sighting
+  contact_force,   // launch: the plate's normal force turned negative
+  plate_contact,   // impact: the lower end reached a plate
+  impact_report,   // impact: an IMPACT frame with the end at the plate
+  innovation,      // the CUSUM of the innovations
+  filter_invalid,  // the active on-vehicle filter lost its geometry (pole fell over)
+  reinitialised,   // no mode explained the pole's poses: started over from them
+};
+std::string_view switchReasonName(SwitchReason reason);
+
+struct ModeSwitch {
+  double event_t_s = 0.0;     // when the event happened (estimated)
+  double detected_t_s = 0.0;  // the estimator time at which it was decided
+  PoleMode from = PoleMode::free;
+  PoleMode to = PoleMode::free;
+  SwitchReason reason = SwitchReason::initial;
+};
+
+class StateEstimator {
+ public:
+  static constexpr int kSwitchLogCapacity = 64;
+  static constexpr int kCommandQueueCapacity = 32;
+
+  explicit StateEstimator(const StateEstimatorConfig& config = {});
+
+  // The input that vehicle (1 or 2) applies from t_s on (commands arrive in time order; a
+  // command for the future, e.g. sent now to act after the link latency, is queued).
+  void setCommand(int vehicle, double t_s, const model::VehicleInput& input);
+  // An impact the vehicle's firmware reported, at t_s on the estimator's clock.
+  void reportImpact(int vehicle, double t_s);
+  // Processes a frame; frames older than the estimator's time are counted and ignored.
+  void update(const MocapFrame& frame);
+  // Propagates to t_s without measurements (the frame did not come); a gap longer than
+  // config().max_coast_s starts over instead.
+  void advanceTo(double t_s);
+
+  double time() const { return t_s_; }
+  PoleMode mode() const { return selector_.active(); }
+  PoleEstimate pole() const;
+  bool vehicleInitialised(int vehicle) const;
+  VehicleEstimate vehicle(int vehicle) const;
+  PlateKinematics plate(int vehicle) const;
+  // The plate's normal force under the pole (on-vehicle modes; nullopt in free flight).
+  std::optional<NormalForceEstimate> normalForce() const;
+  // The pole model with the estimated drag scale (for catch-point prediction).
+  model::PoleParams poleModel() const { return free_.scaledModel(); }
+
+  // Latency compensation: the estimate propagated to t_s >= time().
+  PoleEstimate predictPole(double t_s) const;
+  VehicleEstimate predictVehicle(int vehicle, double t_s) const;
+
+  EstimatorHealth health(double t_now_s) const;
+  std::uint64_t switchCount() const { return switch_count_; }
+  std::uint64_t startOverCount() const { return start_overs_; }
+  std::optional<ModeSwitch> lastSwitch() const;
+  // Up to kSwitchLogCapacity most recent switches, oldest first.
+  std::vector<ModeSwitch> recentSwitches() const;
+
+  // The filters, for tests and diagnostics.
+  const PoleFreeFlightEkf& freeFlightFilter() const { return free_; }
+  const PoleOnVehicleEkf& onVehicleFilter(int vehicle) const { return on_[vehicle == 2 ? 1 : 0]; }
+  const ModeSelector& selector() const { return selector_; }
+  const StateEstimatorConfig& config() const { return config_; }
+
+ private:
+  struct TimedCommand {
+    double t_s = 0.0;
+    model::VehicleInput input;
+  };
+  struct CommandQueue {
+    std::array<TimedCommand, kCommandQueueCapacity> items;
+    int head = 0;
+    int count = 0;
+    const TimedCommand& at(int i) const { return items[(head + i) % kCommandQueueCapacity]; }
+  };
+
+  const model::VehicleInput* commandAt(int index, double t_s) const;
+  double nextCommandChange(double after_t_s, double until_t_s) const;
+  void dropOldCommands(double t_s);
+  void step(double h);
+  void stepPole(double h, const std::array<PlateKinematics, 2>& before,
+                const std::array<PlateKinematics, 2>& after);
+  void switchTo(PoleMode mode, SwitchReason reason, double event_t_s, double detected_t_s);
+  void startOver(double t_s);
+  void reseedCandidates();
+  void initialisePole(const PoleMeasurement& m, SwitchReason reason);
+  void updatePole(const PoleMeasurement& m);
+  bool impactReportPending(int index) const;
+
+  StateEstimatorConfig config_;
+  double t_s_ = 0.0;
+  bool started_ = false;
+  std::array<VehicleObserver, 2> vehicles_;
+  std::array<CommandQueue, 2> commands_;
+  std::array<double, 2> impact_report_t_s_;
+  bool pole_seen_ = false;
+  PoleFreeFlightEkf free_;
+  std::array<PoleOnVehicleEkf, 2> on_;
+  std::array<bool, 2> on_candidate_valid_{};
+  ModeSelector selector_;
+  double drag_scale_ = 1.0;  // seed of k at the next launch
+  double mode_since_s_ = 0.0;
+  double last_switch_detected_s_ = -1e300;
+  // Health and the switch log (fixed size, so that a copy for prediction is cheap).
+  std::array<BodyHealthTracker, 2> vehicle_health_;
+  BodyHealthTracker pole_health_;
+  std::uint64_t frames_ = 0;
+  std::uint64_t frames_out_of_order_ = 0;
+  std::uint64_t start_overs_ = 0;
+  int pole_rejections_ = 0;
+  std::array<ModeSwitch, kSwitchLogCapacity> switch_log_{};
+  std::uint64_t switch_count_ = 0;
+};
+
+}  // namespace gs::estimation

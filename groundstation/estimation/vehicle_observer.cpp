@@ -1,0 +1,248 @@
+#include "groundstation/estimation/vehicle_observer.hpp"
+
+#include <cmath>
+
+namespace gs::estimation {
+namespace {
+
+bool finiteInput(const model::VehicleInput& in) {
+  return std::isfinite(in.a_q_mps2) && in.omega_radps.allFinite();
+}
+
+}  // namespace
+
+VehicleObserver::VehicleObserver(const VehicleObserverParams& params) : params_(params) {
+  for (int i = 0; i < 3; ++i) {
+    trans_x_[i].setZero();
+    trans_p_[i].setIdentity();
+    att_x_[i].setZero();
+    att_p_[i].setIdentity();
+  }
+}
+
+void VehicleObserver::reset(const MocapPose& pose) {
+  if (!isUsablePose(pose)) return;
+  const EulerZyx e = eulerZyxFromQuaternion(pose.q);
+  const double eta[3] = {e.phi_rad, e.theta_rad, e.psi_rad};
+  const double sp = params_.mocap_position_sigma_m;
+  const double sa = params_.mocap_attitude_sigma_rad;
+  const double sv = params_.initial_velocity_sigma_mps;
+  const double sd = params_.initial_disturbance_sigma_mps2;
+  const double sr = params_.initial_rate_sigma_radps;
+  for (int i = 0; i < 3; ++i) {
+    trans_x_[i] = Eigen::Vector3d(pose.p_m(i), 0.0, 0.0);
+    trans_p_[i] = Eigen::Vector3d(sp * sp, sv * sv, sd * sd).asDiagonal();
+    att_x_[i] = Eigen::Vector2d(eta[i], 0.0);
+    att_p_[i] = Eigen::Vector2d(sa * sa, sr * sr).asDiagonal();
+  }
+  // Until a command says otherwise there is no input: d holds the whole acceleration (zero at
+  // rest), and the first command re-expresses it (see predict).
+  commanded_ = false;
+  thrust_mps2_ = params_.gravity_mps2;
+  rates_radps_.setZero();
+  command_rates_radps_.setZero();
+  rejections_ = 0;
+  initialised_ = true;
+}
+
+Eigen::Vector3d VehicleObserver::eulerAngles() const {
+  return {att_x_[0](0), att_x_[1](0), att_x_[2](0)};
+}
+
+// u = ^I_B R(eta) e_z a_q - g e_z, eq. (4).
+Eigen::Vector3d VehicleObserver::modelAcceleration(double a_q_mps2) const {
+  const Eigen::Vector3d eta = eulerAngles();
+  model::VehicleState s;
+  s.phi_rad = eta(0);
+  s.theta_rad = eta(1);
+  s.psi_rad = eta(2);
+  return model::vehicleAcceleration_mps2(s, a_q_mps2, params_.gravity_mps2);
+}
+
+void VehicleObserver::predict(double dt_s, const model::VehicleInput* command) {
+  if (!initialised_ || !(dt_s > 0.0) || !std::isfinite(dt_s)) return;
+  const bool commanded = command != nullptr && finiteInput(*command);
+
+  // The acceleration and Euler rate the filter currently believes in, kept continuous when the
+  // input model changes (d and delta take up the difference).
+  const Eigen::Vector3d acc_before = estimate().acceleration_mps2;
+  const Eigen::Vector3d rate_before = estimate().euler_rates_radps;
+  if (commanded && !commanded_) {
+    thrust_mps2_ = (acc_before + Eigen::Vector3d(0.0, 0.0, params_.gravity_mps2)).norm();
+    rates_radps_ = estimate().body_rates_radps;
+  }
+
+  Eigen::Vector3d u = Eigen::Vector3d::Zero();
+  Eigen::Vector3d r = Eigen::Vector3d::Zero();
+  if (commanded) {
+    // First-order lags, solved exactly over the step; the inputs use their means over it.
+    const auto lag = [dt_s](double tau, double& decay, double& mean_weight) {
+      decay = tau > 0.0 ? std::exp(-dt_s / tau) : 0.0;
+      mean_weight = tau > 0.0 ? tau / dt_s * (1.0 - decay) : 0.0;
+    };
+    double decay = 0.0;
+    double mean_weight = 0.0;
+    lag(params_.thrust_time_constant_s, decay, mean_weight);
+    const double a_c = command->a_q_mps2;
+    u = modelAcceleration(a_c + (thrust_mps2_ - a_c) * mean_weight);
+    thrust_mps2_ = a_c + (thrust_mps2_ - a_c) * decay;
+    lag(params_.rate_time_constant_s, decay, mean_weight);
+    const Eigen::Vector3d& w_c = command->omega_radps;
+    const Eigen::Vector3d w_mean = w_c + (rates_radps_ - w_c) * mean_weight;
+    rates_radps_ = w_c + (rates_radps_ - w_c) * decay;
+    const Eigen::Vector3d eta = eulerAngles();
+    r = model::eulerRatesFromBodyRates(eta(0), eta(1), w_mean);  // (5)
+  }
+  if (commanded != commanded_) {
+    for (int i = 0; i < 3; ++i) {
+      trans_x_[i](2) = acc_before(i) - u(i);
+      att_x_[i](1) = rate_before(i) - r(i);
+    }
+    commanded_ = commanded;
+  }
+  command_rates_radps_ = commanded ? command->omega_radps : Eigen::Vector3d::Zero();
+
+  const VehicleProcessNoise& q = commanded ? params_.commanded : params_.uncommanded;
+  const double h = dt_s;
+  const double h2 = h * h;
+  const double h3 = h2 * h;
+  Eigen::Matrix3d phi;
+  phi << 1.0, h, 0.5 * h2, 0.0, 1.0, h, 0.0, 0.0, 1.0;
+  Eigen::Matrix3d q_trans;
+  q_trans << h3 / 3.0, h2 / 2.0, 0.0, h2 / 2.0, h, 0.0, 0.0, 0.0, 0.0;
+  q_trans *= q.acceleration_psd;
+  Eigen::Matrix3d q_jerk;
+  q_jerk << h2 * h3 / 20.0, h2 * h2 / 8.0, h3 / 6.0, h2 * h2 / 8.0, h3 / 3.0, h2 / 2.0, h3 / 6.0,
+      h2 / 2.0, h;
+  q_trans += q.disturbance_jerk_psd * q_jerk;
+  Eigen::Matrix2d phi_att;
+  phi_att << 1.0, h, 0.0, 1.0;
+  Eigen::Matrix2d q_att;
+  q_att << q.euler_rate_psd * h + q.rate_correction_psd * h3 / 3.0,
+      q.rate_correction_psd * h2 / 2.0, q.rate_correction_psd * h2 / 2.0,
+      q.rate_correction_psd * h;
+
+  for (int i = 0; i < 3; ++i) {
+    trans_x_[i] = phi * trans_x_[i] + Eigen::Vector3d(0.5 * h2, h, 0.0) * u(i);
+    trans_p_[i] = phi * trans_p_[i] * phi.transpose() + q_trans;
+    att_x_[i] = phi_att * att_x_[i] + Eigen::Vector2d(h, 0.0) * r(i);
+    att_p_[i] = phi_att * att_p_[i] * phi_att.transpose() + q_att;
+  }
+}
+
+double VehicleObserver::nis(const MocapPose& pose) const {
+  if (!initialised_ || !isUsablePose(pose)) return 0.0;
+  const EulerZyx e = eulerZyxFromQuaternion(pose.q);
+  const double eta[3] = {e.phi_rad, e.theta_rad, e.psi_rad};
+  const double rp = params_.mocap_position_sigma_m * params_.mocap_position_sigma_m;
+  const double ra = params_.mocap_attitude_sigma_rad * params_.mocap_attitude_sigma_rad;
+  double nis = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    const double nu_p = pose.p_m(i) - trans_x_[i](0);
+    const double nu_a = wrapAngle_rad(eta[i] - att_x_[i](0));
+    nis += nu_p * nu_p / (trans_p_[i](0, 0) + rp) + nu_a * nu_a / (att_p_[i](0, 0) + ra);
+  }
+  return nis;
+}
+
+VehicleUpdateResult VehicleObserver::update(const MocapPose& pose) {
+  VehicleUpdateResult result;
+  if (!isUsablePose(pose)) return result;
+  if (!initialised_) {
+    reset(pose);
+    result.accepted = true;
+    result.reinitialised = true;
+    return result;
+  }
+  result.nis = nis(pose);
+  if (result.nis > params_.outlier_nis) {
+    if (++rejections_ > params_.max_rejections) {
+      reset(pose);
+      result.accepted = true;
+      result.reinitialised = true;
+    }
+    return result;
+  }
+  rejections_ = 0;
+  const EulerZyx e = eulerZyxFromQuaternion(pose.q);
+  const double eta[3] = {e.phi_rad, e.theta_rad, e.psi_rad};
+  const double rp = params_.mocap_position_sigma_m * params_.mocap_position_sigma_m;
+  const double ra = params_.mocap_attitude_sigma_rad * params_.mocap_attitude_sigma_rad;
+  for (int i = 0; i < 3; ++i) {
+    {
+      const double s = trans_p_[i](0, 0) + rp;
+      const Eigen::Vector3d k = trans_p_[i].col(0) / s;
+      trans_x_[i] += k * (pose.p_m(i) - trans_x_[i](0));
+      trans_p_[i] -= k * trans_p_[i].row(0);
+      trans_p_[i] = 0.5 * (trans_p_[i] + trans_p_[i].transpose()).eval();
+    }
+    {
+      const double s = att_p_[i](0, 0) + ra;
+      const Eigen::Vector2d k = att_p_[i].col(0) / s;
+      att_x_[i] += k * wrapAngle_rad(eta[i] - att_x_[i](0));
+      att_p_[i] -= k * att_p_[i].row(0);
+      att_p_[i] = 0.5 * (att_p_[i] + att_p_[i].transpose()).eval();
+    }
+  }
+  // Keep yaw in (-pi, pi] (roll likewise); the innovation above is already wrapped.
+  att_x_[0](0) = wrapAngle_rad(att_x_[0](0));
+  att_x_[2](0) = wrapAngle_rad(att_x_[2](0));
+  result.accepted = true;
+  return result;
+}
+
+VehicleEstimate VehicleObserver::estimate() const {
+  VehicleEstimate e;
+  const Eigen::Vector3d eta = eulerAngles();
+  e.state.phi_rad = eta(0);
+  e.state.theta_rad = eta(1);
+  e.state.psi_rad = eta(2);
+  Eigen::Vector3d d;
+  Eigen::Vector3d delta;
+  for (int i = 0; i < 3; ++i) {
+    e.state.p_m(i) = trans_x_[i](0);
+    e.state.v_mps(i) = trans_x_[i](1);
+    d(i) = trans_x_[i](2);
+    delta(i) = att_x_[i](1);
+    e.position_sigma_m(i) = std::sqrt(trans_p_[i](0, 0));
+    e.velocity_sigma_mps(i) = std::sqrt(trans_p_[i](1, 1));
+    e.acceleration_sigma_mps2(i) = std::sqrt(trans_p_[i](2, 2));
+    e.attitude_sigma_rad(i) = std::sqrt(att_p_[i](0, 0));
+  }
+  e.acceleration_mps2 = d;
+  e.euler_rates_radps = delta;
+  if (commanded_) {
+    // The inputs re-evaluated at the current attitude and applied thrust.
+    e.acceleration_mps2 += modelAcceleration(thrust_mps2_);
+    e.euler_rates_radps += model::eulerRatesFromBodyRates(eta(0), eta(1), rates_radps_);
+    if (params_.rate_time_constant_s > 0.0) {
+      e.body_rate_derivative_radps2 =
+          (command_rates_radps_ - rates_radps_) / params_.rate_time_constant_s;
+    }
+  }
+  e.body_rates_radps = model::bodyRatesFromEulerRates(eta(0), eta(1), e.euler_rates_radps);
+  return e;
+}
+
+PlateKinematics VehicleObserver::plate() const {
+  const VehicleEstimate e = estimate();
+  PlateKinematics k;
+  k.inertial_from_body =
+      model::rotationInertialFromBody(e.state.phi_rad, e.state.theta_rad, e.state.psi_rad);
+  const Eigen::Vector3d r_h = params_.plate_height_m * k.inertial_from_body.col(2);
+  const Eigen::Vector3d omega_inertial = k.inertial_from_body * e.body_rates_radps;
+  k.p_m = e.state.p_m + r_h;
+  k.v_mps = e.state.v_mps + omega_inertial.cross(r_h);
+  // d(R Omega)/dt = R Omega' (the R [Omega]x Omega term vanishes).
+  const Eigen::Vector3d omega_dot_inertial = k.inertial_from_body * e.body_rate_derivative_radps2;
+  k.a_mps2 = e.acceleration_mps2 + omega_dot_inertial.cross(r_h) +
+             omega_inertial.cross(omega_inertial.cross(r_h));
+  k.position_variance_m2 =
+      e.position_sigma_m.squaredNorm() / 3.0 +
+      std::pow(params_.plate_height_m * e.attitude_sigma_rad.head<2>().norm(), 2);
+  k.velocity_variance_m2ps2 = e.velocity_sigma_mps.squaredNorm() / 3.0;
+  k.acceleration_variance_m2ps4 = e.acceleration_sigma_mps2.squaredNorm() / 3.0;
+  return k;
+}
+
+}  // namespace gs::estimation

@@ -1,0 +1,15 @@
+// The HIL executable: `hil <subcommand> [arguments]`. The subcommands live in cmd_<name>.cpp
+// and are declared in commands.hpp; adding one is one line in kSubcommands.
+#include "hil/apps/commands.hpp"
+#include "pa/cli/subcommands.hpp"
+
+namespace {
+
+constexpr pa::cli::Subcommand kSubcommands[] = {
+    {"record", "run a scenario on the truth plant and write the motion-capture log as CSV", hil::apps::cmdRecord},
+    {"config", "print the plant parameters (optionally randomised from a seed)", hil::apps::cmdConfig},
+};
+
+}  // namespace
+
+int main(int argc, char** argv) { return pa::cli::runSubcommand("hil", kSubcommands, argc, argv); }

@@ -1,0 +1,606 @@
+#include "hil/plant/plant.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "hil/plant/motor.hpp"
+#include "hil/plant/pole_drag.hpp"
+
+namespace hil {
+
+namespace {
+
+// A point this close inside a surface when a step begins still counts as arriving from
+// outside: it absorbs the rounding of states that were placed exactly on a surface.
+constexpr double kPlacementTolerance_m = 1e-6;
+// A body put down this far inside a surface (at most) is resting on it: see Plant::reset_pair.
+constexpr double kPlacementDepth_m = 0.005;
+// A contact is "near" (and the short step is used) within this distance plus two free steps of
+// closing speed.
+constexpr double kNearMargin_m = 0.002;
+
+std::int64_t to_ns(double s) { return static_cast<std::int64_t>(std::llround(s * 1e9)); }
+
+Eigen::Vector4d quaternion_rate(const Quat& q, const Vec3& rate_body_radps) {
+  // q' = q (0, omega) / 2 with omega in the body frame.
+  const Quat omega(0.0, rate_body_radps.x(), rate_body_radps.y(), rate_body_radps.z());
+  return 0.5 * (q * omega).coeffs();
+}
+
+}  // namespace
+
+Plant::Plant(const PlantConfig& config, std::uint64_t seed)
+    : config_(config),
+      imu_{ImuModel(config.imu, seed, RandomStream::imu_vehicle1), ImuModel(config.imu, seed, RandomStream::imu_vehicle2)},
+      mocap_(config.mocap, seed) {
+  if (const std::string problem = check_plant_config(config); !problem.empty()) throw std::invalid_argument(problem);
+  free_step_ns_ = std::max<std::int64_t>(1, to_ns(config.integration.step_free_s));
+  contact_step_ns_ = std::max<std::int64_t>(1, to_ns(config.integration.step_contact_s));
+  imu_period_ns_ = std::max<std::int64_t>(1, to_ns(1.0 / config.imu.rate_Hz));
+  mocap_period_ns_ = std::max<std::int64_t>(1, to_ns(1.0 / config.mocap.rate_Hz));
+  for (int v = 0; v < 2; ++v) {
+    imu_sum_force_[v].setZero();
+    imu_sum_rate_[v].setZero();
+    true_specific_force_[v].setZero();
+  }
+  vehicles_[0] = parked_vehicle(-1.0, 0.0, 0.0);
+  vehicles_[1] = parked_vehicle(1.0, 0.0, 0.0);
+  // The pole lies still on the floor, each end sunk by half its weight over the floor's stiffness.
+  const double sink_m = config.pole.mass_kg * config.gravity_mps2 / (2.0 * config.contact.floor_stiffness_Npm);
+  pole_ = make_pole(Vec3(0.0, 0.0, config.contact.floor_height_m - sink_m), Vec3::UnitY(), Vec3::Zero(), Vec3::Zero());
+  for (int p = 0; p < kPairs; ++p) reset_pair(p);
+  pole_asleep_ = true;
+  events_.clear();
+}
+
+// --- state builders ------------------------------------------------------------------------
+
+PoleState Plant::make_pole(const Vec3& centre_m, const Vec3& axis, const Vec3& velocity_mps, const Vec3& rate_radps) {
+  PoleState p;
+  p.body.position_m = centre_m;
+  p.body.velocity_mps = velocity_mps;
+  p.body.attitude = Quat::FromTwoVectors(Vec3::UnitZ(), axis.normalized());
+  p.body.rate_body_radps = p.body.attitude.conjugate() * rate_radps;
+  return p;
+}
+
+VehicleState Plant::hovering_vehicle(const Vec3& position_m, double yaw_rad) const {
+  VehicleState v;
+  v.body.position_m = position_m;
+  v.body.attitude = Quat(Eigen::AngleAxisd(yaw_rad, Vec3::UnitZ()));
+  v.motor_thrust_N.fill(config_.vehicle.mass_kg * config_.gravity_mps2 / 4.0);
+  return v;
+}
+
+VehicleState Plant::parked_vehicle(double x_m, double y_m, double yaw_rad) const {
+  VehicleState v;
+  // Each foot sunk by a quarter of the weight over the floor's stiffness: at rest from the start.
+  const double sink_m = config_.vehicle.mass_kg * config_.gravity_mps2 / (4.0 * config_.contact.floor_stiffness_Npm);
+  v.body.position_m = Vec3(x_m, y_m, config_.contact.floor_height_m + config_.vehicle.foot_depth_m - sink_m);
+  v.body.attitude = Quat(Eigen::AngleAxisd(yaw_rad, Vec3::UnitZ()));
+  return v;
+}
+
+MotorCommands Plant::hover_commands(int vehicle) const {
+  MotorCommands c;
+  const double per_motor_N = config_.vehicle.mass_kg * config_.gravity_mps2 / 4.0;
+  for (int i = 0; i < 4; ++i) {
+    c.command[i] = per_motor_N / (config_.vehicle.motor_gain[index(vehicle)][i] * config_.vehicle.motor_thrust_max_N);
+  }
+  return c;
+}
+
+Vec3 Plant::plate_centre_m(int vehicle) const {
+  const RigidBodyState& b = vehicles_[index(vehicle)].body;
+  return b.position_m + b.attitude * Vec3(0.0, 0.0, config_.vehicle.plate_height_m);
+}
+
+Vec3 Plant::plate_normal(int vehicle) const { return vehicles_[index(vehicle)].body.attitude * Vec3::UnitZ(); }
+
+namespace {
+bool finite(const RigidBodyState& b) {
+  return b.position_m.allFinite() && b.velocity_mps.allFinite() && b.attitude.coeffs().allFinite() &&
+         b.attitude.norm() > 0.5 && b.rate_body_radps.allFinite();
+}
+}  // namespace
+
+void Plant::set_vehicle(int vehicle, const VehicleState& state) {
+  if (!finite(state.body)) throw std::invalid_argument("Plant::set_vehicle: the state is not finite");
+  VehicleState& v = vehicles_[index(vehicle)];
+  v = state;
+  v.body.attitude.normalize();
+  for (double& f : v.motor_thrust_N) f = std::isfinite(f) ? std::max(0.0, f) : 0.0;
+  reset_pairs_of_vehicle(vehicle);
+}
+
+void Plant::set_pole(const PoleState& state) {
+  if (!finite(state.body)) throw std::invalid_argument("Plant::set_pole: the state is not finite");
+  pole_ = state;
+  pole_.body.attitude.normalize();
+  pole_asleep_ = false;
+  pole_rest_s_ = 0.0;
+  reset_pairs_of_pole();
+}
+
+void Plant::reset_pair(int pair) {
+  PairMemory& m = pairs_[pair];
+  const bool was = m.engaged;
+  m = PairMemory{};
+  // A point placed just inside a surface (a body put down resting on it) is in contact; one
+  // placed deeper is not (it cannot have got there from outside).
+  const Bodies b = bodies();
+  const PairGeometry g = geometry(b, kinematics(b), pair);
+  if (g.gap_m < 0.0 && g.gap_m >= -kPlacementDepth_m && g.within_rim) {
+    m.engaged = true;
+    m.anchored = true;
+    const Vec3 on_surface = g.point_m - g.gap_m * g.normal;
+    const Surface surface = pair_surface(pair);
+    if (surface == Surface::floor) {
+      m.anchor = on_surface;
+    } else {
+      const RigidBodyState& body = b.vehicle[surface == Surface::plate1 ? 0 : 1];
+      m.anchor = body.attitude.conjugate() * (on_surface - body.position_m);
+    }
+  }
+  if (pair < kPolePairs && was != m.engaged) {
+    events_.push_back(PoleContactEvent{t_s(), pair / 3, pair_surface(pair), m.engaged});
+  }
+}
+
+void Plant::reset_pairs_of_pole() {
+  for (int p = 0; p < kPolePairs; ++p) reset_pair(p);
+}
+
+void Plant::reset_pairs_of_vehicle(int vehicle) {
+  const int v = static_cast<int>(index(vehicle));
+  const Surface plate = v == 0 ? Surface::plate1 : Surface::plate2;
+  for (int p = 0; p < kPolePairs; ++p) {
+    if (pair_surface(p) == plate) reset_pair(p);
+  }
+  for (int f = 0; f < 4; ++f) reset_pair(kPolePairs + 4 * v + f);
+}
+
+// --- contacts --------------------------------------------------------------------------------
+
+Surface Plant::pair_surface(int pair) const {
+  return pair < kPolePairs ? static_cast<Surface>(pair % 3) : Surface::floor;
+}
+
+ContactLaw Plant::law(Surface surface) const {
+  const ContactConfig& c = config_.contact;
+  if (surface == Surface::floor) {
+    return ContactLaw{c.floor_stiffness_Npm,         c.floor_damping_Nspm,
+                      c.floor_damping_force_max_N,   c.floor_rebound_damping_Nspm,
+                      c.floor_friction,              c.floor_tangential_stiffness_Npm,
+                      c.floor_tangential_damping_Nspm};
+  }
+  return ContactLaw{c.plate_stiffness_Npm,         c.plate_damping_Nspm,
+                    c.plate_damping_force_max_N,   c.plate_rebound_damping_Nspm,
+                    c.plate_friction,              c.plate_tangential_stiffness_Npm,
+                    c.plate_tangential_damping_Nspm};
+}
+
+Plant::Kinematics Plant::kinematics(const Bodies& b) const {
+  Kinematics k;
+  const VehicleConfig& vc = config_.vehicle;
+  for (int v = 0; v < 2; ++v) {
+    const RigidBodyState& body = b.vehicle[v];
+    k.vehicle_rotation[v] = body.attitude.toRotationMatrix();
+    k.vehicle_rate[v] = k.vehicle_rotation[v] * body.rate_body_radps;
+    k.plate_centre[v] = body.position_m + vc.plate_height_m * k.vehicle_rotation[v].col(2);
+    for (int f = 0; f < 4; ++f) {
+      const Vec3 r = k.vehicle_rotation[v] * (motor_position_body_m(vc, f) - Vec3(0.0, 0.0, vc.foot_depth_m));
+      k.point[2 + 4 * v + f] = body.position_m + r;
+      k.point_velocity[2 + 4 * v + f] = body.velocity_mps + k.vehicle_rate[v].cross(r);
+    }
+  }
+  const RigidBodyState& pole = b.pole;
+  k.pole_rotation = pole.attitude.toRotationMatrix();
+  k.pole_rate = k.pole_rotation * pole.rate_body_radps;
+  for (int e = 0; e < 2; ++e) {
+    const Vec3 r = (e == 0 ? -config_.pole.half_length_m : config_.pole.half_length_m) * k.pole_rotation.col(2);
+    k.point[e] = pole.position_m + r;
+    k.point_velocity[e] = pole.velocity_mps + k.pole_rate.cross(r);
+  }
+  return k;
+}
+
+Plant::PairGeometry Plant::geometry(const Bodies& b, const Kinematics& k, int pair) const {
+  PairGeometry g;
+  const int point = pair < kPolePairs ? pair / 3 : 2 + (pair - kPolePairs);
+  g.point_m = k.point[point];
+  const Surface surface = pair_surface(pair);
+  if (surface == Surface::floor) {
+    g.normal = Vec3::UnitZ();
+    g.gap_m = g.point_m.z() - config_.contact.floor_height_m;
+    g.within_rim = true;
+    g.relative_velocity_mps = k.point_velocity[point];
+    g.lever_vehicle_m = Vec3::Zero();
+  } else {
+    const int v = surface == Surface::plate1 ? 0 : 1;
+    g.normal = k.vehicle_rotation[v].col(2);
+    const Vec3 d = g.point_m - k.plate_centre[v];
+    g.gap_m = d.dot(g.normal);
+    g.within_rim = (d - g.gap_m * g.normal).squaredNorm() <=
+                   config_.vehicle.plate_radius_m * config_.vehicle.plate_radius_m;
+    g.lever_vehicle_m = g.point_m - b.vehicle[v].position_m;
+    g.relative_velocity_mps =
+        k.point_velocity[point] - (b.vehicle[v].velocity_mps + k.vehicle_rate[v].cross(g.lever_vehicle_m));
+  }
+  return g;
+}
+
+// --- dynamics --------------------------------------------------------------------------------
+
+std::array<double, 4> Plant::thrust_at(int vehicle, double elapsed_s) const {
+  std::array<double, 4> f{};
+  const std::size_t v = index(vehicle);
+  for (int i = 0; i < 4; ++i) {
+    f[i] = motor_thrust_after_N(vehicles_[v].motor_thrust_N[i], target_thrust_N_[v][i],
+                                config_.vehicle.motor_time_constant_s, elapsed_s);
+  }
+  return f;
+}
+
+Plant::Evaluation Plant::evaluate(const Bodies& b, double elapsed_s) const {
+  Evaluation e;
+  const Vec3 gravity(0.0, 0.0, -config_.gravity_mps2);
+  const VehicleConfig& vc = config_.vehicle;
+  const Vec3 vehicle_inertia(vc.inertia_xx_kgm2, vc.inertia_yy_kgm2, vc.inertia_zz_kgm2);
+
+  const Kinematics k = kinematics(b);
+  std::array<Vec3, 2> vehicle_force;         // non-gravitational, inertial
+  std::array<Vec3, 2> vehicle_torque_body;   // about the CG
+  for (int v = 0; v < 2; ++v) {
+    const RigidBodyState& body = b.vehicle[v];
+    const BodyWrench rotors = rotor_wrench(vc, thrust_at(v, elapsed_s));
+    vehicle_force[v] = k.vehicle_rotation[v] * rotors.force_N - vc.drag_Nspm * body.velocity_mps;
+    vehicle_torque_body[v] = rotors.torque_Nm;
+  }
+
+  const RigidBodyState& pole = b.pole;
+  const Wrench drag = pole_drag(config_.pole, pole.velocity_mps, k.pole_rate, k.pole_rotation.col(2));
+  Vec3 pole_force = drag.force_N;
+  Vec3 pole_torque = drag.torque_Nm;  // inertial
+
+  for (int p = 0; p < kPairs; ++p) {
+    const PairMemory& m = pairs_[p];
+    if (!m.engaged && !m.above_at_start) continue;
+    const PairGeometry g = geometry(b, k, p);
+    if (!(g.gap_m < 0.0 && g.within_rim)) continue;
+    const Surface surface = pair_surface(p);
+    Vec3 offset = Vec3::Zero();
+    if (m.anchored) {
+      const int v = surface == Surface::plate1 ? 0 : 1;
+      const Vec3 anchor =
+          surface == Surface::floor ? m.anchor : Vec3(b.vehicle[v].position_m + k.vehicle_rotation[v] * m.anchor);
+      offset = g.point_m - anchor;
+    }
+    const Vec3 f = contact_force_N(law(surface), g.normal, -g.gap_m, g.relative_velocity_mps, offset);
+    e.pair_force[p] = f;
+    // The point's body takes f, the surface's body -f, both at the contact point.
+    if (p < kPolePairs) {
+      pole_force += f;
+      pole_torque += (g.point_m - pole.position_m).cross(f);
+    } else {
+      const int v = (p - kPolePairs) / 4;
+      vehicle_force[v] += f;
+      vehicle_torque_body[v] += k.vehicle_rotation[v].transpose() * (g.point_m - b.vehicle[v].position_m).cross(f);
+    }
+    if (surface != Surface::floor) {
+      const int v = surface == Surface::plate1 ? 0 : 1;
+      vehicle_force[v] -= f;
+      vehicle_torque_body[v] -= k.vehicle_rotation[v].transpose() * g.lever_vehicle_m.cross(f);
+    }
+  }
+
+  for (int v = 0; v < 2; ++v) {
+    const RigidBodyState& body = b.vehicle[v];
+    BodyRate& r = e.vehicle[v];
+    r.dp = body.velocity_mps;
+    r.dv = vehicle_force[v] / vc.mass_kg + gravity;
+    r.dq = quaternion_rate(body.attitude, body.rate_body_radps);
+    const Vec3 w = body.rate_body_radps;
+    r.dw = (vehicle_torque_body[v] - w.cross(vehicle_inertia.cwiseProduct(w))).cwiseQuotient(vehicle_inertia);
+    e.specific_force_body[v] = k.vehicle_rotation[v].transpose() * (vehicle_force[v] / vc.mass_kg);
+  }
+  if (!pole_asleep_) {  // (asleep, the pole keeps its place: all rates stay zero)
+    const Vec3 inertia(pole_transverse_inertia_kgm2(), pole_transverse_inertia_kgm2(), pole_axial_inertia_kgm2());
+    BodyRate& r = e.pole;
+    r.dp = pole.velocity_mps;
+    r.dv = pole_force / config_.pole.mass_kg + gravity;
+    r.dq = quaternion_rate(pole.attitude, pole.rate_body_radps);
+    const Vec3 w = pole.rate_body_radps;
+    const Vec3 torque_body = k.pole_rotation.transpose() * pole_torque;
+    r.dw = (torque_body - w.cross(inertia.cwiseProduct(w))).cwiseQuotient(inertia);
+  }
+  return e;
+}
+
+Plant::Bodies Plant::advance(const Bodies& b, const Evaluation& rate, double h_s) {
+  auto move = [h_s](RigidBodyState s, const BodyRate& r) {
+    s.position_m += h_s * r.dp;
+    s.velocity_mps += h_s * r.dv;
+    s.attitude.coeffs() += h_s * r.dq;
+    s.attitude.normalize();
+    s.rate_body_radps += h_s * r.dw;
+    return s;
+  };
+  Bodies out;
+  for (int v = 0; v < 2; ++v) out.vehicle[v] = move(b.vehicle[v], rate.vehicle[v]);
+  out.pole = move(b.pole, rate.pole);
+  return out;
+}
+
+Plant::Bodies Plant::bodies() const {
+  Bodies b;
+  for (int v = 0; v < 2; ++v) b.vehicle[v] = vehicles_[v].body;
+  b.pole = pole_.body;
+  return b;
+}
+
+void Plant::store(const Bodies& b) {
+  for (int v = 0; v < 2; ++v) vehicles_[v].body = b.vehicle[v];
+  pole_.body = b.pole;
+}
+
+std::int64_t Plant::choose_step_ns(std::int64_t limit_ns) const {
+  const double free_s = static_cast<double>(free_step_ns_) * 1e-9;
+  const Bodies b = bodies();
+  const Kinematics k = kinematics(b);
+  // Only the pole's ends need the short step: the plate's damper and the floor on the small
+  // effective mass of a rod's end are stiff at 1 ms, while a vehicle on its feet (four times a
+  // quarter of its mass) is not.
+  bool near = false;
+  for (int p = 0; p < kPolePairs && !near && !pole_asleep_; ++p) {
+    if (pairs_[p].engaged) {
+      near = true;
+      break;
+    }
+    const PairGeometry g = geometry(b, k, p);
+    if (g.gap_m < -kPlacementTolerance_m) continue;  // inside without contact: cannot engage
+    const double closing_mps = std::max(0.0, -g.relative_velocity_mps.dot(g.normal));
+    if (g.gap_m > kNearMargin_m + 2.0 * free_s * closing_mps) continue;
+    if (pair_surface(p) != Surface::floor) {
+      const Vec3 d = g.point_m - k.plate_centre[pair_surface(p) == Surface::plate1 ? 0 : 1];
+      const double radial_m = (d - d.dot(g.normal) * g.normal).norm();
+      const double sliding_mps = (g.relative_velocity_mps - g.relative_velocity_mps.dot(g.normal) * g.normal).norm();
+      if (radial_m > config_.vehicle.plate_radius_m + kNearMargin_m + 2.0 * free_s * sliding_mps) continue;
+    }
+    near = true;
+  }
+  return std::min(limit_ns, near ? contact_step_ns_ : free_step_ns_);
+}
+
+void Plant::substep(std::int64_t h_ns) {
+  const double h = static_cast<double>(h_ns) * 1e-9;
+  const Bodies b0 = bodies();
+  const Kinematics k0 = kinematics(b0);
+  for (int p = 0; p < kPairs; ++p) pairs_[p].above_at_start = geometry(b0, k0, p).gap_m >= -kPlacementTolerance_m;
+
+  // Classic RK4; the contact memory (engagement, anchors) is held over the step.
+  const Evaluation e1 = evaluate(b0, 0.0);
+  const Bodies b2 = advance(b0, e1, 0.5 * h);
+  const Evaluation e2 = evaluate(b2, 0.5 * h);
+  const Bodies b3 = advance(b0, e2, 0.5 * h);
+  const Evaluation e3 = evaluate(b3, 0.5 * h);
+  const Bodies b4 = advance(b0, e3, h);
+  const Evaluation e4 = evaluate(b4, h);
+
+  Evaluation mean;
+  auto average = [](const auto& x1, const auto& x2, const auto& x3, const auto& x4) {
+    return (x1 + 2.0 * x2 + 2.0 * x3 + x4) / 6.0;
+  };
+  for (int v = 0; v < 2; ++v) {
+    BodyRate& r = mean.vehicle[v];
+    r.dp = average(e1.vehicle[v].dp, e2.vehicle[v].dp, e3.vehicle[v].dp, e4.vehicle[v].dp);
+    r.dv = average(e1.vehicle[v].dv, e2.vehicle[v].dv, e3.vehicle[v].dv, e4.vehicle[v].dv);
+    r.dq = average(e1.vehicle[v].dq, e2.vehicle[v].dq, e3.vehicle[v].dq, e4.vehicle[v].dq);
+    r.dw = average(e1.vehicle[v].dw, e2.vehicle[v].dw, e3.vehicle[v].dw, e4.vehicle[v].dw);
+    // What the IMU integrates over the step, with the same quadrature weights.
+    true_specific_force_[v] = average(e1.specific_force_body[v], e2.specific_force_body[v],
+                                      e3.specific_force_body[v], e4.specific_force_body[v]);
+    const Vec3 mean_rate = average(b0.vehicle[v].rate_body_radps, b2.vehicle[v].rate_body_radps,
+                                   b3.vehicle[v].rate_body_radps, b4.vehicle[v].rate_body_radps);
+    imu_sum_force_[v] += h * true_specific_force_[v];
+    imu_sum_rate_[v] += h * mean_rate;
+  }
+  mean.pole.dp = average(e1.pole.dp, e2.pole.dp, e3.pole.dp, e4.pole.dp);
+  mean.pole.dv = average(e1.pole.dv, e2.pole.dv, e3.pole.dv, e4.pole.dv);
+  mean.pole.dq = average(e1.pole.dq, e2.pole.dq, e3.pole.dq, e4.pole.dq);
+  mean.pole.dw = average(e1.pole.dw, e2.pole.dw, e3.pole.dw, e4.pole.dw);
+  for (int p = 0; p < kPairs; ++p) {
+    pairs_[p].force_N = average(e1.pair_force[p], e2.pair_force[p], e3.pair_force[p], e4.pair_force[p]);
+  }
+  imu_sum_time_s_ += h;
+
+  store(advance(b0, mean, h));
+  for (int v = 0; v < 2; ++v) vehicles_[v].motor_thrust_N = thrust_at(v, h);
+  t_ns_ += h_ns;
+  update_contacts();
+  update_pole_rest(h);
+}
+
+void Plant::update_contacts() {
+  const Bodies b = bodies();
+  const Kinematics k = kinematics(b);
+  for (int p = 0; p < kPairs; ++p) {
+    PairMemory& m = pairs_[p];
+    const PairGeometry g = geometry(b, k, p);
+    const bool was = m.engaged;
+    m.engaged = (m.engaged || m.above_at_start) && g.gap_m < 0.0 && g.within_rim;
+    const Surface surface = pair_surface(p);
+    if (m.engaged) {
+      const RigidBodyState* plate_body =
+          surface == Surface::floor ? nullptr : &b.vehicle[surface == Surface::plate1 ? 0 : 1];
+      const Vec3 on_surface = g.point_m - g.gap_m * g.normal;  // the point projected onto the surface
+      Vec3 anchor_world = on_surface;
+      if (m.anchored) {
+        const Vec3 old_anchor = plate_body ? Vec3(plate_body->position_m + plate_body->attitude * m.anchor) : m.anchor;
+        const Vec3 offset = on_surface - old_anchor;
+        const Vec3 tangential = offset - offset.dot(g.normal) * g.normal;
+        const ContactLaw l = law(surface);
+        const double f_n = contact_normal_force_N(l, -g.gap_m, g.relative_velocity_mps.dot(g.normal));
+        anchor_world = on_surface - slipped_anchor_offset_m(l, f_n, tangential);
+      }
+      m.anchor = plate_body ? Vec3(plate_body->attitude.conjugate() * (anchor_world - plate_body->position_m))
+                            : anchor_world;
+      m.anchored = true;
+    } else {
+      m.anchored = false;
+    }
+    if (p < kPolePairs && was != m.engaged) events_.push_back(PoleContactEvent{t_s(), p / 3, surface, m.engaged});
+  }
+}
+
+void Plant::update_pole_rest(double h_s) {
+  if (pole_asleep_) return;
+  // Both ends on the floor (pairs 2 and 5) and (nearly) still. The spin about the pole's own axis
+  // does not count: the ends are points on the axis, so nothing in the plant damps it, and it
+  // moves nothing.
+  const Vec3 tumble_radps = pole_.body.rate_body_radps - pole_.body.rate_body_radps.z() * Vec3::UnitZ();
+  const bool resting = pairs_[2].engaged && pairs_[5].engaged && pole_.body.velocity_mps.norm() < kRestSpeed_mps &&
+                       tumble_radps.norm() < kRestRate_radps;
+  pole_rest_s_ = resting ? pole_rest_s_ + h_s : 0.0;
+  if (pole_rest_s_ >= kRestTime_s) {
+    pole_asleep_ = true;
+    pole_.body.velocity_mps.setZero();
+    pole_.body.rate_body_radps.setZero();
+  }
+}
+
+void Plant::step(double dt_s, const MotorCommands& vehicle1, const MotorCommands& vehicle2) {
+  if (!(std::isfinite(dt_s) && dt_s > 0.0)) return;
+  const std::int64_t end_ns = t_ns_ + to_ns(dt_s);
+  const std::array<const MotorCommands*, 2> commands{&vehicle1, &vehicle2};
+  for (int v = 0; v < 2; ++v) {
+    for (int i = 0; i < 4; ++i) {
+      target_thrust_N_[v][i] = motor_target_thrust_N(commands[v]->command[i], config_.vehicle.motor_gain[v][i],
+                                                     config_.vehicle.motor_thrust_max_N);
+    }
+  }
+  if (t_ns_ >= static_cast<std::int64_t>(mocap_index_) * mocap_period_ns_) capture_mocap();
+  while (t_ns_ < end_ns) {
+    const std::int64_t next_imu_ns = static_cast<std::int64_t>(imu_tick_ + 1) * imu_period_ns_;
+    const std::int64_t next_mocap_ns = static_cast<std::int64_t>(mocap_index_) * mocap_period_ns_;
+    const std::int64_t limit_ns = std::min({end_ns, next_imu_ns, next_mocap_ns}) - t_ns_;
+    substep(choose_step_ns(limit_ns));
+    if (t_ns_ == next_imu_ns) sample_imu();
+    if (t_ns_ == next_mocap_ns) capture_mocap();
+  }
+}
+
+void Plant::sample_imu() {
+  ++imu_tick_;
+  for (int v = 0; v < 2; ++v) {
+    const Vec3 force = imu_sum_force_[v] / imu_sum_time_s_;
+    const Vec3 rate = imu_sum_rate_[v] / imu_sum_time_s_;
+    latest_imu_[v] = imu_[v].measure(imu_tick_, t_s(), rate, force);
+    imu_queue_[v].push_back(latest_imu_[v]);
+    if (imu_queue_[v].size() > kImuQueueLimit) imu_queue_[v].pop_front();
+    imu_sum_force_[v] = Vec3::Zero();
+    imu_sum_rate_[v] = Vec3::Zero();
+  }
+  imu_sum_time_s_ = 0.0;
+}
+
+void Plant::capture_mocap() {
+  mocap_.capture(mocap_index_, t_s(), {vehicles_[0].body, vehicles_[1].body, pole_.body});
+  ++mocap_index_;
+}
+
+bool Plant::pop_imu(int vehicle, ImuSample& out) {
+  auto& q = imu_queue_[index(vehicle)];
+  if (q.empty()) return false;
+  out = q.front();
+  q.pop_front();
+  return true;
+}
+
+// --- contacts, reported ------------------------------------------------------------------------
+
+Contact Plant::pole_end_contact(int end) const {
+  const int base = (end == 0 ? 0 : 1) * 3;
+  for (int s = 0; s < 3; ++s) {
+    if (pairs_[base + s].engaged) return contact_of(static_cast<Surface>(s));
+  }
+  return Contact::none;
+}
+
+Contact Plant::pole_contact() const {
+  const Contact a = pole_end_contact(0);
+  const Contact b = pole_end_contact(1);
+  for (const Contact c : {Contact::vehicle1, Contact::vehicle2, Contact::floor}) {
+    if (a == c || b == c) return c;
+  }
+  return Contact::none;
+}
+
+Vec3 Plant::pole_end_force_N(int end, Surface surface) const {
+  return pairs_[(end == 0 ? 0 : 3) + static_cast<int>(surface)].force_N;
+}
+
+bool Plant::vehicle_on_floor(int vehicle) const {
+  const int base = kPolePairs + 4 * static_cast<int>(index(vehicle));
+  for (int f = 0; f < 4; ++f) {
+    if (pairs_[base + f].engaged) return true;
+  }
+  return false;
+}
+
+std::vector<PoleContactEvent> Plant::take_contact_events() {
+  std::vector<PoleContactEvent> out;
+  out.swap(events_);
+  return out;
+}
+
+// --- diagnostics ------------------------------------------------------------------------------
+
+double Plant::pole_transverse_inertia_kgm2() const {
+  const PoleConfig& p = config_.pole;
+  // A thin-walled tube of length 2L and radius r about a transverse axis through its centre.
+  return p.mass_kg * (p.half_length_m * p.half_length_m / 3.0 + p.radius_m * p.radius_m / 2.0);
+}
+
+double Plant::pole_axial_inertia_kgm2() const { return config_.pole.mass_kg * config_.pole.radius_m * config_.pole.radius_m; }
+
+double Plant::pole_energy_J() const {
+  const RigidBodyState& b = pole_.body;
+  const Vec3 inertia(pole_transverse_inertia_kgm2(), pole_transverse_inertia_kgm2(), pole_axial_inertia_kgm2());
+  const double m = config_.pole.mass_kg;
+  return 0.5 * m * b.velocity_mps.squaredNorm() + 0.5 * b.rate_body_radps.dot(inertia.cwiseProduct(b.rate_body_radps)) +
+         m * config_.gravity_mps2 * b.position_m.z();
+}
+
+double Plant::vehicle_energy_J(int vehicle) const {
+  const VehicleConfig& vc = config_.vehicle;
+  const RigidBodyState& b = vehicles_[index(vehicle)].body;
+  const Vec3 inertia(vc.inertia_xx_kgm2, vc.inertia_yy_kgm2, vc.inertia_zz_kgm2);
+  return 0.5 * vc.mass_kg * b.velocity_mps.squaredNorm() +
+         0.5 * b.rate_body_radps.dot(inertia.cwiseProduct(b.rate_body_radps)) +
+         vc.mass_kg * config_.gravity_mps2 * b.position_m.z();
+}
+
+Vec3 Plant::pole_momentum_Ns() const { return config_.pole.mass_kg * pole_.body.velocity_mps; }
+
+Vec3 Plant::vehicle_momentum_Ns(int vehicle) const {
+  return config_.vehicle.mass_kg * vehicles_[index(vehicle)].body.velocity_mps;
+}
+
+Vec3 Plant::pole_angular_momentum_Nms(const Vec3& about_m) const {
+  const RigidBodyState& b = pole_.body;
+  const Vec3 inertia(pole_transverse_inertia_kgm2(), pole_transverse_inertia_kgm2(), pole_axial_inertia_kgm2());
+  return (b.position_m - about_m).cross(pole_momentum_Ns()) + b.attitude * inertia.cwiseProduct(b.rate_body_radps);
+}
+
+Vec3 Plant::vehicle_angular_momentum_Nms(int vehicle, const Vec3& about_m) const {
+  const VehicleConfig& vc = config_.vehicle;
+  const RigidBodyState& b = vehicles_[index(vehicle)].body;
+  const Vec3 inertia(vc.inertia_xx_kgm2, vc.inertia_yy_kgm2, vc.inertia_zz_kgm2);
+  return (b.position_m - about_m).cross(vehicle_momentum_Ns(vehicle)) +
+         b.attitude * inertia.cwiseProduct(b.rate_body_radps);
+}
+
+}  // namespace hil

@@ -1,0 +1,237 @@
+// The truth plant: two quadrocopters and a pole in 3D, the world the firmware and the ground
+// station are tested against. It is written apart from groundstation/model and has more physics
+// than the paper's models (Section II):
+//
+//  - each vehicle is a rigid body with its inertia, driven by four motors whose thrust follows
+//    the command through a first-order lag, within [0, gain * thrust_max], with per-motor gain
+//    mismatch, rotor drag torque about z and a linear translational drag;
+//  - the pole is a rigid rod in 3D (6 DoF: transverse inertia m (L^2/3 + r^2/2), axial m r^2)
+//    with the paper's drag law integrated along its length (pole_drag.hpp);
+//  - each pole end touches each vehicle's catching plate (a disc of plate_radius_m at
+//    plate_height_m above the CG, normal along body z) and the floor through a compliant contact
+//    with stick-slip friction (contact_law.hpp); the reaction acts on the vehicle at the contact
+//    point, so its IMU feels it. A pole end that slides past the rim loses the plate; an end can
+//    only land on a plate from above. (Not modelled: the pole's shaft touching a vehicle, and
+//    the vehicles touching each other.)
+//  - each vehicle rests on the floor on four feet under its motors;
+//  - an IMU per vehicle (imu.hpp) and the motion capture (mocap.hpp).
+//
+// Time is the plant's own: step() advances it; nothing reads a clock. The integration is RK4
+// with a step of integration_step_free_s, shortened to integration_step_contact_s while a pole
+// end touches something or is about to (a vehicle's feet on the floor are not stiff at the
+// free step), and cut at every sensor sample so that samples fall on their exact times. A run
+// is fully determined by the configuration and the seed.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <deque>
+#include <vector>
+
+#include "hil/plant/contact_law.hpp"
+#include "hil/plant/imu.hpp"
+#include "hil/plant/mocap.hpp"
+#include "hil/plant/plant_config.hpp"
+#include "hil/plant/types.hpp"
+
+namespace hil {
+
+// A pole end starting or ending contact with a surface.
+struct PoleContactEvent {
+  double t_s = 0.0;
+  int end = 0;  // 0 or 1 (PoleState::end_m)
+  Surface surface = Surface::floor;
+  bool begins = true;
+};
+
+class Plant {
+ public:
+  // `config` is used as given (randomise it first with randomised() if wanted); `seed` draws the
+  // IMU biases and all sensor noise. The vehicles start parked on the floor at x = -1 m and
+  // x = +1 m and the pole lies still on the floor between them, along y; set_*() put them
+  // elsewhere.
+  // Throws std::invalid_argument if check_plant_config() reports a problem.
+  explicit Plant(const PlantConfig& config, std::uint64_t seed = 1);
+
+  const PlantConfig& config() const { return config_; }
+  double t_s() const { return static_cast<double>(t_ns_) * 1e-9; }
+
+  // Replace a body's state (vehicle 0 = vehicle1, 1 = vehicle2). Contacts of the moved body are
+  // re-evaluated from scratch: a point placed up to 5 mm inside a surface rests on it (sticking
+  // where it is); one placed deeper does not engage it at all. A state with a non-finite value
+  // (or a zero quaternion) throws std::invalid_argument and changes nothing.
+  void set_vehicle(int vehicle, const VehicleState& state);
+  void set_pole(const PoleState& state);
+
+  // Advances by dt_s (rounded to whole nanoseconds; non-finite or negative does nothing) with
+  // the motor commands held over the interval.
+  void step(double dt_s, const MotorCommands& vehicle1, const MotorCommands& vehicle2);
+
+  const VehicleState& vehicle(int vehicle) const { return vehicles_[index(vehicle)]; }
+  const PoleState& pole() const { return pole_; }
+
+  // --- contacts ---------------------------------------------------------------------------
+  // What pole end `end` touches now (a plate before the floor).
+  Contact pole_end_contact(int end) const;
+  // What the pole touches: vehicle1, then vehicle2, then the floor, else none.
+  Contact pole_contact() const;
+  // The contact force on pole end `end` from `surface`, averaged over the last integration
+  // step (inertial frame; the surface received the opposite).
+  Vec3 pole_end_force_N(int end, Surface surface) const;
+  bool vehicle_on_floor(int vehicle) const;
+  // A pole lying still on the floor (both ends on it, speed below 1 mm/s and tumbling rate below
+  // 0.01 rad/s for 0.2 s) is put to sleep: it keeps its place (a spin about its own axis, which
+  // nothing damps, is dropped) and costs no short steps until set_pole() moves it. Nothing else
+  // in the plant can push it (see the list above).
+  bool pole_asleep() const { return pole_asleep_; }
+  // Pole contact changes since the last call, oldest first.
+  std::vector<PoleContactEvent> take_contact_events();
+
+  // --- sensors ------------------------------------------------------------------------------
+  // The next IMU sample of `vehicle` not yet taken, oldest first. Samples are produced at
+  // imu_rate_Hz; at most kImuQueueLimit are kept.
+  bool pop_imu(int vehicle, ImuSample& out);
+  const ImuSample& latest_imu(int vehicle) const { return latest_imu_[index(vehicle)]; }
+  // The next motion-capture frame delivered by now (capture time + latency <= t_s()).
+  bool pop_mocap(MocapFrame& out) { return mocap_.pop(t_s(), out); }
+  static constexpr std::size_t kImuQueueLimit = 100000;
+
+  // --- truth diagnostics (noise-free) -------------------------------------------------------
+  // The specific force (body frame) and body rate of a vehicle averaged over the last
+  // integration step: what a perfect IMU would read.
+  const Vec3& true_specific_force_mps2(int vehicle) const { return true_specific_force_[index(vehicle)]; }
+  double pole_energy_J() const;                 // kinetic + potential (zero at z = 0)
+  double vehicle_energy_J(int vehicle) const;   // idem
+  Vec3 pole_momentum_Ns() const;
+  Vec3 vehicle_momentum_Ns(int vehicle) const;
+  Vec3 pole_angular_momentum_Nms(const Vec3& about_m) const;
+  Vec3 vehicle_angular_momentum_Nms(int vehicle, const Vec3& about_m) const;
+  double pole_transverse_inertia_kgm2() const;
+  double pole_axial_inertia_kgm2() const;
+  const ImuModel& imu_model(int vehicle) const { return imu_[index(vehicle)]; }
+
+  // --- state builders -----------------------------------------------------------------------
+  // A vehicle at `position_m`, level, with heading `yaw_rad`, at rest, each motor producing a
+  // quarter of its weight.
+  VehicleState hovering_vehicle(const Vec3& position_m, double yaw_rad) const;
+  // A vehicle at rest on its feet on the floor, motors stopped.
+  VehicleState parked_vehicle(double x_m, double y_m, double yaw_rad) const;
+  // The commands that hold every motor of `vehicle` at a quarter of the vehicle's weight with
+  // this plant's motor gains (an oracle: a real controller does not know the gains).
+  MotorCommands hover_commands(int vehicle) const;
+  // The plate's centre (on its surface) and normal, inertial frame.
+  Vec3 plate_centre_m(int vehicle) const;
+  Vec3 plate_normal(int vehicle) const;
+
+  // A pole with centre `centre_m`, axis `axis` (normalised here), centre velocity `velocity_mps`
+  // and angular velocity `rate_radps` (inertial frame; its component along the axis is the spin).
+  static PoleState make_pole(const Vec3& centre_m, const Vec3& axis, const Vec3& velocity_mps,
+                             const Vec3& rate_radps);
+
+ private:
+  // The contact pairs: pole end e with surface s at e * 3 + s; vehicle v's foot f with the floor
+  // at 6 + 4 v + f.
+  static constexpr int kPolePairs = 6;
+  static constexpr int kPairs = 14;
+  struct PairMemory {
+    bool engaged = false;
+    bool above_at_start = false;  // the point was on the outer side of the surface when the step began
+    bool anchored = false;
+    Vec3 anchor = Vec3::Zero();   // plates: vehicle body frame relative to the CG; floor: inertial
+    Vec3 force_N = Vec3::Zero();  // on the point, averaged over the last step
+  };
+  struct Bodies {
+    std::array<RigidBodyState, 2> vehicle;
+    RigidBodyState pole;
+  };
+  struct BodyRate {
+    Vec3 dp = Vec3::Zero();
+    Vec3 dv = Vec3::Zero();
+    Eigen::Vector4d dq = Eigen::Vector4d::Zero();
+    Vec3 dw = Vec3::Zero();
+  };
+  struct Evaluation {
+    // (Eigen vectors are not zeroed by default construction, not even inside `{}`.)
+    Evaluation() {
+      for (Vec3& f : specific_force_body) f.setZero();
+      for (Vec3& f : pair_force) f.setZero();
+    }
+    std::array<BodyRate, 2> vehicle;
+    BodyRate pole;
+    std::array<Vec3, 2> specific_force_body;  // vehicles, body frame
+    std::array<Vec3, kPairs> pair_force;      // on the point, inertial
+  };
+  struct PairGeometry {
+    Vec3 point_m;
+    Vec3 normal;
+    double gap_m;          // signed distance from the surface along the normal (> 0 outside)
+    bool within_rim;       // plates: the point projects inside the disc
+    Vec3 relative_velocity_mps;  // point relative to the surface material at the point
+    Vec3 lever_vehicle_m;  // plates: point relative to the vehicle's CG (inertial)
+  };
+
+  // What every contact needs, computed once per evaluation: rotations, inertial rates, plate
+  // centres, and the contact points (pole ends 0 and 1, then vehicle v's foot f at 2 + 4 v + f)
+  // with their velocities.
+  struct Kinematics {
+    std::array<Mat3, 2> vehicle_rotation;
+    std::array<Vec3, 2> vehicle_rate;
+    std::array<Vec3, 2> plate_centre;
+    std::array<Vec3, 10> point;
+    std::array<Vec3, 10> point_velocity;
+    Mat3 pole_rotation;
+    Vec3 pole_rate;
+  };
+
+  static std::size_t index(int vehicle) { return vehicle == 1 ? 1u : 0u; }
+  Kinematics kinematics(const Bodies& b) const;
+  ContactLaw law(Surface surface) const;
+  Surface pair_surface(int pair) const;
+  PairGeometry geometry(const Bodies& b, const Kinematics& k, int pair) const;
+  Evaluation evaluate(const Bodies& b, double elapsed_s) const;
+  static Bodies advance(const Bodies& b, const Evaluation& rate, double h_s);
+  std::array<double, 4> thrust_at(int vehicle, double elapsed_s) const;
+  std::int64_t choose_step_ns(std::int64_t limit_ns) const;
+  void substep(std::int64_t h_ns);
+  void update_contacts();
+  void update_pole_rest(double h_s);
+  void reset_pair(int pair);
+  void reset_pairs_of_pole();
+  void reset_pairs_of_vehicle(int vehicle);
+  void capture_mocap();
+  void sample_imu();
+  Bodies bodies() const;
+  void store(const Bodies& b);
+
+  PlantConfig config_;
+  std::int64_t t_ns_ = 0;
+  std::int64_t free_step_ns_;
+  std::int64_t contact_step_ns_;
+  std::int64_t imu_period_ns_;
+  std::int64_t mocap_period_ns_;
+  std::uint64_t imu_tick_ = 0;       // samples taken so far; the next is due at (tick + 1) periods
+  std::uint64_t mocap_index_ = 0;    // frames captured so far; the next is due at index periods
+
+  std::array<VehicleState, 2> vehicles_{};
+  PoleState pole_{};
+  std::array<std::array<double, 4>, 2> target_thrust_N_{};
+  std::array<PairMemory, kPairs> pairs_{};
+  std::vector<PoleContactEvent> events_;
+  bool pole_asleep_ = false;
+  double pole_rest_s_ = 0.0;
+  static constexpr double kRestSpeed_mps = 1e-3;
+  static constexpr double kRestRate_radps = 1e-2;
+  static constexpr double kRestTime_s = 0.2;
+
+  std::array<ImuModel, 2> imu_;
+  // Body-frame specific force and rate integrated since the last sample (zeroed in the constructor).
+  std::array<Vec3, 2> imu_sum_force_;
+  std::array<Vec3, 2> imu_sum_rate_;
+  double imu_sum_time_s_ = 0.0;
+  std::array<std::deque<ImuSample>, 2> imu_queue_;
+  std::array<ImuSample, 2> latest_imu_{};
+  std::array<Vec3, 2> true_specific_force_;
+  MocapModel mocap_;
+};
+
+}  // namespace hil

@@ -1,0 +1,237 @@
+#include "hil/plant/plant_config.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+
+#include "hil/plant/key_value_file.hpp"
+
+namespace hil {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// One parameter: its key, where it lives, and its admissible range. `lo_open` excludes lo.
+struct Parameter {
+  std::string_view key;
+  double& (*real)(PlantConfig&);
+  int& (*integer)(PlantConfig&);
+  double lo;
+  double hi;
+  bool lo_open;
+};
+
+template <int V, int M>
+double& motor_gain(PlantConfig& c) {
+  return c.vehicle.motor_gain[V][M];
+}
+
+#define PA_REAL(name, member, lo, hi, open) \
+  Parameter { name, [](PlantConfig& c) -> double& { return c.member; }, nullptr, lo, hi, open }
+#define PA_INT(name, member, lo, hi) \
+  Parameter { name, nullptr, [](PlantConfig& c) -> int& { return c.member; }, lo, hi, false }
+
+const Parameter kParameters[] = {
+    PA_REAL("gravity_mps2", gravity_mps2, 0.0, 100.0, false),
+    PA_REAL("pole_half_length_m", pole.half_length_m, 0.0, 10.0, true),
+    PA_REAL("pole_mass_kg", pole.mass_kg, 0.0, 10.0, true),
+    PA_REAL("pole_radius_m", pole.radius_m, 0.0, 0.1, true),
+    PA_REAL("pole_drag_axial_kgpm2", pole.drag_axial_kgpm2, 0.0, 1.0, false),
+    PA_REAL("pole_drag_normal_kgpm2", pole.drag_normal_kgpm2, 0.0, 1.0, false),
+    PA_REAL("pole_drag_rotational_kgpm2", pole.drag_rotational_kgpm2, 0.0, 1.0, false),
+    PA_INT("pole_drag_segments", pole.drag_segments, 1, 1000),
+    PA_REAL("vehicle_mass_kg", vehicle.mass_kg, 0.0, 100.0, true),
+    PA_REAL("vehicle_inertia_xx_kgm2", vehicle.inertia_xx_kgm2, 0.0, 10.0, true),
+    PA_REAL("vehicle_inertia_yy_kgm2", vehicle.inertia_yy_kgm2, 0.0, 10.0, true),
+    PA_REAL("vehicle_inertia_zz_kgm2", vehicle.inertia_zz_kgm2, 0.0, 10.0, true),
+    PA_REAL("vehicle_arm_length_m", vehicle.arm_length_m, 0.0, 5.0, true),
+    PA_REAL("vehicle_yaw_moment_per_thrust_m", vehicle.yaw_moment_per_thrust_m, 0.0, 1.0, false),
+    PA_REAL("vehicle_motor_thrust_max_N", vehicle.motor_thrust_max_N, 0.0, 1000.0, true),
+    PA_REAL("vehicle_motor_time_constant_s", vehicle.motor_time_constant_s, 0.0, 1.0, false),
+    PA_REAL("vehicle_drag_Nspm", vehicle.drag_Nspm, 0.0, 100.0, false),
+    PA_REAL("vehicle_foot_depth_m", vehicle.foot_depth_m, 0.0, 1.0, false),
+    PA_REAL("vehicle_plate_radius_m", vehicle.plate_radius_m, 0.0, 1.0, true),
+    PA_REAL("vehicle_plate_height_m", vehicle.plate_height_m, -1.0, 1.0, false),
+    Parameter{"vehicle1_motor0_gain", motor_gain<0, 0>, nullptr, 0.0, 2.0, false},
+    Parameter{"vehicle1_motor1_gain", motor_gain<0, 1>, nullptr, 0.0, 2.0, false},
+    Parameter{"vehicle1_motor2_gain", motor_gain<0, 2>, nullptr, 0.0, 2.0, false},
+    Parameter{"vehicle1_motor3_gain", motor_gain<0, 3>, nullptr, 0.0, 2.0, false},
+    Parameter{"vehicle2_motor0_gain", motor_gain<1, 0>, nullptr, 0.0, 2.0, false},
+    Parameter{"vehicle2_motor1_gain", motor_gain<1, 1>, nullptr, 0.0, 2.0, false},
+    Parameter{"vehicle2_motor2_gain", motor_gain<1, 2>, nullptr, 0.0, 2.0, false},
+    Parameter{"vehicle2_motor3_gain", motor_gain<1, 3>, nullptr, 0.0, 2.0, false},
+    PA_REAL("contact_plate_stiffness_Npm", contact.plate_stiffness_Npm, 0.0, 1e7, true),
+    PA_REAL("contact_plate_damping_Nspm", contact.plate_damping_Nspm, 0.0, 1e5, false),
+    PA_REAL("contact_plate_damping_force_max_N", contact.plate_damping_force_max_N, 0.0, 1e6, true),
+    PA_REAL("contact_plate_rebound_damping_Nspm", contact.plate_rebound_damping_Nspm, 0.0, 1e5, false),
+    PA_REAL("contact_plate_friction", contact.plate_friction, 0.0, 10.0, false),
+    PA_REAL("contact_plate_tangential_stiffness_Npm", contact.plate_tangential_stiffness_Npm, 0.0, 1e7, true),
+    PA_REAL("contact_plate_tangential_damping_Nspm", contact.plate_tangential_damping_Nspm, 0.0, 1e5, false),
+    PA_REAL("contact_floor_height_m", contact.floor_height_m, -100.0, 100.0, false),
+    PA_REAL("contact_floor_stiffness_Npm", contact.floor_stiffness_Npm, 0.0, 1e7, true),
+    PA_REAL("contact_floor_damping_Nspm", contact.floor_damping_Nspm, 0.0, 1e5, false),
+    PA_REAL("contact_floor_damping_force_max_N", contact.floor_damping_force_max_N, 0.0, 1e6, true),
+    PA_REAL("contact_floor_rebound_damping_Nspm", contact.floor_rebound_damping_Nspm, 0.0, 1e5, false),
+    PA_REAL("contact_floor_friction", contact.floor_friction, 0.0, 10.0, false),
+    PA_REAL("contact_floor_tangential_stiffness_Npm", contact.floor_tangential_stiffness_Npm, 0.0, 1e7, true),
+    PA_REAL("contact_floor_tangential_damping_Nspm", contact.floor_tangential_damping_Nspm, 0.0, 1e5, false),
+    PA_INT("imu_rate_Hz", imu.rate_Hz, 1, 100000),
+    PA_REAL("imu_accel_noise_mps2", imu.accel_noise_mps2, 0.0, 100.0, false),
+    PA_REAL("imu_gyro_noise_radps", imu.gyro_noise_radps, 0.0, 10.0, false),
+    PA_REAL("imu_accel_bias_sigma_mps2", imu.accel_bias_sigma_mps2, 0.0, 100.0, false),
+    PA_REAL("imu_gyro_bias_sigma_radps", imu.gyro_bias_sigma_radps, 0.0, 10.0, false),
+    PA_REAL("imu_accel_range_mps2", imu.accel_range_mps2, 0.0, 1e4, true),
+    PA_REAL("imu_gyro_range_radps", imu.gyro_range_radps, 0.0, 1e3, true),
+    PA_INT("mocap_rate_Hz", mocap.rate_Hz, 1, 10000),
+    PA_REAL("mocap_latency_s", mocap.latency_s, 0.0, 10.0, false),
+    PA_REAL("mocap_jitter_s", mocap.jitter_s, 0.0, 10.0, false),
+    PA_REAL("mocap_position_noise_m", mocap.position_noise_m, 0.0, 1.0, false),
+    PA_REAL("mocap_attitude_noise_rad", mocap.attitude_noise_rad, 0.0, 1.0, false),
+    PA_REAL("mocap_dropout_probability", mocap.dropout_probability, 0.0, 1.0, false),
+    PA_REAL("integration_step_free_s", integration.step_free_s, 0.0, 0.01, true),
+    PA_REAL("integration_step_contact_s", integration.step_contact_s, 0.0, 0.01, true),
+    PA_REAL("random_drag_fraction", randomisation.drag_fraction, 0.0, 0.99, false),
+    PA_REAL("random_motor_gain_fraction", randomisation.motor_gain_fraction, 0.0, 0.99, false),
+    PA_REAL("random_motor_time_constant_fraction", randomisation.motor_time_constant_fraction, 0.0, 0.99, false),
+    PA_REAL("random_vehicle_drag_fraction", randomisation.vehicle_drag_fraction, 0.0, 0.99, false),
+    PA_REAL("random_friction_fraction", randomisation.friction_fraction, 0.0, 0.99, false),
+    PA_REAL("random_latency_min_s", randomisation.latency_min_s, 0.0, 10.0, false),
+    PA_REAL("random_latency_max_s", randomisation.latency_max_s, 0.0, 10.0, false),
+    PA_REAL("random_noise_fraction", randomisation.noise_fraction, 0.0, 0.99, false),
+};
+
+#undef PA_REAL
+#undef PA_INT
+
+const Parameter* find_parameter(std::string_view key) {
+  for (const Parameter& p : kParameters) {
+    if (p.key == key) return &p;
+  }
+  return nullptr;
+}
+
+std::string range_text(const Parameter& p) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "%s%g .. %g", p.lo_open ? "> " : "", p.lo, p.hi);
+  return buf;
+}
+
+}  // namespace
+
+std::vector<std::string_view> plant_config_keys() {
+  std::vector<std::string_view> keys;
+  for (const Parameter& p : kParameters) keys.push_back(p.key);
+  return keys;
+}
+
+bool set_plant_parameter(PlantConfig& config, std::string_view key, std::string_view value, std::string& error) {
+  const Parameter* p = find_parameter(key);
+  if (!p) {
+    error = "unknown plant parameter '" + std::string(key) + "'";
+    return false;
+  }
+  double v = 0.0;
+  if (p->real) {
+    const auto parsed = parse_real(value);
+    if (!parsed) {
+      error = "'" + std::string(key) + "' needs a finite number, got '" + std::string(value) + "'";
+      return false;
+    }
+    v = *parsed;
+  } else {
+    const auto parsed = parse_integer(value);
+    if (!parsed) {
+      error = "'" + std::string(key) + "' needs an integer, got '" + std::string(value) + "'";
+      return false;
+    }
+    v = static_cast<double>(*parsed);
+  }
+  const bool below = p->lo_open ? !(v > p->lo) : !(v >= p->lo);
+  if (below || !(v <= p->hi)) {
+    error = "'" + std::string(key) + "' = " + std::string(value) + " is outside " + range_text(*p);
+    return false;
+  }
+  if (p->real) {
+    p->real(config) = v;
+  } else {
+    p->integer(config) = static_cast<int>(v);
+  }
+  return true;
+}
+
+std::string check_plant_config(const PlantConfig& c) {
+  PlantConfig copy = c;  // the accessors take a mutable reference
+  for (const Parameter& p : kParameters) {
+    const double v = p.real ? p.real(copy) : static_cast<double>(p.integer(copy));
+    const bool below = p.lo_open ? !(v > p.lo) : !(v >= p.lo);
+    if (below || !(v <= p.hi)) {
+      char buf[64];
+      std::snprintf(buf, sizeof buf, "%g", v);
+      return std::string(p.key) + " = " + buf + " is outside " + range_text(p);
+    }
+  }
+  if (c.integration.step_contact_s > c.integration.step_free_s)
+    return "integration_step_contact_s must not exceed integration_step_free_s";
+  if (c.randomisation.latency_min_s > c.randomisation.latency_max_s)
+    return "random_latency_min_s must not exceed random_latency_max_s";
+  if (c.vehicle.plate_height_m < -c.vehicle.foot_depth_m)
+    return "the plate must not lie below the vehicle's feet";
+  return {};
+}
+
+namespace {
+bool apply_entries(const KeyValueFile& file, PlantConfig& config, std::string& error) {
+  PlantConfig updated = config;
+  for (const KeyValue& e : file.entries) {
+    std::string message;
+    if (!set_plant_parameter(updated, e.key, e.value, message)) {
+      error = where(file, e) + message;
+      return false;
+    }
+  }
+  if (const std::string problem = check_plant_config(updated); !problem.empty()) {
+    error = file.name + ": " + problem;
+    return false;
+  }
+  config = updated;
+  return true;
+}
+}  // namespace
+
+bool parse_plant_config(std::string_view text, const std::string& name, PlantConfig& config, std::string& error) {
+  KeyValueFile file;
+  return parse_key_values(text, name, file, error) && apply_entries(file, config, error);
+}
+
+bool load_plant_config(const std::string& path, PlantConfig& config, std::string& error) {
+  KeyValueFile file;
+  return read_key_values(path, file, error) && apply_entries(file, config, error);
+}
+
+std::string format_plant_config(const PlantConfig& config) {
+  PlantConfig copy = config;  // the accessors take a mutable reference
+  std::string text;
+  char buf[160];
+  for (const Parameter& p : kParameters) {
+    if (p.real) {
+      // The shortest form that reads back to the same double.
+      const double v = p.real(copy);
+      char number[40];
+      for (int digits = 15; digits <= 17; ++digits) {
+        std::snprintf(number, sizeof number, "%.*g", digits, v);
+        if (std::strtod(number, nullptr) == v) break;
+      }
+      std::snprintf(buf, sizeof buf, "%.*s = %s\n", static_cast<int>(p.key.size()), p.key.data(), number);
+    } else {
+      std::snprintf(buf, sizeof buf, "%.*s = %d\n", static_cast<int>(p.key.size()), p.key.data(), p.integer(copy));
+    }
+    text += buf;
+  }
+  return text;
+}
+
+std::string default_plant_config_path() { return std::string(PA_HIL_CONFIG_DIR) + "/plant.conf"; }
+
+}  // namespace hil

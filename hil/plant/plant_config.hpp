@@ -1,0 +1,135 @@
+// Every parameter of the truth plant, with its default. hil/config/plant.conf documents each
+// one (unit and source) and holds the same values; a test keeps the two equal.
+//
+// The defaults describe the paper's arena (Section VII-A: pole, plate, drag coefficients, 200 Hz
+// motion capture) and, where the paper is silent, a modified AscTec Hummingbird with the same
+// figures as firmware/core/include/fw/config.hpp - but the plant reads its own file, so the
+// firmware and the ground station can be tested against a world that differs from their models.
+#pragma once
+
+#include <array>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "hil/plant/types.hpp"
+
+namespace hil {
+
+struct PoleConfig {
+  double half_length_m = 0.665;  // L (2L = 1.33 m, Section VII-A)
+  double mass_kg = 0.03;         // m_p (Section VII-A)
+  double radius_m = 0.005;       // carbon tube radius: gives the small axial inertia m r^2
+  // Drag per unit length, force = c |v| v (eqs. (10)-(15)), kg/m^2.
+  double drag_axial_kgpm2 = 0.5e-3;       // c_z
+  double drag_normal_kgpm2 = 3.5e-3;      // c_xy
+  double drag_rotational_kgpm2 = 2.1e-3;  // c_rot
+  int drag_segments = 20;                 // quadrature segments along the pole
+};
+
+struct VehicleConfig {
+  double mass_kg = 0.52;
+  double inertia_xx_kgm2 = 2.5e-3;
+  double inertia_yy_kgm2 = 2.5e-3;
+  double inertia_zz_kgm2 = 4.5e-3;
+  double arm_length_m = 0.17;                 // centre to each motor, X layout
+  double yaw_moment_per_thrust_m = 0.016;     // rotor drag torque / thrust
+  double motor_thrust_max_N = 3.2;            // at command 1 (with gain 1)
+  double motor_time_constant_s = 0.03;        // first-order lag of each motor's thrust
+  double drag_Nspm = 0.1;                     // linear translational (rotor) drag
+  double foot_depth_m = 0.05;                 // landing feet below the CG, under the motors
+  double plate_radius_m = 0.06;               // catching plate, 0.12 m across (Section VII-A)
+  double plate_height_m = 0.03;               // plate surface above the CG (Section VII-A)
+  // Per-motor thrust gain (actual / nominal thrust), vehicle 1 and vehicle 2.
+  std::array<std::array<double, 4>, 2> motor_gain{{{1.0, 1.0, 1.0, 1.0}, {1.0, 1.0, 1.0, 1.0}}};
+};
+
+// Compliant (penalty) contact (contact_law.hpp): a spring and dampers along the normal, and a
+// tangential spring-damper to an anchor point that slides once the force reaches the Coulomb
+// limit (stick and slip).
+struct ContactConfig {
+  double plate_stiffness_Npm = 1000.0;        // the pole end's shock absorber on the plate
+  double plate_damping_Nspm = 20.0;
+  double plate_damping_force_max_N = 12.0;
+  double plate_rebound_damping_Nspm = 40.0;
+  double plate_friction = 0.6;
+  double plate_tangential_stiffness_Npm = 2000.0;
+  double plate_tangential_damping_Nspm = 8.0;
+  double floor_height_m = 0.0;
+  double floor_stiffness_Npm = 5000.0;        // per contact point (pole end, vehicle foot)
+  double floor_damping_Nspm = 50.0;
+  double floor_damping_force_max_N = 500.0;
+  double floor_rebound_damping_Nspm = 50.0;
+  double floor_friction = 0.8;
+  double floor_tangential_stiffness_Npm = 5000.0;
+  double floor_tangential_damping_Nspm = 50.0;
+};
+
+struct ImuConfig {
+  int rate_Hz = 1000;
+  double accel_noise_mps2 = 0.05;        // white noise per sample, 1 sigma per axis
+  double gyro_noise_radps = 0.003;
+  double accel_bias_sigma_mps2 = 0.1;    // constant bias per run, drawn per axis from the seed
+  double gyro_bias_sigma_radps = 0.005;
+  double accel_range_mps2 = 156.9064;    // +-16 g
+  double gyro_range_radps = 34.9;        // +-2000 deg/s
+};
+
+struct MocapConfig {
+  int rate_Hz = 200;                  // Section VII-A
+  double latency_s = 0.010;           // capture to delivery
+  double jitter_s = 0.0;              // uniform in [0, jitter_s] on top, delivered in order
+  double position_noise_m = 0.001;    // 1 sigma per axis
+  double attitude_noise_rad = 0.001;  // 1 sigma per axis of a small body-frame rotation
+  double dropout_probability = 0.0;   // per body per frame
+};
+
+struct IntegrationConfig {
+  double step_free_s = 0.001;      // RK4 step with no contact near
+  double step_contact_s = 0.0001;  // during and just before contact
+};
+
+// The spreads of the uncertain parameters, used by randomised() (randomisation.hpp).
+struct RandomisationConfig {
+  double drag_fraction = 0.3;                 // each c scaled by U(1 -+ f)
+  double motor_gain_fraction = 0.05;          // each motor gain scaled by U(1 -+ f)
+  double motor_time_constant_fraction = 0.2;
+  double vehicle_drag_fraction = 0.3;
+  double friction_fraction = 0.2;
+  double latency_min_s = 0.005;               // motion-capture latency drawn from U(min, max)
+  double latency_max_s = 0.020;
+  double noise_fraction = 0.5;                // every noise sigma scaled by U(1 -+ f)
+};
+
+struct PlantConfig {
+  double gravity_mps2 = 9.81;
+  PoleConfig pole{};
+  VehicleConfig vehicle{};
+  ContactConfig contact{};
+  ImuConfig imu{};
+  MocapConfig mocap{};
+  IntegrationConfig integration{};
+  RandomisationConfig randomisation{};
+};
+
+// Names of all keys, in the order of the table (for documentation checks).
+std::vector<std::string_view> plant_config_keys();
+
+// Sets one parameter from its text. Returns false with a message (without file:line) for an
+// unknown key, a malformed value or a value outside the parameter's range.
+bool set_plant_parameter(PlantConfig& config, std::string_view key, std::string_view value, std::string& error);
+// Cross-parameter checks (e.g. the contact step not longer than the free step). Empty if fine.
+std::string check_plant_config(const PlantConfig& config);
+
+// Reads `path` over `config` (keys absent from the file keep their values). Returns false with
+// "path:line: message" on any error; never throws.
+bool load_plant_config(const std::string& path, PlantConfig& config, std::string& error);
+bool parse_plant_config(std::string_view text, const std::string& name, PlantConfig& config, std::string& error);
+
+// All parameters as `key = value` lines, loadable again.
+std::string format_plant_config(const PlantConfig& config);
+
+// The default plant.conf in the source tree.
+std::string default_plant_config_path();
+
+}  // namespace hil

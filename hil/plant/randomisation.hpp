@@ -1,0 +1,19 @@
+// Per-run draws of the plant's uncertain parameters: the pole's drag coefficients, each motor's
+// thrust gain and time constant, the vehicles' drag, the contact friction, the motion-capture
+// latency and every noise level. The spreads are in PlantConfig::randomisation; the draws come
+// from their own random stream, so a seed gives the same world on every run and platform, and
+// different seeds give different worlds.
+#pragma once
+
+#include <cstdint>
+
+#include "hil/plant/plant_config.hpp"
+
+namespace hil {
+
+// `nominal` with the uncertain parameters drawn around their nominal values: a value x with
+// spread fraction f becomes x * U(1 - f, 1 + f); the latency is drawn from
+// U(latency_min_s, latency_max_s). Everything else is copied unchanged.
+PlantConfig randomised(const PlantConfig& nominal, std::uint64_t seed);
+
+}  // namespace hil
