@@ -94,7 +94,7 @@ std::optional<OnVehicleSeed> onVehicleSeedFromFreeFlight(const model::PoleState&
   seed.direction_sign = sign;
   seed.state = f(pole);
   const Jacobian6x12 j = jacobianOf(f, pole);
-  seed.covariance = j * covariance * j.transpose();
+  seed.covariance = congruence(j, covariance);
   addPlateUncertainty(seed.covariance, plate);
   return seed;
 }
@@ -118,7 +118,7 @@ OnVehicleSeed onVehicleSeedAfterImpact(const model::PoleState& before,
   seed.direction_sign = sign;
   seed.state = f(before);
   const Jacobian6x12 j = jacobianOf(f, before);
-  seed.covariance = j * covariance * j.transpose();
+  seed.covariance = congruence(j, covariance);
   addPlateUncertainty(seed.covariance, plate);
   // The plate's velocity enters (38), (39) as 3/4 of a rate of L n; and the impact model itself.
   const double rate_var = impact_rate_sigma_mps * impact_rate_sigma_mps +
@@ -133,7 +133,7 @@ FreeFlightSeed freeFlightSeedFromOnVehicle(const PoleOnVehicleEkf& ekf,
   FreeFlightSeed seed;
   seed.state = ekf.freeFlightState(plate);
   const Eigen::Matrix<double, 12, PoleOnVehicleEkf::kSize> j = ekf.freeFlightJacobian(plate);
-  seed.covariance = j * ekf.covariance() * j.transpose();
+  seed.covariance = congruence(j, ekf.covariance());
   seed.covariance.block<3, 3>(0, 0) += plate.position_variance_m2 * Eigen::Matrix3d::Identity();
   seed.covariance.block<3, 3>(3, 3) += plate.velocity_variance_m2ps2 * Eigen::Matrix3d::Identity();
   return seed;
