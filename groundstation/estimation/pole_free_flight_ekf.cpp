@@ -151,9 +151,13 @@ PoleInnovation PoleFreeFlightEkf::innovation(const PoleMeasurement& measurement)
 }
 
 PoleInnovation PoleFreeFlightEkf::update(const PoleMeasurement& measurement) {
-  const LinearisedPoleMeasurement<kSize> m = linearise(measurement);
-  const PoleInnovation inn = poleInnovation(m, p_);
+  return update(measurement, innovation(measurement));
+}
+
+PoleInnovation PoleFreeFlightEkf::update(const PoleMeasurement& measurement,
+                                         const PoleInnovation& inn) {
   if (!inn.valid) return inn;
+  const LinearisedPoleMeasurement<kSize> m = linearise(measurement);
   const StateVector dx = kalmanCorrection(m, inn, p_);
   state_.p_m += dx.segment<3>(kP);
   state_.v_mps += dx.segment<3>(kV);

@@ -57,6 +57,9 @@ class PoleFreeFlightEkf {
   void predict(double dt_s);
   PoleInnovation innovation(const PoleMeasurement& measurement) const;
   PoleInnovation update(const PoleMeasurement& measurement);
+  // The same with the measurement's innovation already computed by innovation() on the current
+  // state (the hybrid estimator evaluates every mode first, then corrects: one linearisation).
+  PoleInnovation update(const PoleMeasurement& measurement, const PoleInnovation& innovation);
 
   const model::PoleState& state() const { return state_; }
   double dragScale() const { return drag_scale_; }

@@ -131,9 +131,14 @@ PoleInnovation PoleOnVehicleEkf::innovation(const PoleMeasurement& measurement,
 PoleInnovation PoleOnVehicleEkf::update(const PoleMeasurement& measurement,
                                         const PlateKinematics& plate) {
   if (!valid_) return {};
-  const LinearisedPoleMeasurement<kSize> m = linearise(measurement, plate);
-  const PoleInnovation inn = poleInnovation(m, p_);
+  return update(measurement, plate, innovation(measurement, plate));
+}
+
+PoleInnovation PoleOnVehicleEkf::update(const PoleMeasurement& measurement,
+                                        const PlateKinematics& plate, const PoleInnovation& inn) {
+  if (!valid_) return {};
   if (!inn.valid) return inn;
+  const LinearisedPoleMeasurement<kSize> m = linearise(measurement, plate);
   x_ += kalmanCorrection(m, inn, p_);
   if (!checkValid()) valid_ = false;
   last_nis_ = inn.nis;

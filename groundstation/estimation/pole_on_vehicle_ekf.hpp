@@ -65,6 +65,9 @@ class PoleOnVehicleEkf {
   void predict(double dt_s, const Eigen::Vector3d& pivot_acceleration_mps2);
   PoleInnovation innovation(const PoleMeasurement& measurement, const PlateKinematics& plate) const;
   PoleInnovation update(const PoleMeasurement& measurement, const PlateKinematics& plate);
+  // The same with the innovation already computed by innovation() on the current state.
+  PoleInnovation update(const PoleMeasurement& measurement, const PlateKinematics& plate,
+                        const PoleInnovation& innovation);
 
   bool valid() const { return valid_; }
   const StateVector& state() const { return x_; }

@@ -458,9 +458,9 @@ void StateEstimator::updatePole(const PoleMeasurement& m) {
     if (!evaluated[k] || !inn[k].valid) continue;
     const int v = vehicleOfMode(mode);
     if (v == 0) {
-      free_.update(m);
+      free_.update(m, inn[k]);
     } else {
-      on_[v - 1].update(m, plates[v - 1]);
+      on_[v - 1].update(m, plates[v - 1], inn[k]);
     }
   }
   reseedCandidates();

@@ -60,22 +60,20 @@ TEST_CASE("mocap rows parse, malformed ones say what is wrong", "[estimation]") 
   REQUIRE(scaled.row);
   CHECK(scaled.row->pose.q.norm() == Approx(1.0));
 
-  CHECK(parseMocapRow("1,pole,0,0,0,1,0,0").error.find("expected 9 fields") != std::string::npos);
-  CHECK(parseMocapRow("1,pole,0,abc,0,1,0,0,0").error.find("'y' is not a number") !=
-        std::string::npos);
-  CHECK(parseMocapRow("1,pole,0,0,nan,1,0,0,0").error.find("'z' is not finite") !=
-        std::string::npos);
-  CHECK(parseMocapRow("1,vehicle3,0,0,0,1,0,0,0").error.find("unknown body 'vehicle3'") !=
-        std::string::npos);
-  CHECK(parseMocapRow("1,pole,0,0,0,0,0,0,0").error.find("quaternion") != std::string::npos);
-  CHECK(parseMocapRow("").error.find("expected 9 fields") != std::string::npos);
+  // The row is rejected with a message that names what is wrong.
+  const auto rejects = [](const char* row, const char* message) {
+    return parseMocapRow(row).error.find(message) != std::string::npos;
+  };
+  CHECK(rejects("1,pole,0,0,0,1,0,0", "expected 9 fields"));
+  CHECK(rejects("1,pole,0,abc,0,1,0,0,0", "'y' is not a number"));
+  CHECK(rejects("1,pole,0,0,nan,1,0,0,0", "'z' is not finite"));
+  CHECK(rejects("1,vehicle3,0,0,0,1,0,0,0", "unknown body 'vehicle3'"));
+  CHECK(rejects("1,pole,0,0,0,0,0,0,0", "quaternion"));
+  CHECK(rejects("", "expected 9 fields"));
   // Values no clock and no arena has: a corrupt row.
-  CHECK(parseMocapRow("1e300,pole,0,0,0,1,0,0,0").error.find("'t' is out of range (|t| <= 1e+09)") !=
-        std::string::npos);
-  CHECK(parseMocapRow("1,pole,0,-2e4,0,1,0,0,0").error.find("'y' is out of range") !=
-        std::string::npos);
-  CHECK(parseMocapRow("1,pole,0,0,0,3,0,0,0").error.find("'qw' is out of range") !=
-        std::string::npos);
+  CHECK(rejects("1e300,pole,0,0,0,1,0,0,0", "'t' is out of range (|t| <= 1e+09)"));
+  CHECK(rejects("1,pole,0,-2e4,0,1,0,0,0", "'y' is out of range"));
+  CHECK(rejects("1,pole,0,0,0,3,0,0,0", "'qw' is out of range"));
   CHECK(parseMocapRow("-86400,pole,-9999,0,0,1,0,0,0").row);
 }
 
