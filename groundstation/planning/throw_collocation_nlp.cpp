@@ -1,9 +1,10 @@
 #include "groundstation/planning/throw_collocation_nlp.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
-#include <map>
+#include <stdexcept>
 #include <unsupported/Eigen/AutoDiff>
 
 namespace gs::planning {
@@ -34,7 +35,6 @@ Eigen::Matrix<Scalar, kO, 1> pointOutputs(const Eigen::Matrix<Scalar, kP, 1>& p,
 }
 
 using Ad = Eigen::AutoDiffScalar<Eigen::Matrix<double, kP, 1>>;
-using Ad2 = Eigen::AutoDiffScalar<Eigen::Matrix<Ad, kP, 1>>;
 
 void pointJacobian(const Eigen::Matrix<double, kP, 1>& p, const ThrowProblem& problem,
                    Eigen::Matrix<double, kO, 1>& value, Eigen::Matrix<double, kO, kP>& jacobian) {
@@ -52,35 +52,72 @@ void pointJacobian(const Eigen::Matrix<double, kP, 1>& p, const ThrowProblem& pr
   }
 }
 
-// The Hessian of weights . g(p), by forward-over-forward AD.
-Eigen::Matrix<double, kP, kP> pointHessian(const Eigen::Matrix<double, kP, 1>& p,
-                                           const Eigen::Matrix<double, kO, 1>& weights,
-                                           const ThrowProblem& problem) {
-  Eigen::Matrix<Ad2, kP, 1> p_ad;
+// The Hessian of weights . g(p) over the point variables `vars` (the others held constant), by
+// forward-over-forward AD.
+template <int D>
+Eigen::Matrix<double, D, D> weightedHessian(const Eigen::Matrix<double, kP, 1>& p,
+                                            const Eigen::Matrix<double, kO, 1>& weights,
+                                            const ThrowProblem& problem,
+                                            const std::array<int, D>& vars) {
+  using Inner = Eigen::AutoDiffScalar<Eigen::Matrix<double, D, 1>>;
+  using Outer = Eigen::AutoDiffScalar<Eigen::Matrix<Inner, D, 1>>;
+  const Inner zero(0.0, Eigen::Matrix<double, D, 1>::Zero());
+  Eigen::Matrix<Outer, kP, 1> p_ad;
   for (int i = 0; i < kP; ++i) {
-    p_ad(i).value() = Ad(p(i), kP, i);
-    for (int j = 0; j < kP; ++j) {
-      p_ad(i).derivatives()(j) = Ad(i == j ? 1.0 : 0.0, Eigen::Matrix<double, kP, 1>::Zero());
-    }
+    p_ad(i).value() = Inner(p(i), Eigen::Matrix<double, D, 1>::Zero());
+    p_ad(i).derivatives().setConstant(zero);
   }
-  const Eigen::Matrix<Ad2, kO, 1> out = pointOutputs<Ad2>(p_ad, problem);
-  Eigen::Matrix<double, kP, kP> hessian = Eigen::Matrix<double, kP, kP>::Zero();
+  for (int a = 0; a < D; ++a) {
+    p_ad(vars[a]).value() = Inner(p(vars[a]), D, a);
+    p_ad(vars[a]).derivatives()(a) = Inner(1.0, Eigen::Matrix<double, D, 1>::Zero());
+  }
+  const Eigen::Matrix<Outer, kO, 1> out = pointOutputs<Outer>(p_ad, problem);
+  Eigen::Matrix<double, D, D> hessian = Eigen::Matrix<double, D, D>::Zero();
   for (int o = 0; o < kO; ++o) {
-    if (weights(o) == 0.0 || out(o).derivatives().size() != kP) continue;
-    for (int r = 0; r < kP; ++r) {
-      const Ad& d = out(o).derivatives()(r);
-      if (d.derivatives().size() == kP) hessian.row(r) += weights(o) * d.derivatives().transpose();
+    if (weights(o) == 0.0 || out(o).derivatives().size() != D) continue;
+    for (int r = 0; r < D; ++r) {
+      const Inner& d = out(o).derivatives()(r);
+      if (d.derivatives().size() == D) hessian.row(r) += weights(o) * d.derivatives().transpose();
     }
   }
   return hessian;
 }
 
-// A few points and weights with no special values, to read the sparsity off the derivatives.
-Eigen::Matrix<double, kP, 1> genericPoint(int trial) {
-  Eigen::Matrix<double, kP, 1> p;
-  for (int i = 0; i < kP; ++i) p(i) = 0.7 * std::sin(1.3 * i + 2.1 * trial + 0.4) + 0.05 * i;
-  p(kS + planar::kThrust) = 7.0 + trial;  // a positive thrust
-  return p;
+// The variables the model is curved in: x, z and the velocities enter f, F_N and the cost only
+// linearly, so the point Hessians live in this 5 x 5 block (25 second derivatives instead of 81
+// per AD operation). The constructor checks this against the full Hessian.
+constexpr std::array<int, 5> kCurved = {planar::kTheta, planar::kAlpha, planar::kAlphaDot,
+                                        kS + planar::kThrust, kS + planar::kPitchRate};
+
+Eigen::Matrix<double, kP, kP> pointHessian(const Eigen::Matrix<double, kP, 1>& p,
+                                           const Eigen::Matrix<double, kO, 1>& weights,
+                                           const ThrowProblem& problem) {
+  const Eigen::Matrix<double, 5, 5> curved = weightedHessian<5>(p, weights, problem, kCurved);
+  Eigen::Matrix<double, kP, kP> hessian = Eigen::Matrix<double, kP, kP>::Zero();
+  for (int r = 0; r < 5; ++r) {
+    for (int c = 0; c < 5; ++c) hessian(kCurved[r], kCurved[c]) = curved(r, c);
+  }
+  return hessian;
+}
+
+// Throws when the model is curved outside kCurved (at a few points with no special values).
+void checkCurvedVariables(const ThrowProblem& problem) {
+  std::array<int, kP> all;
+  for (int i = 0; i < kP; ++i) all[i] = i;
+  for (int trial = 0; trial < 3; ++trial) {
+    Eigen::Matrix<double, kP, 1> p;
+    Eigen::Matrix<double, kO, 1> weights;
+    for (int i = 0; i < kP; ++i) p(i) = 0.7 * std::sin(1.3 * i + 2.1 * trial + 0.4) + 0.05 * i;
+    p(kS + planar::kThrust) = 7.0 + trial;  // a positive thrust
+    for (int o = 0; o < kO; ++o) weights(o) = 1.0 + 0.37 * o + 0.11 * trial;
+    Eigen::Matrix<double, kP, kP> outside = weightedHessian<kP>(p, weights, problem, all);
+    for (int r : kCurved) {
+      for (int c : kCurved) outside(r, c) = 0.0;
+    }
+    if (outside.cwiseAbs().maxCoeff() != 0.0) {
+      throw std::logic_error("the throw model is curved outside the variables the planner expects");
+    }
+  }
 }
 
 }  // namespace
@@ -104,124 +141,86 @@ ThrowCollocationNlp::ThrowCollocationNlp(const ThrowProblem& problem,
     : problem_(problem),
       intervals_(static_cast<int>(knots_s.size()) - 1),
       knots_s_(std::move(knots_s)) {
-  // Dependency and curvature patterns from AD at generic points.
-  output_deps_.assign(kO, {});
-  Eigen::Matrix<bool, kO, kP> depends = Eigen::Matrix<bool, kO, kP>::Constant(false);
-  Eigen::Matrix<bool, kP, kP> curved = Eigen::Matrix<bool, kP, kP>::Constant(false);
-  for (int trial = 0; trial < 3; ++trial) {
-    const PointVector p = genericPoint(trial);
-    OutputVector value;
-    PointJacobian jac;
-    pointJacobian(p, problem_, value, jac);
-    depends = depends.array() || (jac.array() != 0.0);
-    OutputVector weights;
-    for (int o = 0; o < kO; ++o) weights(o) = 1.0 + 0.37 * o + 0.11 * trial;
-    curved = curved.array() || (pointHessian(p, weights, problem_).array() != 0.0);
-  }
-  for (int o = 0; o < kO; ++o) {
-    for (int i = 0; i < kP; ++i) {
-      if (depends(o, i)) output_deps_[o].push_back(i);
-    }
-  }
-  for (int r = 0; r < kP; ++r) {
-    for (int c = 0; c <= r; ++c) {
-      if (curved(r, c) || curved(c, r)) hess_pattern_.emplace_back(r, c);
-    }
-  }
-
-  // Jacobian structure, with repeated (row, col) pairs merged into one nonzero.
-  std::map<std::pair<int, int>, int> slot_of;
-  forEachJacobianEntry(false, [&](int row, int col, double) {
-    const auto [it, inserted] =
-        slot_of.emplace(std::make_pair(row, col), static_cast<int>(jac_rows_.size()));
-    if (inserted) {
+  checkCurvedVariables(problem_);
+  // The structures, in the order eval_jac_g and eval_h write their values.
+  const auto var = [](int knot, int index) { return kP * knot + index; };
+  // Dense blocks (see the header): every row of an interval on all 18 variables of its knots.
+  const auto add_jac = [&](int row, int first_knot, int knots) {
+    for (int d = 0; d < kP * knots; ++d) {
       jac_rows_.push_back(row);
-      jac_cols_.push_back(col);
+      jac_cols_.push_back(kP * first_knot + d);
     }
-    jac_slot_.push_back(it->second);
-  });
-
-  for (int j = 0; j < pointCount(); ++j) {
-    for (const auto& [r, c] : hess_pattern_) {
-      hess_rows_.push_back(kP * j + r);
-      hess_cols_.push_back(kP * j + c);
-    }
-  }
-
-  values_.resize(pointCount());
-  jacobians_.resize(pointCount());
-  for (auto& jac : jacobians_) jac.setZero();
-  for (auto& v : values_) v.setZero();
-}
-
-template <typename Emit>
-void ThrowCollocationNlp::forEachJacobianEntry(bool with_values, Emit&& emit) const {
-  const auto var = [](int point, int index) { return kP * point + index; };
-  const auto jac = [&](int point, int output, int index) {
-    return with_values ? jacobians_[point](output, index) : 0.0;
   };
   for (int k = 0; k < intervals_; ++k) {
-    const int a = 2 * k, m = 2 * k + 1, b = 2 * k + 2;
-    const double h = intervalLength(k);
-    for (int i = 0; i < kS; ++i) {
-      const int simpson_row = 14 * k + i;
-      emit(simpson_row, var(b, i), 1.0);
-      emit(simpson_row, var(a, i), -1.0);
-      for (int d : output_deps_[i]) {
-        emit(simpson_row, var(a, d), -h / 6.0 * jac(a, i, d));
-        emit(simpson_row, var(m, d), -4.0 * h / 6.0 * jac(m, i, d));
-        emit(simpson_row, var(b, d), -h / 6.0 * jac(b, i, d));
-      }
-      const int hermite_row = 14 * k + kS + i;
-      emit(hermite_row, var(m, i), 1.0);
-      emit(hermite_row, var(a, i), -0.5);
-      emit(hermite_row, var(b, i), -0.5);
-      for (int d : output_deps_[i]) {
-        emit(hermite_row, var(a, d), -h / 8.0 * jac(a, i, d));
-        emit(hermite_row, var(b, d), h / 8.0 * jac(b, i, d));
-      }
-    }
+    for (int i = 0; i < kS; ++i) add_jac(7 * k + i, k, 2);
   }
-  for (int j = 1; j < pointCount() - 1; ++j) {
-    const int row = 14 * intervals_ + (j - 1);
-    for (int d : output_deps_[kNormalForceOutput]) {
-      emit(row, var(j, d), jac(j, kNormalForceOutput, d));
-    }
-  }
-  for (int j = 0; j + 1 < pointCount(); ++j) {
+  for (int q = 1; q < pointCount() - 1; ++q) add_jac(normalForceRow(q), q / 2, q % 2 == 1 ? 2 : 1);
+  for (int k = 0; k < intervals_; ++k) {
     for (int i = 0; i < planar::kInputSize; ++i) {
-      emit(slewRow(j, i), var(j + 1, kS + i), 1.0);
-      emit(slewRow(j, i), var(j, kS + i), -1.0);
+      jac_rows_.insert(jac_rows_.end(), {slewRow(k, i), slewRow(k, i)});
+      jac_cols_.insert(jac_cols_.end(), {var(k + 1, kS + i), var(k, kS + i)});
+    }
+  }
+  for (int j = 0; j < knotCount(); ++j) {
+    for (int r = 0; r < kP; ++r) {
+      for (int c = 0; c <= r; ++c) {
+        hess_rows_.push_back(var(j, r));
+        hess_cols_.push_back(var(j, c));
+      }
+    }
+  }
+  for (int k = 0; k < intervals_; ++k) {
+    for (int r = 0; r < kP; ++r) {
+      for (int c = 0; c < kP; ++c) {
+        hess_rows_.push_back(var(k + 1, r));
+        hess_cols_.push_back(var(k, c));
+      }
     }
   }
 }
 
-double ThrowCollocationNlp::slewLimit(int row) const {
-  const int j = (row - slewRow(0, 0)) / 2, i = (row - slewRow(0, 0)) % 2;
-  const double rate = i == planar::kThrust ? problem_.thrust_rate_max_mps3
-                                           : problem_.pitch_acceleration_max_radps2;
-  return rate > 0.0 ? rate * (pointTime(j + 1) - pointTime(j)) : kInfinity;
+void ThrowCollocationNlp::evaluate(const double* x, Evaluation& e) const {
+  const int knots = knotCount();
+  e.knot_value.resize(knots);
+  e.knot_jacobian.resize(knots);
+  e.mid_value.resize(intervals_);
+  e.mid_jacobian.resize(intervals_);
+  e.mid_point.resize(intervals_);
+  e.mid_map.resize(intervals_);
+  e.mid_total.resize(intervals_);
+  for (int j = 0; j < knots; ++j) {
+    pointJacobian(Eigen::Map<const PointVector>(x + kP * j), problem_, e.knot_value[j],
+                  e.knot_jacobian[j]);
+  }
+  for (int k = 0; k < intervals_; ++k) {
+    const double h = intervalLength(k);
+    const Eigen::Map<const PointVector> p_a(x + kP * k), p_b(x + kP * (k + 1));
+    PointVector& p_m = e.mid_point[k];
+    p_m = 0.5 * (p_a + p_b);
+    p_m.head<kS>() += h / 8.0 * (e.knot_value[k].head<kS>() - e.knot_value[k + 1].head<kS>());
+    MidpointMap& map = e.mid_map[k];
+    map.setZero();
+    map.leftCols<kP>().diagonal().setConstant(0.5);
+    map.rightCols<kP>().diagonal().setConstant(0.5);
+    map.topLeftCorner<kS, kP>() += h / 8.0 * e.knot_jacobian[k].topRows<kS>();
+    map.topRightCorner<kS, kP>() -= h / 8.0 * e.knot_jacobian[k + 1].topRows<kS>();
+    pointJacobian(p_m, problem_, e.mid_value[k], e.mid_jacobian[k]);
+    e.mid_total[k] = e.mid_jacobian[k].lazyProduct(map);
+  }
 }
 
-void ThrowCollocationNlp::evaluatePoints(const double* x) {
-  const int n = variableCount();
-  const Eigen::Map<const Eigen::VectorXd> xv(x, n);
-  if (cache_valid_ && cached_x_.size() == n && cached_x_ == xv) return;
-  for (int j = 0; j < pointCount(); ++j) {
-    const PointVector p = xv.segment<kP>(kP * j);
-    pointJacobian(p, problem_, values_[j], jacobians_[j]);
-  }
+void ThrowCollocationNlp::evaluateCached(const double* x) {
+  const Eigen::Map<const Eigen::VectorXd> xv(x, variableCount());
+  if (cache_valid_ && cached_x_ == xv) return;
+  evaluate(x, cache_);
   cached_x_ = xv;
   cache_valid_ = true;
 }
 
-double ThrowCollocationNlp::quadratureWeight(int point) const {
-  if (point % 2 == 1) return 4.0 * intervalLength((point - 1) / 2) / 6.0;
-  const int k = point / 2;
-  double w = 0.0;
-  if (k < intervals_) w += intervalLength(k) / 6.0;
-  if (k > 0) w += intervalLength(k - 1) / 6.0;
-  return w;
+double ThrowCollocationNlp::slewLimit(int k, int i) const {
+  const double rate = i == planar::kThrust ? problem_.thrust_rate_max_mps3
+                                           : problem_.pitch_acceleration_max_radps2;
+  return rate > 0.0 ? rate * intervalLength(k) : kInfinity;
 }
 
 double ThrowCollocationNlp::pointTime(int point) const {
@@ -234,7 +233,7 @@ void ThrowCollocationNlp::fixedBounds(Eigen::VectorXd& lower, Eigen::VectorXd& u
   lower.setConstant(n, -kInfinity);
   upper.setConstant(n, kInfinity);
   const model::VehicleLimits& lim = problem_.limits;
-  for (int j = 0; j < pointCount(); ++j) {
+  for (int j = 0; j < knotCount(); ++j) {
     lower(kP * j + kS + planar::kThrust) = lim.a_q_min_mps2;
     upper(kP * j + kS + planar::kThrust) = lim.a_q_max_mps2;
     lower(kP * j + kS + planar::kPitchRate) = -lim.omega_max_radps;
@@ -255,20 +254,21 @@ Eigen::VectorXd ThrowCollocationNlp::initialGuess() const {
   start << model::PlanarState<double>::Zero(), problem_.hoverInput();
   end << problem_.launch_state, problem_.launchInput();
   Eigen::VectorXd x(variableCount());
-  const int last = pointCount() - 1;
-  for (int j = 0; j <= last; ++j) {
-    const double w = static_cast<double>(j) / last;
+  for (int j = 0; j <= intervals_; ++j) {
+    const double w = static_cast<double>(j) / intervals_;
     x.segment<kP>(kP * j) = (1.0 - w) * start + w * end;
   }
   return x;
 }
 
 ThrowTrajectory ThrowCollocationNlp::trajectoryFrom(const Eigen::VectorXd& x) const {
+  Evaluation e;
+  evaluate(x.data(), e);
   ThrowTrajectory traj;
   traj.params = problem_.params;
-  for (int j = 0; j < pointCount(); ++j) {
-    const PointVector p = x.segment<kP>(kP * j);
-    traj.t_s.push_back(pointTime(j));
+  for (int q = 0; q < pointCount(); ++q) {
+    const PointVector p = q % 2 == 0 ? PointVector(x.segment<kP>(kP * (q / 2))) : e.mid_point[q / 2];
+    traj.t_s.push_back(pointTime(q));
     traj.state.push_back(p.head<kS>());
     traj.input.push_back(p.tail<planar::kInputSize>());
     traj.normal_force_per_mass_mps2.push_back(model::planarNormalForcePerMass_mps2<double>(
@@ -279,18 +279,19 @@ ThrowTrajectory ThrowCollocationNlp::trajectoryFrom(const Eigen::VectorXd& x) co
 
 double ThrowCollocationNlp::maxViolation(const Eigen::VectorXd& x) const {
   const int n = variableCount(), m = constraintCount();
-  std::vector<OutputVector> values(pointCount());
-  for (int j = 0; j < pointCount(); ++j) {
-    values[j] = pointOutputs<double>(x.segment<kP>(kP * j), problem_);
-  }
+  Evaluation e;
+  evaluate(x.data(), e);
   Eigen::VectorXd g(m), lower, upper;
-  if (!constraintsFrom(x.data(), values, g.data())) return std::numeric_limits<double>::infinity();
+  if (!constraintsFrom(x.data(), e, g.data())) return std::numeric_limits<double>::infinity();
   double worst = 0.0;
-  for (int r = 0; r < 14 * intervals_; ++r) worst = std::max(worst, std::abs(g(r)));
-  // F_N >= 0 at every point, the fixed end points included.
-  for (int j = 0; j < pointCount(); ++j) worst = std::max(worst, -values[j](kNormalForceOutput));
-  for (int r = slewRow(0, 0); r < m; ++r) {
-    worst = std::max(worst, std::abs(g(r)) - slewLimit(r));
+  for (int r = 0; r < 7 * intervals_; ++r) worst = std::max(worst, std::abs(g(r)));
+  // F_N >= 0 at every point, the fixed end knots included.
+  for (const OutputVector& v : e.knot_value) worst = std::max(worst, -v(kNormalForceOutput));
+  for (const OutputVector& v : e.mid_value) worst = std::max(worst, -v(kNormalForceOutput));
+  for (int k = 0; k < intervals_; ++k) {
+    for (int i = 0; i < planar::kInputSize; ++i) {
+      worst = std::max(worst, std::abs(g(slewRow(k, i))) - slewLimit(k, i));
+    }
   }
   fixedBounds(lower, upper);
   for (int i = 0; i < n; ++i) worst = std::max({worst, lower(i) - x(i), x(i) - upper(i)});
@@ -308,21 +309,22 @@ bool ThrowCollocationNlp::get_nlp_info(Ipopt::Index& n, Ipopt::Index& m, Ipopt::
 }
 
 bool ThrowCollocationNlp::get_bounds_info(Ipopt::Index n, Ipopt::Number* x_l,
-                                          Ipopt::Number* x_u, Ipopt::Index m,
+                                          Ipopt::Number* x_u, Ipopt::Index,
                                           Ipopt::Number* g_l, Ipopt::Number* g_u) {
   Eigen::VectorXd lower, upper;
   fixedBounds(lower, upper);
   Eigen::Map<Eigen::VectorXd>(x_l, n) = lower;
   Eigen::Map<Eigen::VectorXd>(x_u, n) = upper;
-  for (int r = 0; r < slewRow(0, 0); ++r) {
-    const bool is_defect = r < 14 * intervals_;
-    g_l[r] = 0.0;
-    g_u[r] = is_defect ? 0.0 : kInfinity;
+  for (int r = 0; r < 7 * intervals_; ++r) g_l[r] = g_u[r] = 0.0;
+  for (int q = 1; q < pointCount() - 1; ++q) {
+    g_l[normalForceRow(q)] = 0.0;
+    g_u[normalForceRow(q)] = kInfinity;
   }
-  for (int r = slewRow(0, 0); r < m; ++r) {
-    const double limit = slewLimit(r);
-    g_l[r] = -limit;
-    g_u[r] = limit;
+  for (int k = 0; k < intervals_; ++k) {
+    for (int i = 0; i < planar::kInputSize; ++i) {
+      g_l[slewRow(k, i)] = -slewLimit(k, i);
+      g_u[slewRow(k, i)] = slewLimit(k, i);
+    }
   }
   return true;
 }
@@ -337,49 +339,52 @@ bool ThrowCollocationNlp::get_starting_point(Ipopt::Index n, bool init_x, Ipopt:
 
 bool ThrowCollocationNlp::eval_f(Ipopt::Index, const Ipopt::Number* x, bool,
                                  Ipopt::Number& obj_value) {
-  evaluatePoints(x);
+  evaluateCached(x);
   double sum = 0.0;
-  for (int j = 0; j < pointCount(); ++j) sum += quadratureWeight(j) * values_[j](kCostOutput);
+  for (int k = 0; k < intervals_; ++k) {
+    sum += intervalLength(k) / 6.0 *
+           (cache_.knot_value[k](kCostOutput) + 4.0 * cache_.mid_value[k](kCostOutput) +
+            cache_.knot_value[k + 1](kCostOutput));
+  }
   obj_value = sum;
   return std::isfinite(sum);
 }
 
 bool ThrowCollocationNlp::eval_grad_f(Ipopt::Index n, const Ipopt::Number* x, bool,
                                       Ipopt::Number* grad_f) {
-  evaluatePoints(x);
-  std::fill(grad_f, grad_f + n, 0.0);
-  for (int j = 0; j < pointCount(); ++j) {
-    const double w = quadratureWeight(j);
-    for (int d : output_deps_[kCostOutput]) grad_f[kP * j + d] = w * jacobians_[j](kCostOutput, d);
+  evaluateCached(x);
+  Eigen::Map<Eigen::VectorXd> grad(grad_f, n);
+  grad.setZero();
+  for (int k = 0; k < intervals_; ++k) {
+    const double h = intervalLength(k);
+    grad.segment<kP>(kP * k) += h / 6.0 * cache_.knot_jacobian[k].row(kCostOutput).transpose();
+    grad.segment<kP>(kP * (k + 1)) +=
+        h / 6.0 * cache_.knot_jacobian[k + 1].row(kCostOutput).transpose();
+    grad.segment<2 * kP>(kP * k) += 4.0 * h / 6.0 * cache_.mid_total[k].row(kCostOutput).transpose();
   }
   return true;
 }
 
 bool ThrowCollocationNlp::eval_g(Ipopt::Index, const Ipopt::Number* x, bool, Ipopt::Index,
                                  Ipopt::Number* g) {
-  evaluatePoints(x);
-  return constraintsFrom(x, values_, g);
+  evaluateCached(x);
+  return constraintsFrom(x, cache_, g);
 }
 
-bool ThrowCollocationNlp::constraintsFrom(const double* x, const std::vector<OutputVector>& values,
-                                          double* g) const {
+bool ThrowCollocationNlp::constraintsFrom(const double* x, const Evaluation& e, double* g) const {
   for (int k = 0; k < intervals_; ++k) {
-    const int a = 2 * k, m = 2 * k + 1, b = 2 * k + 2;
     const double h = intervalLength(k);
-    for (int i = 0; i < kS; ++i) {
-      const double s_a = x[kP * a + i], s_m = x[kP * m + i], s_b = x[kP * b + i];
-      const double f_a = values[a](i), f_m = values[m](i), f_b = values[b](i);
-      g[14 * k + i] = s_b - s_a - h / 6.0 * (f_a + 4.0 * f_m + f_b);
-      g[14 * k + kS + i] = s_m - 0.5 * (s_a + s_b) - h / 8.0 * (f_a - f_b);
-    }
+    const Eigen::Map<const PointVector> p_a(x + kP * k), p_b(x + kP * (k + 1));
+    Eigen::Map<model::PlanarState<double>>(g + 7 * k) =
+        p_b.head<kS>() - p_a.head<kS>() -
+        h / 6.0 *
+            (e.knot_value[k].head<kS>() + 4.0 * e.mid_value[k].head<kS>() +
+             e.knot_value[k + 1].head<kS>());
+    for (int i = 0; i < planar::kInputSize; ++i) g[slewRow(k, i)] = p_b(kS + i) - p_a(kS + i);
   }
-  for (int j = 1; j < pointCount() - 1; ++j) {
-    g[14 * intervals_ + (j - 1)] = values[j](kNormalForceOutput);
-  }
-  for (int j = 0; j + 1 < pointCount(); ++j) {
-    for (int i = 0; i < planar::kInputSize; ++i) {
-      g[slewRow(j, i)] = x[kP * (j + 1) + kS + i] - x[kP * j + kS + i];
-    }
+  for (int q = 1; q < pointCount() - 1; ++q) {
+    const OutputVector& v = q % 2 == 1 ? e.mid_value[q / 2] : e.knot_value[q / 2];
+    g[normalForceRow(q)] = v(kNormalForceOutput);
   }
   for (int r = 0; r < constraintCount(); ++r) {
     if (!std::isfinite(g[r])) return false;
@@ -395,16 +400,43 @@ bool ThrowCollocationNlp::eval_jac_g(Ipopt::Index, const Ipopt::Number* x, bool,
     std::copy(jac_cols_.begin(), jac_cols_.end(), jCol);
     return true;
   }
-  evaluatePoints(x);
-  std::fill(values, values + nele_jac, 0.0);
-  std::size_t e = 0;
-  forEachJacobianEntry(true, [&](int, int, double v) { values[jac_slot_[e++]] += v; });
-  return true;
+  evaluateCached(x);
+  double* out = values;
+  const auto put = [&out](const auto& row) {
+    for (int d = 0; d < row.size(); ++d) *out++ = row(d);
+  };
+  for (int k = 0; k < intervals_; ++k) {
+    const SimpsonJacobian jac = simpsonJacobian(k, cache_);
+    for (int i = 0; i < kS; ++i) put(jac.row(i));
+  }
+  for (int q = 1; q < pointCount() - 1; ++q) {
+    if (q % 2 == 1) put(cache_.mid_total[q / 2].row(kNormalForceOutput));
+    else put(cache_.knot_jacobian[q / 2].row(kNormalForceOutput));
+  }
+  for (int k = 0; k < intervals_; ++k) {
+    for (int i = 0; i < planar::kInputSize; ++i) {
+      *out++ = 1.0;
+      *out++ = -1.0;
+    }
+  }
+  return out - values == nele_jac;
+}
+
+ThrowCollocationNlp::SimpsonJacobian ThrowCollocationNlp::simpsonJacobian(
+    int k, const Evaluation& e) const {
+  // d/d(p_a, p_b) of s_b - s_a - h/6 (f_a + 4 f(p_m) + f_b).
+  const double h = intervalLength(k);
+  SimpsonJacobian jac = -4.0 * h / 6.0 * e.mid_total[k].topRows<kS>();
+  jac.leftCols<kP>() -= h / 6.0 * e.knot_jacobian[k].topRows<kS>();
+  jac.rightCols<kP>() -= h / 6.0 * e.knot_jacobian[k + 1].topRows<kS>();
+  jac.leftCols<kS>().diagonal().array() -= 1.0;
+  jac.middleCols<kS>(kP).diagonal().array() += 1.0;
+  return jac;
 }
 
 bool ThrowCollocationNlp::eval_h(Ipopt::Index, const Ipopt::Number* x, bool,
                                  Ipopt::Number obj_factor, Ipopt::Index,
-                                 const Ipopt::Number* lambda, bool, Ipopt::Index,
+                                 const Ipopt::Number* lambda, bool, Ipopt::Index nele_hess,
                                  Ipopt::Index* iRow, Ipopt::Index* jCol,
                                  Ipopt::Number* values) {
   if (values == nullptr) {
@@ -412,34 +444,65 @@ bool ThrowCollocationNlp::eval_h(Ipopt::Index, const Ipopt::Number* x, bool,
     std::copy(hess_cols_.begin(), hess_cols_.end(), jCol);
     return true;
   }
-  const int last = pointCount() - 1;
-  std::size_t e = 0;
-  for (int j = 0; j <= last; ++j) {
-    // The weight of each point output in the Lagrangian (see the header's constraint rows).
-    OutputVector w = OutputVector::Zero();
-    for (int i = 0; i < kS; ++i) {
-      if (j % 2 == 1) {
-        const int k = (j - 1) / 2;
-        w(i) = -4.0 * intervalLength(k) / 6.0 * lambda[14 * k + i];
-      } else {
-        const int k = j / 2;
-        if (k < intervals_) {
-          const double h = intervalLength(k);
-          w(i) += -h / 6.0 * lambda[14 * k + i] - h / 8.0 * lambda[14 * k + kS + i];
-        }
-        if (k > 0) {
-          const double h = intervalLength(k - 1);
-          w(i) += -h / 6.0 * lambda[14 * (k - 1) + i] + h / 8.0 * lambda[14 * (k - 1) + kS + i];
-        }
+  evaluateCached(x);
+  hessianBlocks(x, cache_, obj_factor, lambda, hess_diagonal_, hess_coupling_);
+  double* out = values;
+  for (int j = 0; j < knotCount(); ++j) {
+    for (int r = 0; r < kP; ++r) {
+      for (int c = 0; c <= r; ++c) {
+        *out++ = hess_diagonal_[j](r, c);
       }
     }
-    if (j > 0 && j < last) w(kNormalForceOutput) = lambda[14 * intervals_ + (j - 1)];
-    w(kCostOutput) = obj_factor * quadratureWeight(j);
-    const PointVector p = Eigen::Map<const PointVector>(x + kP * j);
-    const Eigen::Matrix<double, kP, kP> hess = pointHessian(p, w, problem_);
-    for (const auto& [r, c] : hess_pattern_) values[e++] = hess(r, c);
   }
-  return true;
+  for (int k = 0; k < intervals_; ++k) {
+    for (int r = 0; r < kP; ++r) {
+      for (int c = 0; c < kP; ++c) {
+        *out++ = hess_coupling_[k](r, c);
+      }
+    }
+  }
+  return out - values == nele_hess;
+}
+
+void ThrowCollocationNlp::hessianBlocks(const double* x, const Evaluation& e, double obj_factor,
+                                        const double* lambda, std::vector<Block>& diagonal,
+                                        std::vector<Block>& coupling) const {
+  // The weight of each knot's outputs in the Lagrangian, and the Hessian blocks.
+  std::vector<OutputVector> knot_weight(knotCount(), OutputVector::Zero());
+  diagonal.assign(knotCount(), Block::Zero());
+  coupling.resize(intervals_);  // rows of knot k + 1, columns of knot k
+  for (int k = 0; k < intervals_; ++k) {
+    const double h = intervalLength(k);
+    const Eigen::Map<const model::PlanarState<double>> simpson(lambda + 7 * k);
+    OutputVector w_m = OutputVector::Zero();
+    w_m.head<kS>() = -4.0 * h / 6.0 * simpson;
+    w_m(kNormalForceOutput) = lambda[normalForceRow(2 * k + 1)];
+    w_m(kCostOutput) = obj_factor * 4.0 * h / 6.0;
+    for (int j : {k, k + 1}) {
+      knot_weight[j].head<kS>() -= h / 6.0 * simpson;
+      knot_weight[j](kCostOutput) += obj_factor * h / 6.0;
+    }
+    // p_m is curved in the knots through h/8 (f_a - f_b): that curvature, weighted by the
+    // Lagrangian's slope along p_m, is a term of the knots' own f weights.
+    const PointVector slope = e.mid_jacobian[k].transpose() * w_m;
+    knot_weight[k].head<kS>() += h / 8.0 * slope.head<kS>();
+    knot_weight[k + 1].head<kS>() -= h / 8.0 * slope.head<kS>();
+    // The rest is the midpoint's Hessian carried through d p_m / d(p_a, p_b). Coefficient-based
+    // products: Eigen's blocked GEMM costs more than the arithmetic at 9 x 9.
+    const Block hess_m = pointHessian(e.mid_point[k], w_m, problem_);
+    const auto map_a = e.mid_map[k].leftCols<kP>();
+    const auto map_b = e.mid_map[k].rightCols<kP>();
+    const Block ha = hess_m.lazyProduct(map_a), hb = hess_m.lazyProduct(map_b);
+    diagonal[k] += map_a.transpose().lazyProduct(ha);
+    diagonal[k + 1] += map_b.transpose().lazyProduct(hb);
+    coupling[k] = map_b.transpose().lazyProduct(ha);
+  }
+  for (int j = 1; j < intervals_; ++j) {
+    knot_weight[j](kNormalForceOutput) = lambda[normalForceRow(2 * j)];
+  }
+  for (int j = 0; j < knotCount(); ++j) {
+    diagonal[j] += pointHessian(Eigen::Map<const PointVector>(x + kP * j), knot_weight[j], problem_);
+  }
 }
 
 void ThrowCollocationNlp::finalize_solution(Ipopt::SolverReturn, Ipopt::Index n,

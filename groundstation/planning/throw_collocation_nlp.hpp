@@ -1,23 +1,30 @@
-// Problem (34) transcribed by Hermite-Simpson collocation (separated form) for IPOPT.
+// Problem (34) transcribed by Hermite-Simpson collocation in its compressed form for IPOPT.
 //
-// Variables: 2N + 1 points p_j = (s_j, u_j) in R^9, j even the knots, j odd the interval
-// midpoints. Per interval k with points a = 2k, m = 2k + 1, b = 2k + 2 and h = T / N:
-//   Simpson defect   s_b - s_a - h/6 (f_a + 4 f_m + f_b)       = 0   (7 rows)
-//   Hermite midpoint s_m - (s_a + s_b)/2 - h/8 (f_a - f_b)     = 0   (7 rows)
-// then F_N(p_j) >= 0 at every point with free variables (j = 1 .. 2N-1; the end points are fixed
-// and F_N there is g and, by the choice of a_q,T, exactly 0), then the input slew limits between
-// consecutive points, |u_{j+1} - u_j| <= rate (t_{j+1} - t_j) (2 rows per pair, linear, in the
-// inputs' units so that IPOPT's bound relaxation stays far below 1e-6; a rate of 0 is no bound). The objective is the Simpson
-// quadrature of the running cost of (34). Boundary conditions are fixed variable bounds, which
-// IPOPT removes from the problem.
+// Variables: the N + 1 knots p_k = (s_k, u_k) in R^9. Between two knots a = k, b = k + 1 with
+// h = t_b - t_a the input is linear, and the state is the cubic Hermite polynomial through the
+// knot states and slopes f_a = f(p_a), f_b = f(p_b); its midpoint is
+//   p_m(p_a, p_b) = ((s_a + s_b)/2 + h/8 (f_a - f_b), (u_a + u_b)/2).
+// Rows, in this order:
+//   Simpson defect   s_b - s_a - h/6 (f_a + 4 f(p_m) + f_b) = 0        (7 per interval)
+//   F_N(p) >= 0 at every point with free variables, in time order: the midpoints and the inner
+//                    knots (the end knots are fixed, and F_N there is g and, by the choice of
+//                    a_q,T, exactly 0)
+//   input slew       |u_b - u_a| <= rate h (2 per interval, linear, in the inputs' units so that
+//                    IPOPT's bound relaxation stays far below 1e-6; a rate of 0 is no bound; a
+//                    linear input moves at most half as much to the midpoint)
+// The objective is the Simpson quadrature of the running cost of (34). Boundary conditions are
+// fixed variable bounds, which IPOPT removes from the problem. This is the same scheme as the
+// separated form (midpoint states as variables, Hermite rows) with the midpoint input tied to
+// the knots, in half the unknowns and rows (N = 100: 909 and 1099 against 1809 and 1999): the KKT
+// systems that MUMPS factors in every iteration are what the solve time is made of.
 //
-// Every nonlinear term lives in the point function g(p) = (f(s, u), F_N(s, u), cost(s, u)) of
-// one point, and the constraints are linear in the g's. So the Jacobian comes from one
-// fixed-size forward AD pass per point (Eigen::AutoDiffScalar<Matrix<double, 9, 1>>), and the
-// exact Hessian of the Lagrangian is block diagonal: per point, the Hessian of a weighted sum
-// w_j . g(p_j) (weights collected from the multipliers), by nested forward AD. The sparsity
-// patterns are read off AD derivatives at a few generic points when the NLP is built, so they
-// follow the model rather than a hand-kept list.
+// Every nonlinear term lives in the point function g(p) = (f(s, u), F_N(s, u), cost(s, u)),
+// evaluated at the knots and, through p_m, at the midpoints. Its Jacobian comes from one
+// fixed-size forward AD pass per point (Eigen::AutoDiffScalar<Matrix<double, 9, 1>>) and the
+// chain rule through p_m; the exact Hessian of the Lagrangian from per-point Hessians of weighted
+// sums w . g(p) (nested forward AD) assembled the same way. The Jacobian and Hessian blocks are
+// declared dense per knot and interval: MUMPS then treats the nine variables of a knot and the
+// rows of an interval as single supervariables, which halves its per-node overhead.
 #pragma once
 
 #include <Eigen/Core>
@@ -43,13 +50,16 @@ class ThrowCollocationNlp final : public Ipopt::TNLP {
   static constexpr int kCostOutput = model::planar::kStateSize + 1;
 
   // Precondition: problem.validate() is empty; knots_s strictly increasing from 0 to T, at least
-  // two of them (throwCollocationMesh).
+  // two of them (throwCollocationMesh). Throws std::logic_error if the model has become curved
+  // in variables the point Hessians leave out (x, z, vx, vz; see the implementation).
   ThrowCollocationNlp(const ThrowProblem& problem, std::vector<double> knots_s);
 
   int intervals() const { return intervals_; }
+  int knotCount() const { return intervals_ + 1; }
+  // Collocation points of the trajectory: the knots and the interval midpoints, in time order.
   int pointCount() const { return 2 * intervals_ + 1; }
-  int variableCount() const { return kPointSize * pointCount(); }
-  int constraintCount() const { return slewRow(pointCount() - 1, 0); }
+  int variableCount() const { return kPointSize * knotCount(); }
+  int constraintCount() const { return slewRow(intervals_, 0); }
   int jacobianNonzeros() const { return static_cast<int>(jac_rows_.size()); }
   int hessianNonzeros() const { return static_cast<int>(hess_rows_.size()); }
 
@@ -97,18 +107,33 @@ class ThrowCollocationNlp final : public Ipopt::TNLP {
   using PointVector = Eigen::Matrix<double, kPointSize, 1>;
   using OutputVector = Eigen::Matrix<double, kOutputs, 1>;
   using PointJacobian = Eigen::Matrix<double, kOutputs, kPointSize>;
+  using PairVector = Eigen::Matrix<double, 2 * kPointSize, 1>;  // (p_a, p_b) of an interval
+  using MidpointMap = Eigen::Matrix<double, kPointSize, 2 * kPointSize>;  // d p_m / d(p_a, p_b)
+  using PairJacobian = Eigen::Matrix<double, kOutputs, 2 * kPointSize>;
+  using SimpsonJacobian = Eigen::Matrix<double, model::planar::kStateSize, 2 * kPointSize>;
+  using Block = Eigen::Matrix<double, kPointSize, kPointSize>;
 
-  // Walks every Jacobian contribution in a fixed order: emit(row, col, value). With
-  // `with_values` false the values are not computed (structure pass).
-  template <typename Emit>
-  void forEachJacobianEntry(bool with_values, Emit&& emit) const;
-  void evaluatePoints(const double* x);
-  bool constraintsFrom(const double* x, const std::vector<OutputVector>& values, double* g) const;
-  double quadratureWeight(int point) const;
+  // The point function at every knot and midpoint of x, with its derivatives.
+  struct Evaluation {
+    std::vector<OutputVector> knot_value, mid_value;
+    std::vector<PointJacobian> knot_jacobian, mid_jacobian;  // d g / d p at the point
+    std::vector<PointVector> mid_point;                      // p_m
+    std::vector<MidpointMap> mid_map;                        // d p_m / d(p_a, p_b)
+    std::vector<PairJacobian> mid_total;                     // d g(p_m) / d(p_a, p_b)
+  };
+  void evaluate(const double* x, Evaluation& e) const;
+  void evaluateCached(const double* x);  // into cache_, unless x is the cached point
+  bool constraintsFrom(const double* x, const Evaluation& e, double* g) const;
+  SimpsonJacobian simpsonJacobian(int k, const Evaluation& e) const;  // interval k's 7 rows
+  // The Lagrangian's Hessian as blocks: per knot, and between knots k + 1 (rows) and k.
+  void hessianBlocks(const double* x, const Evaluation& e, double obj_factor,
+                     const double* lambda, std::vector<Block>& diagonal,
+                     std::vector<Block>& coupling) const;
   double intervalLength(int k) const { return knots_s_[k + 1] - knots_s_[k]; }
-  // The row of input i's slew between points j and j + 1.
-  int slewRow(int j, int i) const { return 14 * intervals_ + (pointCount() - 2) + 2 * j + i; }
-  double slewLimit(int row) const;  // the bound of a slew row; infinity when off
+  int normalForceRow(int point) const { return 7 * intervals_ + point - 1; }  // point 1..2N-1
+  // The row of input i's slew over interval k.
+  int slewRow(int k, int i) const { return 7 * intervals_ + 2 * intervals_ - 1 + 2 * k + i; }
+  double slewLimit(int k, int i) const;  // the bound of a slew row; infinity when off
   double pointTime(int point) const;
   void fixedBounds(Eigen::VectorXd& lower, Eigen::VectorXd& upper) const;
 
@@ -116,18 +141,13 @@ class ThrowCollocationNlp final : public Ipopt::TNLP {
   int intervals_;
   std::vector<double> knots_s_;
 
-  // Sparsity, read off the model.
-  std::vector<std::vector<int>> output_deps_;  // per output, the point variables it depends on
-  std::vector<std::pair<int, int>> hess_pattern_;  // (row >= col) within a point
-
-  std::vector<int> jac_rows_, jac_cols_, jac_slot_;  // slot: emission -> nonzero index
+  std::vector<int> jac_rows_, jac_cols_;  // in the order eval_jac_g writes the values
   std::vector<int> hess_rows_, hess_cols_;
+  std::vector<Block> hess_diagonal_, hess_coupling_;  // eval_h's workspace
 
-  // Cache of the point function at the last x.
   Eigen::VectorXd cached_x_;
   bool cache_valid_ = false;
-  std::vector<OutputVector> values_;
-  std::vector<PointJacobian> jacobians_;
+  Evaluation cache_;
 
   Eigen::VectorXd solution_;
   double solution_objective_ = 0.0;

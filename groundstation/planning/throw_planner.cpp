@@ -65,6 +65,12 @@ ThrowPlan solve(const ThrowProblem& problem, const ThrowSolverOptions& options) 
   // and MUMPS's own scaling pass was a seventh of the solve time (73 -> 63 ms CPU, same
   // iterations and result).
   opts.SetIntegerValue("mumps_scaling", 0);
+  // Nor does it need MUMPS's maximum-transversal permutation: on this KKT structure that pass
+  // was most of the symbolic analysis (15 ms of a 100 ms solve), for the same pivots.
+  opts.SetIntegerValue("mumps_permuting_scaling", 0);
+  // IPOPT still refines a solution whose residual is too large (residual_ratio_max); the one
+  // refinement it otherwise always does cost a tenth of the solve here and changed nothing.
+  opts.SetIntegerValue("min_refinement_steps", 0);
   opts.SetStringValue("hessian_approximation", options.exact_hessian ? "exact" : "limited-memory");
   // "" skips reading an ipopt.opt from the working directory: results must not depend on it.
   Ipopt::ApplicationReturnStatus status = app->Initialize("");

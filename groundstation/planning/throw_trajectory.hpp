@@ -1,7 +1,8 @@
 // A planned throw (problem (34)) as the Hermite-Simpson collocation points it was solved on,
 // with the interpolants the transcription implies: between two knots the state is the cubic
 // Hermite polynomial through the knot states and their derivatives f(s, u), and the input is the
-// quadratic through knot, midpoint and knot.
+// quadratic through knot, midpoint and knot (the throw planner makes it linear: the midpoint input
+// is the mean of the knots').
 #pragma once
 
 #include <vector>

@@ -75,8 +75,8 @@ TEST_CASE("the NLP's gradient, Jacobian and Hessian match finite differences",
   Ipopt::Index n = 0, m = 0, nnz_jac = 0, nnz_h = 0;
   Ipopt::TNLP::IndexStyleEnum style;
   REQUIRE(nlp.get_nlp_info(n, m, nnz_jac, nnz_h, style));
-  REQUIRE(n == 9 * 9);
-  REQUIRE(m == 14 * 4 + 7 + 2 * 8);  // defects, F_N >= 0 inside, input slew per point pair
+  REQUIRE(n == 9 * 5);              // the knots
+  REQUIRE(m == 7 * 4 + 7 + 2 * 4);  // Simpson defects, F_N >= 0 inside, input slew per interval
 
   // A generic point: the straight line with a deterministic wiggle in every variable.
   Eigen::VectorXd x = nlp.initialGuess();
