@@ -13,7 +13,10 @@ namespace gs::planning {
 struct ThrowSolverOptions {
   int intervals = 100;         // N, collocation intervals over [0, T]
   double end_refinement = 0.9; // mesh grading, see throwCollocationMesh
-  double tolerance = 1e-9;     // IPOPT tol and constr_viol_tol (absolute, the unscaled problem)
+  // IPOPT's tol (the overall optimality error) and constr_viol_tol (absolute, the unscaled
+  // problem); the result is held against 1e-6 on every constraint.
+  double optimality_tolerance = 1e-8;
+  double feasibility_tolerance = 1e-9;
   int max_iterations = 300;
   int print_level = 0;         // IPOPT's 0..12
   bool exact_hessian = true;   // false: hessian_approximation limited-memory
