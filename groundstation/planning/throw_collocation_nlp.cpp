@@ -14,6 +14,11 @@ namespace planar = model::planar;
 constexpr int kP = ThrowCollocationNlp::kPointSize;
 constexpr int kO = ThrowCollocationNlp::kOutputs;
 constexpr int kS = planar::kStateSize;
+constexpr int kV = ThrowCollocationNlp::kKnotSize;
+constexpr int kSlack = ThrowCollocationNlp::kPointSize;  // a knot's first slack variable
+// The slacks of knot k, after its point: F_N at the knot, F_N at interval k's midpoint, and
+// interval k's thrust and pitch-rate slews.
+constexpr int kKnotForceSlack = kSlack, kMidForceSlack = kSlack + 1, kSlewSlack = kSlack + 2;
 constexpr double kInfinity = 2e19;  // IPOPT's default nlp_upper_bound_inf is 1e19
 
 // g(p) = (f(s, u), F_N(s, u) / m_p, running cost of (34)) for one collocation point.
@@ -142,25 +147,20 @@ ThrowCollocationNlp::ThrowCollocationNlp(const ThrowProblem& problem,
       intervals_(static_cast<int>(knots_s.size()) - 1),
       knots_s_(std::move(knots_s)) {
   checkCurvedVariables(problem_);
-  // The structures, in the order eval_jac_g and eval_h write their values.
-  const auto var = [](int knot, int index) { return kP * knot + index; };
-  // Dense blocks (see the header): every row of an interval on all 18 variables of its knots.
-  const auto add_jac = [&](int row, int first_knot, int knots) {
-    for (int d = 0; d < kP * knots; ++d) {
+  // The structures, in the order eval_jac_g and eval_h write their values. Dense blocks (see
+  // the header): an interval's rows on its first knot with its slacks and on its second knot's
+  // point; a knot's row on the knot with its slacks.
+  const auto var = [](int knot, int index) { return kV * knot + index; };
+  const auto add_jac = [&](int row, int knot, int columns) {
+    for (int d = 0; d < columns; ++d) {
       jac_rows_.push_back(row);
-      jac_cols_.push_back(kP * first_knot + d);
+      jac_cols_.push_back(var(knot, d));
     }
   };
   for (int k = 0; k < intervals_; ++k) {
-    for (int i = 0; i < kS; ++i) add_jac(7 * k + i, k, 2);
+    for (int i = 0; i < kIntervalRows; ++i) add_jac(kIntervalRows * k + i, k, kV + kP);
   }
-  for (int q = 1; q < pointCount() - 1; ++q) add_jac(normalForceRow(q), q / 2, q % 2 == 1 ? 2 : 1);
-  for (int k = 0; k < intervals_; ++k) {
-    for (int i = 0; i < planar::kInputSize; ++i) {
-      jac_rows_.insert(jac_rows_.end(), {slewRow(k, i), slewRow(k, i)});
-      jac_cols_.insert(jac_cols_.end(), {var(k + 1, kS + i), var(k, kS + i)});
-    }
-  }
+  for (int j = 1; j < intervals_; ++j) add_jac(knotRow(j), j, kV);
   for (int j = 0; j < knotCount(); ++j) {
     for (int r = 0; r < kP; ++r) {
       for (int c = 0; c <= r; ++c) {
@@ -189,12 +189,12 @@ void ThrowCollocationNlp::evaluate(const double* x, Evaluation& e) const {
   e.mid_map.resize(intervals_);
   e.mid_total.resize(intervals_);
   for (int j = 0; j < knots; ++j) {
-    pointJacobian(Eigen::Map<const PointVector>(x + kP * j), problem_, e.knot_value[j],
+    pointJacobian(Eigen::Map<const PointVector>(x + kV * j), problem_, e.knot_value[j],
                   e.knot_jacobian[j]);
   }
   for (int k = 0; k < intervals_; ++k) {
     const double h = intervalLength(k);
-    const Eigen::Map<const PointVector> p_a(x + kP * k), p_b(x + kP * (k + 1));
+    const Eigen::Map<const PointVector> p_a(x + kV * k), p_b(x + kV * (k + 1));
     PointVector& p_m = e.mid_point[k];
     p_m = 0.5 * (p_a + p_b);
     p_m.head<kS>() += h / 8.0 * (e.knot_value[k].head<kS>() - e.knot_value[k + 1].head<kS>());
@@ -234,10 +234,21 @@ void ThrowCollocationNlp::fixedBounds(Eigen::VectorXd& lower, Eigen::VectorXd& u
   upper.setConstant(n, kInfinity);
   const model::VehicleLimits& lim = problem_.limits;
   for (int j = 0; j < knotCount(); ++j) {
-    lower(kP * j + kS + planar::kThrust) = lim.a_q_min_mps2;
-    upper(kP * j + kS + planar::kThrust) = lim.a_q_max_mps2;
-    lower(kP * j + kS + planar::kPitchRate) = -lim.omega_max_radps;
-    upper(kP * j + kS + planar::kPitchRate) = lim.omega_max_radps;
+    lower(kV * j + kS + planar::kThrust) = lim.a_q_min_mps2;
+    upper(kV * j + kS + planar::kThrust) = lim.a_q_max_mps2;
+    lower(kV * j + kS + planar::kPitchRate) = -lim.omega_max_radps;
+    upper(kV * j + kS + planar::kPitchRate) = lim.omega_max_radps;
+    // F_N >= 0 and the slew limits, on the slacks; the slacks without a row are fixed at 0.
+    const bool inner = j > 0 && j < intervals_, has_interval = j < intervals_;
+    lower(kV * j + kKnotForceSlack) = 0.0;
+    upper(kV * j + kKnotForceSlack) = inner ? kInfinity : 0.0;
+    lower(kV * j + kMidForceSlack) = 0.0;
+    upper(kV * j + kMidForceSlack) = has_interval ? kInfinity : 0.0;
+    for (int i = 0; i < planar::kInputSize; ++i) {
+      const double limit = has_interval ? slewLimit(j, i) : 0.0;
+      lower(kV * j + kSlewSlack + i) = -limit;
+      upper(kV * j + kSlewSlack + i) = limit;
+    }
   }
   // s(0) = 0 with the hover input; s(T) = s_T with u_T (F_N = 0 exactly).
   PointVector start, end;
@@ -245,18 +256,33 @@ void ThrowCollocationNlp::fixedBounds(Eigen::VectorXd& lower, Eigen::VectorXd& u
   end << problem_.launch_state, problem_.launchInput();
   lower.head<kP>() = start;
   upper.head<kP>() = start;
-  lower.tail<kP>() = end;
-  upper.tail<kP>() = end;
+  lower.segment<kP>(kV * intervals_) = end;
+  upper.segment<kP>(kV * intervals_) = end;
 }
 
 Eigen::VectorXd ThrowCollocationNlp::initialGuess() const {
   PointVector start, end;
   start << model::PlanarState<double>::Zero(), problem_.hoverInput();
   end << problem_.launch_state, problem_.launchInput();
-  Eigen::VectorXd x(variableCount());
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(variableCount());
   for (int j = 0; j <= intervals_; ++j) {
     const double w = static_cast<double>(j) / intervals_;
-    x.segment<kP>(kP * j) = (1.0 - w) * start + w * end;
+    x.segment<kP>(kV * j) = (1.0 - w) * start + w * end;
+  }
+  // The slacks at the values of their rows, moved into their bounds.
+  Evaluation e;
+  evaluate(x.data(), e);
+  Eigen::VectorXd lower, upper;
+  fixedBounds(lower, upper);
+  for (int j = 0; j <= intervals_; ++j) {
+    x(kV * j + kKnotForceSlack) = e.knot_value[j](kNormalForceOutput);
+    if (j < intervals_) {
+      x(kV * j + kMidForceSlack) = e.mid_value[j](kNormalForceOutput);
+      for (int i = 0; i < planar::kInputSize; ++i) {
+        x(kV * j + kSlewSlack + i) = x(kV * (j + 1) + kS + i) - x(kV * j + kS + i);
+      }
+    }
+    for (int d = kSlack; d < kV; ++d) x(kV * j + d) = std::clamp(x(kV * j + d), lower(kV * j + d), upper(kV * j + d));
   }
   return x;
 }
@@ -267,7 +293,8 @@ ThrowTrajectory ThrowCollocationNlp::trajectoryFrom(const Eigen::VectorXd& x) co
   ThrowTrajectory traj;
   traj.params = problem_.params;
   for (int q = 0; q < pointCount(); ++q) {
-    const PointVector p = q % 2 == 0 ? PointVector(x.segment<kP>(kP * (q / 2))) : e.mid_point[q / 2];
+    const PointVector p =
+        q % 2 == 0 ? PointVector(x.segment<kP>(kV * (q / 2))) : e.mid_point[q / 2];
     traj.t_s.push_back(pointTime(q));
     traj.state.push_back(p.head<kS>());
     traj.input.push_back(p.tail<planar::kInputSize>());
@@ -278,23 +305,29 @@ ThrowTrajectory ThrowCollocationNlp::trajectoryFrom(const Eigen::VectorXd& x) co
 }
 
 double ThrowCollocationNlp::maxViolation(const Eigen::VectorXd& x) const {
-  const int n = variableCount(), m = constraintCount();
+  // The constraints of (34) on the trajectory itself, not through the slacks.
   Evaluation e;
   evaluate(x.data(), e);
-  Eigen::VectorXd g(m), lower, upper;
+  Eigen::VectorXd g(constraintCount()), lower, upper;
   if (!constraintsFrom(x.data(), e, g.data())) return std::numeric_limits<double>::infinity();
   double worst = 0.0;
-  for (int r = 0; r < 7 * intervals_; ++r) worst = std::max(worst, std::abs(g(r)));
-  // F_N >= 0 at every point, the fixed end knots included.
-  for (const OutputVector& v : e.knot_value) worst = std::max(worst, -v(kNormalForceOutput));
-  for (const OutputVector& v : e.mid_value) worst = std::max(worst, -v(kNormalForceOutput));
   for (int k = 0; k < intervals_; ++k) {
+    worst = std::max(worst, g.segment<kS>(kIntervalRows * k).cwiseAbs().maxCoeff());
+    worst = std::max(worst, -e.mid_value[k](kNormalForceOutput));
     for (int i = 0; i < planar::kInputSize; ++i) {
-      worst = std::max(worst, std::abs(g(slewRow(k, i))) - slewLimit(k, i));
+      const double slew = x(kV * (k + 1) + kS + i) - x(kV * k + kS + i);
+      worst = std::max(worst, std::abs(slew) - slewLimit(k, i));
     }
   }
+  // F_N >= 0 at every knot, the fixed end knots included.
+  for (const OutputVector& v : e.knot_value) worst = std::max(worst, -v(kNormalForceOutput));
   fixedBounds(lower, upper);
-  for (int i = 0; i < n; ++i) worst = std::max({worst, lower(i) - x(i), x(i) - upper(i)});
+  for (int j = 0; j <= intervals_; ++j) {
+    for (int d = 0; d < kP; ++d) {
+      const int i = kV * j + d;
+      worst = std::max({worst, lower(i) - x(i), x(i) - upper(i)});
+    }
+  }
   return worst;
 }
 
@@ -309,23 +342,14 @@ bool ThrowCollocationNlp::get_nlp_info(Ipopt::Index& n, Ipopt::Index& m, Ipopt::
 }
 
 bool ThrowCollocationNlp::get_bounds_info(Ipopt::Index n, Ipopt::Number* x_l,
-                                          Ipopt::Number* x_u, Ipopt::Index,
+                                          Ipopt::Number* x_u, Ipopt::Index m,
                                           Ipopt::Number* g_l, Ipopt::Number* g_u) {
   Eigen::VectorXd lower, upper;
   fixedBounds(lower, upper);
   Eigen::Map<Eigen::VectorXd>(x_l, n) = lower;
   Eigen::Map<Eigen::VectorXd>(x_u, n) = upper;
-  for (int r = 0; r < 7 * intervals_; ++r) g_l[r] = g_u[r] = 0.0;
-  for (int q = 1; q < pointCount() - 1; ++q) {
-    g_l[normalForceRow(q)] = 0.0;
-    g_u[normalForceRow(q)] = kInfinity;
-  }
-  for (int k = 0; k < intervals_; ++k) {
-    for (int i = 0; i < planar::kInputSize; ++i) {
-      g_l[slewRow(k, i)] = -slewLimit(k, i);
-      g_u[slewRow(k, i)] = slewLimit(k, i);
-    }
-  }
+  std::fill(g_l, g_l + m, 0.0);  // every row is an equality; the inequalities are on slacks
+  std::fill(g_u, g_u + m, 0.0);
   return true;
 }
 
@@ -357,10 +381,11 @@ bool ThrowCollocationNlp::eval_grad_f(Ipopt::Index n, const Ipopt::Number* x, bo
   grad.setZero();
   for (int k = 0; k < intervals_; ++k) {
     const double h = intervalLength(k);
-    grad.segment<kP>(kP * k) += h / 6.0 * cache_.knot_jacobian[k].row(kCostOutput).transpose();
-    grad.segment<kP>(kP * (k + 1)) +=
-        h / 6.0 * cache_.knot_jacobian[k + 1].row(kCostOutput).transpose();
-    grad.segment<2 * kP>(kP * k) += 4.0 * h / 6.0 * cache_.mid_total[k].row(kCostOutput).transpose();
+    const auto mid = cache_.mid_total[k].row(kCostOutput);
+    grad.segment<kP>(kV * k) +=
+        h / 6.0 * (cache_.knot_jacobian[k].row(kCostOutput) + 4.0 * mid.head<kP>()).transpose();
+    grad.segment<kP>(kV * (k + 1)) +=
+        h / 6.0 * (cache_.knot_jacobian[k + 1].row(kCostOutput) + 4.0 * mid.tail<kP>()).transpose();
   }
   return true;
 }
@@ -374,17 +399,23 @@ bool ThrowCollocationNlp::eval_g(Ipopt::Index, const Ipopt::Number* x, bool, Ipo
 bool ThrowCollocationNlp::constraintsFrom(const double* x, const Evaluation& e, double* g) const {
   for (int k = 0; k < intervals_; ++k) {
     const double h = intervalLength(k);
-    const Eigen::Map<const PointVector> p_a(x + kP * k), p_b(x + kP * (k + 1));
-    Eigen::Map<model::PlanarState<double>>(g + 7 * k) =
-        p_b.head<kS>() - p_a.head<kS>() -
+    const double* knot_a = x + kV * k;
+    const double* knot_b = x + kV * (k + 1);
+    double* row = g + kIntervalRows * k;
+    Eigen::Map<model::PlanarState<double>> defect(row);
+    defect =
+        Eigen::Map<const model::PlanarState<double>>(knot_b) -
+        Eigen::Map<const model::PlanarState<double>>(knot_a) -
         h / 6.0 *
             (e.knot_value[k].head<kS>() + 4.0 * e.mid_value[k].head<kS>() +
              e.knot_value[k + 1].head<kS>());
-    for (int i = 0; i < planar::kInputSize; ++i) g[slewRow(k, i)] = p_b(kS + i) - p_a(kS + i);
+    row[kS] = e.mid_value[k](kNormalForceOutput) - knot_a[kMidForceSlack];
+    for (int i = 0; i < planar::kInputSize; ++i) {
+      row[kS + 1 + i] = knot_b[kS + i] - knot_a[kS + i] - knot_a[kSlewSlack + i];
+    }
   }
-  for (int q = 1; q < pointCount() - 1; ++q) {
-    const OutputVector& v = q % 2 == 1 ? e.mid_value[q / 2] : e.knot_value[q / 2];
-    g[normalForceRow(q)] = v(kNormalForceOutput);
+  for (int j = 1; j < intervals_; ++j) {
+    g[knotRow(j)] = e.knot_value[j](kNormalForceOutput) - x[kV * j + kKnotForceSlack];
   }
   for (int r = 0; r < constraintCount(); ++r) {
     if (!std::isfinite(g[r])) return false;
@@ -401,23 +432,39 @@ bool ThrowCollocationNlp::eval_jac_g(Ipopt::Index, const Ipopt::Number* x, bool,
     return true;
   }
   evaluateCached(x);
+  // Each row as its dense block of the structure: (knot a, its slacks, knot b's point).
+  Eigen::Matrix<double, 1, kV + kP> row;
   double* out = values;
-  const auto put = [&out](const auto& row) {
-    for (int d = 0; d < row.size(); ++d) *out++ = row(d);
+  const auto put = [&out](const auto& r) {
+    for (int d = 0; d < r.size(); ++d) *out++ = r(d);
   };
   for (int k = 0; k < intervals_; ++k) {
-    const SimpsonJacobian jac = simpsonJacobian(k, cache_);
-    for (int i = 0; i < kS; ++i) put(jac.row(i));
-  }
-  for (int q = 1; q < pointCount() - 1; ++q) {
-    if (q % 2 == 1) put(cache_.mid_total[q / 2].row(kNormalForceOutput));
-    else put(cache_.knot_jacobian[q / 2].row(kNormalForceOutput));
-  }
-  for (int k = 0; k < intervals_; ++k) {
-    for (int i = 0; i < planar::kInputSize; ++i) {
-      *out++ = 1.0;
-      *out++ = -1.0;
+    const SimpsonJacobian simpson = simpsonJacobian(k, cache_);
+    for (int i = 0; i < kS; ++i) {
+      row.setZero();
+      row.segment<kP>(0) = simpson.row(i).head<kP>();
+      row.segment<kP>(kV) = simpson.row(i).tail<kP>();
+      put(row);
     }
+    const auto force = cache_.mid_total[k].row(kNormalForceOutput);
+    row.setZero();
+    row.segment<kP>(0) = force.head<kP>();
+    row.segment<kP>(kV) = force.tail<kP>();
+    row(kMidForceSlack) = -1.0;
+    put(row);
+    for (int i = 0; i < planar::kInputSize; ++i) {
+      row.setZero();
+      row(kV + kS + i) = 1.0;
+      row(kS + i) = -1.0;
+      row(kSlewSlack + i) = -1.0;
+      put(row);
+    }
+  }
+  for (int j = 1; j < intervals_; ++j) {
+    Eigen::Matrix<double, 1, kV> knot_row = Eigen::Matrix<double, 1, kV>::Zero();
+    knot_row.head<kP>() = cache_.knot_jacobian[j].row(kNormalForceOutput);
+    knot_row(kKnotForceSlack) = -1.0;
+    put(knot_row);
   }
   return out - values == nele_jac;
 }
@@ -473,10 +520,10 @@ void ThrowCollocationNlp::hessianBlocks(const double* x, const Evaluation& e, do
   coupling.resize(intervals_);  // rows of knot k + 1, columns of knot k
   for (int k = 0; k < intervals_; ++k) {
     const double h = intervalLength(k);
-    const Eigen::Map<const model::PlanarState<double>> simpson(lambda + 7 * k);
+    const Eigen::Map<const model::PlanarState<double>> simpson(lambda + kIntervalRows * k);
     OutputVector w_m = OutputVector::Zero();
     w_m.head<kS>() = -4.0 * h / 6.0 * simpson;
-    w_m(kNormalForceOutput) = lambda[normalForceRow(2 * k + 1)];
+    w_m(kNormalForceOutput) = lambda[kIntervalRows * k + kS];
     w_m(kCostOutput) = obj_factor * 4.0 * h / 6.0;
     for (int j : {k, k + 1}) {
       knot_weight[j].head<kS>() -= h / 6.0 * simpson;
@@ -498,10 +545,10 @@ void ThrowCollocationNlp::hessianBlocks(const double* x, const Evaluation& e, do
     coupling[k] = map_b.transpose().lazyProduct(ha);
   }
   for (int j = 1; j < intervals_; ++j) {
-    knot_weight[j](kNormalForceOutput) = lambda[normalForceRow(2 * j)];
+    knot_weight[j](kNormalForceOutput) = lambda[knotRow(j)];
   }
   for (int j = 0; j < knotCount(); ++j) {
-    diagonal[j] += pointHessian(Eigen::Map<const PointVector>(x + kP * j), knot_weight[j], problem_);
+    diagonal[j] += pointHessian(Eigen::Map<const PointVector>(x + kV * j), knot_weight[j], problem_);
   }
 }
 

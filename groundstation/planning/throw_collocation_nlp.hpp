@@ -1,30 +1,35 @@
 // Problem (34) transcribed by Hermite-Simpson collocation in its compressed form for IPOPT.
 //
-// Variables: the N + 1 knots p_k = (s_k, u_k) in R^9. Between two knots a = k, b = k + 1 with
-// h = t_b - t_a the input is linear, and the state is the cubic Hermite polynomial through the
-// knot states and slopes f_a = f(p_a), f_b = f(p_b); its midpoint is
+// Variables: per knot k = 0..N the point p_k = (s_k, u_k) in R^9 and four slacks (below).
+// Between two knots a = k, b = k + 1 with h = t_b - t_a the input is linear, and the state is
+// the cubic Hermite polynomial through the knot states and slopes f_a = f(p_a), f_b = f(p_b);
+// its midpoint is
 //   p_m(p_a, p_b) = ((s_a + s_b)/2 + h/8 (f_a - f_b), (u_a + u_b)/2).
-// Rows, in this order:
-//   Simpson defect   s_b - s_a - h/6 (f_a + 4 f(p_m) + f_b) = 0        (7 per interval)
-//   F_N(p) >= 0 at every point with free variables, in time order: the midpoints and the inner
-//                    knots (the end knots are fixed, and F_N there is g and, by the choice of
-//                    a_q,T, exactly 0)
-//   input slew       |u_b - u_a| <= rate h (2 per interval, linear, in the inputs' units so that
-//                    IPOPT's bound relaxation stays far below 1e-6; a rate of 0 is no bound; a
-//                    linear input moves at most half as much to the midpoint)
-// The objective is the Simpson quadrature of the running cost of (34). Boundary conditions are
-// fixed variable bounds, which IPOPT removes from the problem. This is the same scheme as the
-// separated form (midpoint states as variables, Hermite rows) with the midpoint input tied to
-// the knots, in half the unknowns and rows (N = 100: 909 and 1099 against 1809 and 1999): the KKT
-// systems that MUMPS factors in every iteration are what the solve time is made of.
+// Rows, all equalities; the inequalities of (34) are bounds on the slacks:
+//   interval k (10)  Simpson defect s_b - s_a - h/6 (f_a + 4 f(p_m) + f_b) = 0     (7)
+//                    F_N(p_m) - sigma_m,k = 0,            sigma_m,k >= 0
+//                    u_b - u_a - sigma_u,k = 0,           |sigma_u,k| <= rate h   (2, input slew)
+//   inner knot j     F_N(p_j) - sigma_j = 0,              sigma_j >= 0
+// The end knots are fixed (F_N is g at the start and, by the choice of a_q,T, exactly 0 at T)
+// by variable bounds, which IPOPT removes from the problem, as it does the slacks without a row.
+// The slews are in the inputs' units so that IPOPT's bound relaxation stays far below 1e-6; a
+// rate of 0 is no bound; a linear input moves at most half as much to the midpoint. The
+// objective is the Simpson quadrature of the running cost of (34). This is the separated scheme
+// (midpoint states as variables, Hermite rows) with the midpoint input tied to the knots, in half
+// the unknowns and rows.
+//
+// The slacks are ours rather than IPOPT's, and the Jacobian and Hessian blocks are declared dense
+// (explicit zeros included: an interval's rows on its first knot with its slacks and on its
+// second knot's point, a knot's row on the knot with its slacks), for the sake of MUMPS: the solve time is the
+// KKT factorisations and solves, and those cost per node of MUMPS's elimination tree far more
+// than per nonzero. Declared this way, a knot's variables and an interval's rows are each a
+// few indistinguishable supervariables, so the tree has a few hundred nodes, not thousands.
 //
 // Every nonlinear term lives in the point function g(p) = (f(s, u), F_N(s, u), cost(s, u)),
 // evaluated at the knots and, through p_m, at the midpoints. Its Jacobian comes from one
 // fixed-size forward AD pass per point (Eigen::AutoDiffScalar<Matrix<double, 9, 1>>) and the
 // chain rule through p_m; the exact Hessian of the Lagrangian from per-point Hessians of weighted
-// sums w . g(p) (nested forward AD) assembled the same way. The Jacobian and Hessian blocks are
-// declared dense per knot and interval: MUMPS then treats the nine variables of a knot and the
-// rows of an interval as single supervariables, which halves its per-node overhead.
+// sums w . g(p) (nested forward AD) assembled the same way.
 #pragma once
 
 #include <Eigen/Core>
@@ -45,6 +50,8 @@ std::vector<double> throwCollocationMesh(double duration_s, int intervals, doubl
 class ThrowCollocationNlp final : public Ipopt::TNLP {
  public:
   static constexpr int kPointSize = model::planar::kStateSize + model::planar::kInputSize;
+  static constexpr int kKnotSize = kPointSize + 4;  // the point and its four slacks
+  static constexpr int kIntervalRows = model::planar::kStateSize + 3;
   static constexpr int kOutputs = model::planar::kStateSize + 2;  // f, F_N, running cost
   static constexpr int kNormalForceOutput = model::planar::kStateSize;
   static constexpr int kCostOutput = model::planar::kStateSize + 1;
@@ -58,8 +65,8 @@ class ThrowCollocationNlp final : public Ipopt::TNLP {
   int knotCount() const { return intervals_ + 1; }
   // Collocation points of the trajectory: the knots and the interval midpoints, in time order.
   int pointCount() const { return 2 * intervals_ + 1; }
-  int variableCount() const { return kPointSize * knotCount(); }
-  int constraintCount() const { return slewRow(intervals_, 0); }
+  int variableCount() const { return kKnotSize * knotCount(); }
+  int constraintCount() const { return knotRow(intervals_); }
   int jacobianNonzeros() const { return static_cast<int>(jac_rows_.size()); }
   int hessianNonzeros() const { return static_cast<int>(hess_rows_.size()); }
 
@@ -130,9 +137,7 @@ class ThrowCollocationNlp final : public Ipopt::TNLP {
                      const double* lambda, std::vector<Block>& diagonal,
                      std::vector<Block>& coupling) const;
   double intervalLength(int k) const { return knots_s_[k + 1] - knots_s_[k]; }
-  int normalForceRow(int point) const { return 7 * intervals_ + point - 1; }  // point 1..2N-1
-  // The row of input i's slew over interval k.
-  int slewRow(int k, int i) const { return 7 * intervals_ + 2 * intervals_ - 1 + 2 * k + i; }
+  int knotRow(int j) const { return kIntervalRows * intervals_ + j - 1; }  // F_N at knot 1..N-1
   double slewLimit(int k, int i) const;  // the bound of a slew row; infinity when off
   double pointTime(int point) const;
   void fixedBounds(Eigen::VectorXd& lower, Eigen::VectorXd& upper) const;

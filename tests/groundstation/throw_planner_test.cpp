@@ -75,8 +75,8 @@ TEST_CASE("the NLP's gradient, Jacobian and Hessian match finite differences",
   Ipopt::Index n = 0, m = 0, nnz_jac = 0, nnz_h = 0;
   Ipopt::TNLP::IndexStyleEnum style;
   REQUIRE(nlp.get_nlp_info(n, m, nnz_jac, nnz_h, style));
-  REQUIRE(n == 9 * 5);              // the knots
-  REQUIRE(m == 7 * 4 + 7 + 2 * 4);  // Simpson defects, F_N >= 0 inside, input slew per interval
+  REQUIRE(n == 13 * 5);          // the knots, each with its slacks
+  REQUIRE(m == 10 * 4 + 3);      // per interval Simpson, F_N and slew rows; F_N at inner knots
 
   // A generic point: the straight line with a deterministic wiggle in every variable.
   Eigen::VectorXd x = nlp.initialGuess();
