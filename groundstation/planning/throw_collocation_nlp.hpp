@@ -70,8 +70,8 @@ class ThrowCollocationNlp final : public Ipopt::TNLP {
   int jacobianNonzeros() const { return static_cast<int>(jac_rows_.size()); }
   int hessianNonzeros() const { return static_cast<int>(hess_rows_.size()); }
 
-  // The straight line from hover to the launch state, states and inputs alike: the starting
-  // point given to IPOPT.
+  // The straight line from hover to the launch state, states and inputs alike, with each slack
+  // at its row's value moved into its bounds: the starting point given to IPOPT.
   Eigen::VectorXd initialGuess() const;
   // The trajectory a variable vector describes (with F_N at every point).
   ThrowTrajectory trajectoryFrom(const Eigen::VectorXd& x) const;
@@ -138,7 +138,7 @@ class ThrowCollocationNlp final : public Ipopt::TNLP {
                      std::vector<Block>& coupling) const;
   double intervalLength(int k) const { return knots_s_[k + 1] - knots_s_[k]; }
   int knotRow(int j) const { return kIntervalRows * intervals_ + j - 1; }  // F_N at knot 1..N-1
-  double slewLimit(int k, int i) const;  // the bound of a slew row; infinity when off
+  double slewLimit(int k, int i) const;  // |bound| of interval k's input-i slew; infinity when off
   double pointTime(int point) const;
   void fixedBounds(Eigen::VectorXd& lower, Eigen::VectorXd& upper) const;
 
