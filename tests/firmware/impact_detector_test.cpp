@@ -350,6 +350,58 @@ TEST_CASE("crashes are told apart from catches", "[impact]") {
   CHECK(reports[1].tick_s <= p.onset_s + p.duration_s);
 }
 
+TEST_CASE("while a landing is expected, the floor's push is a crash only above the touchdown peak",
+          "[impact]") {
+  // Stiff feet touching down at the failsafe descent's rate: a short, hard push up the body
+  // z-axis, far above crash_peak_mps2 (60) but below touchdown_crash_peak_mps2 (250).
+  Pulse touchdown;
+  touchdown.onset_s = 0.3002;
+  touchdown.duration_s = 0.004;
+  touchdown.peak_mps2 = 100;
+  touchdown.direction = D3{0.1, 0, 1};
+  touchdown.rate_change_radps = D3{1, -1, 0};
+  Sim sim(11);
+  sim.on_floor = [](double t) { return t >= 0.302; };
+  sim.command_mps2 = [](double) { return 8.0; };  // descending: a little under hover thrust
+  bool landing = true;
+  SECTION("a touchdown while landing is an unexpected impact") {}
+  SECTION("the same push without a landing expected is a crash") { landing = false; }
+  SECTION("a touchdown above the touchdown peak is a crash") { touchdown.peak_mps2 = 300; }
+  SECTION("a touchdown that tips the vehicle over is a crash") { touchdown.rate_change_radps = D3{25, 0, 0}; }
+  SECTION("the floor's friction on drifting feet adds a lateral part: still a touchdown") {
+    touchdown.direction = D3{0.5, 0, 1};  // 45 m/s^2 sideways, above crash_lateral_mps2 (25)
+  }
+  SECTION("a sideways hit while landing is a crash") {
+    touchdown.peak_mps2 = 40;
+    touchdown.direction = D3{1, 0, 0.2};
+  }
+  SECTION("a push down while landing is not a touchdown") {
+    touchdown.direction = D3{0, 0, -1};
+  }
+  sim.pulses.push_back(touchdown);
+  ImpactDetector detector = make_detector();
+  // The flag is raised from the start: the vehicle has been descending.
+  const std::vector<Report> reports = [&] {
+    std::vector<Report> out;
+    double thrust = 0, command = 0;
+    for (int k = 0; k < 500; ++k) {
+      ImpactInput in = sim.sample(k, thrust, command);
+      in.landing_expected = landing;
+      ImpactEvent e;
+      if (detector.update(in, e)) out.push_back(Report{in.t_us, k * 1e-3, e});
+    }
+    return out;
+  }();
+  REQUIRE(reports.size() == 2);
+  CHECK(std::fabs(sim.stream_s(reports[0].event.t_us) - touchdown.onset_s) <= 0.001);
+  const bool upward = touchdown.direction[2] > 0 && touchdown.direction[0] < 1;
+  const bool expect_crash = !landing || !upward || touchdown.peak_mps2 > 250 || touchdown.rate_change_radps[0] > 15;
+  CHECK((reports[1].event.classification == ImpactClass::crash) == expect_crash);
+  if (!expect_crash) CHECK(reports[1].event.classification == ImpactClass::unexpected_impact);
+  // A touchdown is what the vehicle treats as meeting the floor (vehicle.cpp).
+  CHECK(reports[1].event.touchdown == (landing && upward && !expect_crash));
+}
+
 TEST_CASE("a lasting step is one event, not a train of them", "[impact]") {
   ImpactDetector detector = make_detector();
   Sim sim(8);

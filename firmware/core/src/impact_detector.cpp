@@ -55,6 +55,7 @@ void ImpactDetector::reset() {
   above_ = 0;
   crash_level_only_ = false;
   catch_expected_ = false;
+  landing_expected_ = false;
   acc_ = {};
   onset_us_ = 0;
   detected_us_ = 0;
@@ -131,11 +132,13 @@ bool ImpactDetector::update(const ImpactInput& in, ImpactEvent& out) {
       above_ = 1;
       crash_level_only_ = refractory;
       catch_expected_ = in.catch_expected;
+      landing_expected_ = in.landing_expected;
       phase_ = Phase::pending;
       break;
     }
     case Phase::pending:
       catch_expected_ = catch_expected_ || in.catch_expected;
+      landing_expected_ = landing_expected_ || in.landing_expected;
       if (!triggered(minus(s.residual_mps2, reference_.residual_mps2), crash_level_only_)) {
         phase_ = Phase::idle;  // a spike too short to confirm
         has_settled_ = true;
@@ -148,6 +151,7 @@ bool ImpactDetector::update(const ImpactInput& in, ImpactEvent& out) {
     case Phase::active:
     case Phase::tail: {
       catch_expected_ = catch_expected_ || in.catch_expected;
+      landing_expected_ = landing_expected_ || in.landing_expected;
       const float change_mps2 = add(acc_, s, reference_);
       const bool released = change_mps2 < config_.release_mps2;
       const bool expired = pa::elapsed_us(in.t_us, onset_us_) >= static_cast<std::int32_t>(config_.event_window_us);
@@ -237,7 +241,16 @@ bool ImpactDetector::update(const ImpactInput& in, ImpactEvent& out) {
   }
 }
 
+bool ImpactDetector::touchdown(const Accumulator& acc) const {
+  return landing_expected_ && acc.peak_z_mps2 >= config_.catch_axis_fraction * acc.peak_mps2;
+}
+
 bool ImpactDetector::crash_seen(const Accumulator& acc, float peak_mps2) const {
+  // Touching down pushes up the body z-axis, as hard as the feet are stiff, and sideways as
+  // hard as the floor's friction holds feet that still drift: only its peak against the
+  // touchdown threshold and a tipping spin make it a crash.
+  if (touchdown(acc))
+    return peak_mps2 > config_.touchdown_crash_peak_mps2 || acc.rate_change_max_radps > config_.crash_rate_radps;
   return peak_mps2 > config_.crash_peak_mps2 || acc.lateral_max_mps2 > config_.crash_lateral_mps2 ||
          acc.rate_change_max_radps > config_.crash_rate_radps;
 }
@@ -287,11 +300,13 @@ void ImpactDetector::confirm(std::uint32_t now_us, ImpactEvent& out) {
   phase_ = Phase::active;
   out = ImpactEvent{onset_us_, acc_.peak_mps2, classify(acc_, acc_.peak_mps2), ImpactStage::detected, count_,
                     detected_us_};
+  out.touchdown = touchdown(acc_) && out.classification != ImpactClass::crash;
 }
 
 void ImpactDetector::finish(bool contact_over, ImpactEvent& out) {
   const float peak_mps2 = refined_peak();
   out = ImpactEvent{onset_us_, peak_mps2, classify(acc_, peak_mps2), ImpactStage::classified, count_, detected_us_};
+  out.touchdown = touchdown(acc_) && out.classification != ImpactClass::crash;
   phase_ = contact_over ? Phase::idle : Phase::tail;
   above_ = 0;
 }

@@ -113,10 +113,17 @@ TickOutput Vehicle::tick(const ImuSample& imu) {
 [[gnu::always_inline]] inline bool Vehicle::detect_impact(std::uint32_t now_us) {
   if (!imu_ok_) return false;
   ImpactEvent event{};
-  const ImpactInput input{now_us, accel_mps2_, gyro_radps_, thrust_applied_mps2_, catch_expected_};
+  // The failsafe descent expects the floor: its touchdown is not a crash by its peak alone.
+  const bool landing = supervisor_.mode() == Mode::failsafe_descent;
+  const ImpactInput input{now_us, accel_mps2_, gyro_radps_, thrust_applied_mps2_, catch_expected_, landing};
   if (!impacts_.update(input, event)) return false;
   const bool final = event.stage == ImpactStage::classified;
   link_.send_message(Impact{event.t_us, event.peak_mps2, event.classification, final, event.count});
+  // A touchdown stops the descent: once its contact is over the vehicle rests on the floor, so
+  // the vertical speed integrated since the failsafe began (which drifts with the
+  // accelerometer's bias) restarts from zero, and the descent law's thrust falls under the
+  // floor's support, which the ground-contact detector then sees.
+  if (event.touchdown && final) failsafe_vz_mps_ = 0;
   if (event.classification == ImpactClass::catch_impact && !reaction_active_) {
     reaction_active_ = true;
     reaction_started_us_ = now_us;

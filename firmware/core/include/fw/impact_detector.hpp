@@ -22,8 +22,11 @@
 //  4. The peak of |q - reference| is tracked and refined by a parabola through the largest
 //     sample and its neighbours (a 3 ms half-sine is only three samples wide at 1 kHz).
 //  5. Classification: crash when the peak, the lateral part or the rate change exceeds its
-//     threshold (any direction); otherwise a push along -z is a catch_impact when a catch is
-//     expected and an unexpected_impact when not; any other push is an unexpected_impact.
+//     threshold (any direction; while a landing is expected, a push up the body z-axis - the
+//     floor - is a crash only above the higher touchdown peak or by the rate change, since the
+//     floor's friction may push sideways as hard as it pushes up); otherwise a push along -z is a
+//     catch_impact when a catch is expected and an unexpected_impact when not; any other push
+//     is an unexpected_impact.
 //
 // Every event is reported exactly twice, on different ticks:
 //  - stage `detected` on the sample that confirms it (at most a few ms after the onset), with
@@ -59,6 +62,7 @@ struct ImpactInput {
   Vec3 gyro_radps{};                   // body rates
   float commanded_thrust_mps2 = 0.0f;  // collective applied to the motors over the interval ending here
   bool catch_expected = false;         // inside a catch window (EXPECT_CATCH)
+  bool landing_expected = false;       // descending to land: the floor may push up
 };
 
 enum class ImpactStage : std::uint8_t {
@@ -73,6 +77,7 @@ struct ImpactEvent {
   ImpactStage stage = ImpactStage::detected;
   std::uint8_t count = 0;         // this event's number since boot, wrapping (IMPACT count)
   std::uint32_t detected_us = 0;  // the sample that confirmed the event
+  bool touchdown = false;  // the floor's push up the body z-axis while a landing was expected, not a crash
 };
 
 class ImpactDetector {
@@ -131,6 +136,7 @@ class ImpactDetector {
   // add() the samples from oldest_age to the latest, following the rising edge.
   void accumulate(std::size_t oldest_age, const Sample& reference, Accumulator& acc, RisingEdge& edge) const;
   bool triggered(const Vec3& change_mps2, bool crash_level_only) const;
+  bool touchdown(const Accumulator& acc) const;  // a landing expected and the push up the body z-axis
   bool crash_seen(const Accumulator& acc, float peak_mps2) const;
   pa::proto::ImpactClass classify(const Accumulator& acc, float peak_mps2) const;
   float refined_peak() const;
@@ -159,6 +165,7 @@ class ImpactDetector {
   std::uint8_t above_ = 0;         // consecutive samples above the trigger (pending only)
   bool crash_level_only_ = false;  // the event began inside the refractory period
   bool catch_expected_ = false;    // a catch was expected at some sample of the event
+  bool landing_expected_ = false;  // a landing was expected at some sample of the event
   Accumulator acc_{};
   std::uint32_t onset_us_ = 0;
   std::uint32_t detected_us_ = 0;

@@ -1,0 +1,119 @@
+#include "hil/sil/firmware_vehicle.hpp"
+
+#include <stdexcept>
+#include <string>
+
+#include "pa/constants.hpp"
+
+namespace hil::sil {
+
+using pa::proto::Frame;
+
+fw::VehicleConfig firmware_config_for(const VehicleConfig& plant_vehicle, std::uint8_t node) {
+  fw::VehicleConfig c{};
+  fw::AirframeConfig& a = c.airframe;
+  a.mass_kg = static_cast<float>(plant_vehicle.mass_kg);
+  a.inertia_kgm2[0] = static_cast<float>(plant_vehicle.inertia_xx_kgm2);
+  a.inertia_kgm2[1] = static_cast<float>(plant_vehicle.inertia_yy_kgm2);
+  a.inertia_kgm2[2] = static_cast<float>(plant_vehicle.inertia_zz_kgm2);
+  // Both sides put the motors on the diagonals at this distance from the centre (mixer.hpp,
+  // motor.hpp), in the same order and with the same spin directions.
+  a.arm_length_m = static_cast<float>(plant_vehicle.arm_length_m);
+  a.yaw_moment_per_thrust_m = static_cast<float>(plant_vehicle.yaw_moment_per_thrust_m);
+  // The mixer sends thrust / motor_thrust_max_N; the plant makes command * gain *
+  // motor_thrust_max_N of it. With the same maximum the command is a thrust fraction on both
+  // sides, and only the plant's (unknown to the firmware) gains differ.
+  a.motor_thrust_max_N = static_cast<float>(plant_vehicle.motor_thrust_max_N);
+  a.motor_time_constant_s = static_cast<float>(plant_vehicle.motor_time_constant_s);
+  c.link.node = node;
+  return c;
+}
+
+FirmwareVehicle::FirmwareVehicle(int plant_vehicle, const fw::VehicleConfig& config)
+    : plant_vehicle_(plant_vehicle), node_(config.link.node), node_impl_(config) {
+  if (plant_vehicle != 0 && plant_vehicle != 1)
+    throw std::invalid_argument("plant vehicle " + std::to_string(plant_vehicle) + " does not exist (0 or 1)");
+  inbox_.reserve(16);
+  sent_.reserve(64);
+}
+
+void FirmwareVehicle::on_imu(const ImuSample& sample) {
+  const auto collect = [this](const Frame& f) { sent_.push_back(f); };
+  for (const Frame& f : inbox_) node_impl_.on_frame(f, collect);
+  inbox_.clear();
+
+  // The HIL_IMU tick is the plant's sample count modulo 2^16; the firmware unwraps it.
+  const auto tick = static_cast<std::uint16_t>(sample.tick & 0xFFFFu);
+  const pa::proto::HilImuGyro gyro{{static_cast<float>(sample.gyro_radps.x()), static_cast<float>(sample.gyro_radps.y()),
+                                    static_cast<float>(sample.gyro_radps.z())},
+                                   tick};
+  const pa::proto::HilImuAccel accel{{static_cast<float>(sample.accel_mps2.x()), static_cast<float>(sample.accel_mps2.y()),
+                                      static_cast<float>(sample.accel_mps2.z())},
+                                     tick};
+  const std::size_t first_reply = sent_.size();
+  Frame f;
+  if (pa::proto::encode(gyro, node_, f)) node_impl_.on_frame(f, collect);
+  if (pa::proto::encode(accel, node_, f)) node_impl_.on_frame(f, collect);
+  ++samples_fed_;
+
+  // The HIL_MOTORS answer for this tick comes first (hil_vehicle_node.hpp); it is the plant's,
+  // not the ground's, so it leaves the collected frames.
+  bool answered = false;
+  for (std::size_t i = first_reply; i < sent_.size(); ++i) {
+    pa::proto::Message m;
+    if (pa::proto::decode(sent_[i], m) != pa::proto::DecodeStatus::ok || m.type != pa::proto::Type::hil_motors ||
+        m.node != node_)
+      continue;
+    if (m.hil_motors.tick == tick) {
+      // Units: both are the normalised thrust fraction (see firmware_config_for()), so the
+      // mapping is one to one; the plant clamps to 0..1 itself.
+      for (int k = 0; k < 4; ++k) motors_.command[k] = static_cast<double>(m.hil_motors.command[k]);
+      answered = true;
+    }
+    sent_.erase(sent_.begin() + static_cast<std::ptrdiff_t>(i));
+    --i;
+  }
+  if (!answered) ++missed_ticks_;
+}
+
+std::vector<Frame> FirmwareVehicle::take_sent() {
+  std::vector<Frame> out;
+  out.swap(sent_);
+  sent_.reserve(64);
+  return out;
+}
+
+Lockstep::Lockstep(const PlantConfig& config, std::uint64_t seed)
+    : plant_(config, seed), period_s_(1.0 / static_cast<double>(config.imu.rate_Hz)) {
+  if (config.imu.rate_Hz != static_cast<int>(pa::kImuRate_Hz))
+    throw std::invalid_argument("the firmware runs on a " + std::to_string(pa::kImuRate_Hz) +
+                                " Hz IMU; the plant's imu_rate_Hz is " + std::to_string(config.imu.rate_Hz));
+}
+
+FirmwareVehicle& Lockstep::attach_firmware(int vehicle, const fw::VehicleConfig& config) {
+  if (vehicle != 0 && vehicle != 1)
+    throw std::invalid_argument("plant vehicle " + std::to_string(vehicle) + " does not exist (0 or 1)");
+  firmware_[static_cast<std::size_t>(vehicle)].emplace(vehicle, config);
+  return *firmware_[static_cast<std::size_t>(vehicle)];
+}
+
+FirmwareVehicle* Lockstep::firmware(int vehicle) {
+  if (vehicle != 0 && vehicle != 1) return nullptr;
+  auto& slot = firmware_[static_cast<std::size_t>(vehicle)];
+  return slot ? &*slot : nullptr;
+}
+
+void Lockstep::step() {
+  const MotorCommands off{};
+  const MotorCommands& v1 = firmware_[0] ? firmware_[0]->motor_commands() : off;
+  const MotorCommands& v2 = firmware_[1] ? firmware_[1]->motor_commands() : off;
+  plant_.step(period_s_, v1, v2);
+  for (int v = 0; v < 2; ++v) {
+    ImuSample sample;
+    while (plant_.pop_imu(v, sample)) {
+      if (firmware_[static_cast<std::size_t>(v)]) firmware_[static_cast<std::size_t>(v)]->on_imu(sample);
+    }
+  }
+}
+
+}  // namespace hil::sil

@@ -1,0 +1,123 @@
+// In-process software-in-the-loop (ARCHITECTURE.md "Three ways to run the same code"): a truth
+// plant vehicle flown by the real firmware core through the same HIL port the SocketCAN process
+// uses (fw::posix::HilVehicleNode), in lockstep and without a wall clock.
+//
+// The coupling is the vehicle bus of the HIL, in memory: each plant IMU sample goes to the
+// firmware as HIL_IMU_GYRO and HIL_IMU_ACCEL frames (so the sample is quantised exactly as on the
+// bus), the firmware answers with HIL_MOTORS for the same tick, and those motor commands are
+// held over the plant's next step. The plant is the time master: the firmware's clock is the
+// plant's IMU tick (tick k = k ms), so a run is reproducible from the plant's seed.
+//
+// Timing of one step, k -> k + 1: the plant integrates over the step with the commands answered
+// to sample k, ends with sample k + 1 at (k + 1) ms, the ground frames queued since the last
+// step reach the firmware (read at vehicle time k ms, the clock of its last sample), then sample
+// k + 1 runs the firmware's tick and its HIL_MOTORS answer is what the plant holds next. The
+// firmware's computation thus costs one IMU period of transport delay, the most a 1 kHz loop
+// that answers within its tick can cost.
+//
+// Ground-to-vehicle frames go straight to the vehicle's bus here; a caller that wants the
+// radio's latency and loss puts a hil::RadioBridge in front of inject() and behind take_sent().
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "fw/config.hpp"
+#include "hil/plant/plant.hpp"
+#include "hil_vehicle_node.hpp"
+#include "pa/protocol.hpp"
+
+namespace hil::sil {
+
+// The firmware configuration for the airframe the plant's NOMINAL vehicle describes, so that
+// the firmware's model (rate loop inertia, mixer geometry and thrust range, impact detector's
+// motor lag) and the plant start from the same numbers: mass, principal inertia, arm length,
+// yaw moment per thrust, the maximum motor thrust (so that a HIL_MOTORS command of 1 asks for
+// the same newtons on both sides) and the motor time constant. Everything else keeps the
+// firmware's documented defaults (fw/config.hpp), in particular motor_thrust_min_N, the ESC's
+// armed idle, which the plant has no parameter for: the plant turns its command into thrust
+// linearly from zero. `node` is the vehicle's CAN node (1..14).
+// The plant's per-motor gains, drag and randomised parameters are deliberately not passed on:
+// they are what the firmware has to cope with (randomise the plant after building this).
+fw::VehicleConfig firmware_config_for(const VehicleConfig& plant_vehicle, std::uint8_t node);
+
+// One plant vehicle flown by one firmware core.
+class FirmwareVehicle {
+ public:
+  // `plant_vehicle` is the plant's index (0 = vehicle1, 1 = vehicle2); `config.link.node` the
+  // firmware's node id. Throws std::invalid_argument for an index other than 0 or 1.
+  FirmwareVehicle(int plant_vehicle, const fw::VehicleConfig& config);
+
+  int plant_vehicle() const { return plant_vehicle_; }
+  std::uint8_t node() const { return node_; }
+
+  // A frame from the ground side (COMMAND, GS_HEARTBEAT, RATE_THRUST, KILL, TIMESYNC_REQUEST...),
+  // put on the vehicle bus before the next IMU sample (the firmware reads it then).
+  void inject(const pa::proto::Frame& frame) { inbox_.push_back(frame); }
+
+  // Hand the firmware the plant's IMU sample: the queued ground frames, then the sample as two
+  // HIL_IMU frames; decodes the HIL_MOTORS answer into motor_commands(). If the firmware does
+  // not answer for this tick (it always should in process), the previous commands are held, as
+  // an ESC holds its last input, and missed_ticks() counts it.
+  void on_imu(const ImuSample& sample);
+
+  // What the plant holds over its next step: the firmware's normalised commands, 0..1 per motor
+  // in the firmware's motor order (the plant's order too, types.hpp).
+  const MotorCommands& motor_commands() const { return motors_; }
+
+  // Every frame the firmware sent except HIL_MOTORS (heartbeats, telemetry, acks, IMPACT...),
+  // oldest first, since the last call.
+  std::vector<pa::proto::Frame> take_sent();
+
+  // The firmware itself, read only (mode, failsafe reason, attitude estimate...).
+  const fw::Vehicle& firmware() const { return node_impl_.vehicle(); }
+
+  std::uint64_t samples_fed() const { return samples_fed_; }
+  std::uint64_t missed_ticks() const { return missed_ticks_; }
+
+ private:
+  int plant_vehicle_;
+  std::uint8_t node_;
+  fw::posix::HilVehicleNode node_impl_;
+  std::vector<pa::proto::Frame> inbox_;
+  std::vector<pa::proto::Frame> sent_;
+  MotorCommands motors_{};
+  std::uint64_t samples_fed_ = 0;
+  std::uint64_t missed_ticks_ = 0;
+};
+
+// The plant and up to one firmware per plant vehicle, stepped together one IMU period at a time.
+// A plant vehicle without firmware gets zero motor commands (it stays parked, or falls), and its
+// IMU samples are discarded so that the plant's queue does not grow.
+class Lockstep {
+ public:
+  // The plant's IMU must run at the firmware's 1 kHz (pa::kImuRate_Hz): the firmware's clock is
+  // the HIL_IMU tick count times 1 ms. Throws std::invalid_argument otherwise (and whatever the
+  // Plant constructor throws).
+  Lockstep(const PlantConfig& config, std::uint64_t seed);
+
+  Plant& plant() { return plant_; }
+  const Plant& plant() const { return plant_; }
+
+  // Fly plant vehicle `vehicle` (0 or 1) with a firmware built from `config`; replaces any
+  // firmware already there. The firmware receives its first sample at the next step().
+  FirmwareVehicle& attach_firmware(int vehicle, const fw::VehicleConfig& config);
+  // The firmware flying `vehicle`, or nullptr.
+  FirmwareVehicle* firmware(int vehicle);
+
+  // One IMU period: the plant advances with the held commands, then each firmware gets the new
+  // sample and answers with the commands for the following period.
+  void step();
+
+  double t_s() const { return plant_.t_s(); }
+  double period_s() const { return period_s_; }
+
+ private:
+  Plant plant_;
+  double period_s_;
+  std::array<std::optional<FirmwareVehicle>, 2> firmware_;
+};
+
+}  // namespace hil::sil
