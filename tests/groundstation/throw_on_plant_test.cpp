@@ -23,50 +23,17 @@
 #include "groundstation/planning/throw_tracking.hpp"
 #include "hil/plant/plant.hpp"
 #include "hil/plant/vehicle_controller.hpp"
+#include "plant_throw_support.hpp"
 
 namespace {
 
 using gs::model::PlanarInput;
 using gs::model::PlanarState;
 namespace planar = gs::model::planar;
+using namespace plant_throw;
 
 constexpr double kFrame_s = 0.005;      // motion capture and ground-station commands, 200 Hz
 constexpr double kRateLoop_s = 0.001;   // the on-board rate loop, 1 kHz
-const hil::Vec3 kStart_m(0.0, 0.0, 1.5);  // the plan's origin (hover) in the arena: it dips 0.95 m
-
-// The planar state (planar_pole_vehicle.hpp) of the plant's vehicle 1 and pole, from the truth:
-// the pivot is the plate's centre (where the pole's lower end rests), theta the pitch of the
-// thrust axis, alpha the pole's tilt from the vertical towards +x.
-PlanarState<double> planarState(const hil::Plant& plant) {
-  const hil::VehicleState& v = plant.vehicle(0);
-  const hil::Mat3 r = v.body.rotation();
-  const hil::Vec3 pivot = plant.plate_centre_m(0) - kStart_m;
-  const hil::Vec3 lever = plant.plate_centre_m(0) - v.body.position_m;
-  const hil::Vec3 pivot_v = v.body.velocity_mps + v.body.rate_inertial_radps().cross(lever);
-  const hil::Vec3 n = plant.pole().axis();
-  PlanarState<double> s;
-  s << pivot.x(), pivot.z(), pivot_v.x(), pivot_v.z(), std::atan2(r(0, 2), r(2, 2)),
-      std::atan2(n.x(), n.z()), plant.pole().body.rate_inertial_radps().y();
-  return s;
-}
-
-gs::estimation::MocapFrame toEstimatorFrame(const hil::MocapFrame& f) {
-  gs::estimation::MocapFrame out;
-  out.t_s = f.capture_t_s;  // the estimator runs on the motion capture's clock
-  auto pose = [](const hil::MocapPose& p) {
-    gs::estimation::MocapPose q;
-    q.p_m = p.position_m;
-    q.q = p.attitude;
-    return q;
-  };
-  const auto& v1 = f.pose[static_cast<int>(hil::Body::vehicle1)];
-  const auto& v2 = f.pose[static_cast<int>(hil::Body::vehicle2)];
-  const auto& pole = f.pose[static_cast<int>(hil::Body::pole)];
-  if (v1.seen) out.vehicle[0] = pose(v1);
-  if (v2.seen) out.vehicle[1] = pose(v2);
-  if (pole.seen) out.pole = pose(pole);
-  return out;
-}
 
 struct Flight {
   std::optional<double> release_t_s;  // the plate's force on the pole vanishes (after T - 0.2 s)
@@ -89,14 +56,8 @@ Flight flyThrow(double catch_height_m) {
 
   hil::PlantConfig config;  // the documented defaults (hil/config/plant.conf)
   hil::Plant plant(config, 7);
-  hil::VehicleState thrower =
-      plant.hovering_vehicle(kStart_m - hil::Vec3(0, 0, config.vehicle.plate_height_m), 0.0);
-  for (double& f : thrower.motor_thrust_N) f += config.pole.mass_kg * config.gravity_mps2 / 4.0;
-  plant.set_vehicle(0, thrower);
-  plant.set_vehicle(1, plant.parked_vehicle(-2.0, 2.0, 0.0));
+  placeForThrow(plant);
   const double L = config.pole.half_length_m;
-  plant.set_pole(hil::Plant::make_pole(plant.plate_centre_m(0) + L * hil::Vec3::UnitZ(),
-                                       hil::Vec3::UnitZ(), hil::Vec3::Zero(), hil::Vec3::Zero()));
   const hil::VehicleController rate_loop(config.vehicle, config.gravity_mps2);
 
   gs::estimation::StateEstimator est;
@@ -105,9 +66,7 @@ Flight flyThrow(double catch_height_m) {
   const int steps_per_frame = static_cast<int>(std::lround(kFrame_s / kRateLoop_s));
   const double t_end = T + 1.6;
   // The true crossing: the pole's lower end coming down through the catching height.
-  std::optional<hil::Vec3> previous_low;
-  hil::Vec3 true_crossing = hil::Vec3::Zero();
-  std::vector<std::pair<double, gs::planning::CatchPointPrediction>> predictions;
+  CatchCheck catches(catch_height_m);
 
   for (int frame = 0; frame * kFrame_s < t_end; ++frame) {
     const double t = frame * kFrame_s;
@@ -118,9 +77,10 @@ Flight flyThrow(double catch_height_m) {
           gs::planning::saturate(tracker.command(t, planarState(plant)), problem.limits);
       command.a_q_mps2 = u(planar::kThrust);
       // Roll and yaw are held level by the on-board loop's own attitude (not part of the plan).
-      const hil::Mat3 r = plant.vehicle(0).body.rotation();
-      command.omega_radps = hil::Vec3(-8.0 * std::asin(std::clamp(r(2, 1), -1.0, 1.0)),
-                                      u(planar::kPitchRate), -8.0 * std::atan2(r(1, 0), r(0, 0)));
+      // Nothing balances the pole across the throw's plane here: this plant starts and stays
+      // exactly symmetric (no sensors in the loop), so it never leaves the plane; through the
+      // firmware, with IMU noise, it must be balanced (throw_through_firmware_test.cpp).
+      command.omega_radps = throwRates(plant.vehicle(0).body.rotation(), u(planar::kPitchRate));
     } else {
       // The release: the thrust drops to its minimum and the plate pitches back at the plan's
       // launch rate (Omega_y,T > 0, away from the pole's lower end), so that the plate falls
@@ -151,41 +111,25 @@ Flight flyThrow(double catch_height_m) {
           flight.launch_state = planarState(plant);
         }
       }
-      const hil::PoleState& pole = plant.pole();
-      const hil::Vec3 a = pole.end_m(0, L), b = pole.end_m(1, L);
-      const hil::Vec3 low = a.z() < b.z() ? a : b;
-      if (flight.launch_t_s && !flight.crossing_t_s && previous_low &&
-          previous_low->z() > catch_height_m &&
-          low.z() <= catch_height_m) {
-        flight.crossing_t_s = plant.t_s();
-        true_crossing = low;
-      }
-      previous_low = low;
+      catches.watch(plant, plant.t_s(), L, flight.launch_t_s.has_value());
     }
 
     hil::MocapFrame f;
     while (plant.pop_mocap(f)) {
       est.update(toEstimatorFrame(f));
       if (flight.launch_t_s && est.mode() == gs::estimation::PoleMode::free) {
-        predictions.emplace_back(f.capture_t_s,
-                                 gs::planning::predictCatchPoint(est.pole().state,
-                                                                 catch_height_m, est.poleModel()));
+        catches.predicted(f.capture_t_s, gs::planning::predictCatchPoint(
+                                             est.pole().state, catch_height_m, est.poleModel()));
       }
     }
   }
   flight.switches = est.recentSwitches();
   REQUIRE(flight.release_t_s);
   REQUIRE(flight.launch_t_s);
+  flight.crossing_t_s = catches.crossing_t_s();
   REQUIRE(flight.crossing_t_s);
-  auto errorAt = [&](double t) {
-    for (const auto& [tp, p] : predictions) {
-      if (tp < t - 1e-9) continue;
-      return p.found ? std::hypot(p.x_m - true_crossing.x(), p.y_m - true_crossing.y()) : 1e9;
-    }
-    return 1e9;
-  };
-  flight.catch_error_m = errorAt(*flight.release_t_s + 0.1);
-  flight.catch_error_late_m = errorAt(*flight.crossing_t_s - 0.15);
+  flight.catch_error_m = catches.errorAt(*flight.release_t_s + 0.1);
+  flight.catch_error_late_m = catches.errorAt(*flight.crossing_t_s - 0.15);
   return flight;
 }
 

@@ -1,0 +1,152 @@
+// What the tests that fly the optimal throw on the HIL truth plant share (throw_on_plant_test,
+// throw_through_firmware_test): the plan's origin in the arena, the ground station's states
+// read off the plant's truth, the motion-capture frame as the estimator takes it, and the body
+// rates the ground station sends while it tracks the planar throw.
+#pragma once
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "groundstation/control/balancing_lqr.hpp"
+#include "groundstation/estimation/state_estimator.hpp"
+#include "groundstation/model/planar_pole_vehicle.hpp"
+#include "groundstation/planning/catch_point_predictor.hpp"
+#include "hil/plant/plant.hpp"
+
+namespace plant_throw {
+
+// The plan's origin (hover) in the arena: the throw dips 0.95 m below it.
+inline const hil::Vec3 kStart_m(0.0, 0.0, 1.5);
+
+// The throw's start on the plant: vehicle 1 hovering with the plate at the plan's origin and
+// carrying the pole's weight, the pole upright and still on the plate, vehicle 2 parked aside.
+inline void placeForThrow(hil::Plant& plant) {
+  const hil::PlantConfig& config = plant.config();
+  hil::VehicleState thrower =
+      plant.hovering_vehicle(kStart_m - hil::Vec3(0, 0, config.vehicle.plate_height_m), 0.0);
+  for (double& f : thrower.motor_thrust_N) f += config.pole.mass_kg * config.gravity_mps2 / 4.0;
+  plant.set_vehicle(0, thrower);
+  plant.set_vehicle(1, plant.parked_vehicle(-2.0, 2.0, 0.0));
+  const double L = config.pole.half_length_m;
+  plant.set_pole(hil::Plant::make_pole(plant.plate_centre_m(0) + L * hil::Vec3::UnitZ(),
+                                       hil::Vec3::UnitZ(), hil::Vec3::Zero(), hil::Vec3::Zero()));
+}
+
+// The pivot (the plate's centre, where the pole's lower end rests) of the plant's vehicle 1,
+// relative to the plan's origin, and its velocity.
+struct Pivot {
+  hil::Vec3 p_m;
+  hil::Vec3 v_mps;
+};
+inline Pivot pivotOf(const hil::Plant& plant) {
+  const hil::VehicleState& v = plant.vehicle(0);
+  const hil::Vec3 lever = plant.plate_centre_m(0) - v.body.position_m;
+  return {plant.plate_centre_m(0) - kStart_m,
+          v.body.velocity_mps + v.body.rate_inertial_radps().cross(lever)};
+}
+
+// The planar state (planar_pole_vehicle.hpp) of the plant's vehicle 1 and pole, from the truth:
+// the pivot is the plate's centre (where the pole's lower end rests), theta the pitch of the
+// thrust axis, alpha the pole's tilt from the vertical towards +x.
+inline gs::model::PlanarState<double> planarState(const hil::Plant& plant) {
+  const hil::Mat3 r = plant.vehicle(0).body.rotation();
+  const Pivot pivot = pivotOf(plant);
+  const hil::Vec3 n = plant.pole().axis();
+  gs::model::PlanarState<double> s;
+  s << pivot.p_m.x(), pivot.p_m.z(), pivot.v_mps.x(), pivot.v_mps.z(), std::atan2(r(0, 2), r(2, 2)),
+      std::atan2(n.x(), n.z()), plant.pole().body.rate_inertial_radps().y();
+  return s;
+}
+
+// s_qp of eq. (31) from the truth, relative to the plan's origin, for the balancing LQR: the
+// pivot (plate centre) and its velocity, Z-Y-X Euler angles of eq. (3) (the thrust axis is
+// (cos phi sin theta, -sin phi, cos phi cos theta) at psi = 0), and the pole's deflection
+// L n = (a, b, c) (eq. (24)) with its rate L (omega x n).
+inline Eigen::VectorXd balancingState(const hil::Plant& plant, double half_length_m) {
+  namespace bal = gs::control::balancing;
+  const hil::Mat3 r = plant.vehicle(0).body.rotation();
+  const Pivot pivot = pivotOf(plant);
+  const hil::Vec3 n = plant.pole().axis();
+  const hil::Vec3 n_dot = plant.pole().body.rate_inertial_radps().cross(n);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(bal::kStateSize);
+  x.segment<3>(bal::kX) = pivot.p_m;
+  x.segment<3>(bal::kVx) = pivot.v_mps;
+  x(bal::kRoll) = std::asin(std::clamp(-r(1, 2), -1.0, 1.0));
+  x(bal::kPitch) = std::atan2(r(0, 2), r(2, 2));
+  x(bal::kYaw) = std::atan2(r(1, 0), r(0, 0));
+  x(bal::kA) = half_length_m * n.x();
+  x(bal::kB) = half_length_m * n.y();
+  x(bal::kADot) = half_length_m * n_dot.x();
+  x(bal::kBDot) = half_length_m * n_dot.y();
+  return x;
+}
+
+inline gs::estimation::MocapFrame toEstimatorFrame(const hil::MocapFrame& f) {
+  gs::estimation::MocapFrame out;
+  out.t_s = f.capture_t_s;  // the estimator runs on the motion capture's clock
+  auto pose = [](const hil::MocapPose& p) {
+    gs::estimation::MocapPose q;
+    q.p_m = p.position_m;
+    q.q = p.attitude;
+    return q;
+  };
+  const auto& v1 = f.pose[static_cast<int>(hil::Body::vehicle1)];
+  const auto& v2 = f.pose[static_cast<int>(hil::Body::vehicle2)];
+  const auto& pole = f.pose[static_cast<int>(hil::Body::pole)];
+  if (v1.seen) out.vehicle[0] = pose(v1);
+  if (v2.seen) out.vehicle[1] = pose(v2);
+  if (pole.seen) out.pole = pose(pole);
+  return out;
+}
+
+// The body rates the ground station sends while it tracks the planar throw: the planar pitch
+// rate, roll and yaw held level by a proportional law on the attitude (8/s).
+inline hil::Vec3 throwRates(const hil::Mat3& r, double pitch_rate_radps) {
+  return hil::Vec3(-8.0 * std::asin(std::clamp(r(2, 1), -1.0, 1.0)), pitch_rate_radps,
+                   -8.0 * std::atan2(r(1, 0), r(0, 0)));
+}
+
+// Where the plant's pole really comes down through the catching height, against the catch
+// points the ground station predicted on the way.
+class CatchCheck {
+ public:
+  explicit CatchCheck(double catch_height_m) : height_m_(catch_height_m) {}
+  double height_m() const { return height_m_; }
+
+  // After each plant step at time t_s: the first downward crossing of the pole's lower end,
+  // once the pole has been launched.
+  void watch(const hil::Plant& plant, double t_s, double half_length_m, bool launched) {
+    const hil::Vec3 a = plant.pole().end_m(0, half_length_m), b = plant.pole().end_m(1, half_length_m);
+    const hil::Vec3 low = a.z() < b.z() ? a : b;
+    if (launched && !crossing_t_s_ && previous_low_ && previous_low_->z() > height_m_ && low.z() <= height_m_) {
+      crossing_t_s_ = t_s;
+      crossing_m_ = low;
+    }
+    previous_low_ = low;
+  }
+  void predicted(double t_s, const gs::planning::CatchPointPrediction& p) { predictions_.emplace_back(t_s, p); }
+
+  const std::optional<double>& crossing_t_s() const { return crossing_t_s_; }
+  // The horizontal miss of the first prediction made at or after t_s (1e9 when there is none or
+  // it found no crossing).
+  double errorAt(double t_s) const {
+    for (const auto& [tp, p] : predictions_) {
+      if (tp < t_s - 1e-9) continue;
+      return p.found ? std::hypot(p.x_m - crossing_m_.x(), p.y_m - crossing_m_.y()) : 1e9;
+    }
+    return 1e9;
+  }
+
+ private:
+  double height_m_;
+  std::optional<hil::Vec3> previous_low_;
+  std::optional<double> crossing_t_s_;
+  hil::Vec3 crossing_m_ = hil::Vec3::Zero();
+  std::vector<std::pair<double, gs::planning::CatchPointPrediction>> predictions_;
+};
+
+}  // namespace plant_throw
