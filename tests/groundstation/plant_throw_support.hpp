@@ -1,7 +1,7 @@
 // What the tests that fly the optimal throw on the HIL truth plant share (throw_on_plant_test,
-// throw_through_firmware_test): the plan's origin in the arena, the ground station's states
-// read off the plant's truth, the motion-capture frame as the estimator takes it, and the body
-// rates the ground station sends while it tracks the planar throw.
+// throw_through_firmware_test): the plan's origin in the arena and the start, the ground
+// station's states read off the plant's truth, the motion-capture frame as the estimator takes
+// it, and the check of the catch point predictions against the true crossing.
 #pragma once
 
 #include <Eigen/Core>
@@ -101,13 +101,6 @@ inline gs::estimation::MocapFrame toEstimatorFrame(const hil::MocapFrame& f) {
   if (v2.seen) out.vehicle[1] = pose(v2);
   if (pole.seen) out.pole = pose(pole);
   return out;
-}
-
-// The body rates the ground station sends while it tracks the planar throw: the planar pitch
-// rate, roll and yaw held level by a proportional law on the attitude (8/s).
-inline hil::Vec3 throwRates(const hil::Mat3& r, double pitch_rate_radps) {
-  return hil::Vec3(-8.0 * std::asin(std::clamp(r(2, 1), -1.0, 1.0)), pitch_rate_radps,
-                   -8.0 * std::atan2(r(1, 0), r(0, 0)));
 }
 
 // Where the plant's pole really comes down through the catching height, against the catch

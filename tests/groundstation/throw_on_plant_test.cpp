@@ -19,6 +19,7 @@
 
 #include "groundstation/estimation/state_estimator.hpp"
 #include "groundstation/planning/catch_point_predictor.hpp"
+#include "groundstation/planning/throw_command.hpp"
 #include "groundstation/planning/throw_planner.hpp"
 #include "groundstation/planning/throw_tracking.hpp"
 #include "hil/plant/plant.hpp"
@@ -52,6 +53,8 @@ Flight flyThrow(double catch_height_m) {
   REQUIRE(plan.success);
   const gs::planning::ThrowTracker tracker(plan.trajectory);
   REQUIRE(tracker.valid());
+  const gs::control::LqrGain balancing = gs::control::balancingLqr();
+  REQUIRE(balancing.ok);
   const double T = problem.duration_s;
 
   hil::PlantConfig config;  // the documented defaults (hil/config/plant.conf)
@@ -73,14 +76,10 @@ Flight flyThrow(double catch_height_m) {
     // The ground station's command for this frame: the TV-LQR on the throw until T, then the
     // release.
     if (t < T - 1e-9) {
-      const PlanarInput<double> u =
-          gs::planning::saturate(tracker.command(t, planarState(plant)), problem.limits);
-      command.a_q_mps2 = u(planar::kThrust);
-      // Roll and yaw are held level by the on-board loop's own attitude (not part of the plan).
-      // Nothing balances the pole across the throw's plane here: this plant starts and stays
-      // exactly symmetric (no sensors in the loop), so it never leaves the plane; through the
-      // firmware, with IMU noise, it must be balanced (throw_through_firmware_test.cpp).
-      command.omega_radps = throwRates(plant.vehicle(0).body.rotation(), u(planar::kPitchRate));
+      // The ground station's 3D throw command (throw_command.hpp): the planar TV-LQR in the
+      // throw's plane, the pole balanced across it.
+      command = gs::planning::throwCommand(tracker, balancing, t, planarState(plant),
+                                           balancingState(plant, L), problem.limits);
     } else {
       // The release: the thrust drops to its minimum and the plate pitches back at the plan's
       // launch rate (Omega_y,T > 0, away from the pole's lower end), so that the plate falls

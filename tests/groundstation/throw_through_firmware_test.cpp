@@ -43,6 +43,7 @@
 #include "groundstation/control/balancing_lqr.hpp"
 #include "groundstation/estimation/state_estimator.hpp"
 #include "groundstation/planning/catch_point_predictor.hpp"
+#include "groundstation/planning/throw_command.hpp"
 #include "groundstation/planning/throw_planner.hpp"
 #include "groundstation/planning/throw_tracking.hpp"
 #include "hil/plant/plant.hpp"
@@ -206,20 +207,13 @@ Flight flyThrowThroughFirmware(double catch_height_m) {
         flight.start_state = planarState(plant);
       }
       const PlanarState<double> s = planarState(plant);
-      const PlanarInput<double> u =
-          gs::planning::saturate(tracker.command(tau, s), problem.limits);
-      command.a_q_mps2 = u(planar::kThrust);
-      command.omega_radps = throwRates(plant.vehicle(0).body.rotation(), u(planar::kPitchRate));
-      // Across the throw's plane the pole is balanced as in hover: the planar TV-LQR sees only
-      // the x-z plane, and the pole's sideways tilt b is as unstable as alpha (b'' = (3 a_q / 4L)
-      // b + ..., Section VII-A's model). Without this, the IMU's noise and biases, which break
-      // the plant's symmetry, grow into a sideways fall: measured, b/L went from 1e-4 at the
-      // start to 0.26 at t = 2.0 s and 0.98 at 2.4 s, and the pole left the plate 84 ms before
-      // T. The balancing LQR's roll-rate row, fed only the lateral states (the linearised
-      // dynamics about hover decouple the planes), is what the ground station must add.
-      Eigen::VectorXd lateral = balancingState(plant, L);
-      for (int i : {bal::kX, bal::kZ, bal::kVx, bal::kVz, bal::kPitch, bal::kA, bal::kADot}) lateral(i) = 0.0;
-      command.omega_radps.x() += (-balancing.K * lateral)(bal::kRateX);
+      // The ground station's 3D throw command (throw_command.hpp): the planar TV-LQR in the
+      // throw's plane, the pole balanced across it. Without the second part, the IMU's noise and
+      // biases, which break the plant's symmetry, grew into a sideways fall: b/L went from 1e-4
+      // at the start to 0.26 at t = 2.0 s and 0.98 at 2.4 s, and the pole left the plate 84 ms
+      // before T.
+      command = gs::planning::throwCommand(tracker, balancing, tau, s, balancingState(plant, L),
+                                           problem.limits);
       const PlanarState<double> ref = tracker.reference().stateAt(tau);
       const double tilt_error_rad = std::abs(s(planar::kAlpha) - ref(planar::kAlpha));
       flight.max_tilt_error_rad = std::max(flight.max_tilt_error_rad, tilt_error_rad);
