@@ -124,6 +124,17 @@ class CatchCheck {
   void predicted(double t_s, const gs::planning::CatchPointPrediction& p) { predictions_.emplace_back(t_s, p); }
 
   const std::optional<double>& crossing_t_s() const { return crossing_t_s_; }
+  // The figures both plant-throw tests bound: the miss of the prediction 0.1 s after the release
+  // and 0.15 s before the crossing. Empty when the pole never came down through the height.
+  struct Errors {
+    double crossing_t_s;
+    double after_release_m;
+    double before_crossing_m;
+  };
+  std::optional<Errors> errors(double release_t_s) const {
+    if (!crossing_t_s_) return std::nullopt;
+    return Errors{*crossing_t_s_, errorAt(release_t_s + 0.1), errorAt(*crossing_t_s_ - 0.15)};
+  }
   // The horizontal miss of the first prediction made at or after t_s (1e9 when there is none or
   // it found no crossing).
   double errorAt(double t_s) const {

@@ -300,10 +300,11 @@ Flight flyThrowThroughFirmware(double catch_height_m) {
   flight.samples_fed = firmware.samples_fed();
   REQUIRE(flight.release_t_s);
   REQUIRE(flight.launch_t_s);
-  flight.crossing_t_s = catches.crossing_t_s();
-  REQUIRE(flight.crossing_t_s);
-  flight.catch_error_m = catches.errorAt(*flight.release_t_s + 0.1);
-  flight.catch_error_late_m = catches.errorAt(*flight.crossing_t_s - 0.15);
+  const std::optional<CatchCheck::Errors> misses = catches.errors(*flight.release_t_s);
+  REQUIRE(misses);
+  flight.crossing_t_s = misses->crossing_t_s;
+  flight.catch_error_m = misses->after_release_m;
+  flight.catch_error_late_m = misses->before_crossing_m;
   return flight;
 }
 
