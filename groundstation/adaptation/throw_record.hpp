@@ -4,7 +4,7 @@
 // after the throw, where the catching vehicle stood at the impact, the pole energy after the
 // impact (41) and the outcome.
 //
-// All positions are inertial (z up, ARCHITECTURE.md); "xy" is the horizontal plane. Times of the
+// All positions are inertial (z up, docs/architecture.md, "Conventions"); "xy" is the horizontal plane. Times of the
 // catch are measured from the launch; time_s is the ground-station time of the launch as the
 // caller passes it (the store never reads a clock).
 #pragma once

@@ -16,7 +16,7 @@ namespace gs::apps {
 
 namespace {
 
-// Section VII-B: means over the paper's 9 throws, measured in flight (NOTES.md).
+// Section VII-B: means over the paper's 9 throws, measured in flight (docs/paper-notes.md).
 constexpr double kPaperFreeFlight_s = 0.812;
 constexpr double kPaperCatchHeight_m = 1.343;
 

@@ -187,7 +187,7 @@ int run(int argc, char** argv) {
   }
 
   // Limits: the given file, else the repository's file if run from the repository root, else
-  // the documented defaults (NOTES.md: roughly 1-20 m/s^2 and 10 rad/s for the platform).
+  // the documented defaults (docs/paper-notes.md: roughly 1-20 m/s^2 and 10 rad/s for the platform).
   InputLimits limits;
   std::string limits_source = "built-in defaults";
   std::error_code ec;

@@ -7,7 +7,7 @@
 //  cos theta cos phi), so to first order
 //   x'' = g theta,  y'' = -g phi,  z'' = a_q - g,
 // and the matrix of (5) is the identity at zero angles: (phi', theta', psi') = Omega.
-// The weights are a documented choice (NOTES.md leaves them open), see hoverLqrWeights().
+// The weights are a documented choice (the paper leaves them open, docs/paper-notes.md), see hoverLqrWeights().
 #pragma once
 
 #include "groundstation/control/lqr.hpp"

@@ -21,7 +21,7 @@
 // p_p'' = a_pivot + r'', with r'' from pole_on_vehicle.hpp):
 //   F / m_p = f / 4 + mu r,   mu = ((3/4) f . r - |r'|^2) / L^2,
 //   F_N / m_p = F . t        (t the plate normal, ^I_B R e_z)
-// which is NOTES.md's a_q - (3/4) a_q sin^2(alpha - theta) - L alpha'^2 cos(alpha - theta) in
+// which is docs/paper-notes.md's a_q - (3/4) a_q sin^2(alpha - theta) - L alpha'^2 cos(alpha - theta) in
 // the plane. F_N < 0 means the plate would have to pull: the pole has left (the launch).
 #pragma once
 

@@ -16,7 +16,7 @@
 // Input lags. The collective thrust reaches the vehicle through the motors, the body rates through
 // the on-board rate loop; the observer models both as first-order lags of the commands
 // (thrust_time_constant_s, rate_time_constant_s: documented choices, the paper leaves motor time
-// constants open, NOTES.md). The rate lag also gives the angular acceleration Omega', which
+// constants open, docs/paper-notes.md). The rate lag also gives the angular acceleration Omega', which
 // moves the catching plate (3 cm above the centre of gravity) by Omega' x r: a pitch-rate step
 // of 3 rad/s through a 12 ms rate loop accelerates the plate by several m/s^2, enough to
 // matter for the pole's contact force at the launch.

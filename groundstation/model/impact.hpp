@@ -38,7 +38,7 @@
 //     + sqrt(24 g (1 - cos alpha) / L) = 0,
 // which agrees with the printed (42) for alpha < 0 (the nominal catch, where the pole leans
 // towards -x and turns towards +x) and differs in the sign of the middle term for alpha > 0:
-// the printed form fixes one direction of rotation (NOTES.md).
+// the printed form fixes one direction of rotation (docs/paper-notes.md).
 #pragma once
 
 #include <Eigen/Dense>

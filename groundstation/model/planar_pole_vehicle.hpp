@@ -6,7 +6,7 @@
 // Templated on the scalar type so that Eigen's AutoDiffScalar (planning, LQR linearisation)
 // runs through the same code as double.
 //
-// Derivation (the paper's appendix is not available; NOTES.md). The pivot p_q accelerates with
+// Derivation (the paper's appendix is not available; docs/paper-notes.md). The pivot p_q accelerates with
 //   p_q'' = a_q (sin theta, cos theta) - (0, g)                                 eq. (4), planar
 // and the pole's centre is p_p = p_q + L (sin alpha, cos alpha) (eq. (23), (24) with b = 0).
 // In the pivot's frame the rod feels the effective gravity g - p_q'' = -a_q (sin theta, cos theta):

@@ -5,7 +5,7 @@
 // the pivot, L n = (a, b, sqrt(L^2 - a^2 - b^2)) (eq. 24), valid while a^2 + b^2 < L^2 (the pole
 // above the pivot's horizontal plane). The vehicle is not affected by the pole (Section II).
 //
-// Derivation of (28), (29) (the paper's appendix is not available; NOTES.md). Write r = L n =
+// Derivation of (28), (29) (the paper's appendix is not available; docs/paper-notes.md). Write r = L n =
 // (a, b, c), c = sqrt(L^2 - a^2 - b^2), so r' = (a', b', c') with c' = -(a a' + b b') / c (26).
 // Because n . n' = 0, |Omega~|^2 = |n x n'|^2 = |n'|^2 = |r'|^2 / L^2 (27), and Theta / L^2 =
 // m_p / 3 (9), so the Lagrangian (25) is
@@ -23,7 +23,7 @@
 //   r'' = -(3/4) f + mu r,   mu = ((3/4) f . r - |r'|^2) / L^2,
 // whose x and y components are a'' and b''. In the plane (b = 0, a = L sin alpha, f = a_q
 // (sin theta, 0, cos theta)) the tangential component is (4/3) L alpha'' = a_q sin(alpha - theta),
-// the pendulum equation of NOTES.md.
+// the pendulum equation of docs/paper-notes.md.
 #pragma once
 
 #include <Eigen/Dense>

@@ -60,7 +60,7 @@ Eigen::Vector3d bodyRatesFromEulerRates(double phi_rad, double theta_rad,
   return w * euler_rates_radps;
 }
 
-// Eq. (5) is the inverse of the printed matrix applied to Omega (NOTES.md); written out:
+// Eq. (5) is the inverse of the printed matrix applied to Omega (docs/paper-notes.md); written out:
 //   phi'   = Omega_x + tan(theta) (sin(phi) Omega_y + cos(phi) Omega_z)
 //   theta' = cos(phi) Omega_y - sin(phi) Omega_z
 //   psi'   = (sin(phi) Omega_y + cos(phi) Omega_z) / cos(theta)

@@ -2,7 +2,7 @@
 // mass-normalised collective thrust a_q along the body z-axis and the body rates Omega_q, tracked
 // on board by a high-bandwidth rate loop so that the rotational dynamics are neglected.
 //
-// Conventions (helper brief, NOTES.md): inertial frame z up, gravity (0, 0, -g); zyx Euler angles
+// Conventions (docs/paper-notes.md): inertial frame z up, gravity (0, 0, -g); zyx Euler angles
 // (yaw psi, pitch theta, roll phi) with ^B_I R = R_x(phi) R_y(theta) R_z(psi) (eq. 3), each
 // R_(.) the passive (frame) rotation, so that the thrust direction ^I_B R e_z is
 // (sin theta, 0, cos theta) for phi = psi = 0: the planar model's (sin theta, cos theta).

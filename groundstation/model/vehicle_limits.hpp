@@ -1,6 +1,6 @@
 // The quadrocopter input limits, eq. (1) and (2), and their loader from the documented
 // key = value file groundstation/config/vehicle_limits.conf (the paper leaves the values open;
-// the file justifies them from NOTES.md). The loader never throws: errors come back with the
+// the file justifies them from docs/paper-notes.md). The loader never throws: errors come back with the
 // file name and line number.
 #pragma once
 

@@ -125,7 +125,7 @@ struct CatchReference {
 // Nominal inputs of a flat-output trajectory for a constant yaw (eqs. (46), (47), (4), (5)).
 // f = a + (0, 0, g); a_q = |f|; roll and pitch put the body z-axis along f (eq. (4) with
 // B_I R = R_x(phi) R_y(theta) R_z(psi), eq. (3)); (Omega_y, -Omega_x, 0) = B_I R (d/dt)(f/|f|)
-// (47); and Omega_z = -tan(phi) Omega_y, the body yaw rate that keeps psi' = 0 in (5) (NOTES.md:
+// (47); and Omega_z = -tan(phi) Omega_y, the body yaw rate that keeps psi' = 0 in (5) (docs/paper-notes.md:
 // (47) is for a constant yaw and does not fix Omega_z).
 struct NominalInputs {
   double thrust_mps2 = 0;

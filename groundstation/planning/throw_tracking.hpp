@@ -16,7 +16,7 @@
 namespace gs::planning {
 
 // Diagonal weights of the tracking cost int e^T Q e + du^T R du dt + e(T)^T Q_f e(T), chosen by
-// Bryson's rule from the error each state may tolerate (NOTES.md leaves LQR weights open):
+// Bryson's rule from the error each state may tolerate (the paper leaves LQR weights open, docs/paper-notes.md):
 // position 5 cm, velocity 0.2 m/s, pitch 0.1 rad, pole tilt 0.02 rad (the pole is what is being
 // thrown and the unstable part), pole rate 0.2 rad/s; inputs 2 m/s^2 of thrust and 2 rad/s of
 // pitch rate. The terminal weight is Q_f = Q: the final gain is R^-1 B^T Q_f (400 on the pitch

@@ -8,5 +8,6 @@ namespace hil::apps {
 
 int cmdRecord(int argc, char** argv);
 int cmdConfig(int argc, char** argv);
+int cmdFly(int argc, char** argv);
 
 }  // namespace hil::apps

@@ -1,7 +1,7 @@
 // Value types of the truth plant: the true states of the two vehicles and the pole, the motor
 // commands that drive the vehicles, and the names of the bodies and contacts.
 //
-// Frames: the inertial frame has z up and gravity along -z (ARCHITECTURE.md conventions). A
+// Frames: the inertial frame has z up and gravity along -z (docs/architecture.md, "Conventions"). A
 // vehicle's body frame has x forward, y left, z up (thrust and plate normal along +z), as in
 // firmware/core/include/fw/mixer.hpp. The pole's body frame has its z-axis along the pole: the
 // unit vector n of the paper (Section II-B) is the body z-axis expressed in the inertial frame.

@@ -264,9 +264,9 @@ TEST_CASE("the AutoDiff instantiation matches finite differences of the double o
 TEST_CASE("at the printed Fig. 5 launch state F_N is zero within one unit of the printed alpha'",
           "[planar_pole_vehicle]") {
   const double fn = gs::model::planarNormalForcePerMass_mps2<double>(-0.48, 0.48, 2.5, 4.48);
-  CHECK(fn == Approx(-0.1585).margin(5e-4));  // NOTES.md: about -0.16 m/s^2
+  CHECK(fn == Approx(-0.1585).margin(5e-4));  // docs/paper-notes.md: about -0.16 m/s^2
 
-  // "Zero within the rounding of the printed numbers" (NOTES.md): F_N is the small remainder of
+  // "Zero within the rounding of the printed numbers" (docs/paper-notes.md): F_N is the small remainder of
   // terms of about 4.5 m/s^2 that cancel, and it is smaller than what one unit in the last printed
   // digit of alpha' (0.1 rad/s) changes: alpha' = 2.4154 (printed "2.4" at that precision, 0.085
   // below 2.5) makes it exactly zero (next test case).

@@ -196,7 +196,7 @@ TEST_CASE("the drag scale is estimated online", "[estimation]") {
   CHECK(k_mean == Approx(1.0 / 1.3).margin(0.08));
 }
 
-TEST_CASE("the plate's normal force is NOTES.md's planar formula", "[estimation]") {
+TEST_CASE("the plate's normal force is the planar formula of docs/paper-notes.md", "[estimation]") {
   const PoleParams params;
   std::mt19937 rng(8);
   std::uniform_real_distribution<double> u(-1.0, 1.0);

@@ -1,6 +1,6 @@
 // The pole on the vehicle, eq. (23)-(31): the equations of motion (28), (29) against the
 // Euler-Lagrange equations evaluated numerically from the Lagrangian (25)-(27), energy
-// conservation on a pivot at rest, and the planar pendulum of NOTES.md.
+// conservation on a pivot at rest, and the planar pendulum of docs/paper-notes.md.
 #include "groundstation/model/pole_on_vehicle.hpp"
 
 #include <algorithm>

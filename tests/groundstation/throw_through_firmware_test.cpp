@@ -3,7 +3,7 @@
 // ki 40/s^2, mixer, supervisor, impact detector, at 1 kHz in lockstep through HIL_IMU /
 // HIL_MOTORS frames) instead of the stand-in body-rate loop hil::VehicleController::track_rates.
 // The ground station's side is what it would send over the protocol: GS_HEARTBEAT at 50 Hz, an
-// ARM command, and from then on one RATE_THRUST frame every 5 ms (ARCHITECTURE.md "One tick of
+// ARM command, and from then on one RATE_THRUST frame every 5 ms (docs/architecture.md "One tick of
 // the system"), quantised by the frame to 2 mrad/s and 0.01 m/s^2. The estimator runs beside
 // it, as in flight, on the plant's motion capture and on the commands as sent.
 //

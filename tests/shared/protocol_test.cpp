@@ -1,4 +1,4 @@
-// The decoder is the most tested code in the project (STYLE.md, libcanard): a round trip for
+// The decoder is the most tested code in the project: a round trip for
 // every frame, every malformed case rejected and counted, and random frames never crash it.
 #include <catch2/catch.hpp>
 

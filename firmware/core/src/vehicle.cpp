@@ -60,7 +60,7 @@ Vehicle::PeriodicTask Vehicle::task(void (Vehicle::*run)(std::uint32_t), std::ui
 
 void Vehicle::on_frame(const Frame& frame, std::uint32_t now_us) { link_.on_frame(frame, now_us); }
 
-// The 1 kHz loop, top to bottom (ARCHITECTURE.md "One tick of the system"):
+// The 1 kHz loop, top to bottom (docs/architecture.md, "One tick of the system"):
 // sample -> attitude -> link -> impact detector -> supervisor -> setpoint -> rate controller
 // -> mixer -> motors, then the periodic tasks.
 // Its steps below are called from here only and forced inline (even at -Os), so the loop pays

@@ -18,7 +18,7 @@ inline constexpr double kPoleDragRotational = 2.1e-3;  // c_rot
 inline constexpr double kPlateDiameter_m = 0.12;
 inline constexpr double kPlateHeightAboveCg_m = 0.03;
 
-// Loop rates (ARCHITECTURE.md, "One tick of the system").
+// Loop rates (docs/architecture.md, "One tick of the system").
 inline constexpr unsigned kImuRate_Hz = 1000;
 inline constexpr unsigned kMocapRate_Hz = 200;
 inline constexpr unsigned kImuPeriod_us = 1000000u / kImuRate_Hz;

@@ -1,6 +1,6 @@
 // Vehicle firmware configuration with its documented defaults.
 //
-// The paper leaves the vehicle open (NOTES.md): the defaults describe a modified AscTec
+// The paper leaves the vehicle open (docs/paper-notes.md): the defaults describe a modified AscTec
 // Hummingbird with a catching plate, the paper's platform. Collective thrust reaches about
 // 1-24 m/s^2 and body rates are limited to 10 rad/s, typical of that platform.
 #pragma once

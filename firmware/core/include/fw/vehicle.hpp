@@ -1,5 +1,5 @@
 // The vehicle firmware's composition root: every core module wired in the fixed loop order of
-// ARCHITECTURE.md, and the static task table of the slower periodic work. A port owns one
+// docs/architecture.md, and the static task table of the slower periodic work. A port owns one
 // Vehicle (a static instance on the MCU), hands it received frames and IMU samples on one
 // clock, drives the motors with what tick() returns and sends what pop_tx() yields.
 // No heap; every call is bounded in time.

@@ -1,0 +1,32 @@
+# pa_check_no_link(<target> <regex>): fails the configuration when <target> links, directly or
+# through its libraries, a target whose name matches <regex>. The ground station must never link
+# hil (the truth plant): its controllers run on what an arena gives them, frames and poses.
+function(pa_collect_links target out)
+  set(seen ${${out}})
+  get_target_property(libs ${target} LINK_LIBRARIES)
+  if(NOT libs)
+    set(${out} ${seen} PARENT_SCOPE)
+    return()
+  endif()
+  foreach(lib IN LISTS libs)
+    if(TARGET ${lib} AND NOT lib IN_LIST seen)
+      list(APPEND seen ${lib})
+      pa_collect_links(${lib} seen)
+    endif()
+  endforeach()
+  set(${out} ${seen} PARENT_SCOPE)
+endfunction()
+
+function(pa_check_no_link target regex)
+  if(NOT TARGET ${target})
+    return()
+  endif()
+  set(links "")
+  pa_collect_links(${target} links)
+  foreach(lib IN LISTS links)
+    if(lib MATCHES "${regex}")
+      message(FATAL_ERROR "${target} links ${lib}: the ground station must not link the HIL "
+                          "(no plant truth in the ground station; see docs/architecture.md)")
+    endif()
+  endforeach()
+endfunction()

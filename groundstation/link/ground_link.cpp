@@ -1,0 +1,457 @@
+#include "groundstation/link/ground_link.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "pa/sequence.hpp"
+
+namespace gs::link {
+
+using namespace pa::proto;
+
+namespace {
+
+// A heartbeat whose vehicle clock advanced by more than this beyond (or behind) the ground time
+// since the previous one means the vehicle's clock jumped: it rebooted. Radio jitter is a few
+// ms and crystal drift 0.1 ms/s, so this never fires on a running vehicle.
+constexpr double kClockJump_s = 0.5;
+// Setpoints are converted to float for the frame; anything beyond this saturates in encode()
+// anyway, and clamping first keeps huge finite doubles from becoming float infinities.
+constexpr double kSetpointClamp = 1.0e6;
+// The caller's tick times are computed in floating point: a tick meant for the due time may land
+// a rounding error before it, which must not delay the work by a whole tick.
+constexpr double kScheduleSlack_s = 1e-6;
+
+bool reached(double now_s, double due_s) { return now_s >= due_s - kScheduleSlack_s; }
+
+bool positiveFinite(double v) { return std::isfinite(v) && v > 0.0; }
+
+void requireFinite(double now_s, const char* what) {
+  if (!std::isfinite(now_s)) throw std::invalid_argument(std::string("GroundLink::") + what + ": now_s is not finite");
+}
+
+float toFrameValue(double v) { return static_cast<float>(std::clamp(v, -kSetpointClamp, kSetpointClamp)); }
+
+}  // namespace
+
+std::uint32_t GroundLink::groundTimeUs(double now_s) {
+  // Modulo 2^32 through the unsigned 64-bit conversion, negative times included.
+  return static_cast<std::uint32_t>(static_cast<std::uint64_t>(std::llround(now_s * 1e6)));
+}
+
+std::uint32_t GroundLink::groundTimeMs(double now_s) {
+  return static_cast<std::uint32_t>(static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(now_s * 1e3))));
+}
+
+GroundLink::GroundLink(FrameBus& bus, std::vector<std::uint8_t> vehicle_nodes, const GroundLinkConfig& config)
+    : bus_(bus), nodes_(std::move(vehicle_nodes)), config_(config) {
+  if (nodes_.empty()) throw std::invalid_argument("GroundLink: no vehicle nodes");
+  index_.fill(-1);
+  for (std::size_t i = 0; i < nodes_.size(); ++i) {
+    const std::uint8_t n = nodes_[i];
+    if (n < kFirstVehicleNode || n > kLastVehicleNode)
+      throw std::invalid_argument("GroundLink: vehicle node " + std::to_string(n) + " is not 1..14");
+    if (index_[n] >= 0) throw std::invalid_argument("GroundLink: vehicle node " + std::to_string(n) + " is listed twice");
+    index_[n] = static_cast<std::int8_t>(i);
+  }
+  if (!positiveFinite(config_.heartbeat_period_s) || !positiveFinite(config_.timesync_period_s) ||
+      !positiveFinite(config_.command_retry_s) || !positiveFinite(config_.vehicle_timeout_s) ||
+      !positiveFinite(config_.link_quality_window_s) || !positiveFinite(config_.vehicle_heartbeat_period_s))
+    throw std::invalid_argument("GroundLink: periods and time-outs must be positive and finite");
+  if (config_.command_attempts < 1) throw std::invalid_argument("GroundLink: command_attempts must be at least 1");
+  if (config_.link_quality_window_s / config_.vehicle_heartbeat_period_s > static_cast<double>(kHeartbeatHistory))
+    throw std::invalid_argument("GroundLink: link_quality_window_s spans more heartbeats than are kept");
+
+  vehicles_.resize(nodes_.size());
+  for (std::size_t i = 0; i < nodes_.size(); ++i) vehicles_[i].status.node = nodes_[i];
+}
+
+int GroundLink::indexOf(std::uint8_t node) const { return node < index_.size() ? index_[node] : -1; }
+
+const GroundLink::Vehicle& GroundLink::vehicle(std::uint8_t node) const {
+  const int i = indexOf(node);
+  if (i < 0) throw std::out_of_range("GroundLink: node " + std::to_string(node) + " is not one of its vehicles");
+  return vehicles_[static_cast<std::size_t>(i)];
+}
+
+GroundLink::Vehicle& GroundLink::vehicle(std::uint8_t node) {
+  const int i = indexOf(node);
+  if (i < 0) throw std::out_of_range("GroundLink: node " + std::to_string(node) + " is not one of its vehicles");
+  return vehicles_[static_cast<std::size_t>(i)];
+}
+
+const VehicleLinkStatus& GroundLink::status(std::uint8_t node) const { return vehicle(node).status; }
+
+bool GroundLink::send(const Frame& frame) {
+  if (bus_.send(frame)) {
+    ++counters_.frames_sent;
+    return true;
+  }
+  ++counters_.send_refused;
+  return false;
+}
+
+bool GroundLink::due(bool& started, double& next_s, double period_s, double now_s) {
+  if (started && !reached(now_s, next_s)) return false;
+  // Keep the phase while on time; after a gap (a late tick) start again from now rather than
+  // sending a burst to catch up.
+  next_s = started ? next_s + period_s : now_s + period_s;
+  if (reached(now_s, next_s)) next_s = now_s + period_s;
+  started = true;
+  return true;
+}
+
+// ---------------------------------------------------------------------------------------
+// Receiving
+// ---------------------------------------------------------------------------------------
+void GroundLink::onFrame(const Frame& frame, double now_s) {
+  requireFinite(now_s, "onFrame");
+  ++counters_.frames_received;
+  Message m;
+  switch (decode(frame, m)) {
+    case DecodeStatus::ok: break;
+    case DecodeStatus::unknown_type: ++counters_.unknown_type; return;
+    case DecodeStatus::wrong_length: ++counters_.wrong_length; return;
+    case DecodeStatus::out_of_range: ++counters_.out_of_range; return;
+  }
+  // decode() succeeded, so the type is in the catalogue.
+  if (find_type(static_cast<std::uint8_t>(m.type))->direction != Direction::vehicle_to_ground) {
+    ++counters_.wrong_direction;
+    return;
+  }
+  const int i = indexOf(m.node);
+  if (i < 0) {
+    ++counters_.foreign_node;
+    return;
+  }
+  Vehicle& v = vehicles_[static_cast<std::size_t>(i)];
+  ++v.status.frames_received;
+
+  bool used = true;
+  switch (m.type) {
+    case Type::vehicle_heartbeat: used = onHeartbeat(v, m.vehicle_heartbeat, now_s); break;
+    case Type::timesync_reply: used = onTimesyncReply(v, m.timesync_reply, now_s); break;
+    case Type::command_ack: used = onAck(v, m.command_ack); break;
+    case Type::impact: onImpact(v, m.impact, now_s); break;
+    case Type::telemetry_rates: v.status.rates = {true, now_s, m.telemetry_rates}; break;
+    case Type::telemetry_attitude: v.status.attitude = {true, now_s, m.telemetry_attitude}; break;
+    case Type::telemetry_motors: v.status.motors = {true, now_s, m.telemetry_motors}; break;
+    case Type::telemetry_status: v.status.vehicle_status = {true, now_s, m.telemetry_status}; break;
+    default: used = false; break;  // no other vehicle-to-ground type exists
+  }
+  if (used) ++counters_.accepted;
+  else ++counters_.stale;
+}
+
+bool GroundLink::onHeartbeat(Vehicle& v, const VehicleHeartbeat& hb, double now_s) {
+  VehicleLinkStatus& s = v.status;
+  // The uptime is the vehicle's 32-bit microsecond clock in ms (it wraps with it, every 71.6
+  // min), so it is unwrapped as a microsecond stamp: the clock of the IMPACT and TIMESYNC frames.
+  const std::uint32_t stamp_us = hb.uptime_ms * 1000u;
+  if (!s.heard) {
+    v.clock_us = stamp_us;
+  } else {
+    const std::int64_t advance_us = pa::elapsed_us(stamp_us, static_cast<std::uint32_t>(v.clock_us));
+    const double ground_advance_s = now_s - s.last_heard_s;
+    if (std::abs(static_cast<double>(advance_us) * 1e-6 - ground_advance_s) > kClockJump_s) {
+      resetClock(v);
+      ++s.clock_resets;
+      v.clock_us = stamp_us;
+    } else if (advance_us <= 0) {
+      return false;  // a repeated or older heartbeat: not news
+    } else {
+      v.clock_us += advance_us;
+    }
+  }
+  s.heard = true;
+  s.lost = false;
+  s.last_heard_s = now_s;
+  s.mode = hb.mode;
+  s.flags = hb.flags;
+  s.armed = (hb.flags & kFlagArmed) != 0;
+  s.failsafe = hb.failsafe;
+  s.last_setpoint_seq = hb.last_setpoint_seq;
+  s.vehicle_rx_errors = hb.rx_errors;
+  s.uptime_ms = hb.uptime_ms;
+  ++s.heartbeats_received;
+  v.heartbeat_times[v.next_heartbeat_slot] = now_s;
+  v.next_heartbeat_slot = (v.next_heartbeat_slot + 1) % kHeartbeatHistory;
+  v.heartbeat_count = std::min(v.heartbeat_count + 1, kHeartbeatHistory);
+  updateLinkQuality(v, now_s);
+  return true;
+}
+
+void GroundLink::resetClock(Vehicle& v) {
+  v.sample_count = 0;
+  v.next_sample_slot = 0;
+  for (OutstandingRequest& r : v.requests) r.outstanding = false;  // their replies carry the old clock
+  v.status.clock_synced = false;
+  v.status.clock_offset_s = 0.0;
+  v.status.clock_uncertainty_s = 0.0;
+}
+
+std::int64_t GroundLink::unwrapVehicleTime(const Vehicle& v, std::uint32_t vehicle_time_us) const {
+  return v.clock_us + pa::elapsed_us(vehicle_time_us, static_cast<std::uint32_t>(v.clock_us));
+}
+
+// NTP with the vehicle's receive and transmit stamps taken as one (fw::Vehicle stamps the
+// request when it is read and replies on its next 1 kHz tick): the vehicle read the request
+// at ground time (sent + received) / 2 when the two legs take equally long.
+bool GroundLink::onTimesyncReply(Vehicle& v, const pa::proto::TimesyncReply& reply, double now_s) {
+  if (!v.status.heard) return false;  // no uptime yet to unwrap the vehicle's stamp near
+  OutstandingRequest* request = nullptr;
+  for (OutstandingRequest& r : v.requests)
+    if (r.outstanding && r.ground_time_us == reply.ground_time_us) request = &r;
+  if (request == nullptr) return false;  // not ours, answered already, or from before a reset
+  request->outstanding = false;
+  const double round_trip_s = now_s - request->sent_s;
+  if (round_trip_s < 0.0) return false;
+  const double vehicle_s = static_cast<double>(unwrapVehicleTime(v, reply.vehicle_time_us)) * 1e-6;
+  v.samples[v.next_sample_slot] = TimesyncSample{0.5 * (request->sent_s + now_s) - vehicle_s, round_trip_s};
+  v.next_sample_slot = (v.next_sample_slot + 1) % kTimesyncSamples;
+  v.sample_count = std::min(v.sample_count + 1, kTimesyncSamples);
+
+  // The shortest round trip bounds the error best (queueing only ever adds delay).
+  const TimesyncSample* best = &v.samples[0];
+  for (std::size_t i = 1; i < v.sample_count; ++i)
+    if (v.samples[i].round_trip_s < best->round_trip_s) best = &v.samples[i];
+  VehicleLinkStatus& s = v.status;
+  s.clock_synced = true;
+  s.clock_offset_s = best->offset_s;
+  s.clock_uncertainty_s = 0.5 * best->round_trip_s;
+  s.round_trip_s = round_trip_s;
+  return true;
+}
+
+bool GroundLink::onAck(Vehicle& v, const CommandAck& ack) {
+  for (CommandRecord& r : v.commands) {
+    if (r.serial == 0 || r.outcome.state != CommandState::pending || r.sequence != ack.seq || r.outcome.code != ack.code)
+      continue;
+    CommandOutcome& o = r.outcome;
+    o.reason = ack.reason;
+    o.mode = ack.mode;
+    if (ack.result == AckResult::accepted || ack.result == AckResult::duplicate) {
+      o.state = CommandState::accepted;
+    } else if (o.attempts > 1 && o.code == CommandCode::arm && ack.reason == RefuseReason::not_disarmed &&
+               ack.mode == Mode::armed) {
+      // The vehicle executes a retried COMMAND again: an earlier attempt armed it, its ack was lost.
+      o.state = CommandState::accepted;
+      o.inferred = true;
+    } else {
+      o.state = CommandState::refused;
+    }
+    return true;
+  }
+  return false;  // a late ack of a resolved command, or not ours
+}
+
+void GroundLink::onImpact(Vehicle& v, const pa::proto::Impact& impact, double now_s) {
+  ImpactReport r;
+  r.node = v.status.node;
+  r.received_s = now_s;
+  r.t_from_clock_sync = v.status.clock_synced;
+  r.t_s = r.t_from_clock_sync ? static_cast<double>(unwrapVehicleTime(v, impact.vehicle_time_us)) * 1e-6 +
+                                    v.status.clock_offset_s
+                              : now_s;
+  r.peak_mps2 = impact.peak_mps2;
+  r.classification = impact.classification;
+  r.final = impact.final;
+  r.count = impact.count;
+  if (impact_count_ == kImpactQueue) {
+    impact_head_ = (impact_head_ + 1) % kImpactQueue;
+    --impact_count_;
+    ++counters_.impacts_dropped;
+  }
+  impacts_[(impact_head_ + impact_count_) % kImpactQueue] = r;
+  ++impact_count_;
+}
+
+std::vector<ImpactReport> GroundLink::takeImpacts() {
+  std::vector<ImpactReport> out;
+  out.reserve(impact_count_);
+  for (std::size_t i = 0; i < impact_count_; ++i) out.push_back(impacts_[(impact_head_ + i) % kImpactQueue]);
+  impact_head_ = 0;
+  impact_count_ = 0;
+  return out;
+}
+
+double GroundLink::groundTime(std::uint8_t node, std::uint32_t vehicle_time_us) const {
+  const Vehicle& v = vehicle(node);
+  if (!v.status.clock_synced) return std::numeric_limits<double>::quiet_NaN();
+  return static_cast<double>(unwrapVehicleTime(v, vehicle_time_us)) * 1e-6 + v.status.clock_offset_s;
+}
+
+void GroundLink::updateLinkQuality(Vehicle& v, double now_s) const {
+  // The arrivals are in time order in the ring: count back from the newest.
+  std::size_t in_window = 0;
+  for (std::size_t k = 1; k <= v.heartbeat_count; ++k) {
+    const double t = v.heartbeat_times[(v.next_heartbeat_slot + kHeartbeatHistory - k) % kHeartbeatHistory];
+    if (now_s - t >= config_.link_quality_window_s) break;
+    ++in_window;
+  }
+  const double expected = config_.link_quality_window_s / config_.vehicle_heartbeat_period_s;
+  v.status.link_quality = std::min(1.0, static_cast<double>(in_window) / expected);
+}
+
+// ---------------------------------------------------------------------------------------
+// Sending
+// ---------------------------------------------------------------------------------------
+void GroundLink::tick(double now_s) {
+  requireFinite(now_s, "tick");
+  if (due(heartbeat_started_, next_heartbeat_s_, config_.heartbeat_period_s, now_s)) {
+    Frame f;
+    encode(GsHeartbeat{groundTimeMs(now_s), config_.session, ground_state_, heartbeat_seq_}, kBroadcastNode, f);
+    heartbeat_seq_ = static_cast<std::uint8_t>(pa::HeartbeatSeq::next(heartbeat_seq_));
+    send(f);
+  }
+  bool all_killed = true;
+  for (Vehicle& v : vehicles_) {
+    // Only a vehicle heard from: its reply's clock is unwrapped near the heartbeat's uptime.
+    if (v.status.heard && due(v.timesync_started, v.next_timesync_s, config_.timesync_period_s, now_s)) {
+      OutstandingRequest& r = v.requests[v.next_request_slot];  // the oldest: its reply is overdue
+      v.next_request_slot = (v.next_request_slot + 1) % kTimesyncOutstanding;
+      r = OutstandingRequest{true, groundTimeUs(now_s), now_s};
+      Frame f;
+      encode(TimesyncRequest{r.ground_time_us, v.timesync_seq++}, v.status.node, f);
+      send(f);
+    }
+    tickCommands(v, now_s);
+    tickKill(v.kill, now_s, killConfirmed(v, v.heartbeats_at_kill));
+    all_killed = all_killed && killConfirmed(v, v.heartbeats_at_broadcast_kill);
+    v.status.lost = !v.status.heard || now_s - v.status.last_heard_s > config_.vehicle_timeout_s;
+    updateLinkQuality(v, now_s);
+  }
+  tickKill(broadcast_kill_, now_s, all_killed);
+}
+
+void GroundLink::tickCommands(Vehicle& v, double now_s) {
+  for (CommandRecord& r : v.commands) {
+    if (r.serial == 0 || r.outcome.state != CommandState::pending || !reached(now_s, r.next_send_s)) continue;
+    if (r.outcome.attempts >= config_.command_attempts) {
+      r.outcome.state = CommandState::timed_out;
+      continue;
+    }
+    send(r.frame);  // the same sequence: the vehicle's ack names the command either way
+    ++r.outcome.attempts;
+    r.next_send_s = now_s + config_.command_retry_s;
+  }
+}
+
+bool GroundLink::killConfirmed(const Vehicle& v, std::uint64_t heartbeats_at_kill) {
+  return v.status.heartbeats_received > heartbeats_at_kill && v.status.mode == Mode::killed;
+}
+
+void GroundLink::tickKill(KillRepeat& kill, double now_s, bool done) {
+  if (!kill.active) return;
+  if (done || kill.sends_left <= 0) {
+    kill.active = false;
+    return;
+  }
+  if (!kill.next_set) {
+    kill.next_set = true;
+    kill.next_s = now_s + config_.command_retry_s;
+    return;
+  }
+  if (!reached(now_s, kill.next_s)) return;
+  send(kill.frame);
+  --kill.sends_left;
+  kill.next_s = now_s + config_.command_retry_s;
+}
+
+gs::model::VehicleInput GroundLink::sendSetpoint(std::uint8_t node, const gs::model::VehicleInput& input) {
+  Vehicle& v = vehicle(node);
+  if (!std::isfinite(input.a_q_mps2) || !input.omega_radps.allFinite())
+    throw std::invalid_argument("GroundLink::sendSetpoint: non-finite input");
+  const auto seq = static_cast<std::uint8_t>(pa::SetpointSeq::next(v.setpoint_seq));
+  const RateThrust sp{{toFrameValue(input.omega_radps.x()), toFrameValue(input.omega_radps.y()),
+                       toFrameValue(input.omega_radps.z())},
+                      toFrameValue(input.a_q_mps2), seq};
+  Frame f;
+  encode(sp, node, f);  // finite values and a vehicle node: always encodes
+  v.setpoint_seq = seq;
+  v.status.setpoint_seq_sent = seq;
+  send(f);  // a refused frame is counted; the next one is still newer for the vehicle
+
+  // What the vehicle will decode, exactly.
+  Message m;
+  decode(f, m);
+  gs::model::VehicleInput carried;
+  carried.a_q_mps2 = m.rate_thrust.thrust_mps2;
+  carried.omega_radps = Eigen::Vector3d(m.rate_thrust.rate_radps[0], m.rate_thrust.rate_radps[1],
+                                        m.rate_thrust.rate_radps[2]);
+  return carried;
+}
+
+CommandHandle GroundLink::sendCommand(std::uint8_t node, CommandCode code, std::int32_t argument, double now_s) {
+  requireFinite(now_s, "sendCommand");
+  Vehicle& v = vehicle(node);
+  const auto raw_code = static_cast<std::uint8_t>(code);
+  if (raw_code == 0 || raw_code > kCommandCodeMax) throw std::invalid_argument("GroundLink::sendCommand: unknown command");
+
+  // At most kMaxPendingCommands in flight: give up on the oldest. Then reuse a free slot or the
+  // oldest resolved one (there is always one: fewer are pending than there are slots).
+  CommandRecord* oldest_pending = nullptr;
+  std::size_t pending = 0;
+  for (CommandRecord& r : v.commands) {
+    if (r.serial == 0 || r.outcome.state != CommandState::pending) continue;
+    ++pending;
+    if (oldest_pending == nullptr || r.serial < oldest_pending->serial) oldest_pending = &r;
+  }
+  if (pending >= kMaxPendingCommands) {
+    oldest_pending->outcome.state = CommandState::timed_out;
+    ++counters_.commands_evicted;
+  }
+  CommandRecord* slot = nullptr;
+  for (CommandRecord& r : v.commands) {
+    if (r.serial != 0 && r.outcome.state == CommandState::pending) continue;
+    if (slot == nullptr || r.serial < slot->serial) slot = &r;
+  }
+
+  const std::uint8_t seq = v.command_seq;
+  v.command_seq = static_cast<std::uint8_t>(pa::CommandSeq::next(v.command_seq));
+  CommandRecord& r = *slot;
+  r = CommandRecord{};
+  r.serial = ++command_serial_;
+  r.sequence = seq;
+  encode(Command{code, seq, config_.session, argument}, node, r.frame);
+  r.outcome.state = CommandState::pending;
+  r.outcome.code = code;
+  r.outcome.attempts = 1;
+  r.next_send_s = now_s + config_.command_retry_s;
+  if (code == CommandCode::disarm) {
+    // DISARM is how the operator clears a KILL: the repeats must not kill the vehicle again.
+    v.kill.active = false;
+    broadcast_kill_.active = false;
+  }
+  send(r.frame);
+  return CommandHandle{node, seq, r.serial};
+}
+
+CommandOutcome GroundLink::commandOutcome(const CommandHandle& handle) const {
+  const int i = indexOf(handle.node);
+  if (i < 0 || handle.serial == 0) return CommandOutcome{};
+  for (const CommandRecord& r : vehicles_[static_cast<std::size_t>(i)].commands)
+    if (r.serial == handle.serial && r.sequence == handle.sequence) return r.outcome;
+  return CommandOutcome{};
+}
+
+void GroundLink::sendKill(std::uint8_t node, KillReason reason) {
+  KillRepeat* kill = nullptr;
+  if (node == kBroadcastNode) {
+    kill = &broadcast_kill_;
+    for (Vehicle& v : vehicles_) v.heartbeats_at_broadcast_kill = v.status.heartbeats_received;
+  } else {
+    Vehicle& v = vehicle(node);
+    kill = &v.kill;
+    v.heartbeats_at_kill = v.status.heartbeats_received;
+  }
+  Frame f;
+  if (!encode(Kill{config_.session, reason}, node, f)) throw std::invalid_argument("GroundLink::sendKill: unknown reason");
+  *kill = KillRepeat{config_.command_attempts > 1, f, config_.command_attempts - 1, false, 0.0};
+  send(f);
+}
+
+}  // namespace gs::link

@@ -1,0 +1,639 @@
+#include "groundstation/runtime/ground_station.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "groundstation/control/balancing_lqr.hpp"
+#include "groundstation/control/controller_states.hpp"
+#include "groundstation/control/hover_lqr.hpp"
+#include "groundstation/planning/catch_point_predictor.hpp"
+#include "groundstation/planning/catching_instant.hpp"
+#include "groundstation/planning/throw_command.hpp"
+
+namespace gs::runtime {
+namespace {
+
+namespace c = mission::condition;
+using mission::Task;
+
+constexpr double kGravity_mps2 = pa::kGravity_mps2;
+
+// The lower end of a pole state (the end nearer the floor).
+Eigen::Vector3d lowerEnd(const model::PoleState& s, double half_length_m) {
+  const Eigen::Vector3d a = s.p_m + half_length_m * s.n;
+  const Eigen::Vector3d b = s.p_m - half_length_m * s.n;
+  return a.z() < b.z() ? a : b;
+}
+
+// The pole's tilt from the vertical (either end up).
+double tilt_rad(const model::PoleState& s) { return std::acos(std::min(1.0, std::abs(s.n.z()))); }
+
+control::Pivot pivotOf(const estimation::PlateKinematics& plate) { return {plate.p_m, plate.v_mps}; }
+
+}  // namespace
+
+std::string_view attemptPhaseName(AttemptPhase phase) {
+  switch (phase) {
+    case AttemptPhase::idle: return "idle";
+    case AttemptPhase::preparing: return "preparing";
+    case AttemptPhase::throwing: return "throwing";
+    case AttemptPhase::flight: return "flight";
+    case AttemptPhase::balancing: return "balancing";
+    case AttemptPhase::ended: return "ended";
+  }
+  return "?";
+}
+
+GroundStation::GroundStation(link::FrameBus& bus, const GroundStationConfig& config)
+    : config_(config),
+      link_(bus, {config.nodes[0], config.nodes[1]}, config.link),
+      estimator_(config.estimator) {
+  problem_.limits = config_.limits;
+  plan_ = planning::planThrow(problem_);
+  if (!plan_.success) throw std::runtime_error("the throw could not be planned: " + plan_.status);
+  tracker_.emplace(plan_.trajectory);
+  if (!tracker_->valid()) throw std::runtime_error("the throw's TV-LQR could not be designed");
+  hover_ = control::hoverLqr();
+  balancing_ = control::balancingLqr();
+  if (!hover_.ok || !balancing_.ok) throw std::runtime_error("the LQR design failed");
+  const model::PoleParams& pole = config_.estimator.free_flight.pole;
+  adaptation_settings_ = adaptation::nominalAdaptationSettings(pole);
+  adaptation_ = adaptation::initialAdaptation(adaptation_settings_);
+  const planning::CatchingInstant nominal = planning::findCatchingInstant(
+      planning::poleStateAtLaunch(planning::fig5LaunchState(), pole), pole);
+  catch_instant_s_ = nominal.found ? nominal.t_s : 0.8;
+  for (int i = 0; i < 2; ++i) {
+    vehicles_[i].node = config_.nodes[i];
+    vehicles_[i].index = i;
+  }
+}
+
+GroundStation::Vehicle& GroundStation::vehicleOf(std::uint8_t node) {
+  for (Vehicle& v : vehicles_)
+    if (v.node == node) return v;
+  throw std::out_of_range("no vehicle with this node");
+}
+const GroundStation::Vehicle& GroundStation::vehicleOf(std::uint8_t node) const {
+  for (const Vehicle& v : vehicles_)
+    if (v.node == node) return v;
+  throw std::out_of_range("no vehicle with this node");
+}
+
+mission::Task GroundStation::task(std::uint8_t node) const { return vehicleOf(node).sequencer.task(); }
+const mission::VehicleSequencer& GroundStation::sequencer(std::uint8_t node) const {
+  return vehicleOf(node).sequencer;
+}
+
+Eigen::Vector2d GroundStation::waitingXy() const {
+  return config_.throw_origin_m.head<2>() +
+         adaptation::compensateOffsetBias(adaptation_.waiting_xy_m, adaptation_);
+}
+double GroundStation::catchHeight() const {
+  return config_.throw_origin_m.z() + adaptation_.catch_height_m;
+}
+
+void GroundStation::requestTakeOff() {
+  for (Vehicle& v : vehicles_) v.requests |= c::request_take_off;
+}
+void GroundStation::requestLand() {
+  for (Vehicle& v : vehicles_) v.requests |= c::request_land;
+}
+void GroundStation::requestAbort() {
+  for (Vehicle& v : vehicles_) v.requests |= c::request_abort;
+}
+
+bool GroundStation::requestAttempt(const AttemptRequest& request) {
+  if (phase_ != AttemptPhase::idle) return false;
+  if (request.thrower != config_.nodes[0] && request.thrower != config_.nodes[1]) return false;
+  request_ = request;
+  phase_ = AttemptPhase::preparing;
+  current_ = AttemptReport{};
+  current_.number = ++attempt_count_;
+  flight_.clear();
+  catch_.reset();
+  catch_unreachable_ = catch_infeasible_ = catch_missed_ = false;
+  balanced_since_s_.reset();
+  Vehicle& thrower = vehicleOf(request.thrower);
+  thrower.target_m = config_.throw_origin_m - pa::kPlateHeightAboveCg_m * Eigen::Vector3d::UnitZ();
+  if (request.catch_it) {
+    Vehicle& catcher = other(thrower);
+    catcher.requests |= c::request_catch;
+  }
+  return true;
+}
+
+void GroundStation::onFrame(const pa::proto::Frame& frame, double now_s) {
+  link_.onFrame(frame, now_s);
+  for (const link::ImpactReport& r : link_.takeImpacts()) {
+    for (const Vehicle& v : vehicles_) {
+      if (v.node == r.node) estimator_.reportImpact(v.index + 1, r.t_s);
+    }
+  }
+}
+
+void GroundStation::tick(double now_s) {
+  link_.tick(now_s);
+  for (Vehicle& v : vehicles_) {
+    if (!v.pending) continue;
+    const link::CommandState s = link_.commandState(*v.pending);
+    if (s == link::CommandState::pending) continue;
+    if (s != link::CommandState::accepted) v.command_failed = true;
+    v.pending.reset();
+  }
+}
+
+std::uint32_t GroundStation::conditions(const Vehicle& v, double now_s) const {
+  std::uint32_t w = v.requests;
+  const link::VehicleLinkStatus& status = link_.status(v.node);
+  if (status.lost) w |= c::vehicle_lost;
+  const bool estimated = estimator_.vehicleInitialised(v.index + 1);
+  if (!estimated || now_s - v.last_pose_s > config_.lost_estimate_s) w |= c::estimate_lost;
+  if (status.armed) w |= c::armed;
+  if (status.mode == pa::proto::Mode::disarmed || status.mode == pa::proto::Mode::landed ||
+      status.mode == pa::proto::Mode::killed)
+    w |= c::on_ground;
+  if (v.command_failed) w |= c::command_failed;
+  const Task task = v.sequencer.task();
+  const double in_task_s = now_s - v.sequencer.taskSince_s();
+  if (estimated) {
+    const estimation::VehicleEstimate e = estimator_.vehicle(v.index + 1);
+    if (e.state.p_m.z() >= v.target_m.z() - 0.1) w |= c::at_height;
+    if ((e.state.p_m - v.target_m).norm() < config_.at_target_m &&
+        e.state.v_mps.norm() < config_.at_target_speed_mps)
+      w |= c::at_target;
+  }
+  const estimation::PoleMode mode = estimator_.mode();
+  const estimation::PoleEstimate pole = estimator_.pole();
+  // While throwing, the pole counts as on the plate as long as the latest pose puts its lower
+  // end at the plate: the estimator's mode selection flip-flops on innovations during the throw's
+  // fastest phase (its vehicle observers model the rate loop as first order), and leaving the
+  // throw on such a call drops the pole.
+  bool pole_at_plate = false;
+  if (task == Task::throwing && last_pole_pose_ && estimated) {
+    const estimation::PlateKinematics plate = estimator_.plate(v.index + 1);
+    const Eigen::Vector3d n = last_pole_pose_->q * Eigen::Vector3d::UnitZ();
+    const double L = config_.estimator.free_flight.pole.half_length_m;
+    const Eigen::Vector3d a = last_pole_pose_->p_m + L * n, b = last_pole_pose_->p_m - L * n;
+    pole_at_plate = std::min((a - plate.p_m).norm(), (b - plate.p_m).norm()) < 0.08;
+  }
+  if (pole_at_plate) w |= c::pole_on_self;
+  if (pole.valid) {
+    if (mode == estimation::onVehicleMode(v.index + 1)) {
+      w |= c::pole_on_self;
+      if (tilt_rad(pole.state) < config_.upright_rad) w |= c::pole_upright;
+    }
+    if (mode == estimation::PoleMode::free) w |= c::pole_free;
+  }
+  // The pole on the floor ends an attempt's flight (before the launch it may lie there waiting
+  // to be put on the thrower).
+  const bool in_flight = phase_ == AttemptPhase::flight || phase_ == AttemptPhase::balancing;
+  if (in_flight && last_pole_seen_m_ && last_pole_seen_m_->z() < config_.pole_down_height_m)
+    w |= c::pole_down;
+  if (task == Task::throwing && in_task_s >= problem_.duration_s) w |= c::throw_over;
+  if (task == Task::release && in_task_s >= config_.release_low_s) w |= c::release_over;
+  const bool catcher = request_.catch_it && v.node != request_.thrower && phase_ != AttemptPhase::idle;
+  if (catcher && (phase_ == AttemptPhase::throwing || phase_ == AttemptPhase::flight) &&
+      now_s >= catch_start_s_)
+    w |= c::catch_due;
+  if (catcher && catch_unreachable_) w |= c::catch_unreachable;
+  if (catcher && catch_infeasible_) w |= c::catch_infeasible;
+  if (catcher && catch_missed_) w |= c::catch_missed;
+  if (task == Task::balance && in_task_s >= config_.balance_settle_s && balanced_since_s_ &&
+      now_s - *balanced_since_s_ >= 1.0)
+    w |= c::settled;
+  if (task == Task::clear && in_task_s >= 1.0) w |= c::settled;
+  return w;
+}
+
+void GroundStation::enter(Vehicle& v, double now_s) {
+  const Task task = v.sequencer.task();
+  const bool estimated = estimator_.vehicleInitialised(v.index + 1);
+  const Eigen::Vector3d here =
+      estimated ? estimator_.vehicle(v.index + 1).state.p_m : v.target_m;
+  v.integral.setZero();
+  switch (task) {
+    case Task::parked:
+    case Task::failsafe:
+      v.set_point_valid = false;
+      break;
+    case Task::arming:
+      v.requests &= ~c::request_take_off;
+      v.command_failed = false;
+      v.pending = link_.sendCommand(v.node, pa::proto::CommandCode::arm, 0, now_s);
+      break;
+    case Task::take_off:
+      v.target_m = Eigen::Vector3d(here.x(), here.y(), config_.take_off_height_m);
+      v.set_point_m = here;
+      v.set_point_valid = true;
+      break;
+    case Task::hover:
+      if (!v.set_point_valid) {
+        v.set_point_m = here;
+        v.set_point_valid = true;
+      }
+      break;
+    case Task::balance:
+      balanced_since_s_.reset();
+      if (!v.set_point_valid) v.set_point_m = here;
+      v.set_point_valid = true;
+      break;
+    case Task::throwing:
+      v.requests &= ~c::request_throw;
+      break;
+    case Task::release:
+      v.requests &= ~c::request_abort;
+      break;
+    case Task::retreat:
+      v.target_m = config_.throw_origin_m - pa::kPlateHeightAboveCg_m * Eigen::Vector3d::UnitZ();
+      v.set_point_m = here;
+      v.set_point_valid = true;
+      break;
+    case Task::wait:
+      break;
+    case Task::catching: {
+      catch_start_s_ = std::min(catch_start_s_, now_s);
+      current_.catch_start_s = now_s;
+      break;
+    }
+    case Task::rebalance:
+      v.target_m = here;
+      v.set_point_m = here;
+      v.set_point_valid = true;
+      if (!current_.impact_s) current_.impact_s = now_s;
+      break;
+    case Task::clear: {
+      v.requests &= ~(c::request_abort | c::request_catch);
+      // Sideways, away from where the pole comes down, at the same height.
+      Eigen::Vector2d away = here.head<2>() - catch_target_xy_m_;
+      if (away.norm() < 0.1) away = Eigen::Vector2d(0.0, 1.0);
+      v.target_m.head<2>() = here.head<2>() + 1.0 * away.normalized();
+      v.target_m.z() = here.z();
+      v.set_point_m = here;
+      v.set_point_valid = true;
+      break;
+    }
+    case Task::landing:
+      v.requests &= ~c::request_land;
+      v.pending = link_.sendCommand(v.node, pa::proto::CommandCode::land, 0, now_s);
+      break;
+  }
+  // Whatever ended a catch is the attempt's account of it.
+  if (request_.catch_it && v.node != request_.thrower &&
+      (task == Task::clear || task == Task::rebalance || (task == Task::hover && current_.catch_start_s)) &&
+      current_.catcher_end == mission::Reason::none) {
+    current_.catcher_end = v.sequencer.lastReason();
+  }
+}
+
+void GroundStation::moveSetPoint(Vehicle& v, const Eigen::Vector3d& position_m, double dt_s) {
+  if (!v.set_point_valid) {
+    v.set_point_m = position_m;
+    v.set_point_valid = true;
+  }
+  const Eigen::Vector3d step = v.target_m - v.set_point_m;
+  const double max_step = config_.set_point_speed_mps * dt_s;
+  v.set_point_m += step.norm() > max_step ? (max_step / step.norm()) * step : step;
+}
+
+model::VehicleInput GroundStation::clampInput(model::VehicleInput u) const {
+  u.a_q_mps2 = std::clamp(u.a_q_mps2, config_.limits.a_q_min_mps2, config_.limits.a_q_max_mps2);
+  for (int i = 0; i < 3; ++i)
+    u.omega_radps(i) =
+        std::clamp(u.omega_radps(i), -config_.limits.omega_max_radps, config_.limits.omega_max_radps);
+  return u;
+}
+
+model::VehicleInput GroundStation::hoverControl(Vehicle& v, const estimation::VehicleEstimate& e,
+                                                double dt_s, bool integrate) {
+  namespace hv = control::hover;
+  if (integrate) {
+    v.integral += (v.set_point_m - e.state.p_m) * dt_s;
+    v.integral = v.integral.cwiseMax(-1.0).cwiseMin(1.0);
+  }
+  // The integral shifts the LQR's reference position (p_ref = set point + k_i int e): a constant
+  // force offset then leaves no position error, whatever the controller (hover or balancing).
+  Eigen::VectorXd x =
+      control::hoverState(e.state, v.set_point_m + config_.position_integral_gain * v.integral);
+  const Eigen::VectorXd du = -hover_.K * x;
+  model::VehicleInput u;
+  u.a_q_mps2 = kGravity_mps2 + du(hv::kThrust);
+  u.omega_radps = du.segment<3>(hv::kRateX);
+  return u;
+}
+
+std::optional<model::VehicleInput> GroundStation::control(Vehicle& v, double now_s, double dt_s) {
+  const Task task = v.sequencer.task();
+  if (task == Task::landing || task == Task::failsafe) return std::nullopt;
+  if (task == Task::parked || task == Task::arming) {
+    model::VehicleInput idle;
+    idle.a_q_mps2 = 0.0;  // ARM needs a zero-thrust setpoint (fw/supervisor.hpp)
+    return idle;
+  }
+  if (!estimator_.vehicleInitialised(v.index + 1)) return std::nullopt;
+  // Latency compensation: the state when this command acts.
+  const double t_act = std::max(estimator_.time(), now_s + config_.command_lead_s);
+  const estimation::VehicleEstimate e = ahead_->vehicle(v.index + 1);
+  const estimation::PoleEstimate pole = ahead_->pole();
+  const estimation::PlateKinematics plate = ahead_->plate(v.index + 1);
+  const double L = config_.estimator.free_flight.pole.half_length_m;
+  const Eigen::Vector3d plate_offset = pa::kPlateHeightAboveCg_m * Eigen::Vector3d::UnitZ();
+
+  switch (task) {
+    case Task::take_off:
+    case Task::hover:
+    case Task::wait:
+    case Task::retreat:
+    case Task::clear:
+    case Task::rebalance: {
+      if (task == Task::wait) v.target_m = waitingTarget();
+      moveSetPoint(v, e.state.p_m, dt_s);
+      model::VehicleInput u = hoverControl(v, e, dt_s, task != Task::take_off || e.state.p_m.z() > 0.2);
+      if (task == Task::rebalance) u.a_q_mps2 += config_.pole_weight_mps2;
+      return clampInput(u);
+    }
+    case Task::balance: {
+      namespace bal = control::balancing;
+      moveSetPoint(v, e.state.p_m, dt_s);
+      if (pole.valid && tilt_rad(pole.state) < config_.balance_settled_rad) {
+        if (!balanced_since_s_) balanced_since_s_ = now_s;
+      } else {
+        balanced_since_s_.reset();
+      }
+      v.integral += (v.set_point_m - e.state.p_m) * dt_s;
+      v.integral = v.integral.cwiseMax(-1.0).cwiseMin(1.0);
+      Eigen::VectorXd x = control::balancingState(
+          pivotOf(plate), e.state, pole.state, L,
+          v.set_point_m + plate_offset + config_.position_integral_gain * v.integral);
+      Eigen::VectorXd u = -balancing_.K * x;
+      u(bal::kThrust) += kGravity_mps2 + config_.pole_weight_mps2;
+      return clampInput(control::fromBalancingInput(u));
+    }
+    case Task::throwing: {
+      const double tau = std::min(t_act - v.sequencer.taskSince_s(), problem_.duration_s);
+      const model::PlanarState<double> s =
+          control::planarThrowState(pivotOf(plate), e.state, pole.state, config_.throw_origin_m);
+      const Eigen::VectorXd b =
+          control::balancingState(pivotOf(plate), e.state, pole.state, L, config_.throw_origin_m);
+      return planning::throwCommand(*tracker_, balancing_, tau, s, b, config_.limits);
+    }
+    case Task::release: {
+      const double since = t_act - v.sequencer.taskSince_s();
+      model::VehicleInput u;
+      u.a_q_mps2 = config_.limits.a_q_min_mps2;
+      u.omega_radps = since < config_.release_pitch_s
+                          ? Eigen::Vector3d(0.0, problem_.launch_pitch_rate_radps, 0.0)
+                          : Eigen::Vector3d(-8.0 * e.state.phi_rad, -8.0 * e.state.theta_rad, 0.0);
+      return clampInput(u);
+    }
+    case Task::catching: {
+      namespace hv = control::hover;
+      if (!catch_) return clampInput(hoverControl(v, e, dt_s, false));
+      const planning::CatchReference ref = catch_->reference(t_act - catch_start_s_);
+      // The hover LQR about the reference's state with its nominal inputs (46), (47) as feed
+      // forward: a time-varying reference tracked with the hover gains, which hold across the
+      // manoeuvre's tilts (at most atan(a_max / g) ~ 23 degrees plus the xy correction's). The
+      // integral learnt while waiting stays in force, frozen.
+      Eigen::VectorXd x = control::hoverState(
+          e.state, ref.position_m + config_.position_integral_gain * v.integral);
+      x.segment<3>(hv::kVx) -= ref.velocity_mps;
+      x(hv::kRoll) -= ref.roll_rad;
+      x(hv::kPitch) -= ref.pitch_rad;
+      x(hv::kYaw) -= ref.yaw_rad;
+      const Eigen::VectorXd du = -hover_.K * x;
+      model::VehicleInput u;
+      u.a_q_mps2 = ref.thrust_mps2 + du(hv::kThrust);
+      u.omega_radps = ref.body_rates_radps + du.segment<3>(hv::kRateX);
+      v.set_point_m = ref.position_m;
+      return clampInput(u);
+    }
+    default:
+      return std::nullopt;
+  }
+}
+
+Eigen::Vector3d GroundStation::waitingTarget() const {
+  const Eigen::Vector2d xy = waitingXy() + request_.catch_offset_m;
+  const double z_T = catchHeight() - pa::kPlateHeightAboveCg_m;
+  const planning::MinimaxZManoeuvre z(z_T, config_.t_xy_s, config_.catch_a_max_mps2,
+                                      config_.catch_k_max_mps3);
+  return Eigen::Vector3d(xy.x(), xy.y(), z.startHeight_m());
+}
+
+void GroundStation::onMocap(const estimation::MocapFrame& frame, double now_s) {
+  const double dt_s = last_mocap_s_ > -1e8 ? std::clamp(now_s - last_mocap_s_, 0.0, 0.05) : 0.005;
+  last_mocap_s_ = now_s;
+  estimator_.update(frame);
+  for (Vehicle& v : vehicles_) {
+    if (frame.vehicle[static_cast<std::size_t>(v.index)]) v.last_pose_s = now_s;
+  }
+  if (frame.pole) {
+    last_pole_seen_m_ = frame.pole->p_m;
+    last_pole_pose_ = *frame.pole;
+  }
+  // One copy of the estimator predicted to when the commands act (latency compensation).
+  ahead_.emplace(estimator_);
+  ahead_->advanceTo(std::max(estimator_.time(), now_s + config_.command_lead_s));
+
+  updateAttempt(now_s);
+  for (Vehicle& v : vehicles_) {
+    const Task before = v.sequencer.task();
+    if (v.sequencer.step(conditions(v, now_s), now_s)) {
+      if (events_.size() < kEventLogCapacity)
+        events_.push_back({now_s, v.node, before, v.sequencer.task(), v.sequencer.lastReason()});
+      enter(v, now_s);
+    }
+    const std::optional<model::VehicleInput> u = control(v, now_s, dt_s);
+    if (!u) continue;
+    const model::VehicleInput sent = link_.sendSetpoint(v.node, *u);
+    v.last_sent = sent;
+    estimator_.setCommand(v.index + 1, now_s + config_.command_lead_s, sent);
+  }
+}
+
+std::vector<MissionEvent> GroundStation::takeEvents() {
+  std::vector<MissionEvent> out;
+  out.swap(events_);
+  return out;
+}
+
+void GroundStation::updateAttempt(double now_s) {
+  if (phase_ == AttemptPhase::idle) return;
+  Vehicle& thrower = vehicleOf(request_.thrower);
+  Vehicle& catcher = other(thrower);
+  const double L = config_.estimator.free_flight.pole.half_length_m;
+  const estimation::PoleEstimate pole = estimator_.pole();
+
+  if (thrower.sequencer.task() == Task::balance && thrower.set_point_valid) {
+    thrower.target_m = config_.throw_origin_m - pa::kPlateHeightAboveCg_m * Eigen::Vector3d::UnitZ();
+  }
+  switch (phase_) {
+    case AttemptPhase::preparing: {
+      const bool catcher_ready = !request_.catch_it || (catcher.sequencer.task() == Task::wait &&
+                                                        (catcher.sequencer.lastConditions() & c::at_target));
+      const bool thrower_at_origin = (thrower.sequencer.lastConditions() & c::at_target) != 0;
+      if (catcher_ready && thrower_at_origin) thrower.requests |= c::request_throw;
+      if (thrower.sequencer.task() == Task::throwing) {
+        phase_ = AttemptPhase::throwing;
+        current_.throw_start_s = thrower.sequencer.taskSince_s();
+        current_.waiting_xy_m = waitingXy() + request_.catch_offset_m;
+        current_.catch_height_m = catchHeight();
+        catch_target_xy_m_ = current_.waiting_xy_m;
+        const planning::MinimaxZManoeuvre z(catchHeight() - pa::kPlateHeightAboveCg_m, config_.t_xy_s,
+                                            config_.catch_a_max_mps2, config_.catch_k_max_mps3);
+        catch_start_s_ = current_.throw_start_s + problem_.duration_s + config_.launch_delay_s +
+                         catch_instant_s_ - z.duration_s();
+      }
+      break;
+    }
+    case AttemptPhase::throwing: {
+      // The launch: the estimator's switch to free flight after the throw's manoeuvre began.
+      const std::optional<estimation::ModeSwitch> s = estimator_.lastSwitch();
+      // Only a call at the end of the throw (see conditions() on the flip-flops during it).
+      if (s && s->to == estimation::PoleMode::free &&
+          s->event_t_s > current_.throw_start_s + problem_.duration_s - 0.05) {
+        current_.launch_s = s->event_t_s;
+        phase_ = AttemptPhase::flight;
+      } else if (thrower.sequencer.task() != Task::throwing &&
+                 thrower.sequencer.task() != Task::release && !current_.launch_s) {
+        endAttempt(now_s);  // the throw was abandoned (aborted or the pole fell)
+        return;
+      }
+      break;
+    }
+    default:
+      break;
+  }
+  if (phase_ == AttemptPhase::flight || phase_ == AttemptPhase::balancing) {
+    if (pole.valid && pole.mode == estimation::PoleMode::free && current_.launch_s)
+      flight_.push_back({pole.t_s, pole.state});
+    if (request_.catch_it) updateCatchTarget(now_s);
+    // The ends of an attempt.
+    if (catcher.sequencer.task() == Task::balance) {
+      phase_ = AttemptPhase::balancing;
+      if (!balanced_on_catcher_s_) balanced_on_catcher_s_ = now_s;
+      if (now_s - *balanced_on_catcher_s_ >= 3.0) {
+        current_.caught = true;
+        endAttempt(now_s);
+        return;
+      }
+    } else {
+      balanced_on_catcher_s_.reset();
+    }
+    const bool down = last_pole_seen_m_ && last_pole_seen_m_->z() < config_.pole_down_height_m;
+    if (down || now_s - current_.throw_start_s > 15.0) {
+      endAttempt(now_s);
+      return;
+    }
+  }
+  (void)L;
+}
+
+void GroundStation::updateCatchTarget(double now_s) {
+  Vehicle& catcher = other(vehicleOf(request_.thrower));
+  const Task task = catcher.sequencer.task();
+  if (task != Task::wait && task != Task::catching) return;
+  const estimation::PoleEstimate pole = estimator_.pole();
+  const double L = config_.estimator.free_flight.pole.half_length_m;
+  const double height = current_.catch_height_m;
+  const Eigen::Vector2d start_xy = current_.waiting_xy_m;
+  if (pole.valid && pole.mode == estimation::PoleMode::free && current_.launch_s) {
+    const planning::CatchPointPrediction p =
+        planning::predictCatchPoint(pole.state, height, estimator_.poleModel());
+    if (p.found) {
+      const Eigen::Vector2d predicted(p.x_m, p.y_m);
+      catch_target_xy_m_ =
+          adaptation::compensateOffsetBias(predicted, adaptation_) + request_.catch_offset_m;
+      current_.last_target_xy_m = catch_target_xy_m_;
+      current_.predicted = adaptation::CatchPoint{predicted, now_s + p.t_s - *current_.launch_s};
+      if ((catch_target_xy_m_ - start_xy).norm() > config_.catch_reach_m) catch_unreachable_ = true;
+    }
+    // Missed: the lower end already below the plate and still free.
+    const Eigen::Vector3d low = lowerEnd(pole.state, L);
+    if (task == Task::catching && catch_ && now_s - catch_start_s_ > catch_->duration_s() &&
+        low.z() < height - 0.15)
+      catch_missed_ = true;
+  }
+  planning::CatchTrajectoryParams params;
+  params.start_xy_m = start_xy;
+  params.target_xy_m = catch_target_xy_m_;
+  params.catch_height_m = height - pa::kPlateHeightAboveCg_m;
+  params.t_xy_s = config_.t_xy_s;
+  params.a_max_mps2 = config_.catch_a_max_mps2;
+  params.k_max_mps3 = config_.catch_k_max_mps3;
+  std::optional<planning::CatchTrajectory> plan = planning::CatchTrajectory::create(params);
+  if (!plan) {
+    catch_infeasible_ = true;
+    return;
+  }
+  if (!plan->checkFeasibility(problemLimits()).feasible()) catch_infeasible_ = true;
+  // The catch manoeuvre re-planned at every frame from the latest prediction (Section V).
+  if (task == Task::catching) catch_ = plan;
+  const estimation::VehicleEstimate e = estimator_.vehicle(catcher.index + 1);
+  if (task == Task::catching) {
+    current_.travel_m += (e.state.p_m - last_catcher_p_m_).head<2>().norm();
+  }
+  last_catcher_p_m_ = e.state.p_m;
+}
+
+planning::InputLimits GroundStation::problemLimits() const {
+  return planning::InputLimits{config_.limits.a_q_min_mps2, config_.limits.a_q_max_mps2,
+                               config_.limits.omega_max_radps};
+}
+
+void GroundStation::endAttempt(double now_s) {
+  Vehicle& thrower = vehicleOf(request_.thrower);
+  Vehicle& catcher = other(thrower);
+  catcher.requests &= ~c::request_catch;
+  thrower.requests &= ~c::request_throw;
+  const model::PoleParams model = estimator_.poleModel();
+  if (current_.launch_s && flight_.size() >= 2) {
+    current_.optimal = adaptation::evaluateOptimalCatch(flight_, *current_.launch_s, model);
+  }
+  // Adaptation (Section VI): every throw whose optimal catching instant could be evaluated moves
+  // the catching height and the waiting point; a catch flown to its end moves the offset bias.
+  adaptation::ThrowRecord record;
+  record.time_s = current_.launch_s.value_or(now_s);
+  if (!request_.catch_it) {
+    record.outcome = adaptation::ThrowOutcome::kThrowOnly;
+  } else if (current_.caught) {
+    record.outcome = adaptation::ThrowOutcome::kCaught;
+  } else if (current_.catcher_end == mission::Reason::out_of_reach) {
+    record.outcome = adaptation::ThrowOutcome::kAbortedOutOfReach;
+  } else if (current_.catcher_end == mission::Reason::infeasible ||
+             current_.catcher_end == mission::Reason::abort_requested) {
+    record.outcome = adaptation::ThrowOutcome::kAborted;
+  } else if (request_.catch_offset_m.norm() > 0.0) {
+    record.outcome = adaptation::ThrowOutcome::kOffsetPractice;
+  } else if (current_.impact_s) {
+    record.outcome = adaptation::ThrowOutcome::kDropped;
+  } else {
+    record.outcome = adaptation::ThrowOutcome::kMissed;
+  }
+  record.catch_height_used_m = current_.catch_height_m - config_.throw_origin_m.z();
+  record.waiting_xy_m = current_.waiting_xy_m - config_.throw_origin_m.head<2>();
+  if (current_.catch_start_s)
+    record.target_xy_m = catch_target_xy_m_ - config_.throw_origin_m.head<2>();
+  if (current_.optimal) {
+    adaptation::OptimalCatch o = current_.optimal->point;
+    o.height_m -= config_.throw_origin_m.z();
+    o.xy_m -= config_.throw_origin_m.head<2>();
+    record.optimal = o;
+    catch_instant_samples_ += 1;
+    catch_instant_s_ += (o.t_s - catch_instant_s_) / static_cast<double>(catch_instant_samples_);
+  }
+  if (current_.impact_s && adaptation::catcherFlewToTarget(record.outcome)) {
+    record.catcher_at_impact_xy_m = last_catcher_p_m_.head<2>() - config_.throw_origin_m.head<2>();
+  }
+  if (adaptation::validate(record).empty())
+    adaptation_ = adaptation::adapt(adaptation_, record, adaptation_settings_.window);
+  records_.push_back(record);
+  reports_.push_back(current_);
+  phase_ = AttemptPhase::idle;
+  catch_.reset();
+  // Back to the start: the thrower to the throw's origin, the catcher to the next waiting point.
+  thrower.target_m = config_.throw_origin_m - pa::kPlateHeightAboveCg_m * Eigen::Vector3d::UnitZ();
+  catcher.target_m = waitingTarget();
+}
+
+}  // namespace gs::runtime

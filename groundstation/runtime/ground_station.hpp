@@ -1,0 +1,245 @@
+// The ground-station runtime: the one object that flies the mission. It owns the estimator, the
+// link, both vehicles' sequencers, the planners and controllers and the adaptation state, and is
+// driven from outside by three calls and nothing else:
+//   onMocap(frame, now)  a motion-capture frame arrived: estimator update, then for each vehicle
+//                        its sequencer step and the active controller's setpoint;
+//   onFrame(frame, now)  a frame from the ground CAN bus (heartbeats, acks, IMPACT, TIMESYNC);
+//   tick(now)            link housekeeping (heartbeats, retries, TIMESYNC, lost vehicles).
+// No clock, no thread: `now` is the ground clock, which is also the clock the motion capture
+// stamps its frames with (in simulation both are the plant's time). So the same object runs in
+// the lockstep arena (hil/sil) and, later, in a real-time process.
+//
+// What it sees is only what an arena gives a ground station: motion-capture poses and vehicle
+// frames. Every controller runs on the estimator's state predicted forward to the time its
+// command acts on the vehicle (command_lead_s: the radio's latency plus the firmware's tick),
+// never on plant truth; the build enforces it (groundstation never links hil).
+//
+// Frames: one RATE_THRUST per vehicle per motion-capture frame (200 Hz) in every task that flies
+// setpoints; none in `landing` (LAND flies on board) and `failsafe` (the firmware levels and
+// descends when the stream stops).
+//
+// An attempt (Section VII-B): the thrower balances the pole at the throw's origin, the catcher
+// waits at its waiting point; the thrower flies the optimal throw (34) with the TV-LQR, releases
+// and retreats; the catcher starts its z manoeuvre so that it comes to rest at the catching
+// height at the expected catching instant, re-plans its xy correction to the latest catch-point
+// prediction at every frame and tracks it in closed loop; after the impact it holds still while
+// the pole swings up, then balances it. Throw by throw the adaptation (Section VI) moves the
+// catching height, the waiting point and the offset bias.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "groundstation/adaptation/adaptation_law.hpp"
+#include "groundstation/adaptation/throw_evaluation.hpp"
+#include "groundstation/control/lqr.hpp"
+#include "groundstation/estimation/state_estimator.hpp"
+#include "groundstation/link/ground_link.hpp"
+#include "groundstation/mission/vehicle_sequencer.hpp"
+#include "groundstation/model/vehicle_limits.hpp"
+#include "groundstation/planning/catch_trajectory.hpp"
+#include "groundstation/planning/throw_planner.hpp"
+#include "groundstation/planning/throw_tracking.hpp"
+
+namespace gs::runtime {
+
+struct GroundStationConfig {
+  std::array<std::uint8_t, 2> nodes{1, 2};  // vehicle 1 and vehicle 2 (the estimator's 1 and 2)
+  link::GroundLinkConfig link;
+  estimation::StateEstimatorConfig estimator;
+  model::VehicleLimits limits{1.0, 20.0, 10.0};
+  // The time from a setpoint's computation to its use on board: the radio's latency and jitter
+  // (8 + 1 ms on average in the default arena) and up to one firmware tick.
+  double command_lead_s = 0.010;
+  // The throw's origin: where the thrower's plate centre hovers before the throw (the plan
+  // starts there; it dips 0.95 m below it, so it must be well above the floor).
+  Eigen::Vector3d throw_origin_m{0.0, 0.0, 1.5};
+  // Where each vehicle stands on the floor before take-off (x, y), and the take-off height.
+  std::array<Eigen::Vector2d, 2> home_xy_m{Eigen::Vector2d(-1.0, 0.0), Eigen::Vector2d(1.0, 0.0)};
+  double take_off_height_m = 1.0;
+  // Carrot speed: set points move towards their target at most this fast, so that the hover
+  // and balancing LQRs only ever see small position errors (they are linear designs).
+  double set_point_speed_mps = 1.0;
+  double at_target_m = 0.05;
+  double at_target_speed_mps = 0.1;
+  // Integral action in hover, balance and the catch (1/s): the LQR's reference position is the
+  // set point plus this times the integral of (set point - position), so that a constant force
+  // offset (the motors' spread, the pole's weight, drag) leaves no position error. Slow beside
+  // the LQRs' position loops (about 1.5 rad/s), so it does not destabilise them.
+  double position_integral_gain = 0.3;
+  double pole_weight_mps2 = 0.03 * 9.81 / 0.52;  // m_p g / m_q (hil/config/plant.conf values)
+  // The throw: balancing at least this long with the tilt below balance_settled_rad first.
+  double balance_settle_s = 2.0;
+  double balance_settled_rad = 0.03;
+  // The release after T (Section VII-A leaves it open): minimum thrust for release_low_s with
+  // the plate pitching back at the launch rate for release_pitch_s, then level.
+  double release_low_s = 0.3;
+  double release_pitch_s = 0.1;
+  double launch_delay_s = 0.07;  // measured: the firmware's release leaves the plate after T
+  // The catch manoeuvre (Section V, Fig. 7).
+  double t_xy_s = 0.65;
+  double catch_a_max_mps2 = 4.19;
+  double catch_k_max_mps3 = 18.0;
+  double catch_reach_m = 1.0;  // a predicted catch point farther from the waiting point aborts
+  double upright_rad = 0.26;   // rebalance -> balance below this tilt (15 degrees)
+  double pole_down_height_m = 0.25;  // the pole's centre below this: it lies on the floor
+  double lost_estimate_s = 0.1;      // no pose of a vehicle for this long: its estimate is lost
+};
+
+// What the mission script (an operator, `hil fly`) asks for one attempt.
+struct AttemptRequest {
+  std::uint8_t thrower = 1;
+  bool catch_it = true;                                 // the other vehicle flies the catch
+  Eigen::Vector2d catch_offset_m = Eigen::Vector2d::Zero();  // practice: catch this far off
+};
+
+enum class AttemptPhase : std::uint8_t { idle, preparing, throwing, flight, balancing, ended };
+std::string_view attemptPhaseName(AttemptPhase phase);
+
+// The ground station's own account of an attempt (the referee in hil judges with the truth).
+struct AttemptReport {
+  int number = 0;
+  double throw_start_s = 0.0;
+  std::optional<double> launch_s;         // the estimator's launch
+  std::optional<double> catch_start_s;    // the z manoeuvre's start
+  std::optional<double> impact_s;         // the estimator's switch onto the catcher
+  mission::Reason catcher_end = mission::Reason::none;  // what ended the catch (caught, out_of_reach...)
+  Eigen::Vector2d waiting_xy_m = Eigen::Vector2d::Zero();
+  Eigen::Vector2d last_target_xy_m = Eigen::Vector2d::Zero();
+  std::optional<adaptation::CatchPoint> predicted;  // the latest catch-point prediction (lower end)
+  double catch_height_m = 0.0;            // lower pole end, arena frame
+  double travel_m = 0.0;                  // the catcher's estimated path from its waiting point
+  std::optional<adaptation::OptimalCatchEvaluation> optimal;  // (42) evaluated after the throw
+  bool caught = false;                    // balanced on the catcher
+};
+
+// A task change of one vehicle, for telemetry and logs.
+struct MissionEvent {
+  double t_s = 0.0;
+  std::uint8_t node = 0;
+  mission::Task from = mission::Task::parked;
+  mission::Task to = mission::Task::parked;
+  mission::Reason reason = mission::Reason::none;
+};
+
+class GroundStation {
+ public:
+  static constexpr std::size_t kEventLogCapacity = 256;
+  // Plans the throw (IPOPT) and designs the controllers: tens of milliseconds.
+  // Throws std::runtime_error when the throw cannot be planned.
+  GroundStation(link::FrameBus& bus, const GroundStationConfig& config = {});
+
+  void onMocap(const estimation::MocapFrame& frame, double now_s);
+  void onFrame(const pa::proto::Frame& frame, double now_s);
+  void tick(double now_s);
+
+  // Operator requests.
+  void requestTakeOff();
+  void requestLand();
+  void requestAbort();
+  // Starts an attempt; false (and nothing changes) while one is running.
+  bool requestAttempt(const AttemptRequest& request);
+
+  AttemptPhase attemptPhase() const { return phase_; }
+  // Completed attempts, oldest first.
+  const std::vector<AttemptReport>& attempts() const { return reports_; }
+  const AttemptReport& currentAttempt() const { return current_; }
+  // The mission events since the last call, oldest first (at most kEventLogCapacity).
+  std::vector<MissionEvent> takeEvents();
+  // The throw records the adaptation took, oldest first (relative to the throw's origin).
+  const std::vector<adaptation::ThrowRecord>& throwRecords() const { return records_; }
+
+  mission::Task task(std::uint8_t node) const;
+  const mission::VehicleSequencer& sequencer(std::uint8_t node) const;
+  const estimation::StateEstimator& estimator() const { return estimator_; }
+  const link::GroundLink& link() const { return link_; }
+  const adaptation::AdaptationState& adaptation() const { return adaptation_; }
+  const GroundStationConfig& config() const { return config_; }
+  const planning::ThrowPlan& throwPlan() const { return plan_; }
+  // The catch point (lower end, x y) and height expected for the next throw, arena frame.
+  Eigen::Vector2d waitingXy() const;
+  double catchHeight() const;
+  // The catch manoeuvre flown in the current attempt (nullopt before it starts).
+  const std::optional<planning::CatchTrajectory>& catchTrajectory() const { return catch_; }
+
+ private:
+  struct Vehicle {
+    std::uint8_t node = 0;
+    int index = 0;  // 0 or 1: the estimator's vehicle number minus one
+    mission::VehicleSequencer sequencer;
+    Eigen::Vector3d target_m = Eigen::Vector3d::Zero();     // where the task wants the CG
+    Eigen::Vector3d set_point_m = Eigen::Vector3d::Zero();  // the carrot moving towards it
+    bool set_point_valid = false;
+    Eigen::Vector3d integral = Eigen::Vector3d::Zero();     // of the position error
+    std::uint32_t requests = 0;
+    std::optional<link::CommandHandle> pending;  // ARM or LAND in flight
+    bool command_failed = false;
+    double last_pose_s = -1e9;
+    model::VehicleInput last_sent;
+  };
+
+  Vehicle& vehicleOf(std::uint8_t node);
+  const Vehicle& vehicleOf(std::uint8_t node) const;
+  Vehicle& other(const Vehicle& v) { return vehicles_[1 - v.index]; }
+  std::uint32_t conditions(const Vehicle& v, double now_s) const;
+  void enter(Vehicle& v, double now_s);
+  std::optional<model::VehicleInput> control(Vehicle& v, double now_s, double dt_s);
+  model::VehicleInput hoverControl(Vehicle& v, const estimation::VehicleEstimate& e, double dt_s,
+                                   bool integrate);
+  void moveSetPoint(Vehicle& v, const Eigen::Vector3d& position_m, double dt_s);
+  void updateAttempt(double now_s);
+  void updateCatchTarget(double now_s);
+  void endAttempt(double now_s);
+  model::VehicleInput clampInput(model::VehicleInput u) const;
+  planning::InputLimits problemLimits() const;
+  // The catcher's waiting point for the next throw: above the catch point, at the height the z
+  // manoeuvre starts from (eq. (49)).
+  Eigen::Vector3d waitingTarget() const;
+
+  GroundStationConfig config_;
+  link::GroundLink link_;
+  estimation::StateEstimator estimator_;
+  std::array<Vehicle, 2> vehicles_;
+  planning::ThrowProblem problem_;
+  planning::ThrowPlan plan_;
+  std::optional<planning::ThrowTracker> tracker_;
+  control::LqrGain hover_;
+  control::LqrGain balancing_;
+  adaptation::AdaptationSettings adaptation_settings_;
+  adaptation::AdaptationState adaptation_;
+  std::vector<adaptation::ThrowRecord> records_;
+  std::vector<MissionEvent> events_;
+  // The optimal catching instant after the launch: nominal, then the mean of the evaluated ones.
+  double catch_instant_s_ = 0.8;
+  int catch_instant_samples_ = 0;
+  // The estimator predicted to when this frame's commands act (latency compensation).
+  std::optional<estimation::StateEstimator> ahead_;
+
+  // The attempt.
+  AttemptPhase phase_ = AttemptPhase::idle;
+  AttemptRequest request_;
+  AttemptReport current_;
+  std::vector<AttemptReport> reports_;
+  int attempt_count_ = 0;
+  std::optional<planning::CatchTrajectory> catch_;
+  double catch_start_s_ = 0.0;
+  Eigen::Vector2d catch_target_xy_m_ = Eigen::Vector2d::Zero();
+  bool catch_unreachable_ = false;
+  bool catch_infeasible_ = false;
+  bool catch_missed_ = false;
+  std::vector<adaptation::TimedPoleState> flight_;
+  std::optional<double> balanced_since_s_;
+  std::optional<double> balanced_on_catcher_s_;
+  std::optional<double> attempt_end_s_;
+  double last_mocap_s_ = -1e9;
+  std::optional<Eigen::Vector3d> last_pole_seen_m_;
+  std::optional<estimation::MocapPose> last_pole_pose_;
+  Eigen::Vector3d last_catcher_p_m_ = Eigen::Vector3d::Zero();
+};
+
+}  // namespace gs::runtime

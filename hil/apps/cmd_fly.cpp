@@ -1,0 +1,177 @@
+// `hil fly (--series paper | --throws N) [--seed S] [--plant FILE] [--randomise] [--out DIR]`:
+// a series of throws flown in the lockstep arena by the ground-station runtime (hil/sil/series.hpp),
+// judged on the plant's truth. Prints a table per throw and a summary beside the paper's figures;
+// with --out writes DIR/throws.csv (one row per attempt) and DIR/attempt_<n>.csv (its time series).
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "hil/apps/commands.hpp"
+#include "hil/plant/plant_config.hpp"
+#include "hil/plant/randomisation.hpp"
+#include "hil/sil/series.hpp"
+#include "pa/cli/arguments.hpp"
+
+namespace hil::apps {
+namespace {
+
+constexpr const char* kUsage =
+    "usage: hil fly (--series paper | --throws N) [--seed S] [--plant FILE] [--randomise] [--out DIR] [--verbose]\n";
+
+int usage(const std::string& message) {
+  std::cerr << "hil fly: " << message << "\n" << kUsage;
+  return 2;
+}
+
+void writeRow(std::ostream& out, const sil::AttemptResult& r) {
+  char line[512];
+  std::snprintf(line, sizeof line, "%d,%s,%.4f,%.4f,%.4f,%.4f,%.4f,%.5f,%s\n", r.throw_number,
+                r.outcome.c_str(), r.flight_s, r.catch_height_m, r.catch_x_m, r.catch_y_m, r.travel_m,
+                r.energy_error_J, r.abort_reason.c_str());
+  out << line;
+}
+
+}  // namespace
+
+int cmdFly(int argc, char** argv) {
+  std::string series, plant_file, out_dir;
+  std::uint64_t throws = 0, seed = 1;
+  bool randomise = false, verbose = false;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    auto value = [&](const char* flag) -> const char* {
+      if (i + 1 >= argc) return nullptr;
+      (void)flag;
+      return argv[++i];
+    };
+    if (arg == "--help" || arg == "-h") {
+      std::cout << kUsage;
+      return 0;
+    } else if (arg == "--series") {
+      const char* v = value("--series");
+      if (!v) return usage("--series needs a value");
+      series = v;
+      if (series != "paper") return usage("--series must be 'paper'");
+    } else if (arg == "--throws") {
+      const char* v = value("--throws");
+      const auto n = v ? pa::cli::parseCount(v) : std::nullopt;
+      if (!n || *n == 0 || *n > 100000) return usage("--throws needs a count 1..100000");
+      throws = *n;
+    } else if (arg == "--seed") {
+      const char* v = value("--seed");
+      const auto n = v ? pa::cli::parseCount(v) : std::nullopt;
+      if (!n) return usage("--seed needs a non-negative integer");
+      seed = *n;
+    } else if (arg == "--plant") {
+      const char* v = value("--plant");
+      if (!v) return usage("--plant needs a file");
+      plant_file = v;
+    } else if (arg == "--out") {
+      const char* v = value("--out");
+      if (!v) return usage("--out needs a directory");
+      out_dir = v;
+    } else if (arg == "--verbose") {
+      verbose = true;
+    } else if (arg == "--randomise") {
+      randomise = true;
+    } else {
+      return usage("unknown argument '" + arg + "'");
+    }
+  }
+  if (series.empty() == (throws == 0)) return usage("give exactly one of --series paper and --throws N");
+
+  PlantConfig plant;
+  if (!plant_file.empty()) {
+    std::string error;
+    if (!load_plant_config(plant_file, plant, error)) {
+      std::cerr << "hil fly: " << error << "\n";
+      return 2;
+    }
+  }
+  const std::vector<sil::AttemptPlan> plans =
+      series == "paper" ? sil::paperSeries() : sil::catchSeries(static_cast<int>(throws));
+  if (!out_dir.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(out_dir, ec);
+    if (ec) {
+      std::cerr << "hil fly: cannot create '" << out_dir << "': " << ec.message() << "\n";
+      return 1;
+    }
+  }
+
+  std::vector<sil::AttemptResult> results;
+  std::printf("throw  outcome     flight_s  height_m  catch_x_m  catch_y_m  travel_m  energy_err_J  abort\n");
+  auto print = [&](const sil::AttemptResult& r) {
+    std::printf("%5d  %-10s  %8.3f  %8.3f  %9.3f  %9.3f  %8.3f  %12.5f  %s%s\n", r.throw_number,
+                r.outcome.c_str(), r.flight_s, r.catch_height_m, r.catch_x_m, r.catch_y_m, r.travel_m,
+                r.energy_error_J, r.abort_reason.c_str(), r.vehicle_crashed ? " (vehicle crashed)" : "");
+    std::fflush(stdout);
+  };
+  if (!randomise) {
+    sil::SeriesConfig config;
+    config.plant = plant;
+    config.seed = seed;
+    config.record_time_series = !out_dir.empty();
+    if (verbose) config.log = [](const std::string& line) { std::printf("%s\n", line.c_str()); };
+    sil::SeriesRunner runner(config);
+    results = runner.run(plans, print);
+    if (!out_dir.empty()) {
+      for (std::size_t i = 0; i < runner.timeSeries().size(); ++i) {
+        std::ofstream ts(out_dir + "/attempt_" + std::to_string(i + 1) + ".csv");
+        ts << "t_s,v1_x,v1_y,v1_z,v2_x,v2_y,v2_z,pole_x,pole_y,pole_z,pole_nx,pole_ny,pole_nz,task1,task2\n";
+        for (const sil::TimeSample& s : runner.timeSeries()[i]) {
+          char line[512];
+          std::snprintf(line, sizeof line,
+                        "%.3f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%s,%s\n", s.t_s,
+                        s.vehicle1_m.x(), s.vehicle1_m.y(), s.vehicle1_m.z(), s.vehicle2_m.x(),
+                        s.vehicle2_m.y(), s.vehicle2_m.z(), s.pole_m.x(), s.pole_m.y(), s.pole_m.z(),
+                        s.pole_axis.x(), s.pole_axis.y(), s.pole_axis.z(), s.task1.c_str(), s.task2.c_str());
+          ts << line;
+        }
+      }
+    }
+  } else {
+    // Each attempt on a plant drawn anew from its ranges: one series of one throw per draw,
+    // after the throw that adapts only.
+    for (std::size_t i = 0; i < plans.size(); ++i) {
+      sil::SeriesConfig config;
+      config.plant = randomised(plant, seed * 1000003ULL + i);
+      config.seed = seed * 1000003ULL + i;
+      sil::SeriesRunner runner(config);
+      std::vector<sil::AttemptPlan> one{plans[i]};
+      sil::AttemptResult r = runner.run(one).front();
+      r.throw_number = static_cast<int>(i) + 1;
+      print(r);
+      results.push_back(r);
+    }
+  }
+
+  int caught = 0, catches = 0;
+  double energy_sum = 0.0;
+  int energies = 0;
+  for (const sil::AttemptResult& r : results) {
+    if (r.outcome == "caught") ++caught;
+    if (r.outcome == "caught" || r.outcome == "dropped" || r.outcome == "missed" || r.outcome == "aborted")
+      ++catches;
+    if (r.impact && (r.outcome == "caught" || r.outcome == "dropped")) {
+      energy_sum += std::abs(r.energy_error_J);
+      ++energies;
+    }
+  }
+  std::printf("summary: %d of %d catch attempts caught and balanced for 3 s", caught, catches);
+  if (energies > 0)
+    std::printf("; mean |E - E*| after impact %.4f J (paper: 0.0102 J)", energy_sum / energies);
+  std::printf("\n");
+  if (!out_dir.empty()) {
+    std::ofstream csv(out_dir + "/throws.csv");
+    csv << "throw,outcome,flight_s,catch_height_m,catch_x_m,catch_y_m,travel_m,energy_error_J,abort_reason\n";
+    for (const sil::AttemptResult& r : results) writeRow(csv, r);
+  }
+  return 0;
+}
+
+}  // namespace hil::apps

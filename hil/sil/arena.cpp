@@ -1,0 +1,110 @@
+#include "hil/sil/arena.hpp"
+
+#include <stdexcept>
+#include <string>
+
+namespace hil::sil {
+
+using pa::proto::Frame;
+
+namespace {
+
+// Times built from whole nanoseconds and sums of latencies land a rounding error off the
+// millisecond grid; well below any period, this keeps a frame due on the grid on its step.
+constexpr double kGridTolerance_s = 1e-9;
+
+// splitmix64: nearby arena seeds and the two nodes give unrelated radio seeds.
+std::uint64_t mix(std::uint64_t x) {
+  x += 0x9E3779B97F4A7C15ull;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  return x ^ (x >> 31);
+}
+
+RadioConfig radio_for(RadioConfig radio, std::uint64_t arena_seed, std::uint8_t node) {
+  // The top half: splitmix64's best-mixed bits.
+  radio.seed = static_cast<std::uint32_t>(mix(mix(arena_seed) ^ ((0x100u + node) * 0xD1B54A32D192ED03ull)) >> 32);
+  return radio;
+}
+
+}  // namespace
+
+Arena::Arena(const PlantConfig& plant, const ArenaConfig& config, std::uint64_t seed) : lockstep_(plant, seed) {
+  links_.reserve(2);
+  for (int v = 0; v < 2; ++v) {
+    const std::uint8_t node = nodeOf(v);
+    links_.emplace_back(radio_for(config.radio, seed, node));
+    vehicles_[static_cast<std::size_t>(v)] = &lockstep_.attach_firmware(v, firmware_config_for(plant.vehicle, node));
+  }
+}
+
+std::size_t Arena::slot(std::uint8_t node) {
+  const int v = plantIndexOf(node);
+  if (v < 0) throw std::out_of_range("no arena vehicle has node " + std::to_string(node) + " (1 or 2)");
+  return static_cast<std::size_t>(v);
+}
+
+FirmwareVehicle& Arena::vehicle(std::uint8_t node) { return *vehicles_[slot(node)]; }
+const FirmwareVehicle& Arena::vehicle(std::uint8_t node) const { return *vehicles_[slot(node)]; }
+
+void Arena::sendFromGround(const Frame& frame) {
+  const std::uint8_t node = pa::proto::id_node(frame.id);
+  const double t = t_s();
+  if (node == pa::proto::kBroadcastNode) {
+    for (Link& link : links_) link.bridge.offer(Side::ground, frame, t);
+  } else if (plantIndexOf(node) >= 0) {
+    links_[slot(node)].bridge.offer(Side::ground, frame, t);
+  } else {
+    ++not_carried_;
+  }
+}
+
+void Arena::step() {
+  const double start = t_s() + kGridTolerance_s;
+  Frame f;
+  for (std::size_t v = 0; v < 2; ++v) {
+    while (links_[v].bridge.deliver(Side::vehicle, start, f)) {
+      vehicles_[v]->inject(f);
+      ++links_[v].uplink_delivered;
+    }
+  }
+  lockstep_.step();
+  const double t_end = t_s();
+  for (std::size_t v = 0; v < 2; ++v) {
+    for (const Frame& sent : vehicles_[v]->take_sent()) links_[v].bridge.offer(Side::vehicle, sent, t_end);
+  }
+  for (Link& link : links_) {
+    while (link.bridge.deliver(Side::ground, t_end + kGridTolerance_s, f)) {
+      ground_.push_back(f);
+      ++link.downlink_delivered;
+    }
+  }
+  MocapFrame m;
+  while (lockstep_.plant().pop_mocap(m)) mocap_.push_back(m);
+}
+
+std::vector<Frame> Arena::takeGroundFrames() {
+  std::vector<Frame> out;
+  out.swap(ground_);
+  return out;
+}
+
+std::vector<MocapFrame> Arena::takeMocap() {
+  std::vector<MocapFrame> out;
+  out.swap(mocap_);
+  return out;
+}
+
+RadioCounters Arena::radio(std::uint8_t node) const {
+  const Link& link = links_[slot(node)];
+  RadioCounters c;
+  c.uplink_offered = link.bridge.offered(Side::ground);
+  c.uplink_lost = link.bridge.lost(Side::ground);
+  c.uplink_delivered = link.uplink_delivered;
+  c.downlink_offered = link.bridge.offered(Side::vehicle);
+  c.downlink_lost = link.bridge.lost(Side::vehicle);
+  c.downlink_delivered = link.downlink_delivered;
+  return c;
+}
+
+}  // namespace hil::sil

@@ -1,0 +1,140 @@
+// The arena in lockstep: the truth plant, both vehicles flown by the real firmware core
+// (Lockstep), one radio per vehicle between the ground CAN bus and that vehicle's bus
+// (hil::RadioBridge) and the motion capture with its latency, stepped together one IMU period
+// at a time, reproducible from one seed, without a wall clock.
+//
+// The ground station is not in it. The arena's face to the ground is what a ground station in
+// the arena sees: the ground bus (frames in with sendFromGround(), frames out with
+// takeGroundFrames()) and the motion-capture frames (takeMocap()).
+//
+// Timing contract. Arena time is the plant's: t_k = k ms after k steps. Ground-side calls are
+// made between steps, at the current t_s(). L is RadioConfig::latency_s, J its jitter_s, and a
+// time within 1 ns of the millisecond grid counts as on it.
+//  - Uplink: a frame sent at t is due on the vehicle bus at d = t + L + U(0, J), never before
+//    the frame sent before it on the same radio (a radio delivers in order). The step from t_k
+//    begins by putting on the vehicle bus every frame due by t_k, so the frame is read by the
+//    firmware at its clock t_k for the first t_k >= d (the firmware's clock is its last IMU
+//    sample). With J = 0, a frame sent at t_k is read at t_k + L.
+//  - The firmware acts on what it read in its tick for the next sample, t_k + 1 ms (a COMMAND
+//    is executed and acknowledged there, a setpoint flown from there).
+//  - Downlink: every frame the firmware sends in the step t_k -> t_(k+1) (except HIL_MOTORS,
+//    which is the plant's) is offered to its radio at t_(k+1), due on the ground bus at
+//    d = t_(k+1) + L + U(0, J), and returned by takeGroundFrames() after the first step that
+//    ends at t >= d. A COMMAND sent at t_k with J = 0 is thus acknowledged on the ground bus at
+//    t_k + 2 L + 1 ms, no earlier.
+//  - Motion capture: frame i captures the true poses at i / mocap.rate_Hz (the first at t = 0)
+//    and is returned by takeMocap() after the first step that ends at t >= its delivery_t_s
+//    (capture + mocap latency + jitter, both from the plant's configuration).
+//  - takeGroundFrames() and takeMocap() return what arrived since their last call; a caller
+//    that steps once between calls sees every arrival within 1 ms of its due time. Nothing is
+//    dropped when they are not called: what arrived accumulates.
+//
+// Seeds: the plant (IMU noise and biases, motion capture) uses the arena's seed itself; each
+// radio's seed is derived from it and the vehicle's node (RadioConfig::seed is not used), so
+// the two radios draw distinct, reproducible losses and jitter. Same configuration, seed and
+// ground calls: the same frames at the same steps and the same plant states, bit for bit -
+// except two fields the firmware fills from the host's clock: TELEMETRY_STATUS's
+// tick_time_max_us and overruns (the POSIX port times each tick), which nothing else reads.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "hil/plant/mocap.hpp"
+#include "hil/plant/plant.hpp"
+#include "hil/radio/radio_bridge.hpp"
+#include "hil/sil/firmware_vehicle.hpp"
+#include "pa/protocol.hpp"
+
+namespace hil::sil {
+
+// The arena's vehicles: CAN node 1 flies plant vehicle 0 (vehicle1), node 2 plant vehicle 1
+// (vehicle2). The one mapping between the two numberings.
+inline constexpr std::array<std::uint8_t, 2> kArenaNodes{1, 2};
+// The plant index node `node` flies, or -1 if no arena vehicle has that node.
+constexpr int plantIndexOf(std::uint8_t node) { return node == 1 ? 0 : node == 2 ? 1 : -1; }
+// The node flying plant vehicle `plant_index`, or pa::proto::kGroundNode (0, never a vehicle)
+// for an index other than 0 or 1.
+constexpr std::uint8_t nodeOf(int plant_index) {
+  return plant_index == 0 ? std::uint8_t{1} : plant_index == 1 ? std::uint8_t{2} : pa::proto::kGroundNode;
+}
+
+struct ArenaConfig {
+  // Both vehicles' radios (each seeded from the arena's seed, see above).
+  RadioConfig radio{};
+};
+
+// What one vehicle's radio did, per direction (up = ground -> vehicle).
+struct RadioCounters {
+  std::uint64_t uplink_offered = 0;     // frames handed to the radio on the ground bus
+  std::uint64_t uplink_lost = 0;
+  std::uint64_t uplink_delivered = 0;   // put on the vehicle bus
+  std::uint64_t downlink_offered = 0;   // frames the firmware sent
+  std::uint64_t downlink_lost = 0;
+  std::uint64_t downlink_delivered = 0;  // put on the ground bus
+};
+
+class Arena {
+ public:
+  // The plant from `plant` (used as given: randomise it first if wanted) with firmware built
+  // from firmware_config_for(plant.vehicle, node) on both vehicles. Throws
+  // std::invalid_argument for a plant whose IMU is not the firmware's 1 kHz, a radio
+  // configuration out of range, or whatever the Plant constructor throws.
+  Arena(const PlantConfig& plant, const ArenaConfig& config, std::uint64_t seed);
+  // Not copied or moved: it points into its own Lockstep.
+  Arena(const Arena&) = delete;
+  Arena& operator=(const Arena&) = delete;
+
+  Plant& plant() { return lockstep_.plant(); }
+  const Plant& plant() const { return lockstep_.plant(); }
+
+  // The firmware of node 1 or 2; throws std::out_of_range for any other node. Its inject()
+  // bypasses the radio.
+  FirmwareVehicle& vehicle(std::uint8_t node);
+  const FirmwareVehicle& vehicle(std::uint8_t node) const;
+
+  double t_s() const { return lockstep_.t_s(); }
+  double period_s() const { return lockstep_.period_s(); }  // 1 ms, the firmware's IMU period
+
+  // A frame the ground station puts on the ground bus now (t_s()). Carried by the radio of the
+  // vehicle its identifier's node addresses, by both radios when broadcast (node 15); a frame
+  // addressed to any other node (the ground's own 0, vehicles not in the arena) is carried by
+  // no radio and counted in not_carried().
+  void sendFromGround(const pa::proto::Frame& frame);
+
+  // One IMU period, t_k -> t_(k+1): the radios put on each vehicle bus what is due by t_k, the
+  // plant and both firmwares step (Lockstep::step()), the frames the firmwares sent are offered
+  // to their radios at t_(k+1), then the downlink frames and motion-capture frames due by
+  // t_(k+1) are collected for the ground.
+  void step();
+
+  // Frames that arrived on the ground bus since the last call, oldest first (within one step,
+  // node 1's radio before node 2's).
+  std::vector<pa::proto::Frame> takeGroundFrames();
+  // Motion-capture frames delivered since the last call, in capture order.
+  std::vector<MocapFrame> takeMocap();
+
+  // Node 1 or 2's radio; throws std::out_of_range for any other node.
+  RadioCounters radio(std::uint8_t node) const;
+  // Ground frames addressed to no arena vehicle.
+  std::uint64_t not_carried() const { return not_carried_; }
+
+ private:
+  struct Link {
+    explicit Link(const RadioConfig& config) : bridge(config) {}
+    RadioBridge bridge;
+    std::uint64_t uplink_delivered = 0;
+    std::uint64_t downlink_delivered = 0;
+  };
+  static std::size_t slot(std::uint8_t node);  // throws std::out_of_range
+
+  Lockstep lockstep_;
+  std::array<FirmwareVehicle*, 2> vehicles_{};  // owned by lockstep_, indexed by plant vehicle
+  std::vector<Link> links_;                     // indexed by plant vehicle
+  std::vector<pa::proto::Frame> ground_;
+  std::vector<MocapFrame> mocap_;
+  std::uint64_t not_carried_ = 0;
+};
+
+}  // namespace hil::sil

@@ -1,0 +1,280 @@
+#include "hil/sil/series.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace hil::sil {
+namespace {
+
+using gs::mission::Task;
+
+constexpr std::uint8_t kThrower = 1;
+constexpr std::uint8_t kCatcher = 2;
+constexpr int kThrowerIndex = plantIndexOf(kThrower);
+constexpr int kCatcherIndex = plantIndexOf(kCatcher);
+constexpr double kUpright_rad = 5.0 * M_PI / 180.0;  // the acceptance's "within 5 degrees"
+constexpr double kBalancedFor_s = 3.0;
+
+double tiltOf(const PoleState& pole) { return std::acos(std::min(1.0, std::abs(pole.axis().z()))); }
+
+}  // namespace
+
+gs::estimation::MocapFrame toGroundStationFrame(const MocapFrame& f) {
+  gs::estimation::MocapFrame out;
+  out.t_s = f.capture_t_s;
+  auto pose = [](const MocapPose& p) {
+    gs::estimation::MocapPose q;
+    q.p_m = p.position_m;
+    q.q = p.attitude;
+    return q;
+  };
+  const auto& v1 = f.pose[static_cast<int>(Body::vehicle1)];
+  const auto& v2 = f.pose[static_cast<int>(Body::vehicle2)];
+  const auto& pole = f.pose[static_cast<int>(Body::pole)];
+  if (v1.seen) out.vehicle[0] = pose(v1);
+  if (v2.seen) out.vehicle[1] = pose(v2);
+  if (pole.seen) out.pole = pose(pole);
+  return out;
+}
+
+std::vector<AttemptPlan> paperSeries() {
+  std::vector<AttemptPlan> plans;
+  plans.push_back(AttemptPlan{false, Eigen::Vector2d::Zero(), 0.0});
+  for (int i = 0; i < 6; ++i) plans.push_back(AttemptPlan{true, Eigen::Vector2d(1.0, 0.0), 0.0});
+  plans.push_back(AttemptPlan{});
+  plans.push_back(AttemptPlan{});
+  return plans;
+}
+
+std::vector<AttemptPlan> catchSeries(int n) {
+  std::vector<AttemptPlan> plans;
+  if (n <= 0) return plans;
+  plans.push_back(AttemptPlan{false, Eigen::Vector2d::Zero(), 0.0});
+  for (int i = 1; i < n; ++i) plans.push_back(AttemptPlan{});
+  return plans;
+}
+
+SeriesRunner::SeriesRunner(const SeriesConfig& config)
+    : config_(config), arena_(config.plant, config.arena, config.seed), gs_(bus_, config.ground_station) {}
+
+void SeriesRunner::step() {
+  arena_.step();
+  const double now = arena_.t_s();
+  for (const pa::proto::Frame& f : arena_.takeGroundFrames()) gs_.onFrame(f, now);
+  for (const MocapFrame& m : arena_.takeMocap()) gs_.onMocap(toGroundStationFrame(m), now);
+  gs_.tick(now);
+  for (const pa::proto::Frame& f : bus_.take()) arena_.sendFromGround(f);
+  if (config_.log) {
+    for (const gs::runtime::MissionEvent& e : gs_.takeEvents()) {
+      char line[200];
+      std::snprintf(line, sizeof line, "%9.3f  vehicle %d: %s -> %s (%s)", e.t_s, int(e.node),
+                    std::string(gs::mission::taskName(e.from)).c_str(),
+                    std::string(gs::mission::taskName(e.to)).c_str(),
+                    std::string(gs::mission::reasonName(e.reason)).c_str());
+      config_.log(line);
+    }
+    if (gs_.estimator().switchCount() != switches_logged_) {
+      switches_logged_ = gs_.estimator().switchCount();
+      if (const auto s = gs_.estimator().lastSwitch()) {
+        char line[200];
+        std::snprintf(line, sizeof line, "%9.3f  pole: %s -> %s (%s, event at %.3f)", now,
+                      std::string(gs::estimation::poleModeName(s->from)).c_str(),
+                      std::string(gs::estimation::poleModeName(s->to)).c_str(),
+                      std::string(gs::estimation::switchReasonName(s->reason)).c_str(), s->event_t_s);
+        config_.log(line);
+      }
+    }
+  } else {
+    gs_.takeEvents();
+  }
+  for (std::uint8_t node : kArenaNodes) {
+    if (arena_.vehicle(node).firmware().mode() == pa::proto::Mode::killed) crashed_ = true;
+  }
+  if (recording_ != nullptr && std::lround(now * 1000.0) % 10 == 0) {
+    const Plant& p = arena_.plant();
+    recording_->push_back(TimeSample{now, p.vehicle(0).body.position_m, p.vehicle(1).body.position_m,
+                                     p.pole().body.position_m, p.pole().axis(),
+                                     std::string(gs::mission::taskName(gs_.task(kThrower))),
+                                     std::string(gs::mission::taskName(gs_.task(kCatcher)))});
+  }
+}
+
+bool SeriesRunner::runUntil(const std::function<bool()>& done, double timeout_s) {
+  const double until = arena_.t_s() + timeout_s;
+  while (arena_.t_s() < until) {
+    step();
+    if (done()) return true;
+  }
+  return false;
+}
+
+bool SeriesRunner::thrower_at_origin() const {
+  const Plant& p = arena_.plant();
+  const VehicleState& v = p.vehicle(kThrowerIndex);
+  const Vec3 origin = config_.ground_station.throw_origin_m;
+  const Task task = gs_.task(kThrower);
+  return (task == Task::hover || task == Task::balance) &&
+         (p.plate_centre_m(kThrowerIndex) - origin).norm() < 0.1 && v.body.velocity_mps.norm() < 0.2;
+}
+
+void SeriesRunner::placePoleOnThrower() {
+  Plant& p = arena_.plant();
+  const double L = p.config().pole.half_length_m;
+  const Vec3 plate = p.plate_centre_m(kThrowerIndex);
+  p.set_pole(Plant::make_pole(plate + L * Vec3::UnitZ(), Vec3::UnitZ(),
+                              p.vehicle(kThrowerIndex).body.velocity_mps, Vec3::Zero()));
+}
+
+std::vector<AttemptResult> SeriesRunner::run(const std::vector<AttemptPlan>& plans,
+                                             const std::function<void(const AttemptResult&)>& on_result) {
+  std::vector<AttemptResult> results;
+  gs_.requestTakeOff();
+  const bool airborne = runUntil(
+      [&] { return gs_.task(kThrower) == Task::hover && gs_.task(kCatcher) == Task::hover; }, 10.0);
+  for (std::size_t i = 0; i < plans.size(); ++i) {
+    AttemptResult r;
+    if (airborne) {
+      r = fly(plans[i], static_cast<int>(i) + 1);
+    } else {
+      r.throw_number = static_cast<int>(i) + 1;
+      r.outcome = "aborted";
+      r.abort_reason = "take_off_failed";
+    }
+    results.push_back(r);
+    if (on_result) on_result(r);
+  }
+  return results;
+}
+
+AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
+  AttemptResult r;
+  r.throw_number = number;
+  if (config_.record_time_series) {
+    series_.emplace_back();
+    recording_ = &series_.back();
+  }
+  Plant& plant = arena_.plant();
+  const PlantConfig& pc = plant.config();
+  const double L = pc.pole.half_length_m;
+  const double m = pc.pole.mass_kg;
+  const double theta_pole = plant.pole_transverse_inertia_kgm2();
+  const double e_star = m * pc.gravity_mps2 * L;
+  plant.take_contact_events();
+
+  gs::runtime::AttemptRequest request;
+  request.thrower = kThrower;
+  request.catch_it = plan.catch_it;
+  request.catch_offset_m = plan.catch_offset_m;
+  const std::size_t reports_before = gs_.attempts().size();
+  if (!gs_.requestAttempt(request)) {
+    r.outcome = "aborted";
+    r.abort_reason = "ground_station_busy";
+    return r;
+  }
+
+  bool placed = false, pushed = false;
+  std::optional<double> throw_start_s, launch_s, impact_s, floor_s, upright_since_s;
+  std::optional<double> catch_start_s;
+  Vec3 last_catcher_xy = plant.vehicle(kCatcherIndex).body.position_m;
+  bool caught = false;
+  const double deadline = arena_.t_s() + config_.attempt_timeout_s;
+  bool gs_done = false;
+  double gs_done_s = 0.0;
+  crashed_ = false;
+
+  while (arena_.t_s() < deadline) {
+    step();
+    const double t = arena_.t_s();
+    // The person: the pole onto the thrower hovering at the throw's origin.
+    if (!placed && thrower_at_origin() && gs_.attemptPhase() == gs::runtime::AttemptPhase::preparing) {
+      placePoleOnThrower();
+      placed = true;
+    }
+    if (!throw_start_s && gs_.task(kThrower) == Task::throwing) throw_start_s = t;
+    if (plan.push_sideways_m != 0.0 && !pushed && throw_start_s && t - *throw_start_s >= 2.2) {
+      // The spoiled launch: thrower and pole moved sideways together, as by a gust.
+      VehicleState v = plant.vehicle(kThrowerIndex);
+      PoleState pole = plant.pole();
+      v.body.position_m.y() += plan.push_sideways_m;
+      pole.body.position_m.y() += plan.push_sideways_m;
+      plant.set_vehicle(kThrowerIndex, v);
+      plant.set_pole(pole);
+      pushed = true;
+    }
+    for (const PoleContactEvent& e : plant.take_contact_events()) {
+      if (!throw_start_s) continue;
+      if (!launch_s && !e.begins && e.surface == Surface::plate1 && e.t_s - *throw_start_s > 1.0)
+        launch_s = e.t_s;
+      if (launch_s && !impact_s && e.begins && e.surface == Surface::plate2) {
+        impact_s = e.t_s;
+        const Vec3 end = plant.pole().end_m(e.end, L);
+        r.impact = true;
+        r.catch_height_m = end.z();
+        r.catch_x_m = end.x();
+        r.catch_y_m = end.y();
+        r.flight_s = e.t_s - *launch_s;
+      }
+      if (launch_s && !floor_s && e.begins && e.surface == Surface::floor) floor_s = e.t_s;
+    }
+    // The catcher's path from the start of its manoeuvre to the impact.
+    const Vec3 catcher = plant.vehicle(kCatcherIndex).body.position_m;
+    if (!catch_start_s && gs_.task(kCatcher) == Task::catching) catch_start_s = t;
+    if (catch_start_s && !impact_s) r.travel_m += (catcher - last_catcher_xy).head<2>().norm();
+    last_catcher_xy = catcher;
+    // The energy right after the impact (30 ms: the plate's shock absorber has taken the blow).
+    if (impact_s && r.energy_error_J == 0.0 && t >= *impact_s + 0.03) {
+      const PoleState& pole = plant.pole();
+      const Vec3 n = pole.axis();
+      const Vec3 end = pole.end_m(0, L).z() < pole.end_m(1, L).z() ? pole.end_m(0, L) : pole.end_m(1, L);
+      const Vec3 w = pole.body.rate_inertial_radps();
+      const Vec3 w_perp = w - w.dot(n) * n;
+      const double e = m * pc.gravity_mps2 * (pole.body.position_m.z() - end.z()) +
+                       0.5 * (m * L * L + theta_pole) * w_perp.squaredNorm();
+      r.energy_error_J = e - e_star;
+    }
+    // Caught: on the catcher's plate within 5 degrees of upright for 3 s.
+    if (impact_s && plant.pole_contact() == Contact::vehicle2 && tiltOf(plant.pole()) < kUpright_rad) {
+      if (!upright_since_s) upright_since_s = t;
+      if (t - *upright_since_s >= kBalancedFor_s) caught = true;
+    } else {
+      upright_since_s.reset();
+    }
+    if (!gs_done && gs_.attempts().size() > reports_before) {
+      gs_done = true;
+      gs_done_s = t;
+    }
+    // The attempt is over when the ground station says so and the referee has seen enough.
+    if (gs_done && (caught || floor_s || !impact_s || t - gs_done_s > 4.0)) break;
+    if (caught && gs_done) break;
+  }
+  recording_ = nullptr;
+
+  const gs::runtime::AttemptReport* report =
+      gs_.attempts().size() > reports_before ? &gs_.attempts().back() : nullptr;
+  r.vehicle_crashed = crashed_;
+  if (!impact_s && launch_s && floor_s) r.flight_s = *floor_s - *launch_s;
+  const gs::mission::Reason end = report ? report->catcher_end : gs::mission::Reason::none;
+  if (!plan.catch_it) {
+    r.outcome = "throw_only";
+  } else if (end == gs::mission::Reason::out_of_reach || end == gs::mission::Reason::infeasible ||
+             end == gs::mission::Reason::abort_requested) {
+    r.outcome = "aborted";
+    r.abort_reason = std::string(gs::mission::reasonName(end));
+  } else if (plan.catch_offset_m.norm() > 0.0) {
+    r.outcome = "practice";
+  } else if (caught) {
+    r.outcome = "caught";
+  } else if (impact_s) {
+    r.outcome = "dropped";
+  } else if (!launch_s) {
+    r.outcome = "aborted";
+    r.abort_reason = report ? "no_launch" : "timeout";
+  } else {
+    r.outcome = "missed";
+  }
+  if (!r.impact) r.energy_error_J = 0.0;
+  return r;
+}
+
+}  // namespace hil::sil

@@ -1,0 +1,111 @@
+// A series of throws flown in the arena by the ground-station runtime (Section VII-B): the
+// lockstep arena (arena.hpp: plant, both firmwares, radios, motion capture) and the ground
+// station (groundstation/runtime) connected only by what an arena connects them with: the
+// ground bus and the motion-capture frames. Two hands from outside the system complete it:
+//  - the person who puts the pole on the thrower's plate while it hovers at the throw's origin
+//    (at the start and whenever the pole is elsewhere, as in the paper's series), and who
+//    spoils a throw on request by pushing the thrower sideways;
+//  - the referee, who judges each attempt on the plant's TRUTH: the launch (the pole's end
+//    leaves plate 1), the impact on the catcher's plate, the energy right after it, and whether
+//    the pole then stays within 5 degrees of upright on the catcher for 3 s (caught).
+// The ground station sees neither: it gets frames and poses only.
+//
+// Timing per 1 ms step: the arena steps; the ground frames that arrived go to
+// GroundStation::onFrame, the motion-capture frames delivered to onMocap, then tick(); the
+// frames the ground station sent go onto the ground bus (the radios carry them from the next
+// step on). A series is reproducible from its seed.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "groundstation/estimation/state_estimator.hpp"
+#include "groundstation/link/frame_bus.hpp"
+#include "groundstation/runtime/ground_station.hpp"
+#include "hil/plant/mocap.hpp"
+#include "hil/sil/arena.hpp"
+
+namespace hil::sil {
+
+// The motion-capture frame as the ground station takes it (its clock is the capture time).
+gs::estimation::MocapFrame toGroundStationFrame(const MocapFrame& frame);
+
+struct AttemptPlan {
+  bool catch_it = true;                                          // false: throw only (adapt)
+  Eigen::Vector2d catch_offset_m = Eigen::Vector2d::Zero();      // practice: catch this far off
+  double push_sideways_m = 0.0;  // the person pushes the thrower this far in y during the throw
+};
+
+// The paper's series (Section VII-B): throw 1 adapts only, throws 2-7 practise with the catch
+// manoeuvre 1 m off, throws 8 and 9 are caught.
+std::vector<AttemptPlan> paperSeries();
+// One throw that adapts only, then n - 1 catches.
+std::vector<AttemptPlan> catchSeries(int n);
+
+// The referee's account of one attempt, the columns of throws.csv.
+struct AttemptResult {
+  int throw_number = 0;
+  std::string outcome;  // caught, dropped, missed, aborted, practice, throw_only
+  double flight_s = -1.0;          // launch to impact (or to the catch height's crossing)
+  double catch_height_m = -1.0;    // lower end at the impact, arena frame
+  double catch_x_m = 0.0, catch_y_m = 0.0;
+  double travel_m = 0.0;           // the catcher's path from its waiting point to the impact
+  double energy_error_J = 0.0;     // E - E* right after the impact (0 without one)
+  bool impact = false;
+  std::string abort_reason;        // the ground station's, for an aborted catch
+  bool vehicle_crashed = false;    // a vehicle touched the floor at speed or was killed
+};
+
+// One row of an attempt's time series (every 10 ms).
+struct TimeSample {
+  double t_s;
+  Vec3 vehicle1_m, vehicle2_m, pole_m, pole_axis;
+  std::string task1, task2;
+};
+
+struct SeriesConfig {
+  PlantConfig plant;
+  ArenaConfig arena;
+  gs::runtime::GroundStationConfig ground_station;
+  std::uint64_t seed = 1;
+  double attempt_timeout_s = 40.0;  // from the request to the end of the attempt
+  bool record_time_series = false;
+  // Called with a line for every mission event and pole mode switch (a log for people).
+  std::function<void(const std::string&)> log;
+};
+
+class SeriesRunner {
+ public:
+  explicit SeriesRunner(const SeriesConfig& config);
+
+  // Takes off, then flies the attempts in order, calling `on_result` after each.
+  std::vector<AttemptResult> run(const std::vector<AttemptPlan>& plans,
+                                 const std::function<void(const AttemptResult&)>& on_result = {});
+
+  const gs::runtime::GroundStation& groundStation() const { return gs_; }
+  const Arena& arena() const { return arena_; }
+  // The time series of every attempt (when record_time_series), attempt by attempt.
+  const std::vector<std::vector<TimeSample>>& timeSeries() const { return series_; }
+  double simulatedTime_s() const { return arena_.t_s(); }
+
+ private:
+  void step();
+  bool runUntil(const std::function<bool()>& done, double timeout_s);
+  AttemptResult fly(const AttemptPlan& plan, int number);
+  void placePoleOnThrower();
+  bool thrower_at_origin() const;
+
+  SeriesConfig config_;
+  Arena arena_;
+  gs::link::InMemoryFrameBus bus_;
+  gs::runtime::GroundStation gs_;
+  std::vector<std::vector<TimeSample>> series_;
+  std::vector<TimeSample>* recording_ = nullptr;
+  bool crashed_ = false;
+  std::uint64_t switches_logged_ = 0;
+};
+
+}  // namespace hil::sil

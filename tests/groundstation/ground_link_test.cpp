@@ -1,0 +1,718 @@
+// The ground link (groundstation/link/ground_link.hpp) against the real firmware (fw::Vehicle)
+// wherever the vehicle takes part: the frames it sends are carried by an in-memory bus and a
+// simulated radio (hil::RadioBridge) to firmware vehicles ticking at 1 kHz on their own clocks,
+// and their frames back to the link. Time is simulated; nothing here reads a wall clock.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <functional>
+#include <limits>
+#include <memory>
+#include <new>
+#include <random>
+#include <stdexcept>
+#include <vector>
+
+#include "fw/vehicle.hpp"
+#include "groundstation/link/frame_bus.hpp"
+#include "groundstation/link/ground_link.hpp"
+#include "hil/radio/radio_bridge.hpp"
+
+// Every allocation in this executable is counted, so that a test can show a code path does not
+// allocate (the link's onFrame under a flood).
+namespace {
+std::uint64_t g_allocations = 0;
+}  // namespace
+
+// (Every form is replaced, so that a sanitizer's own operators never free what these allocated.)
+namespace {
+void* countedAllocation(std::size_t size) noexcept {
+  ++g_allocations;
+  return std::malloc(size == 0 ? 1 : size);
+}
+void* countedOrThrow(std::size_t size) {
+  if (void* p = countedAllocation(size)) return p;
+  throw std::bad_alloc();
+}
+}  // namespace
+
+void* operator new(std::size_t size) { return countedOrThrow(size); }
+void* operator new[](std::size_t size) { return countedOrThrow(size); }
+void* operator new(std::size_t size, const std::nothrow_t&) noexcept { return countedAllocation(size); }
+void* operator new[](std::size_t size, const std::nothrow_t&) noexcept { return countedAllocation(size); }
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
+void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
+
+using namespace pa::proto;
+using gs::link::CommandHandle;
+using gs::link::CommandState;
+using gs::link::GroundLink;
+using gs::link::GroundLinkConfig;
+using gs::link::InMemoryFrameBus;
+
+namespace {
+
+constexpr double kT0 = 1000.0;  // the ground clock when a rig starts
+constexpr float kG = 9.81f;
+constexpr double kVehicleWrap_s = 4294.967296;  // the vehicle's uint32 microsecond clock
+constexpr std::uint8_t kBothNodes[] = {1, 2};
+
+Message decoded(const Frame& f) {
+  Message m;
+  REQUIRE(decode(f, m) == DecodeStatus::ok);
+  return m;
+}
+
+template <class M>
+Frame encoded(const M& m, std::uint8_t node) {
+  Frame f;
+  REQUIRE(encode(m, node, f));
+  return f;
+}
+
+// One firmware vehicle resting level on the floor, behind its radio.
+struct SimVehicle {
+  fw::VehicleConfig config;
+  std::unique_ptr<fw::Vehicle> firmware;
+  hil::RadioBridge radio;
+  double clock_offset_s;  // ground time = vehicle time + clock_offset_s
+  bool powered = true;
+  float accel_z_mps2 = kG;  // what its IMU reads on the body z-axis
+  // Return true to lose a frame (decoded) on its way up to the vehicle or down to the ground.
+  std::function<bool(const Message&)> drop_uplink;
+  std::function<bool(const Message&)> drop_downlink;
+
+  SimVehicle(std::uint8_t node, double offset_s, const hil::RadioConfig& radio_config)
+      : radio(radio_config), clock_offset_s(offset_s) {
+    config.link.node = node;
+    firmware = std::make_unique<fw::Vehicle>(config);
+  }
+  std::uint8_t node() const { return config.link.node; }
+  std::uint32_t clockUs(double ground_s) const {
+    return static_cast<std::uint32_t>(static_cast<std::uint64_t>(std::llround((ground_s - clock_offset_s) * 1e6)));
+  }
+  // The vehicle restarts: a new firmware whose clock starts at zero now.
+  void reboot(double ground_s) {
+    firmware = std::make_unique<fw::Vehicle>(config);
+    clock_offset_s = ground_s;
+  }
+};
+
+struct Sent {
+  double t_s;
+  Frame frame;
+};
+
+struct Rig {
+  InMemoryFrameBus bus;
+  GroundLink link;
+  std::vector<std::unique_ptr<SimVehicle>> vehicles;
+  long step_count = 0;
+  std::vector<Sent> uplink;  // every frame the link sent, when the bus carried it
+
+  explicit Rig(std::vector<std::uint8_t> nodes, const hil::RadioConfig& radio = {0.0, 0.0, 0.0, 1},
+               std::vector<double> clock_offsets_s = {}, const GroundLinkConfig& config = {})
+      : link(bus, nodes, config) {
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+      hil::RadioConfig r = radio;
+      r.seed = radio.seed + static_cast<std::uint32_t>(i);
+      const double offset = i < clock_offsets_s.size() ? clock_offsets_s[i] : kT0 - 5.0;
+      vehicles.push_back(std::make_unique<SimVehicle>(nodes[i], offset, r));
+    }
+  }
+  double t() const { return kT0 + static_cast<double>(step_count) * 1e-3; }
+  SimVehicle& vehicle(std::size_t i = 0) { return *vehicles[i]; }
+
+  // One millisecond: the link's tick, the ground bus onto every radio, then each vehicle reads
+  // what arrived, runs its 1 kHz tick and sends; the ground reads what arrived.
+  void step() {
+    const double now = t();
+    link.tick(now);
+    for (const Frame& f : bus.take()) {
+      uplink.push_back({now, f});
+      for (auto& v : vehicles)
+        if (!(v->drop_uplink && v->drop_uplink(decoded(f)))) v->radio.offer(hil::Side::ground, f, now);
+    }
+    for (auto& v : vehicles) {
+      Frame f;
+      if (v->powered) {
+        while (v->radio.deliver(hil::Side::vehicle, now, f)) v->firmware->on_frame(f, v->clockUs(now));
+        fw::ImuSample imu;
+        imu.t_us = v->clockUs(now);
+        imu.accel_mps2 = {0.0f, 0.0f, v->accel_z_mps2};
+        v->firmware->tick(imu);
+        while (v->firmware->pop_tx(f))
+          if (!(v->drop_downlink && v->drop_downlink(decoded(f)))) v->radio.offer(hil::Side::vehicle, f, now);
+      } else {
+        while (v->radio.deliver(hil::Side::vehicle, now, f)) {
+        }
+      }
+      while (v->radio.deliver(hil::Side::ground, now, f)) link.onFrame(f, now);
+    }
+    ++step_count;
+  }
+  void run(double duration_s) {
+    const long n = std::lround(duration_s * 1e3);
+    for (long i = 0; i < n; ++i) step();
+  }
+  // Steps until `done` holds (true) or max_s has passed (false).
+  bool runUntil(const std::function<bool()>& done, double max_s) {
+    const long n = std::lround(max_s * 1e3);
+    for (long i = 0; i < n; ++i) {
+      if (done()) return true;
+      step();
+    }
+    return done();
+  }
+  std::vector<Sent> sentOfType(Type type) const {
+    std::vector<Sent> out;
+    for (const Sent& s : uplink)
+      if (id_type(s.frame.id) == static_cast<std::uint8_t>(type)) out.push_back(s);
+    return out;
+  }
+  CommandState waitFor(const CommandHandle& h, double max_s = 1.0) {
+    runUntil([&] { return link.commandState(h) != CommandState::pending; }, max_s);
+    return link.commandState(h);
+  }
+};
+
+gs::model::VehicleInput input(double thrust_mps2, Eigen::Vector3d rates_radps = Eigen::Vector3d::Zero()) {
+  gs::model::VehicleInput u;
+  u.a_q_mps2 = thrust_mps2;
+  u.omega_radps = rates_radps;
+  return u;
+}
+
+bool isCommandAck(const Message& m) { return m.type == Type::command_ack; }
+
+}  // namespace
+
+TEST_CASE("the link is built for a list of distinct vehicle nodes 1..14 and a sane configuration") {
+  InMemoryFrameBus bus;
+  CHECK_NOTHROW(GroundLink(bus, {1, 2, 14}));
+  CHECK_THROWS_AS(GroundLink(bus, {}), std::invalid_argument);
+  CHECK_THROWS_AS(GroundLink(bus, {0}), std::invalid_argument);
+  CHECK_THROWS_AS(GroundLink(bus, {15}), std::invalid_argument);
+  CHECK_THROWS_AS(GroundLink(bus, {3, 4, 3}), std::invalid_argument);
+  GroundLinkConfig bad;
+  bad.command_attempts = 0;
+  CHECK_THROWS_AS(GroundLink(bus, {1}, bad), std::invalid_argument);
+  bad = {};
+  bad.heartbeat_period_s = 0.0;
+  CHECK_THROWS_AS(GroundLink(bus, {1}, bad), std::invalid_argument);
+  bad = {};
+  bad.link_quality_window_s = 60.0;  // more heartbeats than the link keeps
+  CHECK_THROWS_AS(GroundLink(bus, {1}, bad), std::invalid_argument);
+
+  GroundLink link(bus, {2, 5});
+  CHECK(link.status(5).node == 5);
+  CHECK(link.status(5).lost);
+  CHECK_FALSE(link.status(5).heard);
+  CHECK_THROWS_AS(link.status(3), std::out_of_range);
+  CHECK_THROWS_AS(link.sendSetpoint(3, input(0.0)), std::out_of_range);
+  CHECK_THROWS_AS(link.sendCommand(3, CommandCode::arm, 0, 0.0), std::out_of_range);
+  CHECK_THROWS_AS(link.sendKill(3, KillReason::operator_request), std::out_of_range);
+  CHECK_THROWS_AS(link.groundTime(3, 0), std::out_of_range);
+  CHECK(bus.pending() == 0);  // nothing went out for the unknown node
+}
+
+TEST_CASE("ground heartbeats go out every 20 ms with the session, and the firmware binds it and counts them live") {
+  GroundLinkConfig config;
+  config.session = 0x5A17;
+  Rig rig({1}, {0.0, 0.0, 0.0, 1}, {}, config);
+  rig.run(1.0);
+
+  const std::vector<Sent> hb = rig.sentOfType(Type::gs_heartbeat);
+  REQUIRE(hb.size() == 50);
+  for (std::size_t i = 0; i < hb.size(); ++i) {
+    const Message m = decoded(hb[i].frame);
+    CHECK(m.node == kBroadcastNode);
+    CHECK(m.gs_heartbeat.session_token == 0x5A17);
+    CHECK(m.gs_heartbeat.seq == static_cast<std::uint8_t>(i));
+    CHECK(m.gs_heartbeat.ground_time_ms == GroundLink::groundTimeMs(hb[i].t_s));
+    if (i > 0) CHECK(hb[i].t_s - hb[i - 1].t_s == Approx(0.02).margin(1e-9));
+  }
+  const fw::Vehicle& vehicle = *rig.vehicle().firmware;
+  CHECK(vehicle.link().has_session());
+  CHECK(vehicle.link().session_token() == 0x5A17);
+  CHECK(vehicle.link().heartbeat_live(rig.vehicle().clockUs(rig.t())));
+  CHECK(vehicle.link().counters().stale_sequence == 0);
+  // ... and says so in its own heartbeat.
+  const auto& status = rig.link.status(1);
+  CHECK(status.heard);
+  CHECK_FALSE(status.lost);
+  CHECK((status.flags & kFlagGroundHeartbeatOk) != 0);
+  CHECK(status.mode == Mode::disarmed);
+}
+
+TEST_CASE("ARM through the link: a real vehicle accepts it with a zero-thrust setpoint and a live heartbeat") {
+  Rig rig({1});
+  rig.run(0.1);
+  rig.link.sendSetpoint(1, input(0.0));
+  rig.run(0.01);
+  const CommandHandle h = rig.link.sendCommand(1, CommandCode::arm, 0, rig.t());
+  CHECK(h.node == 1);
+  CHECK(rig.link.commandState(h) == CommandState::pending);
+  CHECK(rig.waitFor(h) == CommandState::accepted);
+  const auto outcome = rig.link.commandOutcome(h);
+  CHECK(outcome.attempts == 1);
+  CHECK_FALSE(outcome.inferred);
+  CHECK(outcome.mode == Mode::armed);
+  CHECK(rig.vehicle().firmware->mode() == Mode::armed);
+  rig.run(0.3);
+  CHECK(rig.sentOfType(Type::command).size() == 1);  // acknowledged: never resent
+  CHECK(rig.link.status(1).mode == Mode::armed);
+  CHECK(rig.link.status(1).armed);
+  CHECK(rig.link.counters().stale == 0);
+}
+
+TEST_CASE("a refused command reports the vehicle's reason and is not retried") {
+  Rig rig({1});
+  SECTION("a non-zero setpoint held by the vehicle: thrust_not_zero, until a zero one replaces it") {
+    rig.run(0.1);
+    rig.link.sendSetpoint(1, input(3.0));
+    rig.run(0.1);  // no longer fresh, but still the vehicle's latest setpoint
+    const CommandHandle h = rig.link.sendCommand(1, CommandCode::arm, 0, rig.t());
+    CHECK(rig.waitFor(h) == CommandState::refused);
+    CHECK(rig.link.commandOutcome(h).reason == RefuseReason::thrust_not_zero);
+    CHECK(rig.vehicle().firmware->mode() == Mode::disarmed);
+    rig.run(0.3);
+    CHECK(rig.sentOfType(Type::command).size() == 1);
+
+    rig.link.sendSetpoint(1, input(0.0));
+    const CommandHandle again = rig.link.sendCommand(1, CommandCode::arm, 0, rig.t());
+    CHECK(again.sequence != h.sequence);
+    CHECK(rig.waitFor(again) == CommandState::accepted);
+  }
+  SECTION("no ground heartbeat ever reached the vehicle: it has no session") {
+    rig.vehicle().drop_uplink = [](const Message& m) { return m.type == Type::gs_heartbeat; };
+    rig.run(0.1);
+    const CommandHandle h = rig.link.sendCommand(1, CommandCode::arm, 0, rig.t());
+    CHECK(rig.waitFor(h) == CommandState::refused);
+    CHECK(rig.link.commandOutcome(h).reason == RefuseReason::bad_session_token);
+  }
+  SECTION("LAND on the ground: not_flying") {
+    rig.run(0.1);
+    const CommandHandle h = rig.link.sendCommand(1, CommandCode::land, 0, rig.t());
+    CHECK(rig.waitFor(h) == CommandState::refused);
+    CHECK(rig.link.commandOutcome(h).reason == RefuseReason::not_flying);
+  }
+}
+
+TEST_CASE("an unacknowledged ARM is retried with the same sequence") {
+  Rig rig({1});
+  rig.run(0.1);
+  rig.link.sendSetpoint(1, input(0.0));
+  int dropped = 0;
+
+  SECTION("the ack was lost: the retry finds the vehicle armed, which the link reports as accepted") {
+    rig.vehicle().drop_downlink = [&](const Message& m) { return isCommandAck(m) && dropped++ == 0; };
+    const CommandHandle h = rig.link.sendCommand(1, CommandCode::arm, 0, rig.t());
+    CHECK(rig.waitFor(h) == CommandState::accepted);
+    const auto outcome = rig.link.commandOutcome(h);
+    CHECK(outcome.attempts == 2);
+    CHECK(outcome.inferred);
+    CHECK(outcome.reason == RefuseReason::not_disarmed);  // what the firmware answered the retry
+    CHECK(rig.vehicle().firmware->mode() == Mode::armed);
+  }
+  SECTION("the command was lost: the retry arms the vehicle") {
+    rig.vehicle().drop_uplink = [&](const Message& m) { return m.type == Type::command && dropped++ == 0; };
+    const CommandHandle h = rig.link.sendCommand(1, CommandCode::arm, 0, rig.t());
+    CHECK(rig.waitFor(h) == CommandState::accepted);
+    CHECK(rig.link.commandOutcome(h).attempts == 2);
+    CHECK_FALSE(rig.link.commandOutcome(h).inferred);
+    CHECK(rig.vehicle().firmware->mode() == Mode::armed);
+  }
+  const std::vector<Sent> commands = rig.sentOfType(Type::command);
+  REQUIRE(commands.size() == 2);
+  CHECK(commands[1].t_s - commands[0].t_s == Approx(0.05).margin(0.0015));
+  CHECK(decoded(commands[0].frame).command.seq == decoded(commands[1].frame).command.seq);
+}
+
+TEST_CASE("a COMMAND that never gets through times out after its attempts, its outcome unknown") {
+  Rig rig({1});
+  rig.vehicle().drop_uplink = [](const Message& m) { return m.type == Type::command; };
+  rig.run(0.1);
+  const double sent_s = rig.t();
+  const CommandHandle h = rig.link.sendCommand(1, CommandCode::arm, 0, sent_s);
+  rig.runUntil([&] { return rig.t() >= sent_s + 0.24; }, 1.0);
+  CHECK(rig.link.commandState(h) == CommandState::pending);  // 5 attempts, 50 ms apart
+  CHECK(rig.waitFor(h) == CommandState::timed_out);
+  CHECK(rig.t() - sent_s <= 0.26);
+  CHECK(rig.link.commandOutcome(h).attempts == 5);
+  rig.run(0.5);
+  CHECK(rig.sentOfType(Type::command).size() == 5);
+  CHECK(rig.vehicle().firmware->mode() == Mode::disarmed);
+}
+
+TEST_CASE("pending commands are bounded per vehicle; a handle the link does not know is unknown") {
+  InMemoryFrameBus bus;
+  GroundLink link(bus, {1});
+  std::vector<CommandHandle> handles;
+  for (std::size_t i = 0; i <= GroundLink::kMaxPendingCommands; ++i)
+    handles.push_back(link.sendCommand(1, CommandCode::disarm, 0, 0.0));
+  CHECK(link.commandState(handles.front()) == CommandState::timed_out);
+  CHECK(link.counters().commands_evicted == 1);
+  for (std::size_t i = 1; i < handles.size(); ++i) CHECK(link.commandState(handles[i]) == CommandState::pending);
+  for (int i = 0; i < 40; ++i) link.sendCommand(1, CommandCode::disarm, 0, 0.0);
+  CHECK(link.commandState(handles.back()) == CommandState::unknown);  // its record was reused
+  CHECK(link.commandState(CommandHandle{}) == CommandState::unknown);
+  CHECK(link.commandState(CommandHandle{7, 0, 1}) == CommandState::unknown);
+}
+
+TEST_CASE("setpoints: the next 4-bit sequence each time, wrapping at 16, and every one fresh for the firmware") {
+  Rig rig({1});
+  rig.run(0.1);
+  std::vector<gs::model::VehicleInput> returned;
+  std::vector<std::uint8_t> seqs;
+  for (int i = 0; i < 40; ++i) {
+    const auto u = rig.link.sendSetpoint(1, input(0.0, Eigen::Vector3d(0.01 * i, -0.3, 0.0)));
+    rig.step();  // the vehicle reads it in this millisecond's tick
+    const fw::Vehicle& fw = *rig.vehicle().firmware;
+    const RateThrust& held = fw.link().setpoint();
+    CHECK(fw.link().setpoint_fresh(rig.vehicle().clockUs(rig.t() - 1e-3)));
+    // What the link returned is what the vehicle flies, exactly.
+    CHECK(u.omega_radps.x() == static_cast<double>(held.rate_radps[0]));
+    CHECK(u.omega_radps.y() == static_cast<double>(held.rate_radps[1]));
+    CHECK(u.a_q_mps2 == static_cast<double>(held.thrust_mps2));
+    seqs.push_back(held.seq);
+    rig.run(0.004);  // 200 Hz
+  }
+  CHECK(rig.vehicle().firmware->link().counters().stale_sequence == 0);
+  for (std::size_t i = 1; i < seqs.size(); ++i) CHECK(seqs[i] == ((seqs[i - 1] + 1) & 0x0F));
+  CHECK(rig.link.status(1).setpoint_seq_sent == seqs.back());
+  rig.run(0.05);
+  CHECK(rig.link.status(1).last_setpoint_seq == seqs.back());  // reported back in its heartbeat
+}
+
+TEST_CASE("a setpoint comes back as the frame carries it: quantised and clamped") {
+  InMemoryFrameBus bus;
+  GroundLink link(bus, {4});
+  auto u = link.sendSetpoint(4, input(9.8149, Eigen::Vector3d(1.0011, -0.0029, 70.0)));
+  CHECK(u.a_q_mps2 == Approx(9.81).margin(1e-5));
+  CHECK(u.omega_radps.x() == Approx(1.002).margin(1e-5));
+  CHECK(u.omega_radps.y() == Approx(-0.002).margin(1e-6));
+  CHECK(u.omega_radps.z() == Approx(65.534).margin(1e-3));  // the frame's range
+  u = link.sendSetpoint(4, input(100.0));
+  CHECK(u.a_q_mps2 == Approx(kThrustMax_mps2));
+  u = link.sendSetpoint(4, input(-3.0));
+  CHECK(u.a_q_mps2 == 0.0);
+  u = link.sendSetpoint(4, input(1e300, Eigen::Vector3d(-1e300, 0, 0)));  // finite but far out
+  CHECK(u.a_q_mps2 == Approx(kThrustMax_mps2));
+  CHECK(u.omega_radps.x() == Approx(-65.534).margin(1e-3));
+  CHECK(bus.pending() == 4);
+
+  CHECK_THROWS_AS(link.sendSetpoint(4, input(std::nan(""))), std::invalid_argument);
+  CHECK_THROWS_AS(link.sendSetpoint(4, input(5.0, Eigen::Vector3d(0, std::numeric_limits<double>::infinity(), 0))),
+                  std::invalid_argument);
+  CHECK(bus.pending() == 4);  // nothing sent for them
+}
+
+TEST_CASE("TIMESYNC recovers the vehicle's clock offset through a delayed radio, across the vehicle clock's wrap") {
+  // The vehicle's uint32 microsecond clock wraps 0.3 s into the run; the radio takes 8-10 ms
+  // each way. Each way's delay is 8..11 ms (latency, jitter, the 1 ms steps), so the offset is
+  // within half the difference of the two legs, 1.5 ms, of the truth.
+  const double offset_s = kT0 - (kVehicleWrap_s - 0.3);
+  Rig rig({1, 2}, {0.008, 0.002, 0.0, 3}, {offset_s, kT0 - 12.5});
+  CHECK_FALSE(rig.link.status(1).clock_synced);
+  CHECK(std::isnan(rig.link.groundTime(1, 0)));
+  rig.run(1.0);
+
+  CHECK(rig.sentOfType(Type::timesync_request).size() == 20);  // 10 Hz to each vehicle
+  for (std::uint8_t node : kBothNodes) {
+    const auto& s = rig.link.status(node);
+    const double truth = node == 1 ? offset_s : kT0 - 12.5;
+    REQUIRE(s.clock_synced);
+    CHECK(std::abs(s.clock_offset_s - truth) <= 1.6e-3);
+    CHECK(s.round_trip_s >= 0.016);
+    CHECK(s.round_trip_s <= 0.0235);
+    CHECK(s.clock_uncertainty_s >= 0.008);
+    CHECK(std::abs(s.clock_offset_s - truth) <= s.clock_uncertainty_s);
+  }
+  // Vehicle stamps from before and after the wrap map to the ground times they were taken at.
+  SimVehicle& v = rig.vehicle(0);
+  for (double ago_s : {0.0, 0.2, 0.69, 0.71, 0.9}) {
+    const double ground_s = rig.t() - ago_s;
+    CHECK(std::abs(rig.link.groundTime(1, v.clockUs(ground_s)) - ground_s) <= 1.6e-3);
+  }
+  CHECK(v.clockUs(rig.t() - 0.9) > v.clockUs(rig.t()));  // the stamps did wrap
+  CHECK(rig.link.counters().stale == 0);
+}
+
+TEST_CASE("a vehicle that reboots restarts the clock sync on its new clock") {
+  Rig rig({1}, {0.004, 0.0, 0.0, 5});
+  rig.run(0.5);
+  REQUIRE(rig.link.status(1).clock_synced);
+  CHECK(rig.link.status(1).clock_resets == 0);
+  rig.vehicle().powered = false;
+  rig.run(0.3);
+  CHECK(rig.link.status(1).lost);
+  CHECK(rig.link.status(1).clock_synced);  // a silent vehicle keeps its clock
+  rig.vehicle().reboot(rig.t());
+  rig.vehicle().powered = true;
+  rig.runUntil([&] { return !rig.link.status(1).lost; }, 0.1);
+  CHECK(rig.link.status(1).clock_resets == 1);
+  rig.run(0.3);
+  const auto& s = rig.link.status(1);
+  REQUIRE(s.clock_synced);
+  CHECK(std::abs(s.clock_offset_s - rig.vehicle().clock_offset_s) <= 1.1e-3);
+  CHECK(std::abs(rig.link.groundTime(1, rig.vehicle().clockUs(rig.t())) - rig.t()) <= 1.1e-3);
+}
+
+TEST_CASE("a vehicle is lost after 0.2 s without a heartbeat and found again with the next one") {
+  Rig rig({1});
+  rig.run(0.5);
+  REQUIRE_FALSE(rig.link.status(1).lost);
+  bool silent = false;
+  rig.vehicle().drop_downlink = [&](const Message&) { return silent; };
+  silent = true;
+  const double last_s = rig.link.status(1).last_heard_s;
+  rig.runUntil([&] { return rig.t() > last_s + 0.195; }, 1.0);
+  CHECK_FALSE(rig.link.status(1).lost);
+  REQUIRE(rig.runUntil([&] { return rig.link.status(1).lost; }, 1.0));
+  const double lost_at_s = rig.t() - 1e-3;  // the tick of the step just run
+  CHECK(lost_at_s - last_s > 0.2);
+  CHECK(lost_at_s - last_s <= 0.2015);
+  CHECK(rig.link.status(1).last_heard_s == last_s);
+  rig.run(1.0);
+  CHECK(rig.link.status(1).lost);
+  CHECK(rig.link.status(1).link_quality == 0.0);
+
+  silent = false;
+  CHECK(rig.runUntil([&] { return !rig.link.status(1).lost; }, 0.021));
+  CHECK(rig.link.status(1).last_heard_s > last_s);
+}
+
+TEST_CASE("link quality counts the vehicle's heartbeats against the 50 Hz expected") {
+  Rig rig({1});
+  SECTION("all arrive") {
+    rig.run(2.0);
+    CHECK(rig.link.status(1).link_quality >= 0.97);
+  }
+  SECTION("every second one is lost") {
+    int n = 0;
+    rig.vehicle().drop_downlink = [&](const Message& m) { return m.type == Type::vehicle_heartbeat && (n++ % 2) == 1; };
+    rig.run(2.0);
+    CHECK(rig.link.status(1).link_quality == Approx(0.5).margin(0.03));
+    CHECK_FALSE(rig.link.status(1).lost);
+  }
+}
+
+TEST_CASE("an IMPACT is reported on the ground clock, both its reports sharing the vehicle's count") {
+  const double offset_s = kT0 - (kVehicleWrap_s - 0.605);  // the vehicle clock wraps between onset and reports
+  Rig rig({1}, {0.008, 0.002, 0.0, 11}, {offset_s});
+  rig.run(0.6);
+  REQUIRE(rig.link.status(1).clock_synced);
+  CHECK(rig.link.takeImpacts().empty());
+
+  // A 40 m/s^2 push down the body z-axis for 3 ms: an unexpected impact for the firmware's detector.
+  const double onset_s = rig.t();
+  const float pulse[] = {20.0f, 40.0f, 40.0f, 20.0f};
+  for (float p : pulse) {
+    rig.vehicle().accel_z_mps2 = kG - p;
+    rig.step();
+  }
+  rig.vehicle().accel_z_mps2 = kG;
+  rig.run(0.2);
+  REQUIRE(rig.vehicle().firmware->impact_count() == 1);
+
+  const auto impacts = rig.link.takeImpacts();
+  REQUIRE(impacts.size() == 2);
+  CHECK_FALSE(impacts[0].final);
+  CHECK(impacts[1].final);
+  for (const auto& r : impacts) {
+    CHECK(r.node == 1);
+    CHECK(r.count == rig.vehicle().firmware->impact_count());
+    CHECK(r.t_from_clock_sync);
+    // The onset, on the ground clock: within the 1.5 ms of the clock sync and the detector's
+    // interpolation of a 1 kHz edge, of when the push began; not when the frame arrived.
+    CHECK(std::abs(r.t_s - onset_s) <= 2.6e-3);
+    CHECK(r.received_s - r.t_s >= 0.008);
+    CHECK(r.peak_mps2 > 30.0f);
+  }
+  CHECK(impacts[0].t_s == Approx(impacts[1].t_s).margin(1e-3));  // the sync may improve in between
+  CHECK(rig.link.takeImpacts().empty());
+}
+
+TEST_CASE("IMPACT reports are kept in a bounded queue: the oldest go, counted") {
+  InMemoryFrameBus bus;
+  GroundLink link(bus, {1});
+  for (int i = 0; i < 100; ++i)
+    link.onFrame(encoded(Impact{static_cast<std::uint32_t>(i) * 1000u, 12.0f, ImpactClass::catch_impact, false,
+                                static_cast<std::uint8_t>(i)},
+                         1),
+                 1.0 + 0.001 * i);
+  const auto impacts = link.takeImpacts();
+  REQUIRE(impacts.size() == GroundLink::kImpactQueue);
+  CHECK(link.counters().impacts_dropped == 100 - GroundLink::kImpactQueue);
+  CHECK(impacts.front().count == 100 - GroundLink::kImpactQueue);
+  CHECK(impacts.back().count == 99);
+  // Without a clock sync (the vehicle never heard) the time is when the frame arrived.
+  CHECK_FALSE(impacts.back().t_from_clock_sync);
+  CHECK(impacts.back().t_s == Approx(1.099));
+  CHECK(link.takeImpacts().empty());
+}
+
+TEST_CASE("KILL: never gated, repeated until the vehicle reports killed, to one vehicle or all") {
+  Rig rig({1, 2});
+  rig.run(0.1);
+  for (std::uint8_t node : kBothNodes) {
+    rig.link.sendSetpoint(node, input(0.0));
+    REQUIRE(rig.waitFor(rig.link.sendCommand(node, CommandCode::arm, 0, rig.t())) == CommandState::accepted);
+  }
+  // The first KILL to vehicle 1 is lost on its radio.
+  int lost = 0;
+  rig.vehicle(0).drop_uplink = [&](const Message& m) { return m.type == Type::kill && lost++ == 0; };
+  rig.link.sendKill(1, KillReason::operator_request);
+  rig.run(0.5);
+  CHECK(rig.vehicle(0).firmware->mode() == Mode::killed);
+  CHECK(rig.vehicle(1).firmware->mode() == Mode::armed);
+  CHECK(rig.link.status(1).mode == Mode::killed);
+  CHECK(rig.sentOfType(Type::kill).size() == 2);  // the lost one and one repeat: then confirmed
+
+  rig.link.sendKill(kBroadcastNode, KillReason::estimator);
+  rig.run(0.3);
+  CHECK(rig.vehicle(1).firmware->mode() == Mode::killed);
+  CHECK(rig.sentOfType(Type::kill).size() == 3);  // both vehicles confirmed after the first
+  CHECK(decoded(rig.sentOfType(Type::kill).back().frame).node == kBroadcastNode);
+
+  // DISARM clears the latch (and stops any repeat).
+  REQUIRE(rig.waitFor(rig.link.sendCommand(1, CommandCode::disarm, 0, rig.t())) == CommandState::accepted);
+  rig.run(0.1);
+  CHECK(rig.vehicle(0).firmware->mode() == Mode::disarmed);
+  CHECK(rig.link.status(1).mode == Mode::disarmed);
+}
+
+TEST_CASE("a KILL nobody confirms is sent command_attempts times, then given up") {
+  Rig rig({1});
+  rig.vehicle().drop_uplink = [](const Message& m) { return m.type == Type::kill; };
+  rig.run(0.1);
+  rig.link.sendKill(1, KillReason::geofence);
+  rig.run(1.0);
+  CHECK(rig.sentOfType(Type::kill).size() == 5);
+  CHECK(rig.vehicle().firmware->mode() == Mode::disarmed);
+}
+
+TEST_CASE("malformed, unknown, foreign and wrong-direction frames are counted and dropped") {
+  InMemoryFrameBus bus;
+  GroundLink link(bus, {1, 2});
+  const VehicleHeartbeat hb{1234, Mode::flying, kFlagArmed, 3, FailsafeReason::none, 0};
+
+  Frame wrong_length = encoded(hb, 1);
+  wrong_length.len = 7;
+  link.onFrame(wrong_length, 1.0);
+  CHECK(link.counters().wrong_length == 1);
+
+  Frame unknown = encoded(hb, 1);
+  unknown.id = make_id(static_cast<Type>(0x7F), 1);
+  link.onFrame(unknown, 1.0);
+  unknown.id = 0x900;  // beyond 11 bits
+  link.onFrame(unknown, 1.0);
+  CHECK(link.counters().unknown_type == 2);
+
+  Frame bad_mode = encoded(hb, 1);
+  bad_mode.data[4] = 9;
+  link.onFrame(bad_mode, 1.0);
+  Frame reserved_bit = encoded(hb, 1);
+  reserved_bit.data[5] = 0x80;
+  link.onFrame(reserved_bit, 1.0);
+  CHECK(link.counters().out_of_range == 2);
+  CHECK(link.counters().undecodable() == 5);
+
+  for (std::uint8_t node : {std::uint8_t{0}, std::uint8_t{3}, std::uint8_t{14}, kBroadcastNode}) link.onFrame(encoded(hb, node), 1.0);  // not our vehicles
+  CHECK(link.counters().foreign_node == 4);
+
+  // Ground-to-vehicle and HIL frames: another ground station, or a plant on the wrong bus.
+  link.onFrame(encoded(GsHeartbeat{1, 0x77, GroundState::active, 1}, kBroadcastNode), 1.0);
+  link.onFrame(encoded(RateThrust{{0, 0, 0}, 5.0f, 1}, 1), 1.0);
+  link.onFrame(encoded(Command{CommandCode::arm, 0, 0x77, 0}, 1), 1.0);
+  link.onFrame(encoded(HilImuGyro{{0, 0, 0}, 1}, 1), 1.0);
+  CHECK(link.counters().wrong_direction == 4);
+
+  // None of it touched what the link knows of vehicle 1.
+  CHECK_FALSE(link.status(1).heard);
+  CHECK(link.status(1).frames_received == 0);
+  CHECK(link.status(1).mode == Mode::disarmed);
+
+  // Valid frames that match nothing outstanding are stale.
+  link.onFrame(encoded(CommandAck{0, CommandCode::arm, AckResult::accepted, Mode::armed, RefuseReason::none}, 1), 1.0);
+  link.onFrame(encoded(TimesyncReply{5, 6}, 1), 1.0);
+  link.onFrame(encoded(hb, 1), 1.0);
+  link.onFrame(encoded(hb, 1), 1.001);  // the same heartbeat again
+  CHECK(link.counters().stale == 3);
+  CHECK(link.status(1).heartbeats_received == 1);
+  CHECK(link.status(1).mode == Mode::flying);
+  CHECK(link.status(1).frames_received == 4);
+
+  const auto& c = link.counters();
+  CHECK(c.frames_received == 17);
+  CHECK(c.accepted + c.undecodable() + c.foreign_node + c.wrong_direction + c.stale == c.frames_received);
+  CHECK(c.frames_sent == 0);
+}
+
+TEST_CASE("the bus refusing a frame is counted") {
+  InMemoryFrameBus bus(1);
+  GroundLink link(bus, {1});
+  link.tick(0.0);  // the first heartbeat fills it
+  CHECK(link.counters().frames_sent == 1);
+  link.sendSetpoint(1, input(0.0));
+  CHECK(link.counters().send_refused == 1);
+  CHECK(bus.take().size() == 1);
+  link.sendSetpoint(1, input(0.0));
+  CHECK(link.counters().frames_sent == 2);
+  CHECK(link.counters().send_refused == 1);
+}
+
+TEST_CASE("a flood of 100k random frames neither crashes the link nor makes it allocate") {
+  InMemoryFrameBus bus;
+  GroundLink link(bus, {1, 2});
+  std::mt19937 rng(20240611);
+  std::uniform_int_distribution<int> byte(0, 255);
+  std::uniform_int_distribution<int> node(0, 15);
+  std::uniform_int_distribution<int> length(0, 9);
+  std::uniform_int_distribution<int> any_id(0, 0xFFFF);
+  std::uniform_int_distribution<std::size_t> catalogue(0, kCatalogue.size() - 1);
+
+  std::uint64_t allocations = 0;
+  double t = 10.0;
+  for (int i = 0; i < 100000; ++i) {
+    Frame f;
+    if (i % 2 == 0) {  // a known type and its length, random payload: many of these decode
+      const TypeInfo& info = kCatalogue[catalogue(rng)];
+      f.id = make_id(info.type, static_cast<std::uint8_t>(node(rng)));
+      f.len = info.length;
+    } else {  // anything at all
+      f.id = static_cast<std::uint16_t>(any_id(rng));
+      f.len = static_cast<std::uint8_t>(length(rng));
+    }
+    for (auto& b : f.data) b = static_cast<std::uint8_t>(byte(rng));
+    const std::uint64_t before = g_allocations;
+    link.onFrame(f, t);
+    allocations += g_allocations - before;
+    if (i % 100 == 0) {
+      t += 0.001;
+      link.tick(t);
+      bus.take();
+    }
+  }
+  CHECK(allocations == 0);
+  const auto& c = link.counters();
+  CHECK(c.frames_received == 100000);
+  CHECK(c.accepted + c.undecodable() + c.foreign_node + c.wrong_direction + c.stale == c.frames_received);
+  CHECK(c.accepted > 0);
+  CHECK(c.undecodable() > 0);
+  CHECK(link.takeImpacts().size() <= GroundLink::kImpactQueue);
+  for (std::uint8_t n : kBothNodes) {
+    CHECK(link.status(n).link_quality >= 0.0);
+    CHECK(link.status(n).link_quality <= 1.0);
+  }
+  // Still working: the periodic frames go out.
+  link.tick(t + 1.0);
+  CHECK_FALSE(bus.take().empty());
+}

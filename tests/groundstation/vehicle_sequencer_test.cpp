@@ -1,0 +1,849 @@
+// Mission sequencer (groundstation/mission/vehicle_sequencer.hpp): the transition table on its
+// own, row by row and as properties over condition words, then VehicleSequencer::step() and
+// reset(). Tasks, reasons and condition words print by name so failures read as transitions.
+#include <catch2/catch.hpp>
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <random>
+#include <set>
+#include <sstream>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "groundstation/mission/vehicle_sequencer.hpp"
+
+namespace Catch {
+template <>
+struct StringMaker<gs::mission::Task> {
+  static std::string convert(gs::mission::Task t) { return std::string(gs::mission::taskName(t)); }
+};
+template <>
+struct StringMaker<gs::mission::Reason> {
+  static std::string convert(gs::mission::Reason r) { return std::string(gs::mission::reasonName(r)); }
+};
+}  // namespace Catch
+
+namespace {
+
+using gs::mission::findTransition;
+using gs::mission::kAirborne;
+using gs::mission::kTaskCount;
+using gs::mission::kTransitions;
+using gs::mission::Reason;
+using gs::mission::Task;
+using gs::mission::TaskSet;
+using gs::mission::taskBit;
+using gs::mission::tasks;
+using gs::mission::Transition;
+using gs::mission::VehicleSequencer;
+namespace c = gs::mission::condition;
+
+constexpr std::uint32_t kAllBits = (std::uint32_t{1} << c::kCount) - 1u;
+constexpr int kReasonCount = static_cast<int>(Reason::pole_down) + 1;
+constexpr int kRowCount = static_cast<int>(kTransitions.size());
+
+std::vector<Task> allTasks() {
+  std::vector<Task> out;
+  for (int i = 0; i < kTaskCount; ++i) out.push_back(static_cast<Task>(i));
+  return out;
+}
+
+bool in(TaskSet set, Task t) { return (set & taskBit(t)) != 0; }
+bool airborne(Task t) { return in(kAirborne, t); }
+
+// "vehicle_lost|armed", or "0".
+std::string bits(std::uint32_t word) {
+  std::string out;
+  for (int b = 0; b < c::kCount; ++b) {
+    if ((word & (std::uint32_t{1} << b)) == 0) continue;
+    if (!out.empty()) out += '|';
+    out += gs::mission::conditionName(b);
+  }
+  return out.empty() ? "0" : out;
+}
+
+std::string taskList(TaskSet set) {
+  std::string out;
+  for (Task t : allTasks()) {
+    if (!in(set, t)) continue;
+    if (!out.empty()) out += ',';
+    out += gs::mission::taskName(t);
+  }
+  return "{" + out + "}";
+}
+
+// "row 13: {balance} [request_throw|settled / not pole_on_self] -> throwing (throw_requested)"
+std::string describeRow(int i) {
+  if (i < 0) return "no row";
+  const Transition& r = kTransitions[static_cast<std::size_t>(i)];
+  std::ostringstream s;
+  s << "row " << i << ": " << taskList(r.from) << " [" << bits(r.all) << " / not " << bits(r.none) << "] -> "
+    << gs::mission::taskName(r.to) << " (" << gs::mission::reasonName(r.reason) << ")";
+  return s.str();
+}
+
+std::string describeWord(Task t, std::uint32_t word) {
+  return std::string(gs::mission::taskName(t)) + " under " + bits(word);
+}
+
+// The rule read plainly and independently of findTransition: the first row, in table order,
+// whose `from` holds the task, all of whose `all` bits hold and none of whose `none` bits do.
+int expectedRow(Task t, std::uint32_t word) {
+  for (int i = 0; i < kRowCount; ++i) {
+    const Transition& r = kTransitions[static_cast<std::size_t>(i)];
+    const bool fromOk = ((r.from >> static_cast<unsigned>(t)) & 1u) != 0;
+    const bool allOk = (~word & r.all) == 0;   // no required bit missing
+    const bool noneOk = (word & r.none) == 0;  // no forbidden bit present
+    if (fromOk && allOk && noneOk) return i;
+  }
+  return -1;
+}
+
+int rowIndex(const Transition* row) { return row == nullptr ? -1 : static_cast<int>(row - kTransitions.data()); }
+
+// The bits any row leaving `t` looks at: the outcome from `t` depends on these alone.
+std::uint32_t relevantBits(Task t) {
+  std::uint32_t mask = 0;
+  for (const Transition& r : kTransitions)
+    if (in(r.from, t)) mask |= r.all | r.none;
+  return mask;
+}
+
+// Every condition word that matters for `t`: every subset of its relevant bits, first clean (in
+// increasing order, so the first failure printed is a small word), then three times with
+// pseudo-random noise in the other bits, then `random` fully
+// pseudo-random words (half dense, half sparse). The seed is fixed.
+template <typename F>
+void forEachWord(Task t, F&& f, int random = 20000) {
+  std::mt19937 rng(0x5e9u + static_cast<unsigned>(t));
+  const std::uint32_t mask = relevantBits(t);
+  for (int noisy = 0; noisy <= 3; ++noisy) {
+    std::uint32_t s = 0;
+    do {
+      f(noisy == 0 ? s : s | (static_cast<std::uint32_t>(rng()) & kAllBits & ~mask));
+      s = (s - mask) & mask;  // next subset of mask, back to 0 after the last
+    } while (s != 0);
+  }
+  for (int k = 0; k < random; ++k) {
+    std::uint32_t w = static_cast<std::uint32_t>(rng()) & kAllBits;
+    if (k % 2) w &= static_cast<std::uint32_t>(rng()) & static_cast<std::uint32_t>(rng());
+    f(w);
+  }
+}
+
+// Counts the words that break a property and remembers the first few, so that one failing
+// CHECK prints the task, the word and the row that fired.
+struct Violations {
+  int count = 0;
+  std::string first;
+  void add(Task t, std::uint32_t word, const std::string& what) {
+    if (count++ < 3) first += describeWord(t, word) + ": " + what + " [" + describeRow(expectedRow(t, word)) + "]\n";
+  }
+};
+
+// Whether row i can fire from t at all (is the first match for some word), and one such word.
+std::pair<bool, std::uint32_t> witness(int i, Task t) {
+  const std::uint32_t mask = relevantBits(t);
+  std::uint32_t s = 0;
+  do {
+    if (expectedRow(t, s) == i) return {true, s};
+    s = (s - mask) & mask;
+  } while (s != 0);
+  return {false, 0};
+}
+
+// Where one step from `t` under `word` leads, through VehicleSequencer.
+struct Outcome {
+  bool changed;
+  Task task;
+  Reason reason;
+};
+Outcome stepFrom(Task t, std::uint32_t word) {
+  VehicleSequencer s;
+  s.reset(t, 1.0);
+  const bool changed = s.step(word, 2.0);
+  return {changed, s.task(), s.lastReason()};
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Names
+// ---------------------------------------------------------------------------------------------
+
+TEST_CASE("task, reason and condition names are distinct and never '?'", "[sequencer]") {
+  std::set<std::string_view> taskNames, reasonNames, conditionNames;
+  for (Task t : allTasks()) {
+    INFO("task " << static_cast<int>(t));
+    CHECK(gs::mission::taskName(t) != "?");
+    CHECK(taskNames.insert(gs::mission::taskName(t)).second);
+  }
+  for (int r = 0; r < kReasonCount; ++r) {
+    INFO("reason " << r);
+    CHECK(gs::mission::reasonName(static_cast<Reason>(r)) != "?");
+    CHECK(reasonNames.insert(gs::mission::reasonName(static_cast<Reason>(r))).second);
+  }
+  for (int b = 0; b < c::kCount; ++b) {
+    INFO("condition bit " << b);
+    CHECK(gs::mission::conditionName(b) != "?");
+    CHECK(conditionNames.insert(gs::mission::conditionName(b)).second);
+  }
+  // Out of range: "?" (and a task or reason added after the last one here shows up as not "?").
+  CHECK(gs::mission::taskName(static_cast<Task>(kTaskCount)) == "?");
+  CHECK(gs::mission::reasonName(static_cast<Reason>(kReasonCount)) == "?");
+  CHECK(gs::mission::conditionName(-1) == "?");
+  CHECK(gs::mission::conditionName(c::kCount) == "?");
+}
+
+TEST_CASE("condition names follow the bits they name", "[sequencer]") {
+  const std::vector<std::pair<std::uint32_t, std::string_view>> named = {
+      {c::vehicle_lost, "vehicle_lost"},
+      {c::estimate_lost, "estimate_lost"},
+      {c::armed, "armed"},
+      {c::on_ground, "on_ground"},
+      {c::command_failed, "command_failed"},
+      {c::at_height, "at_height"},
+      {c::at_target, "at_target"},
+      {c::pole_on_self, "pole_on_self"},
+      {c::pole_free, "pole_free"},
+      {c::pole_down, "pole_down"},
+      {c::pole_upright, "pole_upright"},
+      {c::throw_over, "throw_over"},
+      {c::release_over, "release_over"},
+      {c::catch_due, "catch_due"},
+      {c::catch_unreachable, "catch_unreachable"},
+      {c::catch_infeasible, "catch_infeasible"},
+      {c::catch_missed, "catch_missed"},
+      {c::settled, "settled"},
+      {c::request_take_off, "request_take_off"},
+      {c::request_throw, "request_throw"},
+      {c::request_catch, "request_catch"},
+      {c::request_abort, "request_abort"},
+      {c::request_land, "request_land"},
+  };
+  REQUIRE(static_cast<int>(named.size()) == c::kCount);
+  std::uint32_t seen = 0;
+  for (const auto& [bit, name] : named) {
+    INFO(name);
+    CHECK((bit & (bit - 1)) == 0);  // one bit
+    CHECK((seen & bit) == 0);       // not shared with another condition
+    seen |= bit;
+    int index = 0;
+    while ((std::uint32_t{1} << index) != bit && index < 32) ++index;
+    CHECK(gs::mission::conditionName(index) == name);
+  }
+  CHECK(seen == kAllBits);
+}
+
+TEST_CASE("the airborne set is the ten flying tasks", "[sequencer]") {
+  CHECK(kAirborne == tasks(Task::take_off, Task::hover, Task::balance, Task::throwing, Task::release, Task::retreat,
+                           Task::wait, Task::catching, Task::rebalance, Task::clear));
+  for (Task t : {Task::parked, Task::arming, Task::landing, Task::failsafe}) CHECK_FALSE(airborne(t));
+}
+
+// ---------------------------------------------------------------------------------------------
+// The table's shape
+// ---------------------------------------------------------------------------------------------
+
+TEST_CASE("every row is well formed", "[sequencer]") {
+  constexpr TaskSet kAllTasks = (TaskSet{1} << kTaskCount) - 1u;
+  for (int i = 0; i < kRowCount; ++i) {
+    const Transition& r = kTransitions[static_cast<std::size_t>(i)];
+    INFO(describeRow(i));
+    CHECK(r.from != 0);
+    CHECK((r.from & ~kAllTasks) == 0);
+    CHECK((r.all & ~kAllBits) == 0);
+    CHECK((r.none & ~kAllBits) == 0);
+    CHECK(static_cast<int>(r.to) < kTaskCount);
+    CHECK(r.reason != Reason::none);
+    // A bit both required and forbidden would make the row dead.
+    CHECK((r.all & r.none) == 0);
+    // The row leads somewhere from at least one of its tasks ...
+    CHECK((r.from & ~taskBit(r.to)) != 0);
+    // ... and in fact from all of them: a row that named its own target would fire on itself,
+    // step() would ignore it, and it would hide every later row of that task under that word.
+    CHECK_FALSE(in(r.from, r.to));
+  }
+}
+
+TEST_CASE("findTransition is the first matching row in table order", "[sequencer]") {
+  std::mt19937 rng(20240611u);
+  Violations v;
+  int transitions = 0;
+  for (int k = 0; k < 300000; ++k) {
+    std::uint32_t w = static_cast<std::uint32_t>(rng()) & kAllBits;
+    if (k % 3 == 1) w &= static_cast<std::uint32_t>(rng());
+    if (k % 3 == 2) w &= static_cast<std::uint32_t>(rng()) & static_cast<std::uint32_t>(rng());
+    for (Task t : allTasks()) {
+      const int expected = expectedRow(t, w);
+      const int got = rowIndex(findTransition(t, w));
+      if (expected >= 0) ++transitions;
+      if (got != expected) v.add(t, w, "findTransition gave " + describeRow(got));
+    }
+  }
+  // And exhaustively over the bits each task looks at.
+  for (Task t : allTasks())
+    forEachWord(
+        t,
+        [&](std::uint32_t w) {
+          const int got = rowIndex(findTransition(t, w));
+          if (got != expectedRow(t, w)) v.add(t, w, "findTransition gave " + describeRow(got));
+        },
+        0);
+  INFO(v.first);
+  CHECK(v.count == 0);
+  CHECK(transitions > 100000);  // the words exercise the table, not just "no row"
+}
+
+// ---------------------------------------------------------------------------------------------
+// Every row
+// ---------------------------------------------------------------------------------------------
+
+TEST_CASE("each row, from each of its tasks with exactly its `all` bits, is taken unless an earlier row matches",
+          "[sequencer]") {
+  int shadowed = 0;
+  for (int i = 0; i < kRowCount; ++i) {
+    const Transition& r = kTransitions[static_cast<std::size_t>(i)];
+    for (Task t : allTasks()) {
+      if (!in(r.from, t)) continue;
+      const int expected = expectedRow(t, r.all);
+      INFO(describeRow(i) << ", from " << describeWord(t, r.all) << " -> " << describeRow(expected));
+      // The row itself matches (its `all` and `none` do not overlap), so the first match is
+      // this row or an earlier one.
+      REQUIRE(expected >= 0);
+      CHECK(expected <= i);
+      CHECK(rowIndex(findTransition(t, r.all)) == expected);
+      const Transition& e = kTransitions[static_cast<std::size_t>(expected)];
+      const Outcome o = stepFrom(t, r.all);
+      CHECK(o.changed);
+      CHECK(o.task == e.to);
+      CHECK(o.reason == e.reason);
+      if (expected != i) ++shadowed;
+    }
+  }
+  // Only one (row, task) pair needs more than its `all` bits: balance throws only with the
+  // pole on the plate, otherwise the earlier "pole lost" row takes it back to hover.
+  CHECK(shadowed == 1);
+  const Outcome o = stepFrom(Task::balance, c::request_throw | c::settled);
+  CHECK(o.task == Task::hover);
+  CHECK(o.reason == Reason::pole_lost);
+}
+
+TEST_CASE("each row can fire from each task in its `from` set", "[sequencer]") {
+  for (int i = 0; i < kRowCount; ++i) {
+    const Transition& r = kTransitions[static_cast<std::size_t>(i)];
+    for (Task t : allTasks()) {
+      if (!in(r.from, t)) continue;
+      const auto [found, word] = witness(i, t);
+      INFO(describeRow(i) << ", from " << gs::mission::taskName(t));
+      CHECK(found);
+      if (!found) continue;
+      INFO("word " << bits(word));
+      CHECK(rowIndex(findTransition(t, word)) == i);
+      VehicleSequencer s;
+      s.reset(t, 3.0);
+      CHECK(s.step(word, 3.5));
+      CHECK(s.task() == r.to);
+      CHECK(s.lastReason() == r.reason);
+      CHECK(s.taskSince_s() == 3.5);
+    }
+  }
+}
+
+TEST_CASE("key transitions, written out", "[sequencer]") {
+  struct Case {
+    Task from;
+    std::uint32_t word;
+    Task to;  // == from with Reason::none: no row, the task stays
+    Reason reason;
+  };
+  const std::vector<Case> cases = {
+      // The throw.
+      {Task::throwing, c::throw_over | c::pole_on_self, Task::release, Reason::throw_ended},
+      {Task::throwing, c::throw_over, Task::release, Reason::throw_ended},
+      {Task::throwing, c::pole_on_self, Task::throwing, Reason::none},
+      {Task::throwing, 0, Task::release, Reason::pole_left_early},
+      {Task::throwing, c::request_abort | c::pole_on_self, Task::release, Reason::abort_requested},
+      {Task::balance, c::request_throw | c::pole_on_self, Task::balance, Reason::none},  // needs settled too
+      {Task::balance, c::settled | c::pole_on_self, Task::balance, Reason::none},
+      {Task::balance, c::request_throw | c::settled | c::pole_on_self, Task::throwing, Reason::throw_requested},
+      {Task::balance, 0, Task::hover, Reason::pole_lost},
+      {Task::balance, c::request_throw | c::settled, Task::hover, Reason::pole_lost},
+      {Task::release, c::release_over, Task::retreat, Reason::released},
+      {Task::release, 0, Task::release, Reason::none},
+      {Task::retreat, c::at_target, Task::hover, Reason::clear_of_pole},
+      {Task::hover, c::pole_on_self, Task::balance, Reason::pole_placed},
+      // The catch.
+      {Task::hover, c::request_catch, Task::wait, Reason::catch_requested},
+      {Task::hover, c::request_catch | c::pole_on_self, Task::balance, Reason::pole_placed},
+      {Task::hover, c::request_abort, Task::hover, Reason::none},
+      {Task::wait, c::catch_unreachable, Task::clear, Reason::out_of_reach},
+      {Task::wait, c::catch_unreachable | c::request_catch, Task::clear, Reason::out_of_reach},
+      {Task::catching, c::catch_unreachable | c::request_catch, Task::clear, Reason::out_of_reach},
+      {Task::wait, c::catch_infeasible | c::request_catch, Task::clear, Reason::infeasible},
+      {Task::catching, c::catch_infeasible, Task::clear, Reason::infeasible},
+      {Task::wait, c::request_catch | c::catch_due, Task::catching, Reason::catch_started},
+      {Task::wait, c::request_catch, Task::wait, Reason::none},
+      {Task::wait, 0, Task::hover, Reason::abort_requested},  // the request withdrawn
+      {Task::wait, c::request_abort | c::request_catch, Task::clear, Reason::abort_requested},
+      {Task::catching, c::request_abort, Task::clear, Reason::abort_requested},
+      {Task::catching, c::pole_on_self, Task::rebalance, Reason::caught},
+      {Task::wait, c::pole_on_self | c::request_catch, Task::rebalance, Reason::caught},
+      // A caught pole wins over the planner's late verdicts (those rows need the pole not on us).
+      {Task::catching, c::pole_on_self | c::catch_unreachable | c::catch_infeasible, Task::rebalance, Reason::caught},
+      {Task::catching, c::catch_missed, Task::clear, Reason::missed},
+      {Task::catching, c::catch_missed | c::pole_down, Task::hover, Reason::pole_down},
+      {Task::wait, c::pole_down | c::request_catch, Task::hover, Reason::pole_down},
+      {Task::catching, c::request_catch, Task::catching, Reason::none},
+      {Task::rebalance, c::pole_on_self | c::pole_upright, Task::balance, Reason::pole_upright},
+      {Task::rebalance, c::pole_on_self | c::pole_upright | c::pole_free, Task::rebalance, Reason::none},
+      {Task::rebalance, c::pole_on_self, Task::rebalance, Reason::none},
+      {Task::rebalance, 0, Task::clear, Reason::pole_lost},
+      {Task::clear, c::pole_down, Task::hover, Reason::pole_down},
+      {Task::clear, c::settled, Task::hover, Reason::clear_of_pole},
+      {Task::clear, c::settled | c::pole_free, Task::clear, Reason::none},
+      {Task::clear, c::pole_free, Task::clear, Reason::none},
+      // Take-off.
+      {Task::parked, 0, Task::parked, Reason::none},
+      {Task::parked, c::request_take_off, Task::arming, Reason::take_off_requested},
+      {Task::parked, c::request_take_off | c::estimate_lost, Task::parked, Reason::none},
+      {Task::parked, c::request_take_off | c::vehicle_lost, Task::parked, Reason::none},
+      {Task::parked, c::request_take_off | c::armed | c::on_ground, Task::arming, Reason::take_off_requested},
+      {Task::parked, c::armed, Task::hover, Reason::vehicle_back},  // re-attached to a flying vehicle
+      {Task::parked, c::armed | c::on_ground, Task::parked, Reason::none},
+      {Task::parked, c::armed | c::estimate_lost, Task::parked, Reason::none},
+      {Task::parked, c::armed | c::vehicle_lost, Task::parked, Reason::none},
+      {Task::parked, c::request_land | c::request_throw | c::request_catch, Task::parked, Reason::none},
+      {Task::arming, c::command_failed, Task::parked, Reason::arm_failed},
+      {Task::arming, c::command_failed | c::armed, Task::parked, Reason::arm_failed},
+      {Task::arming, c::armed, Task::take_off, Reason::armed},
+      {Task::arming, c::armed | c::on_ground, Task::take_off, Reason::armed},
+      {Task::arming, 0, Task::arming, Reason::none},
+      {Task::take_off, c::at_height, Task::hover, Reason::airborne},
+      {Task::take_off, c::armed, Task::take_off, Reason::none},
+      // Landing.
+      {Task::landing, c::on_ground, Task::parked, Reason::landed},
+      {Task::landing, c::on_ground | c::armed, Task::landing, Reason::none},  // down but still armed
+      {Task::landing, c::armed, Task::landing, Reason::none},
+      {Task::landing, c::estimate_lost, Task::landing, Reason::none},  // the vehicle lands on board
+      {Task::landing, c::vehicle_lost, Task::failsafe, Reason::vehicle_lost},
+      {Task::landing, c::vehicle_lost | c::on_ground, Task::failsafe, Reason::vehicle_lost},
+      {Task::landing, c::request_take_off, Task::landing, Reason::none},
+      // Failsafe.
+      {Task::failsafe, c::on_ground, Task::parked, Reason::landed},
+      {Task::failsafe, c::on_ground | c::armed, Task::failsafe, Reason::none},
+      {Task::failsafe, c::on_ground | c::vehicle_lost, Task::failsafe, Reason::none},
+      {Task::failsafe, c::armed, Task::failsafe, Reason::none},  // heard again, still flying
+      {Task::failsafe, 0, Task::failsafe, Reason::none},
+      {Task::failsafe, c::request_take_off | c::request_land, Task::failsafe, Reason::none},
+  };
+  for (const Case& k : cases) {
+    INFO(describeWord(k.from, k.word) << " -> expected " << gs::mission::taskName(k.to) << " ("
+                                      << gs::mission::reasonName(k.reason) << "), table: "
+                                      << describeRow(expectedRow(k.from, k.word)));
+    const Outcome o = stepFrom(k.from, k.word);
+    CHECK(o.task == k.to);
+    CHECK(o.reason == k.reason);
+    CHECK(o.changed == (k.to != k.from));
+    const Transition* row = findTransition(k.from, k.word);
+    if (k.to == k.from) {
+      CHECK(row == nullptr);
+    } else {
+      REQUIRE(row != nullptr);
+      CHECK(row->to == k.to);
+    }
+  }
+}
+
+TEST_CASE("any airborne task, or landing, that loses the vehicle goes to failsafe", "[sequencer]") {
+  for (Task t : allTasks()) {
+    if (!airborne(t) && t != Task::landing) continue;
+    INFO(gs::mission::taskName(t));
+    for (std::uint32_t extra : {0u, c::request_land, c::request_abort | c::pole_on_self, c::estimate_lost, c::on_ground,
+                                kAllBits}) {
+      const Outcome o = stepFrom(t, c::vehicle_lost | extra);
+      INFO("with " << bits(extra));
+      CHECK(o.task == Task::failsafe);
+      CHECK(o.reason == Reason::vehicle_lost);
+    }
+    if (airborne(t)) {
+      const Outcome o = stepFrom(t, c::estimate_lost | c::request_land);
+      CHECK(o.task == Task::failsafe);
+      CHECK(o.reason == Reason::estimate_lost);
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Severity properties over condition words
+// ---------------------------------------------------------------------------------------------
+
+TEST_CASE("vehicle_lost in any airborne task always leads to failsafe", "[sequencer]") {
+  Violations v;
+  for (Task t : allTasks()) {
+    if (!airborne(t) && t != Task::landing) continue;
+    forEachWord(t, [&](std::uint32_t w) {
+      w |= c::vehicle_lost;
+      const Transition* row = findTransition(t, w);
+      if (row == nullptr || row->to != Task::failsafe || row->reason != Reason::vehicle_lost)
+        v.add(t, w, "not failsafe (vehicle_lost)");
+    });
+  }
+  INFO(v.first);
+  CHECK(v.count == 0);
+}
+
+TEST_CASE("estimate_lost in any airborne task (vehicle heard) always leads to failsafe", "[sequencer]") {
+  Violations v;
+  for (Task t : allTasks()) {
+    if (!airborne(t)) continue;
+    forEachWord(t, [&](std::uint32_t w) {
+      w = (w | c::estimate_lost) & ~c::vehicle_lost;
+      const Transition* row = findTransition(t, w);
+      if (row == nullptr || row->to != Task::failsafe || row->reason != Reason::estimate_lost)
+        v.add(t, w, "not failsafe (estimate_lost)");
+    });
+  }
+  INFO(v.first);
+  CHECK(v.count == 0);
+}
+
+TEST_CASE("request_land in an airborne task always leads to landing unless the vehicle or estimate is lost",
+          "[sequencer]") {
+  Violations v;
+  for (Task t : allTasks()) {
+    if (!airborne(t)) continue;
+    forEachWord(t, [&](std::uint32_t w) {
+      w = (w | c::request_land) & ~(c::vehicle_lost | c::estimate_lost);
+      const Transition* row = findTransition(t, w);
+      if (row == nullptr || row->to != Task::landing || row->reason != Reason::land_requested)
+        v.add(t, w, "not landing");
+    });
+  }
+  INFO(v.first);
+  CHECK(v.count == 0);
+}
+
+TEST_CASE("from parked, the only airborne task reached directly is hover on re-attaching to an armed, flying vehicle",
+          "[sequencer]") {
+  // The table: rows from parked lead to arming, or to hover only when they need armed and
+  // forbid on_ground (and the vehicle and its estimate must be there).
+  for (int i = 0; i < kRowCount; ++i) {
+    const Transition& r = kTransitions[static_cast<std::size_t>(i)];
+    if (!in(r.from, Task::parked) || !airborne(r.to)) continue;
+    INFO(describeRow(i));
+    CHECK(r.to == Task::hover);
+    CHECK((r.all & c::armed) != 0);
+    CHECK((r.none & c::on_ground) != 0);
+    CHECK((r.none & c::vehicle_lost) != 0);
+    CHECK((r.none & c::estimate_lost) != 0);
+  }
+  // The words.
+  Violations v;
+  forEachWord(
+      Task::parked,
+      [&](std::uint32_t w) {
+        const Transition* row = findTransition(Task::parked, w);
+        if (row == nullptr || row->to == Task::arming) return;
+        const bool reattach = row->to == Task::hover && (w & c::armed) && !(w & c::on_ground) &&
+                              !(w & (c::vehicle_lost | c::estimate_lost));
+        if (!reattach) v.add(Task::parked, w, std::string("parked -> ") + std::string(gs::mission::taskName(row->to)));
+      },
+      300000);
+  INFO(v.first);
+  CHECK(v.count == 0);
+}
+
+TEST_CASE("failsafe is left only to parked, and only once down, disarmed and heard", "[sequencer]") {
+  for (int i = 0; i < kRowCount; ++i) {
+    const Transition& r = kTransitions[static_cast<std::size_t>(i)];
+    if (!in(r.from, Task::failsafe)) continue;
+    INFO(describeRow(i));
+    CHECK(r.to == Task::parked);
+  }
+  Violations v;
+  forEachWord(
+      Task::failsafe,
+      [&](std::uint32_t w) {
+        const Transition* row = findTransition(Task::failsafe, w);
+        if (row == nullptr) return;
+        if (row->to != Task::parked) v.add(Task::failsafe, w, "left failsafe, not to parked");
+        if (!(w & c::on_ground) || (w & (c::armed | c::vehicle_lost))) v.add(Task::failsafe, w, "parked too early");
+      },
+      300000);
+  INFO(v.first);
+  CHECK(v.count == 0);
+}
+
+TEST_CASE("nothing but the operator's land leads into landing, and landing only ends down or lost", "[sequencer]") {
+  for (int i = 0; i < kRowCount; ++i) {
+    const Transition& r = kTransitions[static_cast<std::size_t>(i)];
+    INFO(describeRow(i));
+    if (r.to == Task::landing) CHECK(r.reason == Reason::land_requested);
+    if (in(r.from, Task::landing)) CHECK((r.to == Task::failsafe || r.to == Task::parked));
+  }
+}
+
+TEST_CASE("no transition enters an airborne task while the vehicle or its estimate is lost", "[sequencer]") {
+  // TABLE PROBLEM (reported, not fixed here): the row {arming} [armed] -> take_off forbids
+  // neither vehicle_lost nor estimate_lost, so an arming vehicle that is lost, or whose pose
+  // estimate is stale, is sent to take_off (e.g. arming under armed|vehicle_lost or
+  // armed|estimate_lost), to be dropped into failsafe on the next step. Kept as CHECK so the
+  // rest of the suite runs.
+  Violations v;
+  for (Task t : allTasks()) {
+    forEachWord(t, [&](std::uint32_t word) {
+      for (std::uint32_t lost : {c::vehicle_lost, c::estimate_lost, c::vehicle_lost | c::estimate_lost}) {
+        const std::uint32_t w = word | lost;
+        const Transition* row = findTransition(t, w);
+        if (row != nullptr && airborne(row->to))
+          v.add(t, w, std::string("entered ") + std::string(gs::mission::taskName(row->to)));
+      }
+    });
+  }
+  INFO(v.first);
+  CHECK(v.count == 0);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Reachability
+// ---------------------------------------------------------------------------------------------
+
+namespace {
+// Edges of the table that can actually fire (some word makes the row the first match).
+std::vector<std::pair<Task, Task>> liveEdges() {
+  std::vector<std::pair<Task, Task>> edges;
+  for (int i = 0; i < kRowCount; ++i)
+    for (Task t : allTasks())
+      if (in(kTransitions[static_cast<std::size_t>(i)].from, t) && witness(i, t).first)
+        edges.emplace_back(t, kTransitions[static_cast<std::size_t>(i)].to);
+  return edges;
+}
+
+TaskSet reachableFrom(Task start, const std::vector<std::pair<Task, Task>>& edges) {
+  TaskSet seen = taskBit(start);
+  std::vector<Task> queue{start};
+  while (!queue.empty()) {
+    const Task t = queue.back();
+    queue.pop_back();
+    for (const auto& [from, to] : edges)
+      if (from == t && !in(seen, to)) {
+        seen |= taskBit(to);
+        queue.push_back(to);
+      }
+  }
+  return seen;
+}
+}  // namespace
+
+TEST_CASE("every task is reachable from parked, and parked from every task", "[sequencer]") {
+  const auto edges = liveEdges();
+  const TaskSet fromParked = reachableFrom(Task::parked, edges);
+  for (Task t : allTasks()) {
+    INFO(gs::mission::taskName(t) << ", reachable from parked: " << taskList(fromParked));
+    CHECK(in(fromParked, t));
+    // Every task has a way back to the ground (through landing, failsafe or a refused ARM).
+    const TaskSet fromT = reachableFrom(t, edges);
+    INFO("reachable from " << gs::mission::taskName(t) << ": " << taskList(fromT));
+    CHECK(in(fromT, Task::parked));
+  }
+}
+
+TEST_CASE("a mission's tasks are reached in the order the paper flies them", "[sequencer]") {
+  const auto edges = liveEdges();
+  auto edge = [&](Task a, Task b) {
+    for (const auto& e : edges)
+      if (e.first == a && e.second == b) return true;
+    return false;
+  };
+  // The thrower.
+  CHECK(edge(Task::parked, Task::arming));
+  CHECK(edge(Task::arming, Task::take_off));
+  CHECK(edge(Task::take_off, Task::hover));
+  CHECK(edge(Task::hover, Task::balance));
+  CHECK(edge(Task::balance, Task::throwing));
+  CHECK(edge(Task::throwing, Task::release));
+  CHECK(edge(Task::release, Task::retreat));
+  CHECK(edge(Task::retreat, Task::hover));
+  // The catcher.
+  CHECK(edge(Task::hover, Task::wait));
+  CHECK(edge(Task::wait, Task::catching));
+  CHECK(edge(Task::catching, Task::rebalance));
+  CHECK(edge(Task::rebalance, Task::balance));
+  // And no shortcut: the throw only starts from balance, the catch only from wait.
+  for (const auto& [from, to] : edges) {
+    INFO(gs::mission::taskName(from) << " -> " << gs::mission::taskName(to));
+    if (to == Task::throwing) CHECK(from == Task::balance);
+    if (to == Task::catching) CHECK(from == Task::wait);
+    if (to == Task::take_off) CHECK(from == Task::arming);
+    if (to == Task::arming) CHECK(from == Task::parked);
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// VehicleSequencer
+// ---------------------------------------------------------------------------------------------
+
+TEST_CASE("a new sequencer is parked since 0 with no reason", "[sequencer]") {
+  const VehicleSequencer s;
+  CHECK(s.task() == Task::parked);
+  CHECK(s.taskSince_s() == 0.0);
+  CHECK(s.lastReason() == Reason::none);
+  CHECK(s.lastConditions() == 0u);
+}
+
+TEST_CASE("step takes at most one transition, the first matching row's", "[sequencer]") {
+  Violations v;
+  int chained = 0;  // words under which the new task would move on again
+  for (Task t : allTasks()) {
+    forEachWord(
+        t,
+        [&](std::uint32_t w) {
+          VehicleSequencer s;
+          s.reset(t, 10.0);
+          const bool changed = s.step(w, 11.0);
+          const int expected = expectedRow(t, w);
+          if (s.lastConditions() != w) v.add(t, w, "lastConditions not the word");
+          if (expected < 0) {
+            if (changed || s.task() != t || s.taskSince_s() != 10.0 || s.lastReason() != Reason::none)
+              v.add(t, w, "changed without a row");
+            return;
+          }
+          const Transition& r = kTransitions[static_cast<std::size_t>(expected)];
+          if (!changed || s.task() != r.to || s.taskSince_s() != 11.0 || s.lastReason() != r.reason)
+            v.add(t, w, std::string("ended in ") + std::string(gs::mission::taskName(s.task())));
+          if (findTransition(r.to, w) != nullptr) ++chained;
+        },
+        2000);
+  }
+  INFO(v.first);
+  CHECK(v.count == 0);
+  CHECK(chained > 0);  // the words did offer a second transition, and step() did not take it
+}
+
+TEST_CASE("step: one transition per call, since only on change, the reason kept", "[sequencer]") {
+  VehicleSequencer s;
+  // arming under armed|at_height: arming -> take_off, and take_off would go on to hover.
+  s.reset(Task::arming, 1.0);
+  const std::uint32_t w = c::armed | c::at_height;
+  CHECK(s.step(w, 1.5));
+  CHECK(s.task() == Task::take_off);
+  CHECK(s.taskSince_s() == 1.5);
+  CHECK(s.lastReason() == Reason::armed);
+  CHECK(s.lastConditions() == w);
+  CHECK(s.step(w, 1.6));
+  CHECK(s.task() == Task::hover);
+  CHECK(s.taskSince_s() == 1.6);
+  CHECK(s.lastReason() == Reason::airborne);
+  // Nothing matches: the task, its start time and the last reason stay; the conditions update.
+  CHECK_FALSE(s.step(c::armed, 2.0));
+  CHECK_FALSE(s.step(c::armed | c::settled, 3.0));
+  CHECK(s.task() == Task::hover);
+  CHECK(s.taskSince_s() == 1.6);
+  CHECK(s.lastReason() == Reason::airborne);
+  CHECK(s.lastConditions() == (c::armed | c::settled));
+}
+
+TEST_CASE("reset forces a task, restarts its clock and clears the reason", "[sequencer]") {
+  VehicleSequencer s;
+  CHECK(s.step(c::request_take_off, 1.0));
+  REQUIRE(s.task() == Task::arming);
+  REQUIRE(s.lastReason() == Reason::take_off_requested);
+
+  s.reset(Task::hover, 5.0);  // re-attaching to a vehicle that already flies
+  CHECK(s.task() == Task::hover);
+  CHECK(s.taskSince_s() == 5.0);
+  CHECK(s.lastReason() == Reason::none);
+  // The table runs from the forced task.
+  CHECK(s.step(c::armed | c::pole_on_self, 5.1));
+  CHECK(s.task() == Task::balance);
+  CHECK(s.lastReason() == Reason::pole_placed);
+
+  // Resetting to the same task still restarts its clock.
+  s.reset(Task::balance, 9.0);
+  CHECK(s.task() == Task::balance);
+  CHECK(s.taskSince_s() == 9.0);
+  CHECK(s.lastReason() == Reason::none);
+}
+
+TEST_CASE("a throw and a catch, step by step", "[sequencer]") {
+  using W = std::uint32_t;
+  struct Step {
+    W word;
+    Task task;
+    Reason reason;
+  };
+  const W up = c::armed;
+  const W pole = up | c::pole_on_self;
+  SECTION("the thrower") {
+    const std::vector<Step> steps = {
+        {0, Task::parked, Reason::none},
+        {c::request_take_off | c::on_ground, Task::arming, Reason::take_off_requested},
+        {c::on_ground, Task::arming, Reason::take_off_requested},
+        {up | c::on_ground, Task::take_off, Reason::armed},
+        {up, Task::take_off, Reason::armed},
+        {up | c::at_height, Task::hover, Reason::airborne},
+        {pole, Task::balance, Reason::pole_placed},
+        {pole | c::request_throw, Task::balance, Reason::pole_placed},
+        {pole | c::request_throw | c::settled, Task::throwing, Reason::throw_requested},
+        {pole, Task::throwing, Reason::throw_requested},
+        {pole | c::throw_over, Task::release, Reason::throw_ended},
+        {up | c::pole_free, Task::release, Reason::throw_ended},
+        {up | c::pole_free | c::release_over, Task::retreat, Reason::released},
+        {up | c::pole_free | c::at_target, Task::hover, Reason::clear_of_pole},
+        {up | c::request_land, Task::landing, Reason::land_requested},
+        {up | c::on_ground, Task::landing, Reason::land_requested},
+        {c::on_ground, Task::parked, Reason::landed},
+    };
+    VehicleSequencer s;
+    double t = 0.0, since = 0.0;
+    Task previous = Task::parked;
+    for (std::size_t i = 0; i < steps.size(); ++i) {
+      t += 0.01;
+      INFO("step " << i << ": " << describeWord(previous, steps[i].word));
+      const bool changed = s.step(steps[i].word, t);
+      CHECK(changed == (steps[i].task != previous));
+      if (changed) since = t;
+      CHECK(s.task() == steps[i].task);
+      CHECK(s.lastReason() == steps[i].reason);
+      CHECK(s.taskSince_s() == since);
+      previous = s.task();
+    }
+  }
+  SECTION("the catcher") {
+    VehicleSequencer s;
+    s.reset(Task::hover, 0.0);
+    const std::vector<Step> steps = {
+        {up | c::request_catch, Task::wait, Reason::catch_requested},
+        {up | c::request_catch | c::pole_free, Task::wait, Reason::catch_requested},
+        {up | c::request_catch | c::pole_free | c::catch_due, Task::catching, Reason::catch_started},
+        {up | c::request_catch | c::pole_free, Task::catching, Reason::catch_started},
+        {pole | c::request_catch, Task::rebalance, Reason::caught},
+        {pole, Task::rebalance, Reason::caught},
+        {pole | c::pole_upright, Task::balance, Reason::pole_upright},
+    };
+    Task previous = Task::hover;
+    for (std::size_t i = 0; i < steps.size(); ++i) {
+      INFO("step " << i << ": " << describeWord(previous, steps[i].word));
+      s.step(steps[i].word, 1.0 + static_cast<double>(i));
+      CHECK(s.task() == steps[i].task);
+      CHECK(s.lastReason() == steps[i].reason);
+      previous = s.task();
+    }
+  }
+  SECTION("a missed catch") {
+    VehicleSequencer s;
+    s.reset(Task::catching, 0.0);
+    CHECK(s.step(up | c::request_catch | c::pole_free | c::catch_missed, 1.0));
+    CHECK(s.task() == Task::clear);
+    CHECK(s.lastReason() == Reason::missed);
+    CHECK_FALSE(s.step(up | c::pole_free | c::settled, 2.0));  // the pole still falling
+    CHECK(s.step(up | c::pole_down, 3.0));
+    CHECK(s.task() == Task::hover);
+    CHECK(s.lastReason() == Reason::pole_down);
+  }
+}
