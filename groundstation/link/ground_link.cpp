@@ -54,7 +54,8 @@ GroundLink::GroundLink(FrameBus& bus, std::vector<std::uint8_t> vehicle_nodes, c
     const std::uint8_t n = nodes_[i];
     if (n < kFirstVehicleNode || n > kLastVehicleNode)
       throw std::invalid_argument("GroundLink: vehicle node " + std::to_string(n) + " is not 1..14");
-    if (index_[n] >= 0) throw std::invalid_argument("GroundLink: vehicle node " + std::to_string(n) + " is listed twice");
+    if (index_[n] >= 0)
+      throw std::invalid_argument("GroundLink: vehicle node " + std::to_string(n) + " is listed twice");
     index_[n] = static_cast<std::int8_t>(i);
   }
   if (!positiveFinite(config_.heartbeat_period_s) || !positiveFinite(config_.timesync_period_s) ||
@@ -228,8 +229,8 @@ bool GroundLink::onTimesyncReply(Vehicle& v, const pa::proto::TimesyncReply& rep
 
 bool GroundLink::onAck(Vehicle& v, const CommandAck& ack) {
   for (CommandRecord& r : v.commands) {
-    if (r.serial == 0 || r.outcome.state != CommandState::pending || r.sequence != ack.seq || r.outcome.code != ack.code)
-      continue;
+    const bool pending = r.serial != 0 && r.outcome.state == CommandState::pending;
+    if (!pending || r.sequence != ack.seq || r.outcome.code != ack.code) continue;
     CommandOutcome& o = r.outcome;
     o.reason = ack.reason;
     o.mode = ack.mode;
@@ -389,7 +390,8 @@ CommandHandle GroundLink::sendCommand(std::uint8_t node, CommandCode code, std::
   requireFinite(now_s, "sendCommand");
   Vehicle& v = vehicle(node);
   const auto raw_code = static_cast<std::uint8_t>(code);
-  if (raw_code == 0 || raw_code > kCommandCodeMax) throw std::invalid_argument("GroundLink::sendCommand: unknown command");
+  if (raw_code == 0 || raw_code > kCommandCodeMax)
+    throw std::invalid_argument("GroundLink::sendCommand: unknown command");
 
   // At most kMaxPendingCommands in flight: give up on the oldest. Then reuse a free slot or the
   // oldest resolved one (there is always one: fewer are pending than there are slots).
@@ -449,7 +451,8 @@ void GroundLink::sendKill(std::uint8_t node, KillReason reason) {
     v.heartbeats_at_kill = v.status.heartbeats_received;
   }
   Frame f;
-  if (!encode(Kill{config_.session, reason}, node, f)) throw std::invalid_argument("GroundLink::sendKill: unknown reason");
+  if (!encode(Kill{config_.session, reason}, node, f))
+    throw std::invalid_argument("GroundLink::sendKill: unknown reason");
   *kill = KillRepeat{config_.command_attempts > 1, f, config_.command_attempts - 1, false, 0.0};
   send(f);
 }

@@ -44,7 +44,8 @@
 // estimates ground_time = vehicle_time + clock_offset_s from TIMESYNC exchanges, NTP style: the
 // offset of the recent exchange with the shortest round trip (its error is at most half that
 // round trip, less with symmetric radio delays). A vehicle clock that jumps (a reboot) restarts
-// the estimate.
+// the estimate. The ground clock goes out as wrapping uint32 microseconds in TIMESYNC_REQUEST and
+// milliseconds in GS_HEARTBEAT (the protocol's field), both derived from now_s.
 #pragma once
 
 #include <array>
@@ -156,7 +157,8 @@ struct GroundLinkCounters {
   std::uint64_t out_of_range = 0;
   std::uint64_t foreign_node = 0;     // a vehicle-to-ground frame from a node this link does not talk to
   std::uint64_t wrong_direction = 0;  // ground-to-vehicle or HIL frames (another ground station, a plant)
-  std::uint64_t stale = 0;  // valid but of no use: a repeated or old heartbeat, an ack or TIMESYNC reply matching nothing outstanding
+  // Valid but of no use: a repeated or old heartbeat, an ack or TIMESYNC reply matching nothing outstanding.
+  std::uint64_t stale = 0;
   std::uint64_t impacts_dropped = 0;   // the impact queue was full: the oldest went
   std::uint64_t commands_evicted = 0;  // too many pending commands for one vehicle: the oldest timed out
 
@@ -259,7 +261,6 @@ class GroundLink {
     std::uint8_t setpoint_seq = 0;
     std::uint8_t command_seq = 0;
     std::array<CommandRecord, kCommandRecords> commands{};
-    std::size_t next_command_slot = 0;
     bool timesync_started = false;
     double next_timesync_s = 0.0;
     std::uint8_t timesync_seq = 0;

@@ -56,9 +56,10 @@ struct GroundStationConfig {
   // The time from a setpoint's computation to its use on board: the radio's latency and jitter
   // (8 + 1 ms on average in the default arena) and up to one firmware tick.
   double command_lead_s = 0.010;
-  // The throw's origin: where the thrower's plate centre hovers before the throw (the plan
-  // starts there; it dips 0.95 m below it, so it must be well above the floor).
-  Eigen::Vector3d throw_origin_m{0.0, 0.0, 1.5};
+  // The throw's origin: where the thrower's plate centre hovers before the throw. The plan dips
+  // 1.1 m below it, and the vehicle's feet hang 0.2 m below its centre; from 1.5 m the feet
+  // touched the floor at the bottom of the dip (measured), so 2 m.
+  Eigen::Vector3d throw_origin_m{0.0, 0.0, 2.0};
   // Where each vehicle stands on the floor before take-off (x, y), and the take-off height.
   std::array<Eigen::Vector2d, 2> home_xy_m{Eigen::Vector2d(-1.0, 0.0), Eigen::Vector2d(1.0, 0.0)};
   double take_off_height_m = 1.0;

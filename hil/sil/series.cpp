@@ -91,6 +91,7 @@ void SeriesRunner::step() {
   for (std::uint8_t node : kArenaNodes) {
     if (arena_.vehicle(node).firmware().mode() == pa::proto::Mode::killed) crashed_ = true;
   }
+  if (config_.on_step) config_.on_step(arena_, gs_);
   if (recording_ != nullptr && std::lround(now * 1000.0) % 10 == 0) {
     const Plant& p = arena_.plant();
     recording_->push_back(TimeSample{now, p.vehicle(0).body.position_m, p.vehicle(1).body.position_m,

@@ -75,6 +75,8 @@ struct SeriesConfig {
   bool record_time_series = false;
   // Called with a line for every mission event and pole mode switch (a log for people).
   std::function<void(const std::string&)> log;
+  // Called after every 1 ms step (diagnostics, tests that watch the truth).
+  std::function<void(const Arena&, const gs::runtime::GroundStation&)> on_step;
 };
 
 class SeriesRunner {

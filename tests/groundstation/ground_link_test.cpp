@@ -487,6 +487,7 @@ TEST_CASE("a vehicle is lost after 0.2 s without a heartbeat and found again wit
   silent = false;
   CHECK(rig.runUntil([&] { return !rig.link.status(1).lost; }, 0.021));
   CHECK(rig.link.status(1).last_heard_s > last_s);
+  CHECK(rig.link.status(1).clock_resets == 0);  // silence is not a reboot: the clock ran on
 }
 
 TEST_CASE("link quality counts the vehicle's heartbeats against the 50 Hz expected") {
@@ -625,7 +626,8 @@ TEST_CASE("malformed, unknown, foreign and wrong-direction frames are counted an
   CHECK(link.counters().out_of_range == 2);
   CHECK(link.counters().undecodable() == 5);
 
-  for (std::uint8_t node : {std::uint8_t{0}, std::uint8_t{3}, std::uint8_t{14}, kBroadcastNode}) link.onFrame(encoded(hb, node), 1.0);  // not our vehicles
+  const std::uint8_t not_ours[] = {kGroundNode, 3, 14, kBroadcastNode};
+  for (std::uint8_t node : not_ours) link.onFrame(encoded(hb, node), 1.0);
   CHECK(link.counters().foreign_node == 4);
 
   // Ground-to-vehicle and HIL frames: another ground station, or a plant on the wrong bus.
