@@ -52,7 +52,7 @@ GroundStation::GroundStation(link::FrameBus& bus, const GroundStationConfig& con
   problem_.limits = config_.limits;
   plan_ = planning::planThrow(problem_);
   if (!plan_.success) throw std::runtime_error("the throw could not be planned: " + plan_.status);
-  tracker_.emplace(plan_.trajectory);
+  tracker_.emplace(plan_.trajectory, config_.throw_tracking);
   if (!tracker_->valid()) throw std::runtime_error("the throw's TV-LQR could not be designed");
   hover_ = control::hoverLqr();
   balancing_ = control::balancingLqr();
@@ -126,6 +126,7 @@ bool GroundStation::requestAttempt(const AttemptRequest& request) {
 void GroundStation::onFrame(const pa::proto::Frame& frame, double now_s) {
   link_.onFrame(frame, now_s);
   for (const link::ImpactReport& r : link_.takeImpacts()) {
+    if (impacts_.size() < kEventLogCapacity) impacts_.push_back(r);
     for (const Vehicle& v : vehicles_) {
       if (v.node == r.node) estimator_.reportImpact(v.index + 1, r.t_s);
     }
@@ -165,12 +166,13 @@ std::uint32_t GroundStation::conditions(const Vehicle& v, double now_s) const {
   }
   const estimation::PoleMode mode = estimator_.mode();
   const estimation::PoleEstimate pole = estimator_.pole();
-  // While throwing, the pole counts as on the plate as long as the latest pose puts its lower
-  // end at the plate: the estimator's mode selection flip-flops on innovations during the throw's
-  // fastest phase (its vehicle observers model the rate loop as first order), and leaving the
-  // throw on such a call drops the pole.
+  // While throwing or balancing, the pole counts as on the plate as long as the latest pose puts
+  // an end at the plate: the estimator's mode selection flip-flops on innovations during the
+  // throw's fastest phase and while a caught pole settles on the absorber (its vehicle observers
+  // model the rate loop as first order), and leaving the pole on such a call drops it.
   bool pole_at_plate = false;
-  if (task == Task::throwing && last_pole_pose_ && estimated) {
+  const bool holding = task == Task::throwing || task == Task::rebalance || task == Task::balance;
+  if (holding && last_pole_pose_ && estimated) {
     const estimation::PlateKinematics plate = estimator_.plate(v.index + 1);
     const Eigen::Vector3d n = last_pole_pose_->q * Eigen::Vector3d::UnitZ();
     const double L = config_.estimator.free_flight.pole.half_length_m;
@@ -254,9 +256,18 @@ void GroundStation::enter(Vehicle& v, double now_s) {
     case Task::catching: {
       catch_start_s_ = std::min(catch_start_s_, now_s);
       current_.catch_start_s = now_s;
+      // The firmware classes an impact inside this window as a catch, not a crash (which
+      // would kill the motors): the manoeuvre's remaining time and a second of margin.
+      const planning::MinimaxZManoeuvre z(catchHeight() - pa::kPlateHeightAboveCg_m, config_.t_xy_s,
+                                          config_.catch_a_max_mps2, config_.catch_k_max_mps3);
+      const double window_s = catch_start_s_ + z.duration_s() - now_s + 1.0;
+      v.pending = link_.sendCommand(v.node, pa::proto::CommandCode::expect_catch,
+                                    static_cast<std::int32_t>(std::clamp(window_s, 0.1, 10.0) * 1000.0), now_s);
       break;
     }
     case Task::rebalance:
+      // The ground station flies the caught pole from here: end the firmware's own reaction.
+      v.pending = link_.sendCommand(v.node, pa::proto::CommandCode::catch_handled, 0, now_s);
       v.target_m = here;
       v.set_point_m = here;
       v.set_point_valid = true;
@@ -451,6 +462,12 @@ void GroundStation::onMocap(const estimation::MocapFrame& frame, double now_s) {
   }
 }
 
+std::vector<link::ImpactReport> GroundStation::takeImpacts() {
+  std::vector<link::ImpactReport> out;
+  out.swap(impacts_);
+  return out;
+}
+
 std::vector<MissionEvent> GroundStation::takeEvents() {
   std::vector<MissionEvent> out;
   out.swap(events_);
@@ -504,10 +521,14 @@ void GroundStation::updateAttempt(double now_s) {
     default:
       break;
   }
+  // The catch manoeuvre starts before the launch (T_z ~ 1.8 s against ~1.1 s of flight): plan
+  // it from the throw's start on, from the waiting point until the pole flies.
+  if (request_.catch_it && phase_ != AttemptPhase::preparing) updateCatchTarget(now_s);
   if (phase_ == AttemptPhase::flight || phase_ == AttemptPhase::balancing) {
-    if (pole.valid && pole.mode == estimation::PoleMode::free && current_.launch_s)
+    // The pole's free flight, from the launch to the impact, for the evaluation of (42).
+    if (pole.valid && pole.mode == estimation::PoleMode::free && current_.launch_s && !current_.impact_s &&
+        (flight_.empty() || pole.t_s > flight_.back().t_s))
       flight_.push_back({pole.t_s, pole.state});
-    if (request_.catch_it) updateCatchTarget(now_s);
     // The ends of an attempt.
     if (catcher.sequencer.task() == Task::balance) {
       phase_ = AttemptPhase::balancing;

@@ -74,6 +74,12 @@ void SeriesRunner::step() {
                     std::string(gs::mission::reasonName(e.reason)).c_str());
       config_.log(line);
     }
+    for (const gs::link::ImpactReport& i : gs_.takeImpacts()) {
+      char line[200];
+      std::snprintf(line, sizeof line, "%9.3f  IMPACT from vehicle %d at %.3f: class %d, peak %.1f m/s^2, %s", now,
+                    int(i.node), i.t_s, int(i.classification), double(i.peak_mps2), i.final ? "final" : "provisional");
+      config_.log(line);
+    }
     if (gs_.estimator().switchCount() != switches_logged_) {
       switches_logged_ = gs_.estimator().switchCount();
       if (const auto s = gs_.estimator().lastSwitch()) {
@@ -87,9 +93,19 @@ void SeriesRunner::step() {
     }
   } else {
     gs_.takeEvents();
+    gs_.takeImpacts();
   }
   for (std::uint8_t node : kArenaNodes) {
-    if (arena_.vehicle(node).firmware().mode() == pa::proto::Mode::killed) crashed_ = true;
+    const fw::Vehicle& fw = arena_.vehicle(node).firmware();
+    if (fw.mode() == pa::proto::Mode::killed) crashed_ = true;
+    const int i = plantIndexOf(node);
+    if (config_.log && fw.mode() != firmware_modes_[i]) {
+      char line[160];
+      std::snprintf(line, sizeof line, "%9.3f  firmware %d: mode %d, failsafe reason %d, impacts %d", now, int(node),
+                    int(fw.mode()), int(fw.failsafe_reason()), int(fw.impact_count()));
+      config_.log(line);
+    }
+    firmware_modes_[i] = fw.mode();
   }
   if (config_.on_step) config_.on_step(arena_, gs_);
   if (recording_ != nullptr && std::lround(now * 1000.0) % 10 == 0) {
@@ -256,6 +272,19 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
   r.vehicle_crashed = crashed_;
   if (!impact_s && launch_s && floor_s) r.flight_s = *floor_s - *launch_s;
   const gs::mission::Reason end = report ? report->catcher_end : gs::mission::Reason::none;
+  if (report && config_.log) {
+    char line[300];
+    std::snprintf(line, sizeof line,
+                  "  ground station: waiting (%.3f, %.3f), last target (%.3f, %.3f), predicted (%.3f, %.3f) "
+                  "at %.3f s after launch, catching height %.3f; truth: lower end (%.3f, %.3f, %.3f) at "
+                  "%.3f s",
+                  report->waiting_xy_m.x(), report->waiting_xy_m.y(), report->last_target_xy_m.x(),
+                  report->last_target_xy_m.y(), report->predicted ? report->predicted->xy_m.x() : 0.0,
+                  report->predicted ? report->predicted->xy_m.y() : 0.0,
+                  report->predicted ? report->predicted->t_s : 0.0, report->catch_height_m, r.catch_x_m,
+                  r.catch_y_m, r.catch_height_m, r.flight_s);
+    config_.log(line);
+  }
   if (!plan.catch_it) {
     r.outcome = "throw_only";
   } else if (end == gs::mission::Reason::out_of_reach || end == gs::mission::Reason::infeasible ||

@@ -16,6 +16,7 @@
 // step on). A series is reproducible from its seed.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -108,6 +109,7 @@ class SeriesRunner {
   std::vector<TimeSample>* recording_ = nullptr;
   bool crashed_ = false;
   std::uint64_t switches_logged_ = 0;
+  std::array<pa::proto::Mode, 2> firmware_modes_{pa::proto::Mode::disarmed, pa::proto::Mode::disarmed};
 };
 
 }  // namespace hil::sil

@@ -43,9 +43,11 @@ struct ImpactDetectorConfig {
   float trigger_mps2 = 6.0f;        // |residual change| above this starts an event
   std::uint8_t confirm_samples = 2; // consecutive samples above trigger to confirm, 1..7
   float release_mps2 = 3.0f;        // the event ends when the residual change falls back below this
-  // A 0.03 kg pole on the absorber peaks below about 50 m/s^2, pushes along -z and turns the
-  // vehicle by at most a few rad/s; a vehicle hitting the floor or an obstacle exceeds one of these.
-  float crash_peak_mps2 = 60.0f;    // peaks above this are crashes, in any direction ...
+  // A 0.03 kg pole on the absorber pushes along -z and turns the vehicle by at most a few
+  // rad/s; caught at the optimal catching instant, falling at ~5 m/s onto the plate, it peaked
+  // at 60.3 m/s^2 on the HIL plant (the closed-loop series, `hil fly`); a vehicle hitting the
+  // floor or an obstacle exceeds one of these.
+  float crash_peak_mps2 = 80.0f;    // peaks above this are crashes, in any direction ...
   // ... except the floor pushing up the body z-axis while the vehicle descends to land (the
   // failsafe descent): stiff feet touching down at the descent rate peak near 100 m/s^2, with a
   // lateral part from the floor's friction on drifting feet (91 and 44 m/s^2 at 0.33 m/s on the
