@@ -63,6 +63,12 @@ GroundStation::GroundStation(link::FrameBus& bus, const GroundStationConfig& con
   const planning::CatchingInstant nominal = planning::findCatchingInstant(
       planning::poleStateAtLaunch(planning::fig5LaunchState(), pole), pole);
   catch_instant_s_ = nominal.found ? nominal.t_s : 0.8;
+  // What earlier runs learnt (the adaptation store's state), in force from the first throw.
+  if (config_.learnt) {
+    adaptation_ = config_.learnt->state;
+    catch_instant_s_ = config_.learnt->catch_instant_s;
+    catch_instant_samples_ = config_.learnt->catch_instant_samples;
+  }
   for (int i = 0; i < 2; ++i) {
     vehicles_[i].node = config_.nodes[i];
     vehicles_[i].index = i;
@@ -271,7 +277,10 @@ void GroundStation::enter(Vehicle& v, double now_s) {
       v.target_m = here;
       v.set_point_m = here;
       v.set_point_valid = true;
-      if (!current_.impact_s) current_.impact_s = now_s;
+      if (!current_.impact_s) {
+        current_.impact_s = now_s;
+        current_.catcher_at_impact_m = here;
+      }
       break;
     case Task::clear: {
       v.requests &= ~(c::request_abort | c::request_catch);
@@ -462,6 +471,8 @@ void GroundStation::onMocap(const estimation::MocapFrame& frame, double now_s) {
   }
 }
 
+Learnt GroundStation::learnt() const { return {adaptation_, catch_instant_s_, catch_instant_samples_}; }
+
 std::vector<link::ImpactReport> GroundStation::takeImpacts() {
   std::vector<link::ImpactReport> out;
   out.swap(impacts_);
@@ -639,12 +650,25 @@ void GroundStation::endAttempt(double now_s) {
     adaptation::OptimalCatch o = current_.optimal->point;
     o.height_m -= config_.throw_origin_m.z();
     o.xy_m -= config_.throw_origin_m.head<2>();
-    record.optimal = o;
-    catch_instant_samples_ += 1;
-    catch_instant_s_ += (o.t_s - catch_instant_s_) / static_cast<double>(catch_instant_samples_);
+    // A sample farther than adaptation_gate_m from what has been learnt is an evaluation gone
+    // wrong (a flight cut short, an extrapolation from a bad estimate), not a throw: the plain
+    // mean would carry it for ever (measured: one sample of -6.4 m moved the catching height by
+    // 0.9 m and every later catch missed). The first sample is taken whatever it is.
+    const bool plausible =
+        adaptation_.catch_point_samples == 0 ||
+        (std::abs(o.height_m - adaptation_.catch_height_m) < config_.adaptation_gate_m &&
+         (o.xy_m - adaptation_.waiting_xy_m).norm() < config_.adaptation_gate_m &&
+         std::abs(o.t_s - catch_instant_s_) < config_.adaptation_gate_s);
+    if (plausible) {
+      record.optimal = o;
+      catch_instant_samples_ += 1;
+      catch_instant_s_ += (o.t_s - catch_instant_s_) / static_cast<double>(catch_instant_samples_);
+    } else {
+      record.note = "optimal catch evaluation rejected: outside the adaptation gate";
+    }
   }
-  if (current_.impact_s && adaptation::catcherFlewToTarget(record.outcome)) {
-    record.catcher_at_impact_xy_m = last_catcher_p_m_.head<2>() - config_.throw_origin_m.head<2>();
+  if (current_.impact_s && current_.catcher_at_impact_m && adaptation::catcherFlewToTarget(record.outcome)) {
+    record.catcher_at_impact_xy_m = current_.catcher_at_impact_m->head<2>() - config_.throw_origin_m.head<2>();
   }
   if (adaptation::validate(record).empty())
     adaptation_ = adaptation::adapt(adaptation_, record, adaptation_settings_.window);

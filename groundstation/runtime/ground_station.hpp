@@ -48,6 +48,14 @@
 
 namespace gs::runtime {
 
+// What the adaptation has learnt (Section VI), carried from one run to the next: the adapted
+// catching height, waiting point and offset bias, and the mean optimal catching instant.
+struct Learnt {
+  adaptation::AdaptationState state;
+  double catch_instant_s = 0.8;  // after the launch
+  int catch_instant_samples = 0;
+};
+
 struct GroundStationConfig {
   std::array<std::uint8_t, 2> nodes{1, 2};  // vehicle 1 and vehicle 2 (the estimator's 1 and 2)
   link::GroundLinkConfig link;
@@ -107,9 +115,14 @@ struct GroundStationConfig {
   double catch_a_max_mps2 = 4.19;
   double catch_k_max_mps3 = 18.0;
   double catch_reach_m = 1.0;  // a predicted catch point farther from the waiting point aborts
-  double upright_rad = 0.26;   // rebalance -> balance below this tilt (15 degrees)
+  double upright_rad = 0.5;   // rebalance -> balance below this tilt (29 degrees)
   double pole_down_height_m = 0.25;  // the pole's centre below this: it lies on the floor
   double lost_estimate_s = 0.1;      // no pose of a vehicle for this long: its estimate is lost
+  // Samples of the optimal catch point further than these from the adapted values are rejected.
+  double adaptation_gate_m = 0.5;
+  double adaptation_gate_s = 0.2;
+  // Start from what an earlier run learnt instead of the nominal throw's values.
+  std::optional<Learnt> learnt;
 };
 
 // What the mission script (an operator, `hil fly`) asks for one attempt.
@@ -129,6 +142,7 @@ struct AttemptReport {
   std::optional<double> launch_s;         // the estimator's launch
   std::optional<double> catch_start_s;    // the z manoeuvre's start
   std::optional<double> impact_s;         // the estimator's switch onto the catcher
+  std::optional<Eigen::Vector3d> catcher_at_impact_m;  // its estimated position then
   mission::Reason catcher_end = mission::Reason::none;  // what ended the catch (caught, out_of_reach...)
   Eigen::Vector2d waiting_xy_m = Eigen::Vector2d::Zero();
   Eigen::Vector2d last_target_xy_m = Eigen::Vector2d::Zero();
@@ -182,6 +196,7 @@ class GroundStation {
   const estimation::StateEstimator& estimator() const { return estimator_; }
   const link::GroundLink& link() const { return link_; }
   const adaptation::AdaptationState& adaptation() const { return adaptation_; }
+  Learnt learnt() const;
   const GroundStationConfig& config() const { return config_; }
   const planning::ThrowPlan& throwPlan() const { return plan_; }
   // The catch point (lower end, x y) and height expected for the next throw, arena frame.

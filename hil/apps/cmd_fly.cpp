@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -137,13 +138,21 @@ int cmdFly(int argc, char** argv) {
   } else {
     // Each attempt on a plant drawn anew from its ranges: one series of one throw per draw,
     // after the throw that adapts only.
+    // What the ground station learnt carries over from draw to draw, as its store would.
+    std::optional<gs::runtime::Learnt> learnt;
     for (std::size_t i = 0; i < plans.size(); ++i) {
       sil::SeriesConfig config;
       config.plant = randomised(plant, seed * 1000003ULL + i);
       config.seed = seed * 1000003ULL + i;
+      config.ground_station.learnt = learnt;
       sil::SeriesRunner runner(config);
       std::vector<sil::AttemptPlan> one{plans[i]};
       sil::AttemptResult r = runner.run(one).front();
+      learnt = runner.groundStation().learnt();
+      if (verbose)
+        std::printf("  learnt: catching height %.3f, waiting (%.3f, %.3f), bias (%.3f, %.3f), catching instant %.3f s\n",
+                    learnt->state.catch_height_m, learnt->state.waiting_xy_m.x(), learnt->state.waiting_xy_m.y(),
+                    learnt->state.offset_bias_m.x(), learnt->state.offset_bias_m.y(), learnt->catch_instant_s);
       r.throw_number = static_cast<int>(i) + 1;
       print(r);
       results.push_back(r);
