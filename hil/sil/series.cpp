@@ -1,6 +1,7 @@
 #include "hil/sil/series.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 
@@ -62,7 +63,16 @@ void SeriesRunner::step() {
   arena_.step();
   const double now = arena_.t_s();
   for (const pa::proto::Frame& f : arena_.takeGroundFrames()) gs_.onFrame(f, now);
-  for (const MocapFrame& m : arena_.takeMocap()) gs_.onMocap(toGroundStationFrame(m), now);
+  for (const MocapFrame& m : arena_.takeMocap()) {
+    const gs::estimation::MocapFrame frame = toGroundStationFrame(m);
+    if (!config_.time_ground_station) {
+      gs_.onMocap(frame, now);
+      continue;
+    }
+    const auto start = std::chrono::steady_clock::now();
+    gs_.onMocap(frame, now);
+    frame_times_s_.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  }
   gs_.tick(now);
   for (const pa::proto::Frame& f : bus_.take()) arena_.sendFromGround(f);
   if (config_.log) {

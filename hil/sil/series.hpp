@@ -76,6 +76,9 @@ struct SeriesConfig {
   bool record_time_series = false;
   // Called with a line for every mission event and pole mode switch (a log for people).
   std::function<void(const std::string&)> log;
+  // Measure the wall time of every GroundStation::onMocap call (one whole ground-station frame:
+  // estimator update, latency compensation, mission, controllers, catch re-planning, link).
+  bool time_ground_station = false;
   // Called after every 1 ms step (diagnostics, tests that watch the truth).
   std::function<void(const Arena&, const gs::runtime::GroundStation&)> on_step;
 };
@@ -93,6 +96,8 @@ class SeriesRunner {
   // The time series of every attempt (when record_time_series), attempt by attempt.
   const std::vector<std::vector<TimeSample>>& timeSeries() const { return series_; }
   double simulatedTime_s() const { return arena_.t_s(); }
+  // The measured onMocap durations (time_ground_station), in seconds, in call order.
+  const std::vector<double>& groundStationFrameTimes_s() const { return frame_times_s_; }
 
  private:
   void step();
@@ -109,6 +114,7 @@ class SeriesRunner {
   std::vector<TimeSample>* recording_ = nullptr;
   bool crashed_ = false;
   std::uint64_t switches_logged_ = 0;
+  std::vector<double> frame_times_s_;
   std::array<pa::proto::Mode, 2> firmware_modes_{pa::proto::Mode::disarmed, pa::proto::Mode::disarmed};
 };
 

@@ -1,0 +1,46 @@
+// The closed loop's cost: one whole ground-station frame (GroundStation::onMocap: estimator
+// update, latency compensation, mission, controllers and catch re-planning, link, both vehicles;
+// the budget: a median of at most 50 us) and the whole arena (plant, two firmware cores, radios,
+// motion capture and the ground station) as a multiple of real time on one core, both measured
+// while flying a throw that adapts only and a catch (hil/sil/series.hpp).
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <vector>
+
+#include "hil/sil/series.hpp"
+
+namespace {
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[static_cast<std::size_t>(p * static_cast<double>(v.size() - 1))];
+}
+
+void BM_ClosedLoopThrowAndCatch(benchmark::State& state) {
+  std::vector<double> frames;
+  double simulated_s = 0.0, wall_s = 0.0;
+  for (auto _ : state) {
+    hil::sil::SeriesConfig config;
+    config.seed = 1;
+    config.time_ground_station = true;
+    const auto start = std::chrono::steady_clock::now();
+    hil::sil::SeriesRunner runner(config);
+    const auto results = runner.run(hil::sil::catchSeries(2));
+    wall_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    simulated_s += runner.simulatedTime_s();
+    const auto& t = runner.groundStationFrameTimes_s();
+    frames.insert(frames.end(), t.begin(), t.end());
+    benchmark::DoNotOptimize(results);
+  }
+  state.counters["gs_frame_median_us"] = 1e6 * percentile(frames, 0.5);
+  state.counters["gs_frame_p99_us"] = 1e6 * percentile(frames, 0.99);
+  state.counters["gs_frames"] = static_cast<double>(frames.size());
+  state.counters["realtime_multiple"] = simulated_s / wall_s;
+  state.counters["simulated_s"] = simulated_s;
+}
+BENCHMARK(BM_ClosedLoopThrowAndCatch)->Unit(benchmark::kMillisecond)->Iterations(3);
+
+}  // namespace
