@@ -115,6 +115,11 @@ struct GroundStationConfig {
   double catch_a_max_mps2 = 4.19;
   double catch_k_max_mps3 = 18.0;
   double catch_reach_m = 1.0;  // a predicted catch point farther from the waiting point aborts
+  // This throw's optimal catching instant (42) moves the catch's end for this long after the
+  // launch, by at most these (see updateCatchTarget); 0 s keeps the adapted values (the paper).
+  double catch_retime_s = 0.15;
+  double catch_retime_max_m = 0.3;
+  double catch_retime_max_s = 0.15;
   double upright_rad = 0.5;   // rebalance -> balance below this tilt (29 degrees)
   double pole_down_height_m = 0.25;  // the pole's centre below this: it lies on the floor
   double lost_estimate_s = 0.1;      // no pose of a vehicle for this long: its estimate is lost
@@ -238,6 +243,7 @@ class GroundStation {
   // The catcher's waiting point for the next throw: above the catch point, at the height the z
   // manoeuvre starts from (eq. (49)).
   Eigen::Vector3d waitingTarget() const;
+  double catchDuration() const;  // T_z (48) of the catch manoeuvre at the adapted height
 
   GroundStationConfig config_;
   link::GroundLink link_;
@@ -267,6 +273,8 @@ class GroundStation {
   int attempt_count_ = 0;
   std::optional<planning::CatchTrajectory> catch_;
   double catch_start_s_ = 0.0;
+  double planned_catch_start_s_ = 0.0;  // from the adapted catching instant
+  double adapted_catch_height_m_ = 0.0;
   Eigen::Vector2d catch_target_xy_m_ = Eigen::Vector2d::Zero();
   bool catch_unreachable_ = false;
   bool catch_infeasible_ = false;
