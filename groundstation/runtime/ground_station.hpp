@@ -126,6 +126,10 @@ struct GroundStationConfig {
   // Samples of the optimal catch point further than these from the adapted values are rejected.
   double adaptation_gate_m = 0.5;
   double adaptation_gate_s = 0.2;
+  // ... and for the first sample, against the nominal throw's catch point (measured: the flown
+  // throws meet (42) 0.8 m higher and 0.2 s later than the printed Fig. 5 launch state does).
+  double first_adaptation_gate_m = 1.2;
+  double first_adaptation_gate_s = 0.5;
   // Start from what an earlier run learnt instead of the nominal throw's values.
   std::optional<Learnt> learnt;
 };
