@@ -69,6 +69,17 @@ GroundStation::GroundStation(link::FrameBus& bus, const GroundStationConfig& con
     catch_instant_s_ = config_.learnt->catch_instant_s;
     catch_instant_samples_ = config_.learnt->catch_instant_samples;
   }
+  if (!config_.adaptation_store_path.empty()) {
+    store_.emplace(adaptation::AdaptationStore::openOrCreate(config_.adaptation_store_path, adaptation_settings_));
+    const adaptation::AdaptationSnapshot snapshot = store_->adaptation();
+    adaptation_ = snapshot.state;
+    catch_instant_samples_ = 0;
+    for (const adaptation::StoredThrow& t : store_->history()) {
+      if (t.id < snapshot.epoch_first_id || !t.record.optimal) continue;
+      ++catch_instant_samples_;
+      catch_instant_s_ += (t.record.optimal->t_s - catch_instant_s_) / catch_instant_samples_;
+    }
+  }
   for (int i = 0; i < 2; ++i) {
     vehicles_[i].node = config_.nodes[i];
     vehicles_[i].index = i;
@@ -705,8 +716,14 @@ void GroundStation::endAttempt(double now_s) {
   if (current_.impact_s && current_.catcher_at_impact_m && adaptation::catcherFlewToTarget(record.outcome)) {
     record.catcher_at_impact_xy_m = current_.catcher_at_impact_m->head<2>() - config_.throw_origin_m.head<2>();
   }
-  if (adaptation::validate(record).empty())
-    adaptation_ = adaptation::adapt(adaptation_, record, adaptation_settings_.window);
+  if (adaptation::validate(record).empty()) {
+    if (store_) {
+      store_->record(record);  // one transaction: the throw and the values that include it
+      adaptation_ = store_->adaptation().state;
+    } else {
+      adaptation_ = adaptation::adapt(adaptation_, record, adaptation_settings_.window);
+    }
+  }
   records_.push_back(record);
   reports_.push_back(current_);
   phase_ = AttemptPhase::idle;

@@ -36,6 +36,7 @@
 #include <Eigen/Core>
 
 #include "groundstation/adaptation/adaptation_law.hpp"
+#include "groundstation/adaptation/adaptation_store.hpp"
 #include "groundstation/adaptation/throw_evaluation.hpp"
 #include "groundstation/control/lqr.hpp"
 #include "groundstation/estimation/state_estimator.hpp"
@@ -132,6 +133,10 @@ struct GroundStationConfig {
   double first_adaptation_gate_s = 0.5;
   // Start from what an earlier run learnt instead of the nominal throw's values.
   std::optional<Learnt> learnt;
+  // The durable adaptation store (adaptation/adaptation_store.hpp): every throw is recorded there
+  // and the adapted values read back, so that they survive a restart. Empty: in memory only.
+  // A store overrides `learnt`; the catching instant is the mean over its history.
+  std::string adaptation_store_path;
 };
 
 // What the mission script (an operator, `hil fly`) asks for one attempt.
@@ -175,7 +180,8 @@ class GroundStation {
  public:
   static constexpr std::size_t kEventLogCapacity = 256;
   // Plans the throw (IPOPT) and designs the controllers: tens of milliseconds.
-  // Throws std::runtime_error when the throw cannot be planned.
+  // Throws std::runtime_error when the throw cannot be planned, adaptation::StoreError when the
+  // adaptation store cannot be opened (the message names the file).
   GroundStation(link::FrameBus& bus, const GroundStationConfig& config = {});
 
   void onMocap(const estimation::MocapFrame& frame, double now_s);
@@ -261,6 +267,7 @@ class GroundStation {
   adaptation::AdaptationSettings adaptation_settings_;
   adaptation::AdaptationState adaptation_;
   std::vector<adaptation::ThrowRecord> records_;
+  std::optional<adaptation::AdaptationStore> store_;
   std::vector<MissionEvent> events_;
   std::vector<link::ImpactReport> impacts_;
   // The optimal catching instant after the launch: nominal, then the mean of the evaluated ones.

@@ -23,7 +23,7 @@ namespace hil::apps {
 namespace {
 
 constexpr const char* kUsage =
-    "usage: hil fly (--series paper | --throws N) [--seed S] [--plant FILE] [--randomise] [--out DIR] [--verbose]\n";
+    "usage: hil fly (--series paper | --throws N) [--seed S] [--plant FILE] [--randomise] [--out DIR] [--store FILE] [--verbose]\n";
 
 int usage(const std::string& message) {
   std::cerr << "hil fly: " << message << "\n" << kUsage;
@@ -41,7 +41,7 @@ void writeRow(std::ostream& out, const sil::AttemptResult& r) {
 }  // namespace
 
 int cmdFly(int argc, char** argv) {
-  std::string series, plant_file, out_dir;
+  std::string series, plant_file, out_dir, store_file;
   std::uint64_t throws = 0, seed = 1;
   bool randomise = false, verbose = false;
   for (int i = 1; i < argc; ++i) {
@@ -77,6 +77,10 @@ int cmdFly(int argc, char** argv) {
       const char* v = value("--out");
       if (!v) return usage("--out needs a directory");
       out_dir = v;
+    } else if (arg == "--store") {
+      const char* v = value("--store");
+      if (!v) return usage("--store needs a file");
+      store_file = v;
     } else if (arg == "--verbose") {
       verbose = true;
     } else if (arg == "--randomise") {
@@ -107,6 +111,7 @@ int cmdFly(int argc, char** argv) {
   }
 
   std::vector<sil::AttemptResult> results;
+  try {
   std::printf("throw  outcome     flight_s  height_m  catch_x_m  catch_y_m  travel_m  energy_err_J  abort\n");
   auto print = [&](const sil::AttemptResult& r) {
     std::printf("%5d  %-10s  %8.3f  %8.3f  %9.3f  %9.3f  %8.3f  %12.5f  %s%s\n", r.throw_number,
@@ -119,6 +124,7 @@ int cmdFly(int argc, char** argv) {
     config.plant = plant;
     config.seed = seed;
     config.record_time_series = !out_dir.empty();
+    config.ground_station.adaptation_store_path = store_file;
     if (verbose) config.log = [](const std::string& line) { std::printf("%s\n", line.c_str()); };
     sil::SeriesRunner runner(config);
     results = runner.run(plans, print);
@@ -147,6 +153,7 @@ int cmdFly(int argc, char** argv) {
       config.plant = randomised(plant, seed * 1000003ULL + i);
       config.seed = seed * 1000003ULL + i;
       config.ground_station.learnt = learnt;
+      config.ground_station.adaptation_store_path = store_file;
       sil::SeriesRunner runner(config);
       std::vector<sil::AttemptPlan> one{plans[i]};
       sil::AttemptResult r = runner.run(one).front();
@@ -161,6 +168,10 @@ int cmdFly(int argc, char** argv) {
     }
   }
 
+  } catch (const gs::adaptation::StoreError& e) {
+    std::cerr << "hil fly: " << e.what() << "\n";
+    return 2;
+  }
   // The summary in plain words, beside the paper's figures (Section VII-B, Fig. 10).
   std::map<std::string, int> counts;
   int caught = 0, catches = 0, impacts = 0;

@@ -7,6 +7,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -193,4 +194,30 @@ TEST_CASE("a spoiled launch is aborted as out of reach and the mission goes on",
   CHECK_FALSE(s.crashed);
   // The next attempt is flown (and caught).
   CHECK(s.results[2].outcome == "caught");
+}
+
+TEST_CASE("the adaptation store keeps what a series learnt for the next run", "[hil][sil][runtime][series]") {
+  const std::string path = "series_test_adaptation.sqlite";
+  std::remove(path.c_str());
+  std::remove((path + "-wal").c_str());
+  std::remove((path + "-shm").c_str());
+  gs::runtime::Learnt learnt;
+  {
+    hil::sil::SeriesConfig config;
+    config.seed = 2;
+    config.ground_station.adaptation_store_path = path;
+    hil::sil::SeriesRunner runner(config);
+    const auto results = runner.run(hil::sil::catchSeries(2));
+    REQUIRE(results.size() == 2);
+    learnt = runner.groundStation().learnt();
+    CHECK(learnt.state.catch_point_samples == 2);
+  }
+  // A new ground station on the same store starts where the first stopped.
+  gs::link::InMemoryFrameBus bus;
+  gs::runtime::GroundStationConfig config;
+  config.adaptation_store_path = path;
+  const gs::runtime::GroundStation restarted(bus, config);
+  CHECK(restarted.adaptation() == learnt.state);
+  CHECK(restarted.learnt().catch_instant_s == Approx(learnt.catch_instant_s));
+  CHECK(restarted.throwRecords().empty());
 }
