@@ -116,21 +116,23 @@ struct GroundStationConfig {
   double catch_a_max_mps2 = 4.19;
   double catch_k_max_mps3 = 18.0;
   double catch_reach_m = 1.0;  // a predicted catch point farther from the waiting point aborts
+  double catch_verdict_delay_s = 0.1;  // after the launch, before reach and feasibility are judged
   // This throw's optimal catching instant (42) moves the catch's end for this long after the
-  // launch, by at most these (see updateCatchTarget); 0 s keeps the adapted values (the paper).
-  double catch_retime_s = 0.15;
+  // launch, by at most these (see predictOptimalCatch); 0 s keeps the adapted values (the paper).
+  double catch_retime_s = 0.4;
   double catch_retime_max_m = 0.3;
   double catch_retime_max_s = 0.15;
   double upright_rad = 0.5;   // rebalance -> balance below this tilt (29 degrees)
   double pole_down_height_m = 0.25;  // the pole's centre below this: it lies on the floor
   double lost_estimate_s = 0.1;      // no pose of a vehicle for this long: its estimate is lost
-  // Samples of the optimal catch point further than these from the adapted values are rejected.
-  double adaptation_gate_m = 0.5;
-  double adaptation_gate_s = 0.2;
-  // ... and for the first sample, against the nominal throw's catch point (measured: the flown
-  // throws meet (42) 0.8 m higher and 0.2 s later than the printed Fig. 5 launch state does).
-  double first_adaptation_gate_m = 1.2;
-  double first_adaptation_gate_s = 0.5;
+  // A throw's optimal catch point, evaluated after it, further than these from the one predicted
+  // in flight is rejected by the adaptation (see endAttempt).
+  double adaptation_gate_m = 0.2;
+  double adaptation_gate_s = 0.1;
+  // A sample further than this from the adapted values counts only as the
+  // adaptation_outlier_repeats-th such throw in a row.
+  double adaptation_outlier_m = 0.5;
+  int adaptation_outlier_repeats = 3;
   // Start from what an earlier run learnt instead of the nominal throw's values.
   std::optional<Learnt> learnt;
   // The durable adaptation store (adaptation/adaptation_store.hpp): every throw is recorded there
@@ -161,6 +163,8 @@ struct AttemptReport {
   Eigen::Vector2d waiting_xy_m = Eigen::Vector2d::Zero();
   Eigen::Vector2d last_target_xy_m = Eigen::Vector2d::Zero();
   std::optional<adaptation::CatchPoint> predicted;  // the latest catch-point prediction (lower end)
+  // This throw's optimal catch (42) as predicted in flight (arena frame, time after the launch).
+  std::optional<adaptation::OptimalCatch> predicted_optimal;
   double catch_height_m = 0.0;            // lower pole end, arena frame
   double travel_m = 0.0;                  // the catcher's estimated path from its waiting point
   std::optional<adaptation::OptimalCatchEvaluation> optimal;  // (42) evaluated after the throw
@@ -247,6 +251,7 @@ class GroundStation {
   void moveSetPoint(Vehicle& v, const Eigen::Vector3d& position_m, double dt_s);
   void updateAttempt(double now_s);
   void updateCatchTarget(double now_s);
+  void predictOptimalCatch(double now_s);
   void endAttempt(double now_s);
   model::VehicleInput clampInput(model::VehicleInput u) const;
   planning::InputLimits problemLimits() const;
@@ -273,6 +278,7 @@ class GroundStation {
   // The optimal catching instant after the launch: nominal, then the mean of the evaluated ones.
   double catch_instant_s_ = 0.8;
   int catch_instant_samples_ = 0;
+  int odd_throws_ = 0;  // consecutive throws far from the adapted values
   // The estimator predicted to when this frame's commands act (latency compensation).
   std::optional<estimation::StateEstimator> ahead_;
 

@@ -154,6 +154,7 @@ int cmdFly(int argc, char** argv) {
       config.seed = seed * 1000003ULL + i;
       config.ground_station.learnt = learnt;
       config.ground_station.adaptation_store_path = store_file;
+      if (verbose) config.log = [](const std::string& line) { std::printf("%s\n", line.c_str()); };
       sil::SeriesRunner runner(config);
       std::vector<sil::AttemptPlan> one{plans[i]};
       sil::AttemptResult r = runner.run(one).front();
