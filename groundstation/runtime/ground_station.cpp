@@ -309,7 +309,10 @@ void GroundStation::enter(Vehicle& v, double now_s) {
       v.pending = link_.sendCommand(v.node, pa::proto::CommandCode::land, 0, now_s);
       break;
   }
-  // Whatever ended a catch is the attempt's account of it.
+  // Whatever ended the throw and the catch is the attempt's account of them.
+  if (phase_ != AttemptPhase::idle && v.node == request_.thrower && task == Task::release &&
+      current_.thrower_end == mission::Reason::none)
+    current_.thrower_end = v.sequencer.lastReason();
   if (request_.catch_it && v.node != request_.thrower &&
       (task == Task::clear || task == Task::rebalance || (task == Task::hover && current_.catch_start_s)) &&
       current_.catcher_end == mission::Reason::none) {

@@ -160,6 +160,7 @@ struct AttemptReport {
   std::optional<double> impact_s;         // the estimator's switch onto the catcher
   std::optional<Eigen::Vector3d> catcher_at_impact_m;  // its estimated position then
   mission::Reason catcher_end = mission::Reason::none;  // what ended the catch (caught, out_of_reach...)
+  mission::Reason thrower_end = mission::Reason::none;  // what ended the throw (throw_ended, pole_left_early...)
   Eigen::Vector2d waiting_xy_m = Eigen::Vector2d::Zero();
   Eigen::Vector2d last_target_xy_m = Eigen::Vector2d::Zero();
   std::optional<adaptation::CatchPoint> predicted;  // the latest catch-point prediction (lower end)

@@ -295,8 +295,14 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
                   r.catch_y_m, r.catch_height_m, r.flight_s);
     config_.log(line);
   }
+  const gs::mission::Reason throw_end = report ? report->thrower_end : gs::mission::Reason::none;
   if (!plan.catch_it) {
     r.outcome = "throw_only";
+  } else if (throw_end != gs::mission::Reason::throw_ended && !impact_s) {
+    // The throw itself failed (the pole left the plate before T, or it was aborted): the
+    // catcher had nothing to catch.
+    r.outcome = "aborted";
+    r.abort_reason = throw_end == gs::mission::Reason::none ? "no_throw" : std::string(gs::mission::reasonName(throw_end));
   } else if (end == gs::mission::Reason::out_of_reach || end == gs::mission::Reason::infeasible ||
              end == gs::mission::Reason::abort_requested) {
     r.outcome = "aborted";
