@@ -21,24 +21,6 @@ double tiltOf(const PoleState& pole) { return std::acos(std::min(1.0, std::abs(p
 
 }  // namespace
 
-gs::estimation::MocapFrame toGroundStationFrame(const MocapFrame& f) {
-  gs::estimation::MocapFrame out;
-  out.t_s = f.capture_t_s;
-  auto pose = [](const MocapPose& p) {
-    gs::estimation::MocapPose q;
-    q.p_m = p.position_m;
-    q.q = p.attitude;
-    return q;
-  };
-  const auto& v1 = f.pose[static_cast<int>(Body::vehicle1)];
-  const auto& v2 = f.pose[static_cast<int>(Body::vehicle2)];
-  const auto& pole = f.pose[static_cast<int>(Body::pole)];
-  if (v1.seen) out.vehicle[0] = pose(v1);
-  if (v2.seen) out.vehicle[1] = pose(v2);
-  if (pole.seen) out.pole = pose(pole);
-  return out;
-}
-
 std::vector<AttemptPlan> paperSeries() {
   std::vector<AttemptPlan> plans;
   plans.push_back(AttemptPlan{false, Eigen::Vector2d::Zero(), 0.0});
@@ -201,7 +183,8 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
   }
 
   bool placed = false, pushed = false;
-  std::optional<double> throw_start_s, launch_s, impact_s, floor_s, upright_since_s;
+  std::optional<double> throw_start_s, launch_s, impact_s, floor_s;
+  double upright_since_s = -1.0;  // < 0: not upright on the catcher
   std::optional<double> catch_start_s;
   Vec3 last_catcher_xy = plant.vehicle(kCatcherIndex).body.position_m;
   bool caught = false;
@@ -262,10 +245,10 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
     }
     // Caught: on the catcher's plate within 5 degrees of upright for 3 s.
     if (impact_s && plant.pole_contact() == Contact::vehicle2 && tiltOf(plant.pole()) < kUpright_rad) {
-      if (!upright_since_s) upright_since_s = t;
-      if (t - *upright_since_s >= kBalancedFor_s) caught = true;
+      if (upright_since_s < 0.0) upright_since_s = t;
+      if (t - upright_since_s >= kBalancedFor_s) caught = true;
     } else {
-      upright_since_s.reset();
+      upright_since_s = -1.0;
     }
     if (!gs_done && gs_.attempts().size() > reports_before) {
       gs_done = true;

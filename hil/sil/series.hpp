@@ -28,11 +28,9 @@
 #include "groundstation/runtime/ground_station.hpp"
 #include "hil/plant/mocap.hpp"
 #include "hil/sil/arena.hpp"
+#include "hil/sil/ground_station_frame.hpp"
 
 namespace hil::sil {
-
-// The motion-capture frame as the ground station takes it (its clock is the capture time).
-gs::estimation::MocapFrame toGroundStationFrame(const MocapFrame& frame);
 
 struct AttemptPlan {
   bool catch_it = true;                                          // false: throw only (adapt)

@@ -16,6 +16,7 @@
 #include "groundstation/model/planar_pole_vehicle.hpp"
 #include "groundstation/planning/catch_point_predictor.hpp"
 #include "hil/plant/plant.hpp"
+#include "hil/sil/ground_station_frame.hpp"
 
 namespace plant_throw {
 
@@ -85,22 +86,9 @@ inline Eigen::VectorXd balancingState(const hil::Plant& plant, double half_lengt
   return x;
 }
 
+// The motion-capture frame as the estimator takes it (the arena's own adapter).
 inline gs::estimation::MocapFrame toEstimatorFrame(const hil::MocapFrame& f) {
-  gs::estimation::MocapFrame out;
-  out.t_s = f.capture_t_s;  // the estimator runs on the motion capture's clock
-  auto pose = [](const hil::MocapPose& p) {
-    gs::estimation::MocapPose q;
-    q.p_m = p.position_m;
-    q.q = p.attitude;
-    return q;
-  };
-  const auto& v1 = f.pose[static_cast<int>(hil::Body::vehicle1)];
-  const auto& v2 = f.pose[static_cast<int>(hil::Body::vehicle2)];
-  const auto& pole = f.pose[static_cast<int>(hil::Body::pole)];
-  if (v1.seen) out.vehicle[0] = pose(v1);
-  if (v2.seen) out.vehicle[1] = pose(v2);
-  if (pole.seen) out.pole = pose(pole);
-  return out;
+  return hil::sil::toGroundStationFrame(f);
 }
 
 // Where the plant's pole really comes down through the catching height, against the catch
