@@ -503,7 +503,6 @@ void GroundStation::updateAttempt(double now_s) {
   if (phase_ == AttemptPhase::idle) return;
   Vehicle& thrower = vehicleOf(request_.thrower);
   Vehicle& catcher = other(thrower);
-  const double L = config_.estimator.free_flight.pole.half_length_m;
   const estimation::PoleEstimate pole = estimator_.pole();
 
   if (thrower.sequencer.task() == Task::balance && thrower.set_point_valid) {
@@ -575,7 +574,6 @@ void GroundStation::updateAttempt(double now_s) {
       return;
     }
   }
-  (void)L;
 }
 
 void GroundStation::predictOptimalCatch(double now_s) {
