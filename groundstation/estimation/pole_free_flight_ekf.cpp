@@ -93,7 +93,11 @@ PoleFreeFlightEkf::StateCovariance PoleFreeFlightEkf::jacobian() const {
   return f;
 }
 
-void PoleFreeFlightEkf::step(double h) {
+void PoleFreeFlightEkf::step(double h, Propagation propagation) {
+  if (propagation == Propagation::mean_only) {
+    state_ = model::normalisedPoleState(model::poleFreeFlightStep(state_, h, scaledModel()));
+    return;
+  }
   const StateCovariance f = jacobian();
   // G Q G^T: white accelerations on v and (normal to n) on Omega, a random walk of k.
   const Eigen::Matrix3d q_w = params_.angular_acceleration_psd *
@@ -126,12 +130,12 @@ void PoleFreeFlightEkf::normalise() {
   p_ = 0.5 * (p_ + p_.transpose()).eval();
 }
 
-void PoleFreeFlightEkf::predict(double dt_s) {
+void PoleFreeFlightEkf::predict(double dt_s, Propagation propagation) {
   if (!(dt_s > 0.0) || !std::isfinite(dt_s)) return;
   const double max_step = params_.max_step_s > 0.0 ? params_.max_step_s : dt_s;
   const int steps = std::max(1, static_cast<int>(std::ceil(dt_s / max_step - 1e-9)));
   const double h = dt_s / steps;
-  for (int i = 0; i < steps; ++i) step(h);
+  for (int i = 0; i < steps; ++i) step(h, propagation);
 }
 
 LinearisedPoleMeasurement<PoleFreeFlightEkf::kSize> PoleFreeFlightEkf::linearise(

@@ -20,6 +20,7 @@
 #include <Eigen/Dense>
 
 #include "groundstation/estimation/pole_measurement.hpp"
+#include "groundstation/estimation/propagation.hpp"
 #include "groundstation/model/pole_free_flight.hpp"
 
 namespace gs::estimation {
@@ -54,7 +55,7 @@ class PoleFreeFlightEkf {
   void reset(const model::PoleState& state, const PoleCovariance& covariance, double drag_scale,
              double drag_scale_sigma);
 
-  void predict(double dt_s);
+  void predict(double dt_s, Propagation propagation = Propagation::mean_and_covariance);
   PoleInnovation innovation(const PoleMeasurement& measurement) const;
   PoleInnovation update(const PoleMeasurement& measurement);
   // The same with the measurement's innovation already computed by innovation() on the current
@@ -74,7 +75,7 @@ class PoleFreeFlightEkf {
   StateCovariance jacobian() const;
 
  private:
-  void step(double h);
+  void step(double h, Propagation propagation);
   void normalise();
   LinearisedPoleMeasurement<kSize> linearise(const PoleMeasurement& m) const;
 

@@ -59,20 +59,23 @@ PoleOnVehicleEkf::StateCovariance PoleOnVehicleEkf::jacobian(
   return f;
 }
 
-void PoleOnVehicleEkf::step(double h, const Eigen::Vector3d& pivot_acceleration_mps2) {
-  const StateCovariance f = jacobian(pivot_acceleration_mps2);
-  StateCovariance m = StateCovariance::Zero();
-  m(kAdot, kAdot) = params_.acceleration_psd;
-  m(kBdot, kBdot) = params_.acceleration_psd;
-  m(kOx, kOx) = params_.offset_psd;
-  m(kOy, kOy) = params_.offset_psd;
-  const StateCovariance fh = f * h;
-  const StateCovariance phi = StateCovariance::Identity() + fh + 0.5 * fh * fh;
-  const StateCovariance fm = f * m;
-  const StateCovariance qd =
-      m * h + 0.5 * h * h * (fm + fm.transpose()) + (h * h * h / 3.0) * fm * f.transpose();
-  p_ = phi * p_ * phi.transpose() + qd;
-  p_ = 0.5 * (p_ + p_.transpose()).eval();
+void PoleOnVehicleEkf::step(double h, const Eigen::Vector3d& pivot_acceleration_mps2,
+                            Propagation propagation) {
+  if (propagation == Propagation::mean_and_covariance) {
+    const StateCovariance f = jacobian(pivot_acceleration_mps2);
+    StateCovariance m = StateCovariance::Zero();
+    m(kAdot, kAdot) = params_.acceleration_psd;
+    m(kBdot, kBdot) = params_.acceleration_psd;
+    m(kOx, kOx) = params_.offset_psd;
+    m(kOy, kOy) = params_.offset_psd;
+    const StateCovariance fh = f * h;
+    const StateCovariance phi = StateCovariance::Identity() + fh + 0.5 * fh * fh;
+    const StateCovariance fm = f * m;
+    const StateCovariance qd =
+        m * h + 0.5 * h * h * (fm + fm.transpose()) + (h * h * h / 3.0) * fm * f.transpose();
+    p_ = phi * p_ * phi.transpose() + qd;
+    p_ = 0.5 * (p_ + p_.transpose()).eval();
+  }
 
   const model::PoleOnVehicleState next = model::rk4Step(
       [&](const model::PoleOnVehicleState& s) {
@@ -86,14 +89,15 @@ void PoleOnVehicleEkf::step(double h, const Eigen::Vector3d& pivot_acceleration_
   if (!checkValid()) valid_ = false;
 }
 
-void PoleOnVehicleEkf::predict(double dt_s, const Eigen::Vector3d& pivot_acceleration_mps2) {
+void PoleOnVehicleEkf::predict(double dt_s, const Eigen::Vector3d& pivot_acceleration_mps2,
+                               Propagation propagation) {
   if (!valid_ || !(dt_s > 0.0) || !std::isfinite(dt_s) || !pivot_acceleration_mps2.allFinite()) {
     return;
   }
   const double max_step = params_.max_step_s > 0.0 ? params_.max_step_s : dt_s;
   const int steps = std::max(1, static_cast<int>(std::ceil(dt_s / max_step - 1e-9)));
   const double h = dt_s / steps;
-  for (int i = 0; i < steps && valid_; ++i) step(h, pivot_acceleration_mps2);
+  for (int i = 0; i < steps && valid_; ++i) step(h, pivot_acceleration_mps2, propagation);
 }
 
 Eigen::Vector3d PoleOnVehicleEkf::pivot_m(const PlateKinematics& plate) const {

@@ -28,6 +28,7 @@
 #include <Eigen/Dense>
 
 #include "groundstation/estimation/pole_measurement.hpp"
+#include "groundstation/estimation/propagation.hpp"
 #include "groundstation/estimation/vehicle_observer.hpp"
 #include "groundstation/model/pole_on_vehicle.hpp"
 
@@ -62,7 +63,8 @@ class PoleOnVehicleEkf {
   void reset(const StateVector& state, const StateCovariance& covariance, double direction_sign);
 
   // Propagates with the pivot's acceleration held over dt_s.
-  void predict(double dt_s, const Eigen::Vector3d& pivot_acceleration_mps2);
+  void predict(double dt_s, const Eigen::Vector3d& pivot_acceleration_mps2,
+               Propagation propagation = Propagation::mean_and_covariance);
   PoleInnovation innovation(const PoleMeasurement& measurement, const PlateKinematics& plate) const;
   PoleInnovation update(const PoleMeasurement& measurement, const PlateKinematics& plate);
   // The same with the innovation already computed by innovation() on the current state.
@@ -93,7 +95,7 @@ class PoleOnVehicleEkf {
   StateCovariance jacobian(const Eigen::Vector3d& pivot_acceleration_mps2) const;
 
  private:
-  void step(double h, const Eigen::Vector3d& pivot_acceleration_mps2);
+  void step(double h, const Eigen::Vector3d& pivot_acceleration_mps2, Propagation propagation);
   bool checkValid();
   LinearisedPoleMeasurement<kSize> linearise(const PoleMeasurement& m,
                                              const PlateKinematics& plate) const;

@@ -167,7 +167,7 @@ void StateEstimator::step(double h) {
   for (int i = 0; i < 2; ++i) {
     if (!vehicles_[i].initialised()) continue;
     before[i] = vehicles_[i].plate();
-    vehicles_[i].predict(h, commandAt(i, t_s_));
+    vehicles_[i].predict(h, commandAt(i, t_s_), propagation_);
     after[i] = vehicles_[i].plate();
   }
   if (pole_seen_) stepPole(h, before, after);
@@ -179,7 +179,7 @@ void StateEstimator::stepPole(double h, const std::array<PlateKinematics, 2>& be
   const model::PoleParams& params = config_.on_vehicle.pole;
   if (active == PoleMode::free) {
     const PoleFreeFlightEkf start = free_;
-    free_.predict(h);
+    free_.predict(h, propagation_);
     for (int i = 0; i < 2; ++i) {
       if (!vehicles_[i].initialised()) continue;
       // Impact: the lower end crossed the plate's plane inside the rim, closing on it.
@@ -195,18 +195,18 @@ void StateEstimator::stepPole(double h, const std::array<PlateKinematics, 2>& be
         continue;
       }
       free_ = start;
-      free_.predict(frac * h);
+      free_.predict(frac * h, propagation_);
       const PlateKinematics plate = interpolate(before[i], after[i], frac);
       const OnVehicleSeed seed = onVehicleSeedAfterImpact(
           free_.state(), free_.poleCovariance(), plate, params, config_.impact_rate_sigma_mps);
       on_[i].reset(seed.state, seed.covariance, seed.direction_sign);
-      on_[i].predict((1.0 - frac) * h, after[i].a_mps2);
+      on_[i].predict((1.0 - frac) * h, after[i].a_mps2, propagation_);
       switchTo(onVehicleMode(i + 1), SwitchReason::plate_contact, t_s_ + frac * h, t_s_ + h);
       reseedCandidates();
       return;
     }
     for (int i = 0; i < 2; ++i) {
-      if (on_candidate_valid_[i]) on_[i].predict(h, 0.5 * (before[i].a_mps2 + after[i].a_mps2));
+      if (on_candidate_valid_[i]) on_[i].predict(h, 0.5 * (before[i].a_mps2 + after[i].a_mps2), propagation_);
     }
     return;
   }
@@ -215,7 +215,7 @@ void StateEstimator::stepPole(double h, const std::array<PlateKinematics, 2>& be
   if (!vehicles_[j].initialised()) return;
   const PoleOnVehicleEkf start = on_[j];
   const NormalForceEstimate f0 = start.normalForce(before[j]);
-  on_[j].predict(h, 0.5 * (before[j].a_mps2 + after[j].a_mps2));
+  on_[j].predict(h, 0.5 * (before[j].a_mps2 + after[j].a_mps2), propagation_);
   const NormalForceEstimate f1 = on_[j].normalForce(after[j]);
   const double threshold = -(config_.launch_margin_mps2 + config_.launch_sigmas * f1.sigma_mps2);
   if (f1.value_mps2 < threshold || !on_[j].valid()) {
@@ -225,18 +225,18 @@ void StateEstimator::stepPole(double h, const std::array<PlateKinematics, 2>& be
                             ? f0.value_mps2 / (f0.value_mps2 - f1.value_mps2)
                             : 0.0;
     on_[j] = start;
-    on_[j].predict(frac * h, 0.5 * (before[j].a_mps2 + after[j].a_mps2));
+    on_[j].predict(frac * h, 0.5 * (before[j].a_mps2 + after[j].a_mps2), propagation_);
     const PlateKinematics plate = interpolate(before[j], after[j], frac);
     const FreeFlightSeed seed = freeFlightSeedFromOnVehicle(on_[j], plate);
     free_.reset(seed.state, seed.covariance, drag_scale_, config_.drag_scale_sigma);
-    free_.predict((1.0 - frac) * h);
+    free_.predict((1.0 - frac) * h, propagation_);
     switchTo(PoleMode::free,
              lost_geometry ? SwitchReason::filter_invalid : SwitchReason::contact_force,
              t_s_ + frac * h, t_s_ + h);
     reseedCandidates();
     return;
   }
-  free_.predict(h);  // the free-flight candidate
+  free_.predict(h, propagation_);  // the free-flight candidate
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -506,16 +506,17 @@ std::optional<NormalForceEstimate> StateEstimator::normalForce() const {
   return on_[v - 1].normalForce(vehicles_[v - 1].plate());
 }
 
-PoleEstimate StateEstimator::predictPole(double t_s) const {
+StateEstimator StateEstimator::predicted(double t_s) const {
   StateEstimator ahead = *this;
+  ahead.propagation_ = Propagation::mean_only;
   ahead.advanceTo(t_s);
-  return ahead.pole();
+  return ahead;
 }
 
+PoleEstimate StateEstimator::predictPole(double t_s) const { return predicted(t_s).pole(); }
+
 VehicleEstimate StateEstimator::predictVehicle(int vehicle, double t_s) const {
-  StateEstimator ahead = *this;
-  ahead.advanceTo(t_s);
-  return ahead.vehicle(vehicle);
+  return predicted(t_s).vehicle(vehicle);
 }
 
 EstimatorHealth StateEstimator::health(double t_now_s) const {

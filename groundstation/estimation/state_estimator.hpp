@@ -28,8 +28,9 @@
 // impact reports the impact's time on the same clock (the link converts the vehicle's clock with
 // TIMESYNC). Commands are stamped with the time they act on the vehicle.
 //
-// Latency compensation: predictPole / predictVehicle propagate a copy of the whole estimator
-// (commands, mode switches and all) to the time a command will act.
+// Latency compensation: predicted() propagates a copy of the estimator (commands, mode switches
+// and all) to the time a command will act, its states only: the covariances stay as they were
+// at the last frame (propagation.hpp), which is most of the saving.
 #pragma once
 
 #include <array>
@@ -154,7 +155,9 @@ class StateEstimator {
   // The pole model with the estimated drag scale (for catch-point prediction).
   model::PoleParams poleModel() const { return free_.scaledModel(); }
 
-  // Latency compensation: the estimate propagated to t_s >= time().
+  // Latency compensation: the estimator propagated to t_s >= time() without covariances (see the
+  // header); a copy to read pole(), vehicle(), plate() from.
+  StateEstimator predicted(double t_s) const;
   PoleEstimate predictPole(double t_s) const;
   VehicleEstimate predictVehicle(int vehicle, double t_s) const;
 
@@ -197,6 +200,7 @@ class StateEstimator {
   bool impactReportPending(int index) const;
 
   StateEstimatorConfig config_;
+  Propagation propagation_ = Propagation::mean_and_covariance;
   double t_s_ = 0.0;
   bool started_ = false;
   std::array<VehicleObserver, 2> vehicles_;

@@ -1,5 +1,6 @@
 #include "groundstation/estimation/vehicle_observer.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace gs::estimation {
@@ -40,7 +41,7 @@ void VehicleObserver::reset(const MocapPose& pose) {
   commanded_ = false;
   thrust_mps2_ = params_.gravity_mps2;
   rates_radps_.setZero();
-  command_rates_radps_.setZero();
+  rate_derivative_radps2_.setZero();
   rejections_ = 0;
   initialised_ = true;
 }
@@ -59,7 +60,8 @@ Eigen::Vector3d VehicleObserver::modelAcceleration(double a_q_mps2) const {
   return model::vehicleAcceleration_mps2(s, a_q_mps2, params_.gravity_mps2);
 }
 
-void VehicleObserver::predict(double dt_s, const model::VehicleInput* command) {
+void VehicleObserver::predict(double dt_s, const model::VehicleInput* command,
+                              Propagation propagation) {
   if (!initialised_ || !(dt_s > 0.0) || !std::isfinite(dt_s)) return;
   const bool commanded = command != nullptr && finiteInput(*command);
 
@@ -70,12 +72,14 @@ void VehicleObserver::predict(double dt_s, const model::VehicleInput* command) {
   if (commanded && !commanded_) {
     thrust_mps2_ = (acc_before + Eigen::Vector3d(0.0, 0.0, params_.gravity_mps2)).norm();
     rates_radps_ = estimate().body_rates_radps;
+    rate_derivative_radps2_.setZero();
   }
 
   Eigen::Vector3d u = Eigen::Vector3d::Zero();
   Eigen::Vector3d r = Eigen::Vector3d::Zero();
   if (commanded) {
-    // First-order lags, solved exactly over the step; the inputs use their means over it.
+    // The thrust's first-order lag solved exactly over the step, the rates' second-order response
+    // integrated; the inputs use their means over the step.
     const auto lag = [dt_s](double tau, double& decay, double& mean_weight) {
       decay = tau > 0.0 ? std::exp(-dt_s / tau) : 0.0;
       mean_weight = tau > 0.0 ? tau / dt_s * (1.0 - decay) : 0.0;
@@ -86,10 +90,7 @@ void VehicleObserver::predict(double dt_s, const model::VehicleInput* command) {
     const double a_c = command->a_q_mps2;
     u = modelAcceleration(a_c + (thrust_mps2_ - a_c) * mean_weight);
     thrust_mps2_ = a_c + (thrust_mps2_ - a_c) * decay;
-    lag(params_.rate_time_constant_s, decay, mean_weight);
-    const Eigen::Vector3d& w_c = command->omega_radps;
-    const Eigen::Vector3d w_mean = w_c + (rates_radps_ - w_c) * mean_weight;
-    rates_radps_ = w_c + (rates_radps_ - w_c) * decay;
+    const Eigen::Vector3d w_mean = propagateRates(dt_s, command->omega_radps);
     const Eigen::Vector3d eta = eulerAngles();
     r = model::eulerRatesFromBodyRates(eta(0), eta(1), w_mean);  // (5)
   }
@@ -100,10 +101,17 @@ void VehicleObserver::predict(double dt_s, const model::VehicleInput* command) {
     }
     commanded_ = commanded;
   }
-  command_rates_radps_ = commanded ? command->omega_radps : Eigen::Vector3d::Zero();
 
-  const VehicleProcessNoise& q = commanded ? params_.commanded : params_.uncommanded;
   const double h = dt_s;
+  if (propagation == Propagation::mean_only) {
+    for (int i = 0; i < 3; ++i) {
+      const Eigen::Vector3d& x = trans_x_[i];
+      trans_x_[i] = Eigen::Vector3d(x(0) + h * x(1) + 0.5 * h * h * (x(2) + u(i)), x(1) + h * (x(2) + u(i)), x(2));
+      att_x_[i](0) += h * (att_x_[i](1) + r(i));
+    }
+    return;
+  }
+  const VehicleProcessNoise& q = commanded ? params_.commanded : params_.uncommanded;
   const double h2 = h * h;
   const double h3 = h2 * h;
   Eigen::Matrix3d phi;
@@ -128,6 +136,36 @@ void VehicleObserver::predict(double dt_s, const model::VehicleInput* command) {
     att_x_[i] = phi_att * att_x_[i] + Eigen::Vector2d(h, 0.0) * r(i);
     att_p_[i] = phi_att * att_p_[i] * phi_att.transpose() + q_att;
   }
+}
+
+// The rate loop's second-order response (see the header) to a command held over dt_s: RK4 in
+// steps of at most 1 ms (omega_n h <= 0.04, far inside RK4's accuracy), returning the mean rate
+// over dt_s for the attitude's propagation.
+Eigen::Vector3d VehicleObserver::propagateRates(double dt_s, const Eigen::Vector3d& command_radps) {
+  const Eigen::Vector3d w2 = params_.rate_natural_frequency_radps.cwiseAbs2();
+  const Eigen::Vector3d two_zeta_w =
+      2.0 * params_.rate_damping.cwiseProduct(params_.rate_natural_frequency_radps);
+  const auto accel = [&](const Eigen::Vector3d& w, const Eigen::Vector3d& wd) -> Eigen::Vector3d {
+    return w2.cwiseProduct(command_radps - w) - two_zeta_w.cwiseProduct(wd);
+  };
+  const int n = std::max(1, static_cast<int>(std::ceil(dt_s / 0.001)));
+  const double h = dt_s / n;
+  Eigen::Vector3d w = rates_radps_;
+  Eigen::Vector3d wd = rate_derivative_radps2_;
+  Eigen::Vector3d integral = Eigen::Vector3d::Zero();
+  for (int k = 0; k < n; ++k) {
+    // RK4 on (integral, w, w'): integral' = w, w' = wd, wd' = accel(w, wd).
+    const Eigen::Vector3d k1w = wd, k1d = accel(w, wd);
+    const Eigen::Vector3d k2w = wd + 0.5 * h * k1d, k2d = accel(w + 0.5 * h * k1w, wd + 0.5 * h * k1d);
+    const Eigen::Vector3d k3w = wd + 0.5 * h * k2d, k3d = accel(w + 0.5 * h * k2w, wd + 0.5 * h * k2d);
+    const Eigen::Vector3d k4w = wd + h * k3d, k4d = accel(w + h * k3w, wd + h * k3d);
+    integral += h / 6.0 * (w + 2.0 * (w + 0.5 * h * k1w) + 2.0 * (w + 0.5 * h * k2w) + (w + h * k3w));
+    w += h / 6.0 * (k1w + 2.0 * k2w + 2.0 * k3w + k4w);
+    wd += h / 6.0 * (k1d + 2.0 * k2d + 2.0 * k3d + k4d);
+  }
+  rates_radps_ = w;
+  rate_derivative_radps2_ = wd;
+  return integral / dt_s;
 }
 
 double VehicleObserver::nis(const MocapPose& pose) const {
@@ -215,10 +253,7 @@ VehicleEstimate VehicleObserver::estimate() const {
     // The inputs re-evaluated at the current attitude and applied thrust.
     e.acceleration_mps2 += modelAcceleration(thrust_mps2_);
     e.euler_rates_radps += model::eulerRatesFromBodyRates(eta(0), eta(1), rates_radps_);
-    if (params_.rate_time_constant_s > 0.0) {
-      e.body_rate_derivative_radps2 =
-          (command_rates_radps_ - rates_radps_) / params_.rate_time_constant_s;
-    }
+    e.body_rate_derivative_radps2 = rate_derivative_radps2_;
   }
   e.body_rates_radps = model::bodyRatesFromEulerRates(eta(0), eta(1), e.euler_rates_radps);
   return e;

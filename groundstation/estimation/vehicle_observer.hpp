@@ -13,13 +13,18 @@
 // of attitude errors into the acceleration is left to the process noise: per axis the filters are
 // 3 and 2 states, so the observer costs well under a microsecond.
 //
-// Input lags. The collective thrust reaches the vehicle through the motors, the body rates through
-// the on-board rate loop; the observer models both as first-order lags of the commands
-// (thrust_time_constant_s, rate_time_constant_s: documented choices, the paper leaves motor time
-// constants open, docs/paper-notes.md). The rate lag also gives the angular acceleration Omega', which
-// moves the catching plate (3 cm above the centre of gravity) by Omega' x r: a pitch-rate step
-// of 3 rad/s through a 12 ms rate loop accelerates the plate by several m/s^2, enough to
-// matter for the pole's contact force at the launch.
+// Input lags. The collective thrust reaches the vehicle through the motors: a first-order lag
+// (thrust_time_constant_s). The body rates reach it through the on-board rate loop, whose
+// response is second order: the firmware commands an angular acceleration kp (Omega_q - Omega)
+// and the motors deliver it through their lag tau_m, so tau_m Omega'' + Omega' = kp (Omega_q -
+// Omega), a natural frequency sqrt(kp / tau_m) and a damping 1 / (2 sqrt(kp tau_m)) (the slow
+// integral term left out). A first-order lag would make Omega' jump at every rate-command step,
+// and with it the plate's acceleration and the pole's estimated normal force F_N: at the throw's
+// release that called the launch too early and back again. The second-order model keeps Omega'
+// continuous, as the vehicle's is. Omega' moves the catching plate (3 cm above the centre of
+// gravity) by Omega' x r, several m/s^2 for the throw's pitch-rate steps: enough to matter for
+// the pole's contact force at the launch. (The motor constants are documented choices, the paper
+// leaves them open, docs/paper-notes.md.)
 //
 // Without commands (offline replay of a motion-capture log) u = 0 and r = 0: d becomes the whole
 // acceleration and delta the whole Euler rate, with larger process noise (a kinematic
@@ -32,6 +37,7 @@
 #include <array>
 
 #include "groundstation/estimation/mocap_pose.hpp"
+#include "groundstation/estimation/propagation.hpp"
 #include "groundstation/model/vehicle.hpp"
 #include "pa/constants.hpp"
 
@@ -52,7 +58,11 @@ struct VehicleObserverParams {
   double gravity_mps2 = pa::kGravity_mps2;
   double plate_height_m = pa::kPlateHeightAboveCg_m;  // catching plate above the CG (Sec. VII-A)
   double thrust_time_constant_s = 0.03;  // the airframe's motors (firmware config)
-  double rate_time_constant_s = 0.015;
+  // The rate loop's response per body axis (x, y, z), from the firmware's rate gains kp = 40, 40,
+  // 12 /s and the 30 ms motor lag (see the header): omega_n = sqrt(kp / tau_m), zeta =
+  // 1 / (2 sqrt(kp tau_m)).
+  Eigen::Vector3d rate_natural_frequency_radps{36.5, 36.5, 20.0};
+  Eigen::Vector3d rate_damping{0.46, 0.46, 0.83};
   double mocap_position_sigma_m = 1e-3;
   double mocap_attitude_sigma_rad = 1e-3;
   VehicleProcessNoise commanded;  // a command drives the model
@@ -73,7 +83,7 @@ struct VehicleEstimate {
   Eigen::Vector3d acceleration_mps2 = Eigen::Vector3d::Zero();  // p_q'' estimate
   Eigen::Vector3d euler_rates_radps = Eigen::Vector3d::Zero();  // (phi', theta', psi')
   Eigen::Vector3d body_rates_radps = Eigen::Vector3d::Zero();   // Omega, eq. (5)
-  Eigen::Vector3d body_rate_derivative_radps2 = Eigen::Vector3d::Zero();  // Omega' (rate lag)
+  Eigen::Vector3d body_rate_derivative_radps2 = Eigen::Vector3d::Zero();  // Omega' (rate loop)
   Eigen::Vector3d position_sigma_m = Eigen::Vector3d::Zero();
   Eigen::Vector3d velocity_sigma_mps = Eigen::Vector3d::Zero();
   Eigen::Vector3d acceleration_sigma_mps2 = Eigen::Vector3d::Zero();
@@ -107,7 +117,8 @@ class VehicleObserver {
   bool initialised() const { return initialised_; }
 
   // Propagates by dt_s (>= 0). command: the input acting during the step; nullptr when unknown.
-  void predict(double dt_s, const model::VehicleInput* command);
+  void predict(double dt_s, const model::VehicleInput* command,
+               Propagation propagation = Propagation::mean_and_covariance);
 
   // The NIS the pose would have, without updating.
   double nis(const MocapPose& pose) const;
@@ -127,13 +138,14 @@ class VehicleObserver {
  private:
   Eigen::Vector3d modelAcceleration(double a_q_mps2) const;
   Eigen::Vector3d eulerAngles() const;
+  Eigen::Vector3d propagateRates(double dt_s, const Eigen::Vector3d& command_radps);
 
   VehicleObserverParams params_;
   bool initialised_ = false;
   bool commanded_ = false;        // the last step was driven by a command
   double thrust_mps2_ = 0.0;      // the lagged (applied) thrust
-  Eigen::Vector3d rates_radps_ = Eigen::Vector3d::Zero();          // the lagged (applied) rates
-  Eigen::Vector3d command_rates_radps_ = Eigen::Vector3d::Zero();  // Omega_q of the last step
+  Eigen::Vector3d rates_radps_ = Eigen::Vector3d::Zero();       // the applied rates Omega
+  Eigen::Vector3d rate_derivative_radps2_ = Eigen::Vector3d::Zero();  // their derivative Omega'
   std::array<Eigen::Vector3d, 3> trans_x_;
   std::array<Eigen::Matrix3d, 3> trans_p_;
   std::array<Eigen::Vector2d, 3> att_x_;

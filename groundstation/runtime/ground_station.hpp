@@ -80,9 +80,11 @@ struct GroundStationConfig {
   // Where each vehicle stands on the floor before take-off (x, y), and the take-off height.
   std::array<Eigen::Vector2d, 2> home_xy_m{Eigen::Vector2d(-1.0, 0.0), Eigen::Vector2d(1.0, 0.0)};
   double take_off_height_m = 1.0;
-  // Carrot speed: set points move towards their target at most this fast, so that the hover
-  // and balancing LQRs only ever see small position errors (they are linear designs).
+  // Carrot speed and acceleration: set points move towards their target at most this fast, so
+  // that the hover and balancing LQRs only ever see small position errors (they are linear
+  // designs), and brake to stop on it.
   double set_point_speed_mps = 1.0;
+  double set_point_acceleration_mps2 = 1.0;
   double at_target_m = 0.05;
   double at_target_speed_mps = 0.1;
   // Integral action in hover, balance and the catch (1/s): the LQR's reference position is the
@@ -232,6 +234,7 @@ class GroundStation {
     mission::VehicleSequencer sequencer;
     Eigen::Vector3d target_m = Eigen::Vector3d::Zero();     // where the task wants the CG
     Eigen::Vector3d set_point_m = Eigen::Vector3d::Zero();  // the carrot moving towards it
+    Eigen::Vector3d set_point_velocity_mps = Eigen::Vector3d::Zero();  // and its velocity
     bool set_point_valid = false;
     Eigen::Vector3d integral = Eigen::Vector3d::Zero();     // of the position error
     std::uint32_t requests = 0;
@@ -247,6 +250,7 @@ class GroundStation {
   std::uint32_t conditions(const Vehicle& v, double now_s) const;
   void enter(Vehicle& v, double now_s);
   std::optional<model::VehicleInput> control(Vehicle& v, double now_s, double dt_s);
+  void integratePositionError(Vehicle& v, const estimation::VehicleEstimate& e, double dt_s);
   model::VehicleInput hoverControl(Vehicle& v, const estimation::VehicleEstimate& e, double dt_s,
                                    bool integrate);
   void moveSetPoint(Vehicle& v, const Eigen::Vector3d& position_m, double dt_s);

@@ -186,6 +186,7 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
   std::optional<double> throw_start_s, launch_s, impact_s, floor_s;
   double upright_since_s = -1.0;  // < 0: not upright on the catcher
   std::optional<double> catch_start_s;
+  std::optional<double> catch_end_s;
   Vec3 last_catcher_xy = plant.vehicle(kCatcherIndex).body.position_m;
   bool caught = false;
   const double deadline = arena_.t_s() + config_.attempt_timeout_s;
@@ -227,10 +228,12 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
       }
       if (launch_s && !floor_s && e.begins && e.surface == Surface::floor) floor_s = e.t_s;
     }
-    // The catcher's path from the start of its manoeuvre to the impact.
+    // The catcher's path from the start of its manoeuvre to the impact, or to the manoeuvre's
+    // end when nothing hit its plate (an offset practice, a miss, an abort).
     const Vec3 catcher = plant.vehicle(kCatcherIndex).body.position_m;
     if (!catch_start_s && gs_.task(kCatcher) == Task::catching) catch_start_s = t;
-    if (catch_start_s && !impact_s) r.travel_m += (catcher - last_catcher_xy).head<2>().norm();
+    if (catch_start_s && !catch_end_s && gs_.task(kCatcher) != Task::catching) catch_end_s = t;
+    if (catch_start_s && !catch_end_s && !impact_s) r.travel_m += (catcher - last_catcher_xy).head<2>().norm();
     last_catcher_xy = catcher;
     // The energy right after the impact (30 ms: the plate's shock absorber has taken the blow).
     if (impact_s && r.energy_error_J == 0.0 && t >= *impact_s + 0.03) {

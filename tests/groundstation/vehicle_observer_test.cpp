@@ -5,10 +5,12 @@
 
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <algorithm>
 #include <cstdio>
 #include <random>
 
 #include "estimation_test_feed.hpp"
+#include "fw/config.hpp"
 
 namespace {
 
@@ -209,4 +211,35 @@ TEST_CASE("the plate is h above the centre of gravity along the thrust axis", "[
   CHECK(plate.p_m.x() == Approx(0.5 + h * std::sin(0.4)));
   CHECK(plate.p_m.z() == Approx(1.0 + h * std::cos(0.4)));
   CHECK(plate.normal().isApprox(pose.q * Eigen::Vector3d::UnitZ()));
+}
+
+TEST_CASE("the rate loop's response is second order, with the firmware's gains", "[estimation]") {
+  VehicleObserver obs;
+  const gs::estimation::VehicleObserverParams& params = obs.params();
+  // The model's constants follow from the firmware's rate gains and motor lag (the header).
+  const fw::VehicleConfig firmware;
+  for (int i = 0; i < 3; ++i) {
+    const double kp = firmware.rate.kp_per_s[i];
+    const double tau = firmware.airframe.motor_time_constant_s;
+    CHECK(params.rate_natural_frequency_radps(i) == Approx(std::sqrt(kp / tau)).epsilon(0.01));
+    CHECK(params.rate_damping(i) == Approx(1.0 / (2.0 * std::sqrt(kp * tau))).epsilon(0.02));
+  }
+  MocapPose pose;
+  pose.p_m = Eigen::Vector3d(0.0, 0.0, 1.0);
+  obs.reset(pose);
+  gs::model::VehicleInput step;
+  step.a_q_mps2 = 9.81;
+  step.omega_radps = Eigen::Vector3d(0.0, 3.0, 0.0);
+  // Omega' is continuous at the step (a first-order lag would jump to 3 / tau = 200 rad/s^2).
+  obs.predict(0.001, &step);
+  CHECK(std::abs(obs.estimate().body_rate_derivative_radps2.y()) < 5.0);
+  // Then it rises, overshoots by exp(-pi zeta / sqrt(1 - zeta^2)) and settles on the command.
+  double peak = 0.0;
+  for (int k = 0; k < 300; ++k) {
+    obs.predict(0.001, &step);
+    peak = std::max(peak, obs.estimate().body_rates_radps.y());
+  }
+  const double zeta = params.rate_damping.y();
+  CHECK(peak == Approx(3.0 * (1.0 + std::exp(-M_PI * zeta / std::sqrt(1.0 - zeta * zeta)))).epsilon(0.01));
+  CHECK(obs.estimate().body_rates_radps.y() == Approx(3.0).epsilon(0.01));
 }
