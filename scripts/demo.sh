@@ -33,7 +33,7 @@ build/host/groundstation/groundstation plan-catch --from 0,0 --to 0.25,0 --catch
 echo
 echo "== 5. A throw and catch on the HIL truth plant, recorded as a motion-capture log and"
 echo "      replayed through the ground station's estimator (paper Section IV)"
-build/host/hil/hil record --scenario hil/config/scenarios/free_flight_catch.scenario \
+build/host/hil/hil record --scenario hil/config/scenarios/free_flight_catch.yaml \
   --out "$out/free_flight_catch_mocap.csv" --truth "$out/free_flight_catch_truth.csv"
 echo
 build/host/groundstation/groundstation estimate --mocap "$out/free_flight_catch_mocap.csv" \

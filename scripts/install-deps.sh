@@ -7,6 +7,7 @@ packages=(
   build-essential cmake ninja-build pkg-config
   catch2 libbenchmark-dev libeigen3-dev
   cyclonedds-dev cyclonedds-tools coinor-libipopt-dev libsqlite3-dev
+  libcli11-dev libyaml-cpp-dev clang-format
   gcc-arm-none-eabi binutils-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib
   qemu-system-arm
 )

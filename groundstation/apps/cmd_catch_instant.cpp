@@ -5,12 +5,14 @@
 #include <cstdio>
 #include <exception>
 #include <filesystem>
+#include <iostream>
+#include <optional>
 #include <string>
-#include <string_view>
 
 #include "groundstation/apps/commands.hpp"
 #include "groundstation/model/impact.hpp"
 #include "groundstation/planning/catching_instant.hpp"
+#include "pa/command_line.hpp"
 
 namespace gs::apps {
 
@@ -20,53 +22,31 @@ namespace {
 constexpr double kPaperFreeFlight_s = 0.812;
 constexpr double kPaperCatchHeight_m = 1.343;
 
-void printUsage(std::FILE* out) {
-  std::fprintf(
-      out,
-      "usage: groundstation catch-instant [--launch-from FILE|DIR] [--no-drag]\n"
-      "\n"
+int run(int argc, char** argv) {
+  std::string launch_path;
+  bool no_drag = false;
+  CLI::App app("", "groundstation catch-instant");
+  pa::cli::describe(
+      app, "usage: groundstation catch-instant [--launch-from FILE|DIR] [--no-drag]",
       "Finds the optimal catching instant of the paper's Section III-B: the pole flies freely\n"
       "(eq. 20, with drag) from the launch until the first instant at which a vehicle at rest\n"
       "catching its lower end would leave it exactly the energy to swing up to the upright (41),\n"
       "i.e. eq. (42) in the sign convention of groundstation/model/impact.hpp. Prints that instant,\n"
-      "the nominal catching height (lower pole end) and the catch point.\n"
-      "\n"
-      "  --launch-from P   launch from the end of a planned throw: the last row of the CSV P (or\n"
-      "                    P/throw.csv if P is a directory), as written by `groundstation\n"
-      "                    plan-throw --out DIR`, header t,x,z,vx,vz,theta,alpha,alpha_dot,a_q,\n"
-      "                    omega_y,F_N. Default: the Fig. 5 end state (x, z) = (1.5, 2.0) m,\n"
-      "                    (vx, vz) = (0.3, 5.5) m/s, alpha = 0.48 rad, alpha' = 2.5 rad/s.\n"
-      "  --no-drag         fly without aerodynamic drag (c_z = c_xy = c_rot = 0), for comparison\n"
-      "\n"
+      "the nominal catching height (lower pole end) and the catch point.",
       "Exit 0 when an instant was found, 1 when none lies within 3 s of flight, 2 on bad\n"
-      "arguments or a malformed launch file.\n");
-}
-
-int usageError(const std::string& message) {
-  std::fprintf(stderr, "groundstation catch-instant: %s\n\n", message.c_str());
-  printUsage(stderr);
-  return 2;
-}
-
-int run(int argc, char** argv) {
-  std::string launch_path;
-  bool drag = true;
-  for (int i = 1; i < argc; ++i) {
-    const std::string_view arg = argv[i];
-    if (arg == "--help" || arg == "-h") {
-      printUsage(stdout);
-      return 0;
-    }
-    if (arg == "--no-drag") {
-      drag = false;
-    } else if (arg == "--launch-from") {
-      if (i + 1 >= argc) return usageError("--launch-from needs a file or directory");
-      launch_path = argv[++i];
-      if (launch_path.empty()) return usageError("--launch-from needs a file or directory");
-    } else {
-      return usageError("unknown argument '" + std::string(arg) + "'");
-    }
-  }
+      "arguments or a malformed launch file.");
+  app.add_option("--launch-from", launch_path,
+                 "launch from the end of a planned throw: the last row of the CSV P (or\n"
+                 "P/throw.csv if P is a directory), as written by `groundstation\n"
+                 "plan-throw --out DIR`, header t,x,z,vx,vz,theta,alpha,alpha_dot,a_q,\n"
+                 "omega_y,F_N. Default: the Fig. 5 end state (x, z) = (1.5, 2.0) m,\n"
+                 "(vx, vz) = (0.3, 5.5) m/s, alpha = 0.48 rad, alpha' = 2.5 rad/s.")
+      ->type_name("P")
+      ->check(pa::cli::nonEmpty("needs a file or directory"));
+  app.add_flag("--no-drag", no_drag,
+               "fly without aerodynamic drag (c_z = c_xy = c_rot = 0), for comparison");
+  if (const std::optional<int> code = pa::cli::parse(app, argc, argv, std::cout, std::cerr)) return *code;
+  const bool drag = !no_drag;
 
   gs::planning::PlanarLaunchState launch = gs::planning::fig5LaunchState();
   std::string launch_source = "Fig. 5 end state";

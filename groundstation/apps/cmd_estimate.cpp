@@ -3,101 +3,67 @@
 // (estimation/mocap_log.hpp).
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <exception>
 #include <fstream>
 #include <iostream>
 #include <optional>
 #include <sstream>
 #include <string>
-#include <string_view>
 
 #include "groundstation/apps/commands.hpp"
 #include "groundstation/estimation/mocap_log.hpp"
-#include "pa/cli/arguments.hpp"
+#include "pa/command_line.hpp"
 
 namespace gs::apps {
 
 namespace {
 
-void printUsage(std::FILE* out) {
-  std::fprintf(
-      out,
-      "usage: groundstation estimate --mocap FILE.csv --catch-height Z --out FILE.csv\n"
-      "                              [--drag-scale K] [--fixed-drag]\n"
-      "\n"
-      "Replays a recorded motion-capture log through the estimator of the paper's Section IV\n"
-      "(vehicle observers and the hybrid pole estimator: free flight, on vehicle 1, on vehicle 2),\n"
-      "offline, without the commanded inputs.\n"
-      "\n"
-      "  --mocap FILE        input CSV with the header %s (SI units; body is\n"
-      "                      vehicle1, vehicle2 or pole; q turns the body frame into the inertial\n"
-      "                      one, for the pole its z-axis into the pole direction)\n"
-      "  --catch-height Z    catching height (m) for the lower end's predicted crossing\n"
-      "  --out FILE          output CSV ('-' for stdout), one row per pole frame:\n"
-      "                      %s\n"
-      "                      (catch_* empty when no crossing is predicted)\n"
-      "  --drag-scale K      the model's drag coefficients times K (default 1: the paper's)\n"
-      "  --fixed-drag        do not estimate the drag online\n"
-      "\n"
-      "Malformed rows are reported on stderr with their line number and skipped. Exit 0 when the\n"
-      "estimate was written, 1 when the input cannot be read or holds no usable pole row, 2 on\n"
-      "bad arguments.\n",
-      std::string(estimation::kMocapLogHeader).c_str(),
-      std::string(estimation::kEstimateLogHeader).c_str());
-}
-
-int usageError(const std::string& message) {
-  std::fprintf(stderr, "groundstation estimate: %s\n\n", message.c_str());
-  printUsage(stderr);
-  return 2;
-}
-
 int run(int argc, char** argv) {
-  std::optional<std::string> mocap_path;
-  std::optional<std::string> out_path;
-  std::optional<double> catch_height;
+  std::string mocap_path;
+  std::string out_path;
+  double catch_height = 0.0;
   double drag_scale = 1.0;
   bool fixed_drag = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string_view arg = argv[i];
-    if (arg == "--help" || arg == "-h") {
-      printUsage(stdout);
-      return 0;
-    }
-    if (arg == "--fixed-drag") {
-      fixed_drag = true;
-      continue;
-    }
-    if (arg != "--mocap" && arg != "--out" && arg != "--catch-height" && arg != "--drag-scale") {
-      return usageError("unknown argument '" + std::string(arg) + "'");
-    }
-    if (i + 1 >= argc) return usageError(std::string(arg) + " needs a value");
-    const std::string_view value = argv[++i];
-    if (arg == "--mocap") {
-      mocap_path = std::string(value);
-    } else if (arg == "--out") {
-      out_path = std::string(value);
-    } else if (arg == "--catch-height") {
-      catch_height = pa::cli::parseNumber(value);
-      if (!catch_height) return usageError("--catch-height must be a number (m)");
-    } else {
-      const std::optional<double> k = pa::cli::parseNumber(value);
-      if (!k || *k < 0.0 || *k > 10.0) return usageError("--drag-scale must be in [0, 10]");
-      drag_scale = *k;
-    }
-  }
-  if (!mocap_path) return usageError("--mocap is required");
-  if (!catch_height) return usageError("--catch-height is required");
-  if (!out_path) return usageError("--out is required");
+  CLI::App app("", "groundstation estimate");
+  pa::cli::describe(
+      app,
+      "usage: groundstation estimate --mocap FILE.csv --catch-height Z --out FILE.csv\n"
+      "                              [--drag-scale K] [--fixed-drag]",
+      "Replays a recorded motion-capture log through the estimator of the paper's Section IV\n"
+      "(vehicle observers and the hybrid pole estimator: free flight, on vehicle 1, on vehicle 2),\n"
+      "offline, without the commanded inputs.",
+      "Malformed rows are reported on stderr with their line number and skipped. Exit 0 when the\n"
+      "estimate was written, 1 when the input cannot be read or holds no usable pole row, 2 on\n"
+      "bad arguments.");
+  app.add_option("--mocap", mocap_path,
+                 "input CSV with the header " + std::string(estimation::kMocapLogHeader) +
+                     "\n(SI units; body is vehicle1, vehicle2 or pole; q turns the body frame into the\n"
+                     "inertial one, for the pole its z-axis into the pole direction)")
+      ->type_name("FILE")
+      ->required();
+  app.add_option("--catch-height", catch_height, "catching height (m) for the lower end's predicted crossing")
+      ->type_name("Z")
+      ->required()
+      ->check(pa::cli::finiteNumber("must be a number (m)"));
+  app.add_option("--out", out_path,
+                 "output CSV ('-' for stdout), one row per pole frame:\n" +
+                     std::string(estimation::kEstimateLogHeader) +
+                     "\n(catch_* empty when no crossing is predicted)")
+      ->type_name("FILE")
+      ->required();
+  app.add_option("--drag-scale", drag_scale, "the model's drag coefficients times K (default 1: the paper's)")
+      ->type_name("K")
+      ->check(pa::cli::numberIn(0.0, 10.0, "must be in [0, 10]"));
+  app.add_flag("--fixed-drag", fixed_drag, "do not estimate the drag online");
+  if (const std::optional<int> code = pa::cli::parse(app, argc, argv, std::cout, std::cerr)) return *code;
 
-  std::ifstream in(*mocap_path);
+  std::ifstream in(mocap_path);
   if (!in) {
-    std::fprintf(stderr, "groundstation estimate: cannot read '%s'\n", mocap_path->c_str());
+    std::fprintf(stderr, "groundstation estimate: cannot read '%s'\n", mocap_path.c_str());
     return 1;
   }
   estimation::ReplayOptions options;
-  options.catch_height_m = *catch_height;
+  options.catch_height_m = catch_height;
   for (model::PoleParams* p : {&options.config.free_flight.pole, &options.config.on_vehicle.pole}) {
     p->drag_axial *= drag_scale;
     p->drag_normal *= drag_scale;
@@ -113,17 +79,17 @@ int run(int argc, char** argv) {
   std::fputs(diagnostics.str().c_str(), stderr);
   if (!summary.ok) {
     std::fprintf(stderr, "groundstation estimate: %s in '%s': nothing to estimate\n",
-                 summary.fatal_error.c_str(), mocap_path->c_str());
+                 summary.fatal_error.c_str(), mocap_path.c_str());
     return 1;
   }
-  if (*out_path == "-") {
+  if (out_path == "-") {
     std::fputs(estimate.str().c_str(), stdout);
   } else {
-    std::ofstream out(*out_path);
+    std::ofstream out(out_path);
     out << estimate.str();
     out.flush();
     if (!out) {
-      std::fprintf(stderr, "groundstation estimate: cannot write '%s'\n", out_path->c_str());
+      std::fprintf(stderr, "groundstation estimate: cannot write '%s'\n", out_path.c_str());
       return 1;
     }
   }
@@ -148,7 +114,7 @@ int run(int argc, char** argv) {
                  std::string(estimation::poleModeName(s.to)).c_str(),
                  std::string(estimation::switchReasonName(s.reason)).c_str(), s.event_t_s);
   }
-  if (*out_path != "-") std::fprintf(stderr, "estimate: wrote %s\n", out_path->c_str());
+  if (out_path != "-") std::fprintf(stderr, "estimate: wrote %s\n", out_path.c_str());
   return 0;
 }
 

@@ -2,19 +2,18 @@
 // sampled every 1 ms into a CSV, with a summary and the feasibility verdict against eqs. (1), (2).
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <exception>
 #include <filesystem>
 #include <fstream>
 #include <optional>
 #include <string>
-#include <string_view>
+#include <iostream>
 #include <utility>
 
 #include "groundstation/apps/commands.hpp"
 #include "groundstation/model/vehicle_limits.hpp"
 #include "groundstation/planning/catch_trajectory.hpp"
-#include "pa/cli/arguments.hpp"
+#include "pa/command_line.hpp"
 
 namespace gs::apps {
 
@@ -25,52 +24,6 @@ using planning::CatchTrajectoryParams;
 using planning::InputLimits;
 
 constexpr double kSampleStep_s = 1e-3;  // the firmware's 1 kHz tick; 5 ms would match mocap
-
-void printUsage(std::FILE* out) {
-  std::fprintf(
-      out,
-      "usage: groundstation plan-catch --from X0,Y0 --to XT,YT --catch-height ZT --out FILE\n"
-      "                                [--txy T] [--amax A] [--kmax K] [--yaw PSI] [--limits "
-      "FILE]\n"
-      "\n"
-      "Plans the catch manoeuvre of the paper's Section V: a minimum-snap move in x and y from "
-      "rest\n"
-      "at (X0,Y0) to rest at (XT,YT) over the last T seconds (eq. 45), flown during the "
-      "high-thrust\n"
-      "phase of a five-phase minimax-acceleration manoeuvre in z that starts hovering at z0 (eq. "
-      "49)\n"
-      "and ends at rest at the catch height ZT after T_z seconds (eq. 48).\n"
-      "\n"
-      "  --from X0,Y0        start position (m)\n"
-      "  --to XT,YT          catch position (m)\n"
-      "  --catch-height ZT   height of the vehicle at the catch (m)\n"
-      "  --out FILE          CSV, one row per 1 ms from t = 0 (start of the z manoeuvre) to T_z:\n"
-      "                      t,x,y,z,vx,vy,vz,ax,ay,az,a_q,omega_x,omega_y,omega_z (SI units)\n"
-      "  --txy T             duration of the xy correction (s), default 0.65\n"
-      "  --amax A            z acceleration bound (m/s^2), default 4.19 (Fig. 7); 0 = constant "
-      "height\n"
-      "  --kmax K            z jerk bound (m/s^3), default 18 (Fig. 7)\n"
-      "  --yaw PSI           constant yaw (rad), default 0\n"
-      "  --limits FILE       input limits file (default: %s if present,\n"
-      "                      else a_q in [1, 20] m/s^2, |Omega| <= 10 rad/s)\n"
-      "\n"
-      "Prints a summary ending with `feasible: yes` or `feasible: no (<reason>)`; exit 0 when the\n"
-      "file was written (feasible or not), 2 on bad arguments, 1 when the file cannot be "
-      "written.\n",
-      model::kVehicleLimitsRelativePath);
-}
-
-int usageError(const std::string& message) {
-  std::fprintf(stderr, "groundstation plan-catch: %s\n\n", message.c_str());
-  printUsage(stderr);
-  return 2;
-}
-
-std::optional<Eigen::Vector2d> parsePair(std::string_view text) {
-  const std::optional<pa::cli::NumberPair> p = pa::cli::parseNumberPair(text);
-  if (!p) return std::nullopt;
-  return Eigen::Vector2d(p->first, p->second);
-}
 
 struct Peaks {
   double thrust_max = -1.0, thrust_max_t = 0.0;
@@ -133,55 +86,65 @@ std::string describeViolations(const planning::FeasibilityVerdict& verdict) {
 }
 
 int run(int argc, char** argv) {
-  std::optional<Eigen::Vector2d> from, to;
-  std::optional<double> catch_height;
-  std::string out_path, limits_path;
+  std::string from, to, out_path, limits_path;
+  double catch_height = 0.0;
   CatchTrajectoryParams params;
-  for (int i = 1; i < argc; ++i) {
-    const std::string_view flag = argv[i];
-    if (flag == "--help" || flag == "-h") {
-      printUsage(stdout);
-      return 0;
-    }
-    if (i + 1 >= argc) return usageError("missing value after " + std::string(flag));
-    const std::string_view value = argv[++i];
-    auto number = [&](double& target) {
-      const auto v = pa::cli::parseNumber(value);
-      if (v) target = *v;
-      return v.has_value();
-    };
-    if (flag == "--from") {
-      if (!(from = parsePair(value))) return usageError("--from wants X0,Y0 in metres");
-    } else if (flag == "--to") {
-      if (!(to = parsePair(value))) return usageError("--to wants XT,YT in metres");
-    } else if (flag == "--catch-height") {
-      double z = 0;
-      if (!number(z)) return usageError("--catch-height wants a number (m)");
-      catch_height = z;
-    } else if (flag == "--txy") {
-      if (!number(params.t_xy_s)) return usageError("--txy wants a number (s)");
-    } else if (flag == "--amax") {
-      if (!number(params.a_max_mps2)) return usageError("--amax wants a number (m/s^2)");
-    } else if (flag == "--kmax") {
-      if (!number(params.k_max_mps3)) return usageError("--kmax wants a number (m/s^3)");
-    } else if (flag == "--yaw") {
-      if (!number(params.yaw_rad)) return usageError("--yaw wants a number (rad)");
-    } else if (flag == "--out") {
-      out_path = value;
-      if (out_path.empty()) return usageError("--out wants a file name");
-    } else if (flag == "--limits") {
-      limits_path = value;
-    } else {
-      return usageError("unknown argument " + std::string(flag));
-    }
-  }
-  if (!from) return usageError("--from is required");
-  if (!to) return usageError("--to is required");
-  if (!catch_height) return usageError("--catch-height is required");
-  if (out_path.empty()) return usageError("--out is required");
-  params.start_xy_m = *from;
-  params.target_xy_m = *to;
-  params.catch_height_m = *catch_height;
+  CLI::App app("", "groundstation plan-catch");
+  pa::cli::describe(
+      app,
+      "usage: groundstation plan-catch --from X0,Y0 --to XT,YT --catch-height ZT --out FILE\n"
+      "                                [--txy T] [--amax A] [--kmax K] [--yaw PSI] [--limits FILE]",
+      "Plans the catch manoeuvre of the paper's Section V: a minimum-snap move in x and y from rest\n"
+      "at (X0,Y0) to rest at (XT,YT) over the last T seconds (eq. 45), flown during the high-thrust\n"
+      "phase of a five-phase minimax-acceleration manoeuvre in z that starts hovering at z0 (eq. 49)\n"
+      "and ends at rest at the catch height ZT after T_z seconds (eq. 48).",
+      "Prints a summary ending with `feasible: yes` or `feasible: no (<reason>)`; exit 0 when the\n"
+      "file was written (feasible or not), 2 on bad arguments, 1 when the file cannot be written.");
+  app.add_option("--from", from, "start position (m)")
+      ->type_name("X0,Y0")
+      ->required()
+      ->check(pa::cli::numberPair("wants X0,Y0 in metres"));
+  app.add_option("--to", to, "catch position (m)")
+      ->type_name("XT,YT")
+      ->required()
+      ->check(pa::cli::numberPair("wants XT,YT in metres"));
+  app.add_option("--catch-height", catch_height, "height of the vehicle at the catch (m)")
+      ->type_name("ZT")
+      ->required()
+      ->check(pa::cli::finiteNumber("wants a number (m)"));
+  app.add_option("--out", out_path,
+                 "CSV, one row per 1 ms from t = 0 (start of the z manoeuvre) to T_z:\n"
+                 "t,x,y,z,vx,vy,vz,ax,ay,az,a_q,omega_x,omega_y,omega_z (SI units)")
+      ->type_name("FILE")
+      ->required()
+      ->check(pa::cli::nonEmpty("wants a file name"));
+  app.add_option("--txy", params.t_xy_s, "duration of the xy correction (s), default 0.65")
+      ->type_name("T")
+      ->check(pa::cli::finiteNumber("wants a number (s)"));
+  app.add_option("--amax", params.a_max_mps2,
+                 "z acceleration bound (m/s^2), default 4.19 (Fig. 7); 0 = constant height")
+      ->type_name("A")
+      ->check(pa::cli::finiteNumber("wants a number (m/s^2)"));
+  app.add_option("--kmax", params.k_max_mps3, "z jerk bound (m/s^3), default 18 (Fig. 7)")
+      ->type_name("K")
+      ->check(pa::cli::finiteNumber("wants a number (m/s^3)"));
+  app.add_option("--yaw", params.yaw_rad, "constant yaw (rad), default 0")
+      ->type_name("PSI")
+      ->check(pa::cli::finiteNumber("wants a number (rad)"));
+  app.add_option("--limits", limits_path,
+                 std::string("input limits file (default: ") + model::kVehicleLimitsRelativePath +
+                     " if present,\nelse a_q in [1, 20] m/s^2, |Omega| <= 10 rad/s)")
+      ->type_name("FILE");
+  if (const std::optional<int> code = pa::cli::parse(app, argc, argv, std::cout, std::cerr)) return *code;
+  auto usageError = [&](const std::string& message) {
+    std::cerr << "groundstation plan-catch: " << message << "\n\n" << app.help();
+    return 2;
+  };
+  const pa::cli::NumberPair start = pa::cli::toNumberPair(from);
+  const pa::cli::NumberPair target = pa::cli::toNumberPair(to);
+  params.start_xy_m = Eigen::Vector2d(start.first, start.second);
+  params.target_xy_m = Eigen::Vector2d(target.first, target.second);
+  params.catch_height_m = catch_height;
   if (const auto error = planning::validate(params); error != planning::CatchParamError::kNone) {
     return usageError(std::string(planning::toString(error)));
   }

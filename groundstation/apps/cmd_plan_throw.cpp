@@ -6,20 +6,19 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <cstdlib>
 #include <ctime>
 #include <exception>
 #include <filesystem>
 #include <fstream>
 #include <optional>
 #include <string>
-#include <string_view>
+#include <iostream>
 
 #include "groundstation/apps/commands.hpp"
 #include "groundstation/model/vehicle_limits.hpp"
 #include "groundstation/planning/throw_planner.hpp"
 #include "groundstation/planning/throw_tracking.hpp"
-#include "pa/cli/arguments.hpp"
+#include "pa/command_line.hpp"
 
 namespace gs::apps {
 
@@ -31,41 +30,6 @@ constexpr double kPrintedLaunchThrust_mps2 = 4.48;  // Fig. 5 caption
 constexpr const char* kStateNames[planar::kStateSize] = {"x",     "z",     "vx",       "vz",
                                                          "theta", "alpha", "alpha_dot"};
 constexpr const char* kInputNames[planar::kInputSize] = {"aq", "omega_y"};
-
-void printUsage(std::FILE* out) {
-  std::fprintf(
-      out,
-      "usage: groundstation plan-throw --out DIR [--intervals N] [--limits FILE]\n"
-      "\n"
-      "Solves the paper's throw optimisation (34), Section III-A: from hover at the origin with the\n"
-      "pole upright to the Fig. 5 launch state in T = 2.5 s, minimising\n"
-      "int 1.5 alpha^2 + (a_q - g)^2 + 8 Omega_y^2 dt with the inputs within the limits and the\n"
-      "pole pressed onto the plate (F_N >= 0) throughout; the launch thrust a_q,T is chosen so that\n"
-      "F_N = 0 exactly at T. Hermite-Simpson collocation solved by IPOPT, then a time-varying LQR\n"
-      "along the result.\n"
-      "\n"
-      "  --out DIR        output directory (created if needed):\n"
-      "                   DIR/throw.csv        t,x,z,vx,vz,theta,alpha,alpha_dot,a_q,omega_y,F_N\n"
-      "                                        at every collocation point (knots and interval\n"
-      "                                        midpoints), SI units, F_N per unit pole mass (m/s^2)\n"
-      "                   DIR/throw_gains.csv  t and the gain K(t) every 5 ms, one column\n"
-      "                                        k_<input>_<state> per entry, inputs aq, omega_y,\n"
-      "                                        states x,z,vx,vz,theta,alpha,alpha_dot;\n"
-      "                                        u = u_ref(t) - K(t) (s - s_ref(t))\n"
-      "  --intervals N    collocation intervals, 100..2000, default 100\n"
-      "  --limits FILE    input limits file (default: %s if present,\n"
-      "                   else a_q in [1, 20] m/s^2, |Omega| <= 10 rad/s)\n"
-      "\n"
-      "Exit 0 when both files were written, 2 on bad arguments, 1 when the solver fails or a file\n"
-      "cannot be written.\n",
-      model::kVehicleLimitsRelativePath);
-}
-
-int usageError(const std::string& message) {
-  std::fprintf(stderr, "groundstation plan-throw: %s\n\n", message.c_str());
-  printUsage(stderr);
-  return 2;
-}
 
 int failure(const std::string& message) {
   std::fprintf(stderr, "groundstation plan-throw: %s\n", message.c_str());
@@ -119,29 +83,43 @@ bool writeGains(const std::filesystem::path& path, const planning::ThrowTracker&
 int run(int argc, char** argv) {
   std::string out_dir, limits_path;
   planning::ThrowSolverOptions options;
-  for (int i = 1; i < argc; ++i) {
-    const std::string_view flag = argv[i];
-    if (flag == "--help" || flag == "-h") {
-      printUsage(stdout);
-      return 0;
-    }
-    if (i + 1 >= argc) return usageError("missing value after " + std::string(flag));
-    const std::string_view value = argv[++i];
-    if (flag == "--out") {
-      out_dir = value;
-      if (out_dir.empty()) return usageError("--out wants a directory name");
-    } else if (flag == "--intervals") {
-      const std::optional<std::uint64_t> n = pa::cli::parseCount(value);
-      if (!n || *n < 100 || *n > 2000) return usageError("--intervals wants an integer in 100..2000");
-      options.intervals = static_cast<int>(*n);
-    } else if (flag == "--limits") {
-      limits_path = value;
-      if (limits_path.empty()) return usageError("--limits wants a file name");
-    } else {
-      return usageError("unknown argument " + std::string(flag));
-    }
-  }
-  if (out_dir.empty()) return usageError("--out is required");
+  CLI::App app("", "groundstation plan-throw");
+  pa::cli::describe(
+      app, "usage: groundstation plan-throw --out DIR [--intervals N] [--limits FILE]",
+      "Solves the paper's throw optimisation (34), Section III-A: from hover at the origin with the\n"
+      "pole upright to the Fig. 5 launch state in T = 2.5 s, minimising\n"
+      "int 1.5 alpha^2 + (a_q - g)^2 + 8 Omega_y^2 dt with the inputs within the limits and the\n"
+      "pole pressed onto the plate (F_N >= 0) throughout; the launch thrust a_q,T is chosen so that\n"
+      "F_N = 0 exactly at T. Hermite-Simpson collocation solved by IPOPT, then a time-varying LQR\n"
+      "along the result.",
+      "Exit 0 when both files were written, 2 on bad arguments, 1 when the solver fails or a file\n"
+      "cannot be written.");
+  app.add_option("--out", out_dir,
+                 "output directory (created if needed):\n"
+                 "DIR/throw.csv: t,x,z,vx,vz,theta,alpha,alpha_dot,a_q,omega_y,F_N\n"
+                 "  at every collocation point (knots and interval midpoints), SI units,\n"
+                 "  F_N per unit pole mass (m/s^2)\n"
+                 "DIR/throw_gains.csv: t and the gain K(t) every 5 ms, one column\n"
+                 "  k_<input>_<state> per entry, inputs aq, omega_y, states\n"
+                 "  x,z,vx,vz,theta,alpha,alpha_dot; u = u_ref(t) - K(t) (s - s_ref(t))")
+      ->type_name("DIR")
+      ->required()
+      ->check(pa::cli::nonEmpty("wants a directory name"));
+  std::uint64_t intervals = static_cast<std::uint64_t>(options.intervals);
+  app.add_option("--intervals", intervals, "collocation intervals, 100..2000, default 100")
+      ->type_name("N")
+      ->check(pa::cli::count(100, 2000, "wants an integer in 100..2000"));
+  app.add_option("--limits", limits_path,
+                 std::string("input limits file (default: ") + model::kVehicleLimitsRelativePath +
+                     " if present,\nelse a_q in [1, 20] m/s^2, |Omega| <= 10 rad/s)")
+      ->type_name("FILE")
+      ->check(pa::cli::nonEmpty("wants a file name"));
+  if (const std::optional<int> code = pa::cli::parse(app, argc, argv, std::cout, std::cerr)) return *code;
+  options.intervals = static_cast<int>(intervals);
+  auto usageError = [&](const std::string& message) {
+    std::cerr << "groundstation plan-throw: " << message << "\n\n" << app.help();
+    return 2;
+  };
 
   // Limits: the given file, else the repository's file if run from the repository root, else
   // the documented defaults (the same rule as plan-catch).

@@ -1,7 +1,7 @@
 // The operator's executable: `groundstation <subcommand> [arguments]`. The subcommands live in
 // cmd_<name>.cpp and are declared in commands.hpp; adding one is one line in kSubcommands.
 #include "groundstation/apps/commands.hpp"
-#include "pa/cli/subcommands.hpp"
+#include "pa/command_line.hpp"
 
 namespace {
 

@@ -1,20 +1,16 @@
 #include "groundstation/model/vehicle_limits.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <fstream>
+#include <optional>
 #include <sstream>
+#include <vector>
+
+#include "pa/yaml_file.hpp"
 
 namespace gs::model {
 namespace {
-
-std::string_view trim(std::string_view s) {
-  const auto is_space = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; };
-  while (!s.empty() && is_space(s.front())) s.remove_prefix(1);
-  while (!s.empty() && is_space(s.back())) s.remove_suffix(1);
-  return s;
-}
 
 VehicleLimitsLoad failure(std::string_view source, int line, const std::string& what) {
   VehicleLimitsLoad result;
@@ -36,49 +32,31 @@ constexpr int kKeyCount = static_cast<int>(sizeof(kKeys) / sizeof(kKeys[0]));
 }  // namespace
 
 VehicleLimitsLoad parseVehicleLimits(std::string_view text, std::string_view source_name) {
+  const std::string source(source_name);
   VehicleLimits limits;
   int seen_at_line[kKeyCount] = {};
-  int line_number = 0;
-  while (!text.empty()) {
-    const std::size_t eol = text.find('\n');
-    std::string_view line = text.substr(0, eol);
-    text = eol == std::string_view::npos ? std::string_view{} : text.substr(eol + 1);
-    ++line_number;
-    if (const std::size_t hash = line.find('#'); hash != std::string_view::npos) {
-      line = line.substr(0, hash);
-    }
-    line = trim(line);
-    if (line.empty()) continue;
-    const std::size_t eq = line.find('=');
-    if (eq == std::string_view::npos) {
-      return failure(source_name, line_number, "expected `key = value`, got `" +
-                                                   std::string(line) + "`");
-    }
-    const std::string_view key = trim(line.substr(0, eq));
-    const std::string_view value_text = trim(line.substr(eq + 1));
+  YAML::Node root;
+  std::vector<pa::yaml::Entry> entries;
+  std::string error;
+  if (!pa::yaml::parseDocument(text, source, root, error) ||
+      (!root.IsNull() && !pa::yaml::entriesOf(root, source, entries, error))) {
+    VehicleLimitsLoad result;
+    result.error = error;
+    return result;
+  }
+  for (const pa::yaml::Entry& e : entries) {
     int index = -1;
     for (int i = 0; i < kKeyCount; ++i) {
-      if (key == kKeys[i].name) index = i;
+      if (e.key == kKeys[i].name) index = i;
     }
-    if (index < 0) {
-      return failure(source_name, line_number, "unknown key `" + std::string(key) + "`");
+    if (index < 0) return failure(source_name, e.line, "unknown key `" + e.key + "`");
+    const std::optional<double> value = pa::yaml::finiteNumber(e.value);
+    if (!value) {
+      return failure(source_name, e.line,
+                     "value of `" + e.key + "` is not a finite number: `" + pa::yaml::text(e.value) + "`");
     }
-    if (seen_at_line[index] != 0) {
-      return failure(source_name, line_number,
-                     "duplicate key `" + std::string(key) + "` (first at line " +
-                         std::to_string(seen_at_line[index]) + ")");
-    }
-    double value = 0.0;
-    const char* begin = value_text.data();
-    const char* end = value_text.data() + value_text.size();
-    const auto [ptr, ec] = std::from_chars(begin, end, value);
-    if (value_text.empty() || ec != std::errc{} || ptr != end || !std::isfinite(value)) {
-      return failure(source_name, line_number,
-                     "value of `" + std::string(key) + "` is not a finite number: `" +
-                         std::string(value_text) + "`");
-    }
-    limits.*(kKeys[index].field) = value;
-    seen_at_line[index] = line_number;
+    limits.*(kKeys[index].field) = *value;
+    seen_at_line[index] = e.line;
   }
   for (int i = 0; i < kKeyCount; ++i) {
     if (seen_at_line[i] == 0) {

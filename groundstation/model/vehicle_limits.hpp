@@ -1,5 +1,5 @@
 // The quadrocopter input limits, eq. (1) and (2), and their loader from the documented
-// key = value file groundstation/config/vehicle_limits.conf (the paper leaves the values open;
+// YAML file groundstation/config/vehicle_limits.yaml (the paper leaves the values open;
 // the file justifies them from docs/paper-notes.md). The loader never throws: errors come back with the
 // file name and line number.
 #pragma once
@@ -23,13 +23,13 @@ struct VehicleLimitsLoad {
   std::string error;  // "<source>:<line>: <what>" (or "<source>: <what>") when !ok
 };
 
-// Parses the text of a limits file; `source_name` is used in error messages.
+// Parses the text (YAML) of a limits file; `source_name` is used in error messages.
 VehicleLimitsLoad parseVehicleLimits(std::string_view text, std::string_view source_name);
 // Reads and parses a limits file.
 VehicleLimitsLoad loadVehicleLimits(const std::string& path);
 
 // The repository's file relative to the repository root.
-inline constexpr const char* kVehicleLimitsRelativePath = "groundstation/config/vehicle_limits.conf";
+inline constexpr const char* kVehicleLimitsRelativePath = "groundstation/config/vehicle_limits.yaml";
 
 // Eq. (1) and (2).
 bool inputWithinLimits(const VehicleInput& input, const VehicleLimits& limits);

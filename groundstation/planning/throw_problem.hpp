@@ -41,7 +41,7 @@ struct ThrowProblem {
   // (x, z) = (1.5, 2.0) m, (vx, vz) = (0.3, 5.5) m/s, theta = -0.48 rad, alpha = 0.48 rad,
   // alpha' = 2.5 rad/s (Fig. 5 caption).
   static model::PlanarState<double> figure5LaunchState();
-  // The values of groundstation/config/vehicle_limits.conf (a_q in [1, 20] m/s^2,
+  // The values of groundstation/config/vehicle_limits.yaml (a_q in [1, 20] m/s^2,
   // |Omega| <= 10 rad/s), for callers that do not load the file.
   static model::VehicleLimits defaultLimits();
 

@@ -92,7 +92,7 @@ struct GroundStationConfig {
   // offset (the motors' spread, the pole's weight, drag) leaves no position error. Slow beside
   // the LQRs' position loops (about 1.5 rad/s), so it does not destabilise them.
   double position_integral_gain = 0.3;
-  double pole_weight_mps2 = 0.03 * 9.81 / 0.52;  // m_p g / m_q (hil/config/plant.conf values)
+  double pole_weight_mps2 = 0.03 * 9.81 / 0.52;  // m_p g / m_q (hil/config/plant.yaml values)
   // The throw: balancing at least this long with the tilt below balance_settled_rad first.
   double balance_settle_s = 2.0;
   double balance_settled_rad = 0.03;

@@ -17,16 +17,16 @@
 #include "hil/plant/plant_config.hpp"
 #include "hil/plant/randomisation.hpp"
 #include "hil/sil/series.hpp"
-#include "pa/cli/arguments.hpp"
+#include "pa/command_line.hpp"
 
 namespace hil::apps {
 namespace {
 
 constexpr const char* kUsage =
-    "usage: hil fly (--series paper | --throws N) [--seed S] [--plant FILE] [--randomise] [--out DIR] [--store FILE] [--verbose]\n";
+    "usage: hil fly (--series paper | --throws N) [--seed S] [--plant FILE] [--randomise] [--out DIR] [--store FILE] [--verbose]";
 
 int usage(const std::string& message) {
-  std::cerr << "hil fly: " << message << "\n" << kUsage;
+  std::cerr << "hil fly: " << message << "\n" << kUsage << "\n";
   return 2;
 }
 
@@ -44,51 +44,23 @@ int cmdFly(int argc, char** argv) {
   std::string series, plant_file, out_dir, store_file;
   std::uint64_t throws = 0, seed = 1;
   bool randomise = false, verbose = false;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    auto value = [&](const char* flag) -> const char* {
-      if (i + 1 >= argc) return nullptr;
-      (void)flag;
-      return argv[++i];
-    };
-    if (arg == "--help" || arg == "-h") {
-      std::cout << kUsage;
-      return 0;
-    } else if (arg == "--series") {
-      const char* v = value("--series");
-      if (!v) return usage("--series needs a value");
-      series = v;
-      if (series != "paper") return usage("--series must be 'paper'");
-    } else if (arg == "--throws") {
-      const char* v = value("--throws");
-      const auto n = v ? pa::cli::parseCount(v) : std::nullopt;
-      if (!n || *n == 0 || *n > 100000) return usage("--throws needs a count 1..100000");
-      throws = *n;
-    } else if (arg == "--seed") {
-      const char* v = value("--seed");
-      const auto n = v ? pa::cli::parseCount(v) : std::nullopt;
-      if (!n) return usage("--seed needs a non-negative integer");
-      seed = *n;
-    } else if (arg == "--plant") {
-      const char* v = value("--plant");
-      if (!v) return usage("--plant needs a file");
-      plant_file = v;
-    } else if (arg == "--out") {
-      const char* v = value("--out");
-      if (!v) return usage("--out needs a directory");
-      out_dir = v;
-    } else if (arg == "--store") {
-      const char* v = value("--store");
-      if (!v) return usage("--store needs a file");
-      store_file = v;
-    } else if (arg == "--verbose") {
-      verbose = true;
-    } else if (arg == "--randomise") {
-      randomise = true;
-    } else {
-      return usage("unknown argument '" + arg + "'");
-    }
-  }
+  CLI::App app("", "hil fly");
+  pa::cli::describe(app, kUsage,
+                    "Flies a series of throws in the lockstep arena with the ground-station runtime, judged\n"
+                    "on the plant's truth; prints a table per throw and a summary beside the paper's figures.");
+  app.add_option("--series", series, "the paper's series of throws")
+      ->type_name("paper")
+      ->check(pa::cli::oneOf({"paper"}, "must be 'paper'"));
+  app.add_option("--throws", throws, "N throws to catch instead")->type_name("N")->check(pa::cli::count(1, 100000, "needs a count 1..100000"));
+  app.add_option("--seed", seed, "seed of the noise and of --randomise (default 1)")
+      ->type_name("S")
+      ->check(pa::cli::count(0, UINT64_MAX, "needs a non-negative integer"));
+  app.add_option("--plant", plant_file, "plant configuration (default: the built-in one)")->type_name("FILE");
+  app.add_flag("--randomise", randomise, "each attempt on a plant drawn anew from the seed");
+  app.add_option("--out", out_dir, "write DIR/throws.csv and DIR/attempt_<n>.csv")->type_name("DIR");
+  app.add_option("--store", store_file, "the ground station's adaptation store")->type_name("FILE");
+  app.add_flag("--verbose", verbose, "print the mission log");
+  if (const std::optional<int> code = pa::cli::parse(app, argc, argv, std::cout, std::cerr)) return *code;
   if (series.empty() == (throws == 0)) return usage("give exactly one of --series paper and --throws N");
 
   PlantConfig plant;

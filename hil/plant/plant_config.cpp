@@ -5,7 +5,7 @@
 #include <cstdlib>
 #include <limits>
 
-#include "hil/plant/key_value_file.hpp"
+#include "pa/yaml_file.hpp"
 
 namespace hil {
 
@@ -126,7 +126,7 @@ std::vector<std::string_view> plant_config_keys() {
   return keys;
 }
 
-bool set_plant_parameter(PlantConfig& config, std::string_view key, std::string_view value, std::string& error) {
+bool set_plant_parameter(PlantConfig& config, std::string_view key, const YAML::Node& value, std::string& error) {
   const Parameter* p = find_parameter(key);
   if (!p) {
     error = "unknown plant parameter '" + std::string(key) + "'";
@@ -134,23 +134,23 @@ bool set_plant_parameter(PlantConfig& config, std::string_view key, std::string_
   }
   double v = 0.0;
   if (p->real) {
-    const auto parsed = parse_real(value);
+    const auto parsed = pa::yaml::finiteNumber(value);
     if (!parsed) {
-      error = "'" + std::string(key) + "' needs a finite number, got '" + std::string(value) + "'";
+      error = "'" + std::string(key) + "' needs a finite number, got '" + pa::yaml::text(value) + "'";
       return false;
     }
     v = *parsed;
   } else {
-    const auto parsed = parse_integer(value);
+    const auto parsed = pa::yaml::integer(value);
     if (!parsed) {
-      error = "'" + std::string(key) + "' needs an integer, got '" + std::string(value) + "'";
+      error = "'" + std::string(key) + "' needs an integer, got '" + pa::yaml::text(value) + "'";
       return false;
     }
     v = static_cast<double>(*parsed);
   }
   const bool below = p->lo_open ? !(v > p->lo) : !(v >= p->lo);
   if (below || !(v <= p->hi)) {
-    error = "'" + std::string(key) + "' = " + std::string(value) + " is outside " + range_text(*p);
+    error = "'" + std::string(key) + "' = " + pa::yaml::text(value) + " is outside " + range_text(*p);
     return false;
   }
   if (p->real) {
@@ -181,33 +181,35 @@ std::string check_plant_config(const PlantConfig& c) {
   return {};
 }
 
-namespace {
-bool apply_entries(const KeyValueFile& file, PlantConfig& config, std::string& error) {
+bool apply_plant_entries(const YAML::Node& map, const std::string& name, PlantConfig& config, std::string& error) {
+  std::vector<pa::yaml::Entry> entries;
+  if (!pa::yaml::entriesOf(map, name, entries, error)) return false;
   PlantConfig updated = config;
-  for (const KeyValue& e : file.entries) {
+  for (const pa::yaml::Entry& e : entries) {
     std::string message;
     if (!set_plant_parameter(updated, e.key, e.value, message)) {
-      error = where(file, e) + message;
+      error = (find_parameter(e.key) ? pa::yaml::where(name, e) : name + ":" + std::to_string(e.line) + ": ") + message;
       return false;
     }
   }
   if (const std::string problem = check_plant_config(updated); !problem.empty()) {
-    error = file.name + ": " + problem;
+    error = name + ": " + problem;
     return false;
   }
   config = updated;
   return true;
 }
-}  // namespace
 
 bool parse_plant_config(std::string_view text, const std::string& name, PlantConfig& config, std::string& error) {
-  KeyValueFile file;
-  return parse_key_values(text, name, file, error) && apply_entries(file, config, error);
+  YAML::Node root;
+  if (!pa::yaml::parseDocument(text, name, root, error)) return false;
+  if (root.IsNull()) return true;  // an empty file: every parameter keeps its value
+  return apply_plant_entries(root, name, config, error);
 }
 
 bool load_plant_config(const std::string& path, PlantConfig& config, std::string& error) {
-  KeyValueFile file;
-  return read_key_values(path, file, error) && apply_entries(file, config, error);
+  std::string text;
+  return pa::yaml::readFile(path, text, error) && parse_plant_config(text, path, config, error);
 }
 
 std::string format_plant_config(const PlantConfig& config) {
@@ -223,15 +225,15 @@ std::string format_plant_config(const PlantConfig& config) {
         std::snprintf(number, sizeof number, "%.*g", digits, v);
         if (std::strtod(number, nullptr) == v) break;
       }
-      std::snprintf(buf, sizeof buf, "%.*s = %s\n", static_cast<int>(p.key.size()), p.key.data(), number);
+      std::snprintf(buf, sizeof buf, "%.*s: %s\n", static_cast<int>(p.key.size()), p.key.data(), number);
     } else {
-      std::snprintf(buf, sizeof buf, "%.*s = %d\n", static_cast<int>(p.key.size()), p.key.data(), p.integer(copy));
+      std::snprintf(buf, sizeof buf, "%.*s: %d\n", static_cast<int>(p.key.size()), p.key.data(), p.integer(copy));
     }
     text += buf;
   }
   return text;
 }
 
-std::string default_plant_config_path() { return std::string(PA_HIL_CONFIG_DIR) + "/plant.conf"; }
+std::string default_plant_config_path() { return std::string(PA_HIL_CONFIG_DIR) + "/plant.yaml"; }
 
 }  // namespace hil

@@ -1,4 +1,4 @@
-// Every parameter of the truth plant, with its default. hil/config/plant.conf documents each
+// Every parameter of the truth plant, with its default. hil/config/plant.yaml documents each
 // one (unit and source) and holds the same values; a test keeps the two equal.
 //
 // The defaults describe the paper's arena (Section VII-A: pole, plate, drag coefficients, 200 Hz
@@ -11,6 +11,8 @@
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include <yaml-cpp/yaml.h>
 
 #include "hil/plant/types.hpp"
 
@@ -115,21 +117,26 @@ struct PlantConfig {
 // Names of all keys, in the order of the table (for documentation checks).
 std::vector<std::string_view> plant_config_keys();
 
-// Sets one parameter from its text. Returns false with a message (without file:line) for an
-// unknown key, a malformed value or a value outside the parameter's range.
-bool set_plant_parameter(PlantConfig& config, std::string_view key, std::string_view value, std::string& error);
+// Sets one parameter from its YAML value. Returns false with a message (without file:line) for
+// an unknown key, a malformed value or a value outside the parameter's range.
+bool set_plant_parameter(PlantConfig& config, std::string_view key, const YAML::Node& value, std::string& error);
 // Cross-parameter checks (e.g. the contact step not longer than the free step). Empty if fine.
 std::string check_plant_config(const PlantConfig& config);
 
-// Reads `path` over `config` (keys absent from the file keep their values). Returns false with
-// "path:line: message" on any error; never throws.
+// Applies a YAML map of `key: value` (a plant file's top level, or a scenario's `plant:` map)
+// over `config`, all or nothing. False with "name:line: message"; never throws.
+bool apply_plant_entries(const YAML::Node& map, const std::string& name, PlantConfig& config, std::string& error);
+
+// Reads the YAML file `path` over `config` (keys absent from the file keep their values).
+// Returns false with "path:line: message" on any error (YAML syntax, unknown key, malformed
+// number, value out of range); never throws.
 bool load_plant_config(const std::string& path, PlantConfig& config, std::string& error);
 bool parse_plant_config(std::string_view text, const std::string& name, PlantConfig& config, std::string& error);
 
-// All parameters as `key = value` lines, loadable again.
+// All parameters as YAML `key: value` lines, loadable again.
 std::string format_plant_config(const PlantConfig& config);
 
-// The default plant.conf in the source tree.
+// The default plant.yaml in the source tree.
 std::string default_plant_config_path();
 
 }  // namespace hil

@@ -5,7 +5,7 @@
 #include <fstream>
 #include <optional>
 
-#include "hil/plant/key_value_file.hpp"
+#include "pa/command_line.hpp"
 
 namespace hil {
 
@@ -55,17 +55,48 @@ void write_vehicle_truth_csv(std::ostream& out, const std::vector<VehicleTruthRo
   }
 }
 
+namespace {
+
+struct RecordArguments {
+  std::string scenario_path;
+  std::string out_path;
+  std::string truth_path;
+  std::string vehicle_truth_path;
+  std::optional<std::uint64_t> seed;
+  bool randomise = false;
+  std::string stamp = "delivery";
+};
+
+// The command line of `hil record`, also the source of its help.
+void define_record_arguments(CLI::App& app, RecordArguments& a) {
+  pa::cli::describe(app,
+                    "usage: hil record --scenario FILE --out FILE.csv [--truth FILE.csv] [--vehicle-truth FILE.csv]\n"
+                    "                  [--seed N] [--randomise] [--stamp delivery|capture]",
+                    "Runs a scenario (hil/config/scenarios/*.yaml) on the truth plant and writes the\n"
+                    "motion-capture log (t,body,x,y,z,qw,qx,qy,qz), optionally the true pole state\n"
+                    "(t,px,py,pz,vx,vy,vz,nx,ny,nz,wx,wy,wz,contact) and the true vehicle states.");
+  app.add_option("--scenario", a.scenario_path, "the scenario file")->type_name("FILE")->required();
+  app.add_option("--out", a.out_path, "the motion-capture CSV")->type_name("FILE.csv")->required();
+  app.add_option("--truth", a.truth_path, "the true pole state as CSV")->type_name("FILE.csv");
+  app.add_option("--vehicle-truth", a.vehicle_truth_path, "the true vehicle states as CSV")->type_name("FILE.csv");
+  app.add_option("--seed", a.seed, "overrides the scenario's seed (noise, IMU bias, randomisation)")
+      ->type_name("N")
+      ->check(pa::cli::count(0, UINT64_MAX, "needs a non-negative integer"));
+  app.add_flag("--randomise", a.randomise, "draws the uncertain plant parameters from the seed");
+  app.add_option("--stamp", a.stamp,
+                 "delivery (default): t is when the frame reached the ground station;\n"
+                 "capture: t is when the poses were true")
+      ->type_name("")
+      ->check(pa::cli::oneOf({"delivery", "capture"}, "must be delivery or capture"));
+}
+
+}  // namespace
+
 void print_record_usage(std::ostream& out) {
-  out << "usage: hil record --scenario FILE --out FILE.csv [--truth FILE.csv] [--vehicle-truth FILE.csv]\n"
-         "                  [--seed N] [--randomise] [--stamp delivery|capture]\n"
-         "\n"
-         "Runs a scenario (hil/config/scenarios/*.scenario) on the truth plant and writes the\n"
-         "motion-capture log (t,body,x,y,z,qw,qx,qy,qz), optionally the true pole state\n"
-         "(t,px,py,pz,vx,vy,vz,nx,ny,nz,wx,wy,wz,contact) and the true vehicle states.\n"
-         "  --seed N       overrides the scenario's seed (noise, IMU bias, randomisation)\n"
-         "  --randomise    draws the uncertain plant parameters from the seed\n"
-         "  --stamp        delivery (default): t is when the frame reached the ground station;\n"
-         "                 capture: t is when the poses were true\n";
+  CLI::App app("", "hil record");
+  RecordArguments a;
+  define_record_arguments(app, a);
+  out << app.help();
 }
 
 namespace {
@@ -86,67 +117,17 @@ bool write_file(const std::string& path, const auto& writer, std::ostream& err) 
 }
 
 int record(const std::vector<std::string>& args, std::ostream& out, std::ostream& err) {
-  std::string scenario_path;
-  std::string out_path;
-  std::string truth_path;
-  std::string vehicle_truth_path;
-  std::optional<std::uint64_t> seed;
-  bool randomise = false;
-  MocapStamp stamp = MocapStamp::delivery;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const std::string& a = args[i];
-    if (a == "--help" || a == "-h") {
-      print_record_usage(out);
-      return 0;
-    }
-    if (a == "--randomise") {
-      randomise = true;
-      continue;
-    }
-    const bool takes_value =
-        a == "--scenario" || a == "--out" || a == "--truth" || a == "--vehicle-truth" || a == "--seed" || a == "--stamp";
-    if (!takes_value) {
-      err << "hil record: unknown argument '" << a << "'\n\n";
-      print_record_usage(err);
-      return 2;
-    }
-    if (i + 1 >= args.size()) {
-      err << "hil record: " << a << " needs a value\n\n";
-      print_record_usage(err);
-      return 2;
-    }
-    const std::string& v = args[++i];
-    if (a == "--scenario") {
-      scenario_path = v;
-    } else if (a == "--out") {
-      out_path = v;
-    } else if (a == "--truth") {
-      truth_path = v;
-    } else if (a == "--vehicle-truth") {
-      vehicle_truth_path = v;
-    } else if (a == "--seed") {
-      const auto n = parse_integer(v);
-      if (!n || *n < 0) {
-        err << "hil record: --seed needs a non-negative integer, got '" << v << "'\n";
-        return 2;
-      }
-      seed = static_cast<std::uint64_t>(*n);
-    } else {
-      if (v == "delivery") {
-        stamp = MocapStamp::delivery;
-      } else if (v == "capture") {
-        stamp = MocapStamp::capture;
-      } else {
-        err << "hil record: --stamp must be delivery or capture, got '" << v << "'\n";
-        return 2;
-      }
-    }
-  }
-  if (scenario_path.empty() || out_path.empty()) {
-    err << "hil record: " << (scenario_path.empty() ? "--scenario" : "--out") << " is required\n\n";
-    print_record_usage(err);
-    return 2;
-  }
+  CLI::App app("", "hil record");
+  RecordArguments a;
+  define_record_arguments(app, a);
+  if (const std::optional<int> code = pa::cli::parse(app, args, out, err)) return *code;
+  const std::string& scenario_path = a.scenario_path;
+  const std::string& out_path = a.out_path;
+  const std::string& truth_path = a.truth_path;
+  const std::string& vehicle_truth_path = a.vehicle_truth_path;
+  const std::optional<std::uint64_t>& seed = a.seed;
+  const bool randomise = a.randomise;
+  const MocapStamp stamp = a.stamp == "capture" ? MocapStamp::capture : MocapStamp::delivery;
 
   Scenario scenario;
   std::string error;

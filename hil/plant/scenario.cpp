@@ -3,7 +3,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "hil/plant/key_value_file.hpp"
+#include "pa/yaml_file.hpp"
 
 namespace hil {
 
@@ -23,11 +23,11 @@ std::string directory_of(const std::string& path) {
 }
 
 // Applies one non-plant key. Returns an error message (without file:line) or "".
-std::string apply(Scenario& s, const KeyValue& e, bool& position_given1, bool& position_given2) {
+std::string apply(Scenario& s, const pa::yaml::Entry& e, bool& position_given1, bool& position_given2) {
   const std::string& k = e.key;
-  const std::string& v = e.value;
+  const std::string v = pa::yaml::text(e.value);
   auto real = [&](double& target, double lo, double hi) -> std::string {
-    const auto x = parse_real(v);
+    const auto x = pa::yaml::finiteNumber(e.value);
     if (!x) return "'" + k + "' needs a finite number, got '" + v + "'";
     if (*x < lo || *x > hi) {
       std::ostringstream m;
@@ -38,9 +38,9 @@ std::string apply(Scenario& s, const KeyValue& e, bool& position_given1, bool& p
     return {};
   };
   auto vec3 = [&](Vec3& target) -> std::string {
-    const auto x = parse_vec3(v);
-    if (!x) return "'" + k + "' needs three numbers (x y z), got '" + v + "'";
-    target = *x;
+    const auto x = pa::yaml::numbers(e.value, 3);
+    if (!x) return "'" + k + "' needs three numbers [x, y, z]";
+    target = Vec3((*x)[0], (*x)[1], (*x)[2]);
     return {};
   };
   auto mode = [&](VehicleMode& target, bool any) -> std::string {
@@ -60,13 +60,13 @@ std::string apply(Scenario& s, const KeyValue& e, bool& position_given1, bool& p
   if (k == "description") return {};
   if (k == "duration_s") return real(s.duration_s, 0.001, 3600.0);
   if (k == "seed") {
-    const auto x = parse_integer(v);
+    const auto x = pa::yaml::integer(e.value);
     if (!x || *x < 0) return "'seed' needs a non-negative integer, got '" + v + "'";
     s.seed = static_cast<std::uint64_t>(*x);
     return {};
   }
   if (k == "randomise") {
-    const auto x = parse_bool(v);
+    const auto x = pa::yaml::boolean(e.value);
     if (!x) return "'randomise' needs true or false, got '" + v + "'";
     s.randomise = *x;
     return {};
@@ -119,7 +119,7 @@ std::string apply(Scenario& s, const KeyValue& e, bool& position_given1, bool& p
   if (k == "catch_height_m") return real(s.catch_height_m, 0.0, 100.0);
   if (k == "catch_offset_m") return vec3(s.catch_offset_m);
   if (k == "balance_vehicle") {
-    const auto x = parse_integer(v);
+    const auto x = pa::yaml::integer(e.value);
     if (!x || (*x != 1 && *x != 2)) return "'balance_vehicle' must be 1 or 2, got '" + v + "'";
     s.balance_vehicle = static_cast<int>(*x);
     return {};
@@ -133,36 +133,36 @@ std::string apply(Scenario& s, const KeyValue& e, bool& position_given1, bool& p
 
 bool parse_scenario(std::string_view text, const std::string& name, const std::string& base_dir, Scenario& out,
                     std::string& error) {
-  KeyValueFile file;
-  if (!parse_key_values(text, name, file, error)) return false;
+  YAML::Node root;
+  std::vector<pa::yaml::Entry> entries;
+  if (!pa::yaml::parseDocument(text, name, root, error)) return false;
+  if (!root.IsNull() && !pa::yaml::entriesOf(root, name, entries, error)) return false;
   Scenario s;
   s.source = name;
 
-  // The plant configuration first, so that plant.* overrides apply on top of it wherever they are.
-  for (const KeyValue& e : file.entries) {
+  // The plant configuration first, so that the `plant:` overrides apply on top of it wherever
+  // they stand in the file.
+  for (const pa::yaml::Entry& e : entries) {
     if (e.key != "plant_config") continue;
-    const std::string path = (!e.value.empty() && e.value[0] == '/') ? e.value : base_dir + "/" + e.value;
+    const std::string file = pa::yaml::text(e.value);
+    const std::string path = (!file.empty() && file[0] == '/') ? file : base_dir + "/" + file;
     std::string message;
-    if (!load_plant_config(path, s.plant, message)) {
-      error = where(file, e) + "plant_config: " + message;
+    if (file.empty() || !load_plant_config(path, s.plant, message)) {
+      error = pa::yaml::where(name, e) + "plant_config: " + (file.empty() ? "needs a file name" : message);
       return false;
     }
   }
   bool position_given[2] = {false, false};
   bool has_name = false;
-  for (const KeyValue& e : file.entries) {
+  for (const pa::yaml::Entry& e : entries) {
     if (e.key == "plant_config") continue;
-    if (e.key.rfind("plant.", 0) == 0) {
-      std::string message;
-      if (!set_plant_parameter(s.plant, std::string_view(e.key).substr(6), e.value, message)) {
-        error = where(file, e) + message;
-        return false;
-      }
+    if (e.key == "plant") {
+      if (!apply_plant_entries(e.value, name, s.plant, error)) return false;
       continue;
     }
     if (e.key == "name") has_name = true;
     if (const std::string message = apply(s, e, position_given[0], position_given[1]); !message.empty()) {
-      error = where(file, e) + message;
+      error = pa::yaml::where(name, e) + message;
       return false;
     }
   }
@@ -183,7 +183,7 @@ bool parse_scenario(std::string_view text, const std::string& name, const std::s
     }
     if (v.position_auto && (v.mode == VehicleMode::parked || v.mode == VehicleMode::thrower ||
                             s.pole_start != PoleStart::launch)) {
-      error = name + ": '" + key + " = auto' needs a flying vehicle and pole_start = launch";
+      error = name + ": '" + key + ": auto' needs a flying vehicle and pole_start: launch";
       return false;
     }
   }
@@ -191,7 +191,7 @@ bool parse_scenario(std::string_view text, const std::string& name, const std::s
     if (s.vehicle[i].mode == VehicleMode::thrower &&
         (s.pole_start != PoleStart::launch || s.vehicle[1 - i].mode == VehicleMode::thrower)) {
       error = name + ": vehicle" + std::to_string(i + 1) +
-              "_mode = thrower needs pole_start = launch (and one thrower only)";
+              "_mode: thrower needs pole_start: launch (and one thrower only)";
       return false;
     }
   }
@@ -209,7 +209,7 @@ bool parse_scenario(std::string_view text, const std::string& name, const std::s
 
 bool load_scenario(const std::string& path, Scenario& out, std::string& error) {
   std::string text;
-  return read_text_file(path, text, error) &&
+  return pa::yaml::readFile(path, text, error) &&
          parse_scenario(text, path, directory_of(path), out, error);
 }
 

@@ -1,6 +1,6 @@
 // A scenario for the recorder: where the vehicles are and how they are flown, how the pole
-// starts, how long to run, which plant configuration and seed. Read from a `key = value` file
-// (hil/config/scenarios/*.scenario documents every key); every error names the file and line.
+// starts, how long to run, which plant configuration and seed. Read from a YAML file
+// (hil/config/scenarios/*.yaml documents every key); every error names the file and line.
 //
 // The vehicles are flown by the runner's own controllers acting on the TRUE plant state
 // (vehicle_controller.hpp, pole_balancer.hpp): scenarios generate test data for the estimator

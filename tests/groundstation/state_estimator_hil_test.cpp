@@ -99,7 +99,7 @@ std::optional<Crossing> trueCrossing(const hil::ScenarioResult& r, double t0, do
 
 TEST_CASE("HIL plant: a thrown pole is tracked from launch to the catch", "[estimation][hil]") {
   hil::Scenario scenario;
-  const hil::ScenarioResult r = runScenario("free_flight_catch.scenario", scenario);
+  const hil::ScenarioResult r = runScenario("free_flight_catch.yaml", scenario);
   REQUIRE(r.launch_t_s);
   REQUIRE(r.impact_t_s);
   REQUIRE(r.impact_on == hil::Contact::vehicle2);
@@ -156,7 +156,7 @@ TEST_CASE("HIL plant: a thrown pole is tracked from launch to the catch", "[esti
 
 TEST_CASE("HIL plant: no mode switch while vehicle 1 balances the pole", "[estimation][hil]") {
   hil::Scenario scenario;
-  const hil::ScenarioResult r = runScenario("balanced_hover.scenario", scenario);
+  const hil::ScenarioResult r = runScenario("balanced_hover.yaml", scenario);
   StateEstimator est;
   double max_error = 0.0;
   for (const MocapFrame& f : frames(r)) {

@@ -57,7 +57,7 @@ Flight flyThrow(double catch_height_m) {
   REQUIRE(balancing.ok);
   const double T = problem.duration_s;
 
-  hil::PlantConfig config;  // the documented defaults (hil/config/plant.conf)
+  hil::PlantConfig config;  // the documented defaults (hil/config/plant.yaml)
   hil::Plant plant(config, 7);
   placeForThrow(plant);
   const double L = config.pole.half_length_m;

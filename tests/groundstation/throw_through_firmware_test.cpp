@@ -116,7 +116,7 @@ Flight flyThrowThroughFirmware(double catch_height_m) {
   const gs::control::LqrGain balancing = gs::control::balancingLqr();
   REQUIRE(balancing.ok);
 
-  hil::PlantConfig config;  // the documented defaults (hil/config/plant.conf), as throw_on_plant
+  hil::PlantConfig config;  // the documented defaults (hil/config/plant.yaml), as throw_on_plant
   hil::sil::Lockstep rig(config, 7);
   hil::Plant& plant = rig.plant();
   hil::sil::FirmwareVehicle& firmware =

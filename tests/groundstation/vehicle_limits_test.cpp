@@ -1,4 +1,4 @@
-// Input limits (1), (2) and their documented key = value file.
+// Input limits (1), (2) and their documented YAML file.
 #include "groundstation/model/vehicle_limits.hpp"
 
 #include <catch2/catch.hpp>
@@ -10,10 +10,10 @@ using gs::model::parseVehicleLimits;
 
 constexpr const char* kValid =
     "# comment\n"
-    "a_q_min_mps2 = 1.0\n"
+    "a_q_min_mps2: 1.0\n"
     "\n"
-    "  a_q_max_mps2=20   # trailing comment\n"
-    "omega_max_radps = 10.0\n";
+    "a_q_max_mps2:   20   # trailing comment\n"
+    "omega_max_radps: 10.0\n";
 
 std::string replaceLine(std::string text, const std::string& from, const std::string& to) {
   text.replace(text.find(from), from.size(), to);
@@ -44,7 +44,7 @@ TEST_CASE("the repository's limits file loads and admits the paper's manoeuvres"
 }
 
 TEST_CASE("a well-formed file with comments and blank lines parses", "[limits]") {
-  const auto load = parseVehicleLimits(kValid, "test.conf");
+  const auto load = parseVehicleLimits(kValid, "test.yaml");
   REQUIRE(load.ok);
   CHECK(load.limits.a_q_min_mps2 == 1.0);
   CHECK(load.limits.a_q_max_mps2 == 20.0);
@@ -58,32 +58,35 @@ TEST_CASE("malformed limits files are rejected with file and line", "[limits]") 
     std::string expect;
   };
   const Case cases[] = {
-      {replaceLine(valid, "a_q_min_mps2 = 1.0", "a_q_min_mps2 1.0"), "test.conf:2:"},
-      {replaceLine(valid, "a_q_min_mps2 = 1.0", "a_q_minimum = 1.0"), "test.conf:2: unknown key"},
-      {valid + "a_q_min_mps2 = 2.0\n", "test.conf:6: duplicate key"},
-      {replaceLine(valid, "= 1.0", "= one"), "test.conf:2: value"},
-      {replaceLine(valid, "= 1.0", "= 1.0 m/s^2"), "test.conf:2: value"},
-      {replaceLine(valid, "= 1.0", "= nan"), "test.conf:2: value"},
-      {replaceLine(valid, "= 1.0", "= inf"), "test.conf:2: value"},
-      {replaceLine(valid, "= 1.0", "="), "test.conf:2: value"},
-      {replaceLine(valid, "omega_max_radps = 10.0\n", ""), "test.conf: missing key `omega_max_radps`"},
-      {replaceLine(valid, "= 1.0", "= 0.0"), "test.conf:2: a_q_min_mps2 must be > 0"},
-      {replaceLine(valid, "= 1.0", "= 25.0"), "test.conf:4: a_q_max_mps2 must exceed"},
-      {replaceLine(valid, "= 10.0", "= -1.0"), "test.conf:5: omega_max_radps must be > 0"},
-      {"", "test.conf: missing key"},
+      {replaceLine(valid, "a_q_min_mps2: 1.0", "a_q_min_mps2 1.0"), "test.yaml:"},  // YAML syntax
+      {replaceLine(valid, "a_q_min_mps2: 1.0", "a_q_min_mps2: [1.0"), "test.yaml:4:"},  // YAML syntax
+      {replaceLine(valid, "a_q_min_mps2: 1.0", "a_q_minimum: 1.0"), "test.yaml:2: unknown key"},
+      {valid + "a_q_min_mps2: 2.0\n", "test.yaml:6: 'a_q_min_mps2' is given twice (first on line 2)"},
+      {replaceLine(valid, ": 1.0", ": one"), "test.yaml:2: value"},
+      {replaceLine(valid, ": 1.0", ": 1.0 m/s^2"), "test.yaml:2: value"},
+      {replaceLine(valid, ": 1.0", ": .nan"), "test.yaml:2: value"},
+      {replaceLine(valid, ": 1.0", ": .inf"), "test.yaml:2: value"},
+      {replaceLine(valid, ": 1.0", ":"), "test.yaml:2: value"},
+      {replaceLine(valid, "omega_max_radps: 10.0\n", ""), "test.yaml: missing key `omega_max_radps`"},
+      {replaceLine(valid, ": 1.0", ": 0.0"), "test.yaml:2: a_q_min_mps2 must be > 0"},
+      {replaceLine(valid, ": 1.0", ": 25.0"), "test.yaml:4: a_q_max_mps2 must exceed"},
+      {replaceLine(valid, ": 10.0", ": -1.0"), "test.yaml:5: omega_max_radps must be > 0"},
+      {"", "test.yaml: missing key"},
+      {"- 1.0\n- 20.0\n", "test.yaml:1: expected a map"},
   };
   for (const Case& c : cases) {
     INFO(c.text);
-    const auto load = parseVehicleLimits(c.text, "test.conf");
+    const auto load = parseVehicleLimits(c.text, "test.yaml");
+    INFO(load.error);
     CHECK_FALSE(load.ok);
     CHECK(load.error.find(c.expect) != std::string::npos);
   }
 }
 
 TEST_CASE("a missing limits file is an error, not an exception", "[limits]") {
-  const auto load = gs::model::loadVehicleLimits("/nonexistent/dir/limits.conf");
+  const auto load = gs::model::loadVehicleLimits("/nonexistent/dir/limits.yaml");
   CHECK_FALSE(load.ok);
-  CHECK(load.error.find("/nonexistent/dir/limits.conf") != std::string::npos);
+  CHECK(load.error.find("/nonexistent/dir/limits.yaml") != std::string::npos);
 }
 
 TEST_CASE("eq. (1), (2): limit check and saturation", "[limits]") {

@@ -87,7 +87,7 @@ TEST_CASE("the drag quadrature converges to the closed forms of eqs. (10)-(15)")
     CHECK(w.force_N.norm() < 1e-12);
     CHECK(w.torque_Nm.y() == Approx(-pole.drag_rotational_kgpm2 * w_radps * w_radps * std::pow(L, 4) / 2.0).epsilon(1e-5));
   }
-  SECTION("with the default 20 segments the turning torque is within 0.5 % (plant.conf)") {
+  SECTION("with the default 20 segments the turning torque is within 0.5 % (plant.yaml)") {
     hil::PoleConfig coarse;
     const double w_radps = 5.0;
     const double exact = -coarse.drag_rotational_kgpm2 * w_radps * w_radps * std::pow(L, 4) / 2.0;

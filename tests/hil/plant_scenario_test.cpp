@@ -62,7 +62,7 @@ int record(const std::vector<std::string>& args, std::string& out, std::string& 
 }  // namespace
 
 TEST_CASE("free_flight_catch: the pole flies freely from its launch and lands on vehicle 2's plate") {
-  const Scenario s = load("free_flight_catch.scenario");
+  const Scenario s = load("free_flight_catch.yaml");
   CHECK(s.name == "free_flight_catch");
   const ScenarioResult r = run(s);
   const double L = r.config.pole.half_length_m;
@@ -137,7 +137,7 @@ TEST_CASE("free_flight_catch: the pole flies freely from its launch and lands on
 }
 
 TEST_CASE("balanced_hover: the pole stays balanced on vehicle 1, which holds its place") {
-  const Scenario s = load("balanced_hover.scenario");
+  const Scenario s = load("balanced_hover.yaml");
   const ScenarioResult r = run(s);
   CHECK_FALSE(r.impact_t_s);
   double lowest_nz = 1.0;
@@ -160,7 +160,7 @@ TEST_CASE("balanced_hover: the pole stays balanced on vehicle 1, which holds its
 TEST_CASE("every shipped scenario loads and runs; in throw the uncaught pole ends on the floor") {
   int count = 0;
   for (const auto& entry : std::filesystem::directory_iterator(hil::scenario_directory())) {
-    if (entry.path().extension() != ".scenario") continue;
+    if (entry.path().extension() != ".yaml") continue;
     ++count;
     INFO(entry.path().string());
     Scenario s;
@@ -178,7 +178,7 @@ TEST_CASE("every shipped scenario loads and runs; in throw the uncaught pole end
 }
 
 TEST_CASE("a scenario run is reproducible for a seed; randomised runs differ between seeds") {
-  Scenario s = load("free_flight_catch.scenario");
+  Scenario s = load("free_flight_catch.yaml");
   s.duration_s = 1.5;
   const ScenarioResult a = run(s);
   const ScenarioResult b = run(s);
@@ -221,36 +221,41 @@ TEST_CASE("bad scenario files are reported with file and line") {
     const char* message;
   };
   const Case cases[] = {
-      {"name = x\nvehicle1_mode = hover\n", "bad.scenario:2: 'vehicle1_mode' must be parked, hold, balance or thrower, got 'hover'"},
-      {"name = x\nduration_s = -1\n", "bad.scenario:2: 'duration_s' = -1 is outside"},
-      {"name = x\npole_velocity_mps = 1 2\n", "bad.scenario:2: 'pole_velocity_mps' needs three numbers"},
-      {"name = x\nflux = 3\n", "bad.scenario:2: unknown scenario key 'flux'"},
-      {"name = x\n\nplant.pole_mass_kg = -3\n", "bad.scenario:3: 'pole_mass_kg' = -3 is outside"},
-      {"name = x\nplant.warp = 1\n", "bad.scenario:2: unknown plant parameter 'warp'"},
-      {"name = x\nplant_config = missing.conf\n", "bad.scenario:2: plant_config: "},
-      {"name = x\nseed = -4\n", "bad.scenario:2: 'seed' needs a non-negative integer"},
-      {"name = x\nvehicle2_mode = hold\n", "bad.scenario: 'vehicle2_position_m' is required for a vehicle that flies"},
-      {"name = x\npole_start = balanced\nvehicle1_mode = parked\n", "bad.scenario: the pole is balanced on vehicle1, which is parked"},
-      {"vehicle1_mode = parked\n", "bad.scenario: 'name' is required"},
-      {"name = x\nname = y\n", "bad.scenario:2: 'name' is given twice (first on line 1)"},
-      {"name = x\nvehicle2_mode = hold\nvehicle2_position_m = auto\npole_start = balanced\nvehicle1_mode = balance\n"
-       "vehicle1_position_m = 0 0 1\n",
-       "bad.scenario: 'vehicle2_position_m = auto' needs a flying vehicle and pole_start = launch"},
-      {"name = x\nvehicle1_mode = thrower\nvehicle1_position_m = 0 0 1\npole_start = balanced\n",
-       "bad.scenario: vehicle1_mode = thrower needs pole_start = launch"},
-      {"name = x\nvehicle2_after_catch = thrower\n", "bad.scenario:2: 'vehicle2_after_catch' must be hold or balance"},
+      {"name: x\nvehicle1_mode: hover\n", "bad.yaml:2: 'vehicle1_mode' must be parked, hold, balance or thrower, got 'hover'"},
+      {"name: x\nduration_s: -1\n", "bad.yaml:2: 'duration_s' = -1 is outside"},
+      {"name: x\npole_velocity_mps: [1, 2]\n", "bad.yaml:2: 'pole_velocity_mps' needs three numbers"},
+      {"name: x\nflux: 3\n", "bad.yaml:2: unknown scenario key 'flux'"},
+      {"name: x\n\nplant:\n  pole_mass_kg: -3\n", "bad.yaml:4: 'pole_mass_kg' = -3 is outside"},
+      {"name: x\nplant:\n  warp: 1\n", "bad.yaml:3: unknown plant parameter 'warp'"},
+      {"name: x\nplant_config: missing.yaml\n", "bad.yaml:2: plant_config: "},
+      {"name: x\nseed: -4\n", "bad.yaml:2: 'seed' needs a non-negative integer"},
+      {"name: x\nvehicle2_mode: hold\n", "bad.yaml: 'vehicle2_position_m' is required for a vehicle that flies"},
+      {"name: x\npole_start: balanced\nvehicle1_mode: parked\n", "bad.yaml: the pole is balanced on vehicle1, which is parked"},
+      {"vehicle1_mode: parked\n", "bad.yaml: 'name' is required"},
+      {"name: x\nname: y\n", "bad.yaml:2: 'name' is given twice (first on line 1)"},
+      {"name: x\nvehicle2_mode: hold\nvehicle2_position_m: auto\npole_start: balanced\nvehicle1_mode: balance\n"
+       "vehicle1_position_m: [0, 0, 1]\n",
+       "bad.yaml: 'vehicle2_position_m: auto' needs a flying vehicle and pole_start: launch"},
+      {"name: x\nvehicle1_mode: thrower\nvehicle1_position_m: [0, 0, 1]\npole_start: balanced\n",
+       "bad.yaml: vehicle1_mode: thrower needs pole_start: launch"},
+      {"name: x\nvehicle2_after_catch: thrower\n", "bad.yaml:2: 'vehicle2_after_catch' must be hold or balance"},
+      {"name: x\nduration_s: soon\n", "bad.yaml:2: 'duration_s' needs a finite number, got 'soon'"},
+      {"name: x\nplant: 3\n", "bad.yaml:2: expected a map"},
+      {"name: x\npole_position_m: [1, 2, 3\n", "bad.yaml:3: "},  // YAML syntax: the list is never closed
+      {"name: x\nrandomise: maybe\n", "bad.yaml:2: 'randomise' needs true or false"},
   };
   for (const Case& c : cases) {
     INFO(c.text);
     Scenario s;
     std::string error;
-    CHECK_FALSE(hil::parse_scenario(c.text, "bad.scenario", hil::scenario_directory(), s, error));
+    CHECK_FALSE(hil::parse_scenario(c.text, "bad.yaml", hil::scenario_directory(), s, error));
+    INFO(error);
     CHECK(error.rfind(c.message, 0) == 0);
   }
 }
 
 TEST_CASE("a catcher cannot be placed for a pole that never comes down to the catch height") {
-  Scenario s = load("free_flight_catch.scenario");
+  Scenario s = load("free_flight_catch.yaml");
   s.catch_height_m = 50.0;
   ScenarioResult r;
   std::string error;
@@ -264,7 +269,7 @@ TEST_CASE("hil record writes the motion-capture log and the truth, and prints th
   const std::string truth = dir + "/record_truth.csv";
   std::string out;
   std::string err;
-  const int code = record({"--scenario", hil::scenario_directory() + "/free_flight_catch.scenario", "--out", mocap,
+  const int code = record({"--scenario", hil::scenario_directory() + "/free_flight_catch.yaml", "--out", mocap,
                            "--truth", truth, "--stamp", "capture"},
                           out, err);
   INFO(err);
@@ -283,7 +288,7 @@ TEST_CASE("hil record writes the motion-capture log and the truth, and prints th
 }
 
 TEST_CASE("hil record rejects bad arguments with exit code 2 and a message") {
-  const std::string scenario = hil::scenario_directory() + "/free_flight_catch.scenario";
+  const std::string scenario = hil::scenario_directory() + "/free_flight_catch.yaml";
   struct Case {
     std::vector<std::string> args;
     const char* message;
@@ -295,7 +300,7 @@ TEST_CASE("hil record rejects bad arguments with exit code 2 and a message") {
       {{"--bogus"}, "unknown argument '--bogus'"},
       {{"--scenario", scenario, "--out", "x.csv", "--seed", "many"}, "--seed needs a non-negative integer"},
       {{"--scenario", scenario, "--out", "x.csv", "--stamp", "arrival"}, "--stamp must be delivery or capture"},
-      {{"--scenario", "/nonexistent.scenario", "--out", "x.csv"}, "/nonexistent.scenario: cannot read the file"},
+      {{"--scenario", "/nonexistent.yaml", "--out", "x.csv"}, "/nonexistent.yaml: cannot read the file"},
   };
   for (const Case& c : cases) {
     std::string out;
@@ -305,10 +310,10 @@ TEST_CASE("hil record rejects bad arguments with exit code 2 and a message") {
     CHECK(err.find(c.message) != std::string::npos);
   }
   // A bad scenario file: its name and line.
-  const std::string bad = scratch() + "/bad.scenario";
+  const std::string bad = scratch() + "/bad.yaml";
   {
     std::ofstream f(bad);
-    f << "name = bad\n# ok\nduration_s = soon\n";
+    f << "name: bad\n# ok\nduration_s: soon\n";
   }
   std::string out;
   std::string err;

@@ -4,7 +4,7 @@
 // the way the protocol table describes; every assertion is on the plant's TRUE state (or on
 // what the vehicle reports over the protocol), never on the firmware's own belief.
 //
-// The plant is plant.conf as shipped (IMU noise and bias on, one seed), so the firmware meets
+// The plant is plant.yaml as shipped (IMU noise and bias on, one seed), so the firmware meets
 // a sensor it does not know the errors of; vehicle2 has no firmware and stays parked.
 #include <catch2/catch.hpp>
 

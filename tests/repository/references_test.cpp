@@ -4,7 +4,7 @@
 // that was renamed or deleted.
 //
 // The rule, kept simple on purpose:
-//  - Files read: every *.cpp *.hpp *.h *.c *.cmake *.md *.conf *.scenario *.sh *.json *.ld *.txt
+//  - Files read: every *.cpp *.hpp *.h *.c *.cmake *.md *.yaml *.conf *.scenario *.sh *.json *.ld *.txt
 //    and Makefile under the source tree, skipping hidden folders (.git, .ci, ...) and build*/
 //    (the build trees). This file is skipped too: it names missing files on purpose.
 //  - A token is a maximal run of letters, digits and _ . + - / * ; trailing dots are dropped
@@ -45,16 +45,16 @@ constexpr std::array<std::string_view, 8> kIncludeRoots = {
     "shared/include",            // pa/...
     "firmware/core/include",     // fw/...
     "firmware/selftest/include", // fw/...
-    "cli/include",               // pa/cli/...
+    "shared/host/include",       // pa/command_line.hpp
     "firmware/ports",            // cortex_m/...
     "firmware/ports/posix",      // hil_vehicle_node.hpp
     "hil/sil",                   // firmware_vehicle.hpp
 };
 
-constexpr std::array<std::string_view, 13> kReferenceExtensions = {
-    ".md", ".hpp", ".cpp", ".h", ".c", ".conf", ".scenario", ".sh", ".cmake", ".ld", ".json", ".txt", ".csv"};
-constexpr std::array<std::string_view, 12> kTextExtensions = {
-    ".cpp", ".hpp", ".h", ".c", ".cmake", ".md", ".conf", ".scenario", ".sh", ".json", ".ld", ".txt"};
+constexpr std::array<std::string_view, 14> kReferenceExtensions = {
+    ".md", ".hpp", ".cpp", ".h", ".c", ".yaml", ".conf", ".scenario", ".sh", ".cmake", ".ld", ".json", ".txt", ".csv"};
+constexpr std::array<std::string_view, 13> kTextExtensions = {
+    ".cpp", ".hpp", ".h", ".c", ".cmake", ".md", ".yaml", ".conf", ".scenario", ".sh", ".json", ".ld", ".txt"};
 constexpr std::array<std::string_view, 4> kOutsideDocuments = {
     "ARCHITECTURE.md", "NOTES.md", "STYLE.md", "pole-acrobatics-paper.md"};
 
@@ -260,13 +260,13 @@ TEST_CASE("a reference to a missing file is caught, wherever it points", "[repos
       "// See ../shared/reference/pole-acrobatics-paper.md and docs/no_such_page.md.\n"
       "#include \"groundstation/model/no_such_model.hpp\"\n"
       "#include \"fw/no_such_module.hpp\"\n"
-      "// Format of hil/config/no_such.scenario; ../../../outside/the/repository.cpp.\n";
+      "// Format of hil/config/no_such.yaml; ../../../outside/the/repository.cpp.\n";
   const std::vector<Missing> missing = checker.missingIn(text, citing);
   std::vector<std::string> names;
   for (const Missing& m : missing) names.push_back(m.reference);
   CHECK(names == std::vector<std::string>{"NOTES.md", "ARCHITECTURE.md", "../shared/reference/pole-acrobatics-paper.md",
                                           "docs/no_such_page.md", "groundstation/model/no_such_model.hpp",
-                                          "fw/no_such_module.hpp", "hil/config/no_such.scenario",
+                                          "fw/no_such_module.hpp", "hil/config/no_such.yaml",
                                           "../../../outside/the/repository.cpp"});
   REQUIRE(missing.size() == 8);
   CHECK(missing[0].line == 1);
@@ -283,9 +283,9 @@ TEST_CASE("references to files that are here pass, by any of the stated routes",
       "#include \"fw/config.hpp\"\n"                          // firmware/core/include
       "#include \"cortex_m/runtime.hpp\"\n"                   // firmware/ports
       "#include \"hil_vehicle_node.hpp\"\n"                   // bare: not a reference
-      "set(x ${PROJECT_SOURCE_DIR}/hil/config/plant.conf)\n"  // root-relative after a variable
-      "// ../plant.conf\n";                                   // relative to the citing folder
-  const std::string citing = "hil/config/scenarios/example.scenario";
+      "set(x ${PROJECT_SOURCE_DIR}/hil/config/plant.yaml)\n"  // root-relative after a variable
+      "// ../plant.yaml\n";                                   // relative to the citing folder
+  const std::string citing = "hil/config/scenarios/example.yaml";
   int checked = 0;
   CHECK(checker.missingIn(text, citing, &checked).empty());
   CHECK(checked == 9);

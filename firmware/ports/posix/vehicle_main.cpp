@@ -3,10 +3,12 @@
 // Everything is allocated before the loop starts; the loop allocates nothing.
 #include <csignal>
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
+#include <iostream>
+#include <optional>
+#include <string>
 
 #include "hil_vehicle_node.hpp"
+#include "pa/command_line.hpp"
 #include "socketcan.hpp"
 
 namespace {
@@ -14,42 +16,31 @@ namespace {
 volatile std::sig_atomic_t g_stop = 0;
 void on_signal(int) { g_stop = 1; }
 
-int usage(const char* why) {
-  std::fprintf(stderr,
-               "fw_vehicle: %s\n"
-               "usage: fw_vehicle --can IFACE --node N\n"
-               "  --can IFACE   the vehicle's SocketCAN bus (for example vcan1)\n"
-               "  --node N      this vehicle's node id, 1..14\n",
-               why);
-  return 2;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
-  const char* interface_name = nullptr;
-  long node = -1;
-  for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--help") == 0 || std::strcmp(argv[i], "-h") == 0) {
-      usage("runs one vehicle's firmware on a SocketCAN bus");
-      return 0;
-    }
-    if (i + 1 >= argc) return usage("missing value after an option");
-    if (std::strcmp(argv[i], "--can") == 0) {
-      interface_name = argv[++i];
-    } else if (std::strcmp(argv[i], "--node") == 0) {
-      char* end = nullptr;
-      node = std::strtol(argv[++i], &end, 10);
-      if (end == argv[i] || *end != '\0') return usage("--node takes a whole number");
-    } else {
-      return usage("unknown option");
-    }
+  // The command line is read once at process start, before anything runs on the bus: the one
+  // place where this port allocates (CLI11), and the firmware core knows nothing of it.
+  std::string interface_name;
+  unsigned node = 0;
+  {
+    CLI::App app("", "fw_vehicle");
+    pa::cli::describe(app, "usage: fw_vehicle --can IFACE --node N",
+                      "Runs one vehicle's firmware on a SocketCAN bus (HIL): the plant drives it with HIL_IMU\n"
+                      "frames; it answers with HIL_MOTORS and the flight frames.");
+    app.add_option("--can", interface_name, "the vehicle's SocketCAN bus (for example vcan1)")
+        ->type_name("IFACE")
+        ->required()
+        ->check(pa::cli::nonEmpty("needs an interface name"));
+    app.add_option("--node", node, "this vehicle's node id, 1..14")
+        ->type_name("N")
+        ->required()
+        ->check(pa::cli::count(pa::proto::kFirstVehicleNode, pa::proto::kLastVehicleNode, "must be 1..14"));
+    if (const std::optional<int> code = pa::cli::parse(app, argc, argv, std::cout, std::cerr)) return *code;
   }
-  if (interface_name == nullptr) return usage("--can is required");
-  if (node < pa::proto::kFirstVehicleNode || node > pa::proto::kLastVehicleNode) return usage("--node must be 1..14");
 
   static fw::posix::SocketCan can;
-  if (can.open(interface_name) != fw::posix::SocketCan::Status::ok) {
+  if (can.open(interface_name.c_str()) != fw::posix::SocketCan::Status::ok) {
     std::fprintf(stderr, "fw_vehicle: error: %s\n", can.message());
     return 1;
   }
@@ -60,7 +51,7 @@ int main(int argc, char** argv) {
 
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
-  std::printf("fw_vehicle: node %ld on %s, waiting for HIL_IMU frames\n", node, interface_name);
+  std::printf("fw_vehicle: node %u on %s, waiting for HIL_IMU frames\n", node, interface_name.c_str());
   std::fflush(stdout);
 
   std::uint32_t write_failures = 0;
