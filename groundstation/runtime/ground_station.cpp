@@ -184,9 +184,10 @@ std::uint32_t GroundStation::conditions(const Vehicle& v, double now_s) const {
   const estimation::PoleMode mode = estimator_.mode();
   const estimation::PoleEstimate pole = estimator_.pole();
   // While throwing or balancing, the pole counts as on the plate as long as the latest pose puts
-  // an end at the plate: the estimator's mode selection flip-flops on innovations during the
-  // throw's fastest phase and while a caught pole settles on the absorber (its vehicle observers
-  // model the rate loop as first order), and leaving the pole on such a call drops it.
+  // an end at the plate: a mode call on the innovations during the throw's fastest phase or while
+  // a caught pole settles on the absorber can be wrong for a frame or two, and leaving the pole
+  // on such a call drops it. (With the observers' first-order rate model this happened at every
+  // release; the second-order model removed most of it, this check stays as the safety net.)
   bool pole_at_plate = false;
   const bool holding = task == Task::throwing || task == Task::rebalance || task == Task::balance;
   if (holding && last_pole_pose_ && estimated) {

@@ -156,6 +156,33 @@ std::vector<AttemptResult> SeriesRunner::run(const std::vector<AttemptPlan>& pla
   return results;
 }
 
+namespace {
+
+// The catcher's travel, as the paper's Fig. 10 counts it: the horizontal distance from the
+// waiting point of the throw (the mission's, which the catcher holds to 5 cm before a throw
+// starts) to where the pole came to it (the impact's point, or where the lower end came down
+// through the catching height, on truth), with a practice throw's offset added, for every throw
+// (a throw-only one too: how far the catcher would have had to go). The path a catcher flies
+// also depends on aborts and on the manoeuvre's shape; this is what adapting the waiting point
+// reduces. 0 when the pole never came down through that height.
+double requiredTravel(const Eigen::Vector2d& waiting_xy_m, const std::vector<Vec3>& lower_end_m,
+                      double catch_height_m, const Eigen::Vector2d& offset_m, const AttemptResult& r) {
+  std::optional<Eigen::Vector2d> catch_xy;
+  if (r.impact) catch_xy = Eigen::Vector2d(r.catch_x_m, r.catch_y_m);
+  for (std::size_t i = 1; i < lower_end_m.size() && !catch_xy; ++i) {
+    const Vec3& a = lower_end_m[i - 1];
+    const Vec3& b = lower_end_m[i];
+    if (a.z() > catch_height_m && b.z() <= catch_height_m) {
+      const double f = (a.z() - catch_height_m) / (a.z() - b.z());
+      catch_xy = (a + f * (b - a)).head<2>();
+    }
+  }
+  if (!catch_xy) return 0.0;
+  return (*catch_xy + offset_m - waiting_xy_m).norm();
+}
+
+}  // namespace
+
 AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
   AttemptResult r;
   r.throw_number = number;
@@ -185,9 +212,7 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
   bool placed = false, pushed = false;
   std::optional<double> throw_start_s, launch_s, impact_s, floor_s;
   double upright_since_s = -1.0;  // < 0: not upright on the catcher
-  std::optional<double> catch_start_s;
-  std::optional<double> catch_end_s;
-  Vec3 last_catcher_xy = plant.vehicle(kCatcherIndex).body.position_m;
+  std::vector<Vec3> lower_end_m;    // the pole's lower end from the launch to where it stopped
   bool caught = false;
   const double deadline = arena_.t_s() + config_.attempt_timeout_s;
   bool gs_done = false;
@@ -228,13 +253,11 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
       }
       if (launch_s && !floor_s && e.begins && e.surface == Surface::floor) floor_s = e.t_s;
     }
-    // The catcher's path from the start of its manoeuvre to the impact, or to the manoeuvre's
-    // end when nothing hit its plate (an offset practice, a miss, an abort).
-    const Vec3 catcher = plant.vehicle(kCatcherIndex).body.position_m;
-    if (!catch_start_s && gs_.task(kCatcher) == Task::catching) catch_start_s = t;
-    if (catch_start_s && !catch_end_s && gs_.task(kCatcher) != Task::catching) catch_end_s = t;
-    if (catch_start_s && !catch_end_s && !impact_s) r.travel_m += (catcher - last_catcher_xy).head<2>().norm();
-    last_catcher_xy = catcher;
+    if (launch_s && !impact_s && !floor_s) {
+      const PoleState& pole = plant.pole();
+      const Vec3 a = pole.end_m(0, L), b = pole.end_m(1, L);
+      lower_end_m.push_back(a.z() < b.z() ? a : b);
+    }
     // The energy right after the impact (30 ms: the plate's shock absorber has taken the blow).
     if (impact_s && r.energy_error_J == 0.0 && t >= *impact_s + 0.03) {
       const PoleState& pole = plant.pole();
@@ -306,6 +329,7 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
     r.outcome = "missed";
   }
   if (!r.impact) r.energy_error_J = 0.0;
+  if (report) r.travel_m = requiredTravel(report->waiting_xy_m, lower_end_m, report->catch_height_m, plan.catch_offset_m, r);
   return r;
 }
 

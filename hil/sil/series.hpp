@@ -51,7 +51,7 @@ struct AttemptResult {
   double flight_s = -1.0;          // launch to impact (or to the catch height's crossing)
   double catch_height_m = -1.0;    // lower end at the impact, arena frame
   double catch_x_m = 0.0, catch_y_m = 0.0;
-  double travel_m = 0.0;           // the catcher's path from its waiting point to the impact (or the manoeuvre's end)
+  double travel_m = 0.0;           // from the catcher's waiting point to the catch point (series.cpp)
   double energy_error_J = 0.0;     // E - E* right after the impact (0 without one)
   bool impact = false;
   std::string abort_reason;        // the ground station's, for an aborted catch

@@ -24,6 +24,27 @@ inline gs::estimation::MocapFrame toMocap(const Frame& f) {
   return m;
 }
 
+// The estimator configured for the world's vehicles. The world's rate loop is a first-order lag
+// (WorldParams::rate_tau_s), simpler than a real vehicle's second-order response; the observer's
+// second-order model takes it with a second pole far beyond the first: natural frequency
+// omega_n = 300 rad/s and the damping that puts the slow pole at -1 / tau (the other lies at
+// about -1100 rad/s, within the model's 1 ms integration steps).
+inline gs::estimation::VehicleObserverParams observerFor(const WorldParams& world = {}) {
+  gs::estimation::VehicleObserverParams p;
+  constexpr double kNaturalFrequency_radps = 300.0;
+  const double x = 1.0 / (world.rate_tau_s * kNaturalFrequency_radps);
+  p.rate_natural_frequency_radps.setConstant(kNaturalFrequency_radps);
+  p.rate_damping.setConstant((1.0 + x * x) / (2.0 * x));
+  p.thrust_time_constant_s = world.thrust_tau_s;
+  return p;
+}
+
+inline gs::estimation::StateEstimatorConfig estimatorFor(const WorldParams& world = {}) {
+  gs::estimation::StateEstimatorConfig c;
+  c.vehicle = observerFor(world);
+  return c;
+}
+
 inline gs::model::VehicleInput toInput(const Command& c) {
   gs::model::VehicleInput in;
   in.a_q_mps2 = c.thrust_mps2;

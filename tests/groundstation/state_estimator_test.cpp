@@ -25,6 +25,7 @@ using gs::estimation::PoleMode;
 using gs::estimation::StateEstimator;
 using gs::estimation::StateEstimatorConfig;
 using estimation_test::toInput;
+using estimation_test::estimatorFor;
 using estimation_test::toMocap;
 
 constexpr double kFrame_s = 0.005;
@@ -122,7 +123,7 @@ double catchError(const StateEstimator& est, const Recording& rec, double* dt_ou
 }
 
 StateEstimatorConfig withDragFactor(double factor, bool estimate) {
-  StateEstimatorConfig c;
+  StateEstimatorConfig c = estimatorFor();
   for (gs::model::PoleParams* p : {&c.free_flight.pole, &c.on_vehicle.pole}) {
     p->drag_axial *= factor;
     p->drag_normal *= factor;
@@ -168,7 +169,7 @@ TEST_CASE("the truth world throws the pole from vehicle 1 onto vehicle 2's plate
 }
 
 TEST_CASE("launch and impact are detected within 2 frames, with no false switch", "[estimation]") {
-  const StateEstimatorConfig config;
+  const StateEstimatorConfig config = estimatorFor();
   double worst_launch = 0.0;
   double worst_impact = 0.0;
   for (unsigned seed = 1; seed <= 5; ++seed) {
@@ -197,7 +198,7 @@ TEST_CASE("launch and impact are detected within 2 frames, with no false switch"
 TEST_CASE("no mode switch during a balanced hover", "[estimation]") {
   const Recording rec = estimation_test::recordBalancedHover(WorldParams{}, 7, 10.0);
   REQUIRE_FALSE(rec.launch_t);  // the truth pole stayed balanced
-  StateEstimator est;
+  StateEstimator est(estimatorFor());
   double max_error = 0.0;
   RunOptions ro;
   ro.observe = [&](const Frame& f, const StateEstimator& e) {
@@ -219,7 +220,7 @@ TEST_CASE("the catch point is within 2 cm 0.1 s after launch (true drag)", "[est
     const Recording rec = estimation_test::recordThrow(WorldParams{}, seed);
     REQUIRE(rec.launch_t);
     REQUIRE(rec.crossing);
-    StateEstimator est;
+    StateEstimator est(estimatorFor());
     double error = -1.0;
     double dt = 0.0;
     RunOptions ro;
@@ -296,7 +297,7 @@ TEST_CASE("the free-flight estimate is consistent: NEES in its 95% band", "[esti
     const Recording rec = estimation_test::recordThrow(WorldParams{}, 100 + r);
     REQUIRE(rec.launch_t);
     REQUIRE(rec.impact_t);
-    StateEstimator est;
+    StateEstimator est(estimatorFor());
     int index = -1;
     RunOptions ro;
     ro.observe = [&](const Frame& f, const StateEstimator& e) {
@@ -338,7 +339,7 @@ TEST_CASE("a 100 ms motion-capture dropout is coasted through", "[estimation]") 
   REQUIRE(rec.launch_t);
   const double t0 = *rec.launch_t + 0.2;
   const double t1 = t0 + 0.1;
-  StateEstimator est;
+  StateEstimator est(estimatorFor());
   double sigma_before = 0.0;
   double sigma_end = 0.0;
   double error_end = 0.0;
@@ -394,7 +395,7 @@ TEST_CASE("a 100 ms motion-capture dropout is coasted through", "[estimation]") 
 
 TEST_CASE("a gap longer than max_coast_s starts over instead of coasting", "[estimation]") {
   const Recording hover = estimation_test::recordBalancedHover(WorldParams{}, 4, 1.0);
-  StateEstimator est;
+  StateEstimator est(estimatorFor());
   for (const Frame& f : hover.frames) est.update(toMocap(f));
   REQUIRE(est.mode() == PoleMode::on_vehicle1);
   REQUIRE(est.startOverCount() == 0);
@@ -429,7 +430,7 @@ TEST_CASE("latency compensation predicts the chosen state to when a command acts
   const double latency = 0.03;
   const int ahead = static_cast<int>(std::lround(latency / kFrame_s));
   const Recording rec = estimation_test::recordThrow(WorldParams{}, 4);
-  StateEstimator est;
+  StateEstimator est(estimatorFor());
   double free_error = 0.0;
   double free_error_now = 0.0;
   double balanced_error = 0.0;
@@ -479,7 +480,7 @@ TEST_CASE("latency compensation predicts the chosen state to when a command acts
 
 TEST_CASE("health: motion-capture rate, sample age, innovation statistics", "[estimation]") {
   const Recording rec = estimation_test::recordBalancedHover(WorldParams{}, 9, 3.0);
-  StateEstimator est;
+  StateEstimator est(estimatorFor());
   RunOptions ro;
   ro.drop = [](const Frame& f) { return f.t_s > 2.0 && f.t_s < 2.5 && std::lround(f.t_s / kFrame_s) % 2 == 0; };
   double rate_during_loss = 0.0;
@@ -538,7 +539,7 @@ TEST_CASE("an impact reported by the vehicle counts as evidence for the switch",
     }
     return found;
   };
-  StateEstimatorConfig no_contact;
+  StateEstimatorConfig no_contact = estimatorFor();
   no_contact.impact_min_approach_speed_mps = 1e9;
   StateEstimatorConfig report_only = no_contact;
   report_only.selector.switch_threshold_nats = 1e9;  // the innovations alone never switch
@@ -569,7 +570,7 @@ TEST_CASE("without the commands (offline replay) modes are still found", "[estim
   double worst_launch = 0.0;
   int unmatched = 0;
   for (unsigned seed = 1; seed <= 3; ++seed) {
-    const ThrowRun r = runThrow(seed, StateEstimatorConfig{}, false);
+    const ThrowRun r = runThrow(seed, estimatorFor(), false);
     REQUIRE(r.launch.t_s);
     REQUIRE(r.impact.t_s);
     worst_launch = std::max(worst_launch, std::abs(*r.launch.t_s - *r.rec.launch_t) / kFrame_s);
@@ -593,7 +594,7 @@ TEST_CASE("a plant whose lags differ from the observer's by 20%", "[estimation]"
   for (unsigned seed = 1; seed <= 3; ++seed) {
     ThrowRun r;
     r.rec = estimation_test::recordThrow(slow, seed);
-    StateEstimator est;
+    StateEstimator est(estimatorFor());
     RunOptions ro;
     ro.observe = [&](const Frame& f, const StateEstimator& e) {
       if (!r.launch.t_s && e.mode() == PoleMode::free && e.switchCount() > 1) r.launch.t_s = f.t_s;

@@ -39,7 +39,7 @@ TrackingStats track(bool commanded, unsigned seed, double duration_s = 6.0) {
   w.vehicle(1).p = Eigen::Vector3d(3.0, 0.0, 1.0);
   w.placePoleFree(Eigen::Vector3d(0.0, 5.0, 10.0), Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(),
                   Eigen::Vector3d::Zero());
-  VehicleObserver obs;
+  VehicleObserver obs(estimation_test::observerFor());
   TrackingStats s;
   double nis_sum = 0.0;
   int nis_count = 0;
@@ -134,7 +134,7 @@ TEST_CASE("without commands the observer still tracks, less tightly", "[estimati
 }
 
 TEST_CASE("a glitch is rejected, a real jump re-initialises", "[estimation]") {
-  VehicleObserver obs;
+  VehicleObserver obs(estimation_test::observerFor());
   MocapPose pose;
   pose.p_m = Eigen::Vector3d(1.0, 2.0, 1.5);
   obs.reset(pose);
@@ -171,7 +171,7 @@ TEST_CASE("a dropout is coasted through on the model, the covariance growing", "
   w.vehicle(0).p = Eigen::Vector3d(0.0, 0.0, 1.0);
   w.placePoleFree(Eigen::Vector3d(0.0, 5.0, 10.0), Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(),
                   Eigen::Vector3d::Zero());
-  VehicleObserver obs;
+  VehicleObserver obs(estimation_test::observerFor());
   double sigma_before = 0.0;
   double error_after = 0.0;
   double sigma_after = 0.0;
@@ -201,7 +201,7 @@ TEST_CASE("a dropout is coasted through on the model, the covariance growing", "
 }
 
 TEST_CASE("the plate is h above the centre of gravity along the thrust axis", "[estimation]") {
-  VehicleObserver obs;
+  VehicleObserver obs(estimation_test::observerFor());
   MocapPose pose;
   pose.p_m = Eigen::Vector3d(0.5, 0.0, 1.0);
   pose.q = Eigen::Quaterniond(Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitY()));

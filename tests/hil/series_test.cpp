@@ -163,15 +163,22 @@ TEST_CASE("the paper's series in the closed loop: throws 8 and 9 caught and bala
   CHECK(s.results[7].outcome == "caught");
   CHECK(s.results[8].outcome == "caught");
   // The pole's energy right after the impact, against E* = m_p g L (the paper: within 0.0102 J
-  // on average). Measured with seed 1: -0.0037 and -0.0016 J.
+  // on average). Measured with seed 1: -0.0030 and -0.0032 J.
   const double mean_error =
       0.5 * (std::abs(s.results[7].energy_error_J) + std::abs(s.results[8].energy_error_J));
   CHECK(s.results[7].impact);
   CHECK(s.results[8].impact);
   CHECK(mean_error <= 0.0102);
-  // The adapted waiting point: the last catch needs less travel than the first practice throw's
-  // correction (measured 0.016 m against 0.090 m).
-  CHECK(s.results[8].travel_m < s.results[1].travel_m);
+  // The catcher's travel falls over the series as in Fig. 10: throw 1 waits at the nominal
+  // catch point, the later ones at the adapted one, and the travel comes down to the spread of
+  // the catch point (measured with seed 1: 0.359 m, then 0.001-0.023 m).
+  const auto travel = [&](int throw_number) { return s.results[throw_number - 1].travel_m; };
+  CHECK(travel(1) > 0.1);
+  for (int i = 2; i <= 9; ++i) {
+    INFO("throw " << i);
+    CHECK(travel(i) < travel(1) / 3.0);
+  }
+  CHECK((travel(6) + travel(7) + travel(8) + travel(9)) / 4.0 < (travel(1) + travel(2) + travel(3)) / 3.0);
 }
 
 TEST_CASE("a series is reproducible from its seed", "[hil][sil][runtime][series]") {

@@ -80,7 +80,7 @@ BENCHMARK(BM_EstimatorUpdateAroundImpact)->Unit(benchmark::kMicrosecond);
 // Latency compensation: the estimate propagated 30 ms ahead (a copy and six 5 ms steps).
 void BM_EstimatorPredict30ms(benchmark::State& state) {
   const Recording& rec = throwRecording();
-  StateEstimator est;
+  StateEstimator est(estimation_test::estimatorFor());
   for (const Frame& f : rec.frames) {
     if (f.t_s > *rec.launch_t + 0.2) break;
     feed(est, f, toMocap(f));
@@ -92,7 +92,7 @@ BENCHMARK(BM_EstimatorPredict30ms)->Unit(benchmark::kMicrosecond);
 // The catch-point prediction the CLI adds per free-flight frame (planning, not the estimator).
 void BM_CatchPointPredictionFromEstimate(benchmark::State& state) {
   const Recording& rec = throwRecording();
-  StateEstimator est;
+  StateEstimator est(estimation_test::estimatorFor());
   for (const Frame& f : rec.frames) {
     if (f.t_s > *rec.launch_t + 0.1) break;
     feed(est, f, toMocap(f));
@@ -108,7 +108,7 @@ BENCHMARK(BM_CatchPointPredictionFromEstimate)->Unit(benchmark::kMicrosecond);
 // The parts: one free-flight EKF step (predict 5 ms with its Jacobian, then update).
 void BM_FreeFlightEkfPredictUpdate(benchmark::State& state) {
   const Recording& rec = throwRecording();
-  StateEstimator est;
+  StateEstimator est(estimation_test::estimatorFor());
   for (const Frame& f : rec.frames) {
     if (f.t_s > *rec.launch_t + 0.1) break;
     feed(est, f, toMocap(f));
@@ -131,7 +131,7 @@ BENCHMARK(BM_FreeFlightEkfPredictUpdate)->Unit(benchmark::kMicrosecond);
 // One vehicle observer step (predict 5 ms with a command, then update).
 void BM_VehicleObserverPredictUpdate(benchmark::State& state) {
   const Recording& rec = throwRecording();
-  gs::estimation::VehicleObserver obs;
+  gs::estimation::VehicleObserver obs(estimation_test::observerFor());
   obs.reset(toPose(rec.frames[0].vehicle[0]));
   const gs::model::VehicleInput in{9.81, Eigen::Vector3d(0.1, -0.2, 0.0)};
   std::size_t i = 0;
