@@ -447,23 +447,21 @@ TEST_CASE("the throw through the real firmware: armed, balanced, tracked to T, r
     CHECK(impact.classification != proto::ImpactClass::crash);
   }
 
-  // The estimator calls the launch by the plate's normal force at T + 2 ms (measured), 13
-  // frames before the soft release has quite ended; it then sees the pole still riding the plate
-  // (innovation) at T + 90 ms and calls free flight again a frame later. Both calls at or after
-  // T, none during the manoeuvre; the flip-flop is the estimator's known early launch call on a
-  // soft release (its vehicle observers model the rate loop as first order), and three switches
-  // at most bound it until that is fixed.
+  // The estimator calls the launch once, by the plate's normal force, at T + 10 ms (measured; the
+  // event placed at T + 10 ms, decided at T + 15 ms), before the soft release has quite ended,
+  // and keeps it: no call back onto the plate (with the observers' first-order rate model it
+  // called the launch at T + 2 ms, went back on the plate at T + 90 ms and launched again).
   const std::vector<gs::estimation::ModeSwitch> in_flight = inFlightSwitches(f);
-  REQUIRE_FALSE(in_flight.empty());
-  CHECK(in_flight.size() <= 3);
+  REQUIRE(in_flight.size() == 1);
   CHECK(in_flight.front().to == gs::estimation::PoleMode::free);
   CHECK(in_flight.front().reason == gs::estimation::SwitchReason::contact_force);
   CHECK(in_flight.front().event_t_s - kSettle_s >= T - 1e-9);
-  CHECK(in_flight.back().to == gs::estimation::PoleMode::free);
 
   // The catch point predicted from the estimate against where the plant's pole comes down:
-  // measured 27.7 mm 0.1 s after the release (the stand-in: 34 mm), bounded at 5 cm, and 0.2 mm
-  // 0.15 s before the crossing (the stand-in: 0.8 mm), bounded as in the stand-in test.
-  CHECK(f.catch_error_m < 0.05);
+  // measured 95 mm 0.1 s after the release and 0.3 mm 0.15 s before the crossing. The early
+  // figure is the price of the single early call: the free flight is seeded while the pole still
+  // rides the plate for a few frames (the double call re-seeded it later and measured 28 mm); the
+  // closed loop re-plans the catch at every frame and catches on the late figure.
+  CHECK(f.catch_error_m < 0.15);
   CHECK(f.catch_error_late_m < 0.02);
 }
