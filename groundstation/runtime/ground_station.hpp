@@ -121,8 +121,11 @@ struct GroundStationConfig {
   double catch_verdict_delay_s = 0.1;  // after the launch, before reach and feasibility are judged
   // This throw's optimal catching instant (42) moves the catch's end for this long after the
   // launch, by at most these (see predictOptimalCatch); 0 s keeps the adapted values (the paper).
+  // With randomised plants a throw's (42) height lay up to 0.7 m from the adapted mean, and a
+  // catch held far below it arrives too fast and drops the pole: at a 0.3 m bound 5 of 49 with
+  // seed 2, at 0.5 m 3 (hil fly --throws 50 --randomise, seeds 1-3: 141, then 144 of 147 caught).
   double catch_retime_s = 0.4;
-  double catch_retime_max_m = 0.3;
+  double catch_retime_max_m = 0.5;
   double catch_retime_max_s = 0.15;
   double upright_rad = 0.5;   // rebalance -> balance below this tilt (29 degrees)
   double pole_down_height_m = 0.25;  // the pole's centre below this: it lies on the floor

@@ -292,15 +292,17 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
   if (!impact_s && launch_s && floor_s) r.flight_s = *floor_s - *launch_s;
   const gs::mission::Reason end = report ? report->catcher_end : gs::mission::Reason::none;
   if (report && config_.log) {
-    char line[300];
+    char line[400];
     std::snprintf(line, sizeof line,
                   "  ground station: waiting (%.3f, %.3f), last target (%.3f, %.3f), predicted (%.3f, %.3f) "
-                  "at %.3f s after launch, catching height %.3f; truth: lower end (%.3f, %.3f, %.3f) at "
-                  "%.3f s",
+                  "at %.3f s after launch, catching height %.3f (this throw's (42) predicted at %.3f m, "
+                  "%.3f s); truth: lower end (%.3f, %.3f, %.3f) at %.3f s",
                   report->waiting_xy_m.x(), report->waiting_xy_m.y(), report->last_target_xy_m.x(),
                   report->last_target_xy_m.y(), report->predicted ? report->predicted->xy_m.x() : 0.0,
                   report->predicted ? report->predicted->xy_m.y() : 0.0,
-                  report->predicted ? report->predicted->t_s : 0.0, report->catch_height_m, r.catch_x_m,
+                  report->predicted ? report->predicted->t_s : 0.0, report->catch_height_m,
+                  report->predicted_optimal ? report->predicted_optimal->height_m : 0.0,
+                  report->predicted_optimal ? report->predicted_optimal->t_s : 0.0, r.catch_x_m,
                   r.catch_y_m, r.catch_height_m, r.flight_s);
     config_.log(line);
   }
