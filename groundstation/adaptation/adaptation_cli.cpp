@@ -23,12 +23,13 @@ int history(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   std::optional<std::uint64_t> last;
   bool csv = false;
   CLI::App app("", "groundstation history");
-  pa::cli::describe(app, "usage: groundstation history --db FILE [--last N] [--csv]",
-                    "Prints the throws recorded in the adaptation store FILE, oldest first: launch state, the\n"
-                    "catching height used, the predicted and actual catch points, the optimal catch (42)\n"
-                    "evaluated after the throw, the catcher's bias sample, |E - E*| after the impact (41), the\n"
-                    "outcome and the note.",
-                    "Exit 0 done, 1 the store is missing or damaged, 2 bad arguments.");
+  pa::cli::describe(
+      app, "usage: groundstation history --db FILE [--last N] [--csv]",
+      "Prints the throws recorded in the adaptation store FILE, oldest first: launch state, the\n"
+      "catching height used, the predicted and actual catch points, the optimal catch (42)\n"
+      "evaluated after the throw, the catcher's bias sample, |E - E*| after the impact (41), the\n"
+      "outcome and the note.",
+      "Exit 0 done, 1 the store is missing or damaged, 2 bad arguments.");
   app.add_option("--db", db, "the adaptation store (a SQLite file written by the mission)")
       ->type_name("FILE")
       ->required()
@@ -62,19 +63,20 @@ int adaptation(int argc, const char* const* argv, std::ostream& out, std::ostrea
   bool reset = false;
   bool yes = false;
   CLI::App app("", "groundstation adaptation");
-  pa::cli::describe(app, "usage: groundstation adaptation --db FILE [--reset --yes]",
-                    "Prints the adapted catching height, waiting position and catcher offset bias (paper,\n"
-                    "Section VI) held in the adaptation store FILE, how many throws they rest on, and whether\n"
-                    "they agree with the recorded history.",
-                    "Exit 0 done, 1 the store is missing or damaged, 2 bad arguments.");
+  pa::cli::describe(
+      app, "usage: groundstation adaptation --db FILE [--reset --yes]",
+      "Prints the adapted catching height, waiting position and catcher offset bias (paper,\n"
+      "Section VI) held in the adaptation store FILE, how many throws they rest on, and whether\n"
+      "they agree with the recorded history.",
+      "Exit 0 done, 1 the store is missing or damaged, 2 bad arguments.");
   app.add_option("--db", db, "the adaptation store")
       ->type_name("FILE")
       ->required()
       ->check(pa::cli::nonEmpty("wants a file name"));
-  CLI::Option* reset_flag = app.add_flag(
-      "--reset", reset,
-      "set the adapted values back to the nominal ones (the history is kept; the\n"
-      "values then rest on later throws only); needs --yes to confirm");
+  CLI::Option* reset_flag =
+      app.add_flag("--reset", reset,
+                   "set the adapted values back to the nominal ones (the history is kept; the\n"
+                   "values then rest on later throws only); needs --yes to confirm");
   app.add_flag("--yes", yes, "confirms --reset")->needs(reset_flag);
   if (const std::optional<int> code = pa::cli::parse(app, argc, argv, out, err)) return *code;
   try {
@@ -92,8 +94,7 @@ int adaptation(int argc, const char* const* argv, std::ostream& out, std::ostrea
       out << "reset: the adapted values are the nominal ones again; they will rest on throws "
           << before.throw_count + 1 << " onwards\n";
     }
-    writeAdaptationSummary(out, db, store.settings(), store.adaptation(),
-                           store.checkConsistency());
+    writeAdaptationSummary(out, db, store.settings(), store.adaptation(), store.checkConsistency());
   } catch (const std::exception& e) {
     return storeError(err, kName, e.what());
   }

@@ -10,8 +10,8 @@ namespace gs::adaptation {
 
 AdaptationSettings nominalAdaptationSettings(const model::PoleParams& params) {
   AdaptationSettings settings;
-  const planning::CatchingInstant nominal = planning::findCatchingInstant(
-      planning::poleStateAtLaunch(planning::fig5LaunchState(), params), params);
+  const planning::CatchingInstant nominal =
+      planning::findCatchingInstant(planning::poleStateAtLaunch(planning::fig5LaunchState(), params), params);
   if (nominal.found) {
     settings.nominal_catch_height_m = nominal.catch_height_m;
     settings.nominal_waiting_xy_m = nominal.catch_point_m;
@@ -62,8 +62,7 @@ AdaptationState adapt(const AdaptationState& state, const ThrowRecord& record, i
   return next;
 }
 
-AdaptationState recomputeAdaptation(const AdaptationSettings& settings,
-                                    std::span<const ThrowRecord> throws) {
+AdaptationState recomputeAdaptation(const AdaptationSettings& settings, std::span<const ThrowRecord> throws) {
   AdaptationState state = initialAdaptation(settings);
   for (const ThrowRecord& record : throws) state = adapt(state, record, settings.window);
   return state;

@@ -62,7 +62,7 @@ struct AdaptationState {
   Eigen::Vector2d waiting_xy_m = Eigen::Vector2d::Zero();
   std::int64_t catch_point_samples = 0;  // throws the height and waiting point rest on
   Eigen::Vector2d offset_bias_m = Eigen::Vector2d::Zero();
-  std::int64_t bias_samples = 0;         // catches the bias rests on
+  std::int64_t bias_samples = 0;  // catches the bias rests on
   bool operator==(const AdaptationState&) const = default;
 };
 
@@ -77,8 +77,7 @@ AdaptationState adapt(const AdaptationState& state, const ThrowRecord& record, i
 
 // The state after the given throws in order, from initialAdaptation(settings). The store checks
 // its persisted values against this.
-AdaptationState recomputeAdaptation(const AdaptationSettings& settings,
-                                    std::span<const ThrowRecord> throws);
+AdaptationState recomputeAdaptation(const AdaptationSettings& settings, std::span<const ThrowRecord> throws);
 
 // A position of the catch trajectory (the waiting point, the target) shifted by the offset bias
 // so that the vehicle, erring by the bias, comes to rest at `xy_m` (Section VI-B).

@@ -37,8 +37,7 @@ std::string fileName(const std::string& path) { return "'" + path + "'"; }
       throw StoreError("adaptation store " + fileName(s.path) + " is damaged: SQLite reports '" +
                        sqlite_says + "'");
     default:
-      throw StoreError("adaptation store " + fileName(s.path) + ": " + what + " (" + sqlite_says +
-                       ")");
+      throw StoreError("adaptation store " + fileName(s.path) + ": " + what + " (" + sqlite_says + ")");
   }
 }
 
@@ -49,8 +48,7 @@ std::string fileName(const std::string& path) { return "'" + path + "'"; }
 class Statement {
  public:
   Statement(const Impl& store, std::string_view sql) : store_(store) {
-    const int rc = sqlite3_prepare_v2(store.db, sql.data(), static_cast<int>(sql.size()), &stmt_,
-                                      nullptr);
+    const int rc = sqlite3_prepare_v2(store.db, sql.data(), static_cast<int>(sql.size()), &stmt_, nullptr);
     if (rc != SQLITE_OK) fail(store, "cannot prepare '" + std::string(sql.substr(0, 40)) + "...'", rc);
   }
   Statement(const Statement&) = delete;
@@ -60,8 +58,7 @@ class Statement {
   void bind(int index, double value) { check(sqlite3_bind_double(stmt_, index, value)); }
   void bind(int index, std::int64_t value) { check(sqlite3_bind_int64(stmt_, index, value)); }
   void bind(int index, std::string_view text) {
-    check(sqlite3_bind_text(stmt_, index, text.data(), static_cast<int>(text.size()),
-                            SQLITE_TRANSIENT));
+    check(sqlite3_bind_text(stmt_, index, text.data(), static_cast<int>(text.size()), SQLITE_TRANSIENT));
   }
   void bind(int index, const std::optional<double>& value) {
     if (value) {
@@ -83,8 +80,7 @@ class Statement {
   double real(int column) const {
     const int type = sqlite3_column_type(stmt_, column);
     if (type != SQLITE_FLOAT && type != SQLITE_INTEGER) {
-      damaged(store_, std::string("column ") + sqlite3_column_name(stmt_, column) +
-                          " holds a non-number");
+      damaged(store_, std::string("column ") + sqlite3_column_name(stmt_, column) + " holds a non-number");
     }
     return sqlite3_column_double(stmt_, column);
   }
@@ -94,8 +90,7 @@ class Statement {
   }
   std::int64_t integer(int column) const {
     if (sqlite3_column_type(stmt_, column) != SQLITE_INTEGER) {
-      damaged(store_, std::string("column ") + sqlite3_column_name(stmt_, column) +
-                          " holds a non-integer");
+      damaged(store_, std::string("column ") + sqlite3_column_name(stmt_, column) + " holds a non-integer");
     }
     return sqlite3_column_int64(stmt_, column);
   }
@@ -341,9 +336,8 @@ StoredThrow readThrow(const Impl& s, const Statement& st) {
 }
 
 AdaptationSettings readSettings(const Impl& s) {
-  Statement st(s,
-               "SELECT nominal_catch_height_m, nominal_waiting_x_m, nominal_waiting_y_m, "
-               "mean_window, target_energy_J FROM settings WHERE id = 1");
+  Statement st(s, "SELECT nominal_catch_height_m, nominal_waiting_x_m, nominal_waiting_y_m, "
+                  "mean_window, target_energy_J FROM settings WHERE id = 1");
   if (!st.step()) damaged(s, "the settings row is missing");
   AdaptationSettings settings;
   settings.nominal_catch_height_m = st.real(0);
@@ -359,10 +353,9 @@ AdaptationSettings readSettings(const Impl& s) {
 }
 
 AdaptationSnapshot readSnapshot(const Impl& s) {
-  Statement st(s,
-               "SELECT catch_height_m, waiting_x_m, waiting_y_m, catch_point_samples, "
-               "offset_bias_x_m, offset_bias_y_m, bias_samples, last_throw_id, epoch_first_id, "
-               "(SELECT count(*) FROM throws) FROM adaptation WHERE id = 1");
+  Statement st(s, "SELECT catch_height_m, waiting_x_m, waiting_y_m, catch_point_samples, "
+                  "offset_bias_x_m, offset_bias_y_m, bias_samples, last_throw_id, epoch_first_id, "
+                  "(SELECT count(*) FROM throws) FROM adaptation WHERE id = 1");
   if (!st.step()) damaged(s, "the adaptation row is missing");
   AdaptationSnapshot snap;
   snap.state.catch_height_m = st.real(0);
@@ -378,10 +371,9 @@ AdaptationSnapshot readSnapshot(const Impl& s) {
 
 void writeSnapshot(const Impl& s, const AdaptationState& a, std::int64_t last_throw_id,
                    std::int64_t epoch_first_id) {
-  Statement st(s,
-               "UPDATE adaptation SET catch_height_m = ?1, waiting_x_m = ?2, waiting_y_m = ?3, "
-               "catch_point_samples = ?4, offset_bias_x_m = ?5, offset_bias_y_m = ?6, "
-               "bias_samples = ?7, last_throw_id = ?8, epoch_first_id = ?9 WHERE id = 1");
+  Statement st(s, "UPDATE adaptation SET catch_height_m = ?1, waiting_x_m = ?2, waiting_y_m = ?3, "
+                  "catch_point_samples = ?4, offset_bias_x_m = ?5, offset_bias_y_m = ?6, "
+                  "bias_samples = ?7, last_throw_id = ?8, epoch_first_id = ?9 WHERE id = 1");
   st.bind(1, a.catch_height_m);
   st.bind(2, a.waiting_xy_m.x());
   st.bind(3, a.waiting_xy_m.y());
@@ -405,8 +397,7 @@ std::vector<StoredThrow> readThrows(const Impl& s, const char* where_order_limit
 }
 
 bool isEmptyDatabase(const Impl& s) {
-  return queryInteger(s, "PRAGMA application_id") == 0 &&
-         queryInteger(s, "PRAGMA user_version") == 0 &&
+  return queryInteger(s, "PRAGMA application_id") == 0 && queryInteger(s, "PRAGMA user_version") == 0 &&
          queryInteger(s, "SELECT count(*) FROM sqlite_schema") == 0;
 }
 
@@ -420,9 +411,8 @@ void initialise(const Impl& s, const AdaptationSettings& settings) {
   exec(s, kCreateAdaptation);
   exec(s, createThrowsSql().c_str());
   {
-    Statement st(s,
-                 "INSERT INTO settings (id, nominal_catch_height_m, nominal_waiting_x_m, "
-                 "nominal_waiting_y_m, mean_window, target_energy_J) VALUES (1, ?1, ?2, ?3, ?4, ?5)");
+    Statement st(s, "INSERT INTO settings (id, nominal_catch_height_m, nominal_waiting_x_m, "
+                    "nominal_waiting_y_m, mean_window, target_energy_J) VALUES (1, ?1, ?2, ?3, ?4, ?5)");
     st.bind(1, settings.nominal_catch_height_m);
     st.bind(2, settings.nominal_waiting_xy_m.x());
     st.bind(3, settings.nominal_waiting_xy_m.y());
@@ -430,10 +420,9 @@ void initialise(const Impl& s, const AdaptationSettings& settings) {
     st.bind(5, settings.target_energy_J);
     st.step();
   }
-  exec(s,
-       "INSERT INTO adaptation (id, catch_height_m, waiting_x_m, waiting_y_m, "
-       "catch_point_samples, offset_bias_x_m, offset_bias_y_m, bias_samples, last_throw_id, "
-       "epoch_first_id) VALUES (1, 0, 0, 0, 0, 0, 0, 0, 0, 1)");
+  exec(s, "INSERT INTO adaptation (id, catch_height_m, waiting_x_m, waiting_y_m, "
+          "catch_point_samples, offset_bias_x_m, offset_bias_y_m, bias_samples, last_throw_id, "
+          "epoch_first_id) VALUES (1, 0, 0, 0, 0, 0, 0, 0, 0, 1)");
   writeSnapshot(s, initialAdaptation(settings), 0, 1);
   // The header fields are written by the same transaction: a crash before COMMIT leaves an empty
   // database, which openOrCreate() initialises again.
@@ -452,7 +441,8 @@ void checkIdentity(const Impl& s) {
                   static_cast<unsigned long long>(static_cast<std::uint32_t>(application_id)));
     throw StoreError(fileName(s.path) +
                      " is not an adaptation store: it is a SQLite database of another application"
-                     " (application_id " + hex + ")");
+                     " (application_id " +
+                     hex + ")");
   }
   if (version > kSchemaVersion) {
     throw StoreError("adaptation store " + fileName(s.path) + " has schema version " +
@@ -507,8 +497,7 @@ AdaptationStore::AdaptationStore(AdaptationStore&&) noexcept = default;
 AdaptationStore& AdaptationStore::operator=(AdaptationStore&&) noexcept = default;
 AdaptationStore::~AdaptationStore() = default;
 
-AdaptationStore AdaptationStore::openOrCreate(const std::string& path,
-                                              const AdaptationSettings& settings) {
+AdaptationStore AdaptationStore::openOrCreate(const std::string& path, const AdaptationSettings& settings) {
   if (const std::string problem = validate(settings); !problem.empty()) {
     throw StoreError("cannot create adaptation store " + fileName(path) + ": " + problem);
   }

@@ -75,8 +75,7 @@ std::string csvText(const std::string& text) {
 }
 
 std::string sampleSummary(std::int64_t n, const char* what) {
-  return n == 0 ? std::string("no ") + what + " yet"
-               : std::to_string(n) + " " + what;
+  return n == 0 ? std::string("no ") + what + " yet" : std::to_string(n) + " " + what;
 }
 
 }  // namespace
@@ -99,9 +98,8 @@ void writeHistoryTable(std::ostream& out, const std::vector<StoredThrow>& throws
     cells[7] = format("%.3f", r.catch_height_used_m);
     cells[8] = r.predicted ? pointCell(r.predicted->xy_m, r.predicted->t_s) : "-";
     cells[9] = r.actual ? pointCell(r.actual->xy_m, r.actual->t_s) : "-";
-    cells[10] = r.optimal ? format("%.3f ", r.optimal->height_m) +
-                                pointCell(r.optimal->xy_m, r.optimal->t_s)
-                          : "-";
+    cells[10] =
+        r.optimal ? format("%.3f ", r.optimal->height_m) + pointCell(r.optimal->xy_m, r.optimal->t_s) : "-";
     const std::optional<Eigen::Vector2d> bias = offsetBiasSample(r);
     cells[11] = bias ? format("%+.3f,%+.3f", bias->x(), bias->y()) : "-";
     cells[12] = t.energy_error_J ? format("%.4f", *t.energy_error_J) : "-";
@@ -125,12 +123,8 @@ void writeHistoryCsv(std::ostream& out, const std::vector<StoredThrow>& throws) 
   out << historyCsvHeader() << "\n";
   for (const StoredThrow& t : throws) {
     const ThrowRecord& r = t.record;
-    auto x = [](const std::optional<Eigen::Vector2d>& v) {
-      return v ? std::optional(v->x()) : std::nullopt;
-    };
-    auto y = [](const std::optional<Eigen::Vector2d>& v) {
-      return v ? std::optional(v->y()) : std::nullopt;
-    };
+    auto x = [](const std::optional<Eigen::Vector2d>& v) { return v ? std::optional(v->x()) : std::nullopt; };
+    auto y = [](const std::optional<Eigen::Vector2d>& v) { return v ? std::optional(v->y()) : std::nullopt; };
     const auto predicted_xy = r.predicted ? std::optional(r.predicted->xy_m) : std::nullopt;
     const auto actual_xy = r.actual ? std::optional(r.actual->xy_m) : std::nullopt;
     const auto optimal_xy = r.optimal ? std::optional(r.optimal->xy_m) : std::nullopt;
@@ -174,16 +168,14 @@ void writeHistoryCsv(std::ostream& out, const std::vector<StoredThrow>& throws) 
   }
 }
 
-void writeAdaptationSummary(std::ostream& out, const std::string& path,
-                            const AdaptationSettings& settings, const AdaptationSnapshot& snapshot,
-                            const ConsistencyReport& consistency) {
+void writeAdaptationSummary(std::ostream& out, const std::string& path, const AdaptationSettings& settings,
+                            const AdaptationSnapshot& snapshot, const ConsistencyReport& consistency) {
   const AdaptationState& a = snapshot.state;
   out << "adaptation store " << path << " (schema " << kSchemaVersion << ")\n";
   if (snapshot.throw_count == 0) {
     out << "  throws recorded:     none\n";
   } else {
-    out << "  throws recorded:     " << snapshot.throw_count << " (ids 1.."
-        << snapshot.last_throw_id << ")";
+    out << "  throws recorded:     " << snapshot.throw_count << " (ids 1.." << snapshot.last_throw_id << ")";
     if (snapshot.epoch_first_id > snapshot.last_throw_id) {
       out << "; reset after throw " << snapshot.last_throw_id << ", no throw since";
     } else if (snapshot.epoch_first_id > 1) {
@@ -193,16 +185,13 @@ void writeAdaptationSummary(std::ostream& out, const std::string& path,
     out << "\n";
   }
   out << format("  catching height:     %.4f m   (%s; nominal %.4f m)\n", a.catch_height_m,
-                sampleSummary(a.catch_point_samples, "throws").c_str(),
-                settings.nominal_catch_height_m);
-  out << format("  waiting position:    (%.4f, %.4f) m   (%s; nominal (%.4f, %.4f) m)\n",
-                a.waiting_xy_m.x(), a.waiting_xy_m.y(),
-                sampleSummary(a.catch_point_samples, "throws").c_str(),
+                sampleSummary(a.catch_point_samples, "throws").c_str(), settings.nominal_catch_height_m);
+  out << format("  waiting position:    (%.4f, %.4f) m   (%s; nominal (%.4f, %.4f) m)\n", a.waiting_xy_m.x(),
+                a.waiting_xy_m.y(), sampleSummary(a.catch_point_samples, "throws").c_str(),
                 settings.nominal_waiting_xy_m.x(), settings.nominal_waiting_xy_m.y());
   out << format("  catcher offset bias: (%+.4f, %+.4f) m   (%s; the catch trajectory is shifted "
                 "by minus this)\n",
-                a.offset_bias_m.x(), a.offset_bias_m.y(),
-                sampleSummary(a.bias_samples, "catches").c_str());
+                a.offset_bias_m.x(), a.offset_bias_m.y(), sampleSummary(a.bias_samples, "catches").c_str());
   if (settings.window == 0) {
     out << "  update:              iterative mean of all throws since the last reset\n";
   } else {

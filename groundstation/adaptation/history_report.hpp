@@ -26,8 +26,7 @@ void writeHistoryCsv(std::ostream& out, const std::vector<StoredThrow>& throws);
 
 // The adapted catching height, waiting point and offset bias, how many throws they rest on,
 // the nominal values, the window, and the consistency verdict.
-void writeAdaptationSummary(std::ostream& out, const std::string& path,
-                            const AdaptationSettings& settings, const AdaptationSnapshot& snapshot,
-                            const ConsistencyReport& consistency);
+void writeAdaptationSummary(std::ostream& out, const std::string& path, const AdaptationSettings& settings,
+                            const AdaptationSnapshot& snapshot, const ConsistencyReport& consistency);
 
 }  // namespace gs::adaptation

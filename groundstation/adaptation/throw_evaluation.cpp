@@ -55,8 +55,7 @@ std::optional<OptimalCatchEvaluation> evaluateOptimalCatch(
   }
   // Not met while observed: continue the last observed state with the free-flight model.
   const TimedPoleState& last = flight.back();
-  const planning::CatchingInstant instant =
-      planning::findCatchingInstant(last.state, params, continuation);
+  const planning::CatchingInstant instant = planning::findCatchingInstant(last.state, params, continuation);
   if (!instant.found) return std::nullopt;
   OptimalCatchEvaluation result;
   result.point.t_s = last.t_s + instant.t_s - launch_t_s;
@@ -66,9 +65,8 @@ std::optional<OptimalCatchEvaluation> evaluateOptimalCatch(
   return result;
 }
 
-std::optional<CatchPoint> lowerEndCrossing(std::span<const TimedPoleState> flight,
-                                           double height_m, double launch_t_s,
-                                           const model::PoleParams& params) {
+std::optional<CatchPoint> lowerEndCrossing(std::span<const TimedPoleState> flight, double height_m,
+                                           double launch_t_s, const model::PoleParams& params) {
   if (!increasing(flight)) return std::nullopt;
   for (std::size_t i = 0; i + 1 < flight.size(); ++i) {
     const TimedPoleState& a = flight[i];

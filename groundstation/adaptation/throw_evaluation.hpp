@@ -43,9 +43,8 @@ std::optional<OptimalCatchEvaluation> evaluateOptimalCatch(
 
 // The first downward pass of the observed lower end through height_m (times relative to
 // launch_t_s). Absent if the observed flight never passes it.
-std::optional<CatchPoint> lowerEndCrossing(std::span<const TimedPoleState> flight,
-                                           double height_m, double launch_t_s,
-                                           const model::PoleParams& params);
+std::optional<CatchPoint> lowerEndCrossing(std::span<const TimedPoleState> flight, double height_m,
+                                           double launch_t_s, const model::PoleParams& params);
 
 // The pole's energy relative to the contact point right after it hits a plate moving with
 // plate_velocity_mps: m_p g L n_z + (1/2)(m_p L^2 + Theta)|Omega+|^2 (41, in 3D), with Omega+ from

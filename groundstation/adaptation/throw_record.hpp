@@ -31,7 +31,7 @@ enum class ThrowOutcome {
 };
 
 inline constexpr ThrowOutcome kAllThrowOutcomes[] = {
-    ThrowOutcome::kCaught,  ThrowOutcome::kDropped,           ThrowOutcome::kMissed,
+    ThrowOutcome::kCaught,         ThrowOutcome::kDropped,           ThrowOutcome::kMissed,
     ThrowOutcome::kOffsetPractice, ThrowOutcome::kAbortedOutOfReach, ThrowOutcome::kAborted,
     ThrowOutcome::kThrowOnly};
 

@@ -43,8 +43,7 @@ int run(int argc, char** argv) {
                  "(vx, vz) = (0.3, 5.5) m/s, alpha = 0.48 rad, alpha' = 2.5 rad/s.")
       ->type_name("P")
       ->check(pa::cli::nonEmpty("needs a file or directory"));
-  app.add_flag("--no-drag", no_drag,
-               "fly without aerodynamic drag (c_z = c_xy = c_rot = 0), for comparison");
+  app.add_flag("--no-drag", no_drag, "fly without aerodynamic drag (c_z = c_xy = c_rot = 0), for comparison");
   if (const std::optional<int> code = pa::cli::parse(app, argc, argv, std::cout, std::cerr)) return *code;
   const bool drag = !no_drag;
 
@@ -73,8 +72,7 @@ int run(int argc, char** argv) {
   std::printf("launch state:             %s\n", launch_source.c_str());
   std::printf("                          x %.4f m, z %.4f m, vx %.4f m/s, vz %.4f m/s,\n"
               "                          alpha %.4f rad, alpha_dot %.4f rad/s\n",
-              launch.x_m, launch.z_m, launch.vx_mps, launch.vz_mps, launch.alpha_rad,
-              launch.alpha_dot_radps);
+              launch.x_m, launch.z_m, launch.vx_mps, launch.vz_mps, launch.alpha_rad, launch.alpha_dot_radps);
   if (drag) {
     std::printf("drag:                     on (c_z %.1f, c_xy %.1f, c_rot %.1f g/m^2)\n",
                 1e3 * params.drag_axial, 1e3 * params.drag_normal, 1e3 * params.drag_rotational);
@@ -86,8 +84,7 @@ int run(int argc, char** argv) {
     return 1;
   }
   const gs::model::PlanarPoleKinematics k = gs::model::planarKinematicsFromLowerEnd(ci.pole);
-  const gs::model::ImpactResult impact =
-      gs::model::impactMap(ci.pole, Eigen::Vector3d::Zero(), params);
+  const gs::model::ImpactResult impact = gs::model::impactMap(ci.pole, Eigen::Vector3d::Zero(), params);
   const double rate_after = impact.after.omega_radps.y();
   std::printf("catching instant:         %.4f s after launch\n", ci.t_s);
   std::printf("nominal catching height:  %.4f m (lower pole end)\n", ci.catch_height_m);

@@ -74,8 +74,7 @@ int run(int argc, char** argv) {
   // The estimate goes to memory first, so that a failed run leaves no half-written file.
   std::ostringstream estimate;
   std::ostringstream diagnostics;
-  const estimation::ReplaySummary summary =
-      estimation::replayMocapLog(in, estimate, diagnostics, options);
+  const estimation::ReplaySummary summary = estimation::replayMocapLog(in, estimate, diagnostics, options);
   std::fputs(diagnostics.str().c_str(), stderr);
   if (!summary.ok) {
     std::fprintf(stderr, "groundstation estimate: %s in '%s': nothing to estimate\n",
@@ -97,8 +96,8 @@ int run(int argc, char** argv) {
   std::fprintf(stderr,
                "estimate: %zu data rows (%zu malformed, skipped; %zu out of time order, sorted), "
                "%zu frames, %zu with the pole, %zu with a catch prediction\n",
-               summary.rows, summary.malformed, summary.reordered, summary.frames,
-               summary.pole_frames, summary.catch_predictions);
+               summary.rows, summary.malformed, summary.reordered, summary.frames, summary.pole_frames,
+               summary.catch_predictions);
   const estimation::EstimatorHealth& h = summary.health;
   std::fprintf(stderr,
                "estimate: motion capture %.1f Hz (vehicle1 %.1f, vehicle2 %.1f); pole NIS mean "

@@ -5,9 +5,9 @@
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <optional>
 #include <string>
-#include <iostream>
 #include <utility>
 
 #include "groundstation/apps/commands.hpp"
@@ -55,19 +55,18 @@ std::string describe(planning::Feasibility kind, const planning::LimitViolation&
   char buf[200];
   switch (kind) {
     case planning::Feasibility::kThrustTooHigh:
-      std::snprintf(buf, sizeof buf, "thrust_too_high: a_q = %.3f m/s^2 > %.3f at t = %.3f s",
-                    v.value, v.limit, v.t_s);
+      std::snprintf(buf, sizeof buf, "thrust_too_high: a_q = %.3f m/s^2 > %.3f at t = %.3f s", v.value,
+                    v.limit, v.t_s);
       break;
     case planning::Feasibility::kThrustTooLow:
-      std::snprintf(buf, sizeof buf, "thrust_too_low: a_q = %.3f m/s^2 < %.3f at t = %.3f s",
-                    v.value, v.limit, v.t_s);
+      std::snprintf(buf, sizeof buf, "thrust_too_low: a_q = %.3f m/s^2 < %.3f at t = %.3f s", v.value,
+                    v.limit, v.t_s);
       break;
     case planning::Feasibility::kRatesTooHigh:
       std::snprintf(buf, sizeof buf, "rates_too_high: |Omega_%c| = %.3f rad/s > %.3f at t = %.3f s",
                     "xyz"[v.axis < 0 ? 1 : v.axis], v.value, v.limit, v.t_s);
       break;
-    default:
-      return "";
+    default: return "";
   }
   return buf;
 }
@@ -170,8 +169,7 @@ int run(int argc, char** argv) {
 
   std::ofstream csv(out_path);
   if (!csv) {
-    std::fprintf(stderr, "groundstation plan-catch: cannot open %s for writing\n",
-                 out_path.c_str());
+    std::fprintf(stderr, "groundstation plan-catch: cannot open %s for writing\n", out_path.c_str());
     return 1;
   }
   csv << "t,x,y,z,vx,vy,vz,ax,ay,az,a_q,omega_x,omega_y,omega_z\n";
@@ -182,11 +180,10 @@ int run(int argc, char** argv) {
     std::snprintf(line, sizeof line,
                   "%.6f,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", r.t_s,
                   r.position_m.x(), r.position_m.y(), r.position_m.z(), r.velocity_mps.x(),
-                  r.velocity_mps.y(), r.velocity_mps.z(), r.acceleration_mps2.x(),
-                  r.acceleration_mps2.y(), r.acceleration_mps2.z(), r.thrust_mps2,
+                  r.velocity_mps.y(), r.velocity_mps.z(), r.acceleration_mps2.x(), r.acceleration_mps2.y(),
+                  r.acceleration_mps2.z(), r.thrust_mps2,
                   // + 0.0 turns -0 into 0 in the file.
-                  r.body_rates_radps.x() + 0.0, r.body_rates_radps.y() + 0.0,
-                  r.body_rates_radps.z() + 0.0);
+                  r.body_rates_radps.x() + 0.0, r.body_rates_radps.y() + 0.0, r.body_rates_radps.z() + 0.0);
     csv << line;
     peaks.add(r);
     ++rows;
@@ -208,34 +205,30 @@ int run(int argc, char** argv) {
   const auto& t = traj->zManoeuvre().phaseTimes_s();
   std::printf("catch manoeuvre (paper Section V)\n");
   std::printf("  xy: (%.3f, %.3f) m -> (%.3f, %.3f) m, minimum snap over T_xy = %.3f s (eq. 45)\n",
-              params.start_xy_m.x(), params.start_xy_m.y(), params.target_xy_m.x(),
-              params.target_xy_m.y(), params.t_xy_s);
+              params.start_xy_m.x(), params.start_xy_m.y(), params.target_xy_m.x(), params.target_xy_m.y(),
+              params.t_xy_s);
   std::printf("  z:  %.3f m -> %.3f m, a_max = %.3f m/s^2, k_max = %.3f m/s^3, yaw %.3f rad\n",
               traj->startHeight_m(), params.catch_height_m, params.a_max_mps2, params.k_max_mps3,
               params.yaw_rad);
   std::printf("  T_z = %.4f s (eq. 48), z0 = %.4f m (eq. 49), drop %.4f m\n", traj->duration_s(),
               traj->startHeight_m(), traj->startHeight_m() - params.catch_height_m);
-  std::printf(
-      "  phases t0..t5 = %.4f %.4f %.4f %.4f %.4f %.4f s (jerk -k, 0, +k, 0, -k);"
-      " xy over [t3, t5]\n",
-      t[0], t[1], t[2], t[3], t[4], t[5]);
-  std::printf("  a_q: max %.3f m/s^2 at t = %.3f s, min %.3f m/s^2 at t = %.3f s\n",
-              peaks.thrust_max, peaks.thrust_max_t, peaks.thrust_min, peaks.thrust_min_t);
+  std::printf("  phases t0..t5 = %.4f %.4f %.4f %.4f %.4f %.4f s (jerk -k, 0, +k, 0, -k);"
+              " xy over [t3, t5]\n",
+              t[0], t[1], t[2], t[3], t[4], t[5]);
+  std::printf("  a_q: max %.3f m/s^2 at t = %.3f s, min %.3f m/s^2 at t = %.3f s\n", peaks.thrust_max,
+              peaks.thrust_max_t, peaks.thrust_min, peaks.thrust_min_t);
   std::printf("  |Omega|: x %.3f, y %.3f, z %.3f rad/s (peaks at t = %.3f, %.3f, %.3f s)\n",
               peaks.rate_max.x(), peaks.rate_max.y(), peaks.rate_max.z(), peaks.rate_max_t.x(),
               peaks.rate_max_t.y(), peaks.rate_max_t.z());
-  std::printf(
-      "  at constant height the same xy correction needs a_q max %.3f m/s^2,"
-      " |Omega| max (%.3f, %.3f, %.3f) rad/s\n",
-      flat_peaks.thrust_max, flat_peaks.rate_max.x(), flat_peaks.rate_max.y(),
-      flat_peaks.rate_max.z());
-  std::printf("  limits (%s): a_q in [%.3f, %.3f] m/s^2, |Omega_i| <= %.3f rad/s\n",
-              limits_source.c_str(), limits.a_q_min_mps2, limits.a_q_max_mps2,
-              limits.omega_max_radps);
+  std::printf("  at constant height the same xy correction needs a_q max %.3f m/s^2,"
+              " |Omega| max (%.3f, %.3f, %.3f) rad/s\n",
+              flat_peaks.thrust_max, flat_peaks.rate_max.x(), flat_peaks.rate_max.y(),
+              flat_peaks.rate_max.z());
+  std::printf("  limits (%s): a_q in [%.3f, %.3f] m/s^2, |Omega_i| <= %.3f rad/s\n", limits_source.c_str(),
+              limits.a_q_min_mps2, limits.a_q_max_mps2, limits.omega_max_radps);
   if (verdict.feasible() && !verdict.certified) {
-    std::printf(
-        "  note: within the limits at every checked instant, but a limit is approached"
-        " within the bound's slack over 1 ms\n");
+    std::printf("  note: within the limits at every checked instant, but a limit is approached"
+                " within the bound's slack over 1 ms\n");
   }
   std::printf("  wrote %ld rows (every %.0f ms, t = 0 .. T_z) to %s\n", rows, kSampleStep_s * 1e3,
               out_path.c_str());

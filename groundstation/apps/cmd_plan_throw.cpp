@@ -10,9 +10,9 @@
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <optional>
 #include <string>
-#include <iostream>
 
 #include "groundstation/apps/commands.hpp"
 #include "groundstation/model/vehicle_limits.hpp"
@@ -27,8 +27,7 @@ namespace {
 namespace planar = model::planar;
 
 constexpr double kPrintedLaunchThrust_mps2 = 4.48;  // Fig. 5 caption
-constexpr const char* kStateNames[planar::kStateSize] = {"x",     "z",     "vx",       "vz",
-                                                         "theta", "alpha", "alpha_dot"};
+constexpr const char* kStateNames[planar::kStateSize] = {"x", "z", "vx", "vz", "theta", "alpha", "alpha_dot"};
 constexpr const char* kInputNames[planar::kInputSize] = {"aq", "omega_y"};
 
 int failure(const std::string& message) {
@@ -189,17 +188,17 @@ int run(int argc, char** argv) {
   std::printf("  T = %.3f s, Hermite-Simpson collocation, N = %d intervals of %.2f to %.2f ms"
               " (shortest at the ends), %zu points\n",
               problem.duration_s, traj.intervals(), 1e3 * h_min, 1e3 * h_max, traj.t_s.size());
-  std::printf("  solver: IPOPT %s, %d iterations, solve time %.1f ms (%.1f ms CPU)\n",
-              plan.status.c_str(), plan.iterations, solve_ms, solve_cpu_ms);
+  std::printf("  solver: IPOPT %s, %d iterations, solve time %.1f ms (%.1f ms CPU)\n", plan.status.c_str(),
+              plan.iterations, solve_ms, solve_cpu_ms);
   std::printf("  cost J = %.6f\n", plan.cost);
   std::printf("  end-state error max|s(T) - s_T| = %.3g, max constraint violation %.3g\n",
               plan.end_state_error, plan.max_violation);
   std::printf("  launch state s_T: (x, z) = (%.3f, %.3f) m, (vx, vz) = (%.3f, %.3f) m/s,"
               " theta = %.3f rad, alpha = %.3f rad, alpha_dot = %.3f rad/s\n",
-              s_T(planar::kX), s_T(planar::kZ), s_T(planar::kVx), s_T(planar::kVz),
-              s_T(planar::kTheta), s_T(planar::kAlpha), s_T(planar::kAlphaDot));
-  std::printf("  launch input u_T = (a_q,T, Omega_y,T) = (%.4f m/s^2, %.3f rad/s), F_N(T) = %.2g\n",
-              a_T, problem.launch_pitch_rate_radps, traj.normal_force_per_mass_mps2.back());
+              s_T(planar::kX), s_T(planar::kZ), s_T(planar::kVx), s_T(planar::kVz), s_T(planar::kTheta),
+              s_T(planar::kAlpha), s_T(planar::kAlphaDot));
+  std::printf("  launch input u_T = (a_q,T, Omega_y,T) = (%.4f m/s^2, %.3f rad/s), F_N(T) = %.2g\n", a_T,
+              problem.launch_pitch_rate_radps, traj.normal_force_per_mass_mps2.back());
   std::printf("  a_q,T - printed %.2f = %+.4f m/s^2 (%+.1f %%); the printed value leaves"
               " F_N/m_p = %.4f m/s^2\n",
               kPrintedLaunchThrust_mps2, a_T - kPrintedLaunchThrust_mps2,
@@ -207,9 +206,8 @@ int run(int argc, char** argv) {
   std::printf("  inputs: a_q in [%.3f, %.3f] m/s^2, max |Omega_y| %.3f rad/s;"
               " min F_N/m_p before T %.3f m/s^2\n",
               a_min, a_max, omega_max, fn_min_interior);
-  std::printf("  limits (%s): a_q in [%.3f, %.3f] m/s^2, |Omega| <= %.3f rad/s\n",
-              limits_source.c_str(), problem.limits.a_q_min_mps2, problem.limits.a_q_max_mps2,
-              problem.limits.omega_max_radps);
+  std::printf("  limits (%s): a_q in [%.3f, %.3f] m/s^2, |Omega| <= %.3f rad/s\n", limits_source.c_str(),
+              problem.limits.a_q_min_mps2, problem.limits.a_q_max_mps2, problem.limits.omega_max_radps);
   std::printf("  input slew limits (not in (34), so that a vehicle can fly the plan): |a_q'| <= %g "
               "m/s^3, |Omega_y'| <= %g rad/s^2\n",
               problem.thrust_rate_max_mps3, problem.pitch_acceleration_max_radps2);

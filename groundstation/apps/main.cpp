@@ -6,12 +6,16 @@
 namespace {
 
 constexpr pa::cli::Subcommand kSubcommands[] = {
-    {"adaptation", "show or reset the adapted catching height, waiting point and offset bias (VI)", gs::apps::cmdAdaptation},
-    {"catch-instant", "the optimal catching instant (42), catching height and catch point (III-B)", gs::apps::cmdCatchInstant},
-    {"estimate", "replay a motion-capture log through the estimator (IV) and write the pole estimate", gs::apps::cmdEstimate},
+    {"adaptation", "show or reset the adapted catching height, waiting point and offset bias (VI)",
+     gs::apps::cmdAdaptation},
+    {"catch-instant", "the optimal catching instant (42), catching height and catch point (III-B)",
+     gs::apps::cmdCatchInstant},
+    {"estimate", "replay a motion-capture log through the estimator (IV) and write the pole estimate",
+     gs::apps::cmdEstimate},
     {"history", "list the recorded throws of an adaptation store (table or CSV)", gs::apps::cmdHistory},
     {"plan-catch", "plan the catch manoeuvre (Section V) and write it as CSV", gs::apps::cmdPlanCatch},
-    {"plan-throw", "solve the optimal throw (34) with its TV-LQR gains and write CSVs", gs::apps::cmdPlanThrow},
+    {"plan-throw", "solve the optimal throw (34) with its TV-LQR gains and write CSVs",
+     gs::apps::cmdPlanThrow},
 };
 
 }  // namespace

@@ -4,8 +4,8 @@ namespace gs::control {
 
 Eigen::VectorXd toBalancingVector(const model::VehiclePoleState& s) {
   Eigen::VectorXd x(balancing::kStateSize);
-  x << s.vehicle.p_m, s.vehicle.v_mps, s.vehicle.phi_rad, s.vehicle.theta_rad, s.vehicle.psi_rad,
-      s.pole.a_m, s.pole.b_m, s.pole.a_dot_mps, s.pole.b_dot_mps;
+  x << s.vehicle.p_m, s.vehicle.v_mps, s.vehicle.phi_rad, s.vehicle.theta_rad, s.vehicle.psi_rad, s.pole.a_m,
+      s.pole.b_m, s.pole.a_dot_mps, s.pole.b_dot_mps;
   return x;
 }
 
@@ -52,8 +52,7 @@ LinearSystem balancingLinearisation(const model::PoleParams& params) {
 LqrWeights balancingLqrWeights() {
   LqrWeights w;
   w.state =
-      (Eigen::VectorXd(balancing::kStateSize) << 2, 2, 4, 1, 1, 1, 0.5, 0.5, 0.5, 20, 20, 2, 2)
-          .finished();
+      (Eigen::VectorXd(balancing::kStateSize) << 2, 2, 4, 1, 1, 1, 0.5, 0.5, 0.5, 20, 20, 2, 2).finished();
   w.input = (Eigen::VectorXd(balancing::kInputSize) << 0.5, 0.5, 0.5, 0.5).finished();
   return w;
 }

@@ -45,7 +45,6 @@ LinearSystem balancingLinearisation(const model::PoleParams& params = {});
 // from 5 degrees and 0.2 m that stays within a_q in [1, 20] m/s^2 and |Omega| <= 10 rad/s.
 LqrWeights balancingLqrWeights();
 
-LqrGain balancingLqr(const LqrWeights& weights = balancingLqrWeights(),
-                     const model::PoleParams& params = {});
+LqrGain balancingLqr(const LqrWeights& weights = balancingLqrWeights(), const model::PoleParams& params = {});
 
 }  // namespace gs::control

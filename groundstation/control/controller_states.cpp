@@ -40,8 +40,7 @@ Eigen::VectorXd balancingState(const Pivot& pivot, const model::VehicleState& ve
 }
 
 model::PlanarState<double> planarThrowState(const Pivot& pivot, const model::VehicleState& vehicle,
-                                            const model::PoleState& pole,
-                                            const Eigen::Vector3d& origin_m) {
+                                            const model::PoleState& pole, const Eigen::Vector3d& origin_m) {
   namespace planar = model::planar;
   // The thrust axis ^I_B R e_z; its pitch in the x-z plane is the planar theta.
   const Eigen::Vector3d thrust_axis =

@@ -33,7 +33,6 @@ Eigen::VectorXd balancingState(const Pivot& pivot, const model::VehicleState& ve
 // the pivot, the thrust axis's pitch theta, the pole's tilt alpha from the vertical towards +x
 // and its rate.
 model::PlanarState<double> planarThrowState(const Pivot& pivot, const model::VehicleState& vehicle,
-                                            const model::PoleState& pole,
-                                            const Eigen::Vector3d& origin_m);
+                                            const model::PoleState& pole, const Eigen::Vector3d& origin_m);
 
 }  // namespace gs::control

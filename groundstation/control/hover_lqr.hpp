@@ -30,7 +30,6 @@ LinearSystem hoverLinearisation(double gravity_mps2 = pa::kGravity_mps2);
 // limits (a_q in [1, 20] m/s^2, |Omega| <= 10 rad/s; tested).
 LqrWeights hoverLqrWeights();
 
-LqrGain hoverLqr(const LqrWeights& weights = hoverLqrWeights(),
-                 double gravity_mps2 = pa::kGravity_mps2);
+LqrGain hoverLqr(const LqrWeights& weights = hoverLqrWeights(), double gravity_mps2 = pa::kGravity_mps2);
 
 }  // namespace gs::control

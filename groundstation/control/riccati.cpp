@@ -43,9 +43,8 @@ bool isHurwitz(const Eigen::MatrixXd& M) {
 
 }  // namespace
 
-Eigen::MatrixXd careResidual(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B,
-                             const Eigen::MatrixXd& Q, const Eigen::MatrixXd& R,
-                             const Eigen::MatrixXd& P) {
+Eigen::MatrixXd careResidual(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& Q,
+                             const Eigen::MatrixXd& R, const Eigen::MatrixXd& P) {
   const Eigen::MatrixXd S = inputWeight(B, R);
   return A.transpose() * P + P * A - P * S * P + Q;
 }
@@ -55,8 +54,8 @@ CareSolution solveCare(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const
   CareSolution out;
   const Eigen::Index n = A.rows();
   const Eigen::Index m = B.cols();
-  if (A.cols() != n || B.rows() != n || Q.rows() != n || Q.cols() != n || R.rows() != m ||
-      R.cols() != m || !A.allFinite() || !B.allFinite() || !Q.allFinite() || !R.allFinite()) {
+  if (A.cols() != n || B.rows() != n || Q.rows() != n || Q.cols() != n || R.rows() != m || R.cols() != m ||
+      !A.allFinite() || !B.allFinite() || !Q.allFinite() || !R.allFinite()) {
     return out;
   }
   Eigen::LLT<Eigen::MatrixXd> r_llt(R);

@@ -41,8 +41,7 @@ CareSolution solveCare(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const
                        const Eigen::MatrixXd& R, const CareOptions& options = {});
 
 // Res(P) = A^T P + P A - P B R^-1 B^T P + Q.
-Eigen::MatrixXd careResidual(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B,
-                             const Eigen::MatrixXd& Q, const Eigen::MatrixXd& R,
-                             const Eigen::MatrixXd& P);
+Eigen::MatrixXd careResidual(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& Q,
+                             const Eigen::MatrixXd& R, const Eigen::MatrixXd& P);
 
 }  // namespace gs::control

@@ -6,8 +6,7 @@
 
 namespace gs::control {
 
-LinearisationFn interpolateLinearisation(std::vector<double> times_s,
-                                         std::vector<LinearSystem> samples) {
+LinearisationFn interpolateLinearisation(std::vector<double> times_s, std::vector<LinearSystem> samples) {
   if (times_s.empty() || times_s.size() != samples.size()) return {};
   for (std::size_t i = 0; i < samples.size(); ++i) {
     if (samples[i].A.rows() != samples[0].A.rows() || samples[i].A.cols() != samples[0].A.cols() ||
@@ -19,12 +18,10 @@ LinearisationFn interpolateLinearisation(std::vector<double> times_s,
   return [times = std::move(times_s), sys = std::move(samples)](double t_s) -> LinearSystem {
     if (t_s <= times.front()) return sys.front();
     if (t_s >= times.back()) return sys.back();
-    const std::size_t i = static_cast<std::size_t>(
-                              std::upper_bound(times.begin(), times.end(), t_s) - times.begin()) -
-                          1;
+    const std::size_t i =
+        static_cast<std::size_t>(std::upper_bound(times.begin(), times.end(), t_s) - times.begin()) - 1;
     const double w = (t_s - times[i]) / (times[i + 1] - times[i]);
-    return LinearSystem{(1.0 - w) * sys[i].A + w * sys[i + 1].A,
-                        (1.0 - w) * sys[i].B + w * sys[i + 1].B};
+    return LinearSystem{(1.0 - w) * sys[i].A + w * sys[i + 1].A, (1.0 - w) * sys[i].B + w * sys[i + 1].B};
   };
 }
 
@@ -32,14 +29,12 @@ TvLqrGains::TvLqrGains(std::vector<double> times_s, std::vector<Eigen::MatrixXd>
                        std::vector<Eigen::MatrixXd> costs)
     : times_s_(std::move(times_s)), gains_(std::move(gains)), costs_(std::move(costs)) {}
 
-Eigen::MatrixXd TvLqrGains::interpolate(const std::vector<Eigen::MatrixXd>& values,
-                                        double t_s) const {
+Eigen::MatrixXd TvLqrGains::interpolate(const std::vector<Eigen::MatrixXd>& values, double t_s) const {
   if (values.empty()) return {};
   if (!(t_s > times_s_.front())) return values.front();  // also NaN
   if (t_s >= times_s_.back()) return values.back();
   const std::size_t i =
-      static_cast<std::size_t>(std::upper_bound(times_s_.begin(), times_s_.end(), t_s) -
-                               times_s_.begin()) -
+      static_cast<std::size_t>(std::upper_bound(times_s_.begin(), times_s_.end(), t_s) - times_s_.begin()) -
       1;
   const double w = (t_s - times_s_[i]) / (times_s_[i + 1] - times_s_[i]);
   return (1.0 - w) * values[i] + w * values[i + 1];
@@ -49,22 +44,20 @@ Eigen::MatrixXd TvLqrGains::gain(double t_s) const { return interpolate(gains_, 
 Eigen::MatrixXd TvLqrGains::cost(double t_s) const { return interpolate(costs_, t_s); }
 
 TvLqrGains solveTvLqr(const LinearisationFn& linearisation, const Eigen::MatrixXd& Q,
-                      const Eigen::MatrixXd& R, const Eigen::MatrixXd& Q_final, double t0_s,
-                      double tf_s, const TvLqrOptions& options) {
+                      const Eigen::MatrixXd& R, const Eigen::MatrixXd& Q_final, double t0_s, double tf_s,
+                      const TvLqrOptions& options) {
   const Eigen::Index n = Q.rows();
   const Eigen::Index m = R.rows();
-  if (!linearisation || Q.cols() != n || R.cols() != m || Q_final.rows() != n ||
-      Q_final.cols() != n || !Q.allFinite() || !R.allFinite() || !Q_final.allFinite() ||
-      !std::isfinite(t0_s) || !std::isfinite(tf_s) || !(tf_s > t0_s) ||
-      !(options.grid_step_s > 0.0) || !(options.max_step_s > 0.0)) {
+  if (!linearisation || Q.cols() != n || R.cols() != m || Q_final.rows() != n || Q_final.cols() != n ||
+      !Q.allFinite() || !R.allFinite() || !Q_final.allFinite() || !std::isfinite(t0_s) ||
+      !std::isfinite(tf_s) || !(tf_s > t0_s) || !(options.grid_step_s > 0.0) || !(options.max_step_s > 0.0)) {
     return {};
   }
   Eigen::LLT<Eigen::MatrixXd> r_llt(R);
   if (r_llt.info() != Eigen::Success) return {};
 
   // Grid t0 .. tf; the last interval may be shorter.
-  const auto intervals =
-      static_cast<std::size_t>(std::ceil((tf_s - t0_s) / options.grid_step_s - 1e-9));
+  const auto intervals = static_cast<std::size_t>(std::ceil((tf_s - t0_s) / options.grid_step_s - 1e-9));
   std::vector<double> times(intervals + 1);
   for (std::size_t k = 0; k <= intervals; ++k) {
     times[k] = std::min(t0_s + static_cast<double>(k) * options.grid_step_s, tf_s);

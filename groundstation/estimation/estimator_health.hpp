@@ -15,7 +15,7 @@ class BodyHealthTracker {
   // for the body's measurement dimension).
   explicit BodyHealthTracker(double nis_gate = 15.09) : nis_gate_(nis_gate) {}
 
-  void sample(double t_s);        // a sample arrived (used or not)
+  void sample(double t_s);          // a sample arrived (used or not)
   void rejected() { ++rejected_; }  // unusable or an outlier
   void innovation(double nis);
 

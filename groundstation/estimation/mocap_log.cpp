@@ -13,10 +13,9 @@
 namespace gs::estimation {
 namespace {
 
-constexpr std::array<std::string_view, 9> kFieldNames = {"t",  "body", "x",  "y", "z",
-                                                         "qw", "qx",   "qy", "qz"};
+constexpr std::array<std::string_view, 9> kFieldNames = {"t", "body", "x", "y", "z", "qw", "qx", "qy", "qz"};
 constexpr double kSameFrame_s = 1e-9;
-constexpr double kMaxAbsTime_s = 1e9;        // about 32 years
+constexpr double kMaxAbsTime_s = 1e9;  // about 32 years
 constexpr double kMaxAbsPosition_m = 1e4;
 
 std::string_view trim(std::string_view s) {
@@ -76,8 +75,8 @@ MocapRowParse parseMocapRow(std::string_view line) {
     rest.remove_prefix(comma + 1);
   }
   if (count != fields.size()) {
-    result.error = "expected " + std::to_string(fields.size()) + " fields (" +
-                   std::string(kMocapLogHeader) + "), got " + std::to_string(count);
+    result.error = "expected " + std::to_string(fields.size()) + " fields (" + std::string(kMocapLogHeader) +
+                   "), got " + std::to_string(count);
     return result;
   }
   std::array<double, kFieldNames.size()> v{};
@@ -85,21 +84,18 @@ MocapRowParse parseMocapRow(std::string_view line) {
     if (i == 1) continue;
     const std::optional<double> d = parseDouble(fields[i]);
     if (!d) {
-      result.error = "field '" + std::string(kFieldNames[i]) + "' is not a number: " +
-                     quoted(fields[i]);
+      result.error = "field '" + std::string(kFieldNames[i]) + "' is not a number: " + quoted(fields[i]);
       return result;
     }
     if (!std::isfinite(*d)) {
-      result.error = "field '" + std::string(kFieldNames[i]) + "' is not finite: " +
-                     quoted(fields[i]);
+      result.error = "field '" + std::string(kFieldNames[i]) + "' is not finite: " + quoted(fields[i]);
       return result;
     }
     // Beyond these no arena and no clock is real: a corrupt row, not a pose.
     const double limit = i == 0 ? kMaxAbsTime_s : i <= 4 ? kMaxAbsPosition_m : 2.0;
     if (std::abs(*d) > limit) {
       result.error = "field '" + std::string(kFieldNames[i]) + "' is out of range (|" +
-                     std::string(kFieldNames[i]) + "| <= " + format("%g", limit) + "): " +
-                     quoted(fields[i]);
+                     std::string(kFieldNames[i]) + "| <= " + format("%g", limit) + "): " + quoted(fields[i]);
       return result;
     }
     v[i] = *d;
@@ -200,11 +196,10 @@ ReplaySummary replayMocapLog(std::istream& in, std::ostream& out, std::ostream& 
       const PoleEstimate e = estimator.pole();
       const model::PoleState& s = e.state;
       char buf[512];
-      std::snprintf(buf, sizeof buf,
-                    "%.6f,%s,%.6f,%.6f,%.6f,%.5f,%.5f,%.5f,%.6f,%.6f,%.6f,%.5f,%.5f,%.5f,", frame.t_s,
-                    std::string(poleModeName(e.mode)).c_str(), s.p_m.x(), s.p_m.y(), s.p_m.z(),
-                    s.v_mps.x(), s.v_mps.y(), s.v_mps.z(), s.n.x(), s.n.y(), s.n.z(),
-                    s.omega_radps.x(), s.omega_radps.y(), s.omega_radps.z());
+      std::snprintf(buf, sizeof buf, "%.6f,%s,%.6f,%.6f,%.6f,%.5f,%.5f,%.5f,%.6f,%.6f,%.6f,%.5f,%.5f,%.5f,",
+                    frame.t_s, std::string(poleModeName(e.mode)).c_str(), s.p_m.x(), s.p_m.y(), s.p_m.z(),
+                    s.v_mps.x(), s.v_mps.y(), s.v_mps.z(), s.n.x(), s.n.y(), s.n.z(), s.omega_radps.x(),
+                    s.omega_radps.y(), s.omega_radps.z());
       out << buf;
       std::optional<planning::CatchPointPrediction> p;
       if (e.valid && e.mode == PoleMode::free) {
@@ -236,9 +231,8 @@ ReplaySummary replayMocapLog(std::istream& in, std::ostream& out, std::ostream& 
         row.body == MocapBody::pole ? frame.pole : frame.vehicle[row.body == MocapBody::vehicle2];
     if (slot) {
       ++summary.malformed;
-      report(r.line, "a second pose of the same body in the frame at t = " +
-                         format("%.6f", row.t_s) + " (first on line " +
-                         std::to_string(frame_lines[body]) + "); ignored");
+      report(r.line, "a second pose of the same body in the frame at t = " + format("%.6f", row.t_s) +
+                         " (first on line " + std::to_string(frame_lines[body]) + "); ignored");
       continue;
     }
     slot = row.pose;

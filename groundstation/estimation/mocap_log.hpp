@@ -60,10 +60,10 @@ struct ReplayOptions {
 };
 
 struct ReplaySummary {
-  bool ok = false;           // false: nothing could be estimated (see fatal_error)
+  bool ok = false;  // false: nothing could be estimated (see fatal_error)
   std::string fatal_error;
   std::size_t lines = 0;
-  std::size_t rows = 0;      // data rows read (well-formed or not)
+  std::size_t rows = 0;  // data rows read (well-formed or not)
   std::size_t malformed = 0;
   std::size_t reordered = 0;  // rows earlier than the row before them
   std::size_t frames = 0;

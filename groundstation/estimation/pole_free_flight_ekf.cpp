@@ -14,8 +14,8 @@ using PoleIndex = PoleFreeFlightEkf::Index;
 constexpr double kMaxDragScale = 5.0;
 
 // Linear and angular drag accelerations (16), (19) for the nominal coefficients.
-void dragAccelerations(const model::PoleState& s, const model::PoleParams& nominal,
-                       double inertia_kgm2, Eigen::Vector3d& linear, Eigen::Vector3d& angular) {
+void dragAccelerations(const model::PoleState& s, const model::PoleParams& nominal, double inertia_kgm2,
+                       Eigen::Vector3d& linear, Eigen::Vector3d& angular) {
   const model::PoleDrag d = model::poleDrag(s, nominal);
   linear = (d.axial_force_N + d.normal_force_N) / nominal.mass_kg;
   angular = d.torque_Nm / inertia_kgm2;
@@ -66,8 +66,8 @@ void PoleFreeFlightEkf::reset(const model::PoleState& state, const PoleCovarianc
 PoleFreeFlightEkf::StateCovariance PoleFreeFlightEkf::jacobian() const {
   StateCovariance f = StateCovariance::Zero();
   f.block<3, 3>(kP, kV).setIdentity();
-  f.block<3, 3>(kN, kN) = crossMatrix(state_.omega_radps);    // d(Omega x n)/dn, (22)
-  f.block<3, 3>(kN, kW) = -crossMatrix(state_.n);             // d(Omega x n)/dOmega
+  f.block<3, 3>(kN, kN) = crossMatrix(state_.omega_radps);  // d(Omega x n)/dn, (22)
+  f.block<3, 3>(kN, kW) = -crossMatrix(state_.n);           // d(Omega x n)/dOmega
 
   const double inertia = model::poleInertia_kgm2(params_.pole);
   Eigen::Vector3d lin0;
@@ -100,8 +100,8 @@ void PoleFreeFlightEkf::step(double h, Propagation propagation) {
   }
   const StateCovariance f = jacobian();
   // G Q G^T: white accelerations on v and (normal to n) on Omega, a random walk of k.
-  const Eigen::Matrix3d q_w = params_.angular_acceleration_psd *
-                              (Eigen::Matrix3d::Identity() - state_.n * state_.n.transpose());
+  const Eigen::Matrix3d q_w =
+      params_.angular_acceleration_psd * (Eigen::Matrix3d::Identity() - state_.n * state_.n.transpose());
   const double q_k = params_.estimate_drag_scale ? params_.drag_scale_psd : 0.0;
   StateCovariance m = StateCovariance::Zero();
   m.block<3, 3>(kV, kV) = params_.acceleration_psd * Eigen::Matrix3d::Identity();
@@ -158,8 +158,7 @@ PoleInnovation PoleFreeFlightEkf::update(const PoleMeasurement& measurement) {
   return update(measurement, innovation(measurement));
 }
 
-PoleInnovation PoleFreeFlightEkf::update(const PoleMeasurement& measurement,
-                                         const PoleInnovation& inn) {
+PoleInnovation PoleFreeFlightEkf::update(const PoleMeasurement& measurement, const PoleInnovation& inn) {
   if (!inn.valid) return inn;
   const LinearisedPoleMeasurement<kSize> m = linearise(measurement);
   const StateVector dx = kalmanCorrection(m, inn, p_);

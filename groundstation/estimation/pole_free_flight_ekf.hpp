@@ -26,16 +26,16 @@
 namespace gs::estimation {
 
 struct PoleFreeFlightEkfParams {
-  model::PoleParams pole;               // the nominal drag coefficients are those of k = 1
+  model::PoleParams pole;  // the nominal drag coefficients are those of k = 1
   // Unmodelled accelerations: what (10)-(22) leave out beyond the drag scale k (the quadrature
   // of a real plant's drag, the tube's own small inertia, air currents), a few mm/s^2 and
   // mrad/s^2. Small: on a flight that follows the model a larger process noise makes the filter
   // conservative (NEES below its band, tests/groundstation/state_estimator_test.cpp).
-  double acceleration_psd = 1e-6;         // white noise on p_p', (m/s^2)^2 / Hz
+  double acceleration_psd = 1e-6;          // white noise on p_p', (m/s^2)^2 / Hz
   double angular_acceleration_psd = 1e-6;  // on Omega_p' (normal to n), (rad/s^2)^2 / Hz
   bool estimate_drag_scale = true;
-  double drag_scale_psd = 1e-4;         // random walk of k, 1 / s
-  double max_step_s = 0.005;            // longer predictions are split into such steps
+  double drag_scale_psd = 1e-4;  // random walk of k, 1 / s
+  double max_step_s = 0.005;     // longer predictions are split into such steps
   double mocap_position_sigma_m = 1e-3;
   double mocap_direction_sigma_rad = 1e-3;
 };

@@ -17,8 +17,7 @@ PoleInnovation makePoleInnovation(const PoleMeasurementVector& nu, const PoleMea
   for (int i = 0; i < kPoleMeasurementSize; ++i) log_det += std::log(llt.matrixL()(i, i));
   log_det *= 2.0;
   out.nis = w.squaredNorm();
-  out.log_likelihood =
-      -0.5 * (out.nis + log_det + kPoleMeasurementSize * std::log(2.0 * std::numbers::pi));
+  out.log_likelihood = -0.5 * (out.nis + log_det + kPoleMeasurementSize * std::log(2.0 * std::numbers::pi));
   out.valid = std::isfinite(out.log_likelihood);
   return out;
 }

@@ -67,22 +67,19 @@ auto congruence(const Eigen::MatrixBase<A>& a, const Eigen::MatrixBase<P>& p) {
 }
 
 template <int N>
-PoleInnovation poleInnovation(const LinearisedPoleMeasurement<N>& m,
-                              const Eigen::Matrix<double, N, N>& p) {
+PoleInnovation poleInnovation(const LinearisedPoleMeasurement<N>& m, const Eigen::Matrix<double, N, N>& p) {
   return makePoleInnovation(m.nu, congruence(m.h, p) + m.r);
 }
 
 // The Kalman correction for a valid innovation `inn` of `m`: returns the state step K nu and
 // updates P in the Joseph form (kept symmetric), which stays positive definite when K is off.
 template <int N>
-Eigen::Matrix<double, N, 1> kalmanCorrection(const LinearisedPoleMeasurement<N>& m,
-                                             const PoleInnovation& inn,
+Eigen::Matrix<double, N, 1> kalmanCorrection(const LinearisedPoleMeasurement<N>& m, const PoleInnovation& inn,
                                              Eigen::Matrix<double, N, N>& p) {
   const PoleMeasurementMatrix s_inverse = inn.s.llt().solve(PoleMeasurementMatrix::Identity());
   const Eigen::Matrix<double, N, kPoleMeasurementSize> k =
       smallProduct(smallProduct(p, m.h.transpose()), s_inverse);
-  const Eigen::Matrix<double, N, N> ikh =
-      Eigen::Matrix<double, N, N>::Identity() - smallProduct(k, m.h);
+  const Eigen::Matrix<double, N, N> ikh = Eigen::Matrix<double, N, N>::Identity() - smallProduct(k, m.h);
   p = congruence(ikh, p) + congruence(k, m.r);
   p = 0.5 * (p + p.transpose()).eval();
   return k * m.nu;

@@ -4,12 +4,9 @@ namespace gs::estimation {
 
 std::string_view poleModeName(PoleMode mode) {
   switch (mode) {
-    case PoleMode::free:
-      return "free";
-    case PoleMode::on_vehicle1:
-      return "on_vehicle1";
-    case PoleMode::on_vehicle2:
-      return "on_vehicle2";
+    case PoleMode::free: return "free";
+    case PoleMode::on_vehicle1: return "on_vehicle1";
+    case PoleMode::on_vehicle2: return "on_vehicle2";
   }
   return "free";
 }
@@ -21,9 +18,7 @@ std::optional<PoleMode> poleModeFromName(std::string_view name) {
   return std::nullopt;
 }
 
-PoleMode onVehicleMode(int vehicle) {
-  return vehicle == 2 ? PoleMode::on_vehicle2 : PoleMode::on_vehicle1;
-}
+PoleMode onVehicleMode(int vehicle) { return vehicle == 2 ? PoleMode::on_vehicle2 : PoleMode::on_vehicle1; }
 
 int vehicleOfMode(PoleMode mode) {
   return mode == PoleMode::on_vehicle1 ? 1 : mode == PoleMode::on_vehicle2 ? 2 : 0;

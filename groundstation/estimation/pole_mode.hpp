@@ -10,8 +10,8 @@ namespace gs::estimation {
 
 enum class PoleMode : int { free = 0, on_vehicle1 = 1, on_vehicle2 = 2 };
 inline constexpr int kPoleModeCount = 3;
-inline constexpr std::array<PoleMode, kPoleModeCount> kPoleModes = {
-    PoleMode::free, PoleMode::on_vehicle1, PoleMode::on_vehicle2};
+inline constexpr std::array<PoleMode, kPoleModeCount> kPoleModes = {PoleMode::free, PoleMode::on_vehicle1,
+                                                                    PoleMode::on_vehicle2};
 
 inline constexpr int modeIndex(PoleMode m) { return static_cast<int>(m); }
 

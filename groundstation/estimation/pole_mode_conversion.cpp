@@ -28,8 +28,8 @@ model::PoleState unflatten(const Vector12& v) {
 
 // The on-vehicle coordinates (24) of a pole whose end at -L n_pivot rests on the plate, with
 // n_pivot = sign * n.
-Vector6 onVehicleCoordinates(const model::PoleState& pole, double sign,
-                             const PlateKinematics& plate, const model::PoleParams& params) {
+Vector6 onVehicleCoordinates(const model::PoleState& pole, double sign, const PlateKinematics& plate,
+                             const model::PoleParams& params) {
   const Eigen::Vector3d r = params.half_length_m * sign * pole.n;
   const Eigen::Vector3d r_dot = pole.omega_radps.cross(r);
   const Eigen::Vector3d rel = plate.inertial_from_body.transpose() * (pole.p_m - r - plate.p_m);
@@ -60,8 +60,7 @@ void addPlateUncertainty(PoleOnVehicleEkf::StateCovariance& p, const PlateKinema
 
 }  // namespace
 
-PlateContactGeometry plateContactGeometry(const model::PoleState& pole,
-                                          const PlateKinematics& plate,
+PlateContactGeometry plateContactGeometry(const model::PoleState& pole, const PlateKinematics& plate,
                                           const model::PoleParams& params) {
   const double sign = pole.n.z() >= 0.0 ? 1.0 : -1.0;  // the lower end is p - L sign n
   const Eigen::Vector3d arm = -params.half_length_m * sign * pole.n;
@@ -87,9 +86,7 @@ std::optional<OnVehicleSeed> onVehicleSeedFromFreeFlight(const model::PoleState&
       std::abs(g.height_m) > gate.height_margin_m) {
     return std::nullopt;
   }
-  const auto f = [&](const model::PoleState& s) {
-    return onVehicleCoordinates(s, sign, plate, params);
-  };
+  const auto f = [&](const model::PoleState& s) { return onVehicleCoordinates(s, sign, plate, params); };
   OnVehicleSeed seed;
   seed.direction_sign = sign;
   seed.state = f(pole);
@@ -99,19 +96,15 @@ std::optional<OnVehicleSeed> onVehicleSeedFromFreeFlight(const model::PoleState&
   return seed;
 }
 
-OnVehicleSeed onVehicleSeedAfterImpact(const model::PoleState& before,
-                                       const PoleCovariance& covariance,
-                                       const PlateKinematics& plate,
-                                       const model::PoleParams& params,
+OnVehicleSeed onVehicleSeedAfterImpact(const model::PoleState& before, const PoleCovariance& covariance,
+                                       const PlateKinematics& plate, const model::PoleParams& params,
                                        double impact_rate_sigma_mps) {
   const double sign = before.n.z() >= 0.0 ? 1.0 : -1.0;
   const auto f = [&](const model::PoleState& s) {
     const model::ImpactResult r = model::impactMap(s, plate.v_mps, params);  // (35)-(40)
-    const Eigen::Vector3d rel =
-        plate.inertial_from_body.transpose() * (r.contact_point_m - plate.p_m);
+    const Eigen::Vector3d rel = plate.inertial_from_body.transpose() * (r.contact_point_m - plate.p_m);
     Vector6 x;
-    x << r.on_vehicle.a_m, r.on_vehicle.b_m, r.on_vehicle.a_dot_mps, r.on_vehicle.b_dot_mps,
-        rel.x(), rel.y();
+    x << r.on_vehicle.a_m, r.on_vehicle.b_m, r.on_vehicle.a_dot_mps, r.on_vehicle.b_dot_mps, rel.x(), rel.y();
     return x;
   };
   OnVehicleSeed seed;
@@ -121,15 +114,14 @@ OnVehicleSeed onVehicleSeedAfterImpact(const model::PoleState& before,
   seed.covariance = congruence(j, covariance);
   addPlateUncertainty(seed.covariance, plate);
   // The plate's velocity enters (38), (39) as 3/4 of a rate of L n; and the impact model itself.
-  const double rate_var = impact_rate_sigma_mps * impact_rate_sigma_mps +
-                          0.5625 * plate.velocity_variance_m2ps2;
+  const double rate_var =
+      impact_rate_sigma_mps * impact_rate_sigma_mps + 0.5625 * plate.velocity_variance_m2ps2;
   seed.covariance(PoleOnVehicleEkf::kAdot, PoleOnVehicleEkf::kAdot) += rate_var;
   seed.covariance(PoleOnVehicleEkf::kBdot, PoleOnVehicleEkf::kBdot) += rate_var;
   return seed;
 }
 
-FreeFlightSeed freeFlightSeedFromOnVehicle(const PoleOnVehicleEkf& ekf,
-                                           const PlateKinematics& plate) {
+FreeFlightSeed freeFlightSeedFromOnVehicle(const PoleOnVehicleEkf& ekf, const PlateKinematics& plate) {
   FreeFlightSeed seed;
   seed.state = ekf.freeFlightState(plate);
   const Eigen::Matrix<double, 12, PoleOnVehicleEkf::kSize> j = ekf.freeFlightJacobian(plate);

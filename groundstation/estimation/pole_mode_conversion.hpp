@@ -33,13 +33,12 @@ struct PlateContactGate {
 
 // The lower end of a pole (along the inertial z-axis) relative to a plate.
 struct PlateContactGeometry {
-  double height_m = 0.0;          // above the plate's plane, along its normal
-  double radial_m = 0.0;          // from the plate's centre, in its plane
+  double height_m = 0.0;            // above the plate's plane, along its normal
+  double radial_m = 0.0;            // from the plate's centre, in its plane
   double approach_speed_mps = 0.0;  // of the end towards the plate (> 0: closing)
   Eigen::Vector3d end_m = Eigen::Vector3d::Zero();
 };
-PlateContactGeometry plateContactGeometry(const model::PoleState& pole,
-                                          const PlateKinematics& plate,
+PlateContactGeometry plateContactGeometry(const model::PoleState& pole, const PlateKinematics& plate,
                                           const model::PoleParams& params);
 
 struct OnVehicleSeed {
@@ -57,17 +56,14 @@ std::optional<OnVehicleSeed> onVehicleSeedFromFreeFlight(const model::PoleState&
                                                          const PlateContactGate& gate);
 
 // The on-vehicle state right after the lower end hits a plate (impact map (35)-(40)).
-OnVehicleSeed onVehicleSeedAfterImpact(const model::PoleState& before,
-                                       const PoleCovariance& covariance,
-                                       const PlateKinematics& plate,
-                                       const model::PoleParams& params,
+OnVehicleSeed onVehicleSeedAfterImpact(const model::PoleState& before, const PoleCovariance& covariance,
+                                       const PlateKinematics& plate, const model::PoleParams& params,
                                        double impact_rate_sigma_mps);
 
 struct FreeFlightSeed {
   model::PoleState state;
   PoleCovariance covariance = PoleCovariance::Identity();
 };
-FreeFlightSeed freeFlightSeedFromOnVehicle(const PoleOnVehicleEkf& ekf,
-                                           const PlateKinematics& plate);
+FreeFlightSeed freeFlightSeedFromOnVehicle(const PoleOnVehicleEkf& ekf, const PlateKinematics& plate);
 
 }  // namespace gs::estimation

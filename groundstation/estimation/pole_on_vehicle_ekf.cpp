@@ -10,8 +10,7 @@ namespace gs::estimation {
 
 double poleNormalForcePerMass_mps2(const model::PoleOnVehicleState& pole,
                                    const Eigen::Vector3d& specific_force_mps2,
-                                   const Eigen::Vector3d& plate_normal,
-                                   const model::PoleParams& params) {
+                                   const Eigen::Vector3d& plate_normal, const model::PoleParams& params) {
   const double length = params.half_length_m;
   const Eigen::Vector3d r = length * model::poleDirectionOnVehicle(pole, params);
   const Eigen::Vector3d r_dot = model::poleCentreVelocityRelativeToPivot_mps(pole, params);
@@ -101,8 +100,7 @@ void PoleOnVehicleEkf::predict(double dt_s, const Eigen::Vector3d& pivot_acceler
 }
 
 Eigen::Vector3d PoleOnVehicleEkf::pivot_m(const PlateKinematics& plate) const {
-  return plate.p_m + plate.inertial_from_body.col(0) * x_(kOx) +
-         plate.inertial_from_body.col(1) * x_(kOy);
+  return plate.p_m + plate.inertial_from_body.col(0) * x_(kOx) + plate.inertial_from_body.col(1) * x_(kOy);
 }
 
 LinearisedPoleMeasurement<PoleOnVehicleEkf::kSize> PoleOnVehicleEkf::linearise(
@@ -132,14 +130,13 @@ PoleInnovation PoleOnVehicleEkf::innovation(const PoleMeasurement& measurement,
   return poleInnovation(linearise(measurement, plate), p_);
 }
 
-PoleInnovation PoleOnVehicleEkf::update(const PoleMeasurement& measurement,
-                                        const PlateKinematics& plate) {
+PoleInnovation PoleOnVehicleEkf::update(const PoleMeasurement& measurement, const PlateKinematics& plate) {
   if (!valid_) return {};
   return update(measurement, plate, innovation(measurement, plate));
 }
 
-PoleInnovation PoleOnVehicleEkf::update(const PoleMeasurement& measurement,
-                                        const PlateKinematics& plate, const PoleInnovation& inn) {
+PoleInnovation PoleOnVehicleEkf::update(const PoleMeasurement& measurement, const PlateKinematics& plate,
+                                        const PoleInnovation& inn) {
   if (!valid_) return {};
   if (!inn.valid) return inn;
   const LinearisedPoleMeasurement<kSize> m = linearise(measurement, plate);

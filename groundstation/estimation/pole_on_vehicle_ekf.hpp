@@ -97,8 +97,7 @@ class PoleOnVehicleEkf {
  private:
   void step(double h, const Eigen::Vector3d& pivot_acceleration_mps2, Propagation propagation);
   bool checkValid();
-  LinearisedPoleMeasurement<kSize> linearise(const PoleMeasurement& m,
-                                             const PlateKinematics& plate) const;
+  LinearisedPoleMeasurement<kSize> linearise(const PoleMeasurement& m, const PlateKinematics& plate) const;
 
   PoleOnVehicleEkfParams params_;
   StateVector x_ = StateVector::Zero();
@@ -112,7 +111,6 @@ class PoleOnVehicleEkf {
 // (= pivot acceleration + g e_z) and plate normal t (see the header comment).
 double poleNormalForcePerMass_mps2(const model::PoleOnVehicleState& pole,
                                    const Eigen::Vector3d& specific_force_mps2,
-                                   const Eigen::Vector3d& plate_normal,
-                                   const model::PoleParams& params);
+                                   const Eigen::Vector3d& plate_normal, const model::PoleParams& params);
 
 }  // namespace gs::estimation

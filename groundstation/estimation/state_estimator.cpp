@@ -28,20 +28,13 @@ bool validVehicle(int vehicle) { return vehicle == 1 || vehicle == 2; }
 
 std::string_view switchReasonName(SwitchReason reason) {
   switch (reason) {
-    case SwitchReason::initial:
-      return "initial";
-    case SwitchReason::contact_force:
-      return "contact_force";
-    case SwitchReason::plate_contact:
-      return "plate_contact";
-    case SwitchReason::impact_report:
-      return "impact_report";
-    case SwitchReason::innovation:
-      return "innovation";
-    case SwitchReason::filter_invalid:
-      return "filter_invalid";
-    case SwitchReason::reinitialised:
-      return "reinitialised";
+    case SwitchReason::initial: return "initial";
+    case SwitchReason::contact_force: return "contact_force";
+    case SwitchReason::plate_contact: return "plate_contact";
+    case SwitchReason::impact_report: return "impact_report";
+    case SwitchReason::innovation: return "innovation";
+    case SwitchReason::filter_invalid: return "filter_invalid";
+    case SwitchReason::reinitialised: return "reinitialised";
   }
   return "initial";
 }
@@ -123,8 +116,7 @@ void StateEstimator::reportImpact(int vehicle, double t_s) {
 
 bool StateEstimator::impactReportPending(int index) const {
   const double t = impact_report_t_s_[index];
-  return std::isfinite(t) && t_s_ >= t - config_.max_step_s &&
-         t_s_ <= t + config_.impact_report_window_s;
+  return std::isfinite(t) && t_s_ >= t - config_.max_step_s && t_s_ <= t + config_.impact_report_window_s;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -188,8 +180,7 @@ void StateEstimator::stepPole(double h, const std::array<PlateKinematics, 2>& be
       if (!(g0.height_m > 0.0 && g1.height_m <= 0.0)) continue;
       const double frac = g0.height_m / (g0.height_m - g1.height_m);
       const double radial = g0.radial_m + frac * (g1.radial_m - g0.radial_m);
-      const double approach =
-          g0.approach_speed_mps + frac * (g1.approach_speed_mps - g0.approach_speed_mps);
+      const double approach = g0.approach_speed_mps + frac * (g1.approach_speed_mps - g0.approach_speed_mps);
       if (radial > config_.candidate_gate.plate_radius_m + config_.impact_radial_margin_m ||
           approach < config_.impact_min_approach_speed_mps) {
         continue;
@@ -197,8 +188,8 @@ void StateEstimator::stepPole(double h, const std::array<PlateKinematics, 2>& be
       free_ = start;
       free_.predict(frac * h, propagation_);
       const PlateKinematics plate = interpolate(before[i], after[i], frac);
-      const OnVehicleSeed seed = onVehicleSeedAfterImpact(
-          free_.state(), free_.poleCovariance(), plate, params, config_.impact_rate_sigma_mps);
+      const OnVehicleSeed seed = onVehicleSeedAfterImpact(free_.state(), free_.poleCovariance(), plate,
+                                                          params, config_.impact_rate_sigma_mps);
       on_[i].reset(seed.state, seed.covariance, seed.direction_sign);
       on_[i].predict((1.0 - frac) * h, after[i].a_mps2, propagation_);
       switchTo(onVehicleMode(i + 1), SwitchReason::plate_contact, t_s_ + frac * h, t_s_ + h);
@@ -221,17 +212,15 @@ void StateEstimator::stepPole(double h, const std::array<PlateKinematics, 2>& be
   if (f1.value_mps2 < threshold || !on_[j].valid()) {
     // Launch: the pole is free from the instant F_N crossed zero (or the step's start).
     const bool lost_geometry = !on_[j].valid() && !(f1.value_mps2 < threshold);
-    const double frac = f0.value_mps2 > 0.0 && f1.value_mps2 < 0.0
-                            ? f0.value_mps2 / (f0.value_mps2 - f1.value_mps2)
-                            : 0.0;
+    const double frac =
+        f0.value_mps2 > 0.0 && f1.value_mps2 < 0.0 ? f0.value_mps2 / (f0.value_mps2 - f1.value_mps2) : 0.0;
     on_[j] = start;
     on_[j].predict(frac * h, 0.5 * (before[j].a_mps2 + after[j].a_mps2), propagation_);
     const PlateKinematics plate = interpolate(before[j], after[j], frac);
     const FreeFlightSeed seed = freeFlightSeedFromOnVehicle(on_[j], plate);
     free_.reset(seed.state, seed.covariance, drag_scale_, config_.drag_scale_sigma);
     free_.predict((1.0 - frac) * h, propagation_);
-    switchTo(PoleMode::free,
-             lost_geometry ? SwitchReason::filter_invalid : SwitchReason::contact_force,
+    switchTo(PoleMode::free, lost_geometry ? SwitchReason::filter_invalid : SwitchReason::contact_force,
              t_s_ + frac * h, t_s_ + h);
     reseedCandidates();
     return;
@@ -242,16 +231,15 @@ void StateEstimator::stepPole(double h, const std::array<PlateKinematics, 2>& be
 // ---------------------------------------------------------------------------------------------
 // Mode bookkeeping
 
-void StateEstimator::switchTo(PoleMode mode, SwitchReason reason, double event_t_s,
-                              double detected_t_s) {
+void StateEstimator::switchTo(PoleMode mode, SwitchReason reason, double event_t_s, double detected_t_s) {
   const PoleMode from = selector_.active();
   // The drag scale learnt in a flight that ended on a plate seeds the next launch, if the flight
   // taught it something (a pole sliding on the floor teaches nothing about drag).
   const bool caught = reason == SwitchReason::plate_contact || reason == SwitchReason::impact_report;
   if (from == PoleMode::free && caught && config_.carry_drag_scale &&
       config_.free_flight.estimate_drag_scale) {
-    const double sigma = std::sqrt(std::max(
-        0.0, free_.covariance()(PoleFreeFlightEkf::kK, PoleFreeFlightEkf::kK)));
+    const double sigma =
+        std::sqrt(std::max(0.0, free_.covariance()(PoleFreeFlightEkf::kK, PoleFreeFlightEkf::kK)));
     if (sigma < 0.5 * config_.drag_scale_sigma) drag_scale_ = free_.dragScale();
   }
   selector_.reset(mode);
@@ -340,8 +328,8 @@ void StateEstimator::initialisePole(const PoleMeasurement& m, SwitchReason reaso
   const double sn = config_.free_flight.mocap_direction_sigma_rad;
   const double sv = config_.initial_velocity_sigma_mps;
   const double sw = config_.initial_rate_sigma_radps;
-  p.diagonal() << sp * sp, sp * sp, sp * sp, sv * sv, sv * sv, sv * sv, sn * sn, sn * sn, sn * sn,
-      sw * sw, sw * sw, sw * sw;
+  p.diagonal() << sp * sp, sp * sp, sp * sp, sv * sv, sv * sv, sv * sv, sn * sn, sn * sn, sn * sn, sw * sw,
+      sw * sw, sw * sw;
   free_.reset(s, p, drag_scale_, config_.drag_scale_sigma);
   pole_seen_ = true;
   PoleMode mode = PoleMode::free;
@@ -350,9 +338,8 @@ void StateEstimator::initialisePole(const PoleMeasurement& m, SwitchReason reaso
     // At rest relative to the vehicle, if it rests on it.
     model::PoleState rel = s;
     rel.v_mps = vehicles_[i].plate().v_mps;
-    const std::optional<OnVehicleSeed> seed =
-        onVehicleSeedFromFreeFlight(rel, free_.poleCovariance(), vehicles_[i].plate(),
-                                    config_.on_vehicle.pole, config_.candidate_gate);
+    const std::optional<OnVehicleSeed> seed = onVehicleSeedFromFreeFlight(
+        rel, free_.poleCovariance(), vehicles_[i].plate(), config_.on_vehicle.pole, config_.candidate_gate);
     if (!seed) continue;
     on_[i].reset(seed->state, seed->covariance, seed->direction_sign);
     if (on_[i].valid()) mode = onVehicleMode(i + 1);
@@ -387,8 +374,8 @@ void StateEstimator::updatePole(const PoleMeasurement& m) {
           std::abs(g.height_m) > gate.height_margin_m) {
         continue;
       }
-      const OnVehicleSeed seed = onVehicleSeedAfterImpact(
-          measured, free_.poleCovariance(), plates[i], params, config_.impact_rate_sigma_mps);
+      const OnVehicleSeed seed = onVehicleSeedAfterImpact(measured, free_.poleCovariance(), plates[i], params,
+                                                          config_.impact_rate_sigma_mps);
       on_[i].reset(seed.state, seed.covariance, seed.direction_sign);
       if (!on_[i].valid()) continue;
       switchTo(onVehicleMode(i + 1), SwitchReason::impact_report, impact_report_t_s_[i], t_s_);
@@ -496,9 +483,7 @@ VehicleEstimate StateEstimator::vehicle(int vehicle) const {
   return vehicles_[vehicleIndex(vehicle)].estimate();
 }
 
-PlateKinematics StateEstimator::plate(int vehicle) const {
-  return vehicles_[vehicleIndex(vehicle)].plate();
-}
+PlateKinematics StateEstimator::plate(int vehicle) const { return vehicles_[vehicleIndex(vehicle)].plate(); }
 
 std::optional<NormalForceEstimate> StateEstimator::normalForce() const {
   const int v = vehicleOfMode(selector_.active());

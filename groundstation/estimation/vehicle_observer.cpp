@@ -46,9 +46,7 @@ void VehicleObserver::reset(const MocapPose& pose) {
   initialised_ = true;
 }
 
-Eigen::Vector3d VehicleObserver::eulerAngles() const {
-  return {att_x_[0](0), att_x_[1](0), att_x_[2](0)};
-}
+Eigen::Vector3d VehicleObserver::eulerAngles() const { return {att_x_[0](0), att_x_[1](0), att_x_[2](0)}; }
 
 // u = ^I_B R(eta) e_z a_q - g e_z, eq. (4).
 Eigen::Vector3d VehicleObserver::modelAcceleration(double a_q_mps2) const {
@@ -60,8 +58,7 @@ Eigen::Vector3d VehicleObserver::modelAcceleration(double a_q_mps2) const {
   return model::vehicleAcceleration_mps2(s, a_q_mps2, params_.gravity_mps2);
 }
 
-void VehicleObserver::predict(double dt_s, const model::VehicleInput* command,
-                              Propagation propagation) {
+void VehicleObserver::predict(double dt_s, const model::VehicleInput* command, Propagation propagation) {
   if (!initialised_ || !(dt_s > 0.0) || !std::isfinite(dt_s)) return;
   const bool commanded = command != nullptr && finiteInput(*command);
 
@@ -106,7 +103,8 @@ void VehicleObserver::predict(double dt_s, const model::VehicleInput* command,
   if (propagation == Propagation::mean_only) {
     for (int i = 0; i < 3; ++i) {
       const Eigen::Vector3d& x = trans_x_[i];
-      trans_x_[i] = Eigen::Vector3d(x(0) + h * x(1) + 0.5 * h * h * (x(2) + u(i)), x(1) + h * (x(2) + u(i)), x(2));
+      trans_x_[i] =
+          Eigen::Vector3d(x(0) + h * x(1) + 0.5 * h * h * (x(2) + u(i)), x(1) + h * (x(2) + u(i)), x(2));
       att_x_[i](0) += h * (att_x_[i](1) + r(i));
     }
     return;
@@ -120,15 +118,13 @@ void VehicleObserver::predict(double dt_s, const model::VehicleInput* command,
   q_trans << h3 / 3.0, h2 / 2.0, 0.0, h2 / 2.0, h, 0.0, 0.0, 0.0, 0.0;
   q_trans *= q.acceleration_psd;
   Eigen::Matrix3d q_jerk;
-  q_jerk << h2 * h3 / 20.0, h2 * h2 / 8.0, h3 / 6.0, h2 * h2 / 8.0, h3 / 3.0, h2 / 2.0, h3 / 6.0,
-      h2 / 2.0, h;
+  q_jerk << h2 * h3 / 20.0, h2 * h2 / 8.0, h3 / 6.0, h2 * h2 / 8.0, h3 / 3.0, h2 / 2.0, h3 / 6.0, h2 / 2.0, h;
   q_trans += q.disturbance_jerk_psd * q_jerk;
   Eigen::Matrix2d phi_att;
   phi_att << 1.0, h, 0.0, 1.0;
   Eigen::Matrix2d q_att;
-  q_att << q.euler_rate_psd * h + q.rate_correction_psd * h3 / 3.0,
-      q.rate_correction_psd * h2 / 2.0, q.rate_correction_psd * h2 / 2.0,
-      q.rate_correction_psd * h;
+  q_att << q.euler_rate_psd * h + q.rate_correction_psd * h3 / 3.0, q.rate_correction_psd * h2 / 2.0,
+      q.rate_correction_psd * h2 / 2.0, q.rate_correction_psd * h;
 
   for (int i = 0; i < 3; ++i) {
     trans_x_[i] = phi * trans_x_[i] + Eigen::Vector3d(0.5 * h2, h, 0.0) * u(i);
@@ -262,19 +258,17 @@ VehicleEstimate VehicleObserver::estimate() const {
 PlateKinematics VehicleObserver::plate() const {
   const VehicleEstimate e = estimate();
   PlateKinematics k;
-  k.inertial_from_body =
-      model::rotationInertialFromBody(e.state.phi_rad, e.state.theta_rad, e.state.psi_rad);
+  k.inertial_from_body = model::rotationInertialFromBody(e.state.phi_rad, e.state.theta_rad, e.state.psi_rad);
   const Eigen::Vector3d r_h = params_.plate_height_m * k.inertial_from_body.col(2);
   const Eigen::Vector3d omega_inertial = k.inertial_from_body * e.body_rates_radps;
   k.p_m = e.state.p_m + r_h;
   k.v_mps = e.state.v_mps + omega_inertial.cross(r_h);
   // d(R Omega)/dt = R Omega' (the R [Omega]x Omega term vanishes).
   const Eigen::Vector3d omega_dot_inertial = k.inertial_from_body * e.body_rate_derivative_radps2;
-  k.a_mps2 = e.acceleration_mps2 + omega_dot_inertial.cross(r_h) +
-             omega_inertial.cross(omega_inertial.cross(r_h));
-  k.position_variance_m2 =
-      e.position_sigma_m.squaredNorm() / 3.0 +
-      std::pow(params_.plate_height_m * e.attitude_sigma_rad.head<2>().norm(), 2);
+  k.a_mps2 =
+      e.acceleration_mps2 + omega_dot_inertial.cross(r_h) + omega_inertial.cross(omega_inertial.cross(r_h));
+  k.position_variance_m2 = e.position_sigma_m.squaredNorm() / 3.0 +
+                           std::pow(params_.plate_height_m * e.attitude_sigma_rad.head<2>().norm(), 2);
   k.velocity_variance_m2ps2 = e.velocity_sigma_mps.squaredNorm() / 3.0;
   k.acceleration_variance_m2ps4 = e.acceleration_sigma_mps2.squaredNorm() / 3.0;
   return k;

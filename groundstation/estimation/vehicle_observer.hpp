@@ -48,16 +48,16 @@ namespace gs::estimation {
 // them d and delta carry all of it. Tuned on the tests' truth world: at 1 mm / 1 mrad noise
 // the estimate is then smoother than the measurement (vehicle_observer_test.cpp).
 struct VehicleProcessNoise {
-  double acceleration_psd = 0.005;     // on v', (m/s^2)^2 / Hz
-  double disturbance_jerk_psd = 2.0;   // on d', (m/s^3)^2 / Hz
-  double euler_rate_psd = 1e-4;        // on eta', (rad/s)^2 / Hz
-  double rate_correction_psd = 5.0;    // on delta', (rad/s^2)^2 / Hz
+  double acceleration_psd = 0.005;    // on v', (m/s^2)^2 / Hz
+  double disturbance_jerk_psd = 2.0;  // on d', (m/s^3)^2 / Hz
+  double euler_rate_psd = 1e-4;       // on eta', (rad/s)^2 / Hz
+  double rate_correction_psd = 5.0;   // on delta', (rad/s^2)^2 / Hz
 };
 
 struct VehicleObserverParams {
   double gravity_mps2 = pa::kGravity_mps2;
   double plate_height_m = pa::kPlateHeightAboveCg_m;  // catching plate above the CG (Sec. VII-A)
-  double thrust_time_constant_s = 0.03;  // the airframe's motors (firmware config)
+  double thrust_time_constant_s = 0.03;               // the airframe's motors (firmware config)
   // The rate loop's response per body axis (x, y, z), from the firmware's rate gains kp = 40, 40,
   // 12 /s and the 30 ms motor lag (see the header): omega_n = sqrt(kp / tau_m), zeta =
   // 1 / (2 sqrt(kp tau_m)).
@@ -80,9 +80,9 @@ struct VehicleObserverParams {
 // The vehicle's estimated state (6) and what the pole estimators need of it.
 struct VehicleEstimate {
   model::VehicleState state;
-  Eigen::Vector3d acceleration_mps2 = Eigen::Vector3d::Zero();  // p_q'' estimate
-  Eigen::Vector3d euler_rates_radps = Eigen::Vector3d::Zero();  // (phi', theta', psi')
-  Eigen::Vector3d body_rates_radps = Eigen::Vector3d::Zero();   // Omega, eq. (5)
+  Eigen::Vector3d acceleration_mps2 = Eigen::Vector3d::Zero();            // p_q'' estimate
+  Eigen::Vector3d euler_rates_radps = Eigen::Vector3d::Zero();            // (phi', theta', psi')
+  Eigen::Vector3d body_rates_radps = Eigen::Vector3d::Zero();             // Omega, eq. (5)
   Eigen::Vector3d body_rate_derivative_radps2 = Eigen::Vector3d::Zero();  // Omega' (rate loop)
   Eigen::Vector3d position_sigma_m = Eigen::Vector3d::Zero();
   Eigen::Vector3d velocity_sigma_mps = Eigen::Vector3d::Zero();
@@ -96,9 +96,9 @@ struct PlateKinematics {
   Eigen::Vector3d v_mps = Eigen::Vector3d::Zero();
   Eigen::Vector3d a_mps2 = Eigen::Vector3d::Zero();
   Eigen::Matrix3d inertial_from_body = Eigen::Matrix3d::Identity();  // its columns: plate axes
-  double position_variance_m2 = 0.0;  // per axis, of the centre
-  double velocity_variance_m2ps2 = 0.0;  // per axis, of v_mps
-  double acceleration_variance_m2ps4 = 0.0;  // per axis, of a_mps2
+  double position_variance_m2 = 0.0;                                 // per axis, of the centre
+  double velocity_variance_m2ps2 = 0.0;                              // per axis, of v_mps
+  double acceleration_variance_m2ps4 = 0.0;                          // per axis, of a_mps2
   Eigen::Vector3d normal() const { return inertial_from_body.col(2); }
 };
 
@@ -142,9 +142,9 @@ class VehicleObserver {
 
   VehicleObserverParams params_;
   bool initialised_ = false;
-  bool commanded_ = false;        // the last step was driven by a command
-  double thrust_mps2_ = 0.0;      // the lagged (applied) thrust
-  Eigen::Vector3d rates_radps_ = Eigen::Vector3d::Zero();       // the applied rates Omega
+  bool commanded_ = false;                                            // the last step was driven by a command
+  double thrust_mps2_ = 0.0;                                          // the lagged (applied) thrust
+  Eigen::Vector3d rates_radps_ = Eigen::Vector3d::Zero();             // the applied rates Omega
   Eigen::Vector3d rate_derivative_radps2_ = Eigen::Vector3d::Zero();  // their derivative Omega'
   std::array<Eigen::Vector3d, 3> trans_x_;
   std::array<Eigen::Matrix3d, 3> trans_p_;

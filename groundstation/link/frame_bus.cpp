@@ -1,6 +1,5 @@
 #include "groundstation/link/frame_bus.hpp"
 
-
 namespace gs::link {
 
 bool InMemoryFrameBus::send(const pa::proto::Frame& frame) {

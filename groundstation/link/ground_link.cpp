@@ -30,7 +30,8 @@ bool reached(double now_s, double due_s) { return now_s >= due_s - kScheduleSlac
 bool positiveFinite(double v) { return std::isfinite(v) && v > 0.0; }
 
 void requireFinite(double now_s, const char* what) {
-  if (!std::isfinite(now_s)) throw std::invalid_argument(std::string("GroundLink::") + what + ": now_s is not finite");
+  if (!std::isfinite(now_s))
+    throw std::invalid_argument(std::string("GroundLink::") + what + ": now_s is not finite");
 }
 
 float toFrameValue(double v) { return static_cast<float>(std::clamp(v, -kSetpointClamp, kSetpointClamp)); }
@@ -43,7 +44,8 @@ std::uint32_t GroundLink::groundTimeUs(double now_s) {
 }
 
 std::uint32_t GroundLink::groundTimeMs(double now_s) {
-  return static_cast<std::uint32_t>(static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(now_s * 1e3))));
+  return static_cast<std::uint32_t>(
+      static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(now_s * 1e3))));
 }
 
 GroundLink::GroundLink(FrameBus& bus, std::vector<std::uint8_t> vehicle_nodes, const GroundLinkConfig& config)
@@ -62,8 +64,10 @@ GroundLink::GroundLink(FrameBus& bus, std::vector<std::uint8_t> vehicle_nodes, c
       !positiveFinite(config_.command_retry_s) || !positiveFinite(config_.vehicle_timeout_s) ||
       !positiveFinite(config_.link_quality_window_s) || !positiveFinite(config_.vehicle_heartbeat_period_s))
     throw std::invalid_argument("GroundLink: periods and time-outs must be positive and finite");
-  if (config_.command_attempts < 1) throw std::invalid_argument("GroundLink: command_attempts must be at least 1");
-  if (config_.link_quality_window_s / config_.vehicle_heartbeat_period_s > static_cast<double>(kHeartbeatHistory))
+  if (config_.command_attempts < 1)
+    throw std::invalid_argument("GroundLink: command_attempts must be at least 1");
+  if (config_.link_quality_window_s / config_.vehicle_heartbeat_period_s >
+      static_cast<double>(kHeartbeatHistory))
     throw std::invalid_argument("GroundLink: link_quality_window_s spans more heartbeats than are kept");
 
   vehicles_.resize(nodes_.size());
@@ -74,13 +78,15 @@ int GroundLink::indexOf(std::uint8_t node) const { return node < index_.size() ?
 
 const GroundLink::Vehicle& GroundLink::vehicle(std::uint8_t node) const {
   const int i = indexOf(node);
-  if (i < 0) throw std::out_of_range("GroundLink: node " + std::to_string(node) + " is not one of its vehicles");
+  if (i < 0)
+    throw std::out_of_range("GroundLink: node " + std::to_string(node) + " is not one of its vehicles");
   return vehicles_[static_cast<std::size_t>(i)];
 }
 
 GroundLink::Vehicle& GroundLink::vehicle(std::uint8_t node) {
   const int i = indexOf(node);
-  if (i < 0) throw std::out_of_range("GroundLink: node " + std::to_string(node) + " is not one of its vehicles");
+  if (i < 0)
+    throw std::out_of_range("GroundLink: node " + std::to_string(node) + " is not one of its vehicles");
   return vehicles_[static_cast<std::size_t>(i)];
 }
 
@@ -304,7 +310,8 @@ void GroundLink::tick(double now_s) {
   requireFinite(now_s, "tick");
   if (due(heartbeat_started_, next_heartbeat_s_, config_.heartbeat_period_s, now_s)) {
     Frame f;
-    encode(GsHeartbeat{groundTimeMs(now_s), config_.session, ground_state_, heartbeat_seq_}, kBroadcastNode, f);
+    encode(GsHeartbeat{groundTimeMs(now_s), config_.session, ground_state_, heartbeat_seq_}, kBroadcastNode,
+           f);
     heartbeat_seq_ = static_cast<std::uint8_t>(pa::HeartbeatSeq::next(heartbeat_seq_));
     send(f);
   }
@@ -369,7 +376,8 @@ gs::model::VehicleInput GroundLink::sendSetpoint(std::uint8_t node, const gs::mo
   const auto seq = static_cast<std::uint8_t>(pa::SetpointSeq::next(v.setpoint_seq));
   const RateThrust sp{{toFrameValue(input.omega_radps.x()), toFrameValue(input.omega_radps.y()),
                        toFrameValue(input.omega_radps.z())},
-                      toFrameValue(input.a_q_mps2), seq};
+                      toFrameValue(input.a_q_mps2),
+                      seq};
   Frame f;
   encode(sp, node, f);  // finite values and a vehicle node: always encodes
   v.setpoint_seq = seq;
@@ -381,12 +389,13 @@ gs::model::VehicleInput GroundLink::sendSetpoint(std::uint8_t node, const gs::mo
   decode(f, m);
   gs::model::VehicleInput carried;
   carried.a_q_mps2 = m.rate_thrust.thrust_mps2;
-  carried.omega_radps = Eigen::Vector3d(m.rate_thrust.rate_radps[0], m.rate_thrust.rate_radps[1],
-                                        m.rate_thrust.rate_radps[2]);
+  carried.omega_radps =
+      Eigen::Vector3d(m.rate_thrust.rate_radps[0], m.rate_thrust.rate_radps[1], m.rate_thrust.rate_radps[2]);
   return carried;
 }
 
-CommandHandle GroundLink::sendCommand(std::uint8_t node, CommandCode code, std::int32_t argument, double now_s) {
+CommandHandle GroundLink::sendCommand(std::uint8_t node, CommandCode code, std::int32_t argument,
+                                      double now_s) {
   requireFinite(now_s, "sendCommand");
   Vehicle& v = vehicle(node);
   const auto raw_code = static_cast<std::uint8_t>(code);

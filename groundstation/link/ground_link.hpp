@@ -60,13 +60,14 @@
 namespace gs::link {
 
 struct GroundLinkConfig {
-  std::uint16_t session = 1;            // session token in GS_HEARTBEAT / COMMAND / KILL (pick it at random per run)
-  double heartbeat_period_s = 0.02;     // GS_HEARTBEAT at 50 Hz (broadcast)
-  double timesync_period_s = 0.1;       // TIMESYNC request per vehicle, 10 Hz
-  double command_retry_s = 0.05;        // resend an unacknowledged COMMAND (and a KILL) after this
-  int command_attempts = 5;             // sends of one COMMAND; then it has timed out (KILL: sends at most)
-  double vehicle_timeout_s = 0.2;       // no VEHICLE_HEARTBEAT for this long: the vehicle is lost
-  double link_quality_window_s = 1.0;   // at most kHeartbeatHistory vehicle heartbeat periods
+  // session token in GS_HEARTBEAT / COMMAND / KILL (pick it at random per run)
+  std::uint16_t session = 1;
+  double heartbeat_period_s = 0.02;    // GS_HEARTBEAT at 50 Hz (broadcast)
+  double timesync_period_s = 0.1;      // TIMESYNC request per vehicle, 10 Hz
+  double command_retry_s = 0.05;       // resend an unacknowledged COMMAND (and a KILL) after this
+  int command_attempts = 5;            // sends of one COMMAND; then it has timed out (KILL: sends at most)
+  double vehicle_timeout_s = 0.2;      // no VEHICLE_HEARTBEAT for this long: the vehicle is lost
+  double link_quality_window_s = 1.0;  // at most kHeartbeatHistory vehicle heartbeat periods
   double vehicle_heartbeat_period_s = 0.02;  // the vehicle's VEHICLE_HEARTBEAT period (fw::LinkConfig)
 };
 
@@ -88,8 +89,8 @@ struct CommandOutcome {
   CommandState state = CommandState::unknown;
   pa::proto::CommandCode code = pa::proto::CommandCode::arm;
   pa::proto::RefuseReason reason = pa::proto::RefuseReason::none;  // from the ack
-  pa::proto::Mode mode = pa::proto::Mode::disarmed;  // the vehicle's mode in the ack
-  int attempts = 0;       // COMMAND frames sent so far
+  pa::proto::Mode mode = pa::proto::Mode::disarmed;                // the vehicle's mode in the ack
+  int attempts = 0;                                                // COMMAND frames sent so far
   bool inferred = false;  // accepted because a retry found the earlier attempt's effect in place
 };
 
@@ -105,12 +106,12 @@ struct Received {
 // VEHICLE_HEARTBEAT (defaults before the first).
 struct VehicleLinkStatus {
   std::uint8_t node = 0;
-  bool heard = false;        // a VEHICLE_HEARTBEAT has arrived since construction
-  bool lost = true;          // none for vehicle_timeout_s (or never heard)
-  double last_heard_s = 0.0; // ground time of the latest heartbeat
+  bool heard = false;         // a VEHICLE_HEARTBEAT has arrived since construction
+  bool lost = true;           // none for vehicle_timeout_s (or never heard)
+  double last_heard_s = 0.0;  // ground time of the latest heartbeat
   pa::proto::Mode mode = pa::proto::Mode::disarmed;
-  bool armed = false;        // kFlagArmed: the motors are enabled
-  std::uint8_t flags = 0;    // pa::proto::kFlag* bits
+  bool armed = false;      // kFlagArmed: the motors are enabled
+  std::uint8_t flags = 0;  // pa::proto::kFlag* bits
   pa::proto::FailsafeReason failsafe = pa::proto::FailsafeReason::none;
   std::uint8_t last_setpoint_seq = 0;  // the latest setpoint sequence the vehicle accepted
   std::uint8_t vehicle_rx_errors = 0;  // frames the vehicle rejected (saturating)
@@ -120,10 +121,11 @@ struct VehicleLinkStatus {
   double link_quality = 0.0;
 
   bool clock_synced = false;
-  double clock_offset_s = 0.0;      // ground_time = vehicle_time + offset (unwrapped vehicle clock, arbitrary epoch)
-  double clock_uncertainty_s = 0.0; // half the round trip of the exchange the offset comes from
-  double round_trip_s = 0.0;        // of the latest TIMESYNC exchange
-  std::uint32_t clock_resets = 0;   // times the vehicle's clock jumped (reboots) and the sync restarted
+  // ground_time = vehicle_time + offset (unwrapped vehicle clock, arbitrary epoch)
+  double clock_offset_s = 0.0;
+  double clock_uncertainty_s = 0.0;  // half the round trip of the exchange the offset comes from
+  double round_trip_s = 0.0;         // of the latest TIMESYNC exchange
+  std::uint32_t clock_resets = 0;    // times the vehicle's clock jumped (reboots) and the sync restarted
 
   std::uint8_t setpoint_seq_sent = 0;  // sequence of the latest RATE_THRUST sent to it
   std::uint64_t frames_received = 0;   // valid frames from this vehicle
@@ -138,21 +140,21 @@ struct VehicleLinkStatus {
 
 struct ImpactReport {
   std::uint8_t node = 0;
-  double t_s = 0.0;           // impact onset on the GROUND clock (via TIMESYNC) ...
+  double t_s = 0.0;                // impact onset on the GROUND clock (via TIMESYNC) ...
   bool t_from_clock_sync = false;  // ... or, false: the ground time the frame arrived (no sync yet)
-  double received_s = 0.0;    // ground time the frame arrived
+  double received_s = 0.0;         // ground time the frame arrived
   float peak_mps2 = 0.0f;
   pa::proto::ImpactClass classification = pa::proto::ImpactClass::unexpected_impact;
-  bool final = false;         // false: the report on detection (provisional class); true: the event is over
-  std::uint8_t count = 0;     // the vehicle's impact number; both reports of one impact share it
+  bool final = false;      // false: the report on detection (provisional class); true: the event is over
+  std::uint8_t count = 0;  // the vehicle's impact number; both reports of one impact share it
 };
 
 struct GroundLinkCounters {
-  std::uint64_t frames_sent = 0;    // accepted by the bus
-  std::uint64_t send_refused = 0;   // refused by the bus
+  std::uint64_t frames_sent = 0;      // accepted by the bus
+  std::uint64_t send_refused = 0;     // refused by the bus
   std::uint64_t frames_received = 0;  // every frame handed to onFrame()
-  std::uint64_t accepted = 0;       // decoded, from one of our vehicles, and used
-  std::uint64_t unknown_type = 0;   // undecodable, by pa::proto::DecodeStatus
+  std::uint64_t accepted = 0;         // decoded, from one of our vehicles, and used
+  std::uint64_t unknown_type = 0;     // undecodable, by pa::proto::DecodeStatus
   std::uint64_t wrong_length = 0;
   std::uint64_t out_of_range = 0;
   std::uint64_t foreign_node = 0;     // a vehicle-to-ground frame from a node this link does not talk to
@@ -195,7 +197,8 @@ class GroundLink {
   // Send a COMMAND now (argument: EXPECT_CATCH's window in ms, 1..10000; 0 otherwise); tick()
   // resends it until acknowledged. A DISARM also stops the KILL repeats to that vehicle.
   // Throws std::out_of_range for an unknown node.
-  CommandHandle sendCommand(std::uint8_t node, pa::proto::CommandCode code, std::int32_t argument, double now_s);
+  CommandHandle sendCommand(std::uint8_t node, pa::proto::CommandCode code, std::int32_t argument,
+                            double now_s);
   CommandState commandState(const CommandHandle& handle) const { return commandOutcome(handle).state; }
   CommandOutcome commandOutcome(const CommandHandle& handle) const;
 
@@ -279,7 +282,7 @@ class GroundLink {
   };
 
   int indexOf(std::uint8_t node) const;  // -1: not one of ours
-  Vehicle& vehicle(std::uint8_t node);    // std::out_of_range when not ours
+  Vehicle& vehicle(std::uint8_t node);   // std::out_of_range when not ours
   const Vehicle& vehicle(std::uint8_t node) const;
   bool send(const pa::proto::Frame& frame);
   // Each answers whether the frame was news (false: counted stale).

@@ -24,11 +24,11 @@ std::string_view taskName(Task task) {
 
 std::string_view conditionName(int bit) {
   static constexpr std::array<std::string_view, condition::kCount> kNames = {
-      "vehicle_lost", "estimate_lost", "armed",          "on_ground",        "command_failed",
-      "at_height",    "at_target",     "pole_on_self",   "pole_free",        "pole_down",
-      "pole_upright", "throw_over",    "release_over",   "catch_due",        "catch_unreachable",
-      "catch_infeasible", "catch_missed", "settled",     "request_take_off", "request_throw",
-      "request_catch", "request_abort", "request_land"};
+      "vehicle_lost",     "estimate_lost", "armed",        "on_ground",        "command_failed",
+      "at_height",        "at_target",     "pole_on_self", "pole_free",        "pole_down",
+      "pole_upright",     "throw_over",    "release_over", "catch_due",        "catch_unreachable",
+      "catch_infeasible", "catch_missed",  "settled",      "request_take_off", "request_throw",
+      "request_catch",    "request_abort", "request_land"};
   return bit >= 0 && bit < condition::kCount ? kNames[static_cast<std::size_t>(bit)] : "?";
 }
 

@@ -48,29 +48,29 @@ constexpr TaskSet tasks(T... t) {
   return (taskBit(t) | ...);
 }
 inline constexpr TaskSet kAirborne =
-    tasks(Task::take_off, Task::hover, Task::balance, Task::throwing, Task::release,
-          Task::retreat, Task::wait, Task::catching, Task::rebalance, Task::clear);
+    tasks(Task::take_off, Task::hover, Task::balance, Task::throwing, Task::release, Task::retreat,
+          Task::wait, Task::catching, Task::rebalance, Task::clear);
 
 // The condition bits (computed by the runtime each step).
 namespace condition {
-inline constexpr std::uint32_t vehicle_lost = 1u << 0;     // no VEHICLE_HEARTBEAT within the timeout
-inline constexpr std::uint32_t estimate_lost = 1u << 1;    // the vehicle's pose estimate is stale
-inline constexpr std::uint32_t armed = 1u << 2;            // the vehicle reports armed
-inline constexpr std::uint32_t on_ground = 1u << 3;        // landed / disarmed on the floor
-inline constexpr std::uint32_t command_failed = 1u << 4;   // ARM refused or timed out
-inline constexpr std::uint32_t at_height = 1u << 5;        // take-off height reached
-inline constexpr std::uint32_t at_target = 1u << 6;        // at the task's point, nearly at rest
-inline constexpr std::uint32_t pole_on_self = 1u << 7;     // the estimator: pole on this vehicle
-inline constexpr std::uint32_t pole_free = 1u << 8;        // the estimator: pole in free flight
-inline constexpr std::uint32_t pole_down = 1u << 9;        // the pole lies on the floor
-inline constexpr std::uint32_t pole_upright = 1u << 10;    // the pole on this plate near upright
-inline constexpr std::uint32_t throw_over = 1u << 11;      // the throw's time T has passed
-inline constexpr std::uint32_t release_over = 1u << 12;   // the release manoeuvre has ended
-inline constexpr std::uint32_t catch_due = 1u << 13;      // time to start the catch manoeuvre
+inline constexpr std::uint32_t vehicle_lost = 1u << 0;        // no VEHICLE_HEARTBEAT within the timeout
+inline constexpr std::uint32_t estimate_lost = 1u << 1;       // the vehicle's pose estimate is stale
+inline constexpr std::uint32_t armed = 1u << 2;               // the vehicle reports armed
+inline constexpr std::uint32_t on_ground = 1u << 3;           // landed / disarmed on the floor
+inline constexpr std::uint32_t command_failed = 1u << 4;      // ARM refused or timed out
+inline constexpr std::uint32_t at_height = 1u << 5;           // take-off height reached
+inline constexpr std::uint32_t at_target = 1u << 6;           // at the task's point, nearly at rest
+inline constexpr std::uint32_t pole_on_self = 1u << 7;        // the estimator: pole on this vehicle
+inline constexpr std::uint32_t pole_free = 1u << 8;           // the estimator: pole in free flight
+inline constexpr std::uint32_t pole_down = 1u << 9;           // the pole lies on the floor
+inline constexpr std::uint32_t pole_upright = 1u << 10;       // the pole on this plate near upright
+inline constexpr std::uint32_t throw_over = 1u << 11;         // the throw's time T has passed
+inline constexpr std::uint32_t release_over = 1u << 12;       // the release manoeuvre has ended
+inline constexpr std::uint32_t catch_due = 1u << 13;          // time to start the catch manoeuvre
 inline constexpr std::uint32_t catch_unreachable = 1u << 14;  // prediction out of reach
 inline constexpr std::uint32_t catch_infeasible = 1u << 15;   // planner: inputs beyond limits
-inline constexpr std::uint32_t catch_missed = 1u << 16;   // the pole passed the plate unheld
-inline constexpr std::uint32_t settled = 1u << 17;        // held the task's point long enough
+inline constexpr std::uint32_t catch_missed = 1u << 16;       // the pole passed the plate unheld
+inline constexpr std::uint32_t settled = 1u << 17;            // held the task's point long enough
 // Requests (operator or attempt script), levels held by the runtime until acted upon.
 inline constexpr std::uint32_t request_take_off = 1u << 18;
 inline constexpr std::uint32_t request_throw = 1u << 19;
@@ -125,36 +125,44 @@ inline constexpr std::array kTransitions = {
     // Losing the vehicle or its estimate: stop commanding it; the firmware's failsafe takes over.
     Transition{kAirborne | tasks(Task::landing), c::vehicle_lost, 0, Task::failsafe, Reason::vehicle_lost},
     Transition{kAirborne, c::estimate_lost, 0, Task::failsafe, Reason::estimate_lost},
-    Transition{tasks(Task::failsafe, Task::landing), c::on_ground, c::vehicle_lost | c::armed, Task::parked, Reason::landed},
-    Transition{tasks(Task::parked), c::armed, c::vehicle_lost | c::on_ground | c::estimate_lost, Task::hover, Reason::vehicle_back},
+    Transition{tasks(Task::failsafe, Task::landing), c::on_ground, c::vehicle_lost | c::armed, Task::parked,
+               Reason::landed},
+    Transition{tasks(Task::parked), c::armed, c::vehicle_lost | c::on_ground | c::estimate_lost, Task::hover,
+               Reason::vehicle_back},
     // The operator's land, then abort.
     Transition{kAirborne, c::request_land, 0, Task::landing, Reason::land_requested},
     Transition{tasks(Task::throwing), c::request_abort, 0, Task::release, Reason::abort_requested},
     Transition{tasks(Task::wait, Task::catching), c::request_abort, 0, Task::clear, Reason::abort_requested},
     // Take-off.
-    Transition{tasks(Task::parked), c::request_take_off, c::vehicle_lost | c::estimate_lost, Task::arming, Reason::take_off_requested},
+    Transition{tasks(Task::parked), c::request_take_off, c::vehicle_lost | c::estimate_lost, Task::arming,
+               Reason::take_off_requested},
     Transition{tasks(Task::arming), c::command_failed, 0, Task::parked, Reason::arm_failed},
-    Transition{tasks(Task::arming), c::armed, c::vehicle_lost | c::estimate_lost, Task::take_off, Reason::armed},
+    Transition{tasks(Task::arming), c::armed, c::vehicle_lost | c::estimate_lost, Task::take_off,
+               Reason::armed},
     Transition{tasks(Task::take_off), c::at_height, 0, Task::hover, Reason::airborne},
     // The pole on the plate: balance it; dropped: back to hover.
     Transition{tasks(Task::hover), c::pole_on_self, 0, Task::balance, Reason::pole_placed},
     Transition{tasks(Task::balance), 0, c::pole_on_self, Task::hover, Reason::pole_lost},
     // The throw.
-    Transition{tasks(Task::balance), c::request_throw | c::settled, 0, Task::throwing, Reason::throw_requested},
+    Transition{tasks(Task::balance), c::request_throw | c::settled, 0, Task::throwing,
+               Reason::throw_requested},
     Transition{tasks(Task::throwing), c::throw_over, 0, Task::release, Reason::throw_ended},
     Transition{tasks(Task::throwing), 0, c::pole_on_self, Task::release, Reason::pole_left_early},
     Transition{tasks(Task::release), c::release_over, 0, Task::retreat, Reason::released},
     Transition{tasks(Task::retreat), c::at_target, 0, Task::hover, Reason::clear_of_pole},
     // The catch.
     Transition{tasks(Task::hover), c::request_catch, c::pole_on_self, Task::wait, Reason::catch_requested},
-    Transition{tasks(Task::wait, Task::catching), c::catch_unreachable, c::pole_on_self, Task::clear, Reason::out_of_reach},
-    Transition{tasks(Task::wait, Task::catching), c::catch_infeasible, c::pole_on_self, Task::clear, Reason::infeasible},
+    Transition{tasks(Task::wait, Task::catching), c::catch_unreachable, c::pole_on_self, Task::clear,
+               Reason::out_of_reach},
+    Transition{tasks(Task::wait, Task::catching), c::catch_infeasible, c::pole_on_self, Task::clear,
+               Reason::infeasible},
     Transition{tasks(Task::wait, Task::catching), c::pole_on_self, 0, Task::rebalance, Reason::caught},
     Transition{tasks(Task::wait, Task::catching), c::pole_down, 0, Task::hover, Reason::pole_down},
     Transition{tasks(Task::catching), c::catch_missed, 0, Task::clear, Reason::missed},
     Transition{tasks(Task::wait), c::catch_due, 0, Task::catching, Reason::catch_started},
     Transition{tasks(Task::wait), 0, c::request_catch, Task::hover, Reason::abort_requested},
-    Transition{tasks(Task::rebalance), c::pole_upright, c::pole_free | c::pole_down, Task::balance, Reason::pole_upright},
+    Transition{tasks(Task::rebalance), c::pole_upright, c::pole_free | c::pole_down, Task::balance,
+               Reason::pole_upright},
     Transition{tasks(Task::rebalance), 0, c::pole_on_self, Task::clear, Reason::pole_lost},
     Transition{tasks(Task::clear), c::pole_down, 0, Task::hover, Reason::pole_down},
     Transition{tasks(Task::clear), c::settled, c::pole_free, Task::hover, Reason::clear_of_pole},

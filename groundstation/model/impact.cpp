@@ -12,10 +12,8 @@ PoleState withLowerEndAsBase(const PoleState& state) {
 
 Eigen::Vector3d poleAngularMomentumAbout(const PoleState& state, const Eigen::Vector3d& point_m,
                                          const PoleParams& params) {
-  const Eigen::Vector3d omega_normal =
-      state.omega_radps - state.omega_radps.dot(state.n) * state.n;
-  return poleInertia_kgm2(params) * omega_normal +
-         params.mass_kg * (state.p_m - point_m).cross(state.v_mps);
+  const Eigen::Vector3d omega_normal = state.omega_radps - state.omega_radps.dot(state.n) * state.n;
+  return poleInertia_kgm2(params) * omega_normal + params.mass_kg * (state.p_m - point_m).cross(state.v_mps);
 }
 
 ImpactResult impactMap(const PoleState& before, const Eigen::Vector3d& plate_velocity_mps,
@@ -34,8 +32,7 @@ ImpactResult impactMap(const PoleState& before, const Eigen::Vector3d& plate_vel
 }
 
 PlanarPoleKinematics planarKinematics(const PoleState& state) {
-  return {std::atan2(state.n.x(), state.n.z()), state.omega_radps.y(), state.v_mps.x(),
-          state.v_mps.z()};
+  return {std::atan2(state.n.x(), state.n.z()), state.omega_radps.y(), state.v_mps.x(), state.v_mps.z()};
 }
 
 PlanarPoleKinematics planarKinematicsFromLowerEnd(const PoleState& state) {
@@ -65,8 +62,7 @@ double swingUpRate_radps(double alpha_rad, const PoleParams& params) {
   return -std::sqrt(3.0 * params.gravity_mps2 / params.half_length_m) * std::sin(0.5 * alpha_rad);
 }
 
-double catchingConditionResidual_radps(const PlanarPoleKinematics& before,
-                                       const PoleParams& params) {
+double catchingConditionResidual_radps(const PlanarPoleKinematics& before, const PoleParams& params) {
   return 4.0 * (postImpactRate_radps(before, params) - swingUpRate_radps(before.alpha_rad, params));
 }
 

@@ -58,8 +58,8 @@ Eigen::Vector3d poleAngularMomentumAbout(const PoleState& state, const Eigen::Ve
 
 struct ImpactResult {
   Eigen::Vector3d contact_point_m = Eigen::Vector3d::Zero();  // the lower end at impact
-  PoleState after;                    // n from the contact end up to the centre
-  PoleOnVehicleState on_vehicle;      // the same, in the pole-on-vehicle coordinates (24)
+  PoleState after;                                            // n from the contact end up to the centre
+  PoleOnVehicleState on_vehicle;                         // the same, in the pole-on-vehicle coordinates (24)
   Eigen::Vector3d impulse_Ns = Eigen::Vector3d::Zero();  // on the pole, (35), (36)
 };
 
@@ -94,8 +94,7 @@ double pivotedPoleEnergy_J(double alpha_rad, double alpha_dot_radps, const PoleP
 // The rate on the separatrix branch that ends at the upright: -sqrt(3 g / L) sin(alpha / 2).
 double swingUpRate_radps(double alpha_rad, const PoleParams& params);
 // This file's eq. (42): C = 4 (alpha'+ - swingUpRate). Zero at the optimal catching instant.
-double catchingConditionResidual_radps(const PlanarPoleKinematics& before,
-                                       const PoleParams& params);
+double catchingConditionResidual_radps(const PlanarPoleKinematics& before, const PoleParams& params);
 // The same for a free-flying pole, with its lower end as the contact end.
 double catchingConditionResidual_radps(const PoleState& before, const PoleParams& params);
 

@@ -4,8 +4,7 @@
 
 namespace gs::model {
 
-PlanarLinearisation linearisePlanarPoleVehicle(const PlanarState<double>& s,
-                                               const PlanarInput<double>& u,
+PlanarLinearisation linearisePlanarPoleVehicle(const PlanarState<double>& s, const PlanarInput<double>& u,
                                                const PlanarPoleVehicleParams& params) {
   constexpr int kN = planar::kStateSize + planar::kInputSize;
   using Ad = Eigen::AutoDiffScalar<Eigen::Matrix<double, kN, 1>>;

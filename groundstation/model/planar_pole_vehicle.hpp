@@ -83,15 +83,14 @@ Scalar planarNormalForcePerMass_mps2(const Scalar& theta_rad, const Scalar& alph
 template <typename Scalar>
 Scalar planarNormalForcePerMass_mps2(const PlanarState<Scalar>& s, const PlanarInput<Scalar>& u,
                                      const PlanarPoleVehicleParams& params = {}) {
-  return planarNormalForcePerMass_mps2<Scalar>(s(planar::kTheta), s(planar::kAlpha),
-                                               s(planar::kAlphaDot), u(planar::kThrust), params);
+  return planarNormalForcePerMass_mps2<Scalar>(s(planar::kTheta), s(planar::kAlpha), s(planar::kAlphaDot),
+                                               u(planar::kThrust), params);
 }
 
 // s' = f(s, u): eq. (4) and (5) in the xz-plane (phi = psi = 0, so theta' = Omega_y) and the
 // pendulum equation above.
 template <typename Scalar>
-PlanarState<Scalar> planarPoleVehicleDynamics(const PlanarState<Scalar>& s,
-                                              const PlanarInput<Scalar>& u,
+PlanarState<Scalar> planarPoleVehicleDynamics(const PlanarState<Scalar>& s, const PlanarInput<Scalar>& u,
                                               const PlanarPoleVehicleParams& params = {}) {
   using std::cos;
   using std::sin;
@@ -115,8 +114,7 @@ struct PlanarLinearisation {
   Eigen::Matrix<double, planar::kStateSize, planar::kStateSize> A;
   Eigen::Matrix<double, planar::kStateSize, planar::kInputSize> B;
 };
-PlanarLinearisation linearisePlanarPoleVehicle(const PlanarState<double>& s,
-                                               const PlanarInput<double>& u,
+PlanarLinearisation linearisePlanarPoleVehicle(const PlanarState<double>& s, const PlanarInput<double>& u,
                                                const PlanarPoleVehicleParams& params = {});
 
 // The launch condition F_N = 0 (Section III-A) solved for the thrust: with delta = alpha - theta,
@@ -137,8 +135,8 @@ inline double planarLaunchPoleRate_radps(double theta_rad, double alpha_rad, dou
   const double delta = alpha_rad - theta_rad;
   const double sin_delta = std::sin(delta);
   const double cos_delta = std::cos(delta);
-  const double rate_sq = thrust_mps2 * (1.0 - 0.75 * sin_delta * sin_delta) /
-                         (params.pole_half_length_m * cos_delta);
+  const double rate_sq =
+      thrust_mps2 * (1.0 - 0.75 * sin_delta * sin_delta) / (params.pole_half_length_m * cos_delta);
   if (!(cos_delta > 0.0) || !(rate_sq >= 0.0)) return std::nan("");
   return std::sqrt(rate_sq);
 }

@@ -10,10 +10,10 @@ namespace {
 
 // 4-point Gauss-Legendre rule on [-1, 1] (exact for polynomials of degree <= 7).
 constexpr int kGaussPoints = 4;
-constexpr double kGaussNodes[kGaussPoints] = {-0.8611363115940526, -0.3399810435848563,
-                                              0.3399810435848563, 0.8611363115940526};
-constexpr double kGaussWeights[kGaussPoints] = {0.3478548451374538, 0.6521451548625461,
-                                                0.6521451548625461, 0.3478548451374538};
+constexpr double kGaussNodes[kGaussPoints] = {-0.8611363115940526, -0.3399810435848563, 0.3399810435848563,
+                                              0.8611363115940526};
+constexpr double kGaussWeights[kGaussPoints] = {0.3478548451374538, 0.6521451548625461, 0.6521451548625461,
+                                                0.3478548451374538};
 
 // K_k = integral over t in [t0, t1] of t^k sqrt(t^2 + a^2), k = 0, 1, 2, in closed form:
 //   K0 = 1/2 [t s + a^2 asinh(t/a)],  K1 = 1/3 [s^3],
@@ -38,8 +38,7 @@ inline SqrtMoments sqrtMoments(double t0, double t1, double a_sq) {
     log_ratio = std::log(e1 / e0);
   }
   const double s_diff = (t1 * t1 - t0 * t0) / (s1 + s0);
-  return {0.5 * (t1 * s1 - t0 * s0 + a_sq * log_ratio),
-          s_diff * (s1 * s1 + s1 * s0 + s0 * s0) / 3.0,
+  return {0.5 * (t1 * s1 - t0 * s0 + a_sq * log_ratio), s_diff * (s1 * s1 + s1 * s0 + s0 * s0) / 3.0,
           (t1 * s1 * (2.0 * t1 * t1 + a_sq) - t0 * s0 * (2.0 * t0 * t0 + a_sq)) / 8.0 -
               a_sq * a_sq * log_ratio / 8.0};
 }
@@ -130,8 +129,7 @@ PoleDrag poleDrag(const PoleState& state, const PoleParams& params) {
   }
   if (!torque_far) {
     const SqrtMoments m = sqrtMoments(t0, t1, big_d_sq);
-    torque_integral =
-        w_norm * ((m.k2 + xi_star * m.k1) * w + (m.k1 + xi_star * m.k0) * e);
+    torque_integral = w_norm * ((m.k2 + xi_star * m.k1) * w + (m.k1 + xi_star * m.k0) * e);
   }
   drag.normal_force_N = -params.drag_normal * normal_integral;          // (11)
   drag.torque_Nm = -params.drag_rotational * n.cross(torque_integral);  // (15)
@@ -143,9 +141,9 @@ PoleState poleFreeFlightDerivative(const PoleState& state, const PoleParams& par
   PoleState rate;
   rate.p_m = state.v_mps;
   rate.v_mps = (drag.axial_force_N + drag.normal_force_N) / params.mass_kg -
-               Eigen::Vector3d(0.0, 0.0, params.gravity_mps2);                    // (16)
-  rate.n = state.omega_radps.cross(state.n);                                       // (22)
-  rate.omega_radps = drag.torque_Nm / poleInertia_kgm2(params);                    // (19)
+               Eigen::Vector3d(0.0, 0.0, params.gravity_mps2);   // (16)
+  rate.n = state.omega_radps.cross(state.n);                     // (22)
+  rate.omega_radps = drag.torque_Nm / poleInertia_kgm2(params);  // (19)
   return rate;
 }
 
@@ -159,9 +157,9 @@ PoleState normalisedPoleState(const PoleState& state) {
 // The input is normalised too: a spin left in Omega would, under (19), leak into the normal rate
 // within the step (header comment) and make the result depend on the step length.
 PoleState poleFreeFlightStep(const PoleState& state, double dt_s, const PoleParams& params) {
-  return normalisedPoleState(rk4Step(
-      [&params](const PoleState& s) { return poleFreeFlightDerivative(s, params); },
-      normalisedPoleState(state), dt_s));
+  return normalisedPoleState(
+      rk4Step([&params](const PoleState& s) { return poleFreeFlightDerivative(s, params); },
+              normalisedPoleState(state), dt_s));
 }
 
 PoleState propagatePole(const PoleState& state, double duration_s, double max_step_s,
@@ -175,8 +173,7 @@ PoleState propagatePole(const PoleState& state, double duration_s, double max_st
 }
 
 double poleEnergy_J(const PoleState& state, const PoleParams& params) {
-  const Eigen::Vector3d omega_normal =
-      state.omega_radps - state.omega_radps.dot(state.n) * state.n;
+  const Eigen::Vector3d omega_normal = state.omega_radps - state.omega_radps.dot(state.n) * state.n;
   return 0.5 * params.mass_kg * state.v_mps.squaredNorm() +
          0.5 * poleInertia_kgm2(params) * omega_normal.squaredNorm() +
          params.mass_kg * params.gravity_mps2 * state.p_m.z();

@@ -19,12 +19,12 @@
 namespace gs::model {
 
 struct PoleParams {
-  double half_length_m = pa::kPoleHalfLength_m;  // L
-  double mass_kg = pa::kPoleMass_kg;             // m_p
-  double drag_axial = pa::kPoleDragAxial;        // c_z, kg/m^2, eq. (10)
-  double drag_normal = pa::kPoleDragNormal;      // c_xy, kg/m^2, eq. (11)
+  double half_length_m = pa::kPoleHalfLength_m;      // L
+  double mass_kg = pa::kPoleMass_kg;                 // m_p
+  double drag_axial = pa::kPoleDragAxial;            // c_z, kg/m^2, eq. (10)
+  double drag_normal = pa::kPoleDragNormal;          // c_xy, kg/m^2, eq. (11)
   double drag_rotational = pa::kPoleDragRotational;  // c_rot, kg/m^2, eq. (15)
-  double gravity_mps2 = pa::kGravity_mps2;       // g
+  double gravity_mps2 = pa::kGravity_mps2;           // g
 };
 
 // The same parameters with c_z = c_xy = c_rot = 0 (drag off).
@@ -36,16 +36,15 @@ double poleInertia_kgm2(const PoleParams& params);
 // s_p = (p_p, p_p', n, Omega_p), eq. (21). The same struct carries the time derivative
 // f_p(s_p) of eq. (20), each field then holding the rate of that field.
 struct PoleState {
-  Eigen::Vector3d p_m = Eigen::Vector3d::Zero();      // centre of mass
-  Eigen::Vector3d v_mps = Eigen::Vector3d::Zero();    // centre velocity
-  Eigen::Vector3d n = Eigen::Vector3d::UnitZ();       // unit, along the pole
+  Eigen::Vector3d p_m = Eigen::Vector3d::Zero();          // centre of mass
+  Eigen::Vector3d v_mps = Eigen::Vector3d::Zero();        // centre velocity
+  Eigen::Vector3d n = Eigen::Vector3d::UnitZ();           // unit, along the pole
   Eigen::Vector3d omega_radps = Eigen::Vector3d::Zero();  // inertial angular rate, normal to n
 };
 
 // Inline: the RK4 steps of the catch-point predictor run at every motion-capture frame.
 inline PoleState operator+(const PoleState& lhs, const PoleState& rhs) {
-  return {lhs.p_m + rhs.p_m, lhs.v_mps + rhs.v_mps, lhs.n + rhs.n,
-          lhs.omega_radps + rhs.omega_radps};
+  return {lhs.p_m + rhs.p_m, lhs.v_mps + rhs.v_mps, lhs.n + rhs.n, lhs.omega_radps + rhs.omega_radps};
 }
 inline PoleState operator*(double scale, const PoleState& state) {
   return {scale * state.p_m, scale * state.v_mps, scale * state.n, scale * state.omega_radps};

@@ -13,8 +13,7 @@ double poleHeight_m(const PoleOnVehicleState& pole, const PoleParams& params) {
 }  // namespace
 
 PoleOnVehicleState operator+(const PoleOnVehicleState& lhs, const PoleOnVehicleState& rhs) {
-  return {lhs.a_m + rhs.a_m, lhs.b_m + rhs.b_m, lhs.a_dot_mps + rhs.a_dot_mps,
-          lhs.b_dot_mps + rhs.b_dot_mps};
+  return {lhs.a_m + rhs.a_m, lhs.b_m + rhs.b_m, lhs.a_dot_mps + rhs.a_dot_mps, lhs.b_dot_mps + rhs.b_dot_mps};
 }
 
 PoleOnVehicleState operator*(double scale, const PoleOnVehicleState& state) {
@@ -71,11 +70,10 @@ double poleOnVehicleLagrangian_J(const PoleOnVehicleState& pole, const Eigen::Ve
                                  const Eigen::Vector3d& pivot_v_mps, const PoleParams& params) {
   const Eigen::Vector3d n = poleDirectionOnVehicle(pole, params);
   const Eigen::Vector3d r_dot = poleCentreVelocityRelativeToPivot_mps(pole, params);
-  const Eigen::Vector3d p_p = pivot_p_m + params.half_length_m * n;  // (23)
-  const Eigen::Vector3d v_p = pivot_v_mps + r_dot;                    // (26)
+  const Eigen::Vector3d p_p = pivot_p_m + params.half_length_m * n;     // (23)
+  const Eigen::Vector3d v_p = pivot_v_mps + r_dot;                      // (26)
   const Eigen::Vector3d omega = n.cross(r_dot / params.half_length_m);  // (27)
-  return 0.5 * params.mass_kg * v_p.squaredNorm() +
-         0.5 * poleInertia_kgm2(params) * omega.squaredNorm() -
+  return 0.5 * params.mass_kg * v_p.squaredNorm() + 0.5 * poleInertia_kgm2(params) * omega.squaredNorm() -
          params.mass_kg * params.gravity_mps2 * p_p.z();  // (25), g^T p_p with g = (0, 0, g)
 }
 
@@ -89,10 +87,8 @@ double poleOnVehicleEnergy_J(const PoleOnVehicleState& pole, const Eigen::Vector
          params.mass_kg * params.gravity_mps2 * (pivot_p_m.z() + params.half_length_m * n.z());
 }
 
-PoleState freeFlightStateFromPoleOnVehicle(const PoleOnVehicleState& pole,
-                                           const Eigen::Vector3d& pivot_p_m,
-                                           const Eigen::Vector3d& pivot_v_mps,
-                                           const PoleParams& params) {
+PoleState freeFlightStateFromPoleOnVehicle(const PoleOnVehicleState& pole, const Eigen::Vector3d& pivot_p_m,
+                                           const Eigen::Vector3d& pivot_v_mps, const PoleParams& params) {
   const Eigen::Vector3d n = poleDirectionOnVehicle(pole, params);
   const Eigen::Vector3d r_dot = poleCentreVelocityRelativeToPivot_mps(pole, params);
   PoleState out;
@@ -103,8 +99,7 @@ PoleState freeFlightStateFromPoleOnVehicle(const PoleOnVehicleState& pole,
   return out;
 }
 
-PoleOnVehicleState poleOnVehicleStateFromFreeFlight(const PoleState& pole,
-                                                    const PoleParams& params) {
+PoleOnVehicleState poleOnVehicleStateFromFreeFlight(const PoleState& pole, const PoleParams& params) {
   const Eigen::Vector3d r = params.half_length_m * pole.n;
   const Eigen::Vector3d r_dot = pole.omega_radps.cross(r);
   return {r.x(), r.y(), r_dot.x(), r_dot.y()};

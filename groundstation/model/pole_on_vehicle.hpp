@@ -83,14 +83,11 @@ double poleOnVehicleEnergy_J(const PoleOnVehicleState& pole, const Eigen::Vector
 
 // The free-flight state (21) of a pole on a pivot: p_p = p_q + L n (23), p_p' from (26),
 // Omega_p = n x n' (27) (normal to n, as PoleState requires).
-PoleState freeFlightStateFromPoleOnVehicle(const PoleOnVehicleState& pole,
-                                           const Eigen::Vector3d& pivot_p_m,
-                                           const Eigen::Vector3d& pivot_v_mps,
-                                           const PoleParams& params);
+PoleState freeFlightStateFromPoleOnVehicle(const PoleOnVehicleState& pole, const Eigen::Vector3d& pivot_p_m,
+                                           const Eigen::Vector3d& pivot_v_mps, const PoleParams& params);
 
 // The inverse for a pole whose n points from the pivot up to its centre (n_z > 0): a, b from
 // L n, a', b' from L n' = L Omega_p x n. The pivot's velocity is not needed.
-PoleOnVehicleState poleOnVehicleStateFromFreeFlight(const PoleState& pole,
-                                                    const PoleParams& params);
+PoleOnVehicleState poleOnVehicleStateFromFreeFlight(const PoleState& pole, const PoleParams& params);
 
 }  // namespace gs::model

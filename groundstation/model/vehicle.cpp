@@ -5,8 +5,8 @@
 namespace gs::model {
 
 VehicleState operator+(const VehicleState& lhs, const VehicleState& rhs) {
-  return {lhs.p_m + rhs.p_m, lhs.v_mps + rhs.v_mps, lhs.phi_rad + rhs.phi_rad,
-          lhs.theta_rad + rhs.theta_rad, lhs.psi_rad + rhs.psi_rad};
+  return {lhs.p_m + rhs.p_m, lhs.v_mps + rhs.v_mps, lhs.phi_rad + rhs.phi_rad, lhs.theta_rad + rhs.theta_rad,
+          lhs.psi_rad + rhs.psi_rad};
 }
 
 VehicleState operator*(double scale, const VehicleState& state) {
@@ -75,19 +75,17 @@ Eigen::Vector3d eulerRatesFromBodyRates(double phi_rad, double theta_rad,
 }
 
 // ^I_B R e_z is the third row of ^B_I R = R_x R_y R_z.
-Eigen::Vector3d vehicleAcceleration_mps2(const VehicleState& state, double a_q_mps2,
-                                         double gravity_mps2) {
+Eigen::Vector3d vehicleAcceleration_mps2(const VehicleState& state, double a_q_mps2, double gravity_mps2) {
   const Eigen::Vector3d thrust_direction =
       rotationBodyFromInertial(state.phi_rad, state.theta_rad, state.psi_rad).row(2).transpose();
   return a_q_mps2 * thrust_direction - Eigen::Vector3d(0.0, 0.0, gravity_mps2);
 }
 
-VehicleState vehicleDynamics(const VehicleState& state, const VehicleInput& input,
-                             double gravity_mps2) {
+VehicleState vehicleDynamics(const VehicleState& state, const VehicleInput& input, double gravity_mps2) {
   const Eigen::Vector3d euler_rates =
       eulerRatesFromBodyRates(state.phi_rad, state.theta_rad, input.omega_radps);
-  return {state.v_mps, vehicleAcceleration_mps2(state, input.a_q_mps2, gravity_mps2),
-          euler_rates.x(), euler_rates.y(), euler_rates.z()};
+  return {state.v_mps, vehicleAcceleration_mps2(state, input.a_q_mps2, gravity_mps2), euler_rates.x(),
+          euler_rates.y(), euler_rates.z()};
 }
 
 }  // namespace gs::model

@@ -103,8 +103,7 @@ VehicleInput saturateInput(const VehicleInput& input, const VehicleLimits& limit
   VehicleInput out;
   out.a_q_mps2 = std::clamp(input.a_q_mps2, limits.a_q_min_mps2, limits.a_q_max_mps2);
   for (int i = 0; i < 3; ++i) {
-    out.omega_radps[i] =
-        std::clamp(input.omega_radps[i], -limits.omega_max_radps, limits.omega_max_radps);
+    out.omega_radps[i] = std::clamp(input.omega_radps[i], -limits.omega_max_radps, limits.omega_max_radps);
   }
   return out;
 }

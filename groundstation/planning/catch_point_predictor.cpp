@@ -28,8 +28,8 @@ double hermiteRoot(double h0, double h1, double d0, double d1) {
   const auto h = [&](double u) {
     const double u2 = u * u;
     const double u3 = u2 * u;
-    return (2.0 * u3 - 3.0 * u2 + 1.0) * h0 + (u3 - 2.0 * u2 + u) * d0 +
-           (-2.0 * u3 + 3.0 * u2) * h1 + (u3 - u2) * d1;
+    return (2.0 * u3 - 3.0 * u2 + 1.0) * h0 + (u3 - 2.0 * u2 + u) * d0 + (-2.0 * u3 + 3.0 * u2) * h1 +
+           (u3 - u2) * d1;
   };
   double lo = 0.0;
   double hi = 1.0;

@@ -26,8 +26,8 @@ struct CatchPointPredictorOptions {
 
 struct CatchPointPrediction {
   bool found = false;
-  double t_s = 0.0;   // time from the given state to the crossing
-  double x_m = 0.0;   // the lower end's position at the crossing
+  double t_s = 0.0;  // time from the given state to the crossing
+  double x_m = 0.0;  // the lower end's position at the crossing
   double y_m = 0.0;
   model::PoleState state;  // the pole at the crossing
 };

@@ -28,20 +28,13 @@ bool allFinite(const CatchTrajectoryParams& p) {
 
 std::string_view toString(CatchParamError error) {
   switch (error) {
-    case CatchParamError::kNone:
-      return "ok";
-    case CatchParamError::kNonFinite:
-      return "a parameter is not finite";
-    case CatchParamError::kNonPositiveDuration:
-      return "T_xy must be positive";
-    case CatchParamError::kNegativeAccel:
-      return "a_max must be non-negative";
-    case CatchParamError::kNonPositiveJerk:
-      return "k_max must be positive";
-    case CatchParamError::kNonPositiveGravity:
-      return "gravity must be positive";
-    case CatchParamError::kHoldTooShort:
-      return "T_xy must be at least a_max / k_max (Fig. 6)";
+    case CatchParamError::kNone: return "ok";
+    case CatchParamError::kNonFinite: return "a parameter is not finite";
+    case CatchParamError::kNonPositiveDuration: return "T_xy must be positive";
+    case CatchParamError::kNegativeAccel: return "a_max must be non-negative";
+    case CatchParamError::kNonPositiveJerk: return "k_max must be positive";
+    case CatchParamError::kNonPositiveGravity: return "gravity must be positive";
+    case CatchParamError::kHoldTooShort: return "T_xy must be at least a_max / k_max (Fig. 6)";
   }
   return "unknown";
 }
@@ -59,26 +52,19 @@ CatchParamError validate(const CatchTrajectoryParams& p) {
 
 std::string_view toString(Feasibility verdict) {
   switch (verdict) {
-    case Feasibility::kFeasible:
-      return "feasible";
-    case Feasibility::kThrustTooHigh:
-      return "thrust_too_high";
-    case Feasibility::kThrustTooLow:
-      return "thrust_too_low";
-    case Feasibility::kRatesTooHigh:
-      return "rates_too_high";
+    case Feasibility::kFeasible: return "feasible";
+    case Feasibility::kThrustTooHigh: return "thrust_too_high";
+    case Feasibility::kThrustTooLow: return "thrust_too_low";
+    case Feasibility::kRatesTooHigh: return "rates_too_high";
   }
   return "unknown";
 }
 
 const LimitViolation& FeasibilityVerdict::primary() const {
   switch (reason) {
-    case Feasibility::kThrustTooLow:
-      return thrust_low;
-    case Feasibility::kRatesTooHigh:
-      return rates;
-    default:
-      return thrust_high;
+    case Feasibility::kThrustTooLow: return thrust_low;
+    case Feasibility::kRatesTooHigh: return rates;
+    default: return thrust_high;
   }
 }
 
@@ -129,15 +115,13 @@ MinSnapSample MinSnapAxis::operator()(double t_s) const {
 // ---------------------------------------------------------------------------------------------
 // The z manoeuvre, Fig. 6 and eqs. (48), (49).
 
-MinimaxZManoeuvre::MinimaxZManoeuvre(double z_T_m, double t_xy_s, double a_max_mps2,
-                                     double k_max_mps3) {
+MinimaxZManoeuvre::MinimaxZManoeuvre(double z_T_m, double t_xy_s, double a_max_mps2, double k_max_mps3) {
   const double ramp = a_max_mps2 / k_max_mps3;       // a_max / k_max
   const double hold = std::max(0.0, t_xy_s - ramp);  // [t1,t2] and [t3,t4]
   const std::array<double, 5> durations = {ramp, hold, 2.0 * ramp, hold, ramp};
   jerk_ = {-k_max_mps3, 0.0, k_max_mps3, 0.0, -k_max_mps3};
   // eq. (49)
-  z_[0] = z_T_m + (a_max_mps2 * a_max_mps2 * t_xy_s + a_max_mps2 * k_max_mps3 * t_xy_s * t_xy_s) /
-                      k_max_mps3;
+  z_[0] = z_T_m + (a_max_mps2 * a_max_mps2 * t_xy_s + a_max_mps2 * k_max_mps3 * t_xy_s * t_xy_s) / k_max_mps3;
   v_[0] = 0.0;
   a_[0] = 0.0;
   t_[0] = 0.0;
@@ -180,8 +164,8 @@ ZSample MinimaxZManoeuvre::operator()(double t_s) const {
 // ---------------------------------------------------------------------------------------------
 // Nominal inputs, eqs. (46), (47), (4), (5).
 
-NominalInputs nominalInputs(const Eigen::Vector3d& acceleration_mps2,
-                            const Eigen::Vector3d& jerk_mps3, double yaw_rad, double gravity_mps2) {
+NominalInputs nominalInputs(const Eigen::Vector3d& acceleration_mps2, const Eigen::Vector3d& jerk_mps3,
+                            double yaw_rad, double gravity_mps2) {
   NominalInputs out;
   const Eigen::Vector3d f = acceleration_mps2 + Eigen::Vector3d(0.0, 0.0, gravity_mps2);  // (46)
   const double f_norm = f.norm();
@@ -196,8 +180,7 @@ NominalInputs nominalInputs(const Eigen::Vector3d& acceleration_mps2,
   out.roll_rad = std::atan2(-fy.y(), std::hypot(fy.x(), fy.z()));
 
   // (47): (Omega_y, -Omega_x, 0) = B_I R d/dt(f/|f|), B_I R = R_x(phi) R_y(theta) R_z(psi).
-  const Eigen::Vector3d z_dot =
-      jerk_mps3 / f_norm - f * (f.dot(jerk_mps3) / (f_norm * f_norm * f_norm));
+  const Eigen::Vector3d z_dot = jerk_mps3 / f_norm - f * (f.dot(jerk_mps3) / (f_norm * f_norm * f_norm));
   const double cp = std::cos(out.pitch_rad), sp = std::sin(out.pitch_rad);
   const double cr = std::cos(out.roll_rad), sr = std::sin(out.roll_rad);
   Eigen::Matrix3d Rx, Ry, Rz;
@@ -222,8 +205,7 @@ std::optional<CatchTrajectory> CatchTrajectory::create(const CatchTrajectoryPara
 }
 
 CatchTrajectory::CatchTrajectory(const CatchTrajectoryParams& params)
-    : params_(params),
-      z_(params.catch_height_m, params.t_xy_s, params.a_max_mps2, params.k_max_mps3) {
+    : params_(params), z_(params.catch_height_m, params.t_xy_s, params.a_max_mps2, params.k_max_mps3) {
   x_ = MinSnapAxis{params.start_xy_m.x(), params.target_xy_m.x(), params.t_xy_s};
   y_ = MinSnapAxis{params.start_xy_m.y(), params.target_xy_m.y(), params.t_xy_s};
   const Eigen::Vector2d d = params.target_xy_m - params.start_xy_m;
@@ -276,8 +258,7 @@ CatchTrajectory::PointInputs CatchTrajectory::xyPhaseInputs(double t_s) const {
   const double n2 = h * h + w * w;
   const double m2 = h * h * dir_c_ * dir_c_ + w * w;
   const double n = std::sqrt(n2), m = std::sqrt(m2);
-  const std::array<double, 3> omega = {std::abs(dir_s_ * w * J / (n2 * m)),
-                                       std::abs(dir_c_ * J / (n * m)),
+  const std::array<double, 3> omega = {std::abs(dir_s_ * w * J / (n2 * m)), std::abs(dir_c_ * J / (n * m)),
                                        std::abs(h * dir_s_ * dir_c_ * J / (n * m2))};
   const int axis = static_cast<int>(std::max_element(omega.begin(), omega.end()) - omega.begin());
   return {n, omega[axis], axis};
@@ -362,10 +343,8 @@ FeasibilityVerdict CatchTrajectory::checkFeasibility(const InputLimits& limits) 
       const double wb = wa + w_dot * (s.tb - s.ta);
       const double w_lo = std::min(wa, wb), w_hi = std::max(wa, wb);
       // J = h' w - h w' by interval arithmetic (w > 0; w' fixed).
-      const double J_lo =
-          std::min(hd_min * w_lo, hd_min * w_hi) + std::min(-h_min * w_dot, -h_max * w_dot);
-      const double J_hi =
-          std::max(hd_max * w_lo, hd_max * w_hi) + std::max(-h_min * w_dot, -h_max * w_dot);
+      const double J_lo = std::min(hd_min * w_lo, hd_min * w_hi) + std::min(-h_min * w_dot, -h_max * w_dot);
+      const double J_hi = std::max(hd_max * w_lo, hd_max * w_hi) + std::max(-h_min * w_dot, -h_max * w_dot);
       const double J_abs = std::max(std::abs(J_lo), std::abs(J_hi));
       const double thrust_hi2 = h_hi * h_hi + w_hi * w_hi;
       const double thrust_lo2 = h_lo * h_lo + w_lo * w_lo;  // N^2 >= this
@@ -375,12 +354,10 @@ FeasibilityVerdict CatchTrajectory::checkFeasibility(const InputLimits& limits) 
       const double tilt_rate_hi =
           std::min(J_abs / thrust_lo2, std::sqrt((j_hi * j_hi + w_dot * w_dot) / thrust_lo2));
       // Per axis from the closed forms above; each also bounded through the tilt rate.
-      const double omega_x_hi =
-          std::min(std::abs(dir_s_) * w_hi * J_abs / (thrust_lo2 * m_lo), tilt_rate_hi);
+      const double omega_x_hi = std::min(std::abs(dir_s_) * w_hi * J_abs / (thrust_lo2 * m_lo), tilt_rate_hi);
       const double omega_y_hi = std::min(std::abs(dir_c_) * J_abs / (n_lo * m_lo), tilt_rate_hi);
-      const double omega_z_hi =
-          std::min(h_hi * std::abs(dir_s_ * dir_c_) * J_abs / (n_lo * m_lo * m_lo),
-                   tilt_rate_hi * h_hi / w_lo);
+      const double omega_z_hi = std::min(h_hi * std::abs(dir_s_ * dir_c_) * J_abs / (n_lo * m_lo * m_lo),
+                                         tilt_rate_hi * h_hi / w_lo);
       const double rate_hi = std::max({omega_x_hi, omega_y_hi, omega_z_hi});
       if (thrust_hi2 <= thrust_max2 && thrust_lo2 >= thrust_min2 && rate_hi <= rate_max) continue;
 

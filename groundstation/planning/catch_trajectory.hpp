@@ -132,9 +132,8 @@ struct NominalInputs {
   Eigen::Vector3d body_rates_radps = Eigen::Vector3d::Zero();
   double roll_rad = 0, pitch_rad = 0;
 };
-NominalInputs nominalInputs(const Eigen::Vector3d& acceleration_mps2,
-                            const Eigen::Vector3d& jerk_mps3, double yaw_rad,
-                            double gravity_mps2 = pa::kGravity_mps2);
+NominalInputs nominalInputs(const Eigen::Vector3d& acceleration_mps2, const Eigen::Vector3d& jerk_mps3,
+                            double yaw_rad, double gravity_mps2 = pa::kGravity_mps2);
 
 enum class Feasibility { kFeasible, kThrustTooHigh, kThrustTooLow, kRatesTooHigh };
 std::string_view toString(Feasibility verdict);

@@ -24,8 +24,7 @@ double residualWithBase(const model::PoleState& state, bool flip, const model::P
 bool headIsLower(const model::PoleState& state) { return state.n.z() < 0.0; }
 
 // The state tau after `start`, from a single RK4 step: the same integrator as the step grid.
-model::PoleState stateAt(const model::PoleState& start, double tau_s,
-                         const model::PoleParams& params) {
+model::PoleState stateAt(const model::PoleState& start, double tau_s, const model::PoleParams& params) {
   if (!(tau_s > 0.0)) return start;
   return model::poleFreeFlightStep(start, tau_s, params);
 }
@@ -116,18 +115,18 @@ LaunchStateLoad parseThrowCsvLaunchState(std::string_view text, std::string_view
       continue;
     }
     if (fields.size() != header_fields) {
-      return csvFailure(source_name, line_number,
-                        "expected " + std::to_string(header_fields) + " fields, got " +
-                            std::to_string(fields.size()));
+      return csvFailure(
+          source_name, line_number,
+          "expected " + std::to_string(header_fields) + " fields, got " + std::to_string(fields.size()));
     }
     std::vector<double> row(fields.size());
     for (std::size_t i = 0; i < fields.size(); ++i) {
       const std::string_view f = fields[i];
       const auto [ptr, ec] = std::from_chars(f.data(), f.data() + f.size(), row[i]);
       if (f.empty() || ec != std::errc{} || ptr != f.data() + f.size() || !std::isfinite(row[i])) {
-        return csvFailure(source_name, line_number,
-                          "field " + std::to_string(i + 1) + " is not a finite number: `" +
-                              std::string(f) + "`");
+        return csvFailure(
+            source_name, line_number,
+            "field " + std::to_string(i + 1) + " is not a finite number: `" + std::string(f) + "`");
       }
     }
     last_row = std::move(row);
@@ -144,8 +143,7 @@ LaunchStateLoad parseThrowCsvLaunchState(std::string_view text, std::string_view
   LaunchStateLoad result;
   result.ok = true;
   result.line = last_row_line;
-  result.launch = {value("x"), value("z"), value("vx"), value("vz"), value("alpha"),
-                   value("alpha_dot")};
+  result.launch = {value("x"), value("z"), value("vx"), value("vz"), value("alpha"), value("alpha_dot")};
   return result;
 }
 
@@ -162,8 +160,7 @@ PlanarLaunchState fig5LaunchState() { return {1.5, 2.0, 0.3, 5.5, 0.48, 2.5}; }
 
 // Eq. (23), (26), (27) in the plane; the same as model::freeFlightStateFromPoleOnVehicle() with
 // a = L sin alpha, b = 0 (eq. 32), but also valid for |alpha| >= pi/2, which (24) does not cover.
-model::PoleState poleStateAtLaunch(const PlanarLaunchState& launch,
-                                   const model::PoleParams& params) {
+model::PoleState poleStateAtLaunch(const PlanarLaunchState& launch, const model::PoleParams& params) {
   const double length = params.half_length_m;
   const double s = std::sin(launch.alpha_rad);
   const double c = std::cos(launch.alpha_rad);
@@ -176,8 +173,7 @@ model::PoleState poleStateAtLaunch(const PlanarLaunchState& launch,
   return state;
 }
 
-CatchingInstant findCatchingInstant(const model::PoleState& launch,
-                                    const model::PoleParams& params,
+CatchingInstant findCatchingInstant(const model::PoleState& launch, const model::PoleParams& params,
                                     const CatchingInstantOptions& options) {
   CatchingInstant result;
   if (!(options.step_s > 0.0) || !(options.horizon_s > 0.0)) return result;
@@ -207,8 +203,7 @@ CatchingInstant findCatchingInstant(const model::PoleState& launch,
       const model::PoleState s_hi = stateAt(s0, hi, params);
       if (signChange(residualWithBase(s0, flip0, params), residualWithBase(s_lo, flip0, params))) {
         root = bisectResidual(s0, 0.0, lo, flip0, params, tolerance);
-      } else if (signChange(residualWithBase(s_hi, flip1, params),
-                            residualWithBase(s1, flip1, params))) {
+      } else if (signChange(residualWithBase(s_hi, flip1, params), residualWithBase(s1, flip1, params))) {
         root = bisectResidual(s0, hi, dt, flip1, params, tolerance);
       }
     }

@@ -32,8 +32,7 @@ PlanarLaunchState fig5LaunchState();
 
 // The pole's free-flight state right after leaving the vehicle: centre p_q + L n (23) with
 // n = (sin alpha, 0, cos alpha), centre velocity p_q' + L n' (26), Omega = (0, alpha', 0) (27).
-model::PoleState poleStateAtLaunch(const PlanarLaunchState& launch,
-                                   const model::PoleParams& params);
+model::PoleState poleStateAtLaunch(const PlanarLaunchState& launch, const model::PoleParams& params);
 
 // The launch state from the throw planner's CSV (`groundstation plan-throw`, DIR/throw.csv): a
 // header row naming the columns t,x,z,vx,vz,theta,alpha,alpha_dot,a_q,omega_y,F_N (any order,
@@ -42,32 +41,31 @@ model::PoleState poleStateAtLaunch(const PlanarLaunchState& launch,
 struct LaunchStateLoad {
   bool ok = false;
   PlanarLaunchState launch;
-  int line = 0;        // the row the launch state came from (1-based)
-  std::string error;   // when !ok
+  int line = 0;       // the row the launch state came from (1-based)
+  std::string error;  // when !ok
 };
 LaunchStateLoad parseThrowCsvLaunchState(std::string_view text, std::string_view source_name);
 LaunchStateLoad loadThrowCsvLaunchState(const std::string& path);
 
 struct CatchingInstantOptions {
-  double step_s = 0.005;             // RK4 step of the free-flight simulation
-  double horizon_s = 3.0;            // give up after this much flight
-  double time_tolerance_s = 1e-10;   // bisection stops below this bracket width
+  double step_s = 0.005;            // RK4 step of the free-flight simulation
+  double horizon_s = 3.0;           // give up after this much flight
+  double time_tolerance_s = 1e-10;  // bisection stops below this bracket width
 };
 
 struct CatchingInstant {
   bool found = false;
-  double t_s = 0.0;              // time after launch
-  double catch_height_m = 0.0;   // z of the lower pole end: the nominal catching height
+  double t_s = 0.0;             // time after launch
+  double catch_height_m = 0.0;  // z of the lower pole end: the nominal catching height
   Eigen::Vector2d catch_point_m = Eigen::Vector2d::Zero();  // (x, y) of the lower end
-  model::PoleState pole;         // the pole just before the impact
-  double residual_radps = 0.0;   // eq. (42) at t_s (impact.hpp's form)
+  model::PoleState pole;                                    // the pole just before the impact
+  double residual_radps = 0.0;                              // eq. (42) at t_s (impact.hpp's form)
 };
 
 // Simulates the free flight from `launch` and returns the first instant satisfying (42).
 // A sign change of (42) across the instant the pole passes the horizontal (where the other end
 // becomes the lower one and alpha jumps by pi) is not a root and is skipped.
-CatchingInstant findCatchingInstant(const model::PoleState& launch,
-                                    const model::PoleParams& params,
+CatchingInstant findCatchingInstant(const model::PoleState& launch, const model::PoleParams& params,
                                     const CatchingInstantOptions& options = {});
 
 }  // namespace gs::planning

@@ -62,8 +62,7 @@ void pointJacobian(const Eigen::Matrix<double, kP, 1>& p, const ThrowProblem& pr
 template <int D>
 Eigen::Matrix<double, D, D> weightedHessian(const Eigen::Matrix<double, kP, 1>& p,
                                             const Eigen::Matrix<double, kO, 1>& weights,
-                                            const ThrowProblem& problem,
-                                            const std::array<int, D>& vars) {
+                                            const ThrowProblem& problem, const std::array<int, D>& vars) {
   using Inner = Eigen::AutoDiffScalar<Eigen::Matrix<double, D, 1>>;
   using Outer = Eigen::AutoDiffScalar<Eigen::Matrix<Inner, D, 1>>;
   const Inner zero(0.0, Eigen::Matrix<double, D, 1>::Zero());
@@ -141,11 +140,8 @@ std::vector<double> throwCollocationMesh(double duration_s, int intervals, doubl
   return knots;
 }
 
-ThrowCollocationNlp::ThrowCollocationNlp(const ThrowProblem& problem,
-                                         std::vector<double> knots_s)
-    : problem_(problem),
-      intervals_(static_cast<int>(knots_s.size()) - 1),
-      knots_s_(std::move(knots_s)) {
+ThrowCollocationNlp::ThrowCollocationNlp(const ThrowProblem& problem, std::vector<double> knots_s)
+    : problem_(problem), intervals_(static_cast<int>(knots_s.size()) - 1), knots_s_(std::move(knots_s)) {
   checkCurvedVariables(problem_);
   // The structures, in the order eval_jac_g and eval_h write their values. Dense blocks (see
   // the header): an interval's rows on its first knot with its slacks and on its second knot's
@@ -189,8 +185,7 @@ void ThrowCollocationNlp::evaluate(const double* x, Evaluation& e) const {
   e.mid_map.resize(intervals_);
   e.mid_total.resize(intervals_);
   for (int j = 0; j < knots; ++j) {
-    pointJacobian(Eigen::Map<const PointVector>(x + kV * j), problem_, e.knot_value[j],
-                  e.knot_jacobian[j]);
+    pointJacobian(Eigen::Map<const PointVector>(x + kV * j), problem_, e.knot_value[j], e.knot_jacobian[j]);
   }
   for (int k = 0; k < intervals_; ++k) {
     const double h = intervalLength(k);
@@ -218,8 +213,8 @@ void ThrowCollocationNlp::evaluateCached(const double* x) {
 }
 
 double ThrowCollocationNlp::slewLimit(int k, int i) const {
-  const double rate = i == planar::kThrust ? problem_.thrust_rate_max_mps3
-                                           : problem_.pitch_acceleration_max_radps2;
+  const double rate =
+      i == planar::kThrust ? problem_.thrust_rate_max_mps3 : problem_.pitch_acceleration_max_radps2;
   return rate > 0.0 ? rate * intervalLength(k) : kInfinity;
 }
 
@@ -282,7 +277,8 @@ Eigen::VectorXd ThrowCollocationNlp::initialGuess() const {
         x(kV * j + kSlewSlack + i) = x(kV * (j + 1) + kS + i) - x(kV * j + kS + i);
       }
     }
-    for (int d = kSlack; d < kV; ++d) x(kV * j + d) = std::clamp(x(kV * j + d), lower(kV * j + d), upper(kV * j + d));
+    for (int d = kSlack; d < kV; ++d)
+      x(kV * j + d) = std::clamp(x(kV * j + d), lower(kV * j + d), upper(kV * j + d));
   }
   return x;
 }
@@ -293,13 +289,12 @@ ThrowTrajectory ThrowCollocationNlp::trajectoryFrom(const Eigen::VectorXd& x) co
   ThrowTrajectory traj;
   traj.params = problem_.params;
   for (int q = 0; q < pointCount(); ++q) {
-    const PointVector p =
-        q % 2 == 0 ? PointVector(x.segment<kP>(kV * (q / 2))) : e.mid_point[q / 2];
+    const PointVector p = q % 2 == 0 ? PointVector(x.segment<kP>(kV * (q / 2))) : e.mid_point[q / 2];
     traj.t_s.push_back(pointTime(q));
     traj.state.push_back(p.head<kS>());
     traj.input.push_back(p.tail<planar::kInputSize>());
-    traj.normal_force_per_mass_mps2.push_back(model::planarNormalForcePerMass_mps2<double>(
-        traj.state.back(), traj.input.back(), problem_.params));
+    traj.normal_force_per_mass_mps2.push_back(
+        model::planarNormalForcePerMass_mps2<double>(traj.state.back(), traj.input.back(), problem_.params));
   }
   return traj;
 }
@@ -341,9 +336,8 @@ bool ThrowCollocationNlp::get_nlp_info(Ipopt::Index& n, Ipopt::Index& m, Ipopt::
   return true;
 }
 
-bool ThrowCollocationNlp::get_bounds_info(Ipopt::Index n, Ipopt::Number* x_l,
-                                          Ipopt::Number* x_u, Ipopt::Index m,
-                                          Ipopt::Number* g_l, Ipopt::Number* g_u) {
+bool ThrowCollocationNlp::get_bounds_info(Ipopt::Index n, Ipopt::Number* x_l, Ipopt::Number* x_u,
+                                          Ipopt::Index m, Ipopt::Number* g_l, Ipopt::Number* g_u) {
   Eigen::VectorXd lower, upper;
   fixedBounds(lower, upper);
   Eigen::Map<Eigen::VectorXd>(x_l, n) = lower;
@@ -353,16 +347,15 @@ bool ThrowCollocationNlp::get_bounds_info(Ipopt::Index n, Ipopt::Number* x_l,
   return true;
 }
 
-bool ThrowCollocationNlp::get_starting_point(Ipopt::Index n, bool init_x, Ipopt::Number* x,
-                                             bool init_z, Ipopt::Number*, Ipopt::Number*,
-                                             Ipopt::Index, bool init_lambda, Ipopt::Number*) {
+bool ThrowCollocationNlp::get_starting_point(Ipopt::Index n, bool init_x, Ipopt::Number* x, bool init_z,
+                                             Ipopt::Number*, Ipopt::Number*, Ipopt::Index, bool init_lambda,
+                                             Ipopt::Number*) {
   if (!init_x || init_z || init_lambda) return false;
   Eigen::Map<Eigen::VectorXd>(x, n) = initialGuess();
   return true;
 }
 
-bool ThrowCollocationNlp::eval_f(Ipopt::Index, const Ipopt::Number* x, bool,
-                                 Ipopt::Number& obj_value) {
+bool ThrowCollocationNlp::eval_f(Ipopt::Index, const Ipopt::Number* x, bool, Ipopt::Number& obj_value) {
   evaluateCached(x);
   double sum = 0.0;
   for (int k = 0; k < intervals_; ++k) {
@@ -374,8 +367,7 @@ bool ThrowCollocationNlp::eval_f(Ipopt::Index, const Ipopt::Number* x, bool,
   return std::isfinite(sum);
 }
 
-bool ThrowCollocationNlp::eval_grad_f(Ipopt::Index n, const Ipopt::Number* x, bool,
-                                      Ipopt::Number* grad_f) {
+bool ThrowCollocationNlp::eval_grad_f(Ipopt::Index n, const Ipopt::Number* x, bool, Ipopt::Number* grad_f) {
   evaluateCached(x);
   Eigen::Map<Eigen::VectorXd> grad(grad_f, n);
   grad.setZero();
@@ -390,8 +382,7 @@ bool ThrowCollocationNlp::eval_grad_f(Ipopt::Index n, const Ipopt::Number* x, bo
   return true;
 }
 
-bool ThrowCollocationNlp::eval_g(Ipopt::Index, const Ipopt::Number* x, bool, Ipopt::Index,
-                                 Ipopt::Number* g) {
+bool ThrowCollocationNlp::eval_g(Ipopt::Index, const Ipopt::Number* x, bool, Ipopt::Index, Ipopt::Number* g) {
   evaluateCached(x);
   return constraintsFrom(x, cache_, g);
 }
@@ -407,8 +398,7 @@ bool ThrowCollocationNlp::constraintsFrom(const double* x, const Evaluation& e, 
         Eigen::Map<const model::PlanarState<double>>(knot_b) -
         Eigen::Map<const model::PlanarState<double>>(knot_a) -
         h / 6.0 *
-            (e.knot_value[k].head<kS>() + 4.0 * e.mid_value[k].head<kS>() +
-             e.knot_value[k + 1].head<kS>());
+            (e.knot_value[k].head<kS>() + 4.0 * e.mid_value[k].head<kS>() + e.knot_value[k + 1].head<kS>());
     row[kS] = e.mid_value[k](kNormalForceOutput) - knot_a[kMidForceSlack];
     for (int i = 0; i < planar::kInputSize; ++i) {
       row[kS + 1 + i] = knot_b[kS + i] - knot_a[kS + i] - knot_a[kSlewSlack + i];
@@ -424,8 +414,8 @@ bool ThrowCollocationNlp::constraintsFrom(const double* x, const Evaluation& e, 
 }
 
 bool ThrowCollocationNlp::eval_jac_g(Ipopt::Index, const Ipopt::Number* x, bool, Ipopt::Index,
-                                     Ipopt::Index nele_jac, Ipopt::Index* iRow,
-                                     Ipopt::Index* jCol, Ipopt::Number* values) {
+                                     Ipopt::Index nele_jac, Ipopt::Index* iRow, Ipopt::Index* jCol,
+                                     Ipopt::Number* values) {
   if (values == nullptr) {
     std::copy(jac_rows_.begin(), jac_rows_.end(), iRow);
     std::copy(jac_cols_.begin(), jac_cols_.end(), jCol);
@@ -469,8 +459,7 @@ bool ThrowCollocationNlp::eval_jac_g(Ipopt::Index, const Ipopt::Number* x, bool,
   return out - values == nele_jac;
 }
 
-ThrowCollocationNlp::SimpsonJacobian ThrowCollocationNlp::simpsonJacobian(
-    int k, const Evaluation& e) const {
+ThrowCollocationNlp::SimpsonJacobian ThrowCollocationNlp::simpsonJacobian(int k, const Evaluation& e) const {
   // d/d(p_a, p_b) of s_b - s_a - h/6 (f_a + 4 f(p_m) + f_b).
   const double h = intervalLength(k);
   SimpsonJacobian jac = -4.0 * h / 6.0 * e.mid_total[k].topRows<kS>();
@@ -481,11 +470,9 @@ ThrowCollocationNlp::SimpsonJacobian ThrowCollocationNlp::simpsonJacobian(
   return jac;
 }
 
-bool ThrowCollocationNlp::eval_h(Ipopt::Index, const Ipopt::Number* x, bool,
-                                 Ipopt::Number obj_factor, Ipopt::Index,
-                                 const Ipopt::Number* lambda, bool, Ipopt::Index nele_hess,
-                                 Ipopt::Index* iRow, Ipopt::Index* jCol,
-                                 Ipopt::Number* values) {
+bool ThrowCollocationNlp::eval_h(Ipopt::Index, const Ipopt::Number* x, bool, Ipopt::Number obj_factor,
+                                 Ipopt::Index, const Ipopt::Number* lambda, bool, Ipopt::Index nele_hess,
+                                 Ipopt::Index* iRow, Ipopt::Index* jCol, Ipopt::Number* values) {
   if (values == nullptr) {
     std::copy(hess_rows_.begin(), hess_rows_.end(), iRow);
     std::copy(hess_cols_.begin(), hess_cols_.end(), jCol);
@@ -552,9 +539,8 @@ void ThrowCollocationNlp::hessianBlocks(const double* x, const Evaluation& e, do
   }
 }
 
-void ThrowCollocationNlp::finalize_solution(Ipopt::SolverReturn, Ipopt::Index n,
-                                            const Ipopt::Number* x, const Ipopt::Number*,
-                                            const Ipopt::Number*, Ipopt::Index,
+void ThrowCollocationNlp::finalize_solution(Ipopt::SolverReturn, Ipopt::Index n, const Ipopt::Number* x,
+                                            const Ipopt::Number*, const Ipopt::Number*, Ipopt::Index,
                                             const Ipopt::Number*, const Ipopt::Number*,
                                             Ipopt::Number obj_value, const Ipopt::IpoptData*,
                                             Ipopt::IpoptCalculatedQuantities*) {

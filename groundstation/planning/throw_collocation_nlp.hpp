@@ -84,37 +84,31 @@ class ThrowCollocationNlp final : public Ipopt::TNLP {
   double solutionObjective() const { return solution_objective_; }
 
   // Ipopt::TNLP.
-  bool get_nlp_info(Ipopt::Index& n, Ipopt::Index& m, Ipopt::Index& nnz_jac_g,
-                    Ipopt::Index& nnz_h_lag, IndexStyleEnum& index_style) override;
+  bool get_nlp_info(Ipopt::Index& n, Ipopt::Index& m, Ipopt::Index& nnz_jac_g, Ipopt::Index& nnz_h_lag,
+                    IndexStyleEnum& index_style) override;
   bool get_bounds_info(Ipopt::Index n, Ipopt::Number* x_l, Ipopt::Number* x_u, Ipopt::Index m,
                        Ipopt::Number* g_l, Ipopt::Number* g_u) override;
-  bool get_starting_point(Ipopt::Index n, bool init_x, Ipopt::Number* x, bool init_z,
-                          Ipopt::Number* z_L, Ipopt::Number* z_U, Ipopt::Index m,
-                          bool init_lambda, Ipopt::Number* lambda) override;
-  bool eval_f(Ipopt::Index n, const Ipopt::Number* x, bool new_x,
-              Ipopt::Number& obj_value) override;
-  bool eval_grad_f(Ipopt::Index n, const Ipopt::Number* x, bool new_x,
-                   Ipopt::Number* grad_f) override;
-  bool eval_g(Ipopt::Index n, const Ipopt::Number* x, bool new_x, Ipopt::Index m,
-              Ipopt::Number* g) override;
-  bool eval_jac_g(Ipopt::Index n, const Ipopt::Number* x, bool new_x, Ipopt::Index m,
-                  Ipopt::Index nele_jac, Ipopt::Index* iRow, Ipopt::Index* jCol,
-                  Ipopt::Number* values) override;
-  bool eval_h(Ipopt::Index n, const Ipopt::Number* x, bool new_x, Ipopt::Number obj_factor,
-              Ipopt::Index m, const Ipopt::Number* lambda, bool new_lambda,
-              Ipopt::Index nele_hess, Ipopt::Index* iRow, Ipopt::Index* jCol,
-              Ipopt::Number* values) override;
+  bool get_starting_point(Ipopt::Index n, bool init_x, Ipopt::Number* x, bool init_z, Ipopt::Number* z_L,
+                          Ipopt::Number* z_U, Ipopt::Index m, bool init_lambda,
+                          Ipopt::Number* lambda) override;
+  bool eval_f(Ipopt::Index n, const Ipopt::Number* x, bool new_x, Ipopt::Number& obj_value) override;
+  bool eval_grad_f(Ipopt::Index n, const Ipopt::Number* x, bool new_x, Ipopt::Number* grad_f) override;
+  bool eval_g(Ipopt::Index n, const Ipopt::Number* x, bool new_x, Ipopt::Index m, Ipopt::Number* g) override;
+  bool eval_jac_g(Ipopt::Index n, const Ipopt::Number* x, bool new_x, Ipopt::Index m, Ipopt::Index nele_jac,
+                  Ipopt::Index* iRow, Ipopt::Index* jCol, Ipopt::Number* values) override;
+  bool eval_h(Ipopt::Index n, const Ipopt::Number* x, bool new_x, Ipopt::Number obj_factor, Ipopt::Index m,
+              const Ipopt::Number* lambda, bool new_lambda, Ipopt::Index nele_hess, Ipopt::Index* iRow,
+              Ipopt::Index* jCol, Ipopt::Number* values) override;
   void finalize_solution(Ipopt::SolverReturn status, Ipopt::Index n, const Ipopt::Number* x,
                          const Ipopt::Number* z_L, const Ipopt::Number* z_U, Ipopt::Index m,
-                         const Ipopt::Number* g, const Ipopt::Number* lambda,
-                         Ipopt::Number obj_value, const Ipopt::IpoptData* ip_data,
-                         Ipopt::IpoptCalculatedQuantities* ip_cq) override;
+                         const Ipopt::Number* g, const Ipopt::Number* lambda, Ipopt::Number obj_value,
+                         const Ipopt::IpoptData* ip_data, Ipopt::IpoptCalculatedQuantities* ip_cq) override;
 
  private:
   using PointVector = Eigen::Matrix<double, kPointSize, 1>;
   using OutputVector = Eigen::Matrix<double, kOutputs, 1>;
   using PointJacobian = Eigen::Matrix<double, kOutputs, kPointSize>;
-  using PairVector = Eigen::Matrix<double, 2 * kPointSize, 1>;  // (p_a, p_b) of an interval
+  using PairVector = Eigen::Matrix<double, 2 * kPointSize, 1>;            // (p_a, p_b) of an interval
   using MidpointMap = Eigen::Matrix<double, kPointSize, 2 * kPointSize>;  // d p_m / d(p_a, p_b)
   using PairJacobian = Eigen::Matrix<double, kOutputs, 2 * kPointSize>;
   using SimpsonJacobian = Eigen::Matrix<double, model::planar::kStateSize, 2 * kPointSize>;
@@ -133,9 +127,8 @@ class ThrowCollocationNlp final : public Ipopt::TNLP {
   bool constraintsFrom(const double* x, const Evaluation& e, double* g) const;
   SimpsonJacobian simpsonJacobian(int k, const Evaluation& e) const;  // interval k's 7 rows
   // The Lagrangian's Hessian as blocks: per knot, and between knots k + 1 (rows) and k.
-  void hessianBlocks(const double* x, const Evaluation& e, double obj_factor,
-                     const double* lambda, std::vector<Block>& diagonal,
-                     std::vector<Block>& coupling) const;
+  void hessianBlocks(const double* x, const Evaluation& e, double obj_factor, const double* lambda,
+                     std::vector<Block>& diagonal, std::vector<Block>& coupling) const;
   double intervalLength(int k) const { return knots_s_[k + 1] - knots_s_[k]; }
   int knotRow(int j) const { return kIntervalRows * intervals_ + j - 1; }  // F_N at knot 1..N-1
   double slewLimit(int k, int i) const;  // |bound| of interval k's input-i slew; infinity when off

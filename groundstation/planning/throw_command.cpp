@@ -15,13 +15,11 @@ Eigen::VectorXd lateralBalancingState(const Eigen::VectorXd& balancing_state) {
   return lateral;
 }
 
-model::VehicleInput throwCommand(const ThrowTracker& tracker, const control::LqrGain& balancing,
-                                 double t_s, const model::PlanarState<double>& planar_state,
-                                 const Eigen::VectorXd& balancing_state,
-                                 const model::VehicleLimits& limits) {
+model::VehicleInput throwCommand(const ThrowTracker& tracker, const control::LqrGain& balancing, double t_s,
+                                 const model::PlanarState<double>& planar_state,
+                                 const Eigen::VectorXd& balancing_state, const model::VehicleLimits& limits) {
   namespace bal = control::balancing;
-  const model::PlanarInput<double> planar =
-      saturate(tracker.command(t_s, planar_state), limits);
+  const model::PlanarInput<double> planar = saturate(tracker.command(t_s, planar_state), limits);
   const Eigen::VectorXd lateral = -balancing.K * lateralBalancingState(balancing_state);
   const double omega_max = limits.omega_max_radps;
   model::VehicleInput u;

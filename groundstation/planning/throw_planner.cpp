@@ -92,8 +92,7 @@ ThrowPlan solve(const ThrowProblem& problem, const ThrowSolverOptions& options) 
   plan.trajectory = nlp->trajectoryFrom(x);
   plan.max_violation = nlp->maxViolation(x);
   plan.end_state_error = (plan.trajectory.state.back() - problem.launch_state).cwiseAbs().maxCoeff();
-  const bool converged =
-      status == Ipopt::Solve_Succeeded || status == Ipopt::Solved_To_Acceptable_Level;
+  const bool converged = status == Ipopt::Solve_Succeeded || status == Ipopt::Solved_To_Acceptable_Level;
   // The 1e-6 promise of the planner, checked on the returned point rather than trusted.
   plan.success = converged && plan.max_violation <= 1e-6;
   if (converged && !plan.success) plan.status += ", but the result violates a constraint";

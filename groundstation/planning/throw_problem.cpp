@@ -52,8 +52,7 @@ std::string ThrowProblem::validate() const {
     return "input slew limits must be >= 0 (0: none)";
   }
   const auto in_box = [&](const model::PlanarInput<double>& u) {
-    return u(planar::kThrust) >= limits.a_q_min_mps2 &&
-           u(planar::kThrust) <= limits.a_q_max_mps2 &&
+    return u(planar::kThrust) >= limits.a_q_min_mps2 && u(planar::kThrust) <= limits.a_q_max_mps2 &&
            std::abs(u(planar::kPitchRate)) <= limits.omega_max_radps;
   };
   if (!in_box(hoverInput())) return "the hover input (g, 0) is outside the input limits";

@@ -27,8 +27,8 @@ ThrowTracker::ThrowTracker(ThrowTrajectory reference, const ThrowTrackingWeights
         model::linearisePlanarPoleVehicle(ref.stateAt(t_s), ref.inputAt(t_s), ref.params);
     return control::LinearSystem{lin.A, lin.B};
   };
-  gains_ = control::solveTvLqr(linearisation, weights.Q(), weights.R(), weights.Qfinal(),
-                               ref.t_s.front(), ref.t_s.back(), options);
+  gains_ = control::solveTvLqr(linearisation, weights.Q(), weights.R(), weights.Qfinal(), ref.t_s.front(),
+                               ref.t_s.back(), options);
 }
 
 Eigen::Matrix<double, 2, 7> ThrowTracker::gain(double t_s) const {
@@ -36,13 +36,11 @@ Eigen::Matrix<double, 2, 7> ThrowTracker::gain(double t_s) const {
   return gains_.gain(t_s);
 }
 
-model::PlanarInput<double> ThrowTracker::command(double t_s,
-                                                 const model::PlanarState<double>& s) const {
+model::PlanarInput<double> ThrowTracker::command(double t_s, const model::PlanarState<double>& s) const {
   return reference_.inputAt(t_s) - gain(t_s) * (s - reference_.stateAt(t_s));
 }
 
-model::PlanarInput<double> saturate(const model::PlanarInput<double>& u,
-                                    const model::VehicleLimits& limits) {
+model::PlanarInput<double> saturate(const model::PlanarInput<double>& u, const model::VehicleLimits& limits) {
   return model::PlanarInput<double>(
       std::clamp(u(planar::kThrust), limits.a_q_min_mps2, limits.a_q_max_mps2),
       std::clamp(u(planar::kPitchRate), -limits.omega_max_radps, limits.omega_max_radps));

@@ -53,7 +53,6 @@ class ThrowTracker {
 };
 
 // The input clamped into the box of eq. (1), (2).
-model::PlanarInput<double> saturate(const model::PlanarInput<double>& u,
-                                    const model::VehicleLimits& limits);
+model::PlanarInput<double> saturate(const model::PlanarInput<double>& u, const model::VehicleLimits& limits);
 
 }  // namespace gs::planning

@@ -32,8 +32,7 @@ model::PlanarState<double> ThrowTrajectory::stateAt(double t) const {
   const Locator at = locate(*this, t);
   const model::PlanarState<double>& s0 = state[at.knot];
   const model::PlanarState<double>& s1 = state[at.knot + 2];
-  const model::PlanarState<double> f0 =
-      model::planarPoleVehicleDynamics<double>(s0, input[at.knot], params);
+  const model::PlanarState<double> f0 = model::planarPoleVehicleDynamics<double>(s0, input[at.knot], params);
   const model::PlanarState<double> f1 =
       model::planarPoleVehicleDynamics<double>(s1, input[at.knot + 2], params);
   const double tau = at.tau, tau2 = tau * tau, tau3 = tau2 * tau;

@@ -60,8 +60,8 @@ GroundStation::GroundStation(link::FrameBus& bus, const GroundStationConfig& con
   const model::PoleParams& pole = config_.estimator.free_flight.pole;
   adaptation_settings_ = adaptation::nominalAdaptationSettings(pole);
   adaptation_ = adaptation::initialAdaptation(adaptation_settings_);
-  const planning::CatchingInstant nominal = planning::findCatchingInstant(
-      planning::poleStateAtLaunch(planning::fig5LaunchState(), pole), pole);
+  const planning::CatchingInstant nominal =
+      planning::findCatchingInstant(planning::poleStateAtLaunch(planning::fig5LaunchState(), pole), pole);
   catch_instant_s_ = nominal.found ? nominal.t_s : 0.8;
   // What earlier runs learnt (the adaptation store's state), in force from the first throw.
   if (config_.learnt) {
@@ -70,7 +70,8 @@ GroundStation::GroundStation(link::FrameBus& bus, const GroundStationConfig& con
     catch_instant_samples_ = config_.learnt->catch_instant_samples;
   }
   if (!config_.adaptation_store_path.empty()) {
-    store_.emplace(adaptation::AdaptationStore::openOrCreate(config_.adaptation_store_path, adaptation_settings_));
+    store_.emplace(
+        adaptation::AdaptationStore::openOrCreate(config_.adaptation_store_path, adaptation_settings_));
     const adaptation::AdaptationSnapshot snapshot = store_->adaptation();
     adaptation_ = snapshot.state;
     catch_instant_samples_ = 0;
@@ -106,9 +107,7 @@ Eigen::Vector2d GroundStation::waitingXy() const {
   return config_.throw_origin_m.head<2>() +
          adaptation::compensateOffsetBias(adaptation_.waiting_xy_m, adaptation_);
 }
-double GroundStation::catchHeight() const {
-  return config_.throw_origin_m.z() + adaptation_.catch_height_m;
-}
+double GroundStation::catchHeight() const { return config_.throw_origin_m.z() + adaptation_.catch_height_m; }
 
 void GroundStation::requestTakeOff() {
   for (Vehicle& v : vehicles_) v.requests |= c::request_take_off;
@@ -229,15 +228,12 @@ std::uint32_t GroundStation::conditions(const Vehicle& v, double now_s) const {
 void GroundStation::enter(Vehicle& v, double now_s) {
   const Task task = v.sequencer.task();
   const bool estimated = estimator_.vehicleInitialised(v.index + 1);
-  const Eigen::Vector3d here =
-      estimated ? estimator_.vehicle(v.index + 1).state.p_m : v.target_m;
+  const Eigen::Vector3d here = estimated ? estimator_.vehicle(v.index + 1).state.p_m : v.target_m;
   v.integral.setZero();
   v.set_point_velocity_mps.setZero();
   switch (task) {
     case Task::parked:
-    case Task::failsafe:
-      v.set_point_valid = false;
-      break;
+    case Task::failsafe: v.set_point_valid = false; break;
     case Task::arming:
       v.requests &= ~c::request_take_off;
       v.command_failed = false;
@@ -259,19 +255,14 @@ void GroundStation::enter(Vehicle& v, double now_s) {
       if (!v.set_point_valid) v.set_point_m = here;
       v.set_point_valid = true;
       break;
-    case Task::throwing:
-      v.requests &= ~c::request_throw;
-      break;
-    case Task::release:
-      v.requests &= ~c::request_abort;
-      break;
+    case Task::throwing: v.requests &= ~c::request_throw; break;
+    case Task::release: v.requests &= ~c::request_abort; break;
     case Task::retreat:
       v.target_m = config_.throw_origin_m - pa::kPlateHeightAboveCg_m * Eigen::Vector3d::UnitZ();
       v.set_point_m = here;
       v.set_point_valid = true;
       break;
-    case Task::wait:
-      break;
+    case Task::wait: break;
     case Task::catching: {
       catch_start_s_ = std::min(catch_start_s_, now_s);
       current_.catch_start_s = now_s;
@@ -280,8 +271,9 @@ void GroundStation::enter(Vehicle& v, double now_s) {
       const planning::MinimaxZManoeuvre z(catchHeight() - pa::kPlateHeightAboveCg_m, config_.t_xy_s,
                                           config_.catch_a_max_mps2, config_.catch_k_max_mps3);
       const double window_s = catch_start_s_ + z.duration_s() - now_s + 1.0;
-      v.pending = link_.sendCommand(v.node, pa::proto::CommandCode::expect_catch,
-                                    static_cast<std::int32_t>(std::clamp(window_s, 0.1, 10.0) * 1000.0), now_s);
+      v.pending =
+          link_.sendCommand(v.node, pa::proto::CommandCode::expect_catch,
+                            static_cast<std::int32_t>(std::clamp(window_s, 0.1, 10.0) * 1000.0), now_s);
       break;
     }
     case Task::rebalance:
@@ -370,8 +362,8 @@ void GroundStation::integratePositionError(Vehicle& v, const estimation::Vehicle
   v.integral = v.integral.cwiseMax(-1.0).cwiseMin(1.0);
 }
 
-model::VehicleInput GroundStation::hoverControl(Vehicle& v, const estimation::VehicleEstimate& e,
-                                                double dt_s, bool integrate) {
+model::VehicleInput GroundStation::hoverControl(Vehicle& v, const estimation::VehicleEstimate& e, double dt_s,
+                                                bool integrate) {
   namespace hv = control::hover;
   if (integrate) integratePositionError(v, e, dt_s);
   // The integral shifts the LQR's reference position (p_ref = set point + k_i int e): a constant
@@ -425,9 +417,9 @@ std::optional<model::VehicleInput> GroundStation::control(Vehicle& v, double now
         balanced_since_s_.reset();
       }
       integratePositionError(v, e, dt_s);
-      Eigen::VectorXd x = control::balancingState(
-          pivotOf(plate), e.state, pole.state, L,
-          v.set_point_m + plate_offset + config_.position_integral_gain * v.integral);
+      Eigen::VectorXd x =
+          control::balancingState(pivotOf(plate), e.state, pole.state, L,
+                                  v.set_point_m + plate_offset + config_.position_integral_gain * v.integral);
       x.segment<3>(bal::kVx) -= v.set_point_velocity_mps;
       Eigen::VectorXd u = -balancing_.K * x;
       u(bal::kThrust) += kGravity_mps2 + config_.pole_weight_mps2;
@@ -458,8 +450,8 @@ std::optional<model::VehicleInput> GroundStation::control(Vehicle& v, double now
       // forward: a time-varying reference tracked with the hover gains, which hold across the
       // manoeuvre's tilts (at most atan(a_max / g) ~ 23 degrees plus the xy correction's). The
       // integral learnt while waiting stays in force, frozen.
-      Eigen::VectorXd x = control::hoverState(
-          e.state, ref.position_m + config_.position_integral_gain * v.integral);
+      Eigen::VectorXd x =
+          control::hoverState(e.state, ref.position_m + config_.position_integral_gain * v.integral);
       x.segment<3>(hv::kVx) -= ref.velocity_mps;
       x(hv::kRoll) -= ref.roll_rad;
       x(hv::kPitch) -= ref.pitch_rad;
@@ -471,8 +463,7 @@ std::optional<model::VehicleInput> GroundStation::control(Vehicle& v, double now
       v.set_point_m = ref.position_m;
       return clampInput(u);
     }
-    default:
-      return std::nullopt;
+    default: return std::nullopt;
   }
 }
 
@@ -566,15 +557,14 @@ void GroundStation::updateAttempt(double now_s) {
           s->event_t_s > current_.throw_start_s + problem_.duration_s - 0.05) {
         current_.launch_s = s->event_t_s;
         phase_ = AttemptPhase::flight;
-      } else if (thrower.sequencer.task() != Task::throwing &&
-                 thrower.sequencer.task() != Task::release && !current_.launch_s) {
+      } else if (thrower.sequencer.task() != Task::throwing && thrower.sequencer.task() != Task::release &&
+                 !current_.launch_s) {
         endAttempt(now_s);  // the throw was abandoned (aborted or the pole fell)
         return;
       }
       break;
     }
-    default:
-      break;
+    default: break;
   }
   // The catch manoeuvre starts before the launch (T_z ~ 1.8 s against ~1.1 s of flight): plan
   // it from the throw's start on, from the waiting point until the pole flies.
@@ -630,8 +620,9 @@ void GroundStation::predictOptimalCatch(double now_s) {
           adapted_catch_height_m_ + std::clamp(optimal.catch_height_m - adapted_catch_height_m_,
                                                -config_.catch_retime_max_m, config_.catch_retime_max_m);
       const double end_s = planned_catch_start_s_ + catchDuration();
-      catch_start_s_ = planned_catch_start_s_ + std::clamp(pole.t_s + optimal.t_s - end_s,
-                                                            -config_.catch_retime_max_s, config_.catch_retime_max_s);
+      catch_start_s_ =
+          planned_catch_start_s_ +
+          std::clamp(pole.t_s + optimal.t_s - end_s, -config_.catch_retime_max_s, config_.catch_retime_max_s);
     }
   }
 }
@@ -654,11 +645,11 @@ void GroundStation::updateCatchTarget(double now_s) {
         planning::predictCatchPoint(pole.state, height, estimator_.poleModel());
     if (p.found) {
       const Eigen::Vector2d predicted(p.x_m, p.y_m);
-      catch_target_xy_m_ =
-          adaptation::compensateOffsetBias(predicted, adaptation_) + request_.catch_offset_m;
+      catch_target_xy_m_ = adaptation::compensateOffsetBias(predicted, adaptation_) + request_.catch_offset_m;
       current_.last_target_xy_m = catch_target_xy_m_;
       current_.predicted = adaptation::CatchPoint{predicted, now_s + p.t_s - *current_.launch_s};
-      if (converged && (catch_target_xy_m_ - start_xy).norm() > config_.catch_reach_m) catch_unreachable_ = true;
+      if (converged && (catch_target_xy_m_ - start_xy).norm() > config_.catch_reach_m)
+        catch_unreachable_ = true;
     }
     // Missed: the lower end already below the plate and still free.
     const Eigen::Vector3d low = lowerEnd(pole.state, L);
@@ -730,8 +721,7 @@ void GroundStation::endAttempt(double now_s) {
   }
   record.catch_height_used_m = current_.catch_height_m - config_.throw_origin_m.z();
   record.waiting_xy_m = current_.waiting_xy_m - config_.throw_origin_m.head<2>();
-  if (current_.catch_start_s)
-    record.target_xy_m = catch_target_xy_m_ - config_.throw_origin_m.head<2>();
+  if (current_.catch_start_s) record.target_xy_m = catch_target_xy_m_ - config_.throw_origin_m.head<2>();
   if (current_.optimal) {
     adaptation::OptimalCatch o = current_.optimal->point;
     o.height_m -= config_.throw_origin_m.z();
@@ -746,9 +736,10 @@ void GroundStation::endAttempt(double now_s) {
     bool plausible = false;
     if (current_.predicted_optimal) {
       const adaptation::OptimalCatch& p = *current_.predicted_optimal;
-      plausible = std::abs(o.height_m - (p.height_m - config_.throw_origin_m.z())) < config_.adaptation_gate_m &&
-                  (o.xy_m - (p.xy_m - config_.throw_origin_m.head<2>())).norm() < config_.adaptation_gate_m &&
-                  std::abs(o.t_s - p.t_s) < config_.adaptation_gate_s;
+      plausible =
+          std::abs(o.height_m - (p.height_m - config_.throw_origin_m.z())) < config_.adaptation_gate_m &&
+          (o.xy_m - (p.xy_m - config_.throw_origin_m.head<2>())).norm() < config_.adaptation_gate_m &&
+          std::abs(o.t_s - p.t_s) < config_.adaptation_gate_s;
     }
     // A sound evaluation of a throw far from all the others (the thrower pushed aside, a gust)
     // is one odd throw, not the new mean: with few samples it would move the waiting point out
@@ -756,9 +747,8 @@ void GroundStation::endAttempt(double now_s) {
     // infeasible). It counts once such throws repeat (the system has changed), so that a bad
     // first sample cannot lock the mean either.
     if (plausible && adaptation_.catch_point_samples > 0) {
-      const bool odd =
-          std::abs(o.height_m - adaptation_.catch_height_m) > config_.adaptation_outlier_m ||
-          (o.xy_m - adaptation_.waiting_xy_m).norm() > config_.adaptation_outlier_m;
+      const bool odd = std::abs(o.height_m - adaptation_.catch_height_m) > config_.adaptation_outlier_m ||
+                       (o.xy_m - adaptation_.waiting_xy_m).norm() > config_.adaptation_outlier_m;
       odd_throws_ = odd ? odd_throws_ + 1 : 0;
       if (odd && odd_throws_ < config_.adaptation_outlier_repeats) plausible = false;
     }
@@ -771,7 +761,8 @@ void GroundStation::endAttempt(double now_s) {
     }
   }
   if (current_.impact_s && current_.catcher_at_impact_m && adaptation::catcherFlewToTarget(record.outcome)) {
-    record.catcher_at_impact_xy_m = current_.catcher_at_impact_m->head<2>() - config_.throw_origin_m.head<2>();
+    record.catcher_at_impact_xy_m =
+        current_.catcher_at_impact_m->head<2>() - config_.throw_origin_m.head<2>();
   }
   if (adaptation::validate(record).empty()) {
     if (store_) {

@@ -117,7 +117,7 @@ struct GroundStationConfig {
   double t_xy_s = 0.65;
   double catch_a_max_mps2 = 4.19;
   double catch_k_max_mps3 = 18.0;
-  double catch_reach_m = 1.0;  // a predicted catch point farther from the waiting point aborts
+  double catch_reach_m = 1.0;          // a predicted catch point farther from the waiting point aborts
   double catch_verdict_delay_s = 0.1;  // after the launch, before reach and feasibility are judged
   // This throw's optimal catching instant (42) moves the catch's end for this long after the
   // launch, by at most these (see predictOptimalCatch); 0 s keeps the adapted values (the paper).
@@ -127,7 +127,7 @@ struct GroundStationConfig {
   double catch_retime_s = 0.4;
   double catch_retime_max_m = 0.5;
   double catch_retime_max_s = 0.15;
-  double upright_rad = 0.5;   // rebalance -> balance below this tilt (29 degrees)
+  double upright_rad = 0.5;          // rebalance -> balance below this tilt (29 degrees)
   double pole_down_height_m = 0.25;  // the pole's centre below this: it lies on the floor
   double lost_estimate_s = 0.1;      // no pose of a vehicle for this long: its estimate is lost
   // A throw's optimal catch point, evaluated after it, further than these from the one predicted
@@ -149,7 +149,7 @@ struct GroundStationConfig {
 // What the mission script (an operator, `hil fly`) asks for one attempt.
 struct AttemptRequest {
   std::uint8_t thrower = 1;
-  bool catch_it = true;                                 // the other vehicle flies the catch
+  bool catch_it = true;                                      // the other vehicle flies the catch
   Eigen::Vector2d catch_offset_m = Eigen::Vector2d::Zero();  // practice: catch this far off
 };
 
@@ -160,21 +160,22 @@ std::string_view attemptPhaseName(AttemptPhase phase);
 struct AttemptReport {
   int number = 0;
   double throw_start_s = 0.0;
-  std::optional<double> launch_s;         // the estimator's launch
-  std::optional<double> catch_start_s;    // the z manoeuvre's start
-  std::optional<double> impact_s;         // the estimator's switch onto the catcher
-  std::optional<Eigen::Vector3d> catcher_at_impact_m;  // its estimated position then
+  std::optional<double> launch_s;                       // the estimator's launch
+  std::optional<double> catch_start_s;                  // the z manoeuvre's start
+  std::optional<double> impact_s;                       // the estimator's switch onto the catcher
+  std::optional<Eigen::Vector3d> catcher_at_impact_m;   // its estimated position then
   mission::Reason catcher_end = mission::Reason::none;  // what ended the catch (caught, out_of_reach...)
-  mission::Reason thrower_end = mission::Reason::none;  // what ended the throw (throw_ended, pole_left_early...)
+  // what ended the throw (throw_ended, pole_left_early...)
+  mission::Reason thrower_end = mission::Reason::none;
   Eigen::Vector2d waiting_xy_m = Eigen::Vector2d::Zero();
   Eigen::Vector2d last_target_xy_m = Eigen::Vector2d::Zero();
   std::optional<adaptation::CatchPoint> predicted;  // the latest catch-point prediction (lower end)
   // This throw's optimal catch (42) as predicted in flight (arena frame, time after the launch).
   std::optional<adaptation::OptimalCatch> predicted_optimal;
-  double catch_height_m = 0.0;            // lower pole end, arena frame
-  double travel_m = 0.0;                  // the catcher's estimated path from its waiting point
+  double catch_height_m = 0.0;  // lower pole end, arena frame
+  double travel_m = 0.0;        // the catcher's estimated path from its waiting point
   std::optional<adaptation::OptimalCatchEvaluation> optimal;  // (42) evaluated after the throw
-  bool caught = false;                    // balanced on the catcher
+  bool caught = false;                                        // balanced on the catcher
 };
 
 // A task change of one vehicle, for telemetry and logs.
@@ -235,11 +236,11 @@ class GroundStation {
     std::uint8_t node = 0;
     int index = 0;  // 0 or 1: the estimator's vehicle number minus one
     mission::VehicleSequencer sequencer;
-    Eigen::Vector3d target_m = Eigen::Vector3d::Zero();     // where the task wants the CG
-    Eigen::Vector3d set_point_m = Eigen::Vector3d::Zero();  // the carrot moving towards it
+    Eigen::Vector3d target_m = Eigen::Vector3d::Zero();                // where the task wants the CG
+    Eigen::Vector3d set_point_m = Eigen::Vector3d::Zero();             // the carrot moving towards it
     Eigen::Vector3d set_point_velocity_mps = Eigen::Vector3d::Zero();  // and its velocity
     bool set_point_valid = false;
-    Eigen::Vector3d integral = Eigen::Vector3d::Zero();     // of the position error
+    Eigen::Vector3d integral = Eigen::Vector3d::Zero();  // of the position error
     std::uint32_t requests = 0;
     std::optional<link::CommandHandle> pending;  // ARM or LAND in flight
     bool command_failed = false;

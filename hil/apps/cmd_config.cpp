@@ -16,8 +16,9 @@ int cmdConfig(int argc, char** argv) {
   std::uint64_t seed = 1;
   bool randomise = false;
   CLI::App app("", "hil config");
-  pa::cli::describe(app, "usage: hil config [--plant FILE] [--seed N] [--randomise]",
-                    "Prints the plant parameters (defaults, or FILE), randomised from the seed with --randomise.");
+  pa::cli::describe(
+      app, "usage: hil config [--plant FILE] [--seed N] [--randomise]",
+      "Prints the plant parameters (defaults, or FILE), randomised from the seed with --randomise.");
   app.add_option("--plant", plant_path, "plant configuration to start from")->type_name("FILE");
   app.add_option("--seed", seed, "seed of --randomise (default 1)")
       ->type_name("N")

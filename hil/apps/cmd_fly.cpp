@@ -4,11 +4,11 @@
 // with --out writes DIR/throws.csv (one row per attempt) and DIR/attempt_<n>.csv (its time series).
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -45,13 +45,16 @@ int cmdFly(int argc, char** argv) {
   std::uint64_t throws = 0, seed = 1;
   bool randomise = false, verbose = false;
   CLI::App app("", "hil fly");
-  pa::cli::describe(app, kUsage,
-                    "Flies a series of throws in the lockstep arena with the ground-station runtime, judged\n"
-                    "on the plant's truth; prints a table per throw and a summary beside the paper's figures.");
+  pa::cli::describe(
+      app, kUsage,
+      "Flies a series of throws in the lockstep arena with the ground-station runtime, judged\n"
+      "on the plant's truth; prints a table per throw and a summary beside the paper's figures.");
   app.add_option("--series", series, "the paper's series of throws")
       ->type_name("paper")
       ->check(pa::cli::oneOf({"paper"}, "must be 'paper'"));
-  app.add_option("--throws", throws, "N throws to catch instead")->type_name("N")->check(pa::cli::count(1, 100000, "needs a count 1..100000"));
+  app.add_option("--throws", throws, "N throws to catch instead")
+      ->type_name("N")
+      ->check(pa::cli::count(1, 100000, "needs a count 1..100000"));
   app.add_option("--seed", seed, "seed of the noise and of --randomise (default 1)")
       ->type_name("S")
       ->check(pa::cli::count(0, UINT64_MAX, "needs a non-negative integer"));
@@ -84,62 +87,64 @@ int cmdFly(int argc, char** argv) {
 
   std::vector<sil::AttemptResult> results;
   try {
-  std::printf("throw  outcome     flight_s  height_m  catch_x_m  catch_y_m  travel_m  energy_err_J  abort\n");
-  auto print = [&](const sil::AttemptResult& r) {
-    std::printf("%5d  %-10s  %8.3f  %8.3f  %9.3f  %9.3f  %8.3f  %12.5f  %s%s\n", r.throw_number,
-                r.outcome.c_str(), r.flight_s, r.catch_height_m, r.catch_x_m, r.catch_y_m, r.travel_m,
-                r.energy_error_J, r.abort_reason.c_str(), r.vehicle_crashed ? " (vehicle crashed)" : "");
-    std::fflush(stdout);
-  };
-  if (!randomise) {
-    sil::SeriesConfig config;
-    config.plant = plant;
-    config.seed = seed;
-    config.record_time_series = !out_dir.empty();
-    config.ground_station.adaptation_store_path = store_file;
-    if (verbose) config.log = [](const std::string& line) { std::printf("%s\n", line.c_str()); };
-    sil::SeriesRunner runner(config);
-    results = runner.run(plans, print);
-    if (!out_dir.empty()) {
-      for (std::size_t i = 0; i < runner.timeSeries().size(); ++i) {
-        std::ofstream ts(out_dir + "/attempt_" + std::to_string(i + 1) + ".csv");
-        ts << "t_s,v1_x,v1_y,v1_z,v2_x,v2_y,v2_z,pole_x,pole_y,pole_z,pole_nx,pole_ny,pole_nz,task1,task2\n";
-        for (const sil::TimeSample& s : runner.timeSeries()[i]) {
-          char line[512];
-          std::snprintf(line, sizeof line,
-                        "%.3f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%s,%s\n", s.t_s,
-                        s.vehicle1_m.x(), s.vehicle1_m.y(), s.vehicle1_m.z(), s.vehicle2_m.x(),
-                        s.vehicle2_m.y(), s.vehicle2_m.z(), s.pole_m.x(), s.pole_m.y(), s.pole_m.z(),
-                        s.pole_axis.x(), s.pole_axis.y(), s.pole_axis.z(), s.task1.c_str(), s.task2.c_str());
-          ts << line;
-        }
-      }
-    }
-  } else {
-    // Each attempt on a plant drawn anew from its ranges: one series of one throw per draw,
-    // after the throw that adapts only.
-    // What the ground station learnt carries over from draw to draw, as its store would.
-    std::optional<gs::runtime::Learnt> learnt;
-    for (std::size_t i = 0; i < plans.size(); ++i) {
+    std::printf(
+        "throw  outcome     flight_s  height_m  catch_x_m  catch_y_m  travel_m  energy_err_J  abort\n");
+    auto print = [&](const sil::AttemptResult& r) {
+      std::printf("%5d  %-10s  %8.3f  %8.3f  %9.3f  %9.3f  %8.3f  %12.5f  %s%s\n", r.throw_number,
+                  r.outcome.c_str(), r.flight_s, r.catch_height_m, r.catch_x_m, r.catch_y_m, r.travel_m,
+                  r.energy_error_J, r.abort_reason.c_str(), r.vehicle_crashed ? " (vehicle crashed)" : "");
+      std::fflush(stdout);
+    };
+    if (!randomise) {
       sil::SeriesConfig config;
-      config.plant = randomised(plant, seed * 1000003ULL + i);
-      config.seed = seed * 1000003ULL + i;
-      config.ground_station.learnt = learnt;
+      config.plant = plant;
+      config.seed = seed;
+      config.record_time_series = !out_dir.empty();
       config.ground_station.adaptation_store_path = store_file;
       if (verbose) config.log = [](const std::string& line) { std::printf("%s\n", line.c_str()); };
       sil::SeriesRunner runner(config);
-      std::vector<sil::AttemptPlan> one{plans[i]};
-      sil::AttemptResult r = runner.run(one).front();
-      learnt = runner.groundStation().learnt();
-      if (verbose)
-        std::printf("  learnt: catching height %.3f, waiting (%.3f, %.3f), bias (%.3f, %.3f), catching instant %.3f s\n",
-                    learnt->state.catch_height_m, learnt->state.waiting_xy_m.x(), learnt->state.waiting_xy_m.y(),
-                    learnt->state.offset_bias_m.x(), learnt->state.offset_bias_m.y(), learnt->catch_instant_s);
-      r.throw_number = static_cast<int>(i) + 1;
-      print(r);
-      results.push_back(r);
+      results = runner.run(plans, print);
+      if (!out_dir.empty()) {
+        for (std::size_t i = 0; i < runner.timeSeries().size(); ++i) {
+          std::ofstream ts(out_dir + "/attempt_" + std::to_string(i + 1) + ".csv");
+          ts << "t_s,v1_x,v1_y,v1_z,v2_x,v2_y,v2_z,pole_x,pole_y,pole_z,pole_nx,pole_ny,pole_nz,task1,task2\n";
+          for (const sil::TimeSample& s : runner.timeSeries()[i]) {
+            char line[512];
+            std::snprintf(
+                line, sizeof line, "%.3f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%s,%s\n",
+                s.t_s, s.vehicle1_m.x(), s.vehicle1_m.y(), s.vehicle1_m.z(), s.vehicle2_m.x(),
+                s.vehicle2_m.y(), s.vehicle2_m.z(), s.pole_m.x(), s.pole_m.y(), s.pole_m.z(), s.pole_axis.x(),
+                s.pole_axis.y(), s.pole_axis.z(), s.task1.c_str(), s.task2.c_str());
+            ts << line;
+          }
+        }
+      }
+    } else {
+      // Each attempt on a plant drawn anew from its ranges: one series of one throw per draw,
+      // after the throw that adapts only.
+      // What the ground station learnt carries over from draw to draw, as its store would.
+      std::optional<gs::runtime::Learnt> learnt;
+      for (std::size_t i = 0; i < plans.size(); ++i) {
+        sil::SeriesConfig config;
+        config.plant = randomised(plant, seed * 1000003ULL + i);
+        config.seed = seed * 1000003ULL + i;
+        config.ground_station.learnt = learnt;
+        config.ground_station.adaptation_store_path = store_file;
+        if (verbose) config.log = [](const std::string& line) { std::printf("%s\n", line.c_str()); };
+        sil::SeriesRunner runner(config);
+        std::vector<sil::AttemptPlan> one{plans[i]};
+        sil::AttemptResult r = runner.run(one).front();
+        learnt = runner.groundStation().learnt();
+        if (verbose)
+          std::printf(
+              "  learnt: catching height %.3f, waiting (%.3f, %.3f), bias (%.3f, %.3f), catching instant %.3f s\n",
+              learnt->state.catch_height_m, learnt->state.waiting_xy_m.x(), learnt->state.waiting_xy_m.y(),
+              learnt->state.offset_bias_m.x(), learnt->state.offset_bias_m.y(), learnt->catch_instant_s);
+        r.throw_number = static_cast<int>(i) + 1;
+        print(r);
+        results.push_back(r);
+      }
     }
-  }
 
   } catch (const gs::adaptation::StoreError& e) {
     std::cerr << "hil fly: " << e.what() << "\n";
@@ -159,7 +164,8 @@ int cmdFly(int argc, char** argv) {
       ++impacts;
     }
   }
-  std::printf("summary: %d of %d attempts to catch were caught and balanced again for 3 s (", caught, catches);
+  std::printf("summary: %d of %d attempts to catch were caught and balanced again for 3 s (", caught,
+              catches);
   bool first = true;
   for (const auto& [outcome, n] : counts) {
     std::printf("%s%s %d", first ? "" : ", ", outcome.c_str(), n);

@@ -6,8 +6,10 @@
 namespace {
 
 constexpr pa::cli::Subcommand kSubcommands[] = {
-    {"record", "run a scenario on the truth plant and write the motion-capture log as CSV", hil::apps::cmdRecord},
-    {"fly", "fly a series of throws in the lockstep arena with the ground-station runtime", hil::apps::cmdFly},
+    {"record", "run a scenario on the truth plant and write the motion-capture log as CSV",
+     hil::apps::cmdRecord},
+    {"fly", "fly a series of throws in the lockstep arena with the ground-station runtime",
+     hil::apps::cmdFly},
     {"config", "print the plant parameters (optionally randomised from a seed)", hil::apps::cmdConfig},
 };
 

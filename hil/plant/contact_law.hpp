@@ -22,10 +22,10 @@ namespace hil {
 
 struct ContactLaw {
   double stiffness_Npm = 0.0;
-  double damping_Nspm = 0.0;             // c, while sinking in (at small rates)
-  double damping_force_max_N = 1.0;      // F_max: the sinking-in damper force saturates at this
-  double rebound_damping_Nspm = 0.0;     // c_rebound, while coming back out
-  double friction = 0.0;  // Coulomb coefficient mu
+  double damping_Nspm = 0.0;          // c, while sinking in (at small rates)
+  double damping_force_max_N = 1.0;   // F_max: the sinking-in damper force saturates at this
+  double rebound_damping_Nspm = 0.0;  // c_rebound, while coming back out
+  double friction = 0.0;              // Coulomb coefficient mu
   double tangential_stiffness_Npm = 0.0;
   double tangential_damping_Nspm = 0.0;
 };
@@ -37,8 +37,8 @@ double contact_normal_force_N(const ContactLaw& law, double depth_m, double norm
 // The full force on the point (the surface receives the opposite). `normal` is the unit surface
 // normal, `relative_velocity_mps` the point's velocity relative to the surface material there,
 // `anchor_offset_m` the point's tangential displacement from its anchor (zero without one).
-Vec3 contact_force_N(const ContactLaw& law, const Vec3& normal, double depth_m, const Vec3& relative_velocity_mps,
-                     const Vec3& anchor_offset_m);
+Vec3 contact_force_N(const ContactLaw& law, const Vec3& normal, double depth_m,
+                     const Vec3& relative_velocity_mps, const Vec3& anchor_offset_m);
 
 // The anchor offset after slipping: unchanged while the spring force stays within mu F_n,
 // otherwise shortened along itself to the length at which it equals the limit.

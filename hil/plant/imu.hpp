@@ -24,7 +24,8 @@ class ImuModel {
  public:
   ImuModel(const ImuConfig& config, std::uint64_t seed, RandomStream stream);
 
-  ImuSample measure(std::uint64_t tick, double t_s, const Vec3& true_rate_radps, const Vec3& true_specific_force_mps2);
+  ImuSample measure(std::uint64_t tick, double t_s, const Vec3& true_rate_radps,
+                    const Vec3& true_specific_force_mps2);
 
   const Vec3& accel_bias_mps2() const { return accel_bias_; }
   const Vec3& gyro_bias_radps() const { return gyro_bias_; }

@@ -22,9 +22,9 @@ struct MocapPose {
 };
 
 struct MocapFrame {
-  std::uint64_t index = 0;      // capture count; capture_t_s = index / rate
-  double capture_t_s = 0.0;     // when the poses were true
-  double delivery_t_s = 0.0;    // when the frame becomes visible
+  std::uint64_t index = 0;          // capture count; capture_t_s = index / rate
+  double capture_t_s = 0.0;         // when the poses were true
+  double delivery_t_s = 0.0;        // when the frame becomes visible
   std::array<MocapPose, 3> pose{};  // indexed by Body
 };
 

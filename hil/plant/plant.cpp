@@ -33,9 +33,11 @@ Eigen::Vector4d quaternion_rate(const Quat& q, const Vec3& rate_body_radps) {
 
 Plant::Plant(const PlantConfig& config, std::uint64_t seed)
     : config_(config),
-      imu_{ImuModel(config.imu, seed, RandomStream::imu_vehicle1), ImuModel(config.imu, seed, RandomStream::imu_vehicle2)},
+      imu_{ImuModel(config.imu, seed, RandomStream::imu_vehicle1),
+           ImuModel(config.imu, seed, RandomStream::imu_vehicle2)},
       mocap_(config.mocap, seed) {
-  if (const std::string problem = check_plant_config(config); !problem.empty()) throw std::invalid_argument(problem);
+  if (const std::string problem = check_plant_config(config); !problem.empty())
+    throw std::invalid_argument(problem);
   free_step_ns_ = std::max<std::int64_t>(1, to_ns(config.integration.step_free_s));
   contact_step_ns_ = std::max<std::int64_t>(1, to_ns(config.integration.step_contact_s));
   imu_period_ns_ = std::max<std::int64_t>(1, to_ns(1.0 / config.imu.rate_Hz));
@@ -48,8 +50,10 @@ Plant::Plant(const PlantConfig& config, std::uint64_t seed)
   vehicles_[0] = parked_vehicle(-1.0, 0.0, 0.0);
   vehicles_[1] = parked_vehicle(1.0, 0.0, 0.0);
   // The pole lies still on the floor, each end sunk by half its weight over the floor's stiffness.
-  const double sink_m = config.pole.mass_kg * config.gravity_mps2 / (2.0 * config.contact.floor_stiffness_Npm);
-  pole_ = make_pole(Vec3(0.0, 0.0, config.contact.floor_height_m - sink_m), Vec3::UnitY(), Vec3::Zero(), Vec3::Zero());
+  const double sink_m =
+      config.pole.mass_kg * config.gravity_mps2 / (2.0 * config.contact.floor_stiffness_Npm);
+  pole_ = make_pole(Vec3(0.0, 0.0, config.contact.floor_height_m - sink_m), Vec3::UnitY(), Vec3::Zero(),
+                    Vec3::Zero());
   for (int p = 0; p < kPairs; ++p) reset_pair(p);
   pole_asleep_ = true;
   events_.clear();
@@ -57,7 +61,8 @@ Plant::Plant(const PlantConfig& config, std::uint64_t seed)
 
 // --- state builders ------------------------------------------------------------------------
 
-PoleState Plant::make_pole(const Vec3& centre_m, const Vec3& axis, const Vec3& velocity_mps, const Vec3& rate_radps) {
+PoleState Plant::make_pole(const Vec3& centre_m, const Vec3& axis, const Vec3& velocity_mps,
+                           const Vec3& rate_radps) {
   PoleState p;
   p.body.position_m = centre_m;
   p.body.velocity_mps = velocity_mps;
@@ -77,7 +82,8 @@ VehicleState Plant::hovering_vehicle(const Vec3& position_m, double yaw_rad) con
 VehicleState Plant::parked_vehicle(double x_m, double y_m, double yaw_rad) const {
   VehicleState v;
   // Each foot sunk by a quarter of the weight over the floor's stiffness: at rest from the start.
-  const double sink_m = config_.vehicle.mass_kg * config_.gravity_mps2 / (4.0 * config_.contact.floor_stiffness_Npm);
+  const double sink_m =
+      config_.vehicle.mass_kg * config_.gravity_mps2 / (4.0 * config_.contact.floor_stiffness_Npm);
   v.body.position_m = Vec3(x_m, y_m, config_.contact.floor_height_m + config_.vehicle.foot_depth_m - sink_m);
   v.body.attitude = Quat(Eigen::AngleAxisd(yaw_rad, Vec3::UnitZ()));
   return v;
@@ -87,7 +93,8 @@ MotorCommands Plant::hover_commands(int vehicle) const {
   MotorCommands c;
   const double per_motor_N = config_.vehicle.mass_kg * config_.gravity_mps2 / 4.0;
   for (int i = 0; i < 4; ++i) {
-    c.command[i] = per_motor_N / (config_.vehicle.motor_gain[index(vehicle)][i] * config_.vehicle.motor_thrust_max_N);
+    c.command[i] =
+        per_motor_N / (config_.vehicle.motor_gain[index(vehicle)][i] * config_.vehicle.motor_thrust_max_N);
   }
   return c;
 }
@@ -97,7 +104,9 @@ Vec3 Plant::plate_centre_m(int vehicle) const {
   return b.position_m + b.attitude * Vec3(0.0, 0.0, config_.vehicle.plate_height_m);
 }
 
-Vec3 Plant::plate_normal(int vehicle) const { return vehicles_[index(vehicle)].body.attitude * Vec3::UnitZ(); }
+Vec3 Plant::plate_normal(int vehicle) const {
+  return vehicles_[index(vehicle)].body.attitude * Vec3::UnitZ();
+}
 
 namespace {
 bool finite(const RigidBodyState& b) {
@@ -171,14 +180,12 @@ Surface Plant::pair_surface(int pair) const {
 ContactLaw Plant::law(Surface surface) const {
   const ContactConfig& c = config_.contact;
   if (surface == Surface::floor) {
-    return ContactLaw{c.floor_stiffness_Npm,         c.floor_damping_Nspm,
-                      c.floor_damping_force_max_N,   c.floor_rebound_damping_Nspm,
-                      c.floor_friction,              c.floor_tangential_stiffness_Npm,
+    return ContactLaw{c.floor_stiffness_Npm,          c.floor_damping_Nspm, c.floor_damping_force_max_N,
+                      c.floor_rebound_damping_Nspm,   c.floor_friction,     c.floor_tangential_stiffness_Npm,
                       c.floor_tangential_damping_Nspm};
   }
-  return ContactLaw{c.plate_stiffness_Npm,         c.plate_damping_Nspm,
-                    c.plate_damping_force_max_N,   c.plate_rebound_damping_Nspm,
-                    c.plate_friction,              c.plate_tangential_stiffness_Npm,
+  return ContactLaw{c.plate_stiffness_Npm,          c.plate_damping_Nspm, c.plate_damping_force_max_N,
+                    c.plate_rebound_damping_Nspm,   c.plate_friction,     c.plate_tangential_stiffness_Npm,
                     c.plate_tangential_damping_Nspm};
 }
 
@@ -200,7 +207,8 @@ Plant::Kinematics Plant::kinematics(const Bodies& b) const {
   k.pole_rotation = pole.attitude.toRotationMatrix();
   k.pole_rate = k.pole_rotation * pole.rate_body_radps;
   for (int e = 0; e < 2; ++e) {
-    const Vec3 r = (e == 0 ? -config_.pole.half_length_m : config_.pole.half_length_m) * k.pole_rotation.col(2);
+    const Vec3 r =
+        (e == 0 ? -config_.pole.half_length_m : config_.pole.half_length_m) * k.pole_rotation.col(2);
     k.point[e] = pole.position_m + r;
     k.point_velocity[e] = pole.velocity_mps + k.pole_rate.cross(r);
   }
@@ -251,8 +259,8 @@ Plant::Evaluation Plant::evaluate(const Bodies& b, double elapsed_s) const {
   const Vec3 vehicle_inertia(vc.inertia_xx_kgm2, vc.inertia_yy_kgm2, vc.inertia_zz_kgm2);
 
   const Kinematics k = kinematics(b);
-  std::array<Vec3, 2> vehicle_force;         // non-gravitational, inertial
-  std::array<Vec3, 2> vehicle_torque_body;   // about the CG
+  std::array<Vec3, 2> vehicle_force;        // non-gravitational, inertial
+  std::array<Vec3, 2> vehicle_torque_body;  // about the CG
   for (int v = 0; v < 2; ++v) {
     const RigidBodyState& body = b.vehicle[v];
     const BodyWrench rotors = rotor_wrench(vc, thrust_at(v, elapsed_s));
@@ -274,8 +282,9 @@ Plant::Evaluation Plant::evaluate(const Bodies& b, double elapsed_s) const {
     Vec3 offset = Vec3::Zero();
     if (m.anchored) {
       const int v = surface == Surface::plate1 ? 0 : 1;
-      const Vec3 anchor =
-          surface == Surface::floor ? m.anchor : Vec3(b.vehicle[v].position_m + k.vehicle_rotation[v] * m.anchor);
+      const Vec3 anchor = surface == Surface::floor
+                              ? m.anchor
+                              : Vec3(b.vehicle[v].position_m + k.vehicle_rotation[v] * m.anchor);
       offset = g.point_m - anchor;
     }
     const Vec3 f = contact_force_N(law(surface), g.normal, -g.gap_m, g.relative_velocity_mps, offset);
@@ -287,7 +296,8 @@ Plant::Evaluation Plant::evaluate(const Bodies& b, double elapsed_s) const {
     } else {
       const int v = (p - kPolePairs) / 4;
       vehicle_force[v] += f;
-      vehicle_torque_body[v] += k.vehicle_rotation[v].transpose() * (g.point_m - b.vehicle[v].position_m).cross(f);
+      vehicle_torque_body[v] +=
+          k.vehicle_rotation[v].transpose() * (g.point_m - b.vehicle[v].position_m).cross(f);
     }
     if (surface != Surface::floor) {
       const int v = surface == Surface::plate1 ? 0 : 1;
@@ -307,7 +317,8 @@ Plant::Evaluation Plant::evaluate(const Bodies& b, double elapsed_s) const {
     e.specific_force_body[v] = k.vehicle_rotation[v].transpose() * (vehicle_force[v] / vc.mass_kg);
   }
   if (!pole_asleep_) {  // (asleep, the pole keeps its place: all rates stay zero)
-    const Vec3 inertia(pole_transverse_inertia_kgm2(), pole_transverse_inertia_kgm2(), pole_axial_inertia_kgm2());
+    const Vec3 inertia(pole_transverse_inertia_kgm2(), pole_transverse_inertia_kgm2(),
+                       pole_axial_inertia_kgm2());
     BodyRate& r = e.pole;
     r.dp = pole.velocity_mps;
     r.dv = pole_force / config_.pole.mass_kg + gravity;
@@ -366,7 +377,8 @@ std::int64_t Plant::choose_step_ns(std::int64_t limit_ns) const {
     if (pair_surface(p) != Surface::floor) {
       const Vec3 d = g.point_m - k.plate_centre[pair_surface(p) == Surface::plate1 ? 0 : 1];
       const double radial_m = (d - d.dot(g.normal) * g.normal).norm();
-      const double sliding_mps = (g.relative_velocity_mps - g.relative_velocity_mps.dot(g.normal) * g.normal).norm();
+      const double sliding_mps =
+          (g.relative_velocity_mps - g.relative_velocity_mps.dot(g.normal) * g.normal).norm();
       if (radial_m > config_.vehicle.plate_radius_m + kNearMargin_m + 2.0 * free_s * sliding_mps) continue;
     }
     near = true;
@@ -378,7 +390,8 @@ void Plant::substep(std::int64_t h_ns) {
   const double h = static_cast<double>(h_ns) * 1e-9;
   const Bodies b0 = bodies();
   const Kinematics k0 = kinematics(b0);
-  for (int p = 0; p < kPairs; ++p) pairs_[p].above_at_start = geometry(b0, k0, p).gap_m >= -kPlacementTolerance_m;
+  for (int p = 0; p < kPairs; ++p)
+    pairs_[p].above_at_start = geometry(b0, k0, p).gap_m >= -kPlacementTolerance_m;
 
   // Classic RK4; the contact memory (engagement, anchors) is held over the step.
   const Evaluation e1 = evaluate(b0, 0.0);
@@ -438,7 +451,8 @@ void Plant::update_contacts() {
       const Vec3 on_surface = g.point_m - g.gap_m * g.normal;  // the point projected onto the surface
       Vec3 anchor_world = on_surface;
       if (m.anchored) {
-        const Vec3 old_anchor = plate_body ? Vec3(plate_body->position_m + plate_body->attitude * m.anchor) : m.anchor;
+        const Vec3 old_anchor =
+            plate_body ? Vec3(plate_body->position_m + plate_body->attitude * m.anchor) : m.anchor;
         const Vec3 offset = on_surface - old_anchor;
         const Vec3 tangential = offset - offset.dot(g.normal) * g.normal;
         const ContactLaw l = law(surface);
@@ -451,7 +465,8 @@ void Plant::update_contacts() {
     } else {
       m.anchored = false;
     }
-    if (p < kPolePairs && was != m.engaged) events_.push_back(PoleContactEvent{t_s(), p / 3, surface, m.engaged});
+    if (p < kPolePairs && was != m.engaged)
+      events_.push_back(PoleContactEvent{t_s(), p / 3, surface, m.engaged});
   }
 }
 
@@ -461,7 +476,8 @@ void Plant::update_pole_rest(double h_s) {
   // does not count: the ends are points on the axis, so nothing in the plant damps it, and it
   // moves nothing.
   const Vec3 tumble_radps = pole_.body.rate_body_radps - pole_.body.rate_body_radps.z() * Vec3::UnitZ();
-  const bool resting = pairs_[2].engaged && pairs_[5].engaged && pole_.body.velocity_mps.norm() < kRestSpeed_mps &&
+  const bool resting = pairs_[2].engaged && pairs_[5].engaged &&
+                       pole_.body.velocity_mps.norm() < kRestSpeed_mps &&
                        tumble_radps.norm() < kRestRate_radps;
   pole_rest_s_ = resting ? pole_rest_s_ + h_s : 0.0;
   if (pole_rest_s_ >= kRestTime_s) {
@@ -477,8 +493,8 @@ void Plant::step(double dt_s, const MotorCommands& vehicle1, const MotorCommands
   const std::array<const MotorCommands*, 2> commands{&vehicle1, &vehicle2};
   for (int v = 0; v < 2; ++v) {
     for (int i = 0; i < 4; ++i) {
-      target_thrust_N_[v][i] = motor_target_thrust_N(commands[v]->command[i], config_.vehicle.motor_gain[v][i],
-                                                     config_.vehicle.motor_thrust_max_N);
+      target_thrust_N_[v][i] = motor_target_thrust_N(
+          commands[v]->command[i], config_.vehicle.motor_gain[v][i], config_.vehicle.motor_thrust_max_N);
     }
   }
   if (t_ns_ >= static_cast<std::int64_t>(mocap_index_) * mocap_period_ns_) capture_mocap();
@@ -564,13 +580,17 @@ double Plant::pole_transverse_inertia_kgm2() const {
   return p.mass_kg * (p.half_length_m * p.half_length_m / 3.0 + p.radius_m * p.radius_m / 2.0);
 }
 
-double Plant::pole_axial_inertia_kgm2() const { return config_.pole.mass_kg * config_.pole.radius_m * config_.pole.radius_m; }
+double Plant::pole_axial_inertia_kgm2() const {
+  return config_.pole.mass_kg * config_.pole.radius_m * config_.pole.radius_m;
+}
 
 double Plant::pole_energy_J() const {
   const RigidBodyState& b = pole_.body;
-  const Vec3 inertia(pole_transverse_inertia_kgm2(), pole_transverse_inertia_kgm2(), pole_axial_inertia_kgm2());
+  const Vec3 inertia(pole_transverse_inertia_kgm2(), pole_transverse_inertia_kgm2(),
+                     pole_axial_inertia_kgm2());
   const double m = config_.pole.mass_kg;
-  return 0.5 * m * b.velocity_mps.squaredNorm() + 0.5 * b.rate_body_radps.dot(inertia.cwiseProduct(b.rate_body_radps)) +
+  return 0.5 * m * b.velocity_mps.squaredNorm() +
+         0.5 * b.rate_body_radps.dot(inertia.cwiseProduct(b.rate_body_radps)) +
          m * config_.gravity_mps2 * b.position_m.z();
 }
 
@@ -591,8 +611,10 @@ Vec3 Plant::vehicle_momentum_Ns(int vehicle) const {
 
 Vec3 Plant::pole_angular_momentum_Nms(const Vec3& about_m) const {
   const RigidBodyState& b = pole_.body;
-  const Vec3 inertia(pole_transverse_inertia_kgm2(), pole_transverse_inertia_kgm2(), pole_axial_inertia_kgm2());
-  return (b.position_m - about_m).cross(pole_momentum_Ns()) + b.attitude * inertia.cwiseProduct(b.rate_body_radps);
+  const Vec3 inertia(pole_transverse_inertia_kgm2(), pole_transverse_inertia_kgm2(),
+                     pole_axial_inertia_kgm2());
+  return (b.position_m - about_m).cross(pole_momentum_Ns()) +
+         b.attitude * inertia.cwiseProduct(b.rate_body_radps);
 }
 
 Vec3 Plant::vehicle_angular_momentum_Nms(int vehicle, const Vec3& about_m) const {

@@ -100,8 +100,8 @@ class Plant {
   // The specific force (body frame) and body rate of a vehicle averaged over the last
   // integration step: what a perfect IMU would read.
   const Vec3& true_specific_force_mps2(int vehicle) const { return true_specific_force_[index(vehicle)]; }
-  double pole_energy_J() const;                 // kinetic + potential (zero at z = 0)
-  double vehicle_energy_J(int vehicle) const;   // idem
+  double pole_energy_J() const;                // kinetic + potential (zero at z = 0)
+  double vehicle_energy_J(int vehicle) const;  // idem
   Vec3 pole_momentum_Ns() const;
   Vec3 vehicle_momentum_Ns(int vehicle) const;
   Vec3 pole_angular_momentum_Nms(const Vec3& about_m) const;
@@ -164,10 +164,10 @@ class Plant {
   struct PairGeometry {
     Vec3 point_m;
     Vec3 normal;
-    double gap_m;          // signed distance from the surface along the normal (> 0 outside)
-    bool within_rim;       // plates: the point projects inside the disc
+    double gap_m;                // signed distance from the surface along the normal (> 0 outside)
+    bool within_rim;             // plates: the point projects inside the disc
     Vec3 relative_velocity_mps;  // point relative to the surface material at the point
-    Vec3 lever_vehicle_m;  // plates: point relative to the vehicle's CG (inertial)
+    Vec3 lever_vehicle_m;        // plates: point relative to the vehicle's CG (inertial)
   };
 
   // What every contact needs, computed once per evaluation: rotations, inertial rates, plate
@@ -209,8 +209,8 @@ class Plant {
   std::int64_t contact_step_ns_;
   std::int64_t imu_period_ns_;
   std::int64_t mocap_period_ns_;
-  std::uint64_t imu_tick_ = 0;       // samples taken so far; the next is due at (tick + 1) periods
-  std::uint64_t mocap_index_ = 0;    // frames captured so far; the next is due at index periods
+  std::uint64_t imu_tick_ = 0;     // samples taken so far; the next is due at (tick + 1) periods
+  std::uint64_t mocap_index_ = 0;  // frames captured so far; the next is due at index periods
 
   std::array<VehicleState, 2> vehicles_{};
   PoleState pole_{};

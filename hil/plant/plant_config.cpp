@@ -28,10 +28,14 @@ double& motor_gain(PlantConfig& c) {
   return c.vehicle.motor_gain[V][M];
 }
 
-#define PA_REAL(name, member, lo, hi, open) \
-  Parameter { name, [](PlantConfig& c) -> double& { return c.member; }, nullptr, lo, hi, open }
-#define PA_INT(name, member, lo, hi) \
-  Parameter { name, nullptr, [](PlantConfig& c) -> int& { return c.member; }, lo, hi, false }
+#define PA_REAL(name, member, lo, hi, open)                                         \
+  Parameter {                                                                       \
+    name, [](PlantConfig& c) -> double& { return c.member; }, nullptr, lo, hi, open \
+  }
+#define PA_INT(name, member, lo, hi)                                              \
+  Parameter {                                                                     \
+    name, nullptr, [](PlantConfig& c) -> int& { return c.member; }, lo, hi, false \
+  }
 
 const Parameter kParameters[] = {
     PA_REAL("gravity_mps2", gravity_mps2, 0.0, 100.0, false),
@@ -94,7 +98,8 @@ const Parameter kParameters[] = {
     PA_REAL("integration_step_contact_s", integration.step_contact_s, 0.0, 0.01, true),
     PA_REAL("random_drag_fraction", randomisation.drag_fraction, 0.0, 0.99, false),
     PA_REAL("random_motor_gain_fraction", randomisation.motor_gain_fraction, 0.0, 0.99, false),
-    PA_REAL("random_motor_time_constant_fraction", randomisation.motor_time_constant_fraction, 0.0, 0.99, false),
+    PA_REAL("random_motor_time_constant_fraction", randomisation.motor_time_constant_fraction, 0.0, 0.99,
+            false),
     PA_REAL("random_vehicle_drag_fraction", randomisation.vehicle_drag_fraction, 0.0, 0.99, false),
     PA_REAL("random_friction_fraction", randomisation.friction_fraction, 0.0, 0.99, false),
     PA_REAL("random_latency_min_s", randomisation.latency_min_s, 0.0, 10.0, false),
@@ -126,7 +131,8 @@ std::vector<std::string_view> plant_config_keys() {
   return keys;
 }
 
-bool set_plant_parameter(PlantConfig& config, std::string_view key, const YAML::Node& value, std::string& error) {
+bool set_plant_parameter(PlantConfig& config, std::string_view key, const YAML::Node& value,
+                         std::string& error) {
   const Parameter* p = find_parameter(key);
   if (!p) {
     error = "unknown plant parameter '" + std::string(key) + "'";
@@ -181,14 +187,17 @@ std::string check_plant_config(const PlantConfig& c) {
   return {};
 }
 
-bool apply_plant_entries(const YAML::Node& map, const std::string& name, PlantConfig& config, std::string& error) {
+bool apply_plant_entries(const YAML::Node& map, const std::string& name, PlantConfig& config,
+                         std::string& error) {
   std::vector<pa::yaml::Entry> entries;
   if (!pa::yaml::entriesOf(map, name, entries, error)) return false;
   PlantConfig updated = config;
   for (const pa::yaml::Entry& e : entries) {
     std::string message;
     if (!set_plant_parameter(updated, e.key, e.value, message)) {
-      error = (find_parameter(e.key) ? pa::yaml::where(name, e) : name + ":" + std::to_string(e.line) + ": ") + message;
+      error =
+          (find_parameter(e.key) ? pa::yaml::where(name, e) : name + ":" + std::to_string(e.line) + ": ") +
+          message;
       return false;
     }
   }
@@ -200,7 +209,8 @@ bool apply_plant_entries(const YAML::Node& map, const std::string& name, PlantCo
   return true;
 }
 
-bool parse_plant_config(std::string_view text, const std::string& name, PlantConfig& config, std::string& error) {
+bool parse_plant_config(std::string_view text, const std::string& name, PlantConfig& config,
+                        std::string& error) {
   YAML::Node root;
   if (!pa::yaml::parseDocument(text, name, root, error)) return false;
   if (root.IsNull()) return true;  // an empty file: every parameter keeps its value
@@ -227,7 +237,8 @@ std::string format_plant_config(const PlantConfig& config) {
       }
       std::snprintf(buf, sizeof buf, "%.*s: %s\n", static_cast<int>(p.key.size()), p.key.data(), number);
     } else {
-      std::snprintf(buf, sizeof buf, "%.*s: %d\n", static_cast<int>(p.key.size()), p.key.data(), p.integer(copy));
+      std::snprintf(buf, sizeof buf, "%.*s: %d\n", static_cast<int>(p.key.size()), p.key.data(),
+                    p.integer(copy));
     }
     text += buf;
   }

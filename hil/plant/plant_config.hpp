@@ -34,14 +34,14 @@ struct VehicleConfig {
   double inertia_xx_kgm2 = 2.5e-3;
   double inertia_yy_kgm2 = 2.5e-3;
   double inertia_zz_kgm2 = 4.5e-3;
-  double arm_length_m = 0.17;                 // centre to each motor, X layout
-  double yaw_moment_per_thrust_m = 0.016;     // rotor drag torque / thrust
-  double motor_thrust_max_N = 3.2;            // at command 1 (with gain 1)
-  double motor_time_constant_s = 0.03;        // first-order lag of each motor's thrust
-  double drag_Nspm = 0.1;                     // linear translational (rotor) drag
-  double foot_depth_m = 0.05;                 // landing feet below the CG, under the motors
-  double plate_radius_m = 0.06;               // catching plate, 0.12 m across (Section VII-A)
-  double plate_height_m = 0.03;               // plate surface above the CG (Section VII-A)
+  double arm_length_m = 0.17;              // centre to each motor, X layout
+  double yaw_moment_per_thrust_m = 0.016;  // rotor drag torque / thrust
+  double motor_thrust_max_N = 3.2;         // at command 1 (with gain 1)
+  double motor_time_constant_s = 0.03;     // first-order lag of each motor's thrust
+  double drag_Nspm = 0.1;                  // linear translational (rotor) drag
+  double foot_depth_m = 0.05;              // landing feet below the CG, under the motors
+  double plate_radius_m = 0.06;            // catching plate, 0.12 m across (Section VII-A)
+  double plate_height_m = 0.03;            // plate surface above the CG (Section VII-A)
   // Per-motor thrust gain (actual / nominal thrust), vehicle 1 and vehicle 2.
   std::array<std::array<double, 4>, 2> motor_gain{{{1.0, 1.0, 1.0, 1.0}, {1.0, 1.0, 1.0, 1.0}}};
 };
@@ -50,7 +50,7 @@ struct VehicleConfig {
 // tangential spring-damper to an anchor point that slides once the force reaches the Coulomb
 // limit (stick and slip).
 struct ContactConfig {
-  double plate_stiffness_Npm = 1000.0;        // the pole end's shock absorber on the plate
+  double plate_stiffness_Npm = 1000.0;  // the pole end's shock absorber on the plate
   double plate_damping_Nspm = 20.0;
   double plate_damping_force_max_N = 12.0;
   double plate_rebound_damping_Nspm = 40.0;
@@ -58,7 +58,7 @@ struct ContactConfig {
   double plate_tangential_stiffness_Npm = 2000.0;
   double plate_tangential_damping_Nspm = 8.0;
   double floor_height_m = 0.0;
-  double floor_stiffness_Npm = 5000.0;        // per contact point (pole end, vehicle foot)
+  double floor_stiffness_Npm = 5000.0;  // per contact point (pole end, vehicle foot)
   double floor_damping_Nspm = 50.0;
   double floor_damping_force_max_N = 500.0;
   double floor_rebound_damping_Nspm = 50.0;
@@ -69,12 +69,12 @@ struct ContactConfig {
 
 struct ImuConfig {
   int rate_Hz = 1000;
-  double accel_noise_mps2 = 0.05;        // white noise per sample, 1 sigma per axis
+  double accel_noise_mps2 = 0.05;  // white noise per sample, 1 sigma per axis
   double gyro_noise_radps = 0.003;
-  double accel_bias_sigma_mps2 = 0.1;    // constant bias per run, drawn per axis from the seed
+  double accel_bias_sigma_mps2 = 0.1;  // constant bias per run, drawn per axis from the seed
   double gyro_bias_sigma_radps = 0.005;
-  double accel_range_mps2 = 156.9064;    // +-16 g
-  double gyro_range_radps = 34.9;        // +-2000 deg/s
+  double accel_range_mps2 = 156.9064;  // +-16 g
+  double gyro_range_radps = 34.9;      // +-2000 deg/s
 };
 
 struct MocapConfig {
@@ -93,14 +93,14 @@ struct IntegrationConfig {
 
 // The spreads of the uncertain parameters, used by randomised() (randomisation.hpp).
 struct RandomisationConfig {
-  double drag_fraction = 0.3;                 // each c scaled by U(1 -+ f)
-  double motor_gain_fraction = 0.05;          // each motor gain scaled by U(1 -+ f)
+  double drag_fraction = 0.3;         // each c scaled by U(1 -+ f)
+  double motor_gain_fraction = 0.05;  // each motor gain scaled by U(1 -+ f)
   double motor_time_constant_fraction = 0.2;
   double vehicle_drag_fraction = 0.3;
   double friction_fraction = 0.2;
-  double latency_min_s = 0.005;               // motion-capture latency drawn from U(min, max)
+  double latency_min_s = 0.005;  // motion-capture latency drawn from U(min, max)
   double latency_max_s = 0.020;
-  double noise_fraction = 0.5;                // every noise sigma scaled by U(1 -+ f)
+  double noise_fraction = 0.5;  // every noise sigma scaled by U(1 -+ f)
 };
 
 struct PlantConfig {
@@ -119,19 +119,22 @@ std::vector<std::string_view> plant_config_keys();
 
 // Sets one parameter from its YAML value. Returns false with a message (without file:line) for
 // an unknown key, a malformed value or a value outside the parameter's range.
-bool set_plant_parameter(PlantConfig& config, std::string_view key, const YAML::Node& value, std::string& error);
+bool set_plant_parameter(PlantConfig& config, std::string_view key, const YAML::Node& value,
+                         std::string& error);
 // Cross-parameter checks (e.g. the contact step not longer than the free step). Empty if fine.
 std::string check_plant_config(const PlantConfig& config);
 
 // Applies a YAML map of `key: value` (a plant file's top level, or a scenario's `plant:` map)
 // over `config`, all or nothing. False with "name:line: message"; never throws.
-bool apply_plant_entries(const YAML::Node& map, const std::string& name, PlantConfig& config, std::string& error);
+bool apply_plant_entries(const YAML::Node& map, const std::string& name, PlantConfig& config,
+                         std::string& error);
 
 // Reads the YAML file `path` over `config` (keys absent from the file keep their values).
 // Returns false with "path:line: message" on any error (YAML syntax, unknown key, malformed
 // number, value out of range); never throws.
 bool load_plant_config(const std::string& path, PlantConfig& config, std::string& error);
-bool parse_plant_config(std::string_view text, const std::string& name, PlantConfig& config, std::string& error);
+bool parse_plant_config(std::string_view text, const std::string& name, PlantConfig& config,
+                        std::string& error);
 
 // All parameters as YAML `key: value` lines, loadable again.
 std::string format_plant_config(const PlantConfig& config);

@@ -31,7 +31,8 @@ Vec3 balance_acceleration(const BalancerGains& gains, const PoleState& pole, int
     const double tilt_rate = (up_rate[axis] * v - h * up_rate.z()) / (h * h + v * v);
     const double x = vehicle.body.position_m[axis] - reference_m[axis];
     const double xdot = vehicle.body.velocity_mps[axis];
-    u[axis] = -(gains.k_position * x + gains.k_velocity * xdot + gains.k_tilt * tilt + gains.k_tilt_rate * tilt_rate);
+    u[axis] = -(gains.k_position * x + gains.k_velocity * xdot + gains.k_tilt * tilt +
+                gains.k_tilt_rate * tilt_rate);
   }
   return u;
 }

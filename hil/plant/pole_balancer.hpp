@@ -18,10 +18,10 @@
 namespace hil {
 
 struct BalancerGains {
-  double k_position = 0.0;  // k1, 1/s^2
-  double k_velocity = 0.0;  // k2, 1/s
-  double k_tilt = 0.0;      // k3, m/s^2 per rad
-  double k_tilt_rate = 0.0; // k4, m/s^2 per rad/s
+  double k_position = 0.0;   // k1, 1/s^2
+  double k_velocity = 0.0;   // k2, 1/s
+  double k_tilt = 0.0;       // k3, m/s^2 per rad
+  double k_tilt_rate = 0.0;  // k4, m/s^2 per rad/s
 };
 
 // The gains that place every closed-loop root at -lambda_radps.

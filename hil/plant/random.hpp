@@ -17,9 +17,9 @@ class Random {
  public:
   Random(std::uint64_t seed, RandomStream stream);
 
-  double uniform();                          // [0, 1)
-  double uniform(double lo, double hi);      // [lo, hi)
-  double gaussian();                         // standard normal
+  double uniform();                      // [0, 1)
+  double uniform(double lo, double hi);  // [lo, hi)
+  double gaussian();                     // standard normal
   double gaussian(double sigma) { return sigma * gaussian(); }
 
  private:

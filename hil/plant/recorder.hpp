@@ -22,7 +22,8 @@ namespace hil {
 
 enum class MocapStamp { delivery, capture };
 
-void write_mocap_csv(std::ostream& out, const std::vector<MocapRow>& rows, MocapStamp stamp = MocapStamp::delivery);
+void write_mocap_csv(std::ostream& out, const std::vector<MocapRow>& rows,
+                     MocapStamp stamp = MocapStamp::delivery);
 void write_pole_truth_csv(std::ostream& out, const std::vector<PoleTruthRow>& rows);
 void write_vehicle_truth_csv(std::ostream& out, const std::vector<VehicleTruthRow>& rows);
 

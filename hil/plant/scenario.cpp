@@ -46,8 +46,8 @@ std::string apply(Scenario& s, const pa::yaml::Entry& e, bool& position_given1, 
   auto mode = [&](VehicleMode& target, bool any) -> std::string {
     const auto m = parse_mode(v);
     if (!m || (!any && *m != VehicleMode::hold && *m != VehicleMode::balance)) {
-      return "'" + k + "' must be " + (any ? "parked, hold, balance or thrower" : "hold or balance") + ", got '" +
-             v + "'";
+      return "'" + k + "' must be " + (any ? "parked, hold, balance or thrower" : "hold or balance") +
+             ", got '" + v + "'";
     }
     target = *m;
     return {};
@@ -131,8 +131,8 @@ std::string apply(Scenario& s, const pa::yaml::Entry& e, bool& position_given1, 
 
 }  // namespace
 
-bool parse_scenario(std::string_view text, const std::string& name, const std::string& base_dir, Scenario& out,
-                    std::string& error) {
+bool parse_scenario(std::string_view text, const std::string& name, const std::string& base_dir,
+                    Scenario& out, std::string& error) {
   YAML::Node root;
   std::vector<pa::yaml::Entry> entries;
   if (!pa::yaml::parseDocument(text, name, root, error)) return false;
@@ -196,7 +196,8 @@ bool parse_scenario(std::string_view text, const std::string& name, const std::s
     }
   }
   if (s.pole_start == PoleStart::balanced && s.vehicle[s.balance_vehicle - 1].mode == VehicleMode::parked) {
-    error = name + ": the pole is balanced on vehicle" + std::to_string(s.balance_vehicle) + ", which is parked";
+    error =
+        name + ": the pole is balanced on vehicle" + std::to_string(s.balance_vehicle) + ", which is parked";
     return false;
   }
   if (s.pole_start == PoleStart::launch && s.launch_time_s > s.duration_s) {
@@ -209,8 +210,7 @@ bool parse_scenario(std::string_view text, const std::string& name, const std::s
 
 bool load_scenario(const std::string& path, Scenario& out, std::string& error) {
   std::string text;
-  return pa::yaml::readFile(path, text, error) &&
-         parse_scenario(text, path, directory_of(path), out, error);
+  return pa::yaml::readFile(path, text, error) && parse_scenario(text, path, directory_of(path), out, error);
 }
 
 std::string scenario_directory() { return std::string(PA_HIL_CONFIG_DIR) + "/scenarios"; }

@@ -67,20 +67,20 @@ struct Scenario {
   double pole_tilt_rad = 0.48;
   double pole_tilt_rate_radps = 2.5;
   double pole_tilt_heading_rad = 0.0;
-  double thrower_release_s = 0.1;            // motors off after the launch (VehicleMode::thrower)
-  double catch_height_m = 1.343;             // plate surface height for position_auto
-  Vec3 catch_offset_m = Vec3::Zero();        // added to the auto position (x, y; z ignored)
+  double thrower_release_s = 0.1;      // motors off after the launch (VehicleMode::thrower)
+  double catch_height_m = 1.343;       // plate surface height for position_auto
+  Vec3 catch_offset_m = Vec3::Zero();  // added to the auto position (x, y; z ignored)
 
   // pole_start = balanced.
-  int balance_vehicle = 1;              // 1 or 2
-  double balance_tilt_rad = 0.02;       // initial tilt towards +x
-  double balance_lambda_radps = 3.0;    // balancer closed-loop roots (pole_balancer.hpp)
+  int balance_vehicle = 1;            // 1 or 2
+  double balance_tilt_rad = 0.02;     // initial tilt towards +x
+  double balance_lambda_radps = 3.0;  // balancer closed-loop roots (pole_balancer.hpp)
 };
 
 // Parses scenario text. `name` is used in messages; `base_dir` resolves a relative
 // plant_config path. Returns false with "name:line: message" on any error; never throws.
-bool parse_scenario(std::string_view text, const std::string& name, const std::string& base_dir, Scenario& out,
-                    std::string& error);
+bool parse_scenario(std::string_view text, const std::string& name, const std::string& base_dir,
+                    Scenario& out, std::string& error);
 bool load_scenario(const std::string& path, Scenario& out, std::string& error);
 
 // The scenario files in the source tree.

@@ -17,7 +17,8 @@ PoleState carried(const PoleState& launch, double dt_s) {
   PoleState p = launch;
   p.body.position_m += dt_s * launch.body.velocity_mps;
   const double angle = rate.norm() * dt_s;
-  if (rate.norm() > 0.0) p.body.attitude = Quat(Eigen::AngleAxisd(angle, rate.normalized())) * launch.body.attitude;
+  if (rate.norm() > 0.0)
+    p.body.attitude = Quat(Eigen::AngleAxisd(angle, rate.normalized())) * launch.body.attitude;
   p.body.attitude.normalize();
   p.body.rate_body_radps = p.body.attitude.conjugate() * rate;
   return p;
@@ -45,8 +46,9 @@ bool find_catch_point(const PlantConfig& config, const Scenario& s, Vec3& out, s
     }
     previous = now;
   }
-  error = s.source + ": the launched pole never comes down through catch_height_m = " + std::to_string(s.catch_height_m) +
-          " m within 20 s, so vehicle" + (s.vehicle[0].position_auto ? "1" : "2") + "_position_m = auto has no place";
+  error = s.source + ": the launched pole never comes down through catch_height_m = " +
+          std::to_string(s.catch_height_m) + " m within 20 s, so vehicle" +
+          (s.vehicle[0].position_auto ? "1" : "2") + "_position_m = auto has no place";
   return false;
 }
 
@@ -58,7 +60,8 @@ VehicleState carrying(const Plant& plant, const PoleState& pole, double yaw_rad)
   v.body.attitude = Quat(Eigen::AngleAxisd(yaw_rad, Vec3::UnitZ()));
   const Vec3 end = pole.end_m(0, c.pole.half_length_m);
   v.body.position_m = end - Vec3(0.0, 0.0, c.vehicle.plate_height_m);
-  v.body.velocity_mps = pole.body.velocity_mps + pole.body.rate_inertial_radps().cross(end - pole.body.position_m);
+  v.body.velocity_mps =
+      pole.body.velocity_mps + pole.body.rate_inertial_radps().cross(end - pole.body.position_m);
   return v;
 }
 
@@ -116,8 +119,9 @@ bool run(const Scenario& s, ScenarioResult& out, std::string& error) {
   }
 
   std::array<VehicleController, 2> controllers{VehicleController(s.plant.vehicle, s.plant.gravity_mps2),
-                                                VehicleController(s.plant.vehicle, s.plant.gravity_mps2)};
-  const BalancerGains balancer = balancer_gains(s.plant.pole.half_length_m, s.plant.gravity_mps2, s.balance_lambda_radps);
+                                               VehicleController(s.plant.vehicle, s.plant.gravity_mps2)};
+  const BalancerGains balancer =
+      balancer_gains(s.plant.pole.half_length_m, s.plant.gravity_mps2, s.balance_lambda_radps);
   std::array<bool, 2> caught{false, false};
   if (launching) out.launch_t_s = s.launch_time_s;
 
@@ -125,22 +129,26 @@ bool run(const Scenario& s, ScenarioResult& out, std::string& error) {
   out.pole_truth.reserve(static_cast<std::size_t>(ticks));
   out.vehicle_truth.reserve(static_cast<std::size_t>(2 * ticks));
   for (long long k = 0; k < ticks; ++k) {
-
     std::array<MotorCommands, 2> commands{};
     for (int i = 0; i < 2; ++i) {
       const ScenarioVehicle& v = s.vehicle[i];
       if (v.mode == VehicleMode::parked) continue;
       // A thrower carries the pole with its motors off, and falls away from it after the launch.
-      if (v.mode == VehicleMode::thrower && plant.t_s() < s.launch_time_s + s.thrower_release_s - 1e-9) continue;
+      if (v.mode == VehicleMode::thrower && plant.t_s() < s.launch_time_s + s.thrower_release_s - 1e-9)
+        continue;
       VehicleSetpoint sp;
       sp.position_m = hold_position[i];
       sp.yaw_rad = v.yaw_rad;
-      const bool balancing = v.mode == VehicleMode::balance || (caught[i] && v.after_catch == VehicleMode::balance);
+      const bool balancing =
+          v.mode == VehicleMode::balance || (caught[i] && v.after_catch == VehicleMode::balance);
       const Contact plate = i == 0 ? Contact::vehicle1 : Contact::vehicle2;
-      const int supported = plant.pole_end_contact(0) == plate ? 0 : plant.pole_end_contact(1) == plate ? 1 : -1;
+      const int supported = plant.pole_end_contact(0) == plate   ? 0
+                            : plant.pole_end_contact(1) == plate ? 1
+                                                                 : -1;
       if (balancing && supported >= 0) {
         sp.hold_horizontal = false;
-        sp.acceleration_mps2 = balance_acceleration(balancer, plant.pole(), supported, plant.vehicle(i), hold_position[i]);
+        sp.acceleration_mps2 =
+            balance_acceleration(balancer, plant.pole(), supported, plant.vehicle(i), hold_position[i]);
       }
       commands[i] = controllers[i].update(plant.vehicle(i), sp, dt);
     }
@@ -154,8 +162,8 @@ bool run(const Scenario& s, ScenarioResult& out, std::string& error) {
       for (int b = 0; b < 3; ++b) {
         const MocapPose& pose = frame.pose[b];
         if (!pose.seen) continue;
-        out.mocap.push_back(MocapRow{frame.delivery_t_s, frame.capture_t_s, static_cast<Body>(b), pose.position_m,
-                                     canonical(pose.attitude)});
+        out.mocap.push_back(MocapRow{frame.delivery_t_s, frame.capture_t_s, static_cast<Body>(b),
+                                     pose.position_m, canonical(pose.attitude)});
       }
     }
     for (int i = 0; i < 2; ++i) {
@@ -166,9 +174,10 @@ bool run(const Scenario& s, ScenarioResult& out, std::string& error) {
     const PoleState& pole = plant.pole();
     // While carried, the pole stands on the thrower's plate by construction.
     const bool carried_now = launching && thrower >= 0 && plant.t_s() < s.launch_time_s - 1e-9;
-    const Contact contact = carried_now ? (thrower == 0 ? Contact::vehicle1 : Contact::vehicle2) : plant.pole_contact();
-    out.pole_truth.push_back(PoleTruthRow{plant.t_s(), pole.body.position_m, pole.body.velocity_mps, pole.axis(),
-                                          pole.body.rate_inertial_radps(), contact});
+    const Contact contact =
+        carried_now ? (thrower == 0 ? Contact::vehicle1 : Contact::vehicle2) : plant.pole_contact();
+    out.pole_truth.push_back(PoleTruthRow{plant.t_s(), pole.body.position_m, pole.body.velocity_mps,
+                                          pole.axis(), pole.body.rate_inertial_radps(), contact});
     for (const PoleContactEvent& e : plant.take_contact_events()) {
       out.contact_events.push_back(e);
       if (!e.begins || e.surface == Surface::floor) continue;

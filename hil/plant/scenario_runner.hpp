@@ -48,8 +48,8 @@ struct ScenarioResult {
   std::vector<VehicleTruthRow> vehicle_truth;
   std::array<std::vector<ImuSample>, 2> imu;
   std::vector<PoleContactEvent> contact_events;
-  std::optional<double> launch_t_s;   // the pole leaves the thrower (or its plate)
-  std::optional<double> impact_t_s;   // a pole end first lands on a plate after that
+  std::optional<double> launch_t_s;  // the pole leaves the thrower (or its plate)
+  std::optional<double> impact_t_s;  // a pole end first lands on a plate after that
   Contact impact_on = Contact::none;
   int impact_end = -1;
   std::optional<Vec3> catch_position_m;  // where an auto-placed vehicle was put

@@ -74,8 +74,8 @@ MotorCommands VehicleController::update(const VehicleState& truth, const Vehicle
   const Vec3 kr(wa * wa, wa * wa, 0.25 * wa * wa);
   const Vec3 kw(2.0 * gains_.attitude_damping * wa, 2.0 * gains_.attitude_damping * wa,
                 gains_.attitude_damping * wa);
-  const Vec3 torque = inertia.cwiseProduct(-kr.cwiseProduct(e_r) - kw.cwiseProduct(w)) +
-                      w.cross(inertia.cwiseProduct(w));
+  const Vec3 torque =
+      inertia.cwiseProduct(-kr.cwiseProduct(e_r) - kw.cwiseProduct(w)) + w.cross(inertia.cwiseProduct(w));
 
   return motors(truth, Eigen::Vector4d(collective_N, torque.x(), torque.y(), torque.z()));
 }
@@ -85,7 +85,8 @@ MotorCommands VehicleController::track_rates(const VehicleState& truth, double t
   const Vec3 w = truth.body.rate_body_radps;
   const Vec3 inertia(vehicle_.inertia_xx_kgm2, vehicle_.inertia_yy_kgm2, vehicle_.inertia_zz_kgm2);
   const Vec3 k(gains_.rate_radps, gains_.rate_radps, gains_.rate_radps / 3.0);
-  const Vec3 torque = inertia.cwiseProduct(k.cwiseProduct(rates_body_radps - w)) + w.cross(inertia.cwiseProduct(w));
+  const Vec3 torque =
+      inertia.cwiseProduct(k.cwiseProduct(rates_body_radps - w)) + w.cross(inertia.cwiseProduct(w));
   const double collective_N = std::max(0.0, vehicle_.mass_kg * thrust_mps2);
   return motors(truth, Eigen::Vector4d(collective_N, torque.x(), torque.y(), torque.z()));
 }
@@ -94,7 +95,8 @@ MotorCommands VehicleController::motors(const VehicleState& truth, const Eigen::
   const Eigen::Vector4d f = allocation_inverse_ * wrench;
   MotorCommands out;
   const double tau = vehicle_.motor_time_constant_s;
-  const double lead = gains_.motor_response_s > 0.0 && tau > gains_.motor_response_s ? tau / gains_.motor_response_s : 1.0;
+  const double lead =
+      gains_.motor_response_s > 0.0 && tau > gains_.motor_response_s ? tau / gains_.motor_response_s : 1.0;
   for (int i = 0; i < 4; ++i) {
     // tau f' = target - f; asking for f' = (demand - f) / response gives the target below.
     const double demand_N = std::clamp(f[i], 0.0, vehicle_.motor_thrust_max_N);

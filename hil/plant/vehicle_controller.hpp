@@ -20,11 +20,11 @@
 namespace hil {
 
 struct VehicleControllerGains {
-  double position_radps = 2.5;    // natural frequency of the horizontal position loop
-  double height_radps = 3.0;      // ... and of the height loop
+  double position_radps = 2.5;  // natural frequency of the horizontal position loop
+  double height_radps = 3.0;    // ... and of the height loop
   double position_damping = 0.9;
   double height_integral_per_s = 1.0;  // integral rate relative to the height loop's stiffness
-  double attitude_radps = 25.0;   // natural frequency of the attitude loop
+  double attitude_radps = 25.0;        // natural frequency of the attitude loop
   double attitude_damping = 0.8;
   // The motors are driven so that their thrust approaches the demand with this time constant
   // instead of their own lag (the command overshoots the demand by the lag ratio, from the
@@ -51,14 +51,16 @@ class VehicleController {
  public:
   // `vehicle` gives the nominal mass, inertia, geometry and motor range the controller assumes
   // (the plant may differ: motor gains, drag).
-  VehicleController(const VehicleConfig& vehicle, double gravity_mps2, const VehicleControllerGains& gains = {});
+  VehicleController(const VehicleConfig& vehicle, double gravity_mps2,
+                    const VehicleControllerGains& gains = {});
 
   MotorCommands update(const VehicleState& truth, const VehicleSetpoint& setpoint, double dt_s);
   // The paper's vehicle inputs (eq. (1), (2)): the mass-normalised collective thrust and the
   // body rates, as the ground station commands them and the on-board rate loop flies them
   // (a stand-in for the firmware's loop: proportional on the body-rate error, gyroscopic terms
   // cancelled, the motor lag shortened as in update()).
-  MotorCommands track_rates(const VehicleState& truth, double thrust_mps2, const Vec3& rates_body_radps) const;
+  MotorCommands track_rates(const VehicleState& truth, double thrust_mps2,
+                            const Vec3& rates_body_radps) const;
   void reset() { height_integral_m_s_ = 0.0; }
 
  private:

@@ -23,18 +23,21 @@ std::uint64_t mix(std::uint64_t x) {
 
 RadioConfig radio_for(RadioConfig radio, std::uint64_t arena_seed, std::uint8_t node) {
   // The top half: splitmix64's best-mixed bits.
-  radio.seed = static_cast<std::uint32_t>(mix(mix(arena_seed) ^ ((0x100u + node) * 0xD1B54A32D192ED03ull)) >> 32);
+  radio.seed =
+      static_cast<std::uint32_t>(mix(mix(arena_seed) ^ ((0x100u + node) * 0xD1B54A32D192ED03ull)) >> 32);
   return radio;
 }
 
 }  // namespace
 
-Arena::Arena(const PlantConfig& plant, const ArenaConfig& config, std::uint64_t seed) : lockstep_(plant, seed) {
+Arena::Arena(const PlantConfig& plant, const ArenaConfig& config, std::uint64_t seed)
+    : lockstep_(plant, seed) {
   links_.reserve(2);
   for (int v = 0; v < 2; ++v) {
     const std::uint8_t node = nodeOf(v);
     links_.emplace_back(radio_for(config.radio, seed, node));
-    vehicles_[static_cast<std::size_t>(v)] = &lockstep_.attach_firmware(v, firmware_config_for(plant.vehicle, node));
+    vehicles_[static_cast<std::size_t>(v)] =
+        &lockstep_.attach_firmware(v, firmware_config_for(plant.vehicle, node));
   }
 }
 

@@ -67,10 +67,10 @@ struct ArenaConfig {
 
 // What one vehicle's radio did, per direction (up = ground -> vehicle).
 struct RadioCounters {
-  std::uint64_t uplink_offered = 0;     // frames handed to the radio on the ground bus
+  std::uint64_t uplink_offered = 0;  // frames handed to the radio on the ground bus
   std::uint64_t uplink_lost = 0;
-  std::uint64_t uplink_delivered = 0;   // put on the vehicle bus
-  std::uint64_t downlink_offered = 0;   // frames the firmware sent
+  std::uint64_t uplink_delivered = 0;  // put on the vehicle bus
+  std::uint64_t downlink_offered = 0;  // frames the firmware sent
   std::uint64_t downlink_lost = 0;
   std::uint64_t downlink_delivered = 0;  // put on the ground bus
 };

@@ -32,7 +32,8 @@ fw::VehicleConfig firmware_config_for(const VehicleConfig& plant_vehicle, std::u
 FirmwareVehicle::FirmwareVehicle(int plant_vehicle, const fw::VehicleConfig& config)
     : plant_vehicle_(plant_vehicle), node_(config.link.node), node_impl_(config) {
   if (plant_vehicle != 0 && plant_vehicle != 1)
-    throw std::invalid_argument("plant vehicle " + std::to_string(plant_vehicle) + " does not exist (0 or 1)");
+    throw std::invalid_argument("plant vehicle " + std::to_string(plant_vehicle) +
+                                " does not exist (0 or 1)");
   inbox_.reserve(16);
   sent_.reserve(64);
 }
@@ -44,12 +45,14 @@ void FirmwareVehicle::on_imu(const ImuSample& sample) {
 
   // The HIL_IMU tick is the plant's sample count modulo 2^16; the firmware unwraps it.
   const auto tick = static_cast<std::uint16_t>(sample.tick & 0xFFFFu);
-  const pa::proto::HilImuGyro gyro{{static_cast<float>(sample.gyro_radps.x()), static_cast<float>(sample.gyro_radps.y()),
-                                    static_cast<float>(sample.gyro_radps.z())},
-                                   tick};
-  const pa::proto::HilImuAccel accel{{static_cast<float>(sample.accel_mps2.x()), static_cast<float>(sample.accel_mps2.y()),
-                                      static_cast<float>(sample.accel_mps2.z())},
-                                     tick};
+  const pa::proto::HilImuGyro gyro{
+      {static_cast<float>(sample.gyro_radps.x()), static_cast<float>(sample.gyro_radps.y()),
+       static_cast<float>(sample.gyro_radps.z())},
+      tick};
+  const pa::proto::HilImuAccel accel{
+      {static_cast<float>(sample.accel_mps2.x()), static_cast<float>(sample.accel_mps2.y()),
+       static_cast<float>(sample.accel_mps2.z())},
+      tick};
   const std::size_t first_reply = sent_.size();
   Frame f;
   if (pa::proto::encode(gyro, node_, f)) node_impl_.on_frame(f, collect);
@@ -61,8 +64,8 @@ void FirmwareVehicle::on_imu(const ImuSample& sample) {
   bool answered = false;
   for (std::size_t i = first_reply; i < sent_.size(); ++i) {
     pa::proto::Message m;
-    if (pa::proto::decode(sent_[i], m) != pa::proto::DecodeStatus::ok || m.type != pa::proto::Type::hil_motors ||
-        m.node != node_)
+    if (pa::proto::decode(sent_[i], m) != pa::proto::DecodeStatus::ok ||
+        m.type != pa::proto::Type::hil_motors || m.node != node_)
       continue;
     if (m.hil_motors.tick == tick) {
       // Units: both are the normalised thrust fraction (see firmware_config_for()), so the

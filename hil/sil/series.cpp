@@ -68,8 +68,9 @@ void SeriesRunner::step() {
     }
     for (const gs::link::ImpactReport& i : gs_.takeImpacts()) {
       char line[200];
-      std::snprintf(line, sizeof line, "%9.3f  IMPACT from vehicle %d at %.3f: class %d, peak %.1f m/s^2, %s", now,
-                    int(i.node), i.t_s, int(i.classification), double(i.peak_mps2), i.final ? "final" : "provisional");
+      std::snprintf(line, sizeof line, "%9.3f  IMPACT from vehicle %d at %.3f: class %d, peak %.1f m/s^2, %s",
+                    now, int(i.node), i.t_s, int(i.classification), double(i.peak_mps2),
+                    i.final ? "final" : "provisional");
       config_.log(line);
     }
     if (gs_.estimator().switchCount() != switches_logged_) {
@@ -93,8 +94,8 @@ void SeriesRunner::step() {
     const int i = plantIndexOf(node);
     if (config_.log && fw.mode() != firmware_modes_[i]) {
       char line[160];
-      std::snprintf(line, sizeof line, "%9.3f  firmware %d: mode %d, failsafe reason %d, impacts %d", now, int(node),
-                    int(fw.mode()), int(fw.failsafe_reason()), int(fw.impact_count()));
+      std::snprintf(line, sizeof line, "%9.3f  firmware %d: mode %d, failsafe reason %d, impacts %d", now,
+                    int(node), int(fw.mode()), int(fw.failsafe_reason()), int(fw.impact_count()));
       config_.log(line);
     }
     firmware_modes_[i] = fw.mode();
@@ -139,8 +140,8 @@ std::vector<AttemptResult> SeriesRunner::run(const std::vector<AttemptPlan>& pla
                                              const std::function<void(const AttemptResult&)>& on_result) {
   std::vector<AttemptResult> results;
   gs_.requestTakeOff();
-  const bool airborne = runUntil(
-      [&] { return gs_.task(kThrower) == Task::hover && gs_.task(kCatcher) == Task::hover; }, 10.0);
+  const bool airborne =
+      runUntil([&] { return gs_.task(kThrower) == Task::hover && gs_.task(kCatcher) == Task::hover; }, 10.0);
   for (std::size_t i = 0; i < plans.size(); ++i) {
     AttemptResult r;
     if (airborne) {
@@ -212,7 +213,7 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
   bool placed = false, pushed = false;
   std::optional<double> throw_start_s, launch_s, impact_s, floor_s;
   double upright_since_s = -1.0;  // < 0: not upright on the catcher
-  std::vector<Vec3> lower_end_m;    // the pole's lower end from the launch to where it stopped
+  std::vector<Vec3> lower_end_m;  // the pole's lower end from the launch to where it stopped
   bool caught = false;
   const double deadline = arena_.t_s() + config_.attempt_timeout_s;
   bool gs_done = false;
@@ -302,8 +303,8 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
                   report->predicted ? report->predicted->xy_m.y() : 0.0,
                   report->predicted ? report->predicted->t_s : 0.0, report->catch_height_m,
                   report->predicted_optimal ? report->predicted_optimal->height_m : 0.0,
-                  report->predicted_optimal ? report->predicted_optimal->t_s : 0.0, r.catch_x_m,
-                  r.catch_y_m, r.catch_height_m, r.flight_s);
+                  report->predicted_optimal ? report->predicted_optimal->t_s : 0.0, r.catch_x_m, r.catch_y_m,
+                  r.catch_height_m, r.flight_s);
     config_.log(line);
   }
   const gs::mission::Reason throw_end = report ? report->thrower_end : gs::mission::Reason::none;
@@ -313,7 +314,8 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
     // The throw itself failed (the pole left the plate before T, or it was aborted): the
     // catcher had nothing to catch.
     r.outcome = "aborted";
-    r.abort_reason = throw_end == gs::mission::Reason::none ? "no_throw" : std::string(gs::mission::reasonName(throw_end));
+    r.abort_reason =
+        throw_end == gs::mission::Reason::none ? "no_throw" : std::string(gs::mission::reasonName(throw_end));
   } else if (end == gs::mission::Reason::out_of_reach || end == gs::mission::Reason::infeasible ||
              end == gs::mission::Reason::abort_requested) {
     r.outcome = "aborted";
@@ -331,7 +333,9 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
     r.outcome = "missed";
   }
   if (!r.impact) r.energy_error_J = 0.0;
-  if (report) r.travel_m = requiredTravel(report->waiting_xy_m, lower_end_m, report->catch_height_m, plan.catch_offset_m, r);
+  if (report)
+    r.travel_m =
+        requiredTravel(report->waiting_xy_m, lower_end_m, report->catch_height_m, plan.catch_offset_m, r);
   return r;
 }
 

@@ -33,8 +33,8 @@
 namespace hil::sil {
 
 struct AttemptPlan {
-  bool catch_it = true;                                          // false: throw only (adapt)
-  Eigen::Vector2d catch_offset_m = Eigen::Vector2d::Zero();      // practice: catch this far off
+  bool catch_it = true;                                      // false: throw only (adapt)
+  Eigen::Vector2d catch_offset_m = Eigen::Vector2d::Zero();  // practice: catch this far off
   double push_sideways_m = 0.0;  // the person pushes the thrower this far in y during the throw
 };
 
@@ -47,15 +47,15 @@ std::vector<AttemptPlan> catchSeries(int n);
 // The referee's account of one attempt, the columns of throws.csv.
 struct AttemptResult {
   int throw_number = 0;
-  std::string outcome;  // caught, dropped, missed, aborted, practice, throw_only
-  double flight_s = -1.0;          // launch to impact (or to the catch height's crossing)
-  double catch_height_m = -1.0;    // lower end at the impact, arena frame
+  std::string outcome;           // caught, dropped, missed, aborted, practice, throw_only
+  double flight_s = -1.0;        // launch to impact (or to the catch height's crossing)
+  double catch_height_m = -1.0;  // lower end at the impact, arena frame
   double catch_x_m = 0.0, catch_y_m = 0.0;
-  double travel_m = 0.0;           // from the catcher's waiting point to the catch point (series.cpp)
-  double energy_error_J = 0.0;     // E - E* right after the impact (0 without one)
+  double travel_m = 0.0;        // from the catcher's waiting point to the catch point (series.cpp)
+  double energy_error_J = 0.0;  // E - E* right after the impact (0 without one)
   bool impact = false;
-  std::string abort_reason;        // the ground station's, for an aborted catch
-  bool vehicle_crashed = false;    // a vehicle touched the floor at speed or was killed
+  std::string abort_reason;      // the ground station's, for an aborted catch
+  bool vehicle_crashed = false;  // a vehicle touched the floor at speed or was killed
 };
 
 // One row of an attempt's time series (every 10 ms).

@@ -31,9 +31,7 @@ class Help : public CLI::Formatter {
   std::string usage_;
 };
 
-std::string got(const std::string& need, const std::string& value) {
-  return need + ", got '" + value + "'";
-}
+std::string got(const std::string& need, const std::string& value) { return need + ", got '" + value + "'"; }
 
 std::optional<double> finite(const std::string& text) {
   double value = 0.0;
@@ -99,8 +97,8 @@ std::optional<int> parse(CLI::App& app, int argc, const char* const* argv, std::
 }
 
 CLI::Validator finiteNumber(std::string need) {
-  return CLI::Validator(
-      [need](std::string& text) { return finite(text) ? std::string() : got(need, text); }, "");
+  return CLI::Validator([need](std::string& text) { return finite(text) ? std::string() : got(need, text); },
+                        "");
 }
 
 CLI::Validator numberIn(double lo, double hi, std::string need) {
@@ -120,8 +118,8 @@ CLI::Validator count(std::uint64_t lo, std::uint64_t hi, std::string need) {
         std::uint64_t n = 0;
         const char* end = text.data() + text.size();
         const auto [ptr, ec] = std::from_chars(text.data(), end, n);
-        const bool ok = !text.empty() && ec == std::errc{} && ptr == end && (text.size() == 1 || text[0] != '0') &&
-                        n >= lo && n <= hi;
+        const bool ok = !text.empty() && ec == std::errc{} && ptr == end &&
+                        (text.size() == 1 || text[0] != '0') && n >= lo && n <= hi;
         return ok ? std::string() : got(need, text);
       },
       "");
@@ -131,8 +129,8 @@ CLI::Validator numberPair(std::string need) {
   return CLI::Validator(
       [need](std::string& text) {
         const std::size_t comma = text.find(',');
-        const bool ok = comma != std::string::npos && finite(text.substr(0, comma)) &&
-                        finite(text.substr(comma + 1));
+        const bool ok =
+            comma != std::string::npos && finite(text.substr(0, comma)) && finite(text.substr(comma + 1));
         return ok ? std::string() : got(need, text);
       },
       "");
@@ -180,7 +178,9 @@ int dispatch(CLI::App& app, std::span<const Subcommand> table, int argc, char** 
   }
   const std::vector<CLI::App*> chosen = app.get_subcommands();
   const bool help = !chosen.empty() && chosen.front()->get_name() == "help";
-  const std::string name = chosen.empty() ? std::string() : help && argc >= 3 ? argv[2] : chosen.front()->get_name();
+  const std::string name = chosen.empty()      ? std::string()
+                           : help && argc >= 3 ? argv[2]
+                                               : chosen.front()->get_name();
   app.clear();  // CLI11 would show the chosen subcommand's help, not the list
   if (chosen.empty() || (help && argc < 3)) {
     std::cout << app.help();

@@ -140,7 +140,7 @@ TEST_CASE("attitude estimator: a constant rotation integrates to the right angle
 }
 
 TEST_CASE("attitude estimator: a misinitialised estimate converges to the accelerometer's tilt") {
-  AttitudeEstimator est;  // default gain 2 / s
+  AttitudeEstimator est;                    // default gain 2 / s
   est.update({}, {0.0f, 0.0f, kG}, kDt_s);  // believes it is level
   const Vec3 up_true = normalised({0.3f, -0.4f, 1.0f});
   const double err0 = angle(est.up_in_body(), up_true);

@@ -62,7 +62,8 @@ TEST_CASE_METHOD(LinkFixture, "setpoint sequences wrap from 15 to 0 and stay fre
   CHECK(link.counters().stale_sequence == 0);
 }
 
-TEST_CASE_METHOD(LinkFixture, "ground heartbeats are live only with advancing sequences of the bound session") {
+TEST_CASE_METHOD(LinkFixture,
+                 "ground heartbeats are live only with advancing sequences of the bound session") {
   CHECK_FALSE(link.heartbeat_live(0));
   heartbeat(1, 0);
   CHECK(link.has_session());

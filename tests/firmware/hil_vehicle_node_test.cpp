@@ -52,7 +52,8 @@ TEST_CASE("a vehicle on the in-memory bus answers every IMU sample with its moto
     bus.send(kPlant, f);
     encode(HilImuAccel{{0, 0, 9.81f}, tick}, 1, f);
     bus.send(kPlant, f);
-    if (tick % 20 == 0 && encode(GsHeartbeat{tick, 7, GroundState::active, static_cast<std::uint8_t>(tick / 20)}, 15, f))
+    if (tick % 20 == 0 &&
+        encode(GsHeartbeat{tick, 7, GroundState::active, static_cast<std::uint8_t>(tick / 20)}, 15, f))
       bus.send(kGround, f);
     while (bus.receive(kVehicle, f)) node.on_frame(f, [&](const Frame& out) { bus.send(kVehicle, out); });
     while (bus.receive(kPlant, f)) {

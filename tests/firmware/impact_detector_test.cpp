@@ -49,7 +49,8 @@ struct Pulse {
     return 0.5 * (1 - std::cos(kPi * tau / duration_s));
   }
   D3 unit() const {
-    const double n = std::sqrt(direction[0] * direction[0] + direction[1] * direction[1] + direction[2] * direction[2]);
+    const double n =
+        std::sqrt(direction[0] * direction[0] + direction[1] * direction[1] + direction[2] * direction[2]);
     return D3{direction[0] / n, direction[1] / n, direction[2] / n};
   }
 };
@@ -173,9 +174,7 @@ D3 throw_rates(double t) {
 TEST_CASE("hover with sensor noise starts no event", "[impact]") {
   ImpactDetector detector = make_detector();
   Sim sim(1);
-  SECTION("nominal IMU noise, 60 s") {
-    CHECK(sim.run(detector, 60.0).empty());
-  }
+  SECTION("nominal IMU noise, 60 s") { CHECK(sim.run(detector, 60.0).empty()); }
   SECTION("ten times the IMU noise, 20 s") {
     sim.accel_noise_mps2 = 0.5;
     sim.gyro_noise_radps = 0.05;
@@ -238,7 +237,7 @@ TEST_CASE("catch impacts are detected within 5 ms, timed within 1 ms and measure
         p.onset_s = 0.3 + phase_ms * 1e-3;
         p.duration_s = duration_ms * 1e-3;
         p.peak_mps2 = peak;
-        p.direction = D3{0.15, 0.05, -1.0};     // friction at the plate: a little lateral force
+        p.direction = D3{0.15, 0.05, -1.0};        // friction at the plate: a little lateral force
         p.rate_change_radps = D3{1.5, -1.0, 0.2};  // off-centre contact
         sim.pulses.push_back(p);
         sim.catch_expected = [](double t) { return t > 0.1 && t < 0.5; };
@@ -270,9 +269,10 @@ TEST_CASE("catch impacts are detected within 5 ms, timed within 1 ms and measure
       }
     }
   }
-  std::printf("impact detector over %d catch pulses: worst detection latency %.2f ms, worst onset error %.2f ms, "
-              "worst peak error %.1f %%\n",
-              cases, worst_latency_s * 1e3, worst_onset_error_s * 1e3, worst_peak_error * 100.0);
+  std::printf(
+      "impact detector over %d catch pulses: worst detection latency %.2f ms, worst onset error %.2f ms, "
+      "worst peak error %.1f %%\n",
+      cases, worst_latency_s * 1e3, worst_onset_error_s * 1e3, worst_peak_error * 100.0);
 }
 
 TEST_CASE("a catch-like impact while no catch is expected is unexpected", "[impact]") {
@@ -375,9 +375,7 @@ TEST_CASE("while a landing is expected, the floor's push is a crash only above t
     touchdown.peak_mps2 = 40;
     touchdown.direction = D3{1, 0, 0.2};
   }
-  SECTION("a push down while landing is not a touchdown") {
-    touchdown.direction = D3{0, 0, -1};
-  }
+  SECTION("a push down while landing is not a touchdown") { touchdown.direction = D3{0, 0, -1}; }
   sim.pulses.push_back(touchdown);
   ImpactDetector detector = make_detector();
   // The flag is raised from the start: the vehicle has been descending.
@@ -395,7 +393,8 @@ TEST_CASE("while a landing is expected, the floor's push is a crash only above t
   REQUIRE(reports.size() == 2);
   CHECK(std::fabs(sim.stream_s(reports[0].event.t_us) - touchdown.onset_s) <= 0.001);
   const bool upward = touchdown.direction[2] > 0 && touchdown.direction[0] < 1;
-  const bool expect_crash = !landing || !upward || touchdown.peak_mps2 > 250 || touchdown.rate_change_radps[0] > 15;
+  const bool expect_crash =
+      !landing || !upward || touchdown.peak_mps2 > 250 || touchdown.rate_change_radps[0] > 15;
   CHECK((reports[1].event.classification == ImpactClass::crash) == expect_crash);
   if (!expect_crash) CHECK(reports[1].event.classification == ImpactClass::unexpected_impact);
   // A touchdown is what the vehicle treats as meeting the floor (vehicle.cpp).
@@ -412,7 +411,8 @@ TEST_CASE("a lasting step is one event, not a train of them", "[impact]") {
   CHECK(reports[1].event.stage == ImpactStage::classified);
   CHECK(reports[1].event.classification == ImpactClass::unexpected_impact);
   // Never released: classified when the event window closes.
-  CHECK(sim.stream_s(reports[1].tick_us) - sim.stream_s(reports[1].event.t_us) == Approx(0.020).margin(0.0011));
+  CHECK(sim.stream_s(reports[1].tick_us) - sim.stream_s(reports[1].event.t_us) ==
+        Approx(0.020).margin(0.0011));
   CHECK(reports[1].event.peak_mps2 == Approx(10.0).epsilon(0.1));
 }
 

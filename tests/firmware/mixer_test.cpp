@@ -69,8 +69,7 @@ void require_unallocated_consistent(const MixerInput& in, const MixerOutput& out
   const MixerInput got = wrench(out.thrust_N);
   REQUIRE(out.thrust_unallocated_N == Approx(in.thrust_N - got.thrust_N).margin(kTolThrust_N));
   for (int a = 0; a < 3; ++a) {
-    REQUIRE(out.torque_unallocated_Nm[a] ==
-            Approx(in.torque_Nm[a] - got.torque_Nm[a]).margin(kTolTorque_Nm));
+    REQUIRE(out.torque_unallocated_Nm[a] == Approx(in.torque_Nm[a] - got.torque_Nm[a]).margin(kTolTorque_Nm));
   }
 }
 
@@ -336,8 +335,8 @@ TEST_CASE("mixer: randomised sweep keeps motors in bounds and the report consist
     const float shrink = unit(rng) < 0.5f ? 0.05f : 1.0f;
     const MixerInput in{thrust(rng), {shrink * tilt(rng), shrink * tilt(rng), shrink * yaw(rng)}};
     const MixerOutput out = mixer.mix(in);
-    INFO("n=" << n << " T=" << in.thrust_N << " tau=" << in.torque_Nm[0] << "," << in.torque_Nm[1]
-              << "," << in.torque_Nm[2] << " flags=" << int(out.saturation));
+    INFO("n=" << n << " T=" << in.thrust_N << " tau=" << in.torque_Nm[0] << "," << in.torque_Nm[1] << ","
+              << in.torque_Nm[2] << " flags=" << int(out.saturation));
     require_motors_in_bounds(out);
     require_unallocated_consistent(in, out);
     (out.saturation == 0 ? n_clean : n_flagged) += 1;

@@ -45,8 +45,8 @@ TEST_CASE("rate controller: the integrator accumulates ki e dt and feeds the nex
   }
   const Vec3 tau = rc.update(setpoint, gyro, kDt_s, 0);
   for (int a = 0; a < 3; ++a) {
-    const float expected = inertia(a) * (kRate.kp_per_s[a] * setpoint[a] +
-                                         kRate.ki_per_s2[a] * setpoint[a] * kDt_s);
+    const float expected =
+        inertia(a) * (kRate.kp_per_s[a] * setpoint[a] + kRate.ki_per_s2[a] * setpoint[a] * kDt_s);
     CHECK(tau[a] == Approx(expected).epsilon(1e-6));
   }
 }
@@ -55,8 +55,8 @@ namespace {
 
 // Closed loop on a rigid body, J w_dot = torque + disturbance, 1 kHz, explicit Euler.
 // Returns the final rate error per axis.
-Vec3 run_closed_loop(const fw::RateControllerConfig& config, const Vec3& setpoint,
-                     const Vec3& disturbance_Nm, float duration_s, Vec3* integrator_out) {
+Vec3 run_closed_loop(const fw::RateControllerConfig& config, const Vec3& setpoint, const Vec3& disturbance_Nm,
+                     float duration_s, Vec3* integrator_out) {
   RateController rc(config, kAirframe);
   Vec3 w{};
   const int steps = static_cast<int>(duration_s / kDt_s);

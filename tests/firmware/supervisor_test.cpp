@@ -30,7 +30,7 @@ using pa::proto::RateThrust;
 using pa::proto::RefuseReason;
 namespace cond = fw::condition;
 
-constexpr std::array<Mode, 7> kModes{Mode::disarmed, Mode::armed, Mode::flying, Mode::failsafe_hover,
+constexpr std::array<Mode, 7> kModes{Mode::disarmed,         Mode::armed,  Mode::flying, Mode::failsafe_hover,
                                      Mode::failsafe_descent, Mode::landed, Mode::killed};
 
 // Condition words that can occur together: take-off thrust needs a fresh setpoint, the descent
@@ -95,7 +95,8 @@ struct Bench {
       if (!repeat_sequence) next_seq = static_cast<std::uint8_t>(pa::SetpointSeq::next(next_seq));
     }
     if (send_heartbeats && ticks % 20 == 0) {
-      receive(GsHeartbeat{now_us / 1000u, kSession, GroundState::active, heartbeat_seq++}, pa::proto::kBroadcastNode);
+      receive(GsHeartbeat{now_us / 1000u, kSession, GroundState::active, heartbeat_seq++},
+              pa::proto::kBroadcastNode);
       REQUIRE(link.heartbeat_live(now_us));  // accepted: the bound session, an advancing sequence
       last_heartbeat_us = now_us;
     }
@@ -157,7 +158,10 @@ struct Bench {
       case Mode::failsafe_hover: hover(); break;
       case Mode::failsafe_descent: land_command ? land_commanded() : descend(); break;
       case Mode::landed: landed(); break;
-      case Mode::killed: take_off(); sup.kill(now_us); break;
+      case Mode::killed:
+        take_off();
+        sup.kill(now_us);
+        break;
     }
     REQUIRE(sup.mode() == m);
   }
@@ -193,7 +197,8 @@ TEST_CASE("modes with the motors off leave only by a command", "[supervisor]") {
   for (const fw::SupervisorTransition& row : fw::kSupervisorTransitions)
     CHECK(fw::action_for(row.from) != Action::motors_off);
   for (Mode m : {Mode::disarmed, Mode::landed, Mode::killed})
-    for (std::uint16_t c = 0; c <= cond::kAll; ++c) REQUIRE(fw::find_transition(m, c) == fw::kSupervisorTransitions.size());
+    for (std::uint16_t c = 0; c <= cond::kAll; ++c)
+      REQUIRE(fw::find_transition(m, c) == fw::kSupervisorTransitions.size());
 }
 
 TEST_CASE("a crash or a lost IMU takes precedence in every mode with the motors on", "[supervisor]") {
@@ -374,7 +379,8 @@ TEST_CASE("an armed vehicle disarms when the ground heartbeat is lost", "[superv
   CHECK(b.sup.reason() == FailsafeReason::heartbeat_lost);
   // The link counts a heartbeat live up to and including the timeout, so the first tick that
   // sees it lost is one 1 ms tick after it (the old test-side model said "at the timeout").
-  CHECK(pa::elapsed_us(change_us, last_heartbeat_us) == static_cast<std::int32_t>(b.config.heartbeat_timeout_us + 1000u));
+  CHECK(pa::elapsed_us(change_us, last_heartbeat_us) ==
+        static_cast<std::int32_t>(b.config.heartbeat_timeout_us + 1000u));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -386,7 +392,9 @@ TEST_CASE("a stale setpoint stream brings a levelled hover within 25 ms", "[supe
   Bench b(0xFFFFFFFFu - 300000u);
   b.take_off();
   SECTION("the stream stops") { b.send_setpoints = false; }
-  SECTION("frames keep arriving with a repeated sequence number, heartbeats continue") { b.repeat_sequence = true; }
+  SECTION("frames keep arriving with a repeated sequence number, heartbeats continue") {
+    b.repeat_sequence = true;
+  }
   // The link accepted the last new sequence number at last_fresh_us (one more frame goes out in the
   // repeated case, carrying the sequence number after it, and then sticks).
   b.run_ms(5);
@@ -438,7 +446,8 @@ TEST_CASE("a lost ground heartbeat in flight brings the hover, then the descent"
   CHECK(b.sup.reason() == FailsafeReason::heartbeat_lost);
   // The link counts a heartbeat live up to and including the timeout, so the first tick that
   // sees it lost is one 1 ms tick after it (the old test-side model said "at the timeout").
-  CHECK(pa::elapsed_us(change_us, last_heartbeat_us) == static_cast<std::int32_t>(b.config.heartbeat_timeout_us + 1000u));
+  CHECK(pa::elapsed_us(change_us, last_heartbeat_us) ==
+        static_cast<std::int32_t>(b.config.heartbeat_timeout_us + 1000u));
   // Fresh setpoints alone do not end the failsafe.
   b.run_until_change(1000);
   CHECK(b.sup.mode() == Mode::failsafe_descent);

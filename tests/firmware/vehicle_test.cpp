@@ -151,7 +151,8 @@ void take_off(Bench& b) {
 }
 // A pole landing on the plate: an 8 ms half-sine drop of the body-z specific force.
 void pole_lands(Bench& b, float peak_mps2) {
-  for (int i = 0; i < 8; ++i) b.tick(true, kG, kG - peak_mps2 * std::sin(3.14159265f * static_cast<float>(i) / 8.0f));
+  for (int i = 0; i < 8; ++i)
+    b.tick(true, kG, kG - peak_mps2 * std::sin(3.14159265f * static_cast<float>(i) / 8.0f));
 }
 const Message* find_impact(const Bench& b, bool final) {
   for (const Message& m : b.sent)
@@ -235,9 +236,9 @@ TEST_CASE("the vehicle reports itself: heartbeats, telemetry and time-sync repli
       CHECK(m.timesync_reply.ground_time_us == 123456);
     }
   }
-  CHECK(heartbeats == 5);   // 50 Hz
-  CHECK(rates == 20);       // 200 Hz
-  CHECK(status == 1);       // 10 Hz
+  CHECK(heartbeats == 5);  // 50 Hz
+  CHECK(rates == 20);      // 200 Hz
+  CHECK(status == 1);      // 10 Hz
   CHECK(replies == 1);
 }
 

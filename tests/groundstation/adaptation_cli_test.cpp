@@ -43,9 +43,7 @@ Run run(int (*command)(int, const char* const*, std::ostream&, std::ostream&),
 }
 
 Run history(std::initializer_list<std::string> args) { return run(runHistoryCommand, args); }
-Run adaptationCmd(std::initializer_list<std::string> args) {
-  return run(runAdaptationCommand, args);
-}
+Run adaptationCmd(std::initializer_list<std::string> args) { return run(runAdaptationCommand, args); }
 
 AdaptationSettings settings() {
   AdaptationSettings s;
@@ -101,8 +99,7 @@ TEST_CASE("history and adaptation reject bad arguments with the usage and exit 2
                        history({"history", "--db", "x.sqlite", "--last", "0"}),
                        history({"history", "--db", "x.sqlite", "--last", "-3"}),
                        history({"history", "--db", "x.sqlite", "--last", "3x"}),
-                       history({"history", "--db", "x.sqlite", "--color"}),
-                       adaptationCmd({"adaptation"}),
+                       history({"history", "--db", "x.sqlite", "--color"}), adaptationCmd({"adaptation"}),
                        adaptationCmd({"adaptation", "--db", "x.sqlite", "--yes"}),
                        adaptationCmd({"adaptation", "--db", "x.sqlite", "--frobnicate"})}) {
     INFO(r.err);

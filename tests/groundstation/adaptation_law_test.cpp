@@ -41,8 +41,8 @@ ThrowRecord throwWithOptimal(double height_m, Eigen::Vector2d xy_m, ThrowOutcome
 
 // The pole's free flight from a planar launch with a lateral offset, observed every 5 ms (the
 // motion-capture rate) from the launch for `duration_s`, integrated with 1 ms steps.
-std::vector<TimedPoleState> observedFlight(const PoleState& launch, double launch_t_s,
-                                           double duration_s, const PoleParams& params) {
+std::vector<TimedPoleState> observedFlight(const PoleState& launch, double launch_t_s, double duration_s,
+                                           const PoleParams& params) {
   std::vector<TimedPoleState> flight;
   PoleState s = launch;
   const int samples = static_cast<int>(std::floor(duration_s / 0.005 + 1e-9));
@@ -95,8 +95,8 @@ TEST_CASE("the iterative mean equals the direct mean of the samples (VI-A)") {
 
 TEST_CASE("a throw without an evaluated optimal instant leaves the catch point alone") {
   const AdaptationSettings settings = testSettings();
-  AdaptationState state = adapt(initialAdaptation(settings),
-                                throwWithOptimal(1.3, {0.6, 0.1}, ThrowOutcome::kCaught), 0);
+  AdaptationState state =
+      adapt(initialAdaptation(settings), throwWithOptimal(1.3, {0.6, 0.1}, ThrowOutcome::kCaught), 0);
   ThrowRecord lost;  // e.g. the motion capture lost the pole
   lost.outcome = ThrowOutcome::kMissed;
   const AdaptationState after = adapt(state, lost, 0);
@@ -118,8 +118,9 @@ TEST_CASE("with a window the gain stops at 1/N: the mean first, then exponential
   CHECK(state.catch_height_m == Approx(1.32).epsilon(1e-12));
   // Then the throws move to 1.50 m: after n more the old offset has decayed by 0.8^n, whereas the
   // plain mean would still sit at the average of both groups.
-  AdaptationState plain = recomputeAdaptation(testSettings(0), std::vector<ThrowRecord>(
-      5, throwWithOptimal(1.32, {0.6, 0.0}, ThrowOutcome::kCaught)));
+  AdaptationState plain = recomputeAdaptation(
+      testSettings(0),
+      std::vector<ThrowRecord>(5, throwWithOptimal(1.32, {0.6, 0.0}, ThrowOutcome::kCaught)));
   for (int n = 1; n <= 20; ++n) {
     const ThrowRecord shifted = throwWithOptimal(1.50, {0.6, 0.0}, ThrowOutcome::kCaught);
     state = adapt(state, shifted, 5);
@@ -297,13 +298,13 @@ TEST_CASE("the energy after a catch at the optimal instant is E* (41), for a mov
   const auto instant = gs::planning::findCatchingInstant(launch, params);
   REQUIRE(instant.found);
   const double e_star = gs::model::uprightEnergy_J(params);
-  CHECK(postImpactEnergy_J(instant.pole, Eigen::Vector3d::Zero(), params) ==
-        Approx(e_star).epsilon(1e-6));
+  CHECK(postImpactEnergy_J(instant.pole, Eigen::Vector3d::Zero(), params) == Approx(e_star).epsilon(1e-6));
   // The planar formula (40), (41) for the same pole.
   const auto k = gs::model::planarKinematicsFromLowerEnd(instant.pole);
-  CHECK(postImpactEnergy_J(instant.pole, Eigen::Vector3d::Zero(), params) ==
-        Approx(gs::model::pivotedPoleEnergy_J(k.alpha_rad, gs::model::postImpactRate_radps(k, params),
-                                              params)).epsilon(1e-12));
+  CHECK(
+      postImpactEnergy_J(instant.pole, Eigen::Vector3d::Zero(), params) ==
+      Approx(gs::model::pivotedPoleEnergy_J(k.alpha_rad, gs::model::postImpactRate_radps(k, params), params))
+          .epsilon(1e-12));
   // Only the velocity relative to the plate matters.
   const Eigen::Vector3d plate(0.3, -0.2, 0.4);
   PoleState moving = instant.pole;
@@ -347,7 +348,7 @@ TEST_CASE("a series like the paper's: adapted catch point = mean of the evaluate
     const auto flight = observedFlight(pole, 0.0, model.t_s + 0.3, params);
 
     ThrowRecord r;
-    r.outcome = k == 1                ? ThrowOutcome::kThrowOnly
+    r.outcome = k == 1               ? ThrowOutcome::kThrowOnly
                 : (k == 2 || k == 7) ? ThrowOutcome::kAbortedOutOfReach
                 : k <= 7             ? ThrowOutcome::kOffsetPractice
                                      : ThrowOutcome::kCaught;
@@ -363,9 +364,8 @@ TEST_CASE("a series like the paper's: adapted catch point = mean of the evaluate
     const auto optimal = evaluateOptimalCatch(flight, 0.0, params);
     REQUIRE(optimal);
     r.optimal = optimal->point;
-    const Eigen::Vector2d offset = r.outcome == ThrowOutcome::kOffsetPractice
-                                       ? Eigen::Vector2d(1.0, 0.0)
-                                       : Eigen::Vector2d::Zero();
+    const Eigen::Vector2d offset =
+        r.outcome == ThrowOutcome::kOffsetPractice ? Eigen::Vector2d(1.0, 0.0) : Eigen::Vector2d::Zero();
     if (catcherFlewToTarget(r.outcome)) {
       r.target_xy_m = compensateOffsetBias(actual->xy_m, state) + offset;
       r.catcher_at_impact_xy_m = *r.target_xy_m + catcher_bias;
@@ -373,8 +373,7 @@ TEST_CASE("a series like the paper's: adapted catch point = mean of the evaluate
     double energy_error = NAN;
     if (r.outcome == ThrowOutcome::kCaught) {
       // The pole state where it meets the plate at the height used.
-      const PoleState at_impact =
-          gs::model::propagatePole(pole, actual->t_s, 0.001, params);
+      const PoleState at_impact = gs::model::propagatePole(pole, actual->t_s, 0.001, params);
       r.energy_after_impact_J = postImpactEnergy_J(at_impact, Eigen::Vector3d::Zero(), params);
       energy_error = std::abs(*r.energy_after_impact_J - settings.target_energy_J);
     }
@@ -385,9 +384,8 @@ TEST_CASE("a series like the paper's: adapted catch point = mean of the evaluate
     char energy[16] = "-";
     if (std::isfinite(energy_error)) std::snprintf(energy, sizeof energy, "%.5f", energy_error);
     std::printf("  %d  %-20s  %.4f  %.4f  %.4f    %-8s   %.4f     (%+.3f, %+.3f)\n", k,
-                std::string(toString(r.outcome)).c_str(), optimal->point.height_m,
-                r.catch_height_used_m, travel, energy, state.catch_height_m,
-                state.offset_bias_m.x(), state.offset_bias_m.y());
+                std::string(toString(r.outcome)).c_str(), optimal->point.height_m, r.catch_height_used_m,
+                travel, energy, state.catch_height_m, state.offset_bias_m.x(), state.offset_bias_m.y());
     REQUIRE(state.catch_height_m == Approx(sum_h / k).epsilon(1e-13));
     REQUIRE((state.waiting_xy_m - sum_xy / k).norm() < 1e-13);
   }

@@ -177,11 +177,12 @@ TEST_CASE("an invalid record is rejected and nothing is written") {
                                            Catch::Contains("nothing written"));
   CHECK(store.adaptation().state == before.state);
   CHECK(store.throwCount() == 1);
-  CHECK_THROWS_AS(AdaptationStore::openOrCreate(dir.file("other.sqlite"), [] {
-                    AdaptationSettings s = testSettings();
-                    s.target_energy_J = 0.0;
-                    return s;
-                  }()),
+  CHECK_THROWS_AS(AdaptationStore::openOrCreate(dir.file("other.sqlite"),
+                                                [] {
+                                                  AdaptationSettings s = testSettings();
+                                                  s.target_energy_J = 0.0;
+                                                  return s;
+                                                }()),
                   StoreError);
 }
 
@@ -193,9 +194,7 @@ TEST_CASE("missing, empty, foreign, newer and damaged files give a clear error, 
     CHECK_THAT(openError(path), Catch::Contains("does not exist") && Catch::Contains(path));
     CHECK_FALSE(std::filesystem::exists(path));
   }
-  SECTION("a directory") {
-    CHECK_THAT(openError(dir.file("")), Catch::Contains("directory"));
-  }
+  SECTION("a directory") { CHECK_THAT(openError(dir.file("")), Catch::Contains("directory")); }
   SECTION("empty: not a store for the CLI; initialised by openOrCreate (an interrupted creation)") {
     const std::string path = dir.file("empty.sqlite");
     writeBytes(path, "");
@@ -208,8 +207,8 @@ TEST_CASE("missing, empty, foreign, newer and damaged files give a clear error, 
     const std::string path = dir.file("notes.txt");
     const std::string text = std::string(3000, 'x') + "\nthis is not a database\n";
     writeBytes(path, text);
-    CHECK_THAT(openError(path), Catch::Contains("not an adaptation store") &&
-                                    Catch::Contains("not a SQLite database"));
+    CHECK_THAT(openError(path),
+               Catch::Contains("not an adaptation store") && Catch::Contains("not a SQLite database"));
     CHECK_THROWS_AS(AdaptationStore::openOrCreate(path, testSettings()), StoreError);
     CHECK(readBytes(path) == text);  // left alone
   }
@@ -385,9 +384,7 @@ int xSync(sqlite3_file* f, int flags) {
   event();
   return real(f)->pMethods->xSync(real(f), flags);
 }
-int xFileSize(sqlite3_file* f, sqlite3_int64* size) {
-  return real(f)->pMethods->xFileSize(real(f), size);
-}
+int xFileSize(sqlite3_file* f, sqlite3_int64* size) { return real(f)->pMethods->xFileSize(real(f), size); }
 int xLock(sqlite3_file* f, int l) { return real(f)->pMethods->xLock(real(f), l); }
 int xUnlock(sqlite3_file* f, int l) { return real(f)->pMethods->xUnlock(real(f), l); }
 int xCheckReservedLock(sqlite3_file* f, int* out) {
@@ -397,9 +394,7 @@ int xFileControl(sqlite3_file* f, int op, void* arg) {
   return real(f)->pMethods->xFileControl(real(f), op, arg);
 }
 int xSectorSize(sqlite3_file* f) { return real(f)->pMethods->xSectorSize(real(f)); }
-int xDeviceCharacteristics(sqlite3_file* f) {
-  return real(f)->pMethods->xDeviceCharacteristics(real(f));
-}
+int xDeviceCharacteristics(sqlite3_file* f) { return real(f)->pMethods->xDeviceCharacteristics(real(f)); }
 int xShmMap(sqlite3_file* f, int page, int size, int extend, void volatile** p) {
   return real(f)->pMethods->xShmMap(real(f), page, size, extend, p);
 }
@@ -411,15 +406,27 @@ int xShmUnmap(sqlite3_file* f, int remove) { return real(f)->pMethods->xShmUnmap
 int xFetch(sqlite3_file* f, sqlite3_int64 o, int n, void** p) {
   return real(f)->pMethods->xFetch(real(f), o, n, p);
 }
-int xUnfetch(sqlite3_file* f, sqlite3_int64 o, void* p) {
-  return real(f)->pMethods->xUnfetch(real(f), o, p);
-}
+int xUnfetch(sqlite3_file* f, sqlite3_int64 o, void* p) { return real(f)->pMethods->xUnfetch(real(f), o, p); }
 
-const sqlite3_io_methods kMethods = {
-    3,       xClose,          xRead,   xWrite,     xTruncate,     xSync,
-    xFileSize, xLock,         xUnlock, xCheckReservedLock, xFileControl, xSectorSize,
-    xDeviceCharacteristics, xShmMap, xShmLock, xShmBarrier, xShmUnmap, xFetch,
-    xUnfetch};
+const sqlite3_io_methods kMethods = {3,
+                                     xClose,
+                                     xRead,
+                                     xWrite,
+                                     xTruncate,
+                                     xSync,
+                                     xFileSize,
+                                     xLock,
+                                     xUnlock,
+                                     xCheckReservedLock,
+                                     xFileControl,
+                                     xSectorSize,
+                                     xDeviceCharacteristics,
+                                     xShmMap,
+                                     xShmLock,
+                                     xShmBarrier,
+                                     xShmUnmap,
+                                     xFetch,
+                                     xUnfetch};
 
 int xOpen(sqlite3_vfs*, const char* name, sqlite3_file* f, int flags, int* out_flags) {
   File* file = reinterpret_cast<File*>(f);
@@ -451,8 +458,8 @@ void install(long kill_at) {
 
 // Kills a writer child at its k-th file-changing call and checks the reopened store. Returns the
 // throw count after the crash.
-std::int64_t crashAtEventAndCheck(const std::string& path, const AdaptationSettings& settings,
-                                  long kill_at, std::int64_t previous_count) {
+std::int64_t crashAtEventAndCheck(const std::string& path, const AdaptationSettings& settings, long kill_at,
+                                  std::int64_t previous_count) {
   std::fflush(nullptr);
   const pid_t child = ::fork();
   REQUIRE(child >= 0);

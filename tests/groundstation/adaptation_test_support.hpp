@@ -54,7 +54,7 @@ inline ThrowRecord makeRecord(std::int64_t id) {
   ThrowRecord r;
   r.time_s = 1000.0 + 60.0 * static_cast<double>(id) + n(rng);
   r.outcome = kAllThrowOutcomes[static_cast<std::size_t>(id) % std::size(kAllThrowOutcomes)];
-  r.launch = {1.5 + 0.02 * n(rng), 2.0 + 0.02 * n(rng), 0.3 + 0.05 * n(rng),
+  r.launch = {1.5 + 0.02 * n(rng), 2.0 + 0.02 * n(rng),  0.3 + 0.05 * n(rng),
               5.5 + 0.05 * n(rng), 0.48 + 0.02 * n(rng), 2.5 + 0.1 * n(rng)};
   r.launch_y_m = 0.02 * n(rng);
   r.launch_vy_mps = 0.05 * n(rng);
@@ -64,8 +64,8 @@ inline ThrowRecord makeRecord(std::int64_t id) {
   if (id % 3 != 0) r.predicted = CatchPoint{{0.64 + 0.15 * n(rng), 0.13 * n(rng)}, 0.8 + 0.02 * n(rng)};
   if (id % 4 != 1) r.actual = CatchPoint{{0.64 + 0.15 * n(rng), 0.13 * n(rng)}, 0.8 + 0.02 * n(rng)};
   if (id % 6 != 2) {
-    r.optimal = OptimalCatch{0.81 + 0.03 * n(rng), 1.343 + 0.08 * n(rng),
-                             {0.64 + 0.15 * n(rng), 0.13 * n(rng)}};
+    r.optimal =
+        OptimalCatch{0.81 + 0.03 * n(rng), 1.343 + 0.08 * n(rng), {0.64 + 0.15 * n(rng), 0.13 * n(rng)}};
   }
   if (id % 7 != 3) r.catcher_at_impact_xy_m = Eigen::Vector2d(0.64 + 0.15 * n(rng), 0.13 * n(rng));
   if (id % 2 == 0) r.energy_after_impact_J = 0.196 + 0.01 * n(rng);

@@ -62,8 +62,7 @@ TEST_CASE("balancing linearisation: the planar model agrees in its plane") {
       CHECK(full.A(map[i], map[j]) == Approx(scale[i] / scale[j] * planar.A(i, j)).margin(1e-6));
     }
     CHECK(full.B(map[i], bal::kThrust) == Approx(scale[i] * planar.B(i, pl::kThrust)).margin(1e-6));
-    CHECK(full.B(map[i], bal::kRateY) ==
-          Approx(scale[i] * planar.B(i, pl::kPitchRate)).margin(1e-6));
+    CHECK(full.B(map[i], bal::kRateY) == Approx(scale[i] * planar.B(i, pl::kPitchRate)).margin(1e-6));
   }
 }
 
@@ -76,8 +75,7 @@ TEST_CASE("balancing LQR: the closed loop is stable") {
   CHECK(re.maxCoeff() < 0.0);
   // The open loop is unstable (the inverted pendulum, sqrt(3g/4L) = 3.3 1/s).
   const auto open = gs::control::balancingLinearisation();
-  CHECK(open.A.eigenvalues().real().maxCoeff() ==
-        Approx(std::sqrt(3.0 * kG / (4.0 * kL))).epsilon(1e-6));
+  CHECK(open.A.eigenvalues().real().maxCoeff() == Approx(std::sqrt(3.0 * kG / (4.0 * kL))).epsilon(1e-6));
 }
 
 TEST_CASE("balancing LQR: the nonlinear planar pole on a vehicle returns upright to the origin") {
@@ -151,9 +149,7 @@ TEST_CASE("balancing LQR: the 3D pole-on-vehicle model returns upright from a sk
       rate_max = std::max(rate_max, in.omega_radps.cwiseAbs().maxCoeff());
     }
     s = gs::model::rk4Step(
-        [&](const gs::model::VehiclePoleState& x) {
-          return gs::model::vehiclePoleDynamics(x, in, params);
-        },
+        [&](const gs::model::VehiclePoleState& x) { return gs::model::vehiclePoleDynamics(x, in, params); },
         s, 1e-3);
   }
   CHECK(gs::control::toBalancingVector(s).norm() < 1e-2);

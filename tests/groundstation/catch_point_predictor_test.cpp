@@ -49,8 +49,7 @@ Reference referenceCrossing(const PoleState& start, double height, const PolePar
 
 TEST_CASE("the predictor agrees with a fine-step reference within 1 mm", "[predictor]") {
   const PoleParams params;
-  const PoleState launch =
-      gs::planning::poleStateAtLaunch(gs::planning::fig5LaunchState(), params);
+  const PoleState launch = gs::planning::poleStateAtLaunch(gs::planning::fig5LaunchState(), params);
   std::mt19937 rng(31);
   std::normal_distribution<double> n01;
   double worst_xy = 0.0;
@@ -87,11 +86,9 @@ TEST_CASE("the predictor agrees with a fine-step reference within 1 mm", "[predi
               worst_xy, worst_t, found);
 }
 
-TEST_CASE("the predictor at the nominal catching height reproduces the catching instant",
-          "[predictor]") {
+TEST_CASE("the predictor at the nominal catching height reproduces the catching instant", "[predictor]") {
   const PoleParams params;
-  const PoleState launch =
-      gs::planning::poleStateAtLaunch(gs::planning::fig5LaunchState(), params);
+  const PoleState launch = gs::planning::poleStateAtLaunch(gs::planning::fig5LaunchState(), params);
   const gs::planning::CatchingInstant ci = gs::planning::findCatchingInstant(launch, params);
   REQUIRE(ci.found);
   const CatchPointPrediction p = gs::planning::predictCatchPoint(launch, ci.catch_height_m, params);
@@ -127,8 +124,7 @@ TEST_CASE("free fall without drag matches the closed form", "[predictor]") {
     x.p_m = s.p_m + s.v_mps * tt + 0.5 * Eigen::Vector3d(0, 0, -kG) * tt * tt;
     const double angle = s.omega_radps.norm() * tt;
     const Eigen::Vector3d k = s.omega_radps.normalized();
-    x.n = s.n * std::cos(angle) + k.cross(s.n) * std::sin(angle) +
-          k * k.dot(s.n) * (1.0 - std::cos(angle));
+    x.n = s.n * std::cos(angle) + k.cross(s.n) * std::sin(angle) + k * k.dot(s.n) * (1.0 - std::cos(angle));
     return gs::model::poleLowerEnd_m(x, params);
   };
   double lo = 0.0;

@@ -164,13 +164,12 @@ TEST_CASE("the z manoeuvre satisfies (48) and (49) and has the phase structure o
   struct Case {
     double zT, txy, amax, kmax;
   };
-  for (const Case& c : {Case{1.343, 0.65, 4.19, 18.0}, Case{0.5, 0.3, 2.0, 40.0},
-                        Case{2.0, 1.2, 6.0, 10.0}, Case{1.0, 0.25, 4.5, 18.0}}) {
+  for (const Case& c : {Case{1.343, 0.65, 4.19, 18.0}, Case{0.5, 0.3, 2.0, 40.0}, Case{2.0, 1.2, 6.0, 10.0},
+                        Case{1.0, 0.25, 4.5, 18.0}}) {
     const MinimaxZManoeuvre z(c.zT, c.txy, c.amax, c.kmax);
     CAPTURE(c.zT, c.txy, c.amax, c.kmax);
     CHECK(z.duration_s() == Approx(2.0 * (c.amax / c.kmax + c.txy)).epsilon(1e-14));  // (48)
-    const double z0_eq49 =
-        c.zT + (c.amax * c.amax * c.txy + c.amax * c.kmax * c.txy * c.txy) / c.kmax;
+    const double z0_eq49 = c.zT + (c.amax * c.amax * c.txy + c.amax * c.kmax * c.txy * c.txy) / c.kmax;
     CHECK(z.startHeight_m() == Approx(z0_eq49).epsilon(1e-14));
     const auto& t = z.phaseTimes_s();
     const auto& j = z.phaseJerks_mps3();
@@ -274,12 +273,11 @@ TEST_CASE("the nominal inputs fly the trajectory through the vehicle model (4), 
     const double phi = s(6), theta = s(7), psi = s(8);
     const Eigen::Matrix3d BI = passive(0, phi) * passive(1, theta) * passive(2, psi);
     Eigen::Matrix3d W;
-    W << 1, 0, -std::sin(theta), 0, std::cos(phi), std::sin(phi) * std::cos(theta), 0,
-        -std::sin(phi), std::cos(phi) * std::cos(theta);
+    W << 1, 0, -std::sin(theta), 0, std::cos(phi), std::sin(phi) * std::cos(theta), 0, -std::sin(phi),
+        std::cos(phi) * std::cos(theta);
     State d;
     d.segment<3>(0) = s.segment<3>(3);
-    d.segment<3>(3) =
-        BI.transpose() * Eigen::Vector3d(0, 0, ref.thrust_mps2) - Eigen::Vector3d(0, 0, kG);
+    d.segment<3>(3) = BI.transpose() * Eigen::Vector3d(0, 0, ref.thrust_mps2) - Eigen::Vector3d(0, 0, kG);
     d.segment<3>(6) = W.inverse() * ref.body_rates_radps;
     return d;
   };
@@ -302,8 +300,8 @@ TEST_CASE("the nominal inputs fly the trajectory through the vehicle model (4), 
       s += h / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4);
       const auto ref = traj->reference(t + h);
       max_pos_err = std::max(max_pos_err, (s.segment<3>(0) - ref.position_m).norm());
-      max_att_err = std::max({max_att_err, std::abs(s(6) - ref.roll_rad),
-                              std::abs(s(7) - ref.pitch_rad), std::abs(s(8) - p.yaw_rad)});
+      max_att_err = std::max({max_att_err, std::abs(s(6) - ref.roll_rad), std::abs(s(7) - ref.pitch_rad),
+                              std::abs(s(8) - p.yaw_rad)});
       max_rate = std::max(max_rate, ref.body_rates_radps.cwiseAbs().minCoeff());
     }
   }
@@ -315,20 +313,18 @@ TEST_CASE("the nominal inputs fly the trajectory through the vehicle model (4), 
 }
 
 TEST_CASE("nominal inputs: hover, and (47) as a derivative of the thrust direction") {
-  const auto hover =
-      gs::planning::nominalInputs(Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 0.3);
+  const auto hover = gs::planning::nominalInputs(Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 0.3);
   CHECK(hover.thrust_mps2 == Approx(kG));
   CHECK(hover.body_rates_radps.norm() == 0.0);
   CHECK(hover.roll_rad == 0.0);
   CHECK(hover.pitch_rad == 0.0);
   // Tilt forward: x'' = g tan(theta) at level height.
-  const auto fwd = gs::planning::nominalInputs(Eigen::Vector3d(kG * std::tan(0.3), 0, 0),
-                                               Eigen::Vector3d::Zero(), 0.0);
+  const auto fwd =
+      gs::planning::nominalInputs(Eigen::Vector3d(kG * std::tan(0.3), 0, 0), Eigen::Vector3d::Zero(), 0.0);
   CHECK(fwd.pitch_rad == Approx(0.3));
   CHECK(fwd.roll_rad == Approx(0.0).margin(1e-15));
   // Positive y acceleration needs negative roll (thrust axis (.., -sin phi, ..)).
-  const auto left =
-      gs::planning::nominalInputs(Eigen::Vector3d(0, 2.0, 0), Eigen::Vector3d::Zero(), 0.0);
+  const auto left = gs::planning::nominalInputs(Eigen::Vector3d(0, 2.0, 0), Eigen::Vector3d::Zero(), 0.0);
   CHECK(left.roll_rad < 0.0);
 }
 
@@ -426,8 +422,8 @@ TEST_CASE("feasibility: a very deep drop needs too little thrust") {
 
 TEST_CASE("feasibility agrees with a brute-force scan on random manoeuvres") {
   std::mt19937 rng(42);
-  std::uniform_real_distribution<double> pos(-1.0, 1.0), txy(0.3, 1.0), amax(0.0, 9.5),
-      kmax(10.0, 40.0), yaw(-3.0, 3.0), rate(3.0, 15.0), thrust_hi(12.0, 22.0);
+  std::uniform_real_distribution<double> pos(-1.0, 1.0), txy(0.3, 1.0), amax(0.0, 9.5), kmax(10.0, 40.0),
+      yaw(-3.0, 3.0), rate(3.0, 15.0), thrust_hi(12.0, 22.0);
   int feasible = 0, infeasible = 0;
   for (int trial = 0; trial < 150; ++trial) {
     CatchTrajectoryParams p;
@@ -443,8 +439,7 @@ TEST_CASE("feasibility agrees with a brute-force scan on random manoeuvres") {
     REQUIRE(traj);
     const auto v = traj->checkFeasibility(limits);
     const Scan scan = bruteForce(*traj, 2e-4);
-    CAPTURE(trial, p.t_xy_s, p.a_max_mps2, p.k_max_mps3, limits.a_q_max_mps2,
-            limits.omega_max_radps);
+    CAPTURE(trial, p.t_xy_s, p.a_max_mps2, p.k_max_mps3, limits.a_q_max_mps2, limits.omega_max_radps);
     if (v.feasible()) {
       ++feasible;
       // Certified: nothing anywhere violates the limits.
@@ -468,13 +463,11 @@ TEST_CASE("feasibility agrees with a brute-force scan on random manoeuvres") {
       }
       // Each reported violation is the worst, to the 1 ms scan resolution.
       if (v.rates.violated) CHECK(v.rates.value == Approx(scan.rate_max).epsilon(2e-3));
-      if (v.thrust_high.violated)
-        CHECK(v.thrust_high.value == Approx(scan.thrust_max).epsilon(2e-3));
+      if (v.thrust_high.violated) CHECK(v.thrust_high.value == Approx(scan.thrust_max).epsilon(2e-3));
       if (v.thrust_low.violated) CHECK(v.thrust_low.value == Approx(scan.thrust_min).epsilon(2e-3));
     }
     // Anything the scan sees violated is reported infeasible (beyond the scan's own resolution).
-    if (scan.rate_max > limits.omega_max_radps * 1.001 ||
-        scan.thrust_max > limits.a_q_max_mps2 * 1.001 ||
+    if (scan.rate_max > limits.omega_max_radps * 1.001 || scan.thrust_max > limits.a_q_max_mps2 * 1.001 ||
         scan.thrust_min < limits.a_q_min_mps2 * 0.999) {
       CHECK_FALSE(v.feasible());
     }

@@ -33,8 +33,7 @@ PoleState ballistic(const PoleState& s0, double t) {
   s.v_mps = s0.v_mps + Eigen::Vector3d(0, 0, -kG) * t;
   const double angle = s0.omega_radps.norm() * t;
   const Eigen::Vector3d k = s0.omega_radps.normalized();
-  s.n = s0.n * std::cos(angle) + k.cross(s0.n) * std::sin(angle) +
-        k * k.dot(s0.n) * (1.0 - std::cos(angle));
+  s.n = s0.n * std::cos(angle) + k.cross(s0.n) * std::sin(angle) + k * k.dot(s0.n) * (1.0 - std::cos(angle));
   return s;
 }
 
@@ -159,8 +158,8 @@ TEST_CASE("without drag the catching instant matches the ballistic closed form",
   const Eigen::Vector3d lower = gs::model::poleLowerEnd_m(exact, params);
   CHECK(ci.catch_height_m == Approx(lower.z()).margin(1e-8));
   CHECK(ci.catch_point_m.x() == Approx(lower.x()).margin(1e-8));
-  std::printf("catching instant (Fig. 5 launch, no drag): t = %.4f s, height %.4f m, x %.4f m\n",
-              ci.t_s, ci.catch_height_m, ci.catch_point_m.x());
+  std::printf("catching instant (Fig. 5 launch, no drag): t = %.4f s, height %.4f m, x %.4f m\n", ci.t_s,
+              ci.catch_height_m, ci.catch_point_m.x());
 }
 
 TEST_CASE("caught at t* by a vehicle at rest the pole swings up; earlier or later it does not",
@@ -197,10 +196,9 @@ TEST_CASE("no instant within the horizon: not found", "[catching_instant]") {
 
 TEST_CASE("launch state from the throw planner's CSV", "[catching_instant]") {
   const std::string header = "t,x,z,vx,vz,theta,alpha,alpha_dot,a_q,omega_y,F_N\n";
-  const std::string good = header +
-                           "0,0,0,0,0,0,0,0,9.81,0,9.81\n"
-                           "2.5,1.5,2.0,0.3,5.5,-0.48,0.48,2.5,4.48,2.5,0\n"
-                           "\n";
+  const std::string good = header + "0,0,0,0,0,0,0,0,9.81,0,9.81\n"
+                                    "2.5,1.5,2.0,0.3,5.5,-0.48,0.48,2.5,4.48,2.5,0\n"
+                                    "\n";
   const auto ok = gs::planning::parseThrowCsvLaunchState(good, "throw.csv");
   INFO(ok.error);
   REQUIRE(ok.ok);

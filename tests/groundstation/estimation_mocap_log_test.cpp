@@ -39,8 +39,8 @@ std::vector<std::string> fields(const std::string& line) {
 
 void writeRow(std::ostream& out, double t, const char* body, const estimation_test::Pose& p) {
   char buf[256];
-  std::snprintf(buf, sizeof buf, "%.4f,%s,%.6f,%.6f,%.6f,%.9f,%.9f,%.9f,%.9f\n", t, body, p.p.x(),
-                p.p.y(), p.p.z(), p.q.w(), p.q.x(), p.q.y(), p.q.z());
+  std::snprintf(buf, sizeof buf, "%.4f,%s,%.6f,%.6f,%.6f,%.9f,%.9f,%.9f,%.9f\n", t, body, p.p.x(), p.p.y(),
+                p.p.z(), p.q.w(), p.q.x(), p.q.y(), p.q.z());
   out << buf;
 }
 
@@ -78,19 +78,18 @@ TEST_CASE("mocap rows parse, malformed ones say what is wrong", "[estimation]") 
 }
 
 TEST_CASE("a log with malformed rows is replayed, each problem reported by line", "[estimation]") {
-  std::istringstream in(
-      "t,body,x,y,z,qw,qx,qy,qz\n"
-      "0.000,vehicle1,0,0,1,1,0,0,0\n"
-      "0.000,pole,0,0,1.695,1,0,0,0\n"
-      "0.005,vehicle1,0,0,1,1,0,0,0\n"
-      "0.005,pole,0,0,1.695,1,0,0\n"            // line 5: a field short
-      "0.005,pole,0,0,1.695,1,0,0,0\n"
-      "0.005,pole,0,0,1.695,1,0,0,0\n"          // line 7: the pole twice
-      "0.004,vehicle2,3,0,1,1,0,0,0\n"          // line 8: backwards, sorted into place
-      "\n"
-      "0.010,vehicle1,0,0,1,1,0,0,0\n"
-      "0.010,pole,0,0,1.695,1,0,0,0\n"
-      "0.015,pole,0,0,1.695,1,x,0,0\n");        // line 12: not a number
+  std::istringstream in("t,body,x,y,z,qw,qx,qy,qz\n"
+                        "0.000,vehicle1,0,0,1,1,0,0,0\n"
+                        "0.000,pole,0,0,1.695,1,0,0,0\n"
+                        "0.005,vehicle1,0,0,1,1,0,0,0\n"
+                        "0.005,pole,0,0,1.695,1,0,0\n"  // line 5: a field short
+                        "0.005,pole,0,0,1.695,1,0,0,0\n"
+                        "0.005,pole,0,0,1.695,1,0,0,0\n"  // line 7: the pole twice
+                        "0.004,vehicle2,3,0,1,1,0,0,0\n"  // line 8: backwards, sorted into place
+                        "\n"
+                        "0.010,vehicle1,0,0,1,1,0,0,0\n"
+                        "0.010,pole,0,0,1.695,1,0,0,0\n"
+                        "0.015,pole,0,0,1.695,1,x,0,0\n");  // line 12: not a number
   std::ostringstream out;
   std::ostringstream diag;
   gs::estimation::ReplayOptions options;
@@ -148,8 +147,7 @@ TEST_CASE("a log without a header or without pole rows is handled", "[estimation
 }
 
 TEST_CASE("a recorded throw replays into modes and catch predictions", "[estimation]") {
-  const estimation_test::Recording rec =
-      estimation_test::recordThrow(estimation_test::WorldParams{}, 3);
+  const estimation_test::Recording rec = estimation_test::recordThrow(estimation_test::WorldParams{}, 3);
   REQUIRE(rec.launch_t);
   REQUIRE(rec.impact_t);
   std::stringstream log;
@@ -180,16 +178,14 @@ TEST_CASE("a recorded throw replays into modes and catch predictions", "[estimat
     if (!impact && f[1] == "on_vehicle2") impact = t;
     if (launch && error_at_100ms < 0.0 && t >= *rec.launch_t + 0.1 && f[1] == "free") {
       REQUIRE_FALSE(f[14].empty());
-      error_at_100ms = std::hypot(std::stod(f[15]) - rec.crossing->x,
-                                  std::stod(f[16]) - rec.crossing->y);
+      error_at_100ms = std::hypot(std::stod(f[15]) - rec.crossing->x, std::stod(f[16]) - rec.crossing->y);
     }
   }
   REQUIRE(launch);
   REQUIRE(impact);
   std::printf("replay without commands: launch detected %+.1f frames from the truth, impact %+.1f "
               "frames; catch point %.1f mm off at launch + 0.1 s\n",
-              (*launch - *rec.launch_t) / 0.005, (*impact - *rec.impact_t) / 0.005,
-              1e3 * error_at_100ms);
+              (*launch - *rec.launch_t) / 0.005, (*impact - *rec.impact_t) / 0.005, 1e3 * error_at_100ms);
   CHECK(*impact - *rec.impact_t <= 0.010 + 1e-9);
   CHECK(*launch - *rec.launch_t >= -0.010);
   CHECK(error_at_100ms >= 0.0);
@@ -197,8 +193,7 @@ TEST_CASE("a recorded throw replays into modes and catch predictions", "[estimat
 }
 
 TEST_CASE("a wrong time stamp or a glitching pose does not spoil the rest of the log", "[estimation]") {
-  const estimation_test::Recording rec =
-      estimation_test::recordThrow(estimation_test::WorldParams{}, 2);
+  const estimation_test::Recording rec = estimation_test::recordThrow(estimation_test::WorldParams{}, 2);
   std::stringstream log;
   log << gs::estimation::kMocapLogHeader << '\n';
   std::size_t k = 0;

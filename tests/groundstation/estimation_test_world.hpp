@@ -36,8 +36,8 @@ struct WorldParams {
   double step_s = 5e-4;
   int steps_per_frame = 10;  // 200 Hz motion capture
   double gravity = pa::kGravity_mps2;
-  double thrust_tau_s = 0.03;   // motors (the airframe's figure, firmware config)
-  double rate_tau_s = 0.012;    // on-board rate loop
+  double thrust_tau_s = 0.03;  // motors (the airframe's figure, firmware config)
+  double rate_tau_s = 0.012;   // on-board rate loop
   double a_min = 1.0;
   double a_max = 20.0;
   double plate_height_m = pa::kPlateHeightAboveCg_m;
@@ -76,8 +76,8 @@ struct PoleTruth {
 
 struct Frame {
   double t_s = 0.0;
-  std::array<Pose, 2> vehicle;  // noisy
-  Pose pole;                    // noisy
+  std::array<Pose, 2> vehicle;     // noisy
+  Pose pole;                       // noisy
   std::array<Command, 2> command;  // computed at t_s from the truth, acting until the next frame
   PoleTruth truth;
   std::array<Vector3d, 2> vehicle_p;  // truth
@@ -494,9 +494,8 @@ inline Command balance(const World& w, const World::Vehicle& v, const BalanceRef
       alpha_ref += (kPos * kPos * (ref.target(axis) - v.p(axis)) - 2.0 * kPos * v.v(axis)) / g_eff;
     }
     // alpha'' = 3/(4L) (g alpha - x''): choose x'' so that alpha'' = -kWn^2 e - 2 zeta kWn e'.
-    acc(axis) = g_eff * alpha +
-                (4.0 * l / 3.0) * (kWn * kWn * (alpha - alpha_ref) +
-                                   2.0 * kZeta * kWn * (alpha_rate - rate_ref));
+    acc(axis) = g_eff * alpha + (4.0 * l / 3.0) * (kWn * kWn * (alpha - alpha_ref) +
+                                                   2.0 * kZeta * kWn * (alpha_rate - rate_ref));
   }
   acc.z() = ref.z_free ? ref.z_acc_ff + 4.0 * (ref.z_vel_ref - v.v.z())
                        : 4.0 * (ref.target.z() - v.p.z()) - 4.0 * v.v.z();
@@ -507,15 +506,15 @@ inline Command balance(const World& w, const World::Vehicle& v, const BalanceRef
 // Scenarios
 
 struct ThrowOptions {
-  double balance_s = 1.0;        // balanced hover before the throw
-  double up_acc_mps2 = 7.0;      // vertical acceleration of the throw
+  double balance_s = 1.0;    // balanced hover before the throw
+  double up_acc_mps2 = 7.0;  // vertical acceleration of the throw
   double up_s = 0.6;
-  double flick_s = 0.25;         // the last part of the throw: the pivot accelerates towards -x
-  double flick_acc_mps2 = 9.5;   // so that the pole turns towards +x
-  double cut_s = 0.3;            // the thrower's minimum-thrust phase after the throw
+  double flick_s = 0.25;              // the last part of the throw: the pivot accelerates towards -x
+  double flick_acc_mps2 = 9.5;        // so that the pole turns towards +x
+  double cut_s = 0.3;                 // the thrower's minimum-thrust phase after the throw
   double catch_below_launch_m = 0.1;  // catching height below the lower end's launch height
   double after_impact_s = 0.3;
-  bool with_catcher = true;      // vehicle 2 waits at the crossing (else it stays away)
+  bool with_catcher = true;            // vehicle 2 waits at the crossing (else it stays away)
   std::optional<Crossing> catcher_at;  // where vehicle 2 waits (from a run without it)
   std::optional<double> catch_height;
 };

@@ -95,7 +95,8 @@ struct SimVehicle {
   }
   std::uint8_t node() const { return config.link.node; }
   std::uint32_t clockUs(double ground_s) const {
-    return static_cast<std::uint32_t>(static_cast<std::uint64_t>(std::llround((ground_s - clock_offset_s) * 1e6)));
+    return static_cast<std::uint32_t>(
+        static_cast<std::uint64_t>(std::llround((ground_s - clock_offset_s) * 1e6)));
   }
   // The vehicle restarts: a new firmware whose clock starts at zero now.
   void reboot(double ground_s) {
@@ -222,7 +223,8 @@ TEST_CASE("the link is built for a list of distinct vehicle nodes 1..14 and a sa
   CHECK(bus.pending() == 0);  // nothing went out for the unknown node
 }
 
-TEST_CASE("ground heartbeats go out every 20 ms with the session, and the firmware binds it and counts them live") {
+TEST_CASE(
+    "ground heartbeats go out every 20 ms with the session, and the firmware binds it and counts them live") {
   GroundLinkConfig config;
   config.session = 0x5A17;
   Rig rig({1}, {0.0, 0.0, 0.0, 1}, {}, config);
@@ -251,7 +253,8 @@ TEST_CASE("ground heartbeats go out every 20 ms with the session, and the firmwa
   CHECK(status.mode == Mode::disarmed);
 }
 
-TEST_CASE("ARM through the link: a real vehicle accepts it with a zero-thrust setpoint and a live heartbeat") {
+TEST_CASE(
+    "ARM through the link: a real vehicle accepts it with a zero-thrust setpoint and a live heartbeat") {
   Rig rig({1});
   rig.run(0.1);
   rig.link.sendSetpoint(1, input(0.0));
@@ -359,14 +362,16 @@ TEST_CASE("pending commands are bounded per vehicle; a handle the link does not 
     handles.push_back(link.sendCommand(1, CommandCode::disarm, 0, 0.0));
   CHECK(link.commandState(handles.front()) == CommandState::timed_out);
   CHECK(link.counters().commands_evicted == 1);
-  for (std::size_t i = 1; i < handles.size(); ++i) CHECK(link.commandState(handles[i]) == CommandState::pending);
+  for (std::size_t i = 1; i < handles.size(); ++i)
+    CHECK(link.commandState(handles[i]) == CommandState::pending);
   for (int i = 0; i < 40; ++i) link.sendCommand(1, CommandCode::disarm, 0, 0.0);
   CHECK(link.commandState(handles.back()) == CommandState::unknown);  // its record was reused
   CHECK(link.commandState(CommandHandle{}) == CommandState::unknown);
   CHECK(link.commandState(CommandHandle{7, 0, 1}) == CommandState::unknown);
 }
 
-TEST_CASE("setpoints: the next 4-bit sequence each time, wrapping at 16, and every one fresh for the firmware") {
+TEST_CASE(
+    "setpoints: the next 4-bit sequence each time, wrapping at 16, and every one fresh for the firmware") {
   Rig rig({1});
   rig.run(0.1);
   std::vector<gs::model::VehicleInput> returned;
@@ -409,12 +414,14 @@ TEST_CASE("a setpoint comes back as the frame carries it: quantised and clamped"
   CHECK(bus.pending() == 4);
 
   CHECK_THROWS_AS(link.sendSetpoint(4, input(std::nan(""))), std::invalid_argument);
-  CHECK_THROWS_AS(link.sendSetpoint(4, input(5.0, Eigen::Vector3d(0, std::numeric_limits<double>::infinity(), 0))),
-                  std::invalid_argument);
+  CHECK_THROWS_AS(
+      link.sendSetpoint(4, input(5.0, Eigen::Vector3d(0, std::numeric_limits<double>::infinity(), 0))),
+      std::invalid_argument);
   CHECK(bus.pending() == 4);  // nothing sent for them
 }
 
-TEST_CASE("TIMESYNC recovers the vehicle's clock offset through a delayed radio, across the vehicle clock's wrap") {
+TEST_CASE(
+    "TIMESYNC recovers the vehicle's clock offset through a delayed radio, across the vehicle clock's wrap") {
   // The vehicle's uint32 microsecond clock wraps 0.3 s into the run; the radio takes 8-10 ms
   // each way. Each way's delay is 8..11 ms (latency, jitter, the 1 ms steps), so the offset is
   // within half the difference of the two legs, 1.5 ms, of the truth.
@@ -498,7 +505,9 @@ TEST_CASE("link quality counts the vehicle's heartbeats against the 50 Hz expect
   }
   SECTION("every second one is lost") {
     int n = 0;
-    rig.vehicle().drop_downlink = [&](const Message& m) { return m.type == Type::vehicle_heartbeat && (n++ % 2) == 1; };
+    rig.vehicle().drop_downlink = [&](const Message& m) {
+      return m.type == Type::vehicle_heartbeat && (n++ % 2) == 1;
+    };
     rig.run(2.0);
     CHECK(rig.link.status(1).link_quality == Approx(0.5).margin(0.03));
     CHECK_FALSE(rig.link.status(1).lost);
@@ -506,7 +515,8 @@ TEST_CASE("link quality counts the vehicle's heartbeats against the 50 Hz expect
 }
 
 TEST_CASE("an IMPACT is reported on the ground clock, both its reports sharing the vehicle's count") {
-  const double offset_s = kT0 - (kVehicleWrap_s - 0.605);  // the vehicle clock wraps between onset and reports
+  // the vehicle clock wraps between onset and reports
+  const double offset_s = kT0 - (kVehicleWrap_s - 0.605);
   Rig rig({1}, {0.008, 0.002, 0.0, 11}, {offset_s});
   rig.run(0.6);
   REQUIRE(rig.link.status(1).clock_synced);
@@ -545,8 +555,8 @@ TEST_CASE("IMPACT reports are kept in a bounded queue: the oldest go, counted") 
   InMemoryFrameBus bus;
   GroundLink link(bus, {1});
   for (int i = 0; i < 100; ++i)
-    link.onFrame(encoded(Impact{static_cast<std::uint32_t>(i) * 1000u, 12.0f, ImpactClass::catch_impact, false,
-                                static_cast<std::uint8_t>(i)},
+    link.onFrame(encoded(Impact{static_cast<std::uint32_t>(i) * 1000u, 12.0f, ImpactClass::catch_impact,
+                                false, static_cast<std::uint8_t>(i)},
                          1),
                  1.0 + 0.001 * i);
   const auto impacts = link.takeImpacts();
@@ -643,7 +653,8 @@ TEST_CASE("malformed, unknown, foreign and wrong-direction frames are counted an
   CHECK(link.status(1).mode == Mode::disarmed);
 
   // Valid frames that match nothing outstanding are stale.
-  link.onFrame(encoded(CommandAck{0, CommandCode::arm, AckResult::accepted, Mode::armed, RefuseReason::none}, 1), 1.0);
+  link.onFrame(
+      encoded(CommandAck{0, CommandCode::arm, AckResult::accepted, Mode::armed, RefuseReason::none}, 1), 1.0);
   link.onFrame(encoded(TimesyncReply{5, 6}, 1), 1.0);
   link.onFrame(encoded(hb, 1), 1.0);
   link.onFrame(encoded(hb, 1), 1.001);  // the same heartbeat again

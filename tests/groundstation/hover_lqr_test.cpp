@@ -66,8 +66,7 @@ TEST_CASE("hover LQR: stable closed loop, and the nonlinear vehicle returns to h
       thrust_max = std::max(thrust_max, in.a_q_mps2);
       rate_max = std::max(rate_max, in.omega_radps.cwiseAbs().maxCoeff());
     }
-    s = gs::model::rk4Step([&](const VehicleState& x) { return gs::model::vehicleDynamics(x, in); },
-                           s, dt);
+    s = gs::model::rk4Step([&](const VehicleState& x) { return gs::model::vehicleDynamics(x, in); }, s, dt);
   }
   CHECK(s.p_m.norm() < 1e-3);
   CHECK(s.v_mps.norm() < 1e-3);

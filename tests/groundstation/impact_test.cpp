@@ -59,10 +59,8 @@ TEST_CASE("3D impact: angular momentum about the contact point is conserved", "[
     // The contact point is the lower end.
     CHECK((r.contact_point_m - gs::model::poleLowerEnd_m(before, params)).norm() < 1e-14);
     CHECK(r.after.n.z() >= 0.0);
-    const Eigen::Vector3d h_before =
-        gs::model::poleAngularMomentumAbout(before, r.contact_point_m, params);
-    const Eigen::Vector3d h_after =
-        gs::model::poleAngularMomentumAbout(r.after, r.contact_point_m, params);
+    const Eigen::Vector3d h_before = gs::model::poleAngularMomentumAbout(before, r.contact_point_m, params);
+    const Eigen::Vector3d h_after = gs::model::poleAngularMomentumAbout(r.after, r.contact_point_m, params);
     CHECK((h_after - h_before).norm() < 1e-14);
     // Inelastic with sticking: the contact point moves with the plate afterwards (38), (39).
     const Eigen::Vector3d contact_v =
@@ -75,8 +73,8 @@ TEST_CASE("3D impact: angular momentum about the contact point is conserved", "[
     CHECK((spin_change - (r.contact_point_m - before.p_m).cross(r.impulse_Ns)).norm() < 1e-15);
     // The position does not jump, and the pole-on-vehicle state describes the same motion.
     CHECK((r.after.p_m - before.p_m).norm() < 1e-15);
-    const PoleState again = gs::model::freeFlightStateFromPoleOnVehicle(
-        r.on_vehicle, r.contact_point_m, plate_v, params);
+    const PoleState again =
+        gs::model::freeFlightStateFromPoleOnVehicle(r.on_vehicle, r.contact_point_m, plate_v, params);
     // (24), (26) lose digits as the pole nears the horizontal (c' = -(a a' + b b') / c).
     CHECK((again.v_mps - r.after.v_mps).norm() < 1e-9);
     CHECK((again.p_m - r.after.p_m).norm() < 1e-12);
@@ -85,8 +83,7 @@ TEST_CASE("3D impact: angular momentum about the contact point is conserved", "[
     PoleState rel_after = r.after;
     rel_before.v_mps -= plate_v;
     rel_after.v_mps -= plate_v;
-    CHECK(gs::model::poleEnergy_J(rel_after, params) <=
-          gs::model::poleEnergy_J(rel_before, params) + 1e-15);
+    CHECK(gs::model::poleEnergy_J(rel_after, params) <= gs::model::poleEnergy_J(rel_before, params) + 1e-15);
   }
 }
 
@@ -95,12 +92,11 @@ TEST_CASE("planar impact on a plate at rest is eq. (40)", "[impact]") {
   std::mt19937 rng(2);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (int i = 0; i < 100; ++i) {
-    const double alpha = 1.4 * u(rng), alpha_dot = 4 * u(rng), x_dot = 3 * u(rng),
-                 z_dot = 5 * u(rng);
+    const double alpha = 1.4 * u(rng), alpha_dot = 4 * u(rng), x_dot = 3 * u(rng), z_dot = 5 * u(rng);
     const PoleState before = planarPole(alpha, alpha_dot, x_dot, z_dot);
     const auto r = gs::model::impactMap(before, Eigen::Vector3d::Zero(), params);
-    const double expected = 0.25 * alpha_dot +
-                            0.75 / kL * (x_dot * std::cos(alpha) - z_dot * std::sin(alpha));
+    const double expected =
+        0.25 * alpha_dot + 0.75 / kL * (x_dot * std::cos(alpha) - z_dot * std::sin(alpha));
     CHECK(r.after.omega_radps.y() == Approx(expected).margin(1e-12));
     CHECK(r.after.omega_radps.x() == Approx(0.0).margin(1e-15));
     CHECK(r.after.omega_radps.z() == Approx(0.0).margin(1e-15));
@@ -139,12 +135,11 @@ TEST_CASE("eq. (41): the pivoted pole's energy and the swing-up separatrix", "[i
           Approx(gs::model::uprightEnergy_J(params)).epsilon(1e-14));
     CHECK(rate * alpha < 0.0);
     // (41) is the pole-on-vehicle energy for a pivot at rest at z = 0.
-    const gs::model::PoleOnVehicleState s{kL * std::sin(alpha), 0.0,
-                                          kL * std::cos(alpha) * 0.7, 0.0};
-    CHECK(gs::model::pivotedPoleEnergy_J(alpha, 0.7, params) ==
-          Approx(gs::model::poleOnVehicleEnergy_J(s, Eigen::Vector3d::Zero(),
-                                                  Eigen::Vector3d::Zero(), params))
-              .epsilon(1e-14));
+    const gs::model::PoleOnVehicleState s{kL * std::sin(alpha), 0.0, kL * std::cos(alpha) * 0.7, 0.0};
+    CHECK(
+        gs::model::pivotedPoleEnergy_J(alpha, 0.7, params) ==
+        Approx(gs::model::poleOnVehicleEnergy_J(s, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), params))
+            .epsilon(1e-14));
   }
 }
 
@@ -172,8 +167,7 @@ TEST_CASE("eq. (42): zero residual <=> post-impact energy E* turning upright", "
     const double bracket = k.x_dot_mps * std::cos(alpha) - k.z_dot_mps * std::sin(alpha);
     const double root = std::sqrt(24.0 * kG * (1.0 - std::cos(alpha)) / kL);
     const double residual = gs::model::catchingConditionResidual_radps(off, params);
-    CHECK(sgn * residual ==
-          Approx(k.alpha_dot_radps * sgn + sgn * 3.0 / kL * bracket + root).margin(1e-10));
+    CHECK(sgn * residual == Approx(k.alpha_dot_radps * sgn + sgn * 3.0 / kL * bracket + root).margin(1e-10));
     if (alpha < 0.0) {
       const double printed = k.alpha_dot_radps * sgn - 3.0 / kL * bracket + root;
       CHECK(sgn * residual == Approx(printed).margin(1e-10));
@@ -184,14 +178,13 @@ TEST_CASE("eq. (42): zero residual <=> post-impact energy E* turning upright", "
 namespace {
 
 struct SwingOutcome {
-  double min_tilt_rad;   // closest approach to the upright
-  bool crossed;          // passed through the upright (fell over)
+  double min_tilt_rad;  // closest approach to the upright
+  bool crossed;         // passed through the upright (fell over)
 };
 
 // The pivoted rod after a catch by a vehicle at rest: eq. (28), (29) with a still pivot, until
 // t_end or until it lies 80 deg down.
-SwingOutcome swing(const gs::model::PoleOnVehicleState& start, double t_end,
-                   const PoleParams& params) {
+SwingOutcome swing(const gs::model::PoleOnVehicleState& start, double t_end, const PoleParams& params) {
   gs::model::PoleOnVehicleState s = start;
   const Eigen::Vector3d still = Eigen::Vector3d::Zero();
   const auto f = [&](const gs::model::PoleOnVehicleState& x) {
@@ -222,8 +215,8 @@ TEST_CASE("a pole caught on condition (42) swings up; off it, it does not", "[im
     const double x_dot = 0.4;
     const double z_dot = zDotOnCondition(alpha, alpha_dot, x_dot);
     INFO("alpha " << alpha);
-    const auto on = gs::model::impactMap(planarPole(alpha, alpha_dot, x_dot, z_dot),
-                                         Eigen::Vector3d::Zero(), params);
+    const auto on =
+        gs::model::impactMap(planarPole(alpha, alpha_dot, x_dot, z_dot), Eigen::Vector3d::Zero(), params);
     const SwingOutcome settled = swing(on.on_vehicle, 2.0, params);
     CHECK(settled.min_tilt_rad < one_degree);
     CHECK_FALSE(settled.crossed);

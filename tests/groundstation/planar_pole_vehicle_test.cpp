@@ -24,8 +24,7 @@ template <int N>
 using Vec = Eigen::Matrix<double, N, 1>;
 
 template <int N>
-Vec<N> rk4Step(const std::function<Vec<N>(double, const Vec<N>&)>& f, double t, const Vec<N>& y,
-               double h) {
+Vec<N> rk4Step(const std::function<Vec<N>(double, const Vec<N>&)>& f, double t, const Vec<N>& y, double h) {
   const Vec<N> k1 = f(t, y);
   const Vec<N> k2 = f(t + 0.5 * h, y + 0.5 * h * k1);
   const Vec<N> k3 = f(t + 0.5 * h, y + 0.5 * h * k2);
@@ -95,8 +94,8 @@ struct ConstrainedRod {
     const Vec<5> sol = a.partialPivLu().solve(b);
 
     Solution out;
-    out.derivative << y(2), y(3), pivot_acc.x(), pivot_acc.y(), pitchRateProfile(t), y(7), y(8),
-        sol(0), sol(1), phi_dot, sol(2);
+    out.derivative << y(2), y(3), pivot_acc.x(), pivot_acc.y(), pitchRateProfile(t), y(7), y(8), sol(0),
+        sol(1), phi_dot, sol(2);
     out.constraint_force_N = sol.segment<2>(3);
     return out;
   }
@@ -104,8 +103,7 @@ struct ConstrainedRod {
 
 }  // namespace
 
-TEST_CASE("the upright pole is an unstable equilibrium of the hovering vehicle",
-          "[planar_pole_vehicle]") {
+TEST_CASE("the upright pole is an unstable equilibrium of the hovering vehicle", "[planar_pole_vehicle]") {
   PlanarState<double> s = PlanarState<double>::Zero();
   PlanarInput<double> u(kG, 0.0);
   CHECK(gs::model::planarPoleVehicleDynamics<double>(s, u).norm() == Approx(0.0).margin(1e-12));
@@ -198,9 +196,7 @@ TEST_CASE("F_N equals the plate-normal contact force of an independent Newton-Eu
     const PlanarInput<double> u(thrustProfile(t), pitchRateProfile(t));
     return gs::model::planarPoleVehicleDynamics<double>(x, u);
   };
-  const auto maximal = [&](double t, const Vec<11>& x) -> Vec<11> {
-    return rod.evaluate(t, x).derivative;
-  };
+  const auto maximal = [&](double t, const Vec<11>& x) -> Vec<11> { return rod.evaluate(t, x).derivative; };
 
   const double h = 2e-4;
   double max_force_error = 0.0, max_alpha_error = 0.0, min_fn = 1e9, max_fn = -1e9;
@@ -209,11 +205,10 @@ TEST_CASE("F_N equals the plate-normal contact force of an independent Newton-Eu
     if (k % 50 == 0) {
       const ConstrainedRod::Solution sol = rod.evaluate(t, y);
       const double theta = y(4);
-      const double fn_newton = sol.constraint_force_N.dot(
-                                   Eigen::Vector2d(std::sin(theta), std::cos(theta))) /
-                               rod.mass_kg;
-      const double fn_model = gs::model::planarNormalForcePerMass_mps2<double>(
-          theta, y(9), y(10), thrustProfile(t));
+      const double fn_newton =
+          sol.constraint_force_N.dot(Eigen::Vector2d(std::sin(theta), std::cos(theta))) / rod.mass_kg;
+      const double fn_model =
+          gs::model::planarNormalForcePerMass_mps2<double>(theta, y(9), y(10), thrustProfile(t));
       max_force_error = std::max(max_force_error, std::abs(fn_newton - fn_model));
       max_alpha_error = std::max(max_alpha_error, std::abs(y(9) - s(planar::kAlpha)));
       min_fn = std::min(min_fn, fn_model);
@@ -288,8 +283,7 @@ TEST_CASE("at the printed Fig. 5 launch state F_N is zero within one unit of the
           const double alpha = 0.475 + 0.01 * j / (n - 1);
           const double alpha_dot = 2.45 + 0.1 * k / (n - 1);
           const double a_q = 4.475 + 0.01 * l / (n - 1);
-          const double v =
-              gs::model::planarNormalForcePerMass_mps2<double>(theta, alpha, alpha_dot, a_q);
+          const double v = gs::model::planarNormalForcePerMass_mps2<double>(theta, alpha, alpha_dot, a_q);
           lo = std::min(lo, v);
           hi = std::max(hi, v);
         }
@@ -326,8 +320,7 @@ TEST_CASE("the launch condition F_N = 0 solved for a_q,T or for alpha'_T", "[pla
   CHECK(std::isnan(gs::model::planarLaunchPoleRate_radps(0.0, 2.0, 5.0)));
 }
 
-TEST_CASE("the linearisation A = df/ds, B = df/du matches central differences",
-          "[planar_pole_vehicle]") {
+TEST_CASE("the linearisation A = df/ds, B = df/du matches central differences", "[planar_pole_vehicle]") {
   PlanarState<double> s;
   s << 0.4, 1.2, 0.3, -0.8, -0.35, 0.6, 1.9;
   const PlanarInput<double> u(8.3, -1.4);

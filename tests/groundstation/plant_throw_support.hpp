@@ -33,8 +33,8 @@ inline void placeForThrow(hil::Plant& plant) {
   plant.set_vehicle(0, thrower);
   plant.set_vehicle(1, plant.parked_vehicle(-2.0, 2.0, 0.0));
   const double L = config.pole.half_length_m;
-  plant.set_pole(hil::Plant::make_pole(plant.plate_centre_m(0) + L * hil::Vec3::UnitZ(),
-                                       hil::Vec3::UnitZ(), hil::Vec3::Zero(), hil::Vec3::Zero()));
+  plant.set_pole(hil::Plant::make_pole(plant.plate_centre_m(0) + L * hil::Vec3::UnitZ(), hil::Vec3::UnitZ(),
+                                       hil::Vec3::Zero(), hil::Vec3::Zero()));
 }
 
 // The pivot (the plate's centre, where the pole's lower end rests) of the plant's vehicle 1,
@@ -103,13 +103,16 @@ class CatchCheck {
   void watch(const hil::Plant& plant, double t_s, double half_length_m, bool launched) {
     const hil::Vec3 a = plant.pole().end_m(0, half_length_m), b = plant.pole().end_m(1, half_length_m);
     const hil::Vec3 low = a.z() < b.z() ? a : b;
-    if (launched && !crossing_t_s_ && previous_low_ && previous_low_->z() > height_m_ && low.z() <= height_m_) {
+    if (launched && !crossing_t_s_ && previous_low_ && previous_low_->z() > height_m_ &&
+        low.z() <= height_m_) {
       crossing_t_s_ = t_s;
       crossing_m_ = low;
     }
     previous_low_ = low;
   }
-  void predicted(double t_s, const gs::planning::CatchPointPrediction& p) { predictions_.emplace_back(t_s, p); }
+  void predicted(double t_s, const gs::planning::CatchPointPrediction& p) {
+    predictions_.emplace_back(t_s, p);
+  }
 
   const std::optional<double>& crossing_t_s() const { return crossing_t_s_; }
   // The figures both plant-throw tests bound: the miss of the prediction 0.1 s after the release

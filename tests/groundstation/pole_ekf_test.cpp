@@ -33,8 +33,8 @@ PoleState throwLikeState() {
 
 PoleCovariance diagonalCovariance(double sp, double sv, double sn, double sw) {
   PoleCovariance p = PoleCovariance::Zero();
-  p.diagonal() << sp * sp, sp * sp, sp * sp, sv * sv, sv * sv, sv * sv, sn * sn, sn * sn, sn * sn,
-      sw * sw, sw * sw, sw * sw;
+  p.diagonal() << sp * sp, sp * sp, sp * sp, sv * sv, sv * sv, sv * sv, sn * sn, sn * sn, sn * sn, sw * sw,
+      sw * sw, sw * sw;
   return p;
 }
 
@@ -150,10 +150,9 @@ TEST_CASE("the free-flight Jacobian matches central differences of eq. (20)", "[
       s.omega_radps = v.segment<3>(9);
       return s;
     };
-    const Eigen::Matrix<double, 12, 1> col =
-        (flat(gs::model::poleFreeFlightDerivative(unflat(xp), scaled)) -
-         flat(gs::model::poleFreeFlightDerivative(unflat(xm), scaled))) /
-        (2.0 * eps);
+    const Eigen::Matrix<double, 12, 1> col = (flat(gs::model::poleFreeFlightDerivative(unflat(xp), scaled)) -
+                                              flat(gs::model::poleFreeFlightDerivative(unflat(xm), scaled))) /
+                                             (2.0 * eps);
     CHECK((f.col(c).head<12>() - col).norm() < 1e-4 * (1.0 + col.norm()));
   }
   // d/dk: the drag at k = 1.
@@ -206,24 +205,21 @@ TEST_CASE("the plate's normal force is the planar formula of docs/paper-notes.md
     const double theta = 0.6 * u(rng);
     const double a_q = 10.0 + 8.0 * u(rng);
     const double l = params.half_length_m;
-    const gs::model::PoleOnVehicleState pole{l * std::sin(alpha), 0.0,
-                                             l * std::cos(alpha) * alpha_dot, 0.0};
+    const gs::model::PoleOnVehicleState pole{l * std::sin(alpha), 0.0, l * std::cos(alpha) * alpha_dot, 0.0};
     const Eigen::Vector3d t(std::sin(theta), 0.0, std::cos(theta));
     const double d = alpha - theta;
-    const double expected = a_q - 0.75 * a_q * std::sin(d) * std::sin(d) -
-                            l * alpha_dot * alpha_dot * std::cos(d);
+    const double expected =
+        a_q - 0.75 * a_q * std::sin(d) * std::sin(d) - l * alpha_dot * alpha_dot * std::cos(d);
     CHECK(gs::estimation::poleNormalForcePerMass_mps2(pole, a_q * t, t, params) ==
           Approx(expected).margin(1e-9));
   }
   // Hovering upright: the pole's whole weight.
-  CHECK(gs::estimation::poleNormalForcePerMass_mps2({}, Eigen::Vector3d(0, 0, 9.81),
-                                                    Eigen::Vector3d::UnitZ(), params) ==
-        Approx(9.81));
+  CHECK(gs::estimation::poleNormalForcePerMass_mps2({}, Eigen::Vector3d(0, 0, 9.81), Eigen::Vector3d::UnitZ(),
+                                                    params) == Approx(9.81));
 }
 
 TEST_CASE("the on-vehicle EKF follows a pole balanced on the world's vehicle", "[estimation]") {
-  const estimation_test::Recording rec =
-      estimation_test::recordBalancedHover(WorldParams{}, 21, 4.0);
+  const estimation_test::Recording rec = estimation_test::recordBalancedHover(WorldParams{}, 21, 4.0);
   gs::estimation::VehicleObserver vehicle;
   PoleOnVehicleEkf ekf;
   bool started = false;

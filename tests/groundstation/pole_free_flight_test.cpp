@@ -24,11 +24,11 @@ PoleDrag trapezoidDrag(const PoleState& s, const PoleParams& p, int intervals) {
   for (int i = 0; i <= intervals; ++i) {
     const double xi = -length + 2.0 * length * i / intervals;
     const double weight = ((i == 0 || i == intervals) ? 0.5 : 1.0) * 2.0 * length / intervals;
-    const Eigen::Vector3d v = s.v_mps + s.omega_radps.cross(xi * s.n);  // (12)
-    const Eigen::Vector3d v_z = v.dot(s.n) * s.n;                      // (13)
-    const Eigen::Vector3d v_xy = v - v_z;                              // (14)
-    d.axial_force_N += -p.drag_axial * weight * v_z.norm() * v_z;       // (10)
-    d.normal_force_N += -p.drag_normal * weight * v_xy.norm() * v_xy;   // (11)
+    const Eigen::Vector3d v = s.v_mps + s.omega_radps.cross(xi * s.n);            // (12)
+    const Eigen::Vector3d v_z = v.dot(s.n) * s.n;                                 // (13)
+    const Eigen::Vector3d v_xy = v - v_z;                                         // (14)
+    d.axial_force_N += -p.drag_axial * weight * v_z.norm() * v_z;                 // (10)
+    d.normal_force_N += -p.drag_normal * weight * v_xy.norm() * v_xy;             // (11)
     d.torque_Nm += -p.drag_rotational * weight * (xi * s.n).cross(v.norm() * v);  // (15)
   }
   return d;
@@ -54,19 +54,13 @@ PoleState randomPoleState(std::mt19937& rng, int kind) {
   const Eigen::Vector3d w = s.omega_radps.cross(s.n);
   const Eigen::Vector3d across = s.n.cross(w).normalized();
   switch (kind) {
-    case 0:
-      s.v_mps = 3.0 * Eigen::Vector3d(n01(rng), n01(rng), n01(rng));
-      break;
-    case 1:
-      s.v_mps = 3.0 * n01(rng) * s.n + 0.5 * n01(rng) * w;
-      break;
+    case 0: s.v_mps = 3.0 * Eigen::Vector3d(n01(rng), n01(rng), n01(rng)); break;
+    case 1: s.v_mps = 3.0 * n01(rng) * s.n + 0.5 * n01(rng) * w; break;
     case 2:
       s.v_mps = 3.0 * n01(rng) * s.n + 0.5 * n01(rng) * w +
                 std::pow(10.0, -3.0 + 2.5 * std::abs(n01(rng))) * across;
       break;
-    case 3:
-      s.v_mps = 0.5 * n01(rng) * w + 0.1 * n01(rng) * across;
-      break;
+    case 3: s.v_mps = 0.5 * n01(rng) * w + 0.1 * n01(rng) * across; break;
     default:
       s.v_mps = 3.0 * Eigen::Vector3d(n01(rng), n01(rng), n01(rng));
       s.omega_radps.setZero();
@@ -131,8 +125,7 @@ TEST_CASE("drag closed forms: broadside translation and pure rotation", "[pole]"
   s.omega_radps = Eigen::Vector3d(0.0, 2.5, 0.0);
   const Eigen::Vector3d w = s.omega_radps.cross(s.n);
   d = gs::model::poleDrag(s, params);
-  const Eigen::Vector3d expected =
-      -params.drag_rotational * w.norm() * s.n.cross(w) * std::pow(kL, 4) / 2.0;
+  const Eigen::Vector3d expected = -params.drag_rotational * w.norm() * s.n.cross(w) * std::pow(kL, 4) / 2.0;
   CHECK(relativeError(d.torque_Nm, expected) < 1e-12);
   CHECK(d.torque_Nm.dot(s.omega_radps) < 0.0);
   CHECK(d.normal_force_N.norm() < 1e-15);
@@ -155,11 +148,10 @@ TEST_CASE("without drag the centre flies ballistically and Omega is constant", "
   // n turns uniformly about Omega: Rodrigues' rotation by |Omega| t.
   const double angle = s0.omega_radps.norm() * t;
   const Eigen::Vector3d k = s0.omega_radps.normalized();
-  const Eigen::Vector3d n_expected = s0.n * std::cos(angle) + k.cross(s0.n) * std::sin(angle) +
-                                     k * k.dot(s0.n) * (1.0 - std::cos(angle));
+  const Eigen::Vector3d n_expected =
+      s0.n * std::cos(angle) + k.cross(s0.n) * std::sin(angle) + k * k.dot(s0.n) * (1.0 - std::cos(angle));
   CHECK((s.n - n_expected).norm() < 1e-9);
-  CHECK(gs::model::poleEnergy_J(s, params) ==
-        Approx(gs::model::poleEnergy_J(s0, params)).epsilon(1e-12));
+  CHECK(gs::model::poleEnergy_J(s, params) == Approx(gs::model::poleEnergy_J(s0, params)).epsilon(1e-12));
 }
 
 TEST_CASE("with drag the total energy falls monotonically", "[pole]") {

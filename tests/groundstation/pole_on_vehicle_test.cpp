@@ -27,10 +27,10 @@ struct Pivot {
 };
 
 // Lag(q, q', t) for q = (a, b) through the model's Lagrangian (25)-(27).
-double lagrangian(const Eigen::Vector2d& q, const Eigen::Vector2d& q_dot, double t,
-                  const Pivot& pivot, const PoleParams& params) {
-  return gs::model::poleOnVehicleLagrangian_J({q.x(), q.y(), q_dot.x(), q_dot.y()}, pivot.p(t),
-                                              pivot.v(t), params);
+double lagrangian(const Eigen::Vector2d& q, const Eigen::Vector2d& q_dot, double t, const Pivot& pivot,
+                  const PoleParams& params) {
+  return gs::model::poleOnVehicleLagrangian_J({q.x(), q.y(), q_dot.x(), q_dot.y()}, pivot.p(t), pivot.v(t),
+                                              params);
 }
 
 // q'' from d/dt dLag/dq' - dLag/dq = 0 with every derivative by central differences:
@@ -52,10 +52,8 @@ Eigen::Vector2d eulerLagrangeAcceleration(const Eigen::Vector2d& q, const Eigen:
   Eigen::Vector2d force;
   for (int i = 0; i < 2; ++i) {
     for (int j = 0; j < 2; ++j) {
-      mass(i, j) = (momentum(q, q_dot + h * e(j), 0.0, i) - momentum(q, q_dot - h * e(j), 0.0, i)) /
-                   (2 * h);
-      mixed(i, j) =
-          (momentum(q + h * e(j), q_dot, 0.0, i) - momentum(q - h * e(j), q_dot, 0.0, i)) / (2 * h);
+      mass(i, j) = (momentum(q, q_dot + h * e(j), 0.0, i) - momentum(q, q_dot - h * e(j), 0.0, i)) / (2 * h);
+      mixed(i, j) = (momentum(q + h * e(j), q_dot, 0.0, i) - momentum(q - h * e(j), q_dot, 0.0, i)) / (2 * h);
     }
     time_derivative(i) = (momentum(q, q_dot, h, i) - momentum(q, q_dot, -h, i)) / (2 * h);
     force(i) = (lag(q + h * e(i), q_dot, 0.0) - lag(q - h * e(i), q_dot, 0.0)) / (2 * h);
@@ -63,9 +61,7 @@ Eigen::Vector2d eulerLagrangeAcceleration(const Eigen::Vector2d& q, const Eigen:
   return mass.fullPivLu().solve(force - mixed * q_dot - time_derivative);
 }
 
-double tiltFromVertical(const PoleOnVehicleState& s) {
-  return std::asin(std::hypot(s.a_m, s.b_m) / kL);
-}
+double tiltFromVertical(const PoleOnVehicleState& s) { return std::asin(std::hypot(s.a_m, s.b_m) / kL); }
 
 }  // namespace
 
@@ -77,22 +73,20 @@ TEST_CASE("eq. (28), (29) agree with Euler-Lagrange on the Lagrangian (25)-(27)"
   for (int i = 0; i < 100; ++i) {
     const double tilt = 1.2 * std::abs(u(rng));
     const double azimuth = M_PI * u(rng);
-    PoleOnVehicleState s{kL * std::sin(tilt) * std::cos(azimuth),
-                         kL * std::sin(tilt) * std::sin(azimuth), 2.0 * u(rng), 2.0 * u(rng)};
+    PoleOnVehicleState s{kL * std::sin(tilt) * std::cos(azimuth), kL * std::sin(tilt) * std::sin(azimuth),
+                         2.0 * u(rng), 2.0 * u(rng)};
     const Pivot pivot{Eigen::Vector3d(u(rng), u(rng), 1.0 + u(rng)),
                       Eigen::Vector3d(2 * u(rng), 2 * u(rng), 2 * u(rng)),
                       Eigen::Vector3d(8 * u(rng), 8 * u(rng), 8 * u(rng))};
-    const Eigen::Vector2d model =
-        gs::model::poleOnVehicleAcceleration_mps2(s, pivot.acc, params);
-    const Eigen::Vector2d reference = eulerLagrangeAcceleration(
-        {s.a_m, s.b_m}, {s.a_dot_mps, s.b_dot_mps}, pivot, params);
+    const Eigen::Vector2d model = gs::model::poleOnVehicleAcceleration_mps2(s, pivot.acc, params);
+    const Eigen::Vector2d reference =
+        eulerLagrangeAcceleration({s.a_m, s.b_m}, {s.a_dot_mps, s.b_dot_mps}, pivot, params);
     const double error = (model - reference).norm() / std::max(1.0, reference.norm());
     worst = std::max(worst, error);
     INFO("sample " << i << " model " << model.transpose() << " EL " << reference.transpose());
     CHECK(error < 1e-5);
   }
-  std::printf("pole on vehicle: worst relative deviation from numerical Euler-Lagrange %.1e\n",
-              worst);
+  std::printf("pole on vehicle: worst relative deviation from numerical Euler-Lagrange %.1e\n", worst);
 }
 
 TEST_CASE("planar case b = 0: (4/3) L alpha'' = a_q sin(alpha - theta)", "[pole_on_vehicle]") {
@@ -182,8 +176,7 @@ TEST_CASE("eq. (30): f_qp drives the pole with the vehicle's acceleration", "[po
   const gs::model::VehicleState vehicle_rate = gs::model::vehicleDynamics(s.vehicle, input);
   CHECK((rate.vehicle.v_mps - vehicle_rate.v_mps).norm() < 1e-15);
   CHECK(rate.vehicle.theta_rad == vehicle_rate.theta_rad);
-  const Eigen::Vector2d acc =
-      gs::model::poleOnVehicleAcceleration_mps2(s.pole, vehicle_rate.v_mps, params);
+  const Eigen::Vector2d acc = gs::model::poleOnVehicleAcceleration_mps2(s.pole, vehicle_rate.v_mps, params);
   CHECK(rate.pole.a_m == s.pole.a_dot_mps);
   CHECK(rate.pole.b_m == s.pole.b_dot_mps);
   CHECK(rate.pole.a_dot_mps == acc.x());

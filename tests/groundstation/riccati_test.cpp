@@ -57,9 +57,8 @@ TEST_CASE("CARE: the scalar case in closed form") {
   // a p + p a - p^2 b^2 / r + q = 0  =>  p = r (a + sqrt(a^2 + b^2 q / r)) / b^2.
   for (double a : {-2.0, 0.0, 1.0, 3.0}) {
     const double b = 0.7, q = 2.0, r = 0.5;
-    const auto s =
-        solveCare(Eigen::MatrixXd::Constant(1, 1, a), Eigen::MatrixXd::Constant(1, 1, b),
-                  Eigen::MatrixXd::Constant(1, 1, q), Eigen::MatrixXd::Constant(1, 1, r));
+    const auto s = solveCare(Eigen::MatrixXd::Constant(1, 1, a), Eigen::MatrixXd::Constant(1, 1, b),
+                             Eigen::MatrixXd::Constant(1, 1, q), Eigen::MatrixXd::Constant(1, 1, r));
     REQUIRE(s.converged);
     const double p = r * (a + std::sqrt(a * a + b * b * q / r)) / (b * b);
     CHECK(s.P(0, 0) == Approx(p).epsilon(1e-12));
@@ -87,8 +86,7 @@ TEST_CASE("CARE: residual and stabilising solution on random stabilisable system
     // The residual against the size of the terms that cancel in it.
     const Eigen::MatrixXd res = gs::control::careResidual(A, B, Q, R, s.P);
     const Eigen::MatrixXd S = B * R.llt().solve(B.transpose());
-    const double terms =
-        (A.transpose() * s.P).norm() + (s.P * A).norm() + (s.P * S * s.P).norm() + Q.norm();
+    const double terms = (A.transpose() * s.P).norm() + (s.P * A).norm() + (s.P * S * s.P).norm() + Q.norm();
     CHECK(res.norm() / terms < 1e-9);
     CHECK(s.residual == Approx(res.norm() / terms).epsilon(1e-6).margin(1e-16));
     // Well-conditioned problems (moderate P) reach rounding level.
@@ -130,6 +128,5 @@ TEST_CASE("CARE: an unstabilisable system is reported, not returned as a solutio
   // Non-finite input.
   Eigen::MatrixXd An = A;
   An(0, 0) = std::nan("");
-  CHECK_FALSE(
-      solveCare(An, B, Eigen::MatrixXd::Identity(2, 2), Eigen::MatrixXd::Identity(1, 1)).converged);
+  CHECK_FALSE(solveCare(An, B, Eigen::MatrixXd::Identity(2, 2), Eigen::MatrixXd::Identity(1, 1)).converged);
 }

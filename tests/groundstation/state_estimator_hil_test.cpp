@@ -4,8 +4,8 @@
 // are flown by the plant's own controllers, whose commands are not recorded: the estimator runs
 // here as in an offline replay, without commands. Measurements are stamped with their capture
 // time (the motion-capture system's clock), as the ground station does.
-#include <catch2/catch.hpp>
 #include <algorithm>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -58,9 +58,8 @@ std::vector<MocapFrame> frames(const hil::ScenarioResult& r) {
 
 // The true pole at a time (the nearest plant tick), in the free-flight state's convention.
 gs::model::PoleState truthAt(const hil::ScenarioResult& r, double t_s) {
-  const auto it = std::lower_bound(
-      r.pole_truth.begin(), r.pole_truth.end(), t_s,
-      [](const hil::PoleTruthRow& row, double t) { return row.t_s < t - 1e-9; });
+  const auto it = std::lower_bound(r.pole_truth.begin(), r.pole_truth.end(), t_s,
+                                   [](const hil::PoleTruthRow& row, double t) { return row.t_s < t - 1e-9; });
   const hil::PoleTruthRow& row = it == r.pole_truth.end() ? r.pole_truth.back() : *it;
   gs::model::PoleState s;
   s.p_m = row.position_m;
@@ -146,9 +145,8 @@ TEST_CASE("HIL plant: a thrown pole is tracked from launch to the catch", "[esti
               "impact %+.1f frames; catch point %.1f mm off at launch + 0.1 s, %.1f mm 0.15 s "
               "before the crossing; mean NEES %.2f (10 dof) over %d frames; %d switches in "
               "flight\n",
-              (*launch_detected - *r.launch_t_s) / kFrame_s,
-              (*impact_detected - *r.impact_t_s) / kFrame_s, 1e3 * catch_error_early,
-              1e3 * catch_error_late, nees_sum / nees_n, nees_n, switches_in_flight);
+              (*launch_detected - *r.launch_t_s) / kFrame_s, (*impact_detected - *r.impact_t_s) / kFrame_s,
+              1e3 * catch_error_early, 1e3 * catch_error_late, nees_sum / nees_n, nees_n, switches_in_flight);
   CHECK(switches_in_flight == 0);
   CHECK(std::abs(*impact_detected - *r.impact_t_s) <= 2 * kFrame_s + 1e-9);
   CHECK(catch_error_late < 0.02);

@@ -156,14 +156,13 @@ TEST_CASE("the truth world throws the pole from vehicle 1 onto vehicle 2's plate
   }
   REQUIRE(at_launch);
   REQUIRE(at_impact);
-  std::printf(
-      "world: launch at %.4f s (v = %.2f, %.2f, %.2f m/s, n = %.2f, %.2f, %.2f, |Omega| = %.2f "
-      "rad/s), impact at %.4f s after %.3f s of flight at (%.3f, %.3f), catch height %.3f m; tilt "
-      "at impact %.2f rad\n",
-      *rec.launch_t, at_launch->truth.v.x(), at_launch->truth.v.y(), at_launch->truth.v.z(),
-      at_launch->truth.n.x(), at_launch->truth.n.y(), at_launch->truth.n.z(),
-      at_launch->truth.omega.norm(), *rec.impact_t, flight, rec.crossing->x, rec.crossing->y,
-      rec.catch_height, std::acos(std::abs(at_impact->truth.n.z())));
+  std::printf("world: launch at %.4f s (v = %.2f, %.2f, %.2f m/s, n = %.2f, %.2f, %.2f, |Omega| = %.2f "
+              "rad/s), impact at %.4f s after %.3f s of flight at (%.3f, %.3f), catch height %.3f m; tilt "
+              "at impact %.2f rad\n",
+              *rec.launch_t, at_launch->truth.v.x(), at_launch->truth.v.y(), at_launch->truth.v.z(),
+              at_launch->truth.n.x(), at_launch->truth.n.y(), at_launch->truth.n.z(),
+              at_launch->truth.omega.norm(), *rec.impact_t, flight, rec.crossing->x, rec.crossing->y,
+              rec.catch_height, std::acos(std::abs(at_impact->truth.n.z())));
   CHECK(flight > 0.4);
   CHECK(std::abs(*rec.impact_t - rec.crossing->t_s) < 1e-3);
 }
@@ -180,19 +179,18 @@ TEST_CASE("launch and impact are detected within 2 frames, with no false switch"
     REQUIRE(r.impact.t_s);
     const double dl = (*r.launch.t_s - *r.rec.launch_t) / kFrame_s;
     const double di = (*r.impact.t_s - *r.rec.impact_t) / kFrame_s;
-    std::printf(
-        "seed %u: launch detected %+.2f frames after the true event (placed %+.2f ms from it), "
-        "impact %+.2f frames (placed %+.2f ms); %d unmatched switches\n",
-        seed, dl, 1e3 * (*r.launch.event_t_s - *r.rec.launch_t), di,
-        1e3 * (*r.impact.event_t_s - *r.rec.impact_t), unmatchedSwitches(r));
+    std::printf("seed %u: launch detected %+.2f frames after the true event (placed %+.2f ms from it), "
+                "impact %+.2f frames (placed %+.2f ms); %d unmatched switches\n",
+                seed, dl, 1e3 * (*r.launch.event_t_s - *r.rec.launch_t), di,
+                1e3 * (*r.impact.event_t_s - *r.rec.impact_t), unmatchedSwitches(r));
     CHECK(std::abs(dl) <= 2.0 + 1e-6);
     CHECK(std::abs(di) <= 2.0 + 1e-6);
     CHECK(unmatchedSwitches(r) == 0);
     worst_launch = std::max(worst_launch, std::abs(dl));
     worst_impact = std::max(worst_impact, std::abs(di));
   }
-  std::printf("detection: worst launch %.2f frames, worst impact %.2f frames (5 throws)\n",
-              worst_launch, worst_impact);
+  std::printf("detection: worst launch %.2f frames, worst impact %.2f frames (5 throws)\n", worst_launch,
+              worst_impact);
 }
 
 TEST_CASE("no mode switch during a balanced hover", "[estimation]") {
@@ -278,8 +276,8 @@ TEST_CASE("with the drag 30% off, the catch point is within 2 cm 0.15 s before t
       }
       std::printf("drag x%.1f, %s: catch point worst %.1f mm at launch + 0.1 s, %.1f mm 0.15 s "
                   "before the crossing; drag scale %.3f (truth %.3f)\n",
-                  factor, estimate ? "estimated online" : "fixed", 1e3 * worst_early,
-                  1e3 * worst_late, k_sum, 1.0 / factor);
+                  factor, estimate ? "estimated online" : "fixed", 1e3 * worst_early, 1e3 * worst_late, k_sum,
+                  1.0 / factor);
       CHECK(worst_late <= 0.02);
       if (estimate) CHECK(std::abs(k_sum - 1.0 / factor) < 0.15);
     }
@@ -450,7 +448,8 @@ TEST_CASE("latency compensation predicts the chosen state to when a command acts
     StateEstimator whole = e;
     whole.advanceTo(f.t_s + latency);
     if (whole.mode() == p.mode) {
-      states_only_difference = std::max(states_only_difference, (whole.pole().state.p_m - p.state.p_m).norm());
+      states_only_difference =
+          std::max(states_only_difference, (whole.pole().state.p_m - p.state.p_m).norm());
       const gs::estimation::VehicleEstimate v = e.predictVehicle(1, f.t_s + latency);
       states_only_difference =
           std::max(states_only_difference, (whole.vehicle(1).state.p_m - v.state.p_m).norm());
@@ -482,7 +481,9 @@ TEST_CASE("health: motion-capture rate, sample age, innovation statistics", "[es
   const Recording rec = estimation_test::recordBalancedHover(WorldParams{}, 9, 3.0);
   StateEstimator est(estimatorFor());
   RunOptions ro;
-  ro.drop = [](const Frame& f) { return f.t_s > 2.0 && f.t_s < 2.5 && std::lround(f.t_s / kFrame_s) % 2 == 0; };
+  ro.drop = [](const Frame& f) {
+    return f.t_s > 2.0 && f.t_s < 2.5 && std::lround(f.t_s / kFrame_s) % 2 == 0;
+  };
   double rate_during_loss = 0.0;
   ro.observe = [&](const Frame& f, const StateEstimator& e) {
     if (std::abs(f.t_s - 2.495) < 1e-6) rate_during_loss = e.health(f.t_s).pole.rate_Hz;
@@ -493,9 +494,8 @@ TEST_CASE("health: motion-capture rate, sample age, innovation statistics", "[es
   std::printf("health: rates %.1f / %.1f / %.1f Hz (vehicle 1, vehicle 2, pole), %.1f Hz while "
               "every other frame was lost; pole age %.3f s; NIS mean %.2f (pole, 5 dof), %.2f "
               "(vehicle 1, 6 dof); %llu pole NIS above the 99%% gate of %llu\n",
-              h.vehicle[0].rate_Hz, h.vehicle[1].rate_Hz, h.pole.rate_Hz, rate_during_loss,
-              h.pole.age_s, h.pole.mean_nis, h.vehicle[0].mean_nis,
-              static_cast<unsigned long long>(h.pole.nis_exceedances),
+              h.vehicle[0].rate_Hz, h.vehicle[1].rate_Hz, h.pole.rate_Hz, rate_during_loss, h.pole.age_s,
+              h.pole.mean_nis, h.vehicle[0].mean_nis, static_cast<unsigned long long>(h.pole.nis_exceedances),
               static_cast<unsigned long long>(h.pole.samples));
   CHECK(h.pole.rate_Hz == Approx(200.0).epsilon(0.02));
   CHECK(h.vehicle[0].rate_Hz == Approx(200.0).epsilon(0.02));

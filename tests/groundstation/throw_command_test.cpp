@@ -55,8 +55,7 @@ TEST_CASE("in the throw's plane the command is the planar TV-LQR's, saturated", 
   }
 }
 
-TEST_CASE("across the plane the pole is balanced by the balancing LQR's lateral rows",
-          "[throw_command]") {
+TEST_CASE("across the plane the pole is balanced by the balancing LQR's lateral rows", "[throw_command]") {
   const Setup& s = setup();
   const double t = 2.0;
   const gs::model::PlanarState<double> x = offPlan(s, t);
@@ -81,8 +80,8 @@ TEST_CASE("across the plane the pole is balanced by the balancing LQR's lateral 
   // + (3g / 4) phi (balancing_lqr.hpp), so the roll must go negative.
   Eigen::VectorXd leaning = Eigen::VectorXd::Zero(bal::kStateSize);
   leaning(bal::kB) = 0.02;
-  CHECK(gs::planning::throwCommand(s.tracker, s.balancing, t, x, leaning, s.problem.limits)
-            .omega_radps.x() < 0.0);
+  CHECK(gs::planning::throwCommand(s.tracker, s.balancing, t, x, leaning, s.problem.limits).omega_radps.x() <
+        0.0);
 }
 
 TEST_CASE("the lateral rates are clamped into the rate limit", "[throw_command]") {
@@ -91,8 +90,8 @@ TEST_CASE("the lateral rates are clamped into the rate limit", "[throw_command]"
   fallen(bal::kB) = 0.6;
   fallen(bal::kBDot) = 5.0;
   fallen(bal::kYaw) = -3.0;
-  const gs::model::VehicleInput u = gs::planning::throwCommand(
-      s.tracker, s.balancing, 1.0, offPlan(s, 1.0), fallen, s.problem.limits);
+  const gs::model::VehicleInput u =
+      gs::planning::throwCommand(s.tracker, s.balancing, 1.0, offPlan(s, 1.0), fallen, s.problem.limits);
   CHECK(std::abs(u.omega_radps.x()) == Approx(s.problem.limits.omega_max_radps));
   CHECK(std::abs(u.omega_radps.z()) <= s.problem.limits.omega_max_radps);
   CHECK(gs::planning::lateralBalancingState(fallen) == fallen);

@@ -33,17 +33,17 @@ using gs::model::PlanarState;
 namespace planar = gs::model::planar;
 using namespace plant_throw;
 
-constexpr double kFrame_s = 0.005;      // motion capture and ground-station commands, 200 Hz
-constexpr double kRateLoop_s = 0.001;   // the on-board rate loop, 1 kHz
+constexpr double kFrame_s = 0.005;     // motion capture and ground-station commands, 200 Hz
+constexpr double kRateLoop_s = 0.001;  // the on-board rate loop, 1 kHz
 
 struct Flight {
   std::optional<double> release_t_s;  // the plate's force on the pole vanishes (after T - 0.2 s)
   std::optional<double> launch_t_s;   // the pole's end leaves the plate's surface
   PlanarState<double> launch_state = PlanarState<double>::Zero();
   std::vector<gs::estimation::ModeSwitch> switches;  // the estimator's, oldest first
-  double max_tilt_error_rad = 0.0;   // |alpha - alpha_ref| before T
-  double catch_error_m = -1.0;       // predicted vs true crossing, 0.1 s after the release
-  double catch_error_late_m = -1.0;  // ... 0.15 s before the crossing
+  double max_tilt_error_rad = 0.0;                   // |alpha - alpha_ref| before T
+  double catch_error_m = -1.0;                       // predicted vs true crossing, 0.1 s after the release
+  double catch_error_late_m = -1.0;                  // ... 0.15 s before the crossing
   std::optional<double> crossing_t_s;
 };
 
@@ -91,8 +91,8 @@ Flight flyThrow(double catch_height_m) {
     }
     est.setCommand(1, t, command);
     if (t < T - 1e-9) {
-      const double e = std::abs(planarState(plant)(planar::kAlpha) -
-                                tracker.reference().stateAt(t)(planar::kAlpha));
+      const double e =
+          std::abs(planarState(plant)(planar::kAlpha) - tracker.reference().stateAt(t)(planar::kAlpha));
       flight.max_tilt_error_rad = std::max(flight.max_tilt_error_rad, e);
     }
 
@@ -117,8 +117,8 @@ Flight flyThrow(double catch_height_m) {
     while (plant.pop_mocap(f)) {
       est.update(toEstimatorFrame(f));
       if (flight.launch_t_s && est.mode() == gs::estimation::PoleMode::free) {
-        catches.predicted(f.capture_t_s, gs::planning::predictCatchPoint(
-                                             est.pole().state, catch_height_m, est.poleModel()));
+        catches.predicted(f.capture_t_s,
+                          gs::planning::predictCatchPoint(est.pole().state, catch_height_m, est.poleModel()));
       }
     }
   }
@@ -146,10 +146,9 @@ TEST_CASE("the planned throw flown on the truth plant: released at T, one mode s
               "at T %+.1f ms, end off the plate at T %+.1f ms; launch state (x, z, vx, vz, theta, "
               "alpha, alpha') = (%.3f, %.3f, %.3f, %.3f, %.3f, %.3f, %.3f), planned (%.3f, %.3f, "
               "%.3f, %.3f, %.3f, %.3f, %.3f)\n",
-              f.max_tilt_error_rad, 1e3 * (*f.release_t_s - T), 1e3 * (*f.launch_t_s - T),
-              f.launch_state(0), f.launch_state(1), f.launch_state(2), f.launch_state(3),
-              f.launch_state(4), f.launch_state(5), f.launch_state(6), target(0), target(1),
-              target(2), target(3), target(4), target(5), target(6));
+              f.max_tilt_error_rad, 1e3 * (*f.release_t_s - T), 1e3 * (*f.launch_t_s - T), f.launch_state(0),
+              f.launch_state(1), f.launch_state(2), f.launch_state(3), f.launch_state(4), f.launch_state(5),
+              f.launch_state(6), target(0), target(1), target(2), target(3), target(4), target(5), target(6));
   // Every switch after the initial one (the pole's first sighting).
   REQUIRE(f.switches.size() >= 1);
   std::vector<gs::estimation::ModeSwitch> later(f.switches.begin() + 1, f.switches.end());
@@ -158,12 +157,12 @@ TEST_CASE("the planned throw flown on the truth plant: released at T, one mode s
                 "from the plate force's end\n",
                 std::string(gs::estimation::poleModeName(s.from)).c_str(),
                 std::string(gs::estimation::poleModeName(s.to)).c_str(),
-                std::string(gs::estimation::switchReasonName(s.reason)).c_str(),
-                1e3 * (s.event_t_s - T), 1e3 * (s.detected_t_s - T),
-                (s.detected_t_s - *f.release_t_s) / kFrame_s);
+                std::string(gs::estimation::switchReasonName(s.reason)).c_str(), 1e3 * (s.event_t_s - T),
+                1e3 * (s.detected_t_s - T), (s.detected_t_s - *f.release_t_s) / kFrame_s);
   }
   std::printf("  catch point %.1f mm off 0.1 s after the release, %.1f mm 0.15 s before the "
-              "crossing\n", 1e3 * f.catch_error_m, 1e3 * f.catch_error_late_m);
+              "crossing\n",
+              1e3 * f.catch_error_m, 1e3 * f.catch_error_late_m);
 
   // The plan is tracked and the pole leaves near T.
   CHECK(f.max_tilt_error_rad < 0.03);

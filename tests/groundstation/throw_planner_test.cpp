@@ -34,14 +34,12 @@ double paperCost(const ThrowTrajectory& traj) {
   };
   double cost = 0.0;
   for (int k = 0; k < traj.intervals(); ++k) {
-    cost += (traj.t_s[2 * k + 2] - traj.t_s[2 * k]) / 6.0 *
-            (l(2 * k) + 4.0 * l(2 * k + 1) + l(2 * k + 2));
+    cost += (traj.t_s[2 * k + 2] - traj.t_s[2 * k]) / 6.0 * (l(2 * k) + 4.0 * l(2 * k + 1) + l(2 * k + 2));
   }
   return cost;
 }
 
-PlanarState<double> rk4Step(const PlanarState<double>& s, double t, double h,
-                            const ThrowTrajectory& traj) {
+PlanarState<double> rk4Step(const PlanarState<double>& s, double t, double h, const ThrowTrajectory& traj) {
   const auto f = [&](const PlanarState<double>& x, double tt) -> PlanarState<double> {
     return gs::model::planarPoleVehicleDynamics<double>(x, traj.inputAt(tt), traj.params);
   };
@@ -68,15 +66,14 @@ TEST_CASE("the collocation mesh is graded towards both ends", "[throw_planner]")
   for (int k = 0; k <= 10; ++k) CHECK(uniform[k] == Approx(0.25 * k));
 }
 
-TEST_CASE("the NLP's gradient, Jacobian and Hessian match finite differences",
-          "[throw_planner]") {
+TEST_CASE("the NLP's gradient, Jacobian and Hessian match finite differences", "[throw_planner]") {
   const ThrowProblem problem;
   ThrowCollocationNlp nlp(problem, gs::planning::throwCollocationMesh(problem.duration_s, 4, 0.5));
   Ipopt::Index n = 0, m = 0, nnz_jac = 0, nnz_h = 0;
   Ipopt::TNLP::IndexStyleEnum style;
   REQUIRE(nlp.get_nlp_info(n, m, nnz_jac, nnz_h, style));
-  REQUIRE(n == 13 * 5);          // the knots, each with its slacks
-  REQUIRE(m == 10 * 4 + 3);      // per interval Simpson, F_N and slew rows; F_N at inner knots
+  REQUIRE(n == 13 * 5);      // the knots, each with its slacks
+  REQUIRE(m == 10 * 4 + 3);  // per interval Simpson, F_N and slew rows; F_N at inner knots
 
   // A generic point: the straight line with a deterministic wiggle in every variable.
   Eigen::VectorXd x = nlp.initialGuess();
@@ -114,11 +111,9 @@ TEST_CASE("the NLP's gradient, Jacobian and Hessian match finite differences",
   nlp.eval_grad_f(n, x.data(), true, grad.data());
   const Eigen::MatrixXd J = dense_jacobian(x);
   std::vector<Ipopt::Index> hrows(nnz_h), hcols(nnz_h);
-  nlp.eval_h(n, nullptr, true, sigma, m, nullptr, true, nnz_h, hrows.data(), hcols.data(),
-             nullptr);
+  nlp.eval_h(n, nullptr, true, sigma, m, nullptr, true, nnz_h, hrows.data(), hcols.data(), nullptr);
   std::vector<double> hvalues(nnz_h);
-  nlp.eval_h(n, x.data(), true, sigma, m, lambda.data(), true, nnz_h, nullptr, nullptr,
-             hvalues.data());
+  nlp.eval_h(n, x.data(), true, sigma, m, lambda.data(), true, nnz_h, nullptr, nullptr, hvalues.data());
   Eigen::MatrixXd H = Eigen::MatrixXd::Zero(n, n);
   for (int e = 0; e < nnz_h; ++e) {
     REQUIRE(hrows[e] >= hcols[e]);  // lower triangle, as IPOPT wants
@@ -133,12 +128,11 @@ TEST_CASE("the NLP's gradient, Jacobian and Hessian match finite differences",
     xp(i) += eps;
     xm(i) -= eps;
     grad_err = std::max(grad_err, std::abs((objective(xp) - objective(xm)) / (2 * eps) - grad(i)));
-    jac_err = std::max(
-        jac_err, ((constraints(xp) - constraints(xm)) / (2 * eps) - J.col(i)).cwiseAbs().maxCoeff());
-    hess_err = std::max(hess_err,
-                        ((lagrangian_gradient(xp) - lagrangian_gradient(xm)) / (2 * eps) - H.col(i))
-                            .cwiseAbs()
-                            .maxCoeff());
+    jac_err =
+        std::max(jac_err, ((constraints(xp) - constraints(xm)) / (2 * eps) - J.col(i)).cwiseAbs().maxCoeff());
+    hess_err = std::max(
+        hess_err,
+        ((lagrangian_gradient(xp) - lagrangian_gradient(xm)) / (2 * eps) - H.col(i)).cwiseAbs().maxCoeff());
   }
   CHECK(grad_err < 1e-6);
   CHECK(jac_err < 1e-6);
@@ -178,8 +172,7 @@ TEST_CASE("the planned throw meets every constraint of (34)", "[throw_planner]")
     const auto f = [&](int j) {
       return gs::model::planarPoleVehicleDynamics<double>(traj.state[j], traj.input[j]);
     };
-    const PlanarState<double> simpson =
-        traj.state[b] - traj.state[a] - h / 6.0 * (f(a) + 4.0 * f(m) + f(b));
+    const PlanarState<double> simpson = traj.state[b] - traj.state[a] - h / 6.0 * (f(a) + 4.0 * f(m) + f(b));
     const PlanarState<double> hermite =
         traj.state[m] - 0.5 * (traj.state[a] + traj.state[b]) - h / 8.0 * (f(a) - f(b));
     max_defect = std::max({max_defect, simpson.cwiseAbs().maxCoeff(), hermite.cwiseAbs().maxCoeff()});
@@ -237,8 +230,7 @@ TEST_CASE("the throw is optimal: a finer mesh changes the cost little, and anoth
   CHECK(other_cost > plan.cost);
 }
 
-TEST_CASE("the trajectory's interpolants pass through its collocation points",
-          "[throw_planner]") {
+TEST_CASE("the trajectory's interpolants pass through its collocation points", "[throw_planner]") {
   const ThrowTrajectory& traj = paperPlan().trajectory;
   REQUIRE(!traj.t_s.empty());
   for (std::size_t j = 0; j < traj.t_s.size(); ++j) {
@@ -266,8 +258,7 @@ TEST_CASE("flown open loop on the planar model, the pole stays on the plate unti
   for (int k = 0; k < steps; ++k) {
     s = rk4Step(s, k * h, h, traj);
     const double t = (k + 1) * h;
-    const double fn =
-        gs::model::planarNormalForcePerMass_mps2<double>(s, traj.inputAt(t), traj.params);
+    const double fn = gs::model::planarNormalForcePerMass_mps2<double>(s, traj.inputAt(t), traj.params);
     min_fn_all = std::min(min_fn_all, fn);
     if (t <= problem.duration_s - 0.1) min_fn_early = std::min(min_fn_early, fn);
   }
@@ -283,8 +274,7 @@ TEST_CASE("flown open loop on the planar model, the pole stays on the plate unti
   CHECK(std::abs(err(planar::kTheta)) < 1e-5);
   CHECK(std::abs(err(planar::kAlpha)) < 1e-3);
   CHECK(std::abs(err(planar::kAlphaDot)) < 5e-3);
-  const double fn_T =
-      gs::model::planarNormalForcePerMass_mps2<double>(s, problem.launchInput(), traj.params);
+  const double fn_T = gs::model::planarNormalForcePerMass_mps2<double>(s, problem.launchInput(), traj.params);
   CHECK(std::abs(fn_T) < 1e-2);
 
   // Holding the launch input past T the normal force turns negative at once: the pole leaves.
@@ -304,8 +294,7 @@ TEST_CASE("flown open loop on the planar model, the pole stays on the plate unti
   CHECK(gs::model::planarNormalForcePerMass_mps2<double>(after, u_T) < -0.05);
 }
 
-TEST_CASE("an ill-posed or infeasible throw is reported, not returned as a plan",
-          "[throw_planner]") {
+TEST_CASE("an ill-posed or infeasible throw is reported, not returned as a plan", "[throw_planner]") {
   ThrowProblem weak_motors;
   weak_motors.limits.a_q_min_mps2 = 5.0;  // the launch needs a_q,T = 4.80 m/s^2
   const ThrowPlan rejected = gs::planning::planThrow(weak_motors);

@@ -65,7 +65,7 @@ constexpr int kTicksPerFrame = 5;    // firmware ticks (1 ms) per frame
 constexpr int kHeartbeatTicks = 20;  // GS_HEARTBEAT at 50 Hz
 constexpr std::uint8_t kNode = 1;
 constexpr std::uint16_t kSession = 0x7A11;
-constexpr double kSettle_s = 2.0;    // balancing hover before the throw
+constexpr double kSettle_s = 2.0;  // balancing hover before the throw
 // The throw before its terminal phase (the last 0.3 s, where the pitch rate swings fastest).
 constexpr double kTrackedUntil_s = 2.2;
 
@@ -78,33 +78,32 @@ struct Heard {
 };
 
 struct Flight {
-  double throw_start_s = 0.0;          // plant time of the plan's t = 0
+  double throw_start_s = 0.0;                                     // plant time of the plan's t = 0
   PlanarState<double> start_state = PlanarState<double>::Zero();  // planar state then
-  double settle_tilt_max_rad = 0.0;    // |pole tilt| over the last second of the settling hover
-  std::optional<double> release_t_s;   // plan time: the plate's force on the pole vanishes
-  std::optional<double> launch_t_s;    // plan time: the pole's end leaves the plate's surface
+  double settle_tilt_max_rad = 0.0;   // |pole tilt| over the last second of the settling hover
+  std::optional<double> release_t_s;  // plan time: the plate's force on the pole vanishes
+  std::optional<double> launch_t_s;   // plan time: the pole's end leaves the plate's surface
   PlanarState<double> launch_state = PlanarState<double>::Zero();
   std::vector<gs::estimation::ModeSwitch> switches;  // the estimator's, oldest first (plant time)
-  double max_tilt_error_rad = 0.0;     // |alpha - alpha_ref| before T
-  double max_position_error_m = 0.0;   // |(x, z) - (x, z)_ref| before T
-  double max_pitch_error_rad = 0.0;    // |theta - theta_ref| before T
+  double max_tilt_error_rad = 0.0;                   // |alpha - alpha_ref| before T
+  double max_position_error_m = 0.0;                 // |(x, z) - (x, z)_ref| before T
+  double max_pitch_error_rad = 0.0;                  // |theta - theta_ref| before T
   // The same up to kTrackedUntil_s, before the terminal phase's fast pitch-rate swing.
   double tracked_tilt_error_rad = 0.0;
   double tracked_position_error_m = 0.0;
   double tracked_pitch_error_rad = 0.0;
-  std::optional<double> diverged_t_s;  // plan time the tilt error first exceeds 0.05 rad
-  double max_rate_quantisation_radps = 0.0;    // |sent - asked| pitch rate
-  double max_thrust_quantisation_mps2 = 0.0;   // |sent - asked| thrust
-  double catch_error_m = -1.0;         // predicted vs true crossing, 0.1 s after the release
-  double catch_error_late_m = -1.0;    // ... 0.15 s before the crossing
-  std::optional<double> crossing_t_s;  // plan time
-  bool flying_throughout = true;       // the firmware's own mode stayed `flying` from take-off
+  std::optional<double> diverged_t_s;         // plan time the tilt error first exceeds 0.05 rad
+  double max_rate_quantisation_radps = 0.0;   // |sent - asked| pitch rate
+  double max_thrust_quantisation_mps2 = 0.0;  // |sent - asked| thrust
+  double catch_error_m = -1.0;                // predicted vs true crossing, 0.1 s after the release
+  double catch_error_late_m = -1.0;           // ... 0.15 s before the crossing
+  std::optional<double> crossing_t_s;         // plan time
+  bool flying_throughout = true;              // the firmware's own mode stayed `flying` from take-off
   proto::Mode worst_mode = proto::Mode::flying;
   std::uint64_t missed_ticks = 0;
   std::uint64_t samples_fed = 0;
   Heard heard;
 };
-
 
 Flight flyThrowThroughFirmware(double catch_height_m) {
   const gs::planning::ThrowProblem problem;
@@ -127,8 +126,7 @@ Flight flyThrowThroughFirmware(double catch_height_m) {
   // it, so the balancing hover adds it to the collective (m_p g / m_v, 0.48 m/s^2) instead of
   // sagging by it against the LQR's height gain. The throw itself gets the TV-LQR's output only,
   // as on the stand-in.
-  const double pole_weight_mps2 =
-      config.pole.mass_kg * config.gravity_mps2 / config.vehicle.mass_kg;
+  const double pole_weight_mps2 = config.pole.mass_kg * config.gravity_mps2 / config.vehicle.mass_kg;
 
   Flight flight;
   gs::estimation::StateEstimator est;
@@ -162,8 +160,7 @@ Flight flyThrowThroughFirmware(double catch_height_m) {
       }
       if (m.type == proto::Type::impact) {
         flight.heard.impacts.emplace_back(rig.t_s(), m.impact);
-      } else if (m.type == proto::Type::command_ack &&
-                 m.command_ack.code == proto::CommandCode::arm) {
+      } else if (m.type == proto::Type::command_ack && m.command_ack.code == proto::CommandCode::arm) {
         flight.heard.arm_ack = m.command_ack;
       } else if (m.type == proto::Type::vehicle_heartbeat) {
         auto& modes = flight.heard.modes;
@@ -174,8 +171,7 @@ Flight flyThrowThroughFirmware(double catch_height_m) {
   };
 
   // The arm sequence on the first tick: heartbeat, a zero-thrust setpoint, ARM.
-  send(proto::GsHeartbeat{0, kSession, proto::GroundState::active, heartbeat_seq++},
-       proto::kBroadcastNode);
+  send(proto::GsHeartbeat{0, kSession, proto::GroundState::active, heartbeat_seq++}, proto::kBroadcastNode);
   sendSetpoint(0.0, hil::Vec3::Zero());
   send(proto::Command{proto::CommandCode::arm, 0, kSession, 0}, kNode);
 
@@ -195,8 +191,8 @@ Flight flyThrowThroughFirmware(double catch_height_m) {
       Eigen::VectorXd u = -balancing.K * balancingState(plant, L);
       u(bal::kThrust) += config.gravity_mps2 + pole_weight_mps2;
       command = gs::control::fromBalancingInput(u);
-      command.a_q_mps2 = std::clamp(command.a_q_mps2, problem.limits.a_q_min_mps2,
-                                    problem.limits.a_q_max_mps2);
+      command.a_q_mps2 =
+          std::clamp(command.a_q_mps2, problem.limits.a_q_min_mps2, problem.limits.a_q_max_mps2);
       if (tau > -1.0 - 1e-9) {
         flight.settle_tilt_max_rad =
             std::max(flight.settle_tilt_max_rad, std::acos(std::min(1.0, plant.pole().axis().z())));
@@ -212,15 +208,15 @@ Flight flyThrowThroughFirmware(double catch_height_m) {
       // biases, which break the plant's symmetry, grew into a sideways fall: b/L went from 1e-4
       // at the start to 0.26 at t = 2.0 s and 0.98 at 2.4 s, and the pole left the plate 84 ms
       // before T.
-      command = gs::planning::throwCommand(tracker, balancing, tau, s, balancingState(plant, L),
-                                           problem.limits);
+      command =
+          gs::planning::throwCommand(tracker, balancing, tau, s, balancingState(plant, L), problem.limits);
       const PlanarState<double> ref = tracker.reference().stateAt(tau);
       const double tilt_error_rad = std::abs(s(planar::kAlpha) - ref(planar::kAlpha));
       flight.max_tilt_error_rad = std::max(flight.max_tilt_error_rad, tilt_error_rad);
       if (tau < kTrackedUntil_s) {
         flight.tracked_tilt_error_rad = std::max(flight.tracked_tilt_error_rad, tilt_error_rad);
-        flight.tracked_pitch_error_rad = std::max(
-            flight.tracked_pitch_error_rad, std::abs(s(planar::kTheta) - ref(planar::kTheta)));
+        flight.tracked_pitch_error_rad =
+            std::max(flight.tracked_pitch_error_rad, std::abs(s(planar::kTheta) - ref(planar::kTheta)));
         flight.tracked_position_error_m =
             std::max(flight.tracked_position_error_m,
                      std::hypot(s(planar::kX) - ref(planar::kX), s(planar::kZ) - ref(planar::kZ)));
@@ -237,9 +233,8 @@ Flight flyThrowThroughFirmware(double catch_height_m) {
       // so that the plate keeps falling away, then the vehicle levels at hover thrust.
       const hil::Mat3 r = plant.vehicle(0).body.rotation();
       command.a_q_mps2 = tau < T + 0.3 ? problem.limits.a_q_min_mps2 : config.gravity_mps2;
-      command.omega_radps = tau < T + 0.1
-                                ? hil::Vec3(0.0, problem.launch_pitch_rate_radps, 0.0)
-                                : hil::Vec3(0.0, -8.0 * std::atan2(r(0, 2), r(2, 2)), 0.0);
+      command.omega_radps = tau < T + 0.1 ? hil::Vec3(0.0, problem.launch_pitch_rate_radps, 0.0)
+                                          : hil::Vec3(0.0, -8.0 * std::atan2(r(0, 2), r(2, 2)), 0.0);
     }
     if (frame > 0) {
       const proto::RateThrust sent = sendSetpoint(command.a_q_mps2, command.omega_radps);
@@ -247,9 +242,8 @@ Flight flyThrowThroughFirmware(double catch_height_m) {
         flight.max_rate_quantisation_radps =
             std::max(flight.max_rate_quantisation_radps,
                      std::abs(double(sent.rate_radps[1]) - command.omega_radps.y()));
-        flight.max_thrust_quantisation_mps2 =
-            std::max(flight.max_thrust_quantisation_mps2,
-                     std::abs(double(sent.thrust_mps2) - command.a_q_mps2));
+        flight.max_thrust_quantisation_mps2 = std::max(flight.max_thrust_quantisation_mps2,
+                                                       std::abs(double(sent.thrust_mps2) - command.a_q_mps2));
       }
       // The estimator is told what the vehicle was sent, after the frame's quantisation.
       command.a_q_mps2 = sent.thrust_mps2;
@@ -259,8 +253,8 @@ Flight flyThrowThroughFirmware(double catch_height_m) {
 
     for (int k = 0; k < kTicksPerFrame; ++k, ++tick) {
       if (tick > 0 && tick % kHeartbeatTicks == 0) {
-        send(proto::GsHeartbeat{static_cast<std::uint32_t>(tick), kSession,
-                                proto::GroundState::active, heartbeat_seq++},
+        send(proto::GsHeartbeat{static_cast<std::uint32_t>(tick), kSession, proto::GroundState::active,
+                                heartbeat_seq++},
              proto::kBroadcastNode);
       }
       rig.step();
@@ -277,8 +271,7 @@ Flight flyThrowThroughFirmware(double catch_height_m) {
         flight.release_t_s = plan_t;
       }
       for (const hil::PoleContactEvent& e : plant.take_contact_events()) {
-        if (!flight.launch_t_s && !e.begins && e.surface == hil::Surface::plate1 &&
-            e.t_s - kSettle_s > 0.5) {
+        if (!flight.launch_t_s && !e.begins && e.surface == hil::Surface::plate1 && e.t_s - kSettle_s > 0.5) {
           flight.launch_t_s = e.t_s - kSettle_s;
           flight.launch_state = planarState(plant);
         }
@@ -290,8 +283,8 @@ Flight flyThrowThroughFirmware(double catch_height_m) {
     while (plant.pop_mocap(f)) {
       est.update(toEstimatorFrame(f));
       if (flight.launch_t_s && est.mode() == gs::estimation::PoleMode::free) {
-        catches.predicted(f.capture_t_s - kSettle_s, gs::planning::predictCatchPoint(
-                                                         est.pole().state, catch_height_m, est.poleModel()));
+        catches.predicted(f.capture_t_s - kSettle_s,
+                          gs::planning::predictCatchPoint(est.pole().state, catch_height_m, est.poleModel()));
       }
     }
   }
@@ -327,9 +320,9 @@ void printFlight(const Flight& f) {
               "%.3f rad; up to T: %.3f rad, %.3f m, %.3f rad; tilt error above 0.05 rad from "
               "t = %.3f s; RATE_THRUST quantisation at most %.4f rad/s, %.4f m/s^2\n",
               kTrackedUntil_s, f.tracked_tilt_error_rad, f.tracked_position_error_m,
-              f.tracked_pitch_error_rad, f.max_tilt_error_rad, f.max_position_error_m,
-              f.max_pitch_error_rad, f.diverged_t_s ? *f.diverged_t_s : -1.0,
-              f.max_rate_quantisation_radps, f.max_thrust_quantisation_mps2);
+              f.tracked_pitch_error_rad, f.max_tilt_error_rad, f.max_position_error_m, f.max_pitch_error_rad,
+              f.diverged_t_s ? *f.diverged_t_s : -1.0, f.max_rate_quantisation_radps,
+              f.max_thrust_quantisation_mps2);
   const gs::planning::ThrowTracker tracker(gs::planning::planThrow(problem).trajectory);
   std::printf("  TV-LQR pitch-rate gains (rad/s per rad of theta error, per rad of alpha error):");
   for (double t : {1.0, 2.0, 2.2, 2.3, 2.4, 2.45, 2.49}) {
@@ -341,10 +334,9 @@ void printFlight(const Flight& f) {
   std::printf("  plate force gone at T %+.1f ms, end off the plate at T %+.1f ms; launch state "
               "(%.3f, %.3f, %.3f, %.3f, %.3f, %.3f, %.3f), planned (%.3f, %.3f, %.3f, %.3f, %.3f, "
               "%.3f, %.3f)\n",
-              1e3 * (*f.release_t_s - T), 1e3 * (*f.launch_t_s - T), f.launch_state(0),
-              f.launch_state(1), f.launch_state(2), f.launch_state(3), f.launch_state(4),
-              f.launch_state(5), f.launch_state(6), target(0), target(1), target(2), target(3),
-              target(4), target(5), target(6));
+              1e3 * (*f.release_t_s - T), 1e3 * (*f.launch_t_s - T), f.launch_state(0), f.launch_state(1),
+              f.launch_state(2), f.launch_state(3), f.launch_state(4), f.launch_state(5), f.launch_state(6),
+              target(0), target(1), target(2), target(3), target(4), target(5), target(6));
   for (std::size_t i = 1; i < f.switches.size(); ++i) {
     const gs::estimation::ModeSwitch& s = f.switches[i];
     std::printf("  switch %s -> %s (%s): event at T %+.1f ms, decided at T %+.1f ms, %+.1f frames "
@@ -367,8 +359,8 @@ void printFlight(const Flight& f) {
                 double(imp.peak_mps2), imp.vehicle_time_us * 1e-6 - kSettle_s);
   }
   std::printf("  firmware: %llu samples, %llu missed ticks, %d undecodable frames\n",
-              static_cast<unsigned long long>(f.samples_fed),
-              static_cast<unsigned long long>(f.missed_ticks), f.heard.undecodable);
+              static_cast<unsigned long long>(f.samples_fed), static_cast<unsigned long long>(f.missed_ticks),
+              f.heard.undecodable);
 }
 
 // The switches after the initial one (the pole's first sighting) decided before the crossing.

@@ -74,10 +74,8 @@ TEST_CASE("the throw's TV-LQR gains end at R^-1 B^T Q_f", "[throw_tracking]") {
   const gs::planning::ThrowTracker tracker(paperPlan().trajectory, weights);
   REQUIRE(tracker.valid());
   const ThrowProblem problem;
-  const auto lin = gs::model::linearisePlanarPoleVehicle(problem.launch_state,
-                                                         problem.launchInput());
-  const Eigen::MatrixXd expected =
-      weights.R().inverse() * lin.B.transpose() * weights.Qfinal();
+  const auto lin = gs::model::linearisePlanarPoleVehicle(problem.launch_state, problem.launchInput());
+  const Eigen::MatrixXd expected = weights.R().inverse() * lin.B.transpose() * weights.Qfinal();
   CHECK((tracker.gain(problem.duration_s) - expected).cwiseAbs().maxCoeff() < 1e-9);
   // The gains are stored on the 5 ms grid over [0, T].
   CHECK(tracker.gains().times_s().front() == 0.0);
@@ -105,14 +103,12 @@ TEST_CASE("the TV-LQR brings a perturbed throw to the launch state", "[throw_tra
   const PlanarState<double> start = perturbedStart();
 
   // Open loop from the perturbed start the pole falls off: what the feedback is for.
-  const Flight open = fly(start, problem, [&](double t, const PlanarState<double>&) {
-    return tracker.reference().inputAt(t);
-  });
+  const Flight open = fly(
+      start, problem, [&](double t, const PlanarState<double>&) { return tracker.reference().inputAt(t); });
   CHECK(std::abs(open.end(planar::kAlpha) - problem.launch_state(planar::kAlpha)) > 0.5);
 
-  const Flight closed = fly(start, problem, [&](double t, const PlanarState<double>& s) {
-    return tracker.command(t, s);
-  });
+  const Flight closed =
+      fly(start, problem, [&](double t, const PlanarState<double>& s) { return tracker.command(t, s); });
   const PlanarState<double> err = closed.end - problem.launch_state;
   INFO("end-state error " << err.transpose());
   // Measured: about 0.5 mm, 1.2 cm/s, 2e-3 rad of pitch, 1e-4 rad of tilt, 6e-3 rad/s.

@@ -25,8 +25,8 @@ TEST_CASE("TV-LQR on a time-invariant system converges to the CARE solution") {
   const auto care = gs::control::solveCare(sys.A, sys.B, Q, R);
   REQUIRE(care.converged);
 
-  const auto gains = solveTvLqr([&](double) { return sys; }, Q, R,
-                                Eigen::MatrixXd::Zero(Q.rows(), Q.cols()), 0.0, 20.0);
+  const auto gains =
+      solveTvLqr([&](double) { return sys; }, Q, R, Eigen::MatrixXd::Zero(Q.rows(), Q.cols()), 0.0, 20.0);
   REQUIRE_FALSE(gains.empty());
   CHECK(gains.times_s().front() == 0.0);
   CHECK(gains.times_s().back() == 20.0);
@@ -66,9 +66,8 @@ TEST_CASE("TV-LQR: time-varying scalar case against the closed-form Riccati solu
   auto lin = [](double t) {
     return LinearSystem{Eigen::MatrixXd::Constant(1, 1, std::sin(t)), Eigen::MatrixXd::Ones(1, 1)};
   };
-  const auto gains =
-      solveTvLqr(lin, Eigen::MatrixXd::Zero(1, 1), Eigen::MatrixXd::Constant(1, 1, r),
-                 Eigen::MatrixXd::Constant(1, 1, pf), 0.0, tf, {0.01, 0.001});
+  const auto gains = solveTvLqr(lin, Eigen::MatrixXd::Zero(1, 1), Eigen::MatrixXd::Constant(1, 1, r),
+                                Eigen::MatrixXd::Constant(1, 1, pf), 0.0, tf, {0.01, 0.001});
   REQUIRE_FALSE(gains.empty());
   for (double t : {0.0, 0.5, 1.0, 2.0, 3.0, 3.9, 4.0}) {
     CAPTURE(t);
@@ -98,13 +97,13 @@ TEST_CASE("TV-LQR: sampled linearisations are interpolated, bad input gives no g
   const auto ok = solveTvLqr(fn, Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Ones(1, 1),
                              Eigen::MatrixXd::Ones(1, 1), 0.0, 2.0);
   CHECK_FALSE(ok.empty());
-  CHECK(solveTvLqr(fn, Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Ones(1, 1),
-                   Eigen::MatrixXd::Ones(1, 1), 2.0, 0.0)
+  CHECK(solveTvLqr(fn, Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Ones(1, 1),
+                   2.0, 0.0)
             .empty());
-  CHECK(solveTvLqr(fn, Eigen::MatrixXd::Ones(1, 1), -Eigen::MatrixXd::Ones(1, 1),
-                   Eigen::MatrixXd::Ones(1, 1), 0.0, 2.0)
+  CHECK(solveTvLqr(fn, Eigen::MatrixXd::Ones(1, 1), -Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Ones(1, 1),
+                   0.0, 2.0)
             .empty());
-  CHECK(solveTvLqr(fn, Eigen::MatrixXd::Ones(2, 2), Eigen::MatrixXd::Ones(1, 1),
-                   Eigen::MatrixXd::Ones(2, 2), 0.0, 2.0)
+  CHECK(solveTvLqr(fn, Eigen::MatrixXd::Ones(2, 2), Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Ones(2, 2),
+                   0.0, 2.0)
             .empty());
 }

@@ -8,12 +8,11 @@ namespace {
 
 using gs::model::parseVehicleLimits;
 
-constexpr const char* kValid =
-    "# comment\n"
-    "a_q_min_mps2: 1.0\n"
-    "\n"
-    "a_q_max_mps2:   20   # trailing comment\n"
-    "omega_max_radps: 10.0\n";
+constexpr const char* kValid = "# comment\n"
+                               "a_q_min_mps2: 1.0\n"
+                               "\n"
+                               "a_q_max_mps2:   20   # trailing comment\n"
+                               "omega_max_radps: 10.0\n";
 
 std::string replaceLine(std::string text, const std::string& from, const std::string& to) {
   text.replace(text.find(from), from.size(), to);
@@ -58,7 +57,7 @@ TEST_CASE("malformed limits files are rejected with file and line", "[limits]") 
     std::string expect;
   };
   const Case cases[] = {
-      {replaceLine(valid, "a_q_min_mps2: 1.0", "a_q_min_mps2 1.0"), "test.yaml:"},  // YAML syntax
+      {replaceLine(valid, "a_q_min_mps2: 1.0", "a_q_min_mps2 1.0"), "test.yaml:"},      // YAML syntax
       {replaceLine(valid, "a_q_min_mps2: 1.0", "a_q_min_mps2: [1.0"), "test.yaml:4:"},  // YAML syntax
       {replaceLine(valid, "a_q_min_mps2: 1.0", "a_q_minimum: 1.0"), "test.yaml:2: unknown key"},
       {valid + "a_q_min_mps2: 2.0\n", "test.yaml:6: 'a_q_min_mps2' is given twice (first on line 2)"},

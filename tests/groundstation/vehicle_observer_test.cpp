@@ -3,9 +3,9 @@
 // consistency of its innovations, outliers, dropouts, and the plate kinematics.
 #include "groundstation/estimation/vehicle_observer.hpp"
 
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
-#include <algorithm>
 #include <cstdio>
 #include <random>
 
@@ -20,7 +20,6 @@ using gs::estimation::MocapPose;
 using gs::estimation::VehicleObserver;
 using estimation_test::toInput;
 using estimation_test::toPose;
-
 
 struct TrackingStats {
   double position_rms_m = 0.0;
@@ -47,8 +46,7 @@ TrackingStats track(bool commanded, unsigned seed, double duration_s = 6.0) {
   const int frames = static_cast<int>(duration_s / 0.005);
   for (int k = 0; k < frames; ++k) {
     const double t = w.time();
-    const Eigen::Vector3d target(t > 1.0 ? 1.0 : 0.0, t > 2.5 ? -0.5 : 0.0,
-                                 t > 4.0 ? 1.6 : 1.0);
+    const Eigen::Vector3d target(t > 1.0 ? 1.0 : 0.0, t > 2.5 ? -0.5 : 0.0, t > 4.0 ? 1.6 : 1.0);
     World::Vehicle& v = w.vehicle(0);
     v.cmd = estimation_test::holdPosition(w, v, target);
     w.vehicle(1).cmd = estimation_test::holdPosition(w, w.vehicle(1), Eigen::Vector3d(3, 0, 1));
@@ -64,8 +62,8 @@ TrackingStats track(bool commanded, unsigned seed, double duration_s = 6.0) {
       s.position_rms_m += (e.state.p_m - v.p).squaredNorm();
       s.velocity_rms_mps += (e.state.v_mps - v.v).squaredNorm();
       s.acceleration_rms_mps2 += (e.acceleration_mps2 - acc_true).squaredNorm();
-      const Eigen::Matrix3d r_est = gs::model::rotationInertialFromBody(
-          e.state.phi_rad, e.state.theta_rad, e.state.psi_rad);
+      const Eigen::Matrix3d r_est =
+          gs::model::rotationInertialFromBody(e.state.phi_rad, e.state.theta_rad, e.state.psi_rad);
       s.attitude_rms_rad += std::pow(Eigen::AngleAxisd(r_est.transpose() * v.r).angle(), 2);
       ++s.samples;
     }

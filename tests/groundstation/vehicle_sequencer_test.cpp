@@ -103,7 +103,9 @@ int expectedRow(Task t, std::uint32_t word) {
   return -1;
 }
 
-int rowIndex(const Transition* row) { return row == nullptr ? -1 : static_cast<int>(row - kTransitions.data()); }
+int rowIndex(const Transition* row) {
+  return row == nullptr ? -1 : static_cast<int>(row - kTransitions.data());
+}
 
 // The bits any row leaving `t` looks at: the outcome from `t` depends on these alone.
 std::uint32_t relevantBits(Task t) {
@@ -141,7 +143,8 @@ struct Violations {
   int count = 0;
   std::string first;
   void add(Task t, std::uint32_t word, const std::string& what) {
-    if (count++ < 3) first += describeWord(t, word) + ": " + what + " [" + describeRow(expectedRow(t, word)) + "]\n";
+    if (count++ < 3)
+      first += describeWord(t, word) + ": " + what + " [" + describeRow(expectedRow(t, word)) + "]\n";
   }
 };
 
@@ -240,8 +243,8 @@ TEST_CASE("condition names follow the bits they name", "[sequencer]") {
 }
 
 TEST_CASE("the airborne set is the ten flying tasks", "[sequencer]") {
-  CHECK(kAirborne == tasks(Task::take_off, Task::hover, Task::balance, Task::throwing, Task::release, Task::retreat,
-                           Task::wait, Task::catching, Task::rebalance, Task::clear));
+  CHECK(kAirborne == tasks(Task::take_off, Task::hover, Task::balance, Task::throwing, Task::release,
+                           Task::retreat, Task::wait, Task::catching, Task::rebalance, Task::clear));
   for (Task t : {Task::parked, Task::arming, Task::landing, Task::failsafe}) CHECK_FALSE(airborne(t));
 }
 
@@ -303,8 +306,9 @@ TEST_CASE("findTransition is the first matching row in table order", "[sequencer
 // Every row
 // ---------------------------------------------------------------------------------------------
 
-TEST_CASE("each row, from each of its tasks with exactly its `all` bits, is taken unless an earlier row matches",
-          "[sequencer]") {
+TEST_CASE(
+    "each row, from each of its tasks with exactly its `all` bits, is taken unless an earlier row matches",
+    "[sequencer]") {
   int shadowed = 0;
   for (int i = 0; i < kRowCount; ++i) {
     const Transition& r = kTransitions[static_cast<std::size_t>(i)];
@@ -370,7 +374,8 @@ TEST_CASE("key transitions, written out", "[sequencer]") {
       {Task::throwing, c::request_abort | c::pole_on_self, Task::release, Reason::abort_requested},
       {Task::balance, c::request_throw | c::pole_on_self, Task::balance, Reason::none},  // needs settled too
       {Task::balance, c::settled | c::pole_on_self, Task::balance, Reason::none},
-      {Task::balance, c::request_throw | c::settled | c::pole_on_self, Task::throwing, Reason::throw_requested},
+      {Task::balance, c::request_throw | c::settled | c::pole_on_self, Task::throwing,
+       Reason::throw_requested},
       {Task::balance, 0, Task::hover, Reason::pole_lost},
       {Task::balance, c::request_throw | c::settled, Task::hover, Reason::pole_lost},
       {Task::release, c::release_over, Task::retreat, Reason::released},
@@ -394,7 +399,8 @@ TEST_CASE("key transitions, written out", "[sequencer]") {
       {Task::catching, c::pole_on_self, Task::rebalance, Reason::caught},
       {Task::wait, c::pole_on_self | c::request_catch, Task::rebalance, Reason::caught},
       // A caught pole wins over the planner's late verdicts (those rows need the pole not on us).
-      {Task::catching, c::pole_on_self | c::catch_unreachable | c::catch_infeasible, Task::rebalance, Reason::caught},
+      {Task::catching, c::pole_on_self | c::catch_unreachable | c::catch_infeasible, Task::rebalance,
+       Reason::caught},
       {Task::catching, c::catch_missed, Task::clear, Reason::missed},
       {Task::catching, c::catch_missed | c::pole_down, Task::hover, Reason::pole_down},
       {Task::wait, c::pole_down | c::request_catch, Task::hover, Reason::pole_down},
@@ -442,9 +448,9 @@ TEST_CASE("key transitions, written out", "[sequencer]") {
       {Task::failsafe, c::request_take_off | c::request_land, Task::failsafe, Reason::none},
   };
   for (const Case& k : cases) {
-    INFO(describeWord(k.from, k.word) << " -> expected " << gs::mission::taskName(k.to) << " ("
-                                      << gs::mission::reasonName(k.reason) << "), table: "
-                                      << describeRow(expectedRow(k.from, k.word)));
+    INFO(describeWord(k.from, k.word)
+         << " -> expected " << gs::mission::taskName(k.to) << " (" << gs::mission::reasonName(k.reason)
+         << "), table: " << describeRow(expectedRow(k.from, k.word)));
     const Outcome o = stepFrom(k.from, k.word);
     CHECK(o.task == k.to);
     CHECK(o.reason == k.reason);
@@ -463,8 +469,8 @@ TEST_CASE("any airborne task, or landing, that loses the vehicle goes to failsaf
   for (Task t : allTasks()) {
     if (!airborne(t) && t != Task::landing) continue;
     INFO(gs::mission::taskName(t));
-    for (std::uint32_t extra : {0u, c::request_land, c::request_abort | c::pole_on_self, c::estimate_lost, c::on_ground,
-                                kAllBits}) {
+    for (std::uint32_t extra : {0u, c::request_land, c::request_abort | c::pole_on_self, c::estimate_lost,
+                                c::on_ground, kAllBits}) {
       const Outcome o = stepFrom(t, c::vehicle_lost | extra);
       INFO("with " << bits(extra));
       CHECK(o.task == Task::failsafe);
@@ -528,8 +534,9 @@ TEST_CASE("request_land in an airborne task always leads to landing unless the v
   CHECK(v.count == 0);
 }
 
-TEST_CASE("from parked, the only airborne task reached directly is hover on re-attaching to an armed, flying vehicle",
-          "[sequencer]") {
+TEST_CASE(
+    "from parked, the only airborne task reached directly is hover on re-attaching to an armed, flying vehicle",
+    "[sequencer]") {
   // The table: rows from parked lead to arming, or to hover only when they need armed and
   // forbid on_ground (and the vehicle and its estimate must be there).
   for (int i = 0; i < kRowCount; ++i) {
@@ -551,7 +558,8 @@ TEST_CASE("from parked, the only airborne task reached directly is hover on re-a
         if (row == nullptr || row->to == Task::arming) return;
         const bool reattach = row->to == Task::hover && (w & c::armed) && !(w & c::on_ground) &&
                               !(w & (c::vehicle_lost | c::estimate_lost));
-        if (!reattach) v.add(Task::parked, w, std::string("parked -> ") + std::string(gs::mission::taskName(row->to)));
+        if (!reattach)
+          v.add(Task::parked, w, std::string("parked -> ") + std::string(gs::mission::taskName(row->to)));
       },
       300000);
   INFO(v.first);
@@ -572,14 +580,16 @@ TEST_CASE("failsafe is left only to parked, and only once down, disarmed and hea
         const Transition* row = findTransition(Task::failsafe, w);
         if (row == nullptr) return;
         if (row->to != Task::parked) v.add(Task::failsafe, w, "left failsafe, not to parked");
-        if (!(w & c::on_ground) || (w & (c::armed | c::vehicle_lost))) v.add(Task::failsafe, w, "parked too early");
+        if (!(w & c::on_ground) || (w & (c::armed | c::vehicle_lost)))
+          v.add(Task::failsafe, w, "parked too early");
       },
       300000);
   INFO(v.first);
   CHECK(v.count == 0);
 }
 
-TEST_CASE("nothing but the operator's land leads into landing, and landing only ends down or lost", "[sequencer]") {
+TEST_CASE("nothing but the operator's land leads into landing, and landing only ends down or lost",
+          "[sequencer]") {
   for (int i = 0; i < kRowCount; ++i) {
     const Transition& r = kTransitions[static_cast<std::size_t>(i)];
     INFO(describeRow(i));

@@ -40,9 +40,8 @@ TEST_CASE("eq. (3): B_I R = R_x(phi) R_y(theta) R_z(psi) is a proper rotation", 
     CHECK((r * r.transpose() - Eigen::Matrix3d::Identity()).norm() < 1e-14);
     CHECK(r.determinant() == Approx(1.0).margin(1e-14));
     CHECK((gs::model::rotationInertialFromBody(phi, theta, psi) - r.transpose()).norm() < 1e-15);
-    CHECK((r - gs::model::rotationX(phi) * gs::model::rotationY(theta) *
-                   gs::model::rotationZ(psi))
-              .norm() < 1e-15);
+    CHECK((r - gs::model::rotationX(phi) * gs::model::rotationY(theta) * gs::model::rotationZ(psi)).norm() <
+          1e-15);
   }
 }
 
@@ -108,12 +107,11 @@ TEST_CASE("eq. (5): integrated Euler rates reproduce the body-rate rotation", "[
   const double duration = 1.0;
   const double dt = 1e-3;
   for (int i = 0; i < static_cast<int>(duration / dt); ++i) {
-    s = gs::model::rk4Step(
-        [&](const VehicleState& x) { return gs::model::vehicleDynamics(x, input); }, s, dt);
+    s = gs::model::rk4Step([&](const VehicleState& x) { return gs::model::vehicleDynamics(x, input); }, s,
+                           dt);
   }
   const Eigen::Matrix3d expected = r0 * expSkew(input.omega_radps * duration);
-  const Eigen::Matrix3d integrated =
-      gs::model::rotationInertialFromBody(s.phi_rad, s.theta_rad, s.psi_rad);
+  const Eigen::Matrix3d integrated = gs::model::rotationInertialFromBody(s.phi_rad, s.theta_rad, s.psi_rad);
   CHECK((integrated - expected).norm() < 1e-9);
 }
 
@@ -127,8 +125,8 @@ TEST_CASE("eq. (8): constant attitude and thrust give uniform acceleration", "[v
   const Eigen::Vector3d acc = gs::model::vehicleAcceleration_mps2(s0, input.a_q_mps2);
   const double dt = 0.01;
   for (int i = 0; i < 150; ++i) {
-    s = gs::model::rk4Step(
-        [&](const VehicleState& x) { return gs::model::vehicleDynamics(x, input); }, s, dt);
+    s = gs::model::rk4Step([&](const VehicleState& x) { return gs::model::vehicleDynamics(x, input); }, s,
+                           dt);
   }
   const double t = 1.5;
   CHECK((s.p_m - (s0.p_m + s0.v_mps * t + 0.5 * acc * t * t)).norm() < 1e-12);

@@ -52,9 +52,11 @@ class Ground {
   void tick() {
     Frame f;
     if (steps_ % 20 == 0 &&
-        encode(GsHeartbeat{static_cast<std::uint32_t>(steps_), kSession, GroundState::active, hb_seq_++}, to_, f))
+        encode(GsHeartbeat{static_cast<std::uint32_t>(steps_), kSession, GroundState::active, hb_seq_++}, to_,
+               f))
       arena_.sendFromGround(f);
-    if (steps_ % 5 == 0 && encode(RateThrust{rate_radps, thrust_mps2, static_cast<std::uint8_t>(sp_seq_++ & 0x0Fu)}, to_, f))
+    if (steps_ % 5 == 0 &&
+        encode(RateThrust{rate_radps, thrust_mps2, static_cast<std::uint8_t>(sp_seq_++ & 0x0Fu)}, to_, f))
       arena_.sendFromGround(f);
     ++steps_;
     arena_.step();
@@ -85,8 +87,9 @@ class Ground {
     return std::nullopt;
   }
   int count(Type type, std::uint8_t node) const {
-    return static_cast<int>(std::count_if(arrivals_.begin(), arrivals_.end(),
-                                          [&](const Arrival& a) { return a.m.type == type && a.m.node == node; }));
+    return static_cast<int>(std::count_if(arrivals_.begin(), arrivals_.end(), [&](const Arrival& a) {
+      return a.m.type == type && a.m.node == node;
+    }));
   }
 
  private:
@@ -114,7 +117,8 @@ TEST_CASE("arena: one mapping between nodes and plant vehicles") {
   STATIC_REQUIRE(hil::sil::nodeOf(0) == 1);
   STATIC_REQUIRE(hil::sil::nodeOf(1) == 2);
   STATIC_REQUIRE(hil::sil::nodeOf(2) == kGroundNode);
-  for (std::uint8_t node : hil::sil::kArenaNodes) CHECK(hil::sil::nodeOf(hil::sil::plantIndexOf(node)) == node);
+  for (std::uint8_t node : hil::sil::kArenaNodes)
+    CHECK(hil::sil::nodeOf(hil::sil::plantIndexOf(node)) == node);
 
   Arena arena(hil::PlantConfig{}, exact_radio(), 1);
   CHECK(arena.vehicle(1).node() == 1);
@@ -352,7 +356,8 @@ Frame reproducible(const Arrival& a) {
 bool same_ground(const Run& a, const Run& b) {
   if (a.ground.size() != b.ground.size()) return false;
   for (std::size_t i = 0; i < a.ground.size(); ++i)
-    if (a.ground[i].step != b.ground[i].step || !same_frame(reproducible(a.ground[i]), reproducible(b.ground[i])))
+    if (a.ground[i].step != b.ground[i].step ||
+        !same_frame(reproducible(a.ground[i]), reproducible(b.ground[i])))
       return false;
   return true;
 }
@@ -372,8 +377,8 @@ bool same_mocap(const Run& a, const Run& b) {
 
 bool same_vehicle(const hil::VehicleState& a, const hil::VehicleState& b) {
   return a.body.position_m == b.body.position_m && a.body.velocity_mps == b.body.velocity_mps &&
-         a.body.attitude.coeffs() == b.body.attitude.coeffs() && a.body.rate_body_radps == b.body.rate_body_radps &&
-         a.motor_thrust_N == b.motor_thrust_N;
+         a.body.attitude.coeffs() == b.body.attitude.coeffs() &&
+         a.body.rate_body_radps == b.body.rate_body_radps && a.motor_thrust_N == b.motor_thrust_N;
 }
 
 }  // namespace

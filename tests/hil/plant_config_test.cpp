@@ -64,12 +64,14 @@ TEST_CASE("bad configuration lines are reported with file and line, and change n
       {"imu_rate_Hz: 1000.5\n", "bad.yaml:1: 'imu_rate_Hz' needs an integer"},
       {"mocap_latency_s 0.01\n", "bad.yaml:1: expected a map of `key: value` lines"},
       {"mocap_latency_s:\n", "bad.yaml:1: 'mocap_latency_s' needs a finite number"},
-      {"pole_mass_kg: 0.03\npole_mass_kg: 0.04\n", "bad.yaml:2: 'pole_mass_kg' is given twice (first on line 1)"},
-      {"pole_mass_kg: 0.03\nimu_rate_Hz: [1000\n", "bad.yaml:3: "},  // YAML syntax: the list is never closed
+      {"pole_mass_kg: 0.03\npole_mass_kg: 0.04\n",
+       "bad.yaml:2: 'pole_mass_kg' is given twice (first on line 1)"},
+      {"pole_mass_kg: 0.03\nimu_rate_Hz: [1000\n", "bad.yaml:3: "},   // YAML syntax: the list is never closed
       {"pole_mass_kg: 0.03\n  imu_rate_Hz: 1000\n", "bad.yaml:2: "},  // YAML syntax: bad indentation
       {"integration_step_contact_s: 0.002\n", "bad.yaml: integration_step_contact_s must not exceed"},
       {"random_latency_min_s: 0.05\n", "bad.yaml: random_latency_min_s must not exceed random_latency_max_s"},
-      {"\n\nmocap_dropout_probability: 1.5\n", "bad.yaml:3: 'mocap_dropout_probability' = 1.5 is outside 0 .. 1"},
+      {"\n\nmocap_dropout_probability: 1.5\n",
+       "bad.yaml:3: 'mocap_dropout_probability' = 1.5 is outside 0 .. 1"},
   };
   for (const Case& c : cases) {
     INFO(c.text);

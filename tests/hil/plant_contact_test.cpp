@@ -67,7 +67,7 @@ TEST_CASE("a pole dropped upright onto a hovering vehicle's plate stands for a m
   INFO("landed at " << landed_t << " s, left the plate at " << left_t << " s");
   CHECK(landed_t == Approx(std::sqrt(2.0 * 0.02 / 9.81)).margin(0.002));
   REQUIRE(left_t > 0.0);
-  CHECK(left_t > 1.0);  // the unstable fall takes a while to grow from 0.01 rad
+  CHECK(left_t > 1.0);                   // the unstable fall takes a while to grow from 0.01 rad
   CHECK(plant.pole().axis().z() < 0.8);  // by then the pole has tipped well over
 }
 
@@ -126,7 +126,8 @@ TEST_CASE("an impact exchanges momentum: without gravity and thrust the total is
   }
   REQUIRE(touched);
   const double exchanged = plant.vehicle_momentum_Ns(1).norm();
-  INFO("exchanged " << exchanged << " N s; momentum error " << worst_p << " N s, angular " << worst_l << " N m s");
+  INFO("exchanged " << exchanged << " N s; momentum error " << worst_p << " N s, angular " << worst_l
+                    << " N m s");
   CHECK(exchanged > 0.05);
   CHECK(worst_p < 1e-12);
   CHECK(worst_l < 1e-9 * l0.norm() + 1e-12);
@@ -141,7 +142,8 @@ TEST_CASE("in a plate impact under gravity and hover thrust, momentum changes on
   plant.set_pole(pole_above_plate(plant, Vec3::Zero(), 0.3, 0.0));
   const MotorCommands hover = plant.hover_commands(1);
   // Until just before the impact: only the pole falls.
-  while (plant.pole().end_m(0, 0.665).z() > plant.plate_centre_m(1).z() + 0.005) plant.step(0.001, kOff, hover);
+  while (plant.pole().end_m(0, 0.665).z() > plant.plate_centre_m(1).z() + 0.005)
+    plant.step(0.001, kOff, hover);
   const double t0 = plant.t_s();
   const Vec3 p0 = plant.pole_momentum_Ns() + plant.vehicle_momentum_Ns(1);
   const Vec3 pole0 = plant.pole_momentum_Ns();

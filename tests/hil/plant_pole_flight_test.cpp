@@ -51,13 +51,14 @@ TEST_CASE("a free pole without drag keeps its energy and angular momentum and fl
     const Vec3 centre = plant.pole().body.position_m;
     worst_energy = std::max(worst_energy, std::abs(plant.pole_energy_J() - e0) / kinetic0);
     // About the moving centre, the angular momentum is the body's own spin: conserved.
-    worst_momentum = std::max(worst_momentum, (plant.pole_angular_momentum_Nms(centre) - l0).norm() / l0.norm());
+    worst_momentum =
+        std::max(worst_momentum, (plant.pole_angular_momentum_Nms(centre) - l0).norm() / l0.norm());
     worst_path = std::max(worst_path, (centre - expected).norm());
     worst_spin = std::max(worst_spin,
                           std::abs(plant.pole().body.rate_inertial_radps().dot(plant.pole().axis()) - spin0));
   }
   INFO("energy drift " << worst_energy << " of the kinetic energy, angular momentum drift " << worst_momentum
-                                << ", path error " << worst_path << " m");
+                       << ", path error " << worst_path << " m");
   CHECK(worst_energy < 1e-9);
   CHECK(worst_momentum < 1e-9);
   CHECK(worst_path < 1e-9);
@@ -85,7 +86,8 @@ TEST_CASE("the drag quadrature converges to the closed forms of eqs. (10)-(15)")
     const double w_radps = 5.0;
     const hil::Wrench w = hil::pole_drag(pole, Vec3::Zero(), Vec3(0, w_radps, 0), n);
     CHECK(w.force_N.norm() < 1e-12);
-    CHECK(w.torque_Nm.y() == Approx(-pole.drag_rotational_kgpm2 * w_radps * w_radps * std::pow(L, 4) / 2.0).epsilon(1e-5));
+    CHECK(w.torque_Nm.y() ==
+          Approx(-pole.drag_rotational_kgpm2 * w_radps * w_radps * std::pow(L, 4) / 2.0).epsilon(1e-5));
   }
   SECTION("with the default 20 segments the turning torque is within 0.5 % (plant.yaml)") {
     hil::PoleConfig coarse;

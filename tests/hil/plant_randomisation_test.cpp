@@ -76,7 +76,8 @@ TEST_CASE("randomised parameters stay within their spreads and cover them") {
         gain_hi = std::max(gain_hi, g);
       }
     }
-    CHECK(within(c.vehicle.motor_time_constant_s, n.vehicle.motor_time_constant_s, r.motor_time_constant_fraction));
+    CHECK(within(c.vehicle.motor_time_constant_s, n.vehicle.motor_time_constant_s,
+                 r.motor_time_constant_fraction));
     CHECK(within(c.contact.plate_friction, n.contact.plate_friction, r.friction_fraction));
     CHECK(within(c.imu.accel_noise_mps2, n.imu.accel_noise_mps2, r.noise_fraction));
     CHECK(within(c.mocap.position_noise_m, n.mocap.position_noise_m, r.noise_fraction));

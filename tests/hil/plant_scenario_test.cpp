@@ -96,7 +96,8 @@ TEST_CASE("free_flight_catch: the pole flies freely from its launch and lands on
     if (row.t_s > *r.launch_t_s + 1e-9 && row.t_s < *r.impact_t_s - 1e-9) {
       CHECK(row.contact == Contact::none);
       alone.step(r.tick_s, {}, {});
-      worst_free_flight_m = std::max(worst_free_flight_m, (alone.pole().body.position_m - row.position_m).norm());
+      worst_free_flight_m =
+          std::max(worst_free_flight_m, (alone.pole().body.position_m - row.position_m).norm());
     }
   }
   // (The two plants choose different integration steps: the parked vehicles of `alone` keep it
@@ -114,8 +115,7 @@ TEST_CASE("free_flight_catch: the pole flies freely from its launch and lands on
   // Motion capture: all three bodies in every frame, 200 Hz, delivered after the latency, and
   // the pole's pose is the truth at capture time plus millimetre noise.
   // Every frame captured at least the latency before the end has been delivered.
-  const auto delivered_frames =
-      static_cast<std::size_t>((s.duration_s - r.config.mocap.latency_s) / 0.005);
+  const auto delivered_frames = static_cast<std::size_t>((s.duration_s - r.config.mocap.latency_s) / 0.005);
   REQUIRE(r.mocap.size() >= 3 * delivered_frames);
   std::size_t pole_rows = 0;
   for (std::size_t i = 0; i < r.mocap.size(); ++i) {
@@ -221,7 +221,8 @@ TEST_CASE("bad scenario files are reported with file and line") {
     const char* message;
   };
   const Case cases[] = {
-      {"name: x\nvehicle1_mode: hover\n", "bad.yaml:2: 'vehicle1_mode' must be parked, hold, balance or thrower, got 'hover'"},
+      {"name: x\nvehicle1_mode: hover\n",
+       "bad.yaml:2: 'vehicle1_mode' must be parked, hold, balance or thrower, got 'hover'"},
       {"name: x\nduration_s: -1\n", "bad.yaml:2: 'duration_s' = -1 is outside"},
       {"name: x\npole_velocity_mps: [1, 2]\n", "bad.yaml:2: 'pole_velocity_mps' needs three numbers"},
       {"name: x\nflux: 3\n", "bad.yaml:2: unknown scenario key 'flux'"},
@@ -229,8 +230,10 @@ TEST_CASE("bad scenario files are reported with file and line") {
       {"name: x\nplant:\n  warp: 1\n", "bad.yaml:3: unknown plant parameter 'warp'"},
       {"name: x\nplant_config: missing.yaml\n", "bad.yaml:2: plant_config: "},
       {"name: x\nseed: -4\n", "bad.yaml:2: 'seed' needs a non-negative integer"},
-      {"name: x\nvehicle2_mode: hold\n", "bad.yaml: 'vehicle2_position_m' is required for a vehicle that flies"},
-      {"name: x\npole_start: balanced\nvehicle1_mode: parked\n", "bad.yaml: the pole is balanced on vehicle1, which is parked"},
+      {"name: x\nvehicle2_mode: hold\n",
+       "bad.yaml: 'vehicle2_position_m' is required for a vehicle that flies"},
+      {"name: x\npole_start: balanced\nvehicle1_mode: parked\n",
+       "bad.yaml: the pole is balanced on vehicle1, which is parked"},
       {"vehicle1_mode: parked\n", "bad.yaml: 'name' is required"},
       {"name: x\nname: y\n", "bad.yaml:2: 'name' is given twice (first on line 1)"},
       {"name: x\nvehicle2_mode: hold\nvehicle2_position_m: auto\npole_start: balanced\nvehicle1_mode: balance\n"
@@ -238,7 +241,8 @@ TEST_CASE("bad scenario files are reported with file and line") {
        "bad.yaml: 'vehicle2_position_m: auto' needs a flying vehicle and pole_start: launch"},
       {"name: x\nvehicle1_mode: thrower\nvehicle1_position_m: [0, 0, 1]\npole_start: balanced\n",
        "bad.yaml: vehicle1_mode: thrower needs pole_start: launch"},
-      {"name: x\nvehicle2_after_catch: thrower\n", "bad.yaml:2: 'vehicle2_after_catch' must be hold or balance"},
+      {"name: x\nvehicle2_after_catch: thrower\n",
+       "bad.yaml:2: 'vehicle2_after_catch' must be hold or balance"},
       {"name: x\nduration_s: soon\n", "bad.yaml:2: 'duration_s' needs a finite number, got 'soon'"},
       {"name: x\nplant: 3\n", "bad.yaml:2: expected a map"},
       {"name: x\npole_position_m: [1, 2, 3\n", "bad.yaml:3: "},  // YAML syntax: the list is never closed
@@ -269,8 +273,8 @@ TEST_CASE("hil record writes the motion-capture log and the truth, and prints th
   const std::string truth = dir + "/record_truth.csv";
   std::string out;
   std::string err;
-  const int code = record({"--scenario", hil::scenario_directory() + "/free_flight_catch.yaml", "--out", mocap,
-                           "--truth", truth, "--stamp", "capture"},
+  const int code = record({"--scenario", hil::scenario_directory() + "/free_flight_catch.yaml", "--out",
+                           mocap, "--truth", truth, "--stamp", "capture"},
                           out, err);
   INFO(err);
   REQUIRE(code == 0);
@@ -299,7 +303,8 @@ TEST_CASE("hil record rejects bad arguments with exit code 2 and a message") {
       {{"--scenario", scenario, "--out"}, "--out needs a value"},
       {{"--bogus"}, "unknown argument '--bogus'"},
       {{"--scenario", scenario, "--out", "x.csv", "--seed", "many"}, "--seed needs a non-negative integer"},
-      {{"--scenario", scenario, "--out", "x.csv", "--stamp", "arrival"}, "--stamp must be delivery or capture"},
+      {{"--scenario", scenario, "--out", "x.csv", "--stamp", "arrival"},
+       "--stamp must be delivery or capture"},
       {{"--scenario", "/nonexistent.yaml", "--out", "x.csv"}, "/nonexistent.yaml: cannot read the file"},
   };
   for (const Case& c : cases) {

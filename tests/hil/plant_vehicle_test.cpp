@@ -56,8 +56,8 @@ TEST_CASE("each motor follows its command through a first-order lag, within its 
   const double reached = 1.0 - std::exp(-0.030 / tau);
   CHECK(f[0] == Approx(0.25 * 3.2 * reached).epsilon(1e-12));
   CHECK(f[1] == Approx(3.2 * reached).epsilon(1e-12));  // command above 1: the maximum thrust
-  CHECK(f[2] == 0.0);                                    // below 0: nothing
-  CHECK(f[3] == 0.0);                                    // not a number: the ESC stops the motor
+  CHECK(f[2] == 0.0);                                   // below 0: nothing
+  CHECK(f[3] == 0.0);                                   // not a number: the ESC stops the motor
   double highest = 0.0;
   for (int k = 0; k < 2000; ++k) {
     plant.step(0.001, cmd, kOff);

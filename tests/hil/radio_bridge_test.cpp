@@ -24,7 +24,7 @@ TEST_CASE("the radio delays frames by its latency and jitter, in order, each way
   radio.offer(Side::vehicle, numbered(200), 0.0);
   pa::proto::Frame f;
   CHECK_FALSE(radio.deliver(Side::vehicle, 0.0099, f));  // nothing before the latency
-  CHECK(radio.deliver(Side::ground, 0.0141, f));          // the other direction has its own queue
+  CHECK(radio.deliver(Side::ground, 0.0141, f));         // the other direction has its own queue
   CHECK(f.data[0] == 200);
   std::uint8_t expected = 0;
   for (double t = 0.0; t < 0.1; t += 0.0005) {

@@ -214,7 +214,8 @@ TEST_CASE("a spoiled launch is aborted as out of reach and the mission goes on",
 
 TEST_CASE("the adaptation store keeps what a series learnt for the next run", "[hil][sil][runtime][series]") {
   // In the temporary directory, so a run from the source tree leaves nothing behind.
-  const std::string path = (std::filesystem::temp_directory_path() / "series_test_adaptation.sqlite").string();
+  const std::string path =
+      (std::filesystem::temp_directory_path() / "series_test_adaptation.sqlite").string();
   std::remove(path.c_str());
   std::remove((path + "-wal").c_str());
   std::remove((path + "-shm").c_str());

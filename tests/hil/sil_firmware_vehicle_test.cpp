@@ -45,7 +45,10 @@ double tilt_rad(const hil::VehicleState& v) {
 // vehicle says back.
 class Ground {
  public:
-  Ground() : rig_(shipped_plant(), kSeed), vehicle_(rig_.attach_firmware(0, hil::sil::firmware_config_for(rig_.plant().config().vehicle, kNode))) {}
+  Ground()
+      : rig_(shipped_plant(), kSeed),
+        vehicle_(
+            rig_.attach_firmware(0, hil::sil::firmware_config_for(rig_.plant().config().vehicle, kNode))) {}
 
   hil::sil::Lockstep& rig() { return rig_; }
   hil::sil::FirmwareVehicle& vehicle() { return vehicle_; }
@@ -60,7 +63,8 @@ class Ground {
   void tick() {
     if (heartbeats && ticks_ % 20 == 0) {
       Frame f;
-      if (encode(GsHeartbeat{static_cast<std::uint32_t>(ticks_), kSession, GroundState::active, hb_seq_++}, kBroadcastNode, f))
+      if (encode(GsHeartbeat{static_cast<std::uint32_t>(ticks_), kSession, GroundState::active, hb_seq_++},
+                 kBroadcastNode, f))
         vehicle_.inject(f);
     }
     if (streaming && ticks_ % 5 == 0) send_setpoint();
@@ -144,7 +148,8 @@ class Ground {
       impacts_.push_back({rig_.t_s(), m.impact});
     } else if (m.type == Type::vehicle_heartbeat) {
       const VehicleHeartbeat& hb = m.vehicle_heartbeat;
-      if (modes_.empty() || modes_.back().mode != hb.mode) modes_.push_back({rig_.t_s(), hb.mode, hb.failsafe});
+      if (modes_.empty() || modes_.back().mode != hb.mode)
+        modes_.push_back({rig_.t_s(), hb.mode, hb.failsafe});
     }
   }
 
@@ -166,7 +171,8 @@ class Ground {
 // period of transport delay (the sample averages over the period before it and the answer is
 // held over the period after it: about half a period each). The setpoint is 1 for `on_s`, then
 // 0; returns the rate at every millisecond from the step (index k: k + 1 ms), integrated finely.
-std::vector<double> rate_step_model(double kp, double ki, double tau_s, double delay_s, double on_s, double total_s) {
+std::vector<double> rate_step_model(double kp, double ki, double tau_s, double delay_s, double on_s,
+                                    double total_s) {
   const double h = 1e-5;
   const int per_ms = static_cast<int>(std::lround(1e-3 / h));
   const int delay_steps = static_cast<int>(std::lround(delay_s / h));
@@ -230,7 +236,8 @@ TEST_CASE("the firmware config describes the plant's nominal airframe, and the u
   CHECK_THROWS_AS(hil::sil::Lockstep(slow, 1), std::invalid_argument);
 }
 
-TEST_CASE("SIL: arming needs the documented edge, and a parked vehicle stays down until thrust exceeds hover") {
+TEST_CASE(
+    "SIL: arming needs the documented edge, and a parked vehicle stays down until thrust exceeds hover") {
   Ground ground;
   hil::sil::FirmwareVehicle& v = ground.vehicle();
   const double z0 = ground.truth().body.position_m.z();
@@ -299,8 +306,8 @@ TEST_CASE("SIL: arming needs the documented edge, and a parked vehicle stays dow
     if (liftoff_s < 0.0 && !ground.rig().plant().vehicle_on_floor(0)) liftoff_s = ground.rig().t_s() - t_cmd;
   }
   const double rise_m = ground.truth().body.position_m.z() - z0;
-  std::printf("SIL arming: at 1.2 g off the floor after %.3f s, %.3f m up after 0.5 s, tilt %.2f deg\n", liftoff_s,
-              rise_m, tilt_rad(ground.truth()) * 180.0 / M_PI);
+  std::printf("SIL arming: at 1.2 g off the floor after %.3f s, %.3f m up after 0.5 s, tilt %.2f deg\n",
+              liftoff_s, rise_m, tilt_rad(ground.truth()) * 180.0 / M_PI);
   CHECK(liftoff_s > 0.0);
   CHECK(rise_m > 0.1);
   CHECK(tilt_rad(ground.truth()) < 0.05);
@@ -321,9 +328,10 @@ TEST_CASE("SIL: at hover thrust with zero rates the true vehicle stays level") {
     rate_max = std::max(rate_max, ground.truth().body.rate_body_radps.head<2>().norm());
   }
   const double dz = ground.truth().body.position_m.z() - z_start;
-  std::printf("SIL hover: tilt %.3f deg after take-off, at most %.3f deg over 1 s; roll/pitch rate at most %.4f rad/s; "
-              "height change %.3f m\n",
-              tilt_start * 180.0 / M_PI, tilt_max * 180.0 / M_PI, rate_max, dz);
+  std::printf(
+      "SIL hover: tilt %.3f deg after take-off, at most %.3f deg over 1 s; roll/pitch rate at most %.4f rad/s; "
+      "height change %.3f m\n",
+      tilt_start * 180.0 / M_PI, tilt_max * 180.0 / M_PI, rate_max, dz);
   // The firmware flies rates only (the ground closes the attitude loop), so the tilt can only
   // drift by the uncorrected rate error: the gyro bias (0.005 rad/s, 1 sigma) over 1 s is a few
   // tenths of a degree. 2 degrees leaves room without hiding a loop that does not hold zero rate.
@@ -341,8 +349,9 @@ TEST_CASE("SIL: a body-rate step is tracked by the true vehicle as the rate loop
   ground.take_off();
 
   const fw::VehicleConfig fwc = hil::sil::firmware_config_for(ground.rig().plant().config().vehicle, kNode);
-  const std::vector<double> model = rate_step_model(double(fwc.rate.kp_per_s[1]), double(fwc.rate.ki_per_s2[1]),
-                                                    double(fwc.airframe.motor_time_constant_s), 0.001, 0.3, 0.5);
+  const std::vector<double> model =
+      rate_step_model(double(fwc.rate.kp_per_s[1]), double(fwc.rate.ki_per_s2[1]),
+                      double(fwc.airframe.motor_time_constant_s), 0.001, 0.3, 0.5);
 
   // Pitch at 1 rad/s for 0.3 s, then 0. Each frame goes out between the 200 Hz frames, so the
   // firmware reads it on the next tick: the end of that tick is the step's t = 0.
@@ -369,14 +378,16 @@ TEST_CASE("SIL: a body-rate step is tracked by the true vehicle as the rate loop
   const double peak_model = *std::max_element(model.begin(), model.begin() + 300);
   double mean_late = 0.0, deviation = 0.0;
   for (std::size_t k = 200; k < 300; ++k) mean_late += pitch_rate[k] / 100.0;
-  for (std::size_t k = 0; k < model.size(); ++k) deviation = std::max(deviation, std::abs(pitch_rate[k] - model[k]));
+  for (std::size_t k = 0; k < model.size(); ++k)
+    deviation = std::max(deviation, std::abs(pitch_rate[k] - model[k]));
   const double cross_max = *std::max_element(cross_rate.begin(), cross_rate.end());
 
-  std::printf("SIL rate step: 80 %% after %.1f ms (model %.1f ms), peak %.3f (model %.3f), mean over 0.2-0.3 s %.4f "
-              "rad/s, largest deviation from the model %.4f rad/s, roll/yaw at most %.4f rad/s, nose z %.3f "
-              "(-sin 0.3 = %.3f), 0.2 s after the stop %.4f rad/s (model %.4f)\n",
-              t80 * 1e3, t80_model * 1e3, peak, peak_model, mean_late, deviation, cross_max, nose_z, -std::sin(0.3),
-              pitch_rate.back(), model.back());
+  std::printf(
+      "SIL rate step: 80 %% after %.1f ms (model %.1f ms), peak %.3f (model %.3f), mean over 0.2-0.3 s %.4f "
+      "rad/s, largest deviation from the model %.4f rad/s, roll/yaw at most %.4f rad/s, nose z %.3f "
+      "(-sin 0.3 = %.3f), 0.2 s after the stop %.4f rad/s (model %.4f)\n",
+      t80 * 1e3, t80_model * 1e3, peak, peak_model, mean_late, deviation, cross_max, nose_z, -std::sin(0.3),
+      pitch_rate.back(), model.back());
   // The model is the firmware's own loop on an ideal body: kp 40/s through the 30 ms lag is a
   // second-order loop with wn = sqrt(kp / tau) = 36.5 rad/s and damping 1 / (2 sqrt(kp tau)) =
   // 0.46 (about 20 % overshoot), the slow integral (ki / kp = 1/s) adds a few per cent and leaves
@@ -396,15 +407,16 @@ TEST_CASE("SIL: a body-rate step is tracked by the true vehicle as the rate loop
   CHECK(ground.undecodable() == 0);
 }
 
-TEST_CASE("SIL: when the setpoint stream stops, the firmware hovers level, descends and lands with the motors off") {
+TEST_CASE(
+    "SIL: when the setpoint stream stops, the firmware hovers level, descends and lands with the motors off") {
   Ground ground;
   ground.arm();
   ground.take_off();
   ground.run(0.3);
   const double z_stop = ground.truth().body.position_m.z();
   const Vec3 accel_bias = ground.rig().plant().imu_model(0).accel_bias_mps2();
-  std::printf("SIL failsafe: this seed's accelerometer bias (%.3f, %.3f, %.3f) m/s^2\n", accel_bias.x(), accel_bias.y(),
-              accel_bias.z());
+  std::printf("SIL failsafe: this seed's accelerometer bias (%.3f, %.3f, %.3f) m/s^2\n", accel_bias.x(),
+              accel_bias.y(), accel_bias.z());
 
   // The stream stops; the heartbeat goes on.
   ground.streaming = false;
@@ -439,7 +451,8 @@ TEST_CASE("SIL: when the setpoint stream stops, the firmware hovers level, desce
         const double expected = -rate * (1.0 - std::exp(-4.0 * (t - descent_s))) + vz_at_failsafe -
                                 accel_bias.z() * (t - hover_s);
         descent_vz_sum += s.body.velocity_mps.z();
-        descent_model_error_max = std::max(descent_model_error_max, std::abs(s.body.velocity_mps.z() - expected));
+        descent_model_error_max =
+            std::max(descent_model_error_max, std::abs(s.body.velocity_mps.z() - expected));
         ++descent_n;
       }
     } else if (mode == Mode::landed || mode == Mode::killed) {
@@ -458,10 +471,11 @@ TEST_CASE("SIL: when the setpoint stream stops, the firmware hovers level, desce
   const double descent_vz = descent_n > 0 ? descent_vz_sum / descent_n : 0.0;
   double thrust_N = 0.0;
   for (double f : ground.truth().motor_thrust_N) thrust_N += f;
-  std::printf("SIL failsafe: from %.2f m; hover after %.1f ms (max tilt %.2f deg, max |vz| %.3f m/s), descent after "
-              "%.3f s at %.3f m/s (at most %.3f m/s off descent rate + bias drift), touchdown at %.3f m/s after %.3f s, motors off after %.3f s; thrust %.4f N at the end\n",
-              z_stop, hover_s * 1e3, hover_tilt_max * 180.0 / M_PI, hover_vz_max, descent_s, descent_vz, descent_model_error_max, touchdown_vz,
-              touchdown_s, landed_at, thrust_N);
+  std::printf(
+      "SIL failsafe: from %.2f m; hover after %.1f ms (max tilt %.2f deg, max |vz| %.3f m/s), descent after "
+      "%.3f s at %.3f m/s (at most %.3f m/s off descent rate + bias drift), touchdown at %.3f m/s after %.3f s, motors off after %.3f s; thrust %.4f N at the end\n",
+      z_stop, hover_s * 1e3, hover_tilt_max * 180.0 / M_PI, hover_vz_max, descent_s, descent_vz,
+      descent_model_error_max, touchdown_vz, touchdown_s, landed_at, thrust_N);
 
   // Stale after setpoint_timeout_us (20 ms) plus the last frame's 5 ms period: within 25 ms.
   REQUIRE(hover_s > 0.0);
@@ -501,11 +515,12 @@ TEST_CASE("SIL: when the setpoint stream stops, the firmware hovers level, desce
   REQUIRE_FALSE(ground.impacts().empty());
   for (const auto& r : ground.impacts()) {
     std::printf("  IMPACT count %d, %s, class %d, peak %.1f m/s^2, onset %.4f s\n", int(r.impact.count),
-                r.impact.final ? "final" : "provisional", int(r.impact.classification), double(r.impact.peak_mps2),
-                static_cast<double>(r.impact.vehicle_time_us) * 1e-6 - t_stop);
+                r.impact.final ? "final" : "provisional", int(r.impact.classification),
+                double(r.impact.peak_mps2), static_cast<double>(r.impact.vehicle_time_us) * 1e-6 - t_stop);
     CHECK(r.impact.classification != ImpactClass::crash);
   }
-  const double impact_s = static_cast<double>(ground.impacts().front().impact.vehicle_time_us) * 1e-6 - t_stop;
+  const double impact_s =
+      static_cast<double>(ground.impacts().front().impact.vehicle_time_us) * 1e-6 - t_stop;
   CHECK(std::abs(impact_s - touchdown_s) < 0.01);
   CHECK(landed_at - touchdown_s == Approx(sup.ground_contact_us * 1e-6).margin(0.15));
   CHECK(ground.vehicle().missed_ticks() == 0);

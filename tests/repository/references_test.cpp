@@ -41,29 +41,33 @@ namespace {
 
 // Where #include "x/y.hpp" is looked up (the target_include_directories of the build).
 constexpr std::array<std::string_view, 8> kIncludeRoots = {
-    "",                          // the repository root: groundstation/..., hil/...
-    "shared/include",            // pa/...
-    "firmware/core/include",     // fw/...
-    "firmware/selftest/include", // fw/...
-    "shared/host/include",       // pa/command_line.hpp
-    "firmware/ports",            // cortex_m/...
-    "firmware/ports/posix",      // hil_vehicle_node.hpp
-    "hil/sil",                   // firmware_vehicle.hpp
+    "",                           // the repository root: groundstation/..., hil/...
+    "shared/include",             // pa/...
+    "firmware/core/include",      // fw/...
+    "firmware/selftest/include",  // fw/...
+    "shared/host/include",        // pa/command_line.hpp
+    "firmware/ports",             // cortex_m/...
+    "firmware/ports/posix",       // hil_vehicle_node.hpp
+    "hil/sil",                    // firmware_vehicle.hpp
 };
 
 constexpr std::array<std::string_view, 14> kReferenceExtensions = {
-    ".md", ".hpp", ".cpp", ".h", ".c", ".yaml", ".conf", ".scenario", ".sh", ".cmake", ".ld", ".json", ".txt", ".csv"};
+    ".md",       ".hpp", ".cpp",   ".h",  ".c",    ".yaml", ".conf",
+    ".scenario", ".sh",  ".cmake", ".ld", ".json", ".txt",  ".csv"};
 constexpr std::array<std::string_view, 13> kTextExtensions = {
-    ".cpp", ".hpp", ".h", ".c", ".cmake", ".md", ".yaml", ".conf", ".scenario", ".sh", ".json", ".ld", ".txt"};
-constexpr std::array<std::string_view, 4> kOutsideDocuments = {
-    "ARCHITECTURE.md", "NOTES.md", "STYLE.md", "pole-acrobatics-paper.md"};
+    ".cpp",  ".hpp",      ".h",  ".c",    ".cmake", ".md", ".yaml",
+    ".conf", ".scenario", ".sh", ".json", ".ld",    ".txt"};
+constexpr std::array<std::string_view, 4> kOutsideDocuments = {"ARCHITECTURE.md", "NOTES.md", "STYLE.md",
+                                                               "pole-acrobatics-paper.md"};
 
 bool endsWith(std::string_view s, std::string_view suffix) {
   return s.size() >= suffix.size() && s.substr(s.size() - suffix.size()) == suffix;
 }
 bool startsWith(std::string_view s, std::string_view prefix) { return s.substr(0, prefix.size()) == prefix; }
 
-bool skippedFolder(const std::string& name) { return name.empty() || name[0] == '.' || startsWith(name, "build"); }
+bool skippedFolder(const std::string& name) {
+  return name.empty() || name[0] == '.' || startsWith(name, "build");
+}
 
 bool isTextFile(const fs::path& p) {
   const std::string name = p.filename().string();
@@ -147,7 +151,8 @@ class ReferenceChecker {
   // Does `reference`, cited from the file `citing` (relative to the root), name something here?
   bool exists(const std::string& reference, const std::string& citing) const {
     const std::string citing_folder = fs::path(citing).parent_path().generic_string();
-    if (startsWith(reference, "../") || startsWith(reference, "./")) return existsAt(joined(citing_folder, reference));
+    if (startsWith(reference, "../") || startsWith(reference, "./"))
+      return existsAt(joined(citing_folder, reference));
     const std::string path = reference.substr(reference.find_first_not_of('/'));
     if (existsAt(joined(citing_folder, path))) return true;
     return std::any_of(kIncludeRoots.begin(), kIncludeRoots.end(),
@@ -155,7 +160,8 @@ class ReferenceChecker {
   }
 
   // The references in `text` (the contents of `citing`) that name nothing in the repository.
-  std::vector<Missing> missingIn(std::string_view text, const std::string& citing, int* checked = nullptr) const {
+  std::vector<Missing> missingIn(std::string_view text, const std::string& citing,
+                                 int* checked = nullptr) const {
     std::vector<Missing> missing;
     int line_number = 0;
     std::size_t start = 0;
@@ -200,7 +206,8 @@ class ReferenceChecker {
     const std::string path = token.substr(first);
     const std::string last = path.substr(path.rfind('/') == std::string::npos ? 0 : path.rfind('/') + 1);
     if (last.empty() || last[0] == '.') return false;  // ".md" alone is an extension, not a file
-    if (std::find(kOutsideDocuments.begin(), kOutsideDocuments.end(), last) != kOutsideDocuments.end()) return true;
+    if (std::find(kOutsideDocuments.begin(), kOutsideDocuments.end(), last) != kOutsideDocuments.end())
+      return true;
     if (startsWith(token, "../") || startsWith(token, "./")) return true;
     const std::size_t slash = path.find('/');
     if (slash == std::string::npos) return top_level_files_.count(path) > 0 || endsWith(path, ".md");
@@ -255,19 +262,18 @@ TEST_CASE("every file the repository's comments, tests and documents cite is in 
 TEST_CASE("a reference to a missing file is caught, wherever it points", "[repository]") {
   const ReferenceChecker checker(PA_SOURCE_DIR);
   const std::string citing = "groundstation/model/example.hpp";
-  const std::string text =
-      "// Derivation in NOTES.md; layering in ARCHITECTURE.md, \"One tick\".\n"
-      "// See ../shared/reference/pole-acrobatics-paper.md and docs/no_such_page.md.\n"
-      "#include \"groundstation/model/no_such_model.hpp\"\n"
-      "#include \"fw/no_such_module.hpp\"\n"
-      "// Format of hil/config/no_such.yaml; ../../../outside/the/repository.cpp.\n";
+  const std::string text = "// Derivation in NOTES.md; layering in ARCHITECTURE.md, \"One tick\".\n"
+                           "// See ../shared/reference/pole-acrobatics-paper.md and docs/no_such_page.md.\n"
+                           "#include \"groundstation/model/no_such_model.hpp\"\n"
+                           "#include \"fw/no_such_module.hpp\"\n"
+                           "// Format of hil/config/no_such.yaml; ../../../outside/the/repository.cpp.\n";
   const std::vector<Missing> missing = checker.missingIn(text, citing);
   std::vector<std::string> names;
   for (const Missing& m : missing) names.push_back(m.reference);
-  CHECK(names == std::vector<std::string>{"NOTES.md", "ARCHITECTURE.md", "../shared/reference/pole-acrobatics-paper.md",
-                                          "docs/no_such_page.md", "groundstation/model/no_such_model.hpp",
-                                          "fw/no_such_module.hpp", "hil/config/no_such.yaml",
-                                          "../../../outside/the/repository.cpp"});
+  CHECK(names == std::vector<std::string>{
+                     "NOTES.md", "ARCHITECTURE.md", "../shared/reference/pole-acrobatics-paper.md",
+                     "docs/no_such_page.md", "groundstation/model/no_such_model.hpp", "fw/no_such_module.hpp",
+                     "hil/config/no_such.yaml", "../../../outside/the/repository.cpp"});
   REQUIRE(missing.size() == 8);
   CHECK(missing[0].line == 1);
   CHECK(missing[2].line == 2);
@@ -293,11 +299,10 @@ TEST_CASE("references to files that are here pass, by any of the stated routes",
 
 TEST_CASE("names a tool writes, globs and absolute paths are not references", "[repository]") {
   const ReferenceChecker checker(PA_SOURCE_DIR);
-  const std::string text =
-      "// writes DIR/throws.csv and $out/throw.csv; reads /nonexistent/throw.csv\n"
-      "file(GLOB s ${CMAKE_CURRENT_SOURCE_DIR}/model/*.cpp hil/plant/*.cpp)\n"
-      "// build/host/groundstation/plan.csv, e.g. a value 1.33 or a ratio 0.5.\n"
-      "// the extension .md alone, mocap.csv, throw.csv\n";
+  const std::string text = "// writes DIR/throws.csv and $out/throw.csv; reads /nonexistent/throw.csv\n"
+                           "file(GLOB s ${CMAKE_CURRENT_SOURCE_DIR}/model/*.cpp hil/plant/*.cpp)\n"
+                           "// build/host/groundstation/plan.csv, e.g. a value 1.33 or a ratio 0.5.\n"
+                           "// the extension .md alone, mocap.csv, throw.csv\n";
   CHECK(checker.referencesIn(text.substr(0, text.find('\n'))).empty());
   CHECK(checker.missingIn(text, "tests/CMakeLists.txt").empty());
 }

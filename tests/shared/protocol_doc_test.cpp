@@ -38,7 +38,11 @@ std::vector<std::string> cells(const std::string& line) {
 TEST_CASE("docs/protocol.md lists exactly the catalogue's frames with their lengths and directions") {
   std::ifstream doc(std::string(PA_SOURCE_DIR) + "/docs/protocol.md");
   REQUIRE(doc.good());
-  struct Row { std::string name; int length; std::string direction; };
+  struct Row {
+    std::string name;
+    int length;
+    std::string direction;
+  };
   std::map<int, Row> rows;
   std::string line;
   while (std::getline(doc, line)) {

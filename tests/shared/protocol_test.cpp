@@ -84,7 +84,8 @@ TEST_CASE("every frame type survives a round trip") {
   SECTION("HIL_MOTORS") {
     const Message m = decoded(encoded(HilMotors{{0.0f, 0.25f, 0.5f, 1.0f}, 4242}));
     for (int i = 0; i < 4; ++i)
-      CHECK(m.hil_motors.command[i] == Approx(0.25f * static_cast<float>(i) + (i == 3 ? 0.25f : 0.0f)).margin(1.0 / 4095));
+      CHECK(m.hil_motors.command[i] ==
+            Approx(0.25f * static_cast<float>(i) + (i == 3 ? 0.25f : 0.0f)).margin(1.0 / 4095));
     CHECK(m.hil_motors.tick == 4242);
   }
   SECTION("IMPACT") {
@@ -97,8 +98,8 @@ TEST_CASE("every frame type survives a round trip") {
     CHECK(m.impact.count == 9);
   }
   SECTION("COMMAND_ACK") {
-    const Message m =
-        decoded(encoded(CommandAck{17, CommandCode::arm, AckResult::refused, Mode::disarmed, RefuseReason::thrust_not_zero}));
+    const Message m = decoded(encoded(
+        CommandAck{17, CommandCode::arm, AckResult::refused, Mode::disarmed, RefuseReason::thrust_not_zero}));
     CHECK(m.command_ack.seq == 17);
     CHECK(m.command_ack.code == CommandCode::arm);
     CHECK(m.command_ack.result == AckResult::refused);
@@ -106,7 +107,8 @@ TEST_CASE("every frame type survives a round trip") {
     CHECK(m.command_ack.reason == RefuseReason::thrust_not_zero);
   }
   SECTION("GS_HEARTBEAT") {
-    const Message m = decoded(encoded(GsHeartbeat{123456789u, 0xCAFE, GroundState::emergency, 255}, kBroadcastNode));
+    const Message m =
+        decoded(encoded(GsHeartbeat{123456789u, 0xCAFE, GroundState::emergency, 255}, kBroadcastNode));
     CHECK(m.node == kBroadcastNode);
     CHECK(m.gs_heartbeat.ground_time_ms == 123456789u);
     CHECK(m.gs_heartbeat.session_token == 0xCAFE);
@@ -114,8 +116,8 @@ TEST_CASE("every frame type survives a round trip") {
     CHECK(m.gs_heartbeat.seq == 255);
   }
   SECTION("VEHICLE_HEARTBEAT") {
-    const Message m = decoded(encoded(
-        VehicleHeartbeat{42, Mode::failsafe_descent, kFlagArmed | kFlagSaturated, 15, FailsafeReason::heartbeat_lost, 200}));
+    const Message m = decoded(encoded(VehicleHeartbeat{
+        42, Mode::failsafe_descent, kFlagArmed | kFlagSaturated, 15, FailsafeReason::heartbeat_lost, 200}));
     CHECK(m.vehicle_heartbeat.uptime_ms == 42);
     CHECK(m.vehicle_heartbeat.mode == Mode::failsafe_descent);
     CHECK(m.vehicle_heartbeat.flags == (kFlagArmed | kFlagSaturated));
@@ -167,7 +169,8 @@ TEST_CASE("encoding saturates values beyond a field's range") {
   CHECK(decoded(encoded(HilMotors{{-1.0f, 2.0f, 0.5f, 0.5f}, 0})).hil_motors.command[0] == 0.0f);
   CHECK(decoded(encoded(HilMotors{{-1.0f, 2.0f, 0.5f, 0.5f}, 0})).hil_motors.command[1] == 1.0f);
   CHECK(decoded(encoded(Impact{0, 1e6f, ImpactClass::crash, true, 0})).impact.peak_mps2 == Approx(655.35f));
-  CHECK(decoded(encoded(HilImuAccel{{500.0f, 0, 0}, 0})).hil_imu_accel.accel_mps2[0] == Approx(32767 * kAccelLsb_mps2));
+  CHECK(decoded(encoded(HilImuAccel{{500.0f, 0, 0}, 0})).hil_imu_accel.accel_mps2[0] ==
+        Approx(32767 * kAccelLsb_mps2));
 }
 
 TEST_CASE("encoding refuses non-finite values, bad enumerations and bad nodes, leaving the frame alone") {
@@ -188,7 +191,8 @@ TEST_CASE("encoding refuses non-finite values, bad enumerations and bad nodes, l
   CHECK_FALSE(encode(Kill{0, static_cast<KillReason>(9)}, 1, f));
   CHECK_FALSE(encode(GsHeartbeat{0, 0, static_cast<GroundState>(3), 0}, 1, f));
   CHECK_FALSE(encode(VehicleHeartbeat{0, static_cast<Mode>(7), 0, 0, FailsafeReason::none, 0}, 1, f));
-  CHECK_FALSE(encode(CommandAck{0, CommandCode::arm, static_cast<AckResult>(3), Mode::armed, RefuseReason::none}, 1, f));
+  CHECK_FALSE(encode(
+      CommandAck{0, CommandCode::arm, static_cast<AckResult>(3), Mode::armed, RefuseReason::none}, 1, f));
   CHECK_FALSE(encode(TimesyncRequest{0, 0}, 16, f));
   CHECK(f.id == 0x7AB);
 }
@@ -235,8 +239,10 @@ TEST_CASE("decoding rejects every malformed frame with its reason") {
     const Frame impact = encoded(Impact{0, 1, ImpactClass::crash, false, 0});
     CHECK(decode(with(impact, 6, 0), m) == DecodeStatus::out_of_range);
     CHECK(decode(with(impact, 6, kImpactClassMax + 1), m) == DecodeStatus::out_of_range);
-    CHECK(decode(with(impact, 6, kImpactFinalBit | 0x10 | 1), m) == DecodeStatus::out_of_range);  // reserved bits
-    const Frame ack = encoded(CommandAck{1, CommandCode::arm, AckResult::accepted, Mode::armed, RefuseReason::none});
+    // reserved bits
+    CHECK(decode(with(impact, 6, kImpactFinalBit | 0x10 | 1), m) == DecodeStatus::out_of_range);
+    const Frame ack =
+        encoded(CommandAck{1, CommandCode::arm, AckResult::accepted, Mode::armed, RefuseReason::none});
     CHECK(decode(with(ack, 1, 0), m) == DecodeStatus::out_of_range);
     CHECK(decode(with(ack, 2, kAckResultMax + 1), m) == DecodeStatus::out_of_range);
     CHECK(decode(with(ack, 3, kModeMax + 1), m) == DecodeStatus::out_of_range);
@@ -246,10 +252,12 @@ TEST_CASE("decoding rejects every malformed frame with its reason") {
     const Frame hb = encoded(VehicleHeartbeat{0, Mode::armed, 0, 0, FailsafeReason::none, 0});
     CHECK(decode(with(hb, 4, kModeMax + 1), m) == DecodeStatus::out_of_range);
     CHECK(decode(with(hb, 5, 0x80), m) == DecodeStatus::out_of_range);  // reserved flag bit
-    CHECK(decode(with(hb, 6, static_cast<std::uint8_t>((kFailsafeReasonMax + 1) << 4)), m) == DecodeStatus::out_of_range);
+    CHECK(decode(with(hb, 6, static_cast<std::uint8_t>((kFailsafeReasonMax + 1) << 4)), m) ==
+          DecodeStatus::out_of_range);
   }
   SECTION("the never-sent -32768 in a signed field") {
-    for (Type t : {Type::rate_thrust, Type::hil_imu_gyro, Type::hil_imu_accel, Type::telemetry_rates, Type::telemetry_attitude}) {
+    for (Type t : {Type::rate_thrust, Type::hil_imu_gyro, Type::hil_imu_accel, Type::telemetry_rates,
+                   Type::telemetry_attitude}) {
       Frame f;
       f.id = make_id(t, 1);
       f.len = 8;

@@ -15,7 +15,8 @@ static_assert(AttitudeEstimator::kGravity_mps2 == static_cast<float>(pa::kGravit
 [[gnu::always_inline]] inline bool normalise(Quaternion& q) {
   const float n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
   // Near 1 (as after every step) it is certainly normalisable; otherwise check (NaN fails both).
-  if (!(std::fabs(n2 - 1.0f) <= 0.5f) && !(n2 >= 1.0e-12f && n2 <= std::numeric_limits<float>::max())) return false;
+  if (!(std::fabs(n2 - 1.0f) <= 0.5f) && !(n2 >= 1.0e-12f && n2 <= std::numeric_limits<float>::max()))
+    return false;
   const float inv = 1.0f / std::sqrt(n2);
   q = {q[0] * inv, q[1] * inv, q[2] * inv, q[3] * inv};
   return true;
@@ -42,8 +43,8 @@ void AttitudeEstimator::update(const Vec3& gyro_radps, const Vec3& accel_mps2, f
   bool accel_usable = false;
   Vec3 up_meas{};
   if (!aligned_ || accel_gain_per_s_ > 0.0f) {
-    const float n2 = accel_mps2[0] * accel_mps2[0] + accel_mps2[1] * accel_mps2[1] +
-                     accel_mps2[2] * accel_mps2[2];
+    const float n2 =
+        accel_mps2[0] * accel_mps2[0] + accel_mps2[1] * accel_mps2[1] + accel_mps2[2] * accel_mps2[2];
     const float lo = (1.0f - kAccelGateFraction) * kGravity_mps2;
     const float hi = (1.0f + kAccelGateFraction) * kGravity_mps2;
     // A non-finite component makes n2 NaN or infinite, which fails the upper bound.
@@ -99,10 +100,8 @@ void AttitudeEstimator::update(const Vec3& gyro_radps, const Vec3& accel_mps2, f
   const float s = 1.0f - h2 * (1.0f / 6.0f);
   const float dx = s * hx, dy = s * hy, dz = s * hz;
   const float w = q_[0], x = q_[1], y = q_[2], z = q_[3];
-  Quaternion q{w * dw - x * dx - y * dy - z * dz,
-               w * dx + x * dw + y * dz - z * dy,
-               w * dy - x * dz + y * dw + z * dx,
-               w * dz + x * dy - y * dx + z * dw};
+  Quaternion q{w * dw - x * dx - y * dy - z * dz, w * dx + x * dw + y * dz - z * dy,
+               w * dy - x * dz + y * dw + z * dx, w * dz + x * dy - y * dx + z * dw};
   if (normalise(q)) q_ = q;
 }
 

@@ -15,9 +15,13 @@ namespace {
   return Vec3{a[0] - b[0], a[1] - b[1], a[2] - b[2]};
 }
 
-[[gnu::always_inline]] inline float norm(const Vec3& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+[[gnu::always_inline]] inline float norm(const Vec3& v) {
+  return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+}
 
-std::uint8_t clamp_u8(std::uint8_t v, std::uint8_t lo, std::uint8_t hi) { return v < lo ? lo : (v > hi ? hi : v); }
+std::uint8_t clamp_u8(std::uint8_t v, std::uint8_t lo, std::uint8_t hi) {
+  return v < lo ? lo : (v > hi ? hi : v);
+}
 
 // A config that cannot work is made to: the integer ranges the history supports, the levels in
 // the order onset <= release <= trigger, a positive dt range.
@@ -34,7 +38,8 @@ ImpactDetectorConfig sanitised(ImpactDetectorConfig c) {
 
 }  // namespace
 
-static_assert(ImpactDetector::kMaxReferenceDelay < ImpactDetector::kHistory, "the history must hold the reference");
+static_assert(ImpactDetector::kMaxReferenceDelay < ImpactDetector::kHistory,
+              "the history must hold the reference");
 
 ImpactDetector::ImpactDetector(const ImpactDetectorConfig& config, const AirframeConfig& airframe)
     : config_(sanitised(config)),
@@ -67,13 +72,14 @@ void ImpactDetector::reset() {
 
 Vec3 ImpactDetector::residual_mps2() const { return filled_ == 0 ? Vec3{} : history(0).residual_mps2; }
 
-[[gnu::always_inline]] inline const ImpactDetector::Sample& ImpactDetector::history(std::size_t samples_ago) const {
+[[gnu::always_inline]] inline const ImpactDetector::Sample& ImpactDetector::history(
+    std::size_t samples_ago) const {
   return history_[(newest_ + kHistory - samples_ago) % kHistory];
 }
 
 bool ImpactDetector::update(const ImpactInput& in, ImpactEvent& out) {
-  const float marker =
-      nonfinite_marker(in.accel_mps2) + nonfinite_marker(in.gyro_radps) + nonfinite_marker(in.commanded_thrust_mps2);
+  const float marker = nonfinite_marker(in.accel_mps2) + nonfinite_marker(in.gyro_radps) +
+                       nonfinite_marker(in.commanded_thrust_mps2);
   if (!(marker == 0.0f)) return false;
   // A fixed-pitch rotor cannot pull down: a negative command means zero thrust.
   const float command_mps2 = in.commanded_thrust_mps2 > 0.0f ? in.commanded_thrust_mps2 : 0.0f;
@@ -154,7 +160,8 @@ bool ImpactDetector::update(const ImpactInput& in, ImpactEvent& out) {
       landing_expected_ = landing_expected_ || in.landing_expected;
       const float change_mps2 = add(acc_, s, reference_);
       const bool released = change_mps2 < config_.release_mps2;
-      const bool expired = pa::elapsed_us(in.t_us, onset_us_) >= static_cast<std::int32_t>(config_.event_window_us);
+      const bool expired =
+          pa::elapsed_us(in.t_us, onset_us_) >= static_cast<std::int32_t>(config_.event_window_us);
       if (released || expired) {
         // The contact is over: the refractory period runs from here.
         has_last_event_ = true;
@@ -179,14 +186,17 @@ bool ImpactDetector::update(const ImpactInput& in, ImpactEvent& out) {
   return true;
 }
 
-[[gnu::always_inline]] inline bool ImpactDetector::triggered(const Vec3& change_mps2, bool crash_level_only) const {
-  const float total2 = change_mps2[0] * change_mps2[0] + change_mps2[1] * change_mps2[1] + change_mps2[2] * change_mps2[2];
+[[gnu::always_inline]] inline bool ImpactDetector::triggered(const Vec3& change_mps2,
+                                                             bool crash_level_only) const {
+  const float total2 =
+      change_mps2[0] * change_mps2[0] + change_mps2[1] * change_mps2[1] + change_mps2[2] * change_mps2[2];
   if (!crash_level_only) return total2 >= trigger2_;
   const float lateral2 = change_mps2[0] * change_mps2[0] + change_mps2[1] * change_mps2[1];
   return total2 > crash_peak2_ || lateral2 > crash_lateral2_;
 }
 
-[[gnu::always_inline]] inline float ImpactDetector::add(Accumulator& acc, const Sample& s, const Sample& reference) {
+[[gnu::always_inline]] inline float ImpactDetector::add(Accumulator& acc, const Sample& s,
+                                                        const Sample& reference) {
   const Vec3 d = minus(s.residual_mps2, reference.residual_mps2);
   const float m = norm(d);
   if (m > acc.peak_mps2) {
@@ -222,7 +232,7 @@ bool ImpactDetector::update(const ImpactInput& in, ImpactEvent& out) {
 }
 
 [[gnu::always_inline]] inline void ImpactDetector::accumulate(std::size_t oldest_age, const Sample& reference,
-                                                               Accumulator& acc, RisingEdge& edge) const {
+                                                              Accumulator& acc, RisingEdge& edge) const {
   for (std::size_t age = oldest_age + 1; age-- > 0;) {
     const Sample& s = history(age);
     const float change_mps2 = add(acc, s, reference);
@@ -250,7 +260,8 @@ bool ImpactDetector::crash_seen(const Accumulator& acc, float peak_mps2) const {
   // hard as the floor's friction holds feet that still drift: only its peak against the
   // touchdown threshold and a tipping spin make it a crash.
   if (touchdown(acc))
-    return peak_mps2 > config_.touchdown_crash_peak_mps2 || acc.rate_change_max_radps > config_.crash_rate_radps;
+    return peak_mps2 > config_.touchdown_crash_peak_mps2 ||
+           acc.rate_change_max_radps > config_.crash_rate_radps;
   return peak_mps2 > config_.crash_peak_mps2 || acc.lateral_max_mps2 > config_.crash_lateral_mps2 ||
          acc.rate_change_max_radps > config_.crash_rate_radps;
 }
@@ -298,14 +309,15 @@ void ImpactDetector::confirm(std::uint32_t now_us, ImpactEvent& out) {
   detected_us_ = now_us;
   count_ = static_cast<std::uint8_t>(count_ + 1u);
   phase_ = Phase::active;
-  out = ImpactEvent{onset_us_, acc_.peak_mps2, classify(acc_, acc_.peak_mps2), ImpactStage::detected, count_,
-                    detected_us_};
+  out = ImpactEvent{onset_us_, acc_.peak_mps2, classify(acc_, acc_.peak_mps2), ImpactStage::detected,
+                    count_,    detected_us_};
   out.touchdown = touchdown(acc_) && out.classification != ImpactClass::crash;
 }
 
 void ImpactDetector::finish(bool contact_over, ImpactEvent& out) {
   const float peak_mps2 = refined_peak();
-  out = ImpactEvent{onset_us_, peak_mps2, classify(acc_, peak_mps2), ImpactStage::classified, count_, detected_us_};
+  out = ImpactEvent{onset_us_, peak_mps2,   classify(acc_, peak_mps2), ImpactStage::classified,
+                    count_,    detected_us_};
   out.touchdown = touchdown(acc_) && out.classification != ImpactClass::crash;
   phase_ = contact_over ? Phase::idle : Phase::tail;
   above_ = 0;

@@ -10,8 +10,8 @@ namespace {
 constexpr float kInvSqrt2 = 0.70710678f;
 
 bool finite(const MixerInput& in) {
-  return std::isfinite(in.thrust_N) && std::isfinite(in.torque_Nm[0]) &&
-         std::isfinite(in.torque_Nm[1]) && std::isfinite(in.torque_Nm[2]);
+  return std::isfinite(in.thrust_N) && std::isfinite(in.torque_Nm[0]) && std::isfinite(in.torque_Nm[1]) &&
+         std::isfinite(in.torque_Nm[2]);
 }
 
 // Every value inside the limit, and therefore finite (a NaN or an infinity makes the sum fail the
@@ -27,7 +27,8 @@ bool finite(const MixerInput& in) {
 // diff_N stays inside [lo_N, hi_N], for a non-zero diff_N.
 // The collective and torques of the motor thrusts: the sums over the sign tables, motor by
 // motor from zero (the equations in mixer.hpp).
-[[gnu::always_inline]] inline MixerInput wrench(const Motors& thrust_N, float half_span_m, float yaw_moment_m) {
+[[gnu::always_inline]] inline MixerInput wrench(const Motors& thrust_N, float half_span_m,
+                                                float yaw_moment_m) {
   const float f0 = thrust_N[0], f1 = thrust_N[1], f2 = thrust_N[2], f3 = thrust_N[3];
   const float roll = 0.0f - f0 + f1 + f2 - f3;
   const float pitch = 0.0f - f0 + f1 - f2 + f3;
@@ -35,7 +36,8 @@ bool finite(const MixerInput& in) {
   return MixerInput{0.0f + f0 + f1 + f2 + f3, {half_span_m * roll, half_span_m * pitch, yaw_moment_m * yaw}};
 }
 
-[[gnu::always_inline]] inline void fit_yaw(float motor_N, float diff_N, float lo_N, float hi_N, float& fraction) {
+[[gnu::always_inline]] inline void fit_yaw(float motor_N, float diff_N, float lo_N, float hi_N,
+                                           float& fraction) {
   if (diff_N > 0.0f) {
     const float room_N = hi_N - motor_N;
     if (room_N < fraction * diff_N) fraction = room_N / diff_N;
@@ -52,8 +54,8 @@ Mixer::Mixer(const AirframeConfig& airframe) {
   const float k_m = airframe.yaw_moment_per_thrust_m;
   const float lo_N = airframe.motor_thrust_min_N;
   const float hi_N = airframe.motor_thrust_max_N;
-  valid_ = std::isfinite(arm_m) && std::isfinite(k_m) && std::isfinite(lo_N) &&
-           std::isfinite(hi_N) && arm_m > 0.0f && k_m > 0.0f && lo_N >= 0.0f && lo_N < hi_N;
+  valid_ = std::isfinite(arm_m) && std::isfinite(k_m) && std::isfinite(lo_N) && std::isfinite(hi_N) &&
+           arm_m > 0.0f && k_m > 0.0f && lo_N >= 0.0f && lo_N < hi_N;
   if (!valid_) return;
   half_span_m_ = arm_m * kInvSqrt2;
   yaw_moment_m_ = k_m;
@@ -73,7 +75,9 @@ MixerOutput Mixer::rejected(float motor_thrust_N) const {
   return out;
 }
 
-MixerInput Mixer::effect(const Motors& thrust_N) const { return wrench(thrust_N, half_span_m_, yaw_moment_m_); }
+MixerInput Mixer::effect(const Motors& thrust_N) const {
+  return wrench(thrust_N, half_span_m_, yaw_moment_m_);
+}
 
 MixerOutput Mixer::mix(const MixerInput& input) const {
   if (!valid_) return rejected(0.0f);
@@ -143,8 +147,9 @@ MixerOutput Mixer::mix(const MixerInput& input) const {
   const float yaw_N = yaw_Nm * inv_4k_per_m_;
   const float pair01_N = std::fabs(rp_N[1]);
   const float pair23_N = std::fabs(rp_N[2]);
-  const bool yaw_fits = yaw_N > 0.0f ? hi_N - (base_N + pair23_N) >= yaw_N && lo_N - (base_N - pair01_N) <= -yaw_N
-                                     : hi_N - (base_N + pair01_N) >= -yaw_N && lo_N - (base_N - pair23_N) <= yaw_N;
+  const bool yaw_fits = yaw_N > 0.0f
+                            ? hi_N - (base_N + pair23_N) >= yaw_N && lo_N - (base_N - pair01_N) <= -yaw_N
+                            : hi_N - (base_N + pair01_N) >= -yaw_N && lo_N - (base_N - pair23_N) <= yaw_N;
   float yaw_fraction = 1.0f;
   if (yaw_N != 0.0f && !yaw_fits) {
     fit_yaw(motor_N[0], -yaw_N, lo_N, hi_N, yaw_fraction);

@@ -10,8 +10,9 @@ RateController::RateController(const RateControllerConfig& config, const Airfram
 
 // One axis of the law (written out per axis rather than looped, which the compiler would not
 // unroll): returns the torque and advances the axis' integrator unless it is frozen.
-[[gnu::always_inline]] inline float RateController::axis_step(int axis, float setpoint_radps, float gyro_radps,
-                                                              float dt_s, std::uint8_t saturation_flags,
+[[gnu::always_inline]] inline float RateController::axis_step(int axis, float setpoint_radps,
+                                                              float gyro_radps, float dt_s,
+                                                              std::uint8_t saturation_flags,
                                                               float& integrator_radps2) const {
   const float error_radps = clamp_symmetric(setpoint_radps, config_.rate_limit_radps) - gyro_radps;
 
@@ -23,7 +24,8 @@ RateController::RateController(const RateControllerConfig& config, const Airfram
   const bool frozen_up = (saturation_flags & saturation::positive(axis)) != 0 && step_radps2 > 0.0f;
   const bool frozen_down = (saturation_flags & saturation::negative(axis)) != 0 && step_radps2 < 0.0f;
   if (!frozen_up && !frozen_down) {
-    integrator_radps2 = clamp_symmetric(integrator_radps2 + step_radps2, config_.integrator_limit_radps2[axis]);
+    integrator_radps2 =
+        clamp_symmetric(integrator_radps2 + step_radps2, config_.integrator_limit_radps2[axis]);
   }
   return torque_Nm;
 }
@@ -35,16 +37,19 @@ void RateController::reset() {
 
 Vec3 RateController::update(const Vec3& rate_setpoint_radps, const Vec3& gyro_radps, float dt_s,
                             std::uint8_t saturation_flags) {
-  if (!(nonfinite_marker(rate_setpoint_radps) + nonfinite_marker(gyro_radps) + nonfinite_marker(dt_s) == 0.0f)) {
+  if (!(nonfinite_marker(rate_setpoint_radps) + nonfinite_marker(gyro_radps) + nonfinite_marker(dt_s) ==
+        0.0f)) {
     return last_torque_Nm_;
   }
   const float dt_clamped_s = clampf(dt_s, config_.dt_min_s, config_.dt_max_s);
 
   Vec3 integrator_radps2 = integrator_radps2_;
-  const Vec3 torque_Nm{
-      axis_step(0, rate_setpoint_radps[0], gyro_radps[0], dt_clamped_s, saturation_flags, integrator_radps2[0]),
-      axis_step(1, rate_setpoint_radps[1], gyro_radps[1], dt_clamped_s, saturation_flags, integrator_radps2[1]),
-      axis_step(2, rate_setpoint_radps[2], gyro_radps[2], dt_clamped_s, saturation_flags, integrator_radps2[2])};
+  const Vec3 torque_Nm{axis_step(0, rate_setpoint_radps[0], gyro_radps[0], dt_clamped_s, saturation_flags,
+                                 integrator_radps2[0]),
+                       axis_step(1, rate_setpoint_radps[1], gyro_radps[1], dt_clamped_s, saturation_flags,
+                                 integrator_radps2[1]),
+                       axis_step(2, rate_setpoint_radps[2], gyro_radps[2], dt_clamped_s, saturation_flags,
+                                 integrator_radps2[2])};
 
   if (!(nonfinite_marker(torque_Nm) + nonfinite_marker(integrator_radps2) == 0.0f)) return last_torque_Nm_;
   integrator_radps2_ = integrator_radps2;

@@ -39,7 +39,8 @@ void Supervisor::update(const SupervisorInputs& in) {
   }
   if (imu_unhealthy_ && !imu_lost_) {
     const std::int32_t unhealthy_us = pa::elapsed_us(in.now_us, imu_unhealthy_since_us_);
-    imu_lost_ = unhealthy_us >= 0 && at_least(static_cast<std::uint32_t>(unhealthy_us), config_.imu_timeout_us);
+    imu_lost_ =
+        unhealthy_us >= 0 && at_least(static_cast<std::uint32_t>(unhealthy_us), config_.imu_timeout_us);
   }
   const bool imu_lost = imu_lost_;
 
@@ -51,7 +52,8 @@ void Supervisor::update(const SupervisorInputs& in) {
   std::uint16_t c = 0;
   if (in.heartbeat_live) c |= condition::heartbeat_live;
   if (in.setpoint_fresh) c |= condition::setpoint_fresh;
-  if (in.setpoint_fresh && std::isfinite(in.setpoint_thrust_mps2) && in.setpoint_thrust_mps2 > config_.takeoff_thrust_mps2)
+  if (in.setpoint_fresh && std::isfinite(in.setpoint_thrust_mps2) &&
+      in.setpoint_thrust_mps2 > config_.takeoff_thrust_mps2)
     c |= condition::takeoff_thrust;
   if (imu_lost) c |= condition::imu_lost;
   if (in.on_ground) c |= condition::on_ground;
@@ -83,7 +85,8 @@ CommandResult Supervisor::handle_command(CommandCode code, const SupervisorInput
       if (mode_ == Mode::killed) return refuse(RefuseReason::killed);
       if (mode_ != Mode::disarmed) return refuse(RefuseReason::not_disarmed);
       if (!now.heartbeat_live) return refuse(RefuseReason::no_ground_heartbeat);
-      if (!(std::isfinite(now.setpoint_thrust_mps2) && now.setpoint_thrust_mps2 <= config_.arming_thrust_max_mps2))
+      if (!(std::isfinite(now.setpoint_thrust_mps2) &&
+            now.setpoint_thrust_mps2 <= config_.arming_thrust_max_mps2))
         return refuse(RefuseReason::thrust_not_zero);
       if (!now.imu_ok) return refuse(RefuseReason::imu_unhealthy);
       enter(Mode::armed, FailsafeReason::none, now.now_us);
@@ -94,9 +97,7 @@ CommandResult Supervisor::handle_command(CommandCode code, const SupervisorInput
         case Mode::disarmed:
         case Mode::armed:
         case Mode::landed:
-        case Mode::killed:
-          enter(Mode::disarmed, FailsafeReason::none, now.now_us);
-          return accepted;
+        case Mode::killed: enter(Mode::disarmed, FailsafeReason::none, now.now_us); return accepted;
         case Mode::flying:
         case Mode::failsafe_hover:
         case Mode::failsafe_descent:
@@ -113,18 +114,15 @@ CommandResult Supervisor::handle_command(CommandCode code, const SupervisorInput
         case Mode::failsafe_descent:
           reason_ = FailsafeReason::land_command;  // already descending: now it ends only on the ground
           return accepted;
-        case Mode::killed:
-          return refuse(RefuseReason::killed);
+        case Mode::killed: return refuse(RefuseReason::killed);
         case Mode::disarmed:
         case Mode::armed:
-        case Mode::landed:
-          return refuse(RefuseReason::not_flying);
+        case Mode::landed: return refuse(RefuseReason::not_flying);
       }
       return refuse(RefuseReason::not_flying);
 
     case CommandCode::expect_catch:
-    case CommandCode::catch_handled:
-      break;
+    case CommandCode::catch_handled: break;
   }
   return refuse(RefuseReason::bad_argument);
 }

@@ -12,11 +12,11 @@ using namespace pa::proto;
 
 namespace {
 constexpr float kGravity_mps2 = 9.81f;
-constexpr float kImuGyroLimit_radps = 40.0f;   // beyond the sensor's range: a broken sample
+constexpr float kImuGyroLimit_radps = 40.0f;  // beyond the sensor's range: a broken sample
 constexpr float kImuAccelLimit_mps2 = 200.0f;
 constexpr float kNominalDt_s = 0.001f;
-constexpr float kVerticalGain_per_s = 4.0f;    // failsafe vertical-velocity loop
-constexpr float kMinTiltCos = 0.5f;            // thrust compensation for tilt stops at 60 degrees
+constexpr float kVerticalGain_per_s = 4.0f;  // failsafe vertical-velocity loop
+constexpr float kMinTiltCos = 0.5f;          // thrust compensation for tilt stops at 60 degrees
 constexpr std::int32_t kExpectCatchMax_ms = 10000;
 // A quadrocopter's accelerometer reads gravity only while the vehicle rests; in flight it
 // reads the thrust direction, which would pull the estimate towards "level" whatever the
@@ -80,7 +80,8 @@ TickOutput Vehicle::tick(const ImuSample& imu) {
   // The link's watchdogs and the sensors' health, once per tick: no frame arrives during it.
   update_inputs(now_us);
   const Mode mode_before = supervisor_.mode();
-  const bool resting = mode_before == Mode::disarmed || mode_before == Mode::armed || mode_before == Mode::landed;
+  const bool resting =
+      mode_before == Mode::disarmed || mode_before == Mode::armed || mode_before == Mode::landed;
   if (resting) attitude_.set_accel_gain(kAttitudeGroundGain_per_s);
   else attitude_.set_accel_gain(0.0f);
   if (imu_ok_) attitude_.update(gyro_radps_, accel_mps2_, dt_s);
@@ -100,7 +101,8 @@ TickOutput Vehicle::tick(const ImuSample& imu) {
 // and the supervisor is told the IMU is unhealthy.
 [[gnu::always_inline]] inline void Vehicle::accept_sample(const ImuSample& imu) {
   // all_within is false for NaN and the infinities too.
-  imu_ok_ = all_within(imu.gyro_radps, kImuGyroLimit_radps) && all_within(imu.accel_mps2, kImuAccelLimit_mps2);
+  imu_ok_ =
+      all_within(imu.gyro_radps, kImuGyroLimit_radps) && all_within(imu.accel_mps2, kImuAccelLimit_mps2);
   if (imu_ok_) {
     gyro_radps_ = imu.gyro_radps;
     accel_mps2_ = imu.accel_mps2;
@@ -148,8 +150,8 @@ TickOutput Vehicle::tick(const ImuSample& imu) {
   // The catch window closes by itself.
   if (catch_expected_ && pa::elapsed_us(now_us, catch_expected_until_us_) > 0) catch_expected_ = false;
   // The on-board reaction ends when the ground takes over (CATCH_HANDLED) or times out.
-  if (reaction_active_ &&
-      pa::elapsed_us(now_us, reaction_started_us_) >= static_cast<std::int32_t>(config_.catch_reaction.duration_us))
+  if (reaction_active_ && pa::elapsed_us(now_us, reaction_started_us_) >=
+                              static_cast<std::int32_t>(config_.catch_reaction.duration_us))
     reaction_active_ = false;
 
   // Only a disarmed vehicle may follow a new ground station session.
@@ -226,7 +228,8 @@ void Vehicle::acknowledge(const Command& command, AckResult result, RefuseReason
   return Vec3{-k * up[1], k * up[0], 0.0f};
 }
 
-[[gnu::always_inline]] inline void Vehicle::choose_setpoint(float dt_s, Vec3& rate_radps, float& thrust_mps2) {
+[[gnu::always_inline]] inline void Vehicle::choose_setpoint(float dt_s, Vec3& rate_radps,
+                                                            float& thrust_mps2) {
   const Action action = supervisor_.action();
   switch (action) {
     case Action::motors_off:
@@ -245,8 +248,7 @@ void Vehicle::acknowledge(const Command& command, AckResult result, RefuseReason
       return;
     }
     case Action::level_hover:
-    case Action::descend:
-      break;
+    case Action::descend: break;
   }
 
   // The failsafes: level, hold (or sink at) the vertical speed integrated on board.
@@ -316,8 +318,12 @@ void Vehicle::send_heartbeat(std::uint32_t now_us) {
   if (catch_expected_) flags |= kFlagCatchExpected;
   if (reaction_active_) flags |= kFlagImpactReaction;
   if (saturation_ != 0) flags |= kFlagSaturated;
-  const VehicleHeartbeat hb{now_us / 1000u, mode, flags, static_cast<std::uint8_t>(link_.setpoint().seq & 0x0Fu),
-                            supervisor_.reason(), saturate_u8(link_.counters().rejected())};
+  const VehicleHeartbeat hb{now_us / 1000u,
+                            mode,
+                            flags,
+                            static_cast<std::uint8_t>(link_.setpoint().seq & 0x0Fu),
+                            supervisor_.reason(),
+                            saturate_u8(link_.counters().rejected())};
   link_.send_message(hb);
 }
 
@@ -335,13 +341,12 @@ void Vehicle::send_telemetry_attitude(std::uint32_t) {
   link_.send_message(TelemetryAttitude{attitude_.quaternion()});
 }
 
-void Vehicle::send_telemetry_motors(std::uint32_t) {
-  link_.send_message(TelemetryMotors{motor_command_});
-}
+void Vehicle::send_telemetry_motors(std::uint32_t) { link_.send_message(TelemetryMotors{motor_command_}); }
 
 void Vehicle::send_telemetry_status(std::uint32_t) {
-  const TelemetryStatus status{saturate_u16(tick_time_max_us_), battery_mv_, saturate_u16(link_.counters().rejected()),
-                               saturate_u8(overruns_), impacts_.count()};
+  const TelemetryStatus status{saturate_u16(tick_time_max_us_), battery_mv_,
+                               saturate_u16(link_.counters().rejected()), saturate_u8(overruns_),
+                               impacts_.count()};
   tick_time_max_us_ = 0;  // the longest tick of each report period
   link_.send_message(status);
 }

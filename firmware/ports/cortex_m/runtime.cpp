@@ -19,17 +19,16 @@ constexpr std::uint32_t kStackPaint = 0xA5A5A5A5u;
 // this runs first, in assembly; main() is called from here too (ISO C++ forbids calling it
 // from C++).
 extern "C" __attribute__((naked, noreturn)) void Reset_Handler() {
-  asm volatile(
-      "movw r0, #0xED88      \n"  // CPACR, 0xE000ED88
-      "movt r0, #0xE000      \n"
-      "ldr r1, [r0]          \n"
-      "orr r1, r1, #0xF00000 \n"  // CP10 and CP11 full access
-      "str r1, [r0]          \n"
-      "dsb                   \n"
-      "isb                   \n"
-      "bl pa_runtime_init    \n"
-      "bl main               \n"
-      "b pa_board_exit       \n");  // main's status is already in r0
+  asm volatile("movw r0, #0xED88      \n"  // CPACR, 0xE000ED88
+               "movt r0, #0xE000      \n"
+               "ldr r1, [r0]          \n"
+               "orr r1, r1, #0xF00000 \n"  // CP10 and CP11 full access
+               "str r1, [r0]          \n"
+               "dsb                   \n"
+               "isb                   \n"
+               "bl pa_runtime_init    \n"
+               "bl main               \n"
+               "b pa_board_exit       \n");  // main's status is already in r0
 }
 
 extern "C" __attribute__((used)) void pa_runtime_init() {

@@ -110,7 +110,8 @@ int main() {
       .emit();
   // 2 % on the short run; 0.1 % on the long one (its set-up and the wrap interrupts add a
   // few dozen instructions at most; a lost or doubled wrap would be off by 82 %).
-  const bool calibrated = within(short_run, 1000.0f, 0.02f) && within(long_run, 2.0f * kLoopIterations, 0.001f);
+  const bool calibrated =
+      within(short_run, 1000.0f, 0.02f) && within(long_run, 2.0f * kLoopIterations, 0.001f);
 
   const std::uint64_t overhead = probe_overhead_counts();
   InstructionProbe probe;

@@ -21,8 +21,8 @@ class HilVehicleNode {
   void on_frame(const pa::proto::Frame& frame, Send&& send) {
     pa::proto::Message m;
     const pa::proto::DecodeStatus status = pa::proto::decode(frame, m);
-    const bool hil_imu = status == pa::proto::DecodeStatus::ok &&
-                         (m.type == pa::proto::Type::hil_imu_gyro || m.type == pa::proto::Type::hil_imu_accel);
+    const bool hil_imu = status == pa::proto::DecodeStatus::ok && (m.type == pa::proto::Type::hil_imu_gyro ||
+                                                                   m.type == pa::proto::Type::hil_imu_accel);
     if (!hil_imu) {
       vehicle_.on_frame(frame, now_us_);  // the core counts what it cannot use
       return;

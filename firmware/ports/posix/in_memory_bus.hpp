@@ -27,7 +27,9 @@ class InMemoryBus {
   bool receive(std::size_t endpoint, pa::proto::Frame& out) {
     return endpoint < Endpoints && queues_[endpoint].pop(out);
   }
-  std::uint32_t overruns(std::size_t endpoint) const { return endpoint < Endpoints ? queues_[endpoint].dropped() : 0; }
+  std::uint32_t overruns(std::size_t endpoint) const {
+    return endpoint < Endpoints ? queues_[endpoint].dropped() : 0;
+  }
 
  private:
   std::array<FrameQueue<Depth>, Endpoints> queues_{};

@@ -25,7 +25,8 @@ void SocketCan::fail(Status s, const char* fmt, const char* a, const char* b) {
 
 SocketCan::Status SocketCan::open(const char* interface_name) {
   if (interface_name == nullptr || interface_name[0] == '\0' || std::strlen(interface_name) >= IFNAMSIZ) {
-    fail(Status::no_such_interface, "invalid CAN interface name '%s'%s", interface_name ? interface_name : "", "");
+    fail(Status::no_such_interface, "invalid CAN interface name '%s'%s", interface_name ? interface_name : "",
+         "");
     return status_;
   }
   fd_ = ::socket(PF_CAN, SOCK_RAW, CAN_RAW);
@@ -39,17 +40,19 @@ SocketCan::Status SocketCan::open(const char* interface_name) {
   ifreq ifr{};
   std::strncpy(ifr.ifr_name, interface_name, IFNAMSIZ - 1);
   if (::ioctl(fd_, SIOCGIFINDEX, &ifr) < 0) {
-    fail(Status::no_such_interface,
-         "CAN interface '%s' does not exist (create it with 'ip link add dev %s type vcan && ip link set up dev "
-         "<name>')",
-         interface_name, interface_name);
+    fail(
+        Status::no_such_interface,
+        "CAN interface '%s' does not exist (create it with 'ip link add dev %s type vcan && ip link set up dev "
+        "<name>')",
+        interface_name, interface_name);
     return status_;
   }
   sockaddr_can addr{};
   addr.can_family = AF_CAN;
   addr.can_ifindex = ifr.ifr_ifindex;
   if (::bind(fd_, reinterpret_cast<sockaddr*>(&addr), sizeof addr) < 0) {
-    fail(Status::interface_down, "cannot bind to CAN interface '%s': %s", interface_name, std::strerror(errno));
+    fail(Status::interface_down, "cannot bind to CAN interface '%s': %s", interface_name,
+         std::strerror(errno));
     return status_;
   }
   status_ = Status::ok;
@@ -72,7 +75,8 @@ bool SocketCan::read(pa::proto::Frame& out, int timeout_ms) {
     const ssize_t n = ::read(fd_, &raw, sizeof raw);
     if (n != static_cast<ssize_t>(sizeof raw)) {
       if (n < 0 && errno == EINTR) continue;
-      fail(Status::io_error, "read from CAN socket failed: %s%s", n < 0 ? std::strerror(errno) : "short read", "");
+      fail(Status::io_error, "read from CAN socket failed: %s%s", n < 0 ? std::strerror(errno) : "short read",
+           "");
       return false;
     }
     // Only classic data frames with standard identifiers belong to the protocol.

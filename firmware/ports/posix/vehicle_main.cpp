@@ -25,9 +25,10 @@ int main(int argc, char** argv) {
   unsigned node = 0;
   {
     CLI::App app("", "fw_vehicle");
-    pa::cli::describe(app, "usage: fw_vehicle --can IFACE --node N",
-                      "Runs one vehicle's firmware on a SocketCAN bus (HIL): the plant drives it with HIL_IMU\n"
-                      "frames; it answers with HIL_MOTORS and the flight frames.");
+    pa::cli::describe(
+        app, "usage: fw_vehicle --can IFACE --node N",
+        "Runs one vehicle's firmware on a SocketCAN bus (HIL): the plant drives it with HIL_IMU\n"
+        "frames; it answers with HIL_MOTORS and the flight frames.");
     app.add_option("--can", interface_name, "the vehicle's SocketCAN bus (for example vcan1)")
         ->type_name("IFACE")
         ->required()

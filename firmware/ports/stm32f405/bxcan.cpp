@@ -23,7 +23,8 @@ constexpr unsigned kPriorityRx = 1, kPriorityTx = 2, kPrioritySce = 3;  // lower
 
 std::uint32_t pack(const Frame& f, int first) {
   return static_cast<std::uint32_t>(f.data[first]) | (static_cast<std::uint32_t>(f.data[first + 1]) << 8) |
-         (static_cast<std::uint32_t>(f.data[first + 2]) << 16) | (static_cast<std::uint32_t>(f.data[first + 3]) << 24);
+         (static_cast<std::uint32_t>(f.data[first + 2]) << 16) |
+         (static_cast<std::uint32_t>(f.data[first + 3]) << 24);
 }
 
 void unpack(std::uint32_t word, Frame& f, int first) {
@@ -36,8 +37,8 @@ void configure_pins() {
   Gpio& b = gpiob();
   constexpr std::uint32_t kRx = 8, kTx = 9, kAf9 = 9;
   b.MODER = (b.MODER & ~((3u << (2 * kRx)) | (3u << (2 * kTx)))) | (2u << (2 * kRx)) | (2u << (2 * kTx));
-  b.OTYPER &= ~((1u << kRx) | (1u << kTx));                                  // push-pull
-  b.OSPEEDR |= (2u << (2 * kRx)) | (2u << (2 * kTx));                        // fast
+  b.OTYPER &= ~((1u << kRx) | (1u << kTx));                                            // push-pull
+  b.OSPEEDR |= (2u << (2 * kRx)) | (2u << (2 * kTx));                                  // fast
   b.PUPDR = (b.PUPDR & ~((3u << (2 * kRx)) | (3u << (2 * kTx)))) | (1u << (2 * kRx));  // RX pulled recessive
   b.AFRH = (b.AFRH & ~0xFFu) | (kAf9 << (4 * (kRx - 8))) | (kAf9 << (4 * (kTx - 8)));
 }
@@ -45,11 +46,11 @@ void configure_pins() {
 void configure_filters() {
   Can& c = can1();
   c.FMR |= can_bits::fmr_finit;
-  c.FA1R &= ~1u;  // bank 0 off while it is changed
-  c.FS1R |= 1u;   // one 32-bit filter
-  c.FM1R &= ~1u;  // identifier-mask mode
-  c.FFA1R &= ~1u; // to FIFO0
-  c.filter[0].FR1 = 0;                                     // IDE = 0, RTR = 0 ...
+  c.FA1R &= ~1u;                                          // bank 0 off while it is changed
+  c.FS1R |= 1u;                                           // one 32-bit filter
+  c.FM1R &= ~1u;                                          // identifier-mask mode
+  c.FFA1R &= ~1u;                                         // to FIFO0
+  c.filter[0].FR1 = 0;                                    // IDE = 0, RTR = 0 ...
   c.filter[0].FR2 = can_bits::ir_ide | can_bits::ir_rtr;  // ... must match; the identifier is free
   c.FA1R |= 1u;
   c.FMR &= ~can_bits::fmr_finit;

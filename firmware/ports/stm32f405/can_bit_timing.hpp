@@ -41,7 +41,8 @@ constexpr CanBitTiming can_bit_timing(std::uint32_t kernel_clock_hz, std::uint32
 
 inline constexpr CanBitTiming kCan1Mbit42MHz = can_bit_timing(42000000, 1000000);
 static_assert(kCan1Mbit42MHz.valid && kCan1Mbit42MHz.prescaler == 3 && kCan1Mbit42MHz.bs1_tq == 11 &&
-              kCan1Mbit42MHz.bs2_tq == 2, "1 Mbit/s from APB1 = 42 MHz: prescaler 3, BS1 11, BS2 2");
+                  kCan1Mbit42MHz.bs2_tq == 2,
+              "1 Mbit/s from APB1 = 42 MHz: prescaler 3, BS1 11, BS2 2");
 static_assert(can_bit_timing(16000000, 1000000).valid, "the bare-HSI fallback still has a timing");
 
 }  // namespace stm32f405

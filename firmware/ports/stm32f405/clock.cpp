@@ -27,7 +27,8 @@ constexpr std::uint32_t kPllTimeoutCycles = kHsiHz / 100;     // 10 ms
 constexpr std::uint32_t kSwitchTimeoutCycles = kHsiHz / 100;  // 10 ms
 
 // The PLL fields of RCC_PLLCFGR; the other bits are reserved and keep their reset values.
-constexpr std::uint32_t kPllcfgrFields = 0x3Fu | (0x1FFu << 6) | (3u << 16) | rcc_bits::pllcfgr_src_hse | (0xFu << 24);
+constexpr std::uint32_t kPllcfgrFields =
+    0x3Fu | (0x1FFu << 6) | (3u << 16) | rcc_bits::pllcfgr_src_hse | (0xFu << 24);
 
 std::uint32_t pllcfgr(std::uint32_t current, bool from_hse) {
   const std::uint32_t m = pll_m(from_hse ? kHseHz : kHsiHz);

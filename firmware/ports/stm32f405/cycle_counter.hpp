@@ -23,7 +23,8 @@ class CycleCounter {
 // Waits until (reg & mask) == value; false after `timeout_cycles`. Each pass takes well over
 // four cycles (two peripheral reads and a dozen instructions), so the pass count bounds the
 // wait too: a cycle counter that does not run (an emulator without a DWT) cannot hang it.
-inline bool wait_for(stm32f4::Reg& reg, std::uint32_t mask, std::uint32_t value, std::uint32_t timeout_cycles) {
+inline bool wait_for(stm32f4::Reg& reg, std::uint32_t mask, std::uint32_t value,
+                     std::uint32_t timeout_cycles) {
   const std::uint32_t start = CycleCounter::now();
   for (std::uint32_t pass = 0; (reg & mask) != value; ++pass) {
     if (CycleCounter::now() - start > timeout_cycles || pass > timeout_cycles / 4u) return false;

@@ -17,7 +17,8 @@ void HilCanNode::send(const Frame& frame) {
 void HilCanNode::on_frame(const Frame& frame) {
   Message m;
   const DecodeStatus status = decode(frame, m);
-  const bool hil_imu = status == DecodeStatus::ok && (m.type == Type::hil_imu_gyro || m.type == Type::hil_imu_accel);
+  const bool hil_imu =
+      status == DecodeStatus::ok && (m.type == Type::hil_imu_gyro || m.type == Type::hil_imu_accel);
   if (!hil_imu) {
     vehicle_.on_frame(frame, now_us_);  // the core counts what it cannot use
     return;

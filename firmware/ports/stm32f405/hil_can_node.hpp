@@ -15,11 +15,11 @@
 namespace stm32f405 {
 
 struct HilCanStats {
-  std::uint32_t ticks = 0;                 // complete samples that ran a tick
-  std::uint32_t tick_cycles_last = 0;      // DWT cycles of Vehicle::tick
+  std::uint32_t ticks = 0;             // complete samples that ran a tick
+  std::uint32_t tick_cycles_last = 0;  // DWT cycles of Vehicle::tick
   std::uint32_t tick_cycles_max = 0;
-  std::uint32_t other_node_samples = 0;    // HIL IMU frames for another vehicle, ignored
-  std::uint32_t tx_dropped = 0;            // frames the CAN queue refused
+  std::uint32_t other_node_samples = 0;  // HIL IMU frames for another vehicle, ignored
+  std::uint32_t tx_dropped = 0;          // frames the CAN queue refused
 };
 
 class HilCanNode {

@@ -64,7 +64,8 @@ int main() {
     if (node.stats().ticks != ticks_seen) {
       const std::uint32_t now_us = MicrosecondClock::now_us();
       const auto gap_us = static_cast<std::uint32_t>(pa::elapsed_us(now_us, last_tick_us));
-      if (ticks_seen != 0 && gap_us > g_board_status.hil_sample_gap_max_us) g_board_status.hil_sample_gap_max_us = gap_us;
+      if (ticks_seen != 0 && gap_us > g_board_status.hil_sample_gap_max_us)
+        g_board_status.hil_sample_gap_max_us = gap_us;
       last_tick_us = now_us;
       ticks_seen = node.stats().ticks;
       if ((ticks_seen & 1023u) == 0u) {  // ~1 Hz

@@ -24,7 +24,8 @@ struct Rcc {
   Reg reserved1[2];
   Reg AHB1ENR, AHB2ENR, AHB3ENR, reserved2, APB1ENR, APB2ENR;
 };
-static_assert(offsetof(Rcc, APB1RSTR) == 0x20 && offsetof(Rcc, AHB1ENR) == 0x30 && offsetof(Rcc, APB1ENR) == 0x40);
+static_assert(offsetof(Rcc, APB1RSTR) == 0x20 && offsetof(Rcc, AHB1ENR) == 0x30 &&
+              offsetof(Rcc, APB1ENR) == 0x40);
 inline Rcc& rcc() { return at<Rcc>(0x40023800u); }
 
 namespace rcc_bits {
@@ -34,7 +35,7 @@ inline constexpr std::uint32_t cr_hsion = 1u << 0, cr_hsirdy = 1u << 1, cr_hseon
 inline constexpr std::uint32_t pllcfgr_src_hse = 1u << 22;
 inline constexpr std::uint32_t cfgr_sw_mask = 3u << 0, cfgr_sw_hsi = 0u, cfgr_sw_pll = 2u;
 inline constexpr std::uint32_t cfgr_sws_mask = 3u << 2, cfgr_sws_pll = 2u << 2;
-inline constexpr std::uint32_t cfgr_hpre_mask = 0xFu << 4;                   // AHB /1 when 0
+inline constexpr std::uint32_t cfgr_hpre_mask = 0xFu << 4;  // AHB /1 when 0
 inline constexpr std::uint32_t cfgr_ppre1_mask = 7u << 10, cfgr_ppre1_div4 = 5u << 10;
 inline constexpr std::uint32_t cfgr_ppre2_mask = 7u << 13, cfgr_ppre2_div2 = 4u << 13;
 inline constexpr std::uint32_t ahb1_gpioa = 1u << 0, ahb1_gpiob = 1u << 1, ahb1_gpiod = 1u << 3;
@@ -105,18 +106,21 @@ static_assert(offsetof(Can, BTR) == 0x1C && offsetof(Can, tx) == 0x180 && offset
 inline Can& can1() { return at<Can>(0x40006400u); }
 
 namespace can_bits {
-inline constexpr std::uint32_t mcr_inrq = 1u << 0, mcr_sleep = 1u << 1, mcr_txfp = 1u << 2, mcr_rflm = 1u << 3,
-                               mcr_nart = 1u << 4, mcr_awum = 1u << 5, mcr_abom = 1u << 6, mcr_reset = 1u << 15;
+inline constexpr std::uint32_t mcr_inrq = 1u << 0, mcr_sleep = 1u << 1, mcr_txfp = 1u << 2,
+                               mcr_rflm = 1u << 3, mcr_nart = 1u << 4, mcr_awum = 1u << 5, mcr_abom = 1u << 6,
+                               mcr_reset = 1u << 15;
 inline constexpr std::uint32_t msr_inak = 1u << 0, msr_slak = 1u << 1, msr_erri = 1u << 2;
-inline constexpr std::uint32_t tsr_rqcp0 = 1u << 0, tsr_txok0 = 1u << 1, tsr_alst0 = 1u << 2, tsr_terr0 = 1u << 3;
+inline constexpr std::uint32_t tsr_rqcp0 = 1u << 0, tsr_txok0 = 1u << 1, tsr_alst0 = 1u << 2,
+                               tsr_terr0 = 1u << 3;
 inline constexpr std::uint32_t tsr_mailbox_stride = 8;  // RQCP1 is bit 8, RQCP2 bit 16
-inline constexpr std::uint32_t tsr_tme0 = 1u << 26;    // TME1, TME2 follow
+inline constexpr std::uint32_t tsr_tme0 = 1u << 26;     // TME1, TME2 follow
 inline constexpr std::uint32_t rfr_fmp_mask = 3u, rfr_full = 1u << 3, rfr_fovr = 1u << 4, rfr_rfom = 1u << 5;
 inline constexpr std::uint32_t ier_tmeie = 1u << 0, ier_fmpie0 = 1u << 1, ier_fovie0 = 1u << 3,
                                ier_ewgie = 1u << 8, ier_epvie = 1u << 9, ier_bofie = 1u << 10,
                                ier_errie = 1u << 15;
 inline constexpr std::uint32_t esr_ewgf = 1u << 0, esr_epvf = 1u << 1, esr_boff = 1u << 2;
-inline constexpr std::uint32_t esr_lec_shift = 4, esr_lec_mask = 7u << 4, esr_tec_shift = 16, esr_rec_shift = 24;
+inline constexpr std::uint32_t esr_lec_shift = 4, esr_lec_mask = 7u << 4, esr_tec_shift = 16,
+                               esr_rec_shift = 24;
 inline constexpr std::uint32_t ir_txrq = 1u << 0, ir_rtr = 1u << 1, ir_ide = 1u << 2, ir_stid_shift = 21;
 inline constexpr std::uint32_t fmr_finit = 1u << 0;
 }  // namespace can_bits
@@ -150,7 +154,9 @@ struct Nvic {
 };
 static_assert(offsetof(Nvic, ICER) == 0x80 && offsetof(Nvic, ISPR) == 0x100 && offsetof(Nvic, ICPR) == 0x180);
 inline Nvic& nvic() { return at<Nvic>(0xE000E100u); }
-inline volatile std::uint8_t& nvic_priority(unsigned irq) { return at<volatile std::uint8_t>(0xE000E400u + irq); }
+inline volatile std::uint8_t& nvic_priority(unsigned irq) {
+  return at<volatile std::uint8_t>(0xE000E400u + irq);
+}
 
 // STM32F405 interrupt numbers (RM0090 table 61) used by this port.
 namespace irq {

@@ -49,5 +49,6 @@ constexpr cortex_m::VectorTable<stm32f4::irq::count> make_vector_table() {
 
 }  // namespace
 
-extern "C" __attribute__((section(".isr_vector"), used)) constinit const cortex_m::VectorTable<stm32f4::irq::count>
-    g_vector_table = make_vector_table();
+extern "C"
+    __attribute__((section(".isr_vector"), used)) constinit const cortex_m::VectorTable<stm32f4::irq::count>
+        g_vector_table = make_vector_table();

@@ -20,21 +20,21 @@ constexpr std::uint8_t kNode = 1;
 
 // The script, in ticks (ms).
 constexpr std::uint32_t kArmAt = 200;
-constexpr std::uint32_t kClimbAt = 300;       // up to 1 m
+constexpr std::uint32_t kClimbAt = 300;  // up to 1 m
 constexpr std::uint32_t kHoverAt = 1700;
 constexpr std::uint32_t kManoeuvreAt = 2500;  // roll and pitch rate sines
 constexpr std::uint32_t kManoeuvreEnd = 3500;
 constexpr std::uint32_t kExpectCatchAt = 3800;
-constexpr std::uint32_t kImpactAt = 4200;     // the pole lands on the plate
-constexpr std::uint32_t kImpactPulse = 8;     // half-sine contact, ms
-constexpr float kImpactPeak_N = 23.6f;        // 0.03 kg at 4 m/s stopped in 8 ms
+constexpr std::uint32_t kImpactAt = 4200;  // the pole lands on the plate
+constexpr std::uint32_t kImpactPulse = 8;  // half-sine contact, ms
+constexpr float kImpactPeak_N = 23.6f;     // 0.03 kg at 4 m/s stopped in 8 ms
 constexpr std::uint32_t kHandledAt = 4300;
-constexpr std::uint32_t kTiltAt = 4800;       // a small roll so the failsafe has to level
-constexpr std::uint32_t kLinkLossAt = 5000;   // setpoints repeat an old sequence from here
+constexpr std::uint32_t kTiltAt = 4800;      // a small roll so the failsafe has to level
+constexpr std::uint32_t kLinkLossAt = 5000;  // setpoints repeat an old sequence from here
 constexpr std::uint32_t kEnd = 9500;
 
-constexpr std::uint32_t kSetpointPeriod = 5;   // 200 Hz
-constexpr std::uint32_t kHeartbeatPeriod = 20; // 50 Hz
+constexpr std::uint32_t kSetpointPeriod = 5;    // 200 Hz
+constexpr std::uint32_t kHeartbeatPeriod = 20;  // 50 Hz
 
 struct Ground {
   std::uint8_t setpoint_seq = 0;
@@ -73,7 +73,8 @@ void script_setpoint(std::uint32_t tick, const SyntheticVehicle& plant, Vec3& ra
   if (tick < kClimbAt) return;
   constexpr float kHeight_m = 1.0f;
   const float tilt_cos = plant.tilt_cos() > 0.5f ? plant.tilt_cos() : 0.5f;
-  thrust = (kGravity_mps2 + 4.0f * (kHeight_m - plant.position_m()[2]) - 3.0f * plant.velocity_mps()[2]) / tilt_cos;
+  thrust = (kGravity_mps2 + 4.0f * (kHeight_m - plant.position_m()[2]) - 3.0f * plant.velocity_mps()[2]) /
+           tilt_cos;
   const Vec3 up = plant.up_in_body();
   rate = Vec3{-3.0f * up[1], 3.0f * up[0], 0.0f};  // level
   if (tick >= kManoeuvreAt && tick < kManoeuvreEnd) {
@@ -123,7 +124,8 @@ Result run(TickProbe* probe) {
     // The pole: a half-sine contact pulse, then its weight rests on the plate.
     Vec3 external{};
     if (tick >= kImpactAt && tick < kImpactAt + kImpactPulse) {
-      const float phase = 3.14159265f * static_cast<float>(tick - kImpactAt) / static_cast<float>(kImpactPulse);
+      const float phase =
+          3.14159265f * static_cast<float>(tick - kImpactAt) / static_cast<float>(kImpactPulse);
       external[2] = -kImpactPeak_N * std::sin(phase);
     } else if (tick >= kImpactAt + kImpactPulse && tick < kLinkLossAt) {
       external[2] = -0.03f * kGravity_mps2;
@@ -159,7 +161,8 @@ Result run(TickProbe* probe) {
           catch_reported = true;
           r.impact_detection_latency_ms = static_cast<float>(tick - kImpactAt);
           r.impact_timestamp_error_ms =
-              (static_cast<float>(m.impact.vehicle_time_us) - static_cast<float>(kImpactAt) * 1000.0f) / 1000.0f;
+              (static_cast<float>(m.impact.vehicle_time_us) - static_cast<float>(kImpactAt) * 1000.0f) /
+              1000.0f;
         } else if (m.impact.final) {
           catch_confirmed = true;
         }
@@ -192,23 +195,30 @@ Result run(TickProbe* probe) {
 
   if (manoeuvre_samples > 0)
     r.manoeuvre_rate_error_rms_radps = static_cast<float>(std::sqrt(manoeuvre_sq_sum / manoeuvre_samples));
-  if (hover_tick != 0) r.failsafe_hover_after_ms = static_cast<float>(hover_tick - ground.last_fresh_setpoint_tick);
-  if (descent_tick != 0 && hover_tick != 0) r.descent_after_ms = static_cast<float>(descent_tick - hover_tick);
+  if (hover_tick != 0)
+    r.failsafe_hover_after_ms = static_cast<float>(hover_tick - ground.last_fresh_setpoint_tick);
+  if (descent_tick != 0 && hover_tick != 0)
+    r.descent_after_ms = static_cast<float>(descent_tick - hover_tick);
   if (off_tick != 0) r.motors_off_after_landing_ms = static_cast<float>(off_tick - floor_tick);
 
   // The checks, in the order the scenario meets them.
   if (!arm_acked) r.failure = "arming was not accepted";
   else if (r.hover_rate_error_max_radps > 0.05f) r.failure = "hover: body-rate error above 0.05 rad/s";
-  else if (r.manoeuvre_rate_error_rms_radps > 0.3f) r.failure = "manoeuvre: rate tracking rms above 0.3 rad/s";
+  else if (r.manoeuvre_rate_error_rms_radps > 0.3f)
+    r.failure = "manoeuvre: rate tracking rms above 0.3 rad/s";
   else if (!catch_acked) r.failure = "expect-catch was not accepted";
   else if (!catch_reported) r.failure = "impact: no catch reported";
   else if (misclassified) r.failure = "impact: reported as something other than a catch";
   else if (!catch_confirmed) r.failure = "impact: no final report of the catch";
   else if (r.impact_detection_latency_ms > 5.0f) r.failure = "impact: detected later than 5 ms";
-  else if (std::fabs(r.impact_timestamp_error_ms) > 1.0f) r.failure = "impact: timestamp off by more than 1 ms";
-  else if (hover_tick == 0 || r.failsafe_hover_after_ms > 25.0f) r.failure = "link loss: no levelled hover within 25 ms";
-  else if (descent_tick == 0 || std::fabs(r.descent_after_ms - 500.0f) > 2.0f) r.failure = "link loss: descent not 0.5 s after hover";
-  else if (tilt_cos_at_descent < 0.9994f) r.failure = "link loss: not level (within 2 degrees) when descending";
+  else if (std::fabs(r.impact_timestamp_error_ms) > 1.0f)
+    r.failure = "impact: timestamp off by more than 1 ms";
+  else if (hover_tick == 0 || r.failsafe_hover_after_ms > 25.0f)
+    r.failure = "link loss: no levelled hover within 25 ms";
+  else if (descent_tick == 0 || std::fabs(r.descent_after_ms - 500.0f) > 2.0f)
+    r.failure = "link loss: descent not 0.5 s after hover";
+  else if (tilt_cos_at_descent < 0.9994f)
+    r.failure = "link loss: not level (within 2 degrees) when descending";
   else if (off_tick == 0) r.failure = "link loss: motors still on after reaching the ground";
   else if (vehicle.mode() != Mode::landed) r.failure = "link loss: not landed at the end";
   r.pass = r.failure == nullptr;

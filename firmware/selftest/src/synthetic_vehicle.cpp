@@ -16,10 +16,13 @@ Vec3 rotate(const Quaternion& q, const Vec3& v) {
               2 * (x * y + w * z) * v[0] + (1 - 2 * (x * x + z * z)) * v[1] + 2 * (y * z - w * x) * v[2],
               2 * (x * z - w * y) * v[0] + 2 * (y * z + w * x) * v[1] + (1 - 2 * (x * x + y * y)) * v[2]};
 }
-Vec3 rotate_inverse(const Quaternion& q, const Vec3& v) { return rotate(Quaternion{q[0], -q[1], -q[2], -q[3]}, v); }
+Vec3 rotate_inverse(const Quaternion& q, const Vec3& v) {
+  return rotate(Quaternion{q[0], -q[1], -q[2], -q[3]}, v);
+}
 }  // namespace
 
-SyntheticVehicle::SyntheticVehicle(const AirframeConfig& airframe) : airframe_(airframe), geometry_(airframe) {
+SyntheticVehicle::SyntheticVehicle(const AirframeConfig& airframe)
+    : airframe_(airframe), geometry_(airframe) {
   p_[2] = -airframe.mass_kg * kGravity_mps2 / kFloorStiffness_Npm;  // at rest on its legs
 }
 
@@ -31,16 +34,19 @@ float SyntheticVehicle::noise() {
 void SyntheticVehicle::step(const Motors& command, const Vec3& external_force_N, float dt_s) {
   // Motors: first-order lag towards the commanded thrust.
   const float alpha = dt_s / (airframe_.motor_time_constant_s + dt_s);
-  for (int i = 0; i < 4; ++i) thrust_N_[i] += alpha * (command[i] * airframe_.motor_thrust_max_N - thrust_N_[i]);
+  for (int i = 0; i < 4; ++i)
+    thrust_N_[i] += alpha * (command[i] * airframe_.motor_thrust_max_N - thrust_N_[i]);
   const MixerInput effect = geometry_.effect(thrust_N_);
 
   // Rotation: J w' = tau - w x J w, then the quaternion kinematics q' = q (0, w) / 2.
   const float* J = airframe_.inertia_kgm2;
   const Vec3 Jw{J[0] * w_[0], J[1] * w_[1], J[2] * w_[2]};
-  const Vec3 gyroscopic{w_[1] * Jw[2] - w_[2] * Jw[1], w_[2] * Jw[0] - w_[0] * Jw[2], w_[0] * Jw[1] - w_[1] * Jw[0]};
+  const Vec3 gyroscopic{w_[1] * Jw[2] - w_[2] * Jw[1], w_[2] * Jw[0] - w_[0] * Jw[2],
+                        w_[0] * Jw[1] - w_[1] * Jw[0]};
   const float m = airframe_.mass_kg;
   if (!on_floor_) {
-    for (int i = 0; i < 3; ++i) w_[i] += dt_s * (effect.torque_Nm[i] + disturbance_Nm_[i] - gyroscopic[i]) / J[i];
+    for (int i = 0; i < 3; ++i)
+      w_[i] += dt_s * (effect.torque_Nm[i] + disturbance_Nm_[i] - gyroscopic[i]) / J[i];
   } else {
     w_ = Vec3{};  // standing on its legs
   }

@@ -53,7 +53,12 @@ enum class Type : std::uint8_t {
   telemetry_status = 0x13,
 };
 
-enum class Direction : std::uint8_t { ground_to_vehicle, vehicle_to_ground, plant_to_vehicle, vehicle_to_plant };
+enum class Direction : std::uint8_t {
+  ground_to_vehicle,
+  vehicle_to_ground,
+  plant_to_vehicle,
+  vehicle_to_plant
+};
 
 struct TypeInfo {
   Type type;
@@ -172,7 +177,13 @@ enum class FailsafeReason : std::uint8_t {
 };
 inline constexpr std::uint8_t kFailsafeReasonMax = 6;
 
-enum class KillReason : std::uint8_t { operator_request = 0, geofence = 1, estimator = 2, crash = 3, other = 4 };
+enum class KillReason : std::uint8_t {
+  operator_request = 0,
+  geofence = 1,
+  estimator = 2,
+  crash = 3,
+  other = 4
+};
 inline constexpr std::uint8_t kKillReasonMax = 4;
 
 enum class ImpactClass : std::uint8_t { catch_impact = 1, crash = 2, unexpected_impact = 3 };
@@ -318,9 +329,7 @@ inline void put_u32(std::uint8_t* p, std::uint32_t v) {
   put_u16(p, static_cast<std::uint16_t>(v));
   put_u16(p + 2, static_cast<std::uint16_t>(v >> 16));
 }
-inline std::uint16_t get_u16(const std::uint8_t* p) {
-  return static_cast<std::uint16_t>(p[0] | (p[1] << 8));
-}
+inline std::uint16_t get_u16(const std::uint8_t* p) { return static_cast<std::uint16_t>(p[0] | (p[1] << 8)); }
 inline std::uint32_t get_u32(const std::uint8_t* p) {
   return static_cast<std::uint32_t>(get_u16(p)) | (static_cast<std::uint32_t>(get_u16(p + 2)) << 16);
 }
@@ -414,7 +423,8 @@ inline bool encode(const HilMotors& m, std::uint8_t node, Frame& out) {
   Frame f = detail::start(Type::hil_motors, node);
   std::uint64_t bits = 0;
   for (int i = 0; i < 4; ++i) {
-    const auto c = static_cast<std::uint64_t>(detail::quantise(m.command[i], 1.0f / kMotorMax12, 0, kMotorMax12));
+    const auto c =
+        static_cast<std::uint64_t>(detail::quantise(m.command[i], 1.0f / kMotorMax12, 0, kMotorMax12));
     bits |= c << (12 * i);
   }
   for (int i = 0; i < 6; ++i) f.data[i] = static_cast<std::uint8_t>(bits >> (8 * i));
@@ -429,7 +439,8 @@ inline bool encode(const Impact& m, std::uint8_t node, Frame& out) {
     return false;
   Frame f = detail::start(Type::impact, node);
   detail::put_u32(&f.data[0], m.vehicle_time_us);
-  detail::put_u16(&f.data[4], static_cast<std::uint16_t>(detail::quantise(m.peak_mps2, kImpactPeakLsb_mps2, 0, 65535)));
+  detail::put_u16(&f.data[4],
+                  static_cast<std::uint16_t>(detail::quantise(m.peak_mps2, kImpactPeakLsb_mps2, 0, 65535)));
   f.data[6] = static_cast<std::uint8_t>(cls | (m.final ? kImpactFinalBit : 0u));
   f.data[7] = m.count;
   out = f;
@@ -471,7 +482,8 @@ inline bool encode(const VehicleHeartbeat& m, std::uint8_t node, Frame& out) {
   detail::put_u32(&f.data[0], m.uptime_ms);
   f.data[4] = static_cast<std::uint8_t>(m.mode);
   f.data[5] = static_cast<std::uint8_t>(m.flags & kVehicleFlagsMask);
-  f.data[6] = static_cast<std::uint8_t>((m.last_setpoint_seq & 0x0Fu) | (static_cast<std::uint8_t>(m.failsafe) << 4));
+  f.data[6] =
+      static_cast<std::uint8_t>((m.last_setpoint_seq & 0x0Fu) | (static_cast<std::uint8_t>(m.failsafe) << 4));
   f.data[7] = m.rx_errors;
   out = f;
   return true;
@@ -517,8 +529,8 @@ inline bool encode(const TelemetryMotors& m, std::uint8_t node, Frame& out) {
   if (!valid_node(node) || !detail::all_finite(m.command)) return false;
   Frame f = detail::start(Type::telemetry_motors, node);
   for (int i = 0; i < 4; ++i)
-    detail::put_u16(&f.data[2 * i],
-                    static_cast<std::uint16_t>(detail::quantise(m.command[i], 1.0f / kMotorMax16, 0, kMotorMax16)));
+    detail::put_u16(&f.data[2 * i], static_cast<std::uint16_t>(
+                                        detail::quantise(m.command[i], 1.0f / kMotorMax16, 0, kMotorMax16)));
   out = f;
   return true;
 }
@@ -557,7 +569,8 @@ inline DecodeStatus decode(const Frame& f, Message& out) {
       break;
     case Type::command:
       if (d[0] == 0 || d[0] > kCommandCodeMax) return DecodeStatus::out_of_range;
-      m.command = Command{static_cast<CommandCode>(d[0]), d[1], get_u16(d + 2), static_cast<std::int32_t>(get_u32(d + 4))};
+      m.command = Command{static_cast<CommandCode>(d[0]), d[1], get_u16(d + 2),
+                          static_cast<std::int32_t>(get_u32(d + 4))};
       break;
     case Type::rate_thrust: {
       RateThrust r{};
@@ -601,7 +614,8 @@ inline DecodeStatus decode(const Frame& f, Message& out) {
       break;
     }
     case Type::command_ack:
-      if (d[1] == 0 || d[1] > kCommandCodeMax || d[2] > kAckResultMax || d[3] > kModeMax || d[4] > kRefuseReasonMax)
+      if (d[1] == 0 || d[1] > kCommandCodeMax || d[2] > kAckResultMax || d[3] > kModeMax ||
+          d[4] > kRefuseReasonMax)
         return DecodeStatus::out_of_range;
       m.command_ack = CommandAck{d[0], static_cast<CommandCode>(d[1]), static_cast<AckResult>(d[2]),
                                  static_cast<Mode>(d[3]), static_cast<RefuseReason>(d[4])};
@@ -613,16 +627,15 @@ inline DecodeStatus decode(const Frame& f, Message& out) {
     case Type::vehicle_heartbeat:
       if (d[4] > kModeMax || (d[5] & ~kVehicleFlagsMask) != 0 || (d[6] >> 4) > kFailsafeReasonMax)
         return DecodeStatus::out_of_range;
-      m.vehicle_heartbeat = VehicleHeartbeat{get_u32(d), static_cast<Mode>(d[4]), d[5],
+      m.vehicle_heartbeat = VehicleHeartbeat{get_u32(d),
+                                             static_cast<Mode>(d[4]),
+                                             d[5],
                                              static_cast<std::uint8_t>(d[6] & 0x0Fu),
-                                             static_cast<FailsafeReason>(d[6] >> 4), d[7]};
+                                             static_cast<FailsafeReason>(d[6] >> 4),
+                                             d[7]};
       break;
-    case Type::timesync_request:
-      m.timesync_request = TimesyncRequest{get_u32(d), d[4]};
-      break;
-    case Type::timesync_reply:
-      m.timesync_reply = TimesyncReply{get_u32(d), get_u32(d + 4)};
-      break;
+    case Type::timesync_request: m.timesync_request = TimesyncRequest{get_u32(d), d[4]}; break;
+    case Type::timesync_reply: m.timesync_reply = TimesyncReply{get_u32(d), get_u32(d + 4)}; break;
     case Type::telemetry_rates: {
       TelemetryRates r{};
       for (int i = 0; i < 3; ++i) {

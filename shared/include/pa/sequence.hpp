@@ -18,9 +18,7 @@ struct SequenceSpace {
   static constexpr std::uint32_t next(std::uint32_t s) { return (s + 1u) & mask; }
 
   // Forward distance from `from` to `to`, modulo 2^Bits.
-  static constexpr std::uint32_t distance(std::uint32_t from, std::uint32_t to) {
-    return (to - from) & mask;
-  }
+  static constexpr std::uint32_t distance(std::uint32_t from, std::uint32_t to) { return (to - from) & mask; }
 
   // `candidate` is newer than `reference` when it lies less than half the space ahead.
   // Equal numbers are not newer (a repeated frame), nor is anything half or more ahead

@@ -17,8 +17,7 @@ void BM_CatchPointPrediction(benchmark::State& state) {
   gs::model::PoleState pole = launch;
   for (auto _ : state) {
     benchmark::DoNotOptimize(pole);
-    const gs::planning::CatchPointPrediction p =
-        gs::planning::predictCatchPoint(pole, height, params);
+    const gs::planning::CatchPointPrediction p = gs::planning::predictCatchPoint(pole, height, params);
     benchmark::DoNotOptimize(p);
   }
   state.counters["flight_s"] = gs::planning::predictCatchPoint(launch, height, params).t_s;
@@ -28,8 +27,7 @@ BENCHMARK(BM_CatchPointPrediction)->Unit(benchmark::kMicrosecond);
 // One evaluation of f_p (20) with drag, the predictor's inner cost (4 per RK4 step).
 void BM_PoleFreeFlightDerivative(benchmark::State& state) {
   const gs::model::PoleParams params;
-  gs::model::PoleState pole =
-      gs::planning::poleStateAtLaunch(gs::planning::fig5LaunchState(), params);
+  gs::model::PoleState pole = gs::planning::poleStateAtLaunch(gs::planning::fig5LaunchState(), params);
   for (auto _ : state) {
     benchmark::DoNotOptimize(pole);
     benchmark::DoNotOptimize(gs::model::poleFreeFlightDerivative(pole, params));

@@ -35,8 +35,7 @@ void BM_TvLqrHover1800ms(benchmark::State& state) {
   const Eigen::MatrixXd Q = w.state.asDiagonal();
   const Eigen::MatrixXd R = w.input.asDiagonal();
   for (auto _ : state) {
-    benchmark::DoNotOptimize(
-        gs::control::solveTvLqr([&](double) { return sys; }, Q, R, Q, 0.0, 1.8));
+    benchmark::DoNotOptimize(gs::control::solveTvLqr([&](double) { return sys; }, Q, R, Q, 0.0, 1.8));
   }
 }
 BENCHMARK(BM_TvLqrHover1800ms)->Unit(benchmark::kMillisecond);

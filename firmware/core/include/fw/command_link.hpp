@@ -65,7 +65,8 @@ class CommandLink {
   // A setpoint with a new sequence number arrived within the stale timeout. A stream that
   // repeats an old sequence does not refresh this, however often it arrives.
   bool setpoint_fresh(std::uint32_t now_us) const {
-    return has_setpoint_ && pa::elapsed_us(now_us, setpoint_us_) <= static_cast<std::int32_t>(setpoint_timeout_us_);
+    return has_setpoint_ &&
+           pa::elapsed_us(now_us, setpoint_us_) <= static_cast<std::int32_t>(setpoint_timeout_us_);
   }
   // The latest accepted setpoint (zero thrust and rates before the first one).
   const pa::proto::RateThrust& setpoint() const { return setpoint_; }
@@ -73,7 +74,8 @@ class CommandLink {
 
   // Ground heartbeats with advancing sequence numbers and the bound session token.
   bool heartbeat_live(std::uint32_t now_us) const {
-    return has_heartbeat_ && pa::elapsed_us(now_us, heartbeat_us_) <= static_cast<std::int32_t>(heartbeat_timeout_us_);
+    return has_heartbeat_ &&
+           pa::elapsed_us(now_us, heartbeat_us_) <= static_cast<std::int32_t>(heartbeat_timeout_us_);
   }
   // The ground station's session: adopted from heartbeats while `may_rebind` is true
   // (the vehicle is disarmed), fixed otherwise so a second ground station cannot take over.

@@ -10,13 +10,13 @@
 namespace fw {
 
 struct AirframeConfig {
-  float mass_kg = 0.52f;                              // vehicle with plate and battery
+  float mass_kg = 0.52f;                                // vehicle with plate and battery
   float inertia_kgm2[3] = {2.5e-3f, 2.5e-3f, 4.5e-3f};  // principal, about x, y, z
-  float arm_length_m = 0.17f;                         // centre to each motor
-  float yaw_moment_per_thrust_m = 0.016f;             // rotor drag torque / thrust
-  float motor_thrust_min_N = 0.08f;                   // idle: motors keep spinning when armed
+  float arm_length_m = 0.17f;                           // centre to each motor
+  float yaw_moment_per_thrust_m = 0.016f;               // rotor drag torque / thrust
+  float motor_thrust_min_N = 0.08f;                     // idle: motors keep spinning when armed
   float motor_thrust_max_N = 3.2f;
-  float motor_time_constant_s = 0.03f;                // first-order lag of thrust
+  float motor_time_constant_s = 0.03f;  // first-order lag of thrust
 };
 
 struct RateControllerConfig {
@@ -38,57 +38,61 @@ struct ImpactDetectorConfig {
   // wrong, the floor taking the weight at take-off - never starts one; only a change of
   // trigger_mps2 within reference_delay_samples does. (A slow bias estimate would tolerate drifts
   // of trigger / time constant, about 30 m/s^3; this tolerates trigger / delay, about 1500 m/s^3.)
-  std::uint8_t reference_delay_samples = 4;  // 4 ms at 1 kHz, 1..8; an impact's rise to the trigger must fit in it
-  float onset_mps2 = 1.0f;          // the rising edge starts where the residual leaves this band (20 sigma of IMU noise)
-  float trigger_mps2 = 6.0f;        // |residual change| above this starts an event
-  std::uint8_t confirm_samples = 2; // consecutive samples above trigger to confirm, 1..7
-  float release_mps2 = 3.0f;        // the event ends when the residual change falls back below this
+  // 4 ms at 1 kHz, 1..8; an impact's rise to the trigger must fit in it
+  std::uint8_t reference_delay_samples = 4;
+  // the rising edge starts where the residual leaves this band (20 sigma of IMU noise)
+  float onset_mps2 = 1.0f;
+  float trigger_mps2 = 6.0f;         // |residual change| above this starts an event
+  std::uint8_t confirm_samples = 2;  // consecutive samples above trigger to confirm, 1..7
+  float release_mps2 = 3.0f;         // the event ends when the residual change falls back below this
   // A 0.03 kg pole on the absorber pushes along -z and turns the vehicle by at most a few
   // rad/s; caught at the optimal catching instant, falling at ~5 m/s onto the plate, it peaked
   // at 60.3 m/s^2 on the HIL plant (the closed-loop series, `hil fly`); a vehicle hitting the
   // floor or an obstacle exceeds one of these.
-  float crash_peak_mps2 = 80.0f;    // peaks above this are crashes, in any direction ...
+  float crash_peak_mps2 = 80.0f;  // peaks above this are crashes, in any direction ...
   // ... except the floor pushing up the body z-axis while the vehicle descends to land (the
   // failsafe descent): stiff feet touching down at the descent rate peak near 100 m/s^2, with a
   // lateral part from the floor's friction on drifting feet (91 and 44 m/s^2 at 0.33 m/s on the
   // HIL plant, tests/hil/sil_firmware_vehicle_test.cpp), so a touchdown is a crash only above
   // this peak or by crash_rate_radps (tipping over).
   float touchdown_crash_peak_mps2 = 250.0f;
-  float crash_lateral_mps2 = 25.0f; // lateral specific force change above this is a crash
-  float crash_rate_radps = 15.0f;   // body-rate change during the event above this is a crash
-  float catch_axis_fraction = 0.7f; // a catch pushes down: -z component >= this fraction of the peak (45 deg)
+  float crash_lateral_mps2 = 25.0f;  // lateral specific force change above this is a crash
+  float crash_rate_radps = 15.0f;    // body-rate change during the event above this is a crash
+  float catch_axis_fraction =
+      0.7f;  // a catch pushes down: -z component >= this fraction of the peak (45 deg)
   std::uint32_t event_window_us = 20000;  // an event is classified at the latest this long after its onset
-  std::uint32_t refractory_us = 100000;   // after an event, only crash-level changes start a new one for this long
-  float dt_min_s = 0.0002f;               // the motor-lag model's step is clamped into [min, max]
+  // after an event, only crash-level changes start a new one for this long
+  std::uint32_t refractory_us = 100000;
+  float dt_min_s = 0.0002f;  // the motor-lag model's step is clamped into [min, max]
   float dt_max_s = 0.02f;
 };
 
 struct CatchReactionConfig {
   // What the vehicle does on its own after a catch, until the ground station says
   // CATCH_HANDLED or the reaction times out.
-  float thrust_add_mps2 = 0.6f;       // about the pole's weight m_p g / m_vehicle
-  bool hold_level = false;            // true: replace the rate setpoints by a levelling law
-  std::uint32_t duration_us = 300000; // the reaction ends by itself after this
+  float thrust_add_mps2 = 0.6f;        // about the pole's weight m_p g / m_vehicle
+  bool hold_level = false;             // true: replace the rate setpoints by a levelling law
+  std::uint32_t duration_us = 300000;  // the reaction ends by itself after this
 };
 
 struct SupervisorConfig {
-  std::uint32_t setpoint_timeout_us = 20000;   // stale stream -> levelled hover (within 25 ms)
-  std::uint32_t heartbeat_timeout_us = 100000; // lost ground heartbeat -> failsafe
-  std::uint32_t imu_timeout_us = 5000;         // IMU unhealthy this long -> IMU lost (motors off in the air)
+  std::uint32_t setpoint_timeout_us = 20000;    // stale stream -> levelled hover (within 25 ms)
+  std::uint32_t heartbeat_timeout_us = 100000;  // lost ground heartbeat -> failsafe
+  std::uint32_t imu_timeout_us = 5000;          // IMU unhealthy this long -> IMU lost (motors off in the air)
   std::uint32_t hover_before_descent_us = 500000;  // failsafe hover lasts 0.5 s, then descent
-  std::uint32_t descent_max_us = 15000000;     // give up waiting for ground contact after this
-  float takeoff_thrust_mps2 = 2.0f;            // a fresh setpoint above this means flying
-  float arming_thrust_max_mps2 = 0.0f;         // arming requires the setpoint at or below this
-  float descent_rate_mps = 0.5f;               // controlled descent speed
-  float level_gain_per_s = 6.0f;               // levelling law: rate = -gain * tilt
-  float ground_contact_mps2 = 1.2f;            // extra specific force meaning the floor holds us
-                                               // (below the descent law's 2 m/s^2 at rest)
-  std::uint32_t ground_contact_us = 300000;    // ... sustained this long
+  std::uint32_t descent_max_us = 15000000;         // give up waiting for ground contact after this
+  float takeoff_thrust_mps2 = 2.0f;                // a fresh setpoint above this means flying
+  float arming_thrust_max_mps2 = 0.0f;             // arming requires the setpoint at or below this
+  float descent_rate_mps = 0.5f;                   // controlled descent speed
+  float level_gain_per_s = 6.0f;                   // levelling law: rate = -gain * tilt
+  float ground_contact_mps2 = 1.2f;                // extra specific force meaning the floor holds us
+                                                   // (below the descent law's 2 m/s^2 at rest)
+  std::uint32_t ground_contact_us = 300000;        // ... sustained this long
 };
 
 struct LinkConfig {
-  std::uint8_t node = 1;                        // this vehicle's node id, 1..14
-  std::uint32_t heartbeat_period_us = 20000;    // VEHICLE_HEARTBEAT at 50 Hz
+  std::uint8_t node = 1;                      // this vehicle's node id, 1..14
+  std::uint32_t heartbeat_period_us = 20000;  // VEHICLE_HEARTBEAT at 50 Hz
   std::uint32_t telemetry_rates_period_us = 5000;
   std::uint32_t telemetry_attitude_period_us = 10000;
   std::uint32_t telemetry_motors_period_us = 10000;

@@ -8,7 +8,9 @@
 
 namespace fw {
 
-[[gnu::always_inline]] inline float clampf(float v, float lo, float hi) { return v < lo ? lo : (v > hi ? hi : v); }
+[[gnu::always_inline]] inline float clampf(float v, float lo, float hi) {
+  return v < lo ? lo : (v > hi ? hi : v);
+}
 
 // clampf(v, -limit, limit), with the usual case (already inside) decided by one comparison.
 [[gnu::always_inline]] inline float clamp_symmetric(float v, float limit) {
@@ -21,7 +23,9 @@ namespace fw {
 // value on the Cortex-M4). This needs IEEE semantics: never build the firmware with
 // -ffinite-math-only (or -ffast-math), which would fold x * 0 to 0.
 [[gnu::always_inline]] inline float nonfinite_marker(float v) { return v * 0.0f; }
-[[gnu::always_inline]] inline float nonfinite_marker(const Vec3& v) { return v[0] * 0.0f + v[1] * 0.0f + v[2] * 0.0f; }
+[[gnu::always_inline]] inline float nonfinite_marker(const Vec3& v) {
+  return v[0] * 0.0f + v[1] * 0.0f + v[2] * 0.0f;
+}
 
 // |v[i]| <= limit for every component; false for NaN and the infinities, so it is also the
 // finiteness check. A sum inside the limit decides the usual case with one comparison (each

@@ -111,27 +111,28 @@ class ImpactDetector {
   };
   // What an event has shown so far, against the frozen reference.
   struct Accumulator {
-    float peak_mps2 = 0.0f;       // largest sampled |q - reference|
+    float peak_mps2 = 0.0f;         // largest sampled |q - reference|
     float before_peak_mps2 = 0.0f;  // the sample before the largest
     float after_peak_mps2 = 0.0f;   // the sample after it, once seen
     bool has_after = false;
-    float peak_z_mps2 = 0.0f;     // signed z change at the largest sample
+    float peak_z_mps2 = 0.0f;  // signed z change at the largest sample
     float lateral_max_mps2 = 0.0f;
     float rate_change_max_radps = 0.0f;
-    float last_mps2 = 0.0f;       // |q - reference| of the latest sample
+    float last_mps2 = 0.0f;  // |q - reference| of the latest sample
   };
   // The rising edge so far: the latest sample inside the onset band and the first two after it.
   struct RisingEdge {
-    std::uint32_t quiet_us = 0;        // the latest sample with |q - reference| < onset_mps2
-    std::uint8_t count = 0;            // samples after it (counted up to 2), the first two kept:
+    std::uint32_t quiet_us = 0;  // the latest sample with |q - reference| < onset_mps2
+    std::uint8_t count = 0;      // samples after it (counted up to 2), the first two kept:
     std::uint32_t first_us = 0;
-    float first_mps2 = 0.0f;           // |q - reference|
+    float first_mps2 = 0.0f;  // |q - reference|
     std::uint32_t second_us = 0;
     float second_mps2 = 0.0f;
   };
 
   const Sample& history(std::size_t samples_ago) const;
-  static float add(Accumulator& acc, const Sample& s, const Sample& reference);  // returns |q - reference| of s
+  // returns |q - reference| of s
+  static float add(Accumulator& acc, const Sample& s, const Sample& reference);
   void begin_event(std::size_t delay);  // the reference delay samples ago and the samples since
   // add() the samples from oldest_age to the latest, following the rising edge.
   void accumulate(std::size_t oldest_age, const Sample& reference, Accumulator& acc, RisingEdge& edge) const;
@@ -145,14 +146,14 @@ class ImpactDetector {
 
   ImpactDetectorConfig config_;
   float motor_time_constant_s_;
-  float trigger2_;        // the squared levels triggered() compares with
+  float trigger2_;  // the squared levels triggered() compares with
   float crash_peak2_;
   float crash_lateral2_;
 
   bool started_ = false;
   std::uint32_t last_t_us_ = 0;
   float expected_mps2_ = 0.0f;
-  bool has_lag_gain_ = false;       // the motor-lag step's gain for a step of lag_gain_step_us_
+  bool has_lag_gain_ = false;  // the motor-lag step's gain for a step of lag_gain_step_us_
   std::int32_t lag_gain_step_us_ = 0;
   float lag_gain_ = 0.0f;
   std::array<Sample, kHistory> history_{};

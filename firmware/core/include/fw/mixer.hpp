@@ -38,10 +38,10 @@ struct MixerInput {
 };
 
 struct MixerOutput {
-  Motors thrust_N{};  // per motor, always within [motor_thrust_min_N, motor_thrust_max_N]
-  Motors command{};   // thrust_N / motor_thrust_max_N: normalised, linear in thrust
-  std::uint8_t saturation = 0;  // fw::saturation bits: what could not be allocated, by direction
-  Vec3 torque_unallocated_Nm{};  // requested minus achieved torque
+  Motors thrust_N{};                  // per motor, always within [motor_thrust_min_N, motor_thrust_max_N]
+  Motors command{};                   // thrust_N / motor_thrust_max_N: normalised, linear in thrust
+  std::uint8_t saturation = 0;        // fw::saturation bits: what could not be allocated, by direction
+  Vec3 torque_unallocated_Nm{};       // requested minus achieved torque
   float thrust_unallocated_N = 0.0f;  // requested minus achieved collective thrust
 };
 
@@ -76,10 +76,10 @@ class Mixer {
   MixerOutput rejected(float motor_thrust_N) const;
 
   bool valid_ = false;
-  float half_span_m_ = 0.0f;      // a: lever arm of each motor about x and y
-  float yaw_moment_m_ = 0.0f;     // k
-  float inv_4a_per_m_ = 0.0f;     // 1 / (4 a)
-  float inv_4k_per_m_ = 0.0f;     // 1 / (4 k)
+  float half_span_m_ = 0.0f;   // a: lever arm of each motor about x and y
+  float yaw_moment_m_ = 0.0f;  // k
+  float inv_4a_per_m_ = 0.0f;  // 1 / (4 a)
+  float inv_4k_per_m_ = 0.0f;  // 1 / (4 k)
   float thrust_min_N_ = 0.0f;
   float thrust_max_N_ = 0.0f;
 };

@@ -43,12 +43,12 @@ namespace fw {
 // What the caller computes once per tick.
 struct SupervisorInputs {
   std::uint32_t now_us = 0;
-  bool heartbeat_live = false;       // ground heartbeats arriving within the timeout
-  bool setpoint_fresh = false;       // a new-sequence setpoint within setpoint_timeout_us
-  float setpoint_thrust_mps2 = 0.0f; // the latest accepted collective thrust setpoint
-  bool imu_ok = false;               // this tick's IMU sample is healthy
-  bool on_ground = false;            // the landing detector: the floor carries the vehicle
-  bool crash = false;                // the impact detector reported a crash this tick
+  bool heartbeat_live = false;        // ground heartbeats arriving within the timeout
+  bool setpoint_fresh = false;        // a new-sequence setpoint within setpoint_timeout_us
+  float setpoint_thrust_mps2 = 0.0f;  // the latest accepted collective thrust setpoint
+  bool imu_ok = false;                // this tick's IMU sample is healthy
+  bool on_ground = false;             // the landing detector: the floor carries the vehicle
+  bool crash = false;                 // the impact detector reported a crash this tick
 };
 
 // What to fly. The failsafe actions are ordered by severity (PX4 style): automatic
@@ -79,8 +79,9 @@ constexpr Action action_for(pa::proto::Mode mode) {
 namespace condition {
 inline constexpr std::uint16_t heartbeat_live = 1u << 0;
 inline constexpr std::uint16_t setpoint_fresh = 1u << 1;
-inline constexpr std::uint16_t takeoff_thrust = 1u << 2;   // the setpoint is fresh and above takeoff_thrust_mps2
-inline constexpr std::uint16_t imu_lost = 1u << 3;         // IMU unhealthy for imu_timeout_us
+// the setpoint is fresh and above takeoff_thrust_mps2
+inline constexpr std::uint16_t takeoff_thrust = 1u << 2;
+inline constexpr std::uint16_t imu_lost = 1u << 3;  // IMU unhealthy for imu_timeout_us
 inline constexpr std::uint16_t on_ground = 1u << 4;
 inline constexpr std::uint16_t crash = 1u << 5;
 inline constexpr std::uint16_t hover_timeout = 1u << 6;    // time in mode >= hover_before_descent_us
@@ -103,27 +104,45 @@ struct SupervisorTransition {
 // link, recovery, ground contact and timers.
 inline constexpr std::array<SupervisorTransition, 18> kSupervisorTransitions{{
     // armed: on the ground, motors idle, waiting for a take-off setpoint
-    {pa::proto::Mode::armed, condition::crash, 0, pa::proto::Mode::killed, pa::proto::FailsafeReason::crash, false},
-    {pa::proto::Mode::armed, condition::imu_lost, 0, pa::proto::Mode::disarmed, pa::proto::FailsafeReason::imu_lost, false},
-    {pa::proto::Mode::armed, 0, condition::heartbeat_live, pa::proto::Mode::disarmed, pa::proto::FailsafeReason::heartbeat_lost, false},
-    {pa::proto::Mode::armed, condition::setpoint_fresh | condition::takeoff_thrust, 0, pa::proto::Mode::flying, pa::proto::FailsafeReason::none, false},
+    {pa::proto::Mode::armed, condition::crash, 0, pa::proto::Mode::killed, pa::proto::FailsafeReason::crash,
+     false},
+    {pa::proto::Mode::armed, condition::imu_lost, 0, pa::proto::Mode::disarmed,
+     pa::proto::FailsafeReason::imu_lost, false},
+    {pa::proto::Mode::armed, 0, condition::heartbeat_live, pa::proto::Mode::disarmed,
+     pa::proto::FailsafeReason::heartbeat_lost, false},
+    {pa::proto::Mode::armed, condition::setpoint_fresh | condition::takeoff_thrust, 0,
+     pa::proto::Mode::flying, pa::proto::FailsafeReason::none, false},
     // flying: tracking the ground station's setpoints
-    {pa::proto::Mode::flying, condition::crash, 0, pa::proto::Mode::killed, pa::proto::FailsafeReason::crash, false},
-    {pa::proto::Mode::flying, condition::imu_lost, 0, pa::proto::Mode::killed, pa::proto::FailsafeReason::imu_lost, false},
-    {pa::proto::Mode::flying, 0, condition::heartbeat_live, pa::proto::Mode::failsafe_hover, pa::proto::FailsafeReason::heartbeat_lost, false},
-    {pa::proto::Mode::flying, 0, condition::setpoint_fresh, pa::proto::Mode::failsafe_hover, pa::proto::FailsafeReason::setpoint_stale, false},
+    {pa::proto::Mode::flying, condition::crash, 0, pa::proto::Mode::killed, pa::proto::FailsafeReason::crash,
+     false},
+    {pa::proto::Mode::flying, condition::imu_lost, 0, pa::proto::Mode::killed,
+     pa::proto::FailsafeReason::imu_lost, false},
+    {pa::proto::Mode::flying, 0, condition::heartbeat_live, pa::proto::Mode::failsafe_hover,
+     pa::proto::FailsafeReason::heartbeat_lost, false},
+    {pa::proto::Mode::flying, 0, condition::setpoint_fresh, pa::proto::Mode::failsafe_hover,
+     pa::proto::FailsafeReason::setpoint_stale, false},
     // failsafe_hover: levelled hover, then a descent
-    {pa::proto::Mode::failsafe_hover, condition::crash, 0, pa::proto::Mode::killed, pa::proto::FailsafeReason::crash, false},
-    {pa::proto::Mode::failsafe_hover, condition::imu_lost, 0, pa::proto::Mode::killed, pa::proto::FailsafeReason::imu_lost, false},
-    {pa::proto::Mode::failsafe_hover, condition::setpoint_fresh | condition::heartbeat_live, 0, pa::proto::Mode::flying, pa::proto::FailsafeReason::none, false},
-    {pa::proto::Mode::failsafe_hover, condition::on_ground, 0, pa::proto::Mode::landed, pa::proto::FailsafeReason::none, true},
-    {pa::proto::Mode::failsafe_hover, condition::hover_timeout, 0, pa::proto::Mode::failsafe_descent, pa::proto::FailsafeReason::none, true},
+    {pa::proto::Mode::failsafe_hover, condition::crash, 0, pa::proto::Mode::killed,
+     pa::proto::FailsafeReason::crash, false},
+    {pa::proto::Mode::failsafe_hover, condition::imu_lost, 0, pa::proto::Mode::killed,
+     pa::proto::FailsafeReason::imu_lost, false},
+    {pa::proto::Mode::failsafe_hover, condition::setpoint_fresh | condition::heartbeat_live, 0,
+     pa::proto::Mode::flying, pa::proto::FailsafeReason::none, false},
+    {pa::proto::Mode::failsafe_hover, condition::on_ground, 0, pa::proto::Mode::landed,
+     pa::proto::FailsafeReason::none, true},
+    {pa::proto::Mode::failsafe_hover, condition::hover_timeout, 0, pa::proto::Mode::failsafe_descent,
+     pa::proto::FailsafeReason::none, true},
     // failsafe_descent: levelled descent until the floor holds the vehicle
-    {pa::proto::Mode::failsafe_descent, condition::crash, 0, pa::proto::Mode::killed, pa::proto::FailsafeReason::crash, false},
-    {pa::proto::Mode::failsafe_descent, condition::imu_lost, 0, pa::proto::Mode::killed, pa::proto::FailsafeReason::imu_lost, false},
-    {pa::proto::Mode::failsafe_descent, condition::on_ground, 0, pa::proto::Mode::landed, pa::proto::FailsafeReason::none, true},
-    {pa::proto::Mode::failsafe_descent, condition::descent_timeout, 0, pa::proto::Mode::landed, pa::proto::FailsafeReason::none, true},
-    {pa::proto::Mode::failsafe_descent, condition::setpoint_fresh | condition::heartbeat_live, condition::land_commanded, pa::proto::Mode::flying, pa::proto::FailsafeReason::none, false},
+    {pa::proto::Mode::failsafe_descent, condition::crash, 0, pa::proto::Mode::killed,
+     pa::proto::FailsafeReason::crash, false},
+    {pa::proto::Mode::failsafe_descent, condition::imu_lost, 0, pa::proto::Mode::killed,
+     pa::proto::FailsafeReason::imu_lost, false},
+    {pa::proto::Mode::failsafe_descent, condition::on_ground, 0, pa::proto::Mode::landed,
+     pa::proto::FailsafeReason::none, true},
+    {pa::proto::Mode::failsafe_descent, condition::descent_timeout, 0, pa::proto::Mode::landed,
+     pa::proto::FailsafeReason::none, true},
+    {pa::proto::Mode::failsafe_descent, condition::setpoint_fresh | condition::heartbeat_live,
+     condition::land_commanded, pa::proto::Mode::flying, pa::proto::FailsafeReason::none, false},
 }};
 
 // Each mode's rows, [begin, end) in kSupervisorTransitions, so that an update scans only the
@@ -201,7 +220,7 @@ class Supervisor {
   static constexpr std::int32_t kTimeInModeMax_us = 1 << 30;
   Action action() const { return action_for(mode_); }
   bool motors_enabled() const { return action() != Action::motors_off; }  // armed, flying, failsafes
-  std::uint16_t conditions() const { return conditions_; }  // the bits of the last update
+  std::uint16_t conditions() const { return conditions_; }                // the bits of the last update
 
  private:
   void enter(pa::proto::Mode mode, pa::proto::FailsafeReason reason, std::uint32_t now_us);

@@ -6,8 +6,8 @@
 
 namespace fw {
 
-using Vec3 = std::array<float, 3>;    // x, y, z (body frame unless a name says otherwise)
-using Motors = std::array<float, 4>;  // one value per motor, order in mixer.hpp
+using Vec3 = std::array<float, 3>;        // x, y, z (body frame unless a name says otherwise)
+using Motors = std::array<float, 4>;      // one value per motor, order in mixer.hpp
 using Quaternion = std::array<float, 4>;  // w, x, y, z; rotates body vectors into the inertial frame
 
 // One IMU sample: the event that runs the 1 kHz loop.

@@ -56,7 +56,8 @@ class Vehicle {
     std::uint32_t period_ticks;
     std::uint32_t countdown_ticks;  // ticks until the next run, this one included
   };
-  static PeriodicTask task(void (Vehicle::*run)(std::uint32_t), std::uint32_t period_ticks, std::uint32_t phase_ticks);
+  static PeriodicTask task(void (Vehicle::*run)(std::uint32_t), std::uint32_t period_ticks,
+                           std::uint32_t phase_ticks);
 
   // The steps of tick(), in order.
   void accept_sample(const ImuSample& imu);
@@ -68,7 +69,8 @@ class Vehicle {
   void run_periodic_tasks(std::uint32_t now_us);
 
   void handle_command(const pa::proto::Command& command, std::uint32_t now_us);
-  void acknowledge(const pa::proto::Command& command, pa::proto::AckResult result, pa::proto::RefuseReason reason);
+  void acknowledge(const pa::proto::Command& command, pa::proto::AckResult result,
+                   pa::proto::RefuseReason reason);
   void update_inputs(std::uint32_t now_us);  // inputs_ for this tick, crash false
   Vec3 levelling_rates(const Vec3& up_in_body) const;
 

@@ -21,8 +21,8 @@ class TickProbe {
 // What the scenario observed, for a person to read and for tests to assert.
 struct Result {
   bool pass = false;
-  const char* failure = nullptr;  // the first failed check; nullptr when passed
-  std::uint32_t ticks = 0;        // 1 kHz ticks flown
+  const char* failure = nullptr;             // the first failed check; nullptr when passed
+  std::uint32_t ticks = 0;                   // 1 kHz ticks flown
   float hover_rate_error_max_radps = 0;      // steady hover, worst body-rate error
   float manoeuvre_rate_error_rms_radps = 0;  // tracking during the rate manoeuvre
   float impact_detection_latency_ms = -1;    // IMPACT confirmed after the true onset

@@ -32,10 +32,10 @@ std::optional<int> parse(CLI::App& app, const std::vector<std::string>& args, st
 
 // Value checks for add_option(...)->check(...). `need` continues the flag's name in the message:
 // "--catch-height" + " must be a number (m)" + ", got 'abc'".
-CLI::Validator finiteNumber(std::string need);                                        // "1.5", "-2e-3"
-CLI::Validator numberIn(double lo, double hi, std::string need);                      // and lo <= x <= hi
-CLI::Validator count(std::uint64_t lo, std::uint64_t hi, std::string need);           // decimal digits only
-CLI::Validator numberPair(std::string need);                                          // "A,B"
+CLI::Validator finiteNumber(std::string need);                               // "1.5", "-2e-3"
+CLI::Validator numberIn(double lo, double hi, std::string need);             // and lo <= x <= hi
+CLI::Validator count(std::uint64_t lo, std::uint64_t hi, std::string need);  // decimal digits only
+CLI::Validator numberPair(std::string need);                                 // "A,B"
 CLI::Validator oneOf(std::vector<std::string> choices, std::string need);
 CLI::Validator nonEmpty(std::string need);
 
