@@ -61,9 +61,9 @@ struct GroundStationConfig {
   std::array<std::uint8_t, 2> nodes{1, 2};  // vehicle 1 and vehicle 2 (the estimator's 1 and 2)
   link::GroundLinkConfig link;
   // The vehicle observers' pose gate opened to NIS 1000 (from 60): through the throw's fastest
-  // phase their first-order rate model misses by enough that five poses in a row failed the
-  // gate and the observer re-initialised with zero velocity (measured: vz 0 against -0.6 m/s
-  // true), which threw the TV-LQR off the plan.
+  // phase their model misses by enough (it did with the first-order rate model it had then) that
+  // five poses in a row failed the gate and the observer re-initialised with zero velocity
+  // (measured: vz 0 against -0.6 m/s true), which threw the TV-LQR off the plan.
   estimation::StateEstimatorConfig estimator = [] {
     estimation::StateEstimatorConfig c;
     c.vehicle.outlier_nis = 1000.0;

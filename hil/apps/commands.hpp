@@ -9,5 +9,6 @@ namespace hil::apps {
 int cmdRecord(int argc, char** argv);
 int cmdConfig(int argc, char** argv);
 int cmdFly(int argc, char** argv);
+int cmdCampaign(int argc, char** argv);
 
 }  // namespace hil::apps

@@ -10,6 +10,8 @@ constexpr pa::cli::Subcommand kSubcommands[] = {
      hil::apps::cmdRecord},
     {"fly", "fly a series of throws in the lockstep arena with the ground-station runtime",
      hil::apps::cmdFly},
+    {"campaign", "fly many independent attempts on randomised plants, in parallel, with a summary",
+     hil::apps::cmdCampaign},
     {"config", "print the plant parameters (optionally randomised from a seed)", hil::apps::cmdConfig},
 };
 

@@ -31,4 +31,32 @@ PlantConfig randomised(const PlantConfig& nominal, std::uint64_t seed) {
   return c;
 }
 
+std::vector<DrawnParameter> drawnParameters(const PlantConfig& c) {
+  std::vector<DrawnParameter> out = {
+      {"pole_drag_axial_kgpm2", c.pole.drag_axial_kgpm2},
+      {"pole_drag_normal_kgpm2", c.pole.drag_normal_kgpm2},
+      {"pole_drag_rotational_kgpm2", c.pole.drag_rotational_kgpm2},
+  };
+  static constexpr std::string_view kGainKeys[2][4] = {
+      {"vehicle1_motor0_gain", "vehicle1_motor1_gain", "vehicle1_motor2_gain", "vehicle1_motor3_gain"},
+      {"vehicle2_motor0_gain", "vehicle2_motor1_gain", "vehicle2_motor2_gain", "vehicle2_motor3_gain"}};
+  for (std::size_t v = 0; v < 2; ++v) {
+    for (std::size_t m = 0; m < 4; ++m) out.push_back({kGainKeys[v][m], c.vehicle.motor_gain[v][m]});
+  }
+  out.insert(out.end(), {
+                            {"vehicle_motor_time_constant_s", c.vehicle.motor_time_constant_s},
+                            {"vehicle_drag_Nspm", c.vehicle.drag_Nspm},
+                            {"contact_plate_friction", c.contact.plate_friction},
+                            {"contact_floor_friction", c.contact.floor_friction},
+                            {"mocap_latency_s", c.mocap.latency_s},
+                            {"mocap_position_noise_m", c.mocap.position_noise_m},
+                            {"mocap_attitude_noise_rad", c.mocap.attitude_noise_rad},
+                            {"imu_accel_noise_mps2", c.imu.accel_noise_mps2},
+                            {"imu_gyro_noise_radps", c.imu.gyro_noise_radps},
+                            {"imu_accel_bias_sigma_mps2", c.imu.accel_bias_sigma_mps2},
+                            {"imu_gyro_bias_sigma_radps", c.imu.gyro_bias_sigma_radps},
+                        });
+  return out;
+}
+
 }  // namespace hil

@@ -6,6 +6,8 @@
 #pragma once
 
 #include <cstdint>
+#include <string_view>
+#include <vector>
 
 #include "hil/plant/plant_config.hpp"
 
@@ -15,5 +17,13 @@ namespace hil {
 // spread fraction f becomes x * U(1 - f, 1 + f); the latency is drawn from
 // U(latency_min_s, latency_max_s). Everything else is copied unchanged.
 PlantConfig randomised(const PlantConfig& nominal, std::uint64_t seed);
+
+// The parameters randomised() draws, by their configuration keys (plant_config.hpp), in the
+// order it draws them: what a campaign records beside each attempt's outcome.
+struct DrawnParameter {
+  std::string_view key;
+  double value = 0.0;
+};
+std::vector<DrawnParameter> drawnParameters(const PlantConfig& config);
 
 }  // namespace hil

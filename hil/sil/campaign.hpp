@@ -1,0 +1,55 @@
+// A campaign: many independent attempts to throw and catch, each on a plant drawn anew from its
+// configured ranges (randomisation.hpp), flown by the ground-station runtime in the lockstep
+// arena and judged on truth (series.hpp), run on several worker processes.
+//
+// Independent attempts. First a warm-up flies one throw (adapt only) on the nominal plant; what
+// the ground station learnt there is where every attempt's ground station starts, as a real one
+// would start from its store after calibration flights. Attempt i (1..N) then takes off on the
+// plant randomised(plant, attemptSeed(seed, i)) with that seed for its noise, and throws once to
+// catch. Nothing else is shared, so the results depend on the seed alone, whatever the number of
+// workers.
+//
+// Workers are processes (fork), not threads: the throw's optimiser (IPOPT with MUMPS) keeps
+// global state and is not safe to run in two threads of one process. Each worker flies the
+// attempts i = k, k + J, ... and reports each result on its pipe; the parent collects them in
+// order of completion (for the progress line) and returns them in attempt order.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "hil/plant/plant_config.hpp"
+#include "hil/sil/series.hpp"
+
+namespace hil::sil {
+
+struct CampaignConfig {
+  PlantConfig plant;       // the nominal plant; its randomisation ranges are drawn from
+  std::uint64_t seed = 1;  // of the warm-up and of every attempt's draw
+  int attempts = 100;
+  int jobs = 1;  // worker processes
+};
+
+struct CampaignAttempt {
+  AttemptResult result;
+  std::uint64_t seed = 0;  // the attempt's draw and noise
+  PlantConfig plant;       // the plant it flew on
+};
+
+// The seed of attempt i (1..N) of a campaign seeded with `seed`.
+std::uint64_t attemptSeed(std::uint64_t seed, int attempt);
+
+// Flies the campaign. `progress` is called in the calling process after each attempt with the
+// results so far (in order of completion). Throws std::runtime_error when a worker cannot be
+// started or dies without reporting its attempts.
+std::vector<CampaignAttempt> runCampaign(
+    const CampaignConfig& config,
+    const std::function<void(const std::vector<const CampaignAttempt*>& done)>& progress = {});
+
+// One attempt's result as one line and back (the workers' reports; tab-separated, no newline).
+std::string encodeResult(const AttemptResult& r);
+bool decodeResult(const std::string& line, AttemptResult& r);
+
+}  // namespace hil::sil

@@ -1,0 +1,87 @@
+// A campaign (hil/sil/campaign.hpp): its results depend on the seed alone, whatever the number of
+// worker processes; the workers' reports survive the pipe exactly; the drawn parameters it
+// records are the plant's own keys.
+#include "hil/sil/campaign.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <string>
+
+#include "hil/plant/randomisation.hpp"
+
+namespace {
+
+using hil::sil::AttemptResult;
+
+}  // namespace
+
+TEST_CASE("a worker's report decodes to the result it encodes", "[hil][campaign]") {
+  AttemptResult r;
+  r.throw_number = 7;
+  r.outcome = "aborted";
+  r.flight_s = 1.0123456789012345;
+  r.catch_height_m = -1.0;
+  r.catch_x_m = 3.6;
+  r.catch_y_m = -0.01;
+  r.travel_m = 0.07;
+  r.energy_error_J = -0.00312;
+  r.impact = false;
+  r.vehicle_crashed = true;
+  r.abort_reason = "out_of_reach";
+  AttemptResult back;
+  REQUIRE(hil::sil::decodeResult(hil::sil::encodeResult(r), back));
+  CHECK(back.outcome == r.outcome);
+  CHECK(back.flight_s == r.flight_s);
+  CHECK(back.catch_x_m == r.catch_x_m);
+  CHECK(back.energy_error_J == r.energy_error_J);
+  CHECK(back.vehicle_crashed);
+  CHECK_FALSE(back.impact);
+  CHECK(back.abort_reason == r.abort_reason);
+  r.abort_reason.clear();  // the last field empty
+  REQUIRE(hil::sil::decodeResult(hil::sil::encodeResult(r), back));
+  CHECK(back.abort_reason.empty());
+  CHECK_FALSE(hil::sil::decodeResult("caught\t1.0\tnot a number", back));
+  CHECK_FALSE(hil::sil::decodeResult("", back));
+}
+
+TEST_CASE("the drawn parameters are the plant configuration's keys", "[hil][campaign]") {
+  const std::vector<std::string_view> keys = hil::plant_config_keys();
+  const hil::PlantConfig drawn = hil::randomised(hil::PlantConfig{}, 3);
+  const auto parameters = hil::drawnParameters(drawn);
+  REQUIRE(parameters.size() == 22);
+  for (const hil::DrawnParameter& p : parameters) {
+    INFO(p.key);
+    CHECK(std::find(keys.begin(), keys.end(), p.key) != keys.end());
+  }
+  CHECK(parameters.front().value == drawn.pole.drag_axial_kgpm2);
+  CHECK(parameters.back().value == drawn.imu.gyro_bias_sigma_radps);
+}
+
+TEST_CASE("a campaign is reproducible from its seed whatever the number of workers",
+          "[hil][sil][runtime][campaign]") {
+  hil::sil::CampaignConfig config;
+  config.seed = 4;
+  config.attempts = 2;
+  config.jobs = 1;
+  int reports = 0;
+  const auto one =
+      hil::sil::runCampaign(config, [&](const auto& done) { reports = static_cast<int>(done.size()); });
+  CHECK(reports == 2);
+  config.jobs = 2;
+  const auto two = hil::sil::runCampaign(config);
+  REQUIRE(one.size() == 2);
+  REQUIRE(two.size() == 2);
+  for (std::size_t i = 0; i < 2; ++i) {
+    INFO("attempt " << i + 1);
+    CHECK(one[i].result.throw_number == static_cast<int>(i) + 1);
+    CHECK(one[i].seed == hil::sil::attemptSeed(4, static_cast<int>(i) + 1));
+    CHECK(one[i].result.outcome == two[i].result.outcome);
+    CHECK(one[i].result.flight_s == two[i].result.flight_s);
+    CHECK(one[i].result.energy_error_J == two[i].result.energy_error_J);
+    CHECK(one[i].result.travel_m == two[i].result.travel_m);
+    CHECK(one[i].plant.mocap.latency_s == two[i].plant.mocap.latency_s);
+    // The attempts differ from each other: each flew its own draw.
+  }
+  CHECK(one[0].plant.mocap.latency_s != one[1].plant.mocap.latency_s);
+}
