@@ -30,7 +30,7 @@ int usage(const std::string& message) {
   return 2;
 }
 
-void writeRow(std::ostream& out, const sil::AttemptResult& r) {
+void write_row(std::ostream& out, const sil::AttemptResult& r) {
   char line[512];
   std::snprintf(line, sizeof line, "%d,%s,%.4f,%.4f,%.4f,%.4f,%.4f,%.5f,%s\n", r.throw_number,
                 r.outcome.c_str(), r.flight_s, r.catch_height_m, r.catch_x_m, r.catch_y_m, r.travel_m,
@@ -40,7 +40,7 @@ void writeRow(std::ostream& out, const sil::AttemptResult& r) {
 
 }  // namespace
 
-int cmdFly(int argc, char** argv) {
+int cmd_fly(int argc, char** argv) {
   std::string series, plant_file, out_dir, store_file;
   std::uint64_t throws = 0, seed = 1;
   bool randomise = false, verbose = false;
@@ -51,7 +51,7 @@ int cmdFly(int argc, char** argv) {
       "on the plant's truth; prints a table per throw and a summary beside the paper's figures.");
   app.add_option("--series", series, "the paper's series of throws")
       ->type_name("paper")
-      ->check(pa::cli::oneOf({"paper"}, "must be 'paper'"));
+      ->check(pa::cli::one_of({"paper"}, "must be 'paper'"));
   app.add_option("--throws", throws, "N throws to catch instead")
       ->type_name("N")
       ->check(pa::cli::count(1, 100000, "needs a count 1..100000"));
@@ -75,7 +75,7 @@ int cmdFly(int argc, char** argv) {
     }
   }
   const std::vector<sil::AttemptPlan> plans =
-      series == "paper" ? sil::paperSeries() : sil::catchSeries(static_cast<int>(throws));
+      series == "paper" ? sil::paper_series() : sil::catch_series(static_cast<int>(throws));
   if (!out_dir.empty()) {
     std::error_code ec;
     std::filesystem::create_directories(out_dir, ec);
@@ -105,10 +105,10 @@ int cmdFly(int argc, char** argv) {
       sil::SeriesRunner runner(config);
       results = runner.run(plans, print);
       if (!out_dir.empty()) {
-        for (std::size_t i = 0; i < runner.timeSeries().size(); ++i) {
+        for (std::size_t i = 0; i < runner.time_series().size(); ++i) {
           std::ofstream ts(out_dir + "/attempt_" + std::to_string(i + 1) + ".csv");
           ts << "t_s,v1_x,v1_y,v1_z,v2_x,v2_y,v2_z,pole_x,pole_y,pole_z,pole_nx,pole_ny,pole_nz,task1,task2\n";
-          for (const sil::TimeSample& s : runner.timeSeries()[i]) {
+          for (const sil::TimeSample& s : runner.time_series()[i]) {
             char line[512];
             std::snprintf(
                 line, sizeof line, "%.3f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%s,%s\n",
@@ -134,7 +134,7 @@ int cmdFly(int argc, char** argv) {
         sil::SeriesRunner runner(config);
         std::vector<sil::AttemptPlan> one{plans[i]};
         sil::AttemptResult r = runner.run(one).front();
-        learnt = runner.groundStation().learnt();
+        learnt = runner.ground_station().learnt();
         if (verbose)
           std::printf(
               "  learnt: catching height %.3f, waiting (%.3f, %.3f), bias (%.3f, %.3f), catching instant %.3f s\n",
@@ -185,7 +185,7 @@ int cmdFly(int argc, char** argv) {
   if (!out_dir.empty()) {
     std::ofstream csv(out_dir + "/throws.csv");
     csv << "throw,outcome,flight_s,catch_height_m,catch_x_m,catch_y_m,travel_m,energy_error_J,abort_reason\n";
-    for (const sil::AttemptResult& r : results) writeRow(csv, r);
+    for (const sil::AttemptResult& r : results) write_row(csv, r);
   }
   return 0;
 }
