@@ -35,8 +35,9 @@ namespace dshot = fw::drivers::dshot;
 namespace mpu = fw::drivers::mpu6000;
 namespace serial_frame = fw::drivers::serial_frame;
 
-constinit Uart g_link(0x40011000u, irq::usart1);
-constinit Uart g_console(0x40004800u, irq::usart3);
+Uart g_link;
+Uart g_console;
+constexpr std::uintptr_t kUsart1 = 0x40011000u, kUsart3 = 0x40004800u;
 volatile std::uint32_t g_ms = 0;
 
 // Without a tick for this long (IMU gone or never there) the motors are stopped: the core
@@ -88,13 +89,14 @@ struct FlightIo {
 };
 
 // A status line built without printf (newlib's pulls in malloc through its stdio buffers).
+// Not inlined: the status report calls these dozens of times and would grow by kilobytes.
 class Line {
  public:
-  Line& text(const char* s) {
+  __attribute__((noinline)) Line& text(const char* s) {
     while (*s != '\0') put(*s++);
     return *this;
   }
-  Line& u32(std::uint32_t v) {
+  __attribute__((noinline)) Line& u32(std::uint32_t v) {
     char digits[10];
     int n = 0;
     do {
@@ -104,7 +106,7 @@ class Line {
     while (n > 0) put(digits[--n]);
     return *this;
   }
-  Line& hex8(std::uint8_t v) {
+  __attribute__((noinline)) Line& hex8(std::uint8_t v) {
     const char* hex = "0123456789abcdef";
     return text("0x").put(hex[v >> 4]).put(hex[v & 0xFu]);
   }
@@ -207,9 +209,10 @@ int main() {
   s.clock = clock_init();
   FlightMicrosecondClock::start(s.clock.apb1_timer_hz);
   configure_pin(board::kLed, stm32f4::gpio_mode_output);
-  g_console.init(board::kConsoleTx, board::kConsoleRx, s.clock.apb1_hz, board::kConsoleBaud,
-                 kPriorityConsole);
-  g_link.init(board::kLinkTx, board::kLinkRx, s.clock.apb2_hz, board::kLinkBaud, kPriorityLink);
+  g_console.init(kUsart3, stm32f4::irq::usart3, board::kConsoleTx, board::kConsoleRx, s.clock.apb1_hz,
+                 board::kConsoleBaud, kPriorityConsole);
+  g_link.init(kUsart1, stm32f4::irq::usart1, board::kLinkTx, board::kLinkRx, s.clock.apb2_hz,
+              board::kLinkBaud, kPriorityLink);
   battery_init();
   // Motor stop before anything else can fail: ESCs see a valid signal that keeps them stopped.
   s.dshot_ready = DshotOutput::init(s.clock.apb1_timer_hz);

@@ -6,8 +6,10 @@ namespace stm32f405 {
 
 using namespace stm32f4;
 
-void Uart::init(const Pin& tx, const Pin& rx, std::uint32_t kernel_hz, std::uint32_t baud,
-                std::uint8_t priority) {
+void Uart::init(std::uintptr_t base, unsigned irq, const Pin& tx, const Pin& rx, std::uint32_t kernel_hz,
+                std::uint32_t baud, std::uint8_t priority) {
+  base_ = base;
+  irq_ = irq;
   if (base_ == 0x40011000u) rcc().APB2ENR |= rcc_bits::apb2_usart1;
   else rcc().APB1ENR |= rcc_bits::apb1_usart3;
   (void)rcc().APB1ENR;

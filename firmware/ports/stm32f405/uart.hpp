@@ -25,10 +25,11 @@ struct UartStats {
 class Uart {
  public:
   using Pin = fw::drivers::omnibus_f4::Pin;
-  constexpr Uart(std::uintptr_t base, unsigned irq) : base_(base), irq_(irq) {}
-
-  // `kernel_hz`: the USART's bus clock (APB2 for USART1, APB1 for USART3).
-  void init(const Pin& tx, const Pin& rx, std::uint32_t kernel_hz, std::uint32_t baud, std::uint8_t priority);
+  // `base`, `irq`: the USART's registers and interrupt line; `kernel_hz`: its bus clock (APB2
+  // for USART1, APB1 for USART3). Nothing else may be called before. (Set here rather than in
+  // a constructor, so the rings are zero-initialised .bss instead of .data copied from flash.)
+  void init(std::uintptr_t base, unsigned irq, const Pin& tx, const Pin& rx, std::uint32_t kernel_hz,
+            std::uint32_t baud, std::uint8_t priority);
 
   // Queues `n` bytes, all or none; false (and counted) when they do not fit.
   bool send(const std::uint8_t* data, std::size_t n);
@@ -42,8 +43,8 @@ class Uart {
   stm32f4::Usart& regs() const { return stm32f4::at<stm32f4::Usart>(base_); }
   void move_out();  // with interrupts masked or from the interrupt itself: the ring's one consumer at a time
 
-  std::uintptr_t base_;
-  unsigned irq_;
+  std::uintptr_t base_ = 0;
+  unsigned irq_ = 0;
   SpscRing<std::uint8_t, 512> tx_;
   SpscRing<std::uint8_t, 256> rx_;
   UartStats stats_{};
