@@ -64,9 +64,10 @@ TEST_CASE("omnibus f4: the chip is turned half a turn, so its x points back and 
   check_vec(decode(burst_from_chip({kG * s30, 0, kG * c30}, {0, 0, 0}), board::kImuMounting).accel_mps2,
             {-kG * s30, 0, kG * c30}, kAccelTol);
 
-  // Rolling right wing down (negative roll about body x) at 2 rad/s, pitching nose down
-  // (positive about body y, which points left) at 1 rad/s and yawing left (positive about z)
-  // at 3 rad/s: about the chip's backward x and rightward y the first two change sign.
+  // Rolling the left side down (negative about body x: positive roll lifts the left side) at
+  // 2 rad/s, pitching nose down (positive about body y, which points left) at 1 rad/s and
+  // yawing left (positive about z) at 3 rad/s: about the chip's backward x and rightward y the
+  // first two read with the opposite sign.
   const fw::ImuSample motion = decode(burst_from_chip({0, 0, kG}, {2.0f, -1.0f, 3.0f}), board::kImuMounting);
   check_vec(motion.gyro_radps, {-2.0f, 1.0f, 3.0f}, kGyroTol);
 

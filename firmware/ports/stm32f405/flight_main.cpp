@@ -59,6 +59,7 @@ struct FlightStatus {
   std::uint32_t link_frames_in = 0;
   std::uint32_t link_frames_out = 0;
   std::uint32_t stack_used_bytes = 0;
+  fw::ImuSample last_sample{};  // body frame, for checking the mounting by hand
 };
 
 }  // namespace
@@ -106,6 +107,19 @@ class Line {
     while (n > 0) put(digits[--n]);
     return *this;
   }
+  __attribute__((noinline)) Line& i32(std::int32_t v) {
+    if (v < 0) put('-');
+    return u32(v < 0 ? 0u - static_cast<std::uint32_t>(v) : static_cast<std::uint32_t>(v));
+  }
+  // Three values scaled to whole units (centimetres, milliradians), for the console.
+  Line& vec(const fw::Vec3& v, float scale) {
+    for (std::size_t i = 0; i < 3; ++i) {
+      const float x = v[i] * scale;
+      const float clamped = x > 1e9f ? 1e9f : x < -1e9f ? -1e9f : x;  // NaN stays NaN, then 0
+      i32(clamped == clamped ? static_cast<std::int32_t>(clamped) : 0).text(i < 2 ? "," : "");
+    }
+    return *this;
+  }
   __attribute__((noinline)) Line& hex8(std::uint8_t v) {
     const char* hex = "0123456789abcdef";
     return text("0x").put(hex[v >> 4]).put(hex[v & 0xFu]);
@@ -138,6 +152,10 @@ void report(const char* what) {
   line.text(" clock=").text(clock_name(s.clock.source)).text(" imu=").text(mpu::to_string(s.imu.status));
   line.text(" who_am_i=").hex8(s.imu.who_am_i).text(" samples=").u32(imu.samples);
   line.text(" bad=").u32(imu.bad_bursts + imu.bus_timeouts).text(" ticks=").u32(s.ticks);
+  line.text(" acc_cmps2=")
+      .vec(s.last_sample.accel_mps2, 100.0f)
+      .text(" gyro_mradps=")
+      .vec(s.last_sample.gyro_radps, 1000.0f);
   line.text(" tick_cycles_max=").u32(s.tick_cycles_max);
   line.text(" motors=").text(s.motors_enabled ? "on" : "off").text(" dshot=");
   for (std::size_t i = 0; i < 4; ++i) line.u32(d.last_values[i]).text(i < 3 ? "," : "");
@@ -243,6 +261,7 @@ int main() {
     fw::ImuSample sample;
     if (Imu::take_sample(sample)) {
       node.on_imu_sample(sample);
+      s.last_sample = sample;
       last_tick_ms = milliseconds();
       s.ticks = node.stats().ticks;
       s.tick_cycles_max = node.stats().tick_cycles_max;
