@@ -1,11 +1,12 @@
 // The board's MPU-6000 on SPI1 with its data-ready line on EXTI4 (fw/drivers/omnibus_f4.hpp):
 // initialisation through the pure register sequence (fw/drivers/mpu6000.hpp) at a config-safe
-// SPI clock, then 1 kHz data-ready interrupts that stamp the sample time and flag the main
-// loop, which reads the 14-byte burst at the fast clock and decodes it into the body frame.
+// SPI clock, then 1 kHz data-ready interrupts that stamp the sample time and start the burst
+// read, whose completion flags the main
+// loop, which decodes the 14-byte burst read at the fast clock into the body frame.
 //
-// The burst is read by polling, byte by byte with a bounded wait per byte: 15 bytes at
-// 10.5 MHz take about 12 us of the 1000 us period (an SPI DMA transfer would free that time).
-// No heap; every wait is bounded.
+// Initialisation polls the SPI (start-up only, every wait bounded); the 1 kHz burst runs on
+// the SPI's receive interrupt, one byte each, so the main loop never waits for the bus.
+// No heap.
 #pragma once
 
 #include <cstdint>
@@ -33,6 +34,7 @@ class Imu {
   static bool sample_pending();
   static ImuStats stats();
   static void on_data_ready_interrupt();  // EXTI4
+  static void on_spi_interrupt();         // SPI1
 };
 
 }  // namespace stm32f405

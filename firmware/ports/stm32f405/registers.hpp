@@ -128,6 +128,7 @@ inline Spi& spi1() { return at<Spi>(0x40013000u); }
 namespace spi_bits {
 inline constexpr std::uint32_t cr1_cpha = 1u << 0, cr1_cpol = 1u << 1, cr1_mstr = 1u << 2, cr1_br_shift = 3,
                                cr1_spe = 1u << 6, cr1_ssi = 1u << 8, cr1_ssm = 1u << 9;
+inline constexpr std::uint32_t cr2_rxneie = 1u << 6;
 inline constexpr std::uint32_t sr_rxne = 1u << 0, sr_txe = 1u << 1, sr_bsy = 1u << 7;
 }  // namespace spi_bits
 
@@ -249,8 +250,8 @@ inline volatile std::uint8_t& nvic_priority(unsigned irq) {
 
 // STM32F405 interrupt numbers (RM0090 table 61) used by this port.
 namespace irq {
-inline constexpr unsigned exti4 = 10, can1_tx = 19, can1_rx0 = 20, can1_rx1 = 21, can1_sce = 22, usart1 = 37,
-                          usart3 = 39;
+inline constexpr unsigned exti4 = 10, can1_tx = 19, can1_rx0 = 20, can1_rx1 = 21, can1_sce = 22, spi1 = 35,
+                          usart1 = 37, usart3 = 39;
 inline constexpr unsigned count = 82;  // WWDG (0) .. FPU (81)
 }  // namespace irq
 
