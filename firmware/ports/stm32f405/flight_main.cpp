@@ -63,6 +63,15 @@ struct FlightStatus {
 };
 
 }  // namespace
+}  // namespace stm32f405::flight
+
+// External linkage so the writes stay and a debugger finds it by name (as g_board_status in the
+// HIL image).
+extern "C" {
+stm32f405::flight::FlightStatus g_flight_status;
+}
+
+namespace stm32f405::flight {
 
 Uart& link() { return g_link; }
 Uart& console() { return g_console; }
@@ -71,7 +80,7 @@ std::uint32_t milliseconds() { return g_ms; }
 
 namespace {
 
-FlightStatus& status();
+FlightStatus& status() { return g_flight_status; }
 
 // The flight image's side of the seam: motor commands to DShot, frames to the radio link.
 struct FlightIo {
@@ -204,9 +213,6 @@ void start_millisecond_beat(std::uint32_t sysclk_hz) {
   systick().CVR = 0;
   systick().CSR = systick_enable | systick_tickint | systick_cpu_clock;
 }
-
-FlightStatus g_status_storage;
-FlightStatus& status() { return g_status_storage; }
 
 fw::VehicleConfig make_config() {
   fw::VehicleConfig config{};
