@@ -4,7 +4,8 @@
         test-firmware bench flash clean help
 
 JOBS ?= $(shell nproc)
-# make flash: the HIL image; make flash BOARD=omnibusf4: the flight image (scripts/flash.sh).
+# make flash: the HIL image; make flash BOARD=omnibusf4: the flight image (DShot600);
+# BOARD=omnibusf4-pwm: the flight image with PWM motor output (scripts/flash.sh).
 BOARD ?=
 
 all: host firmware

@@ -2,6 +2,7 @@
 # Programs an STM32F405 image onto a board (`make flash [BOARD=...]`):
 #   (no BOARD)       the HIL image, with openocd through an ST-LINK on SWD
 #   BOARD=omnibusf4  the flight image, with dfu-util over USB into the chip's ROM bootloader
+#   BOARD=omnibusf4-pwm  the same with standard PWM motor output instead of DShot600
 # Neither tool is in scripts/install-deps.sh: flashing needs a board, which nothing here has,
 # so a missing tool is reported with the command that installs it.
 # Usage: scripts/flash.sh [BOARD] [BUILD_DIR]   (BUILD_DIR defaults to build/stm32f405)
@@ -12,8 +13,9 @@ dir="${2:-build/stm32f405}/firmware/ports/stm32f405"
 case "$board" in
   "" | hil) tool=openocd; image="$dir/fw_stm32f405.elf" ;;
   omnibusf4) tool=dfu-util; image="$dir/fw_stm32f405_flight.bin" ;;
+  omnibusf4-pwm) tool=dfu-util; image="$dir/fw_stm32f405_flight_pwm.bin" ;;
   *)
-    echo "flash: unknown BOARD '$board' (known: omnibusf4; none for the HIL image)" >&2
+    echo "flash: unknown BOARD '$board' (known: omnibusf4, omnibusf4-pwm; none for the HIL image)" >&2
     exit 2
     ;;
 esac

@@ -1,4 +1,4 @@
-#include "dshot_output.hpp"
+#include "motor_output.hpp"
 
 #include "fw/drivers/dshot.hpp"
 #include "fw/drivers/omnibus_f4.hpp"
@@ -27,7 +27,7 @@ Burst g_tim3_burst{};
 Burst g_tim2_burst{};
 dshot::BitTiming g_timing{};
 bool g_ready = false;
-DshotStats g_stats;
+MotorOutputStats g_stats;
 
 Tim& timer(const TimerDma& t) { return at<Tim>(t.timer_base); }
 
@@ -73,7 +73,9 @@ void start(const TimerDma& t, const Burst& burst) {
 
 }  // namespace
 
-bool DshotOutput::init(std::uint32_t timer_hz) {
+const char* MotorOutput::name() { return "dshot"; }
+
+bool MotorOutput::init(std::uint32_t timer_hz) {
   g_timing = dshot::bit_timing(timer_hz, dshot::kDshot600BitRate);
   if (!g_timing.valid) return false;
   rcc().AHB1ENR |= rcc_bits::ahb1_dma1;
@@ -86,8 +88,11 @@ bool DshotOutput::init(std::uint32_t timer_hz) {
   return true;
 }
 
-void DshotOutput::write(const std::array<std::uint16_t, 4>& pad_values) {
+void MotorOutput::write(const fw::Motors& command, bool enabled) {
   if (!g_ready) return;
+  std::array<std::uint16_t, 4> pad_values{};
+  for (std::size_t i = 0; i < 4; ++i)
+    pad_values[board::kMotorPad[i]] = dshot::value_from_command(command[i], enabled);
   // The buffers are not touched while a stream may still be reading them.
   if (busy(kTim3) || busy(kTim2)) {
     ++g_stats.skipped;
@@ -106,6 +111,6 @@ void DshotOutput::write(const std::array<std::uint16_t, 4>& pad_values) {
   ++g_stats.frames;
 }
 
-const DshotStats& DshotOutput::stats() { return g_stats; }
+const MotorOutputStats& MotorOutput::stats() { return g_stats; }
 
 }  // namespace stm32f405

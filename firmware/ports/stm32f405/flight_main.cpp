@@ -10,14 +10,13 @@
 #include "clock.hpp"
 #include "cortex_m/runtime.hpp"
 #include "cycle_counter.hpp"
-#include "dshot_output.hpp"
 #include "flight_io.hpp"
 #include "fw/config.hpp"
-#include "fw/drivers/dshot.hpp"
 #include "fw/drivers/omnibus_f4.hpp"
 #include "fw/drivers/serial_frame.hpp"
 #include "imu_spi.hpp"
 #include "microsecond_clock.hpp"
+#include "motor_output.hpp"
 #include "pins.hpp"
 #include "registers.hpp"
 #include "vehicle_node.hpp"
@@ -31,7 +30,6 @@ namespace {
 
 using namespace stm32f4;
 namespace board = fw::drivers::omnibus_f4;
-namespace dshot = fw::drivers::dshot;
 namespace mpu = fw::drivers::mpu6000;
 namespace serial_frame = fw::drivers::serial_frame;
 
@@ -51,7 +49,7 @@ constexpr std::uint8_t kPriorityLink = 1, kPriorityConsole = 3;
 struct FlightStatus {
   ClockReport clock{};
   mpu::InitResult imu{};
-  bool dshot_ready = false;
+  bool motors_ready = false;  // the motor output has a timing for this clock
   bool motors_enabled = false;
   std::uint16_t battery_mv = 0;
   std::uint32_t ticks = 0;
@@ -85,10 +83,7 @@ FlightStatus& status() { return g_flight_status; }
 // The flight image's side of the seam: motor commands to DShot, frames to the radio link.
 struct FlightIo {
   void write_motors(const fw::TickOutput& out) {
-    std::array<std::uint16_t, 4> pads{};
-    for (std::size_t i = 0; i < 4; ++i)
-      pads[board::kMotorPad[i]] = dshot::value_from_command(out.motor_command[i], out.motors_enabled);
-    DshotOutput::write(pads);
+    MotorOutput::write(out.motor_command, out.motors_enabled);
     status().motors_enabled = out.motors_enabled;
   }
   void send(const pa::proto::Frame& frame) {
@@ -154,7 +149,7 @@ const char* clock_name(ClockSource s) {
 
 void report(const char* what) {
   const FlightStatus& s = status();
-  const DshotStats& d = DshotOutput::stats();
+  const MotorOutputStats& m = MotorOutput::stats();
   const ImuStats imu = Imu::stats();
   Line line;
   line.text("flight: ").text(board::kName).text(" ").text(what).text(" t_ms=").u32(g_ms);
@@ -166,9 +161,9 @@ void report(const char* what) {
       .text(" gyro_mradps=")
       .vec(s.last_sample.gyro_radps, 1000.0f);
   line.text(" tick_cycles_max=").u32(s.tick_cycles_max);
-  line.text(" motors=").text(s.motors_enabled ? "on" : "off").text(" dshot=");
-  for (std::size_t i = 0; i < 4; ++i) line.u32(d.last_values[i]).text(i < 3 ? "," : "");
-  line.text(" dshot_frames=").u32(d.frames).text(" vbat_mv=").u32(s.battery_mv);
+  line.text(" motors=").text(s.motors_enabled ? "on" : "off").text(" ").text(MotorOutput::name()).text("=");
+  for (std::size_t i = 0; i < 4; ++i) line.u32(m.last_values[i]).text(i < 3 ? "," : "");
+  line.text(" ").text(MotorOutput::name()).text("_frames=").u32(m.frames).text(" vbat_mv=").u32(s.battery_mv);
   line.text(" link_in=").u32(s.link_frames_in).text(" link_out=").u32(s.link_frames_out);
   line.text(" stack=").u32(s.stack_used_bytes);
   line.emit();
@@ -199,7 +194,7 @@ void battery_poll(fw::Vehicle& vehicle) {
 }
 
 // Slow blink: healthy, motors stopped. Steady: motors running. Fast blink: a fault (no IMU,
-// wrong IMU, no DShot timing) that keeps the motors stopped.
+// wrong IMU, no motor output timing) that keeps the motors stopped.
 void led_update(std::uint32_t ms, bool fault) {
   bool lit = status().motors_enabled;
   if (fault) lit = (ms / 100u) % 2u == 0u;
@@ -239,10 +234,10 @@ int main() {
               board::kLinkBaud, kPriorityLink);
   battery_init();
   // Motor stop before anything else can fail: ESCs see a valid signal that keeps them stopped.
-  s.dshot_ready = DshotOutput::init(s.clock.apb1_timer_hz);
-  DshotOutput::write({0, 0, 0, 0});
+  s.motors_ready = MotorOutput::init(s.clock.apb1_timer_hz);
+  MotorOutput::stop();
   s.imu = Imu::init(s.clock.apb2_hz);
-  const bool fault = s.imu.status != fw::drivers::mpu6000::Status::ok || !s.dshot_ready;
+  const bool fault = s.imu.status != fw::drivers::mpu6000::Status::ok || !s.motors_ready;
   report(fault ? "boot FAULT: motors held stopped" : "boot ok");
 
   // The composition root: the one vehicle, built once the clocks are known.
@@ -277,7 +272,7 @@ int main() {
     if (ms != last_ms) {
       last_ms = ms;
       if (fault || ms - last_tick_ms > kImuSilenceMs) {
-        DshotOutput::write({0, 0, 0, 0});  // motor stop, refreshed every millisecond
+        MotorOutput::stop();  // refreshed every millisecond
         s.motors_enabled = false;
       }
       if (ms % kBatteryPeriodMs == 0u) battery_poll(node.vehicle());
