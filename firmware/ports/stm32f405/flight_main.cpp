@@ -1,7 +1,7 @@
 // The STM32F405 flight image for the Omnibus F4 (README.md, "Flight image"): the firmware core
-// fed by the board's MPU-6000 and driving four ESCs with DShot600, talking to the ground over
-// a UART radio link. Start-up: clocks, the microsecond clock (TIM5), console and link UARTs,
-// battery ADC, LED, DShot outputs (held at motor stop), then the IMU; a missing or wrong IMU
+// fed by the board's MPU-6000 and driving four ESCs with DShot600 (or PWM: motor_output.hpp),
+// talking to the ground over a UART radio link. Start-up: clocks, the microsecond clock (TIM5),
+// console and link UARTs, battery ADC, LED, motor outputs (held at motor stop), then the IMU; a missing or wrong IMU
 // is reported on the console and by the LED, and the motors stay stopped. The 1 kHz loop is
 // the IMU's data-ready interrupt; a 1 ms SysTick beat does the housekeeping.
 #include <array>
@@ -35,7 +35,6 @@ namespace serial_frame = fw::drivers::serial_frame;
 
 Uart g_link;
 Uart g_console;
-constexpr std::uintptr_t kUsart1 = 0x40011000u, kUsart3 = 0x40004800u;
 volatile std::uint32_t g_ms = 0;
 
 // Without a tick for this long (IMU gone or never there) the motors are stopped: the core
@@ -80,7 +79,7 @@ namespace {
 
 FlightStatus& status() { return g_flight_status; }
 
-// The flight image's side of the seam: motor commands to DShot, frames to the radio link.
+// The flight image's side of the seam: motor commands to the ESCs, frames to the radio link.
 struct FlightIo {
   void write_motors(const fw::TickOutput& out) {
     MotorOutput::write(out.motor_command, out.motors_enabled);
@@ -228,9 +227,9 @@ int main() {
   s.clock = clock_init();
   FlightMicrosecondClock::start(s.clock.apb1_timer_hz);
   configure_pin(board::kLed, stm32f4::gpio_mode_output);
-  g_console.init(kUsart3, stm32f4::irq::usart3, board::kConsoleTx, board::kConsoleRx, s.clock.apb1_hz,
-                 board::kConsoleBaud, kPriorityConsole);
-  g_link.init(kUsart1, stm32f4::irq::usart1, board::kLinkTx, board::kLinkRx, s.clock.apb2_hz,
+  g_console.init(stm32f4::kUsart3Base, stm32f4::irq::usart3, board::kConsoleTx, board::kConsoleRx,
+                 s.clock.apb1_hz, board::kConsoleBaud, kPriorityConsole);
+  g_link.init(stm32f4::kUsart1Base, stm32f4::irq::usart1, board::kLinkTx, board::kLinkRx, s.clock.apb2_hz,
               board::kLinkBaud, kPriorityLink);
   battery_init();
   // Motor stop before anything else can fail: ESCs see a valid signal that keeps them stopped.

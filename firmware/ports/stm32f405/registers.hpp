@@ -144,8 +144,7 @@ inline Syscfg& syscfg() { return at<Syscfg>(0x40013800u); }
 struct Usart {
   Reg SR, DR, BRR, CR1, CR2, CR3, GTPR;
 };
-inline Usart& usart1() { return at<Usart>(0x40011000u); }
-inline Usart& usart3() { return at<Usart>(0x40004800u); }
+inline constexpr std::uintptr_t kUsart1Base = 0x40011000u, kUsart3Base = 0x40004800u;
 namespace usart_bits {
 inline constexpr std::uint32_t sr_ore = 1u << 3, sr_rxne = 1u << 5, sr_txe = 1u << 7;
 inline constexpr std::uint32_t cr1_re = 1u << 2, cr1_te = 1u << 3, cr1_rxneie = 1u << 5, cr1_txeie = 1u << 7,

@@ -10,7 +10,7 @@ void Uart::init(std::uintptr_t base, unsigned irq, const Pin& tx, const Pin& rx,
                 std::uint32_t baud, std::uint8_t priority) {
   base_ = base;
   irq_ = irq;
-  if (base_ == 0x40011000u) rcc().APB2ENR |= rcc_bits::apb2_usart1;
+  if (base_ == kUsart1Base) rcc().APB2ENR |= rcc_bits::apb2_usart1;
   else rcc().APB1ENR |= rcc_bits::apb1_usart3;
   (void)rcc().APB1ENR;
   configure_pin(tx, gpio_mode_af);
