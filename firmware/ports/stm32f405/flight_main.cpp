@@ -153,7 +153,10 @@ void report(const char* what) {
   Line line;
   line.text("flight: ").text(board::kName).text(" ").text(what).text(" t_ms=").u32(g_ms);
   line.text(" clock=").text(clock_name(s.clock.source)).text(" imu=").text(mpu::to_string(s.imu.status));
-  line.text(" who_am_i=").hex8(s.imu.who_am_i).text(" samples=").u32(imu.samples);
+  line.text(" who_am_i=").hex8(s.imu.who_am_i);
+  if (s.imu.status == mpu::Status::config_rejected || s.imu.status == mpu::Status::bus_error)
+    line.text(" imu_register=").hex8(s.imu.failed_register);
+  line.text(" samples=").u32(imu.samples);
   line.text(" bad=").u32(imu.bad_bursts + imu.bus_timeouts).text(" ticks=").u32(s.ticks);
   line.text(" acc_cmps2=")
       .vec(s.last_sample.accel_mps2, 100.0f)
