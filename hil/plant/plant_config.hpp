@@ -74,7 +74,7 @@ struct ImuConfig {
   double accel_bias_sigma_mps2 = 0.1;  // constant bias per run, drawn per axis from the seed
   double gyro_bias_sigma_radps = 0.005;
   double accel_range_mps2 = 156.9064;  // +-16 g
-  double gyro_range_radps = 34.9;      // +-2000 deg/s
+  double gyro_range_radps = 34.9;      // +-2000 deg/s (HIL_IMU_GYRO carries +-36 rad/s)
 };
 
 struct MocapConfig {

@@ -22,6 +22,7 @@ struct Bench {
   std::uint32_t now_us = 0;
   std::uint8_t sp_seq = 0, hb_seq = 0, cmd_seq = 0;
   std::vector<Message> sent;
+  fw::Vec3 gyro_radps{};  // what the gyro reads at rest (a bias)
 
   Bench() : vehicle(config) {}
 
@@ -48,6 +49,7 @@ struct Bench {
     fw::ImuSample s;
     s.t_us = now_us;
     s.accel_mps2 = {0, 0, accel_z};
+    s.gyro_radps = gyro_radps;
     const fw::TickOutput out = vehicle.tick(s);
     Frame f;
     while (vehicle.pop_tx(f)) {
@@ -78,6 +80,25 @@ TEST_CASE("arming over the link: accepted with the session, a live heartbeat and
   REQUIRE(b.last_ack() != nullptr);
   CHECK(b.last_ack()->result == AckResult::accepted);
   CHECK(b.vehicle.mode() == Mode::armed);
+}
+
+TEST_CASE("armed on the floor the rate integrators do not wind up: lift-off is the same after 20 ms or 3 s") {
+  // A gyro bias the rate loop tries to cancel while the feet hold the vehicle still.
+  const auto lift_off = [](int armed_ms) {
+    Bench b;
+    b.gyro_radps = {0.05f, -0.03f, 0.02f};
+    b.settle(60);
+    b.command(CommandCode::arm);
+    b.settle(armed_ms);
+    REQUIRE(b.vehicle.mode() == Mode::armed);
+    std::vector<fw::Motors> commands;
+    for (int i = 0; i < 40; ++i) commands.push_back(b.tick(true, kG).motor_command);
+    CHECK(b.vehicle.mode() == Mode::flying);
+    return commands;
+  };
+  const std::vector<fw::Motors> soon = lift_off(20), late = lift_off(3000);
+  for (std::size_t i = 0; i < soon.size(); ++i)
+    for (int m = 0; m < 4; ++m) CHECK(late[i][m] == Approx(soon[i][m]).margin(1e-6));
 }
 
 TEST_CASE("arming is refused with the reason the operator needs") {

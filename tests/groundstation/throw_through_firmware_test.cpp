@@ -11,7 +11,7 @@
 // - the stand-in computes its motor commands from the TRUE body rates in the same millisecond,
 //   with a P law (40/s) and the gyroscopic terms cancelled, and shortens the motors' 30 ms lag
 //   with a 10 ms lead; the firmware runs a PI law (kp 40/s, ki 40/s^2) on its measured gyro
-//   (noise, bias, 1 mrad/s quantisation), one IMU period late, through the motors' own lag.
+//   (noise, bias, 1.1 mrad/s quantisation), one IMU period late, through the motors' own lag.
 //   The lead alone is not what matters: the stand-in flown without it (motor_response_s = 0)
 //   still flies this throw with 0.012 rad of tilt error and releases at T + 40 ms;
 // - RATE_THRUST quantisation (1 mrad/s and 0.005 m/s^2 at most) is far below the TV-LQR's

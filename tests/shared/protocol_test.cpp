@@ -173,6 +173,18 @@ TEST_CASE("encoding saturates values beyond a field's range") {
         Approx(32767 * kAccelLsb_mps2));
 }
 
+TEST_CASE("HIL_IMU frames carry an IMU's whole range: +-2000 deg/s and +-16 g within half a bit") {
+  const float gyro_full_scale_radps = 2000.0f * 3.14159265f / 180.0f;
+  const float accel_full_scale_mps2 = 16.0f * 9.80665f;
+  for (const float sign : {1.0f, -1.0f}) {
+    const Message g = decoded(encoded(HilImuGyro{{sign * gyro_full_scale_radps, 0, 0}, 0}));
+    CHECK(g.hil_imu_gyro.gyro_radps[0] == Approx(sign * gyro_full_scale_radps).margin(0.5f * kGyroLsb_radps));
+    const Message a = decoded(encoded(HilImuAccel{{0, 0, sign * accel_full_scale_mps2}, 0}));
+    CHECK(a.hil_imu_accel.accel_mps2[2] ==
+          Approx(sign * accel_full_scale_mps2).margin(0.5f * kAccelLsb_mps2));
+  }
+}
+
 TEST_CASE("encoding refuses non-finite values, bad enumerations and bad nodes, leaving the frame alone") {
   Frame f;
   f.id = 0x7AB;

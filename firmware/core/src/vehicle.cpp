@@ -16,7 +16,12 @@ constexpr float kImuGyroLimit_radps = 40.0f;  // beyond the sensor's range: a br
 constexpr float kImuAccelLimit_mps2 = 200.0f;
 constexpr float kNominalDt_s = 0.001f;
 constexpr float kVerticalGain_per_s = 4.0f;  // failsafe vertical-velocity loop
-constexpr float kMinTiltCos = 0.5f;          // thrust compensation for tilt stops at 60 degrees
+// The accelerometer's bias along "up" is learnt at rest from samples this still and this close
+// to g (a vehicle being carried or bumped is not at rest), averaged over up to kBiasWindow.
+constexpr float kBiasStillRate2_radps2 = 0.1f * 0.1f;
+constexpr float kBiasMax_mps2 = 0.5f;
+constexpr float kBiasWindow = 2000.0f;
+constexpr float kMinTiltCos = 0.5f;  // thrust compensation for tilt stops at 60 degrees
 constexpr std::int32_t kExpectCatchMax_ms = 10000;
 // A quadrocopter's accelerometer reads gravity only while the vehicle rests; in flight it
 // reads the thrust direction, which would pull the estimate towards "level" whatever the
@@ -85,6 +90,7 @@ TickOutput Vehicle::tick(const ImuSample& imu) {
   if (resting) attitude_.set_accel_gain(kAttitudeGroundGain_per_s);
   else attitude_.set_accel_gain(0.0f);
   if (imu_ok_) attitude_.update(gyro_radps_, accel_mps2_, dt_s);
+  if (resting && imu_ok_) learn_accel_bias();
   handle_link(now_us);
   const bool crash = detect_impact(now_us);
   supervise(crash);
@@ -205,6 +211,18 @@ void Vehicle::acknowledge(const Command& command, AckResult result, RefuseReason
   inputs_.crash = false;  // until the impact detector has run
 }
 
+// At rest on the floor the accelerometer reads g exactly, so what it reads more is its bias
+// (along up: the x and y biases only tilt the measured up, second order in its length). The
+// failsafe integrates its vertical speed from the accelerometer with no motion capture; without
+// this the speed drifted by bias * time, from 4.9 m enough to stall the descent and climb.
+[[gnu::always_inline]] inline void Vehicle::learn_accel_bias() {
+  if (dot(gyro_radps_, gyro_radps_) > kBiasStillRate2_radps2) return;
+  const float excess_mps2 = std::sqrt(dot(accel_mps2_, accel_mps2_)) - kGravity_mps2;
+  if (std::fabs(excess_mps2) > kBiasMax_mps2) return;
+  if (bias_samples_ < kBiasWindow) bias_samples_ += 1.0f;
+  accel_bias_up_mps2_ += (excess_mps2 - accel_bias_up_mps2_) / bias_samples_;
+}
+
 [[gnu::always_inline]] inline void Vehicle::supervise(bool crash) {
   inputs_.crash = crash;
   supervisor_.update(inputs_);
@@ -254,7 +272,7 @@ void Vehicle::acknowledge(const Command& command, AckResult result, RefuseReason
   // The failsafes: level, hold (or sink at) the vertical speed integrated on board.
   const Vec3 up = attitude_.up_in_body();
   const float tilt_cos = up[2] < kMinTiltCos ? kMinTiltCos : up[2];
-  const float up_accel_mps2 = dot(accel_mps2_, up);  // specific force along inertial up
+  const float up_accel_mps2 = dot(accel_mps2_, up) - accel_bias_up_mps2_;  // specific force along up
   if (imu_ok_) {
     const float clamped_dt = dt_s < 0 ? 0 : (dt_s > 0.005f ? 0.005f : dt_s);
     failsafe_vz_mps_ += (up_accel_mps2 - kGravity_mps2) * clamped_dt;
@@ -283,6 +301,10 @@ void Vehicle::acknowledge(const Command& command, AckResult result, RefuseReason
     motor_command_ = Motors{};
     return out;
   }
+  // Idle on the floor (armed, not yet flying) the feet hold the attitude, so any rate error (a
+  // gyro bias, the floor's tilt) would wind the integrators up and kick the vehicle at lift-off:
+  // they learn in flight only (PX4 resets them while landed).
+  if (supervisor_.action() == Action::idle) rate_controller_.reset();
   const Vec3 torque = rate_controller_.update(rate_radps, gyro_radps_, dt_s, saturation_);
   const float mass = config_.airframe.mass_kg;
   const MixerOutput mixed = mixer_.mix(MixerInput{thrust_mps2 * mass, torque});

@@ -118,8 +118,8 @@ constexpr std::uint8_t id_node(std::uint16_t id) { return static_cast<std::uint8
 inline constexpr float kRateSetpointLsb_radps = 0.002f;  // RATE_THRUST, TELEMETRY_RATES
 inline constexpr float kThrustLsb_mps2 = 0.01f;          // 12-bit collective thrust
 inline constexpr float kThrustMax_mps2 = 4095 * kThrustLsb_mps2;
-inline constexpr float kGyroLsb_radps = 0.001f;           // HIL_IMU_GYRO
-inline constexpr float kAccelLsb_mps2 = 0.005f;           // HIL_IMU_ACCEL
+inline constexpr float kGyroLsb_radps = 0.0011f;  // HIL_IMU_GYRO: +-36.04 rad/s, over an IMU's +-2000 deg/s
+inline constexpr float kAccelLsb_mps2 = 0.005f;   // HIL_IMU_ACCEL
 inline constexpr float kImpactPeakLsb_mps2 = 0.01f;       // IMPACT peak
 inline constexpr float kQuaternionLsb = 1.0f / 32767.0f;  // TELEMETRY_ATTITUDE
 inline constexpr std::uint16_t kMotorMax12 = 4095;        // HIL_MOTORS, 12-bit per motor
@@ -223,7 +223,7 @@ struct RateThrust {
   std::uint8_t seq;                 // 4-bit setpoint sequence
 };
 struct HilImuGyro {
-  std::array<float, 3> gyro_radps;  // +-32.767 rad/s
+  std::array<float, 3> gyro_radps;  // +-36.04 rad/s (kGyroLsb_radps)
   std::uint16_t tick;
 };
 struct HilImuAccel {

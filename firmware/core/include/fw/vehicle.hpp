@@ -45,6 +45,8 @@ class Vehicle {
   const AttitudeEstimator& attitude() const { return attitude_; }
   std::uint8_t saturation() const { return saturation_; }
   bool catch_reaction_active() const { return reaction_active_; }
+  // The accelerometer's bias along up, learnt at rest on the floor; the failsafe removes it.
+  float accel_bias_up_mps2() const { return accel_bias_up_mps2_; }
   std::uint8_t impact_count() const { return impacts_.count(); }
   std::uint32_t ticks() const { return ticks_; }
 
@@ -63,6 +65,7 @@ class Vehicle {
   void accept_sample(const ImuSample& imu);
   void handle_link(std::uint32_t now_us);
   bool detect_impact(std::uint32_t now_us);  // true when the impact was a crash
+  void learn_accel_bias();
   void supervise(bool crash);
   void choose_setpoint(float dt_s, Vec3& rate_radps, float& thrust_mps2);
   TickOutput control_and_mix(float dt_s, const Vec3& rate_radps, float thrust_mps2);
@@ -113,6 +116,8 @@ class Vehicle {
   // began (motion capture is out of reach then), and the ground-contact detector.
   float failsafe_vz_mps_ = 0;
   float ground_contact_s_ = 0;
+  float accel_bias_up_mps2_ = 0;  // learnt at rest (learn_accel_bias)
+  float bias_samples_ = 0;
   pa::proto::Mode last_mode_ = pa::proto::Mode::disarmed;
 
   std::uint32_t tick_time_max_us_ = 0;
