@@ -1,9 +1,10 @@
 # The front door (as PX4 does): wraps the CMake presets for people who just want to build,
 # try and test. `make demo` and `make test` install what is missing on Debian 12 first.
 .PHONY: all deps host host-sanitize firmware cortex-m4 stm32f405 demo test test-host test-sanitize \
-        test-firmware bench flash clean help
+        test-firmware test-fuzz fuzz-build fuzz bench flash clean help
 
 JOBS ?= $(shell nproc)
+FUZZ_SECONDS ?= 600
 STM32_IMAGE := build/stm32f405/firmware/ports/stm32f405/fw_stm32f405.elf
 
 all: host firmware
@@ -12,6 +13,7 @@ help:
 	@echo "make demo       install what is missing, build, fly the firmware self-test (host and Cortex-M4 in QEMU)"
 	@echo "make test       install what is missing, build every preset, run every test"
 	@echo "make bench      run the benchmarks (bench_firmware, bench_planning, ...)"
+	@echo "make fuzz       run every libFuzzer target FUZZ_SECONDS (default 600) on its corpus (tests/fuzz)"
 	@echo "make firmware   build the Cortex-M4 images (mps2-an386 and stm32f405)"
 	@echo "make flash      program the STM32F405 image with openocd (see firmware/ports/stm32f405/README.md)"
 
@@ -36,6 +38,11 @@ stm32f405: deps
 
 firmware: cortex-m4 stm32f405
 
+# The libFuzzer targets (clang; tests/fuzz/CMakeLists.txt builds only what they need).
+fuzz-build: deps
+	cmake --preset fuzz >/dev/null
+	cmake --build --preset fuzz -j $(JOBS)
+
 demo: host firmware
 	@scripts/demo.sh
 
@@ -49,7 +56,14 @@ test-firmware: firmware
 	ctest --preset cortex-m4
 	ctest --preset stm32f405
 
-test: demo test-host test-sanitize test-firmware
+# Each fuzz target replays its checked-in corpus and mutates for a few seconds (label fuzz).
+test-fuzz: fuzz-build
+	ctest --preset fuzz
+
+fuzz: fuzz-build
+	FUZZ_SECONDS=$(FUZZ_SECONDS) scripts/fuzz.sh
+
+test: demo test-host test-sanitize test-firmware test-fuzz
 	@echo "make test: every preset built and every test passed"
 
 bench: host
