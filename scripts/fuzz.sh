@@ -31,9 +31,9 @@ for t in "${targets[@]}"; do
     -fork=1 -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1 \
     -artifact_prefix="$artifacts/" "$scratch" "tests/fuzz/corpus/$t" >"$log" 2>&1
   crashes=$(($(find "$artifacts" -type f | wc -l) - before))
-  # The last status line: "#N ... cov: C ft: F corp: K ... exec/s: E ...".
+  # The last status line of the fork mode: "#N: cov: C ft: F corp: K exec/s E oom/timeout/crash: ...".
   last=$(grep -E '^#[0-9]+' "$log" | tail -1)
-  field() { sed -nE "s/.* $1: ([0-9]+).*/\1/p" <<<"$last"; }
+  field() { sed -nE "s|.* $1:? ([0-9]+).*|\1|p" <<<"$last"; }
   printf '%-18s %10s %8s %8s %8s %8s %s\n' "$t" "$(field exec/s)" "$(field cov)" "$(field ft)" \
     "$(field corp)" "$crashes" "$log"
   [ "$crashes" -gt 0 ] && failed=1
