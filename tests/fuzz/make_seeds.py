@@ -139,8 +139,11 @@ def yaml_seeds():
     os.makedirs(os.path.join(CORPUS, "yaml_config"), exist_ok=True)
     sources = ["hil/config/plant.yaml", "groundstation/config/vehicle_limits.yaml"] + [
         "hil/config/scenarios/" + n for n in sorted(os.listdir(os.path.join(ROOT, "hil/config/scenarios")))]
+    # Without the .yaml extension: tests/repository would read a seed's comments as the
+    # repository's own and find its relative references (../plant.yaml) broken.
     for s in sources:
-        shutil.copy(os.path.join(ROOT, s), os.path.join(CORPUS, "yaml_config", os.path.basename(s)))
+        name = os.path.basename(s).replace(".yaml", "")
+        shutil.copy(os.path.join(ROOT, s), os.path.join(CORPUS, "yaml_config", name))
 
 
 protocol_seeds()
