@@ -72,22 +72,21 @@ bool drain_tx(fw::Vehicle& vehicle) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   fw::VehicleConfig config{};
   config.link.node = kNode;
-  fw::Vehicle vehicle_storage(config);
-  fw::Vehicle* vehicle = &vehicle_storage;
+  fw::Vehicle vehicle(config);  // a fresh vehicle per input: each input is one boot
 
   std::uint32_t now_us = 0;
   Received received;
   for (std::size_t at = 0; at + kRecord <= size; at += kRecord) {
     const std::uint8_t* r = data + at;
-    const Mode before = vehicle->mode();
+    const Mode before = vehicle.mode();
     if ((r[0] & 0x80u) == 0) {
       Frame f;
       f.id = static_cast<std::uint16_t>(r[1] | (r[2] << 8));
       f.len = r[3] > kMaxPayload ? kMaxPayload : r[3];
       std::memcpy(f.data.data(), r + 4, kMaxPayload);
       note_frame(f, received);
-      vehicle->on_frame(f, now_us);
-      check(vehicle->mode() == before);
+      vehicle.on_frame(f, now_us);
+      check(vehicle.mode() == before);
       continue;
     }
 
@@ -102,9 +101,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (r[0] & 0x40u) s.gyro_radps[0] = std::nanf("");
     if (r[0] & 0x20u) s.accel_mps2[2] = 1e6f;
 
-    const fw::TickOutput out = vehicle->tick(s);
-    const Mode after = vehicle->mode();
-    const bool arm_accepted = drain_tx(*vehicle);
+    const fw::TickOutput out = vehicle.tick(s);
+    const Mode after = vehicle.mode();
+    const bool arm_accepted = drain_tx(vehicle);
 
     if (!motors_on(before) && motors_on(after)) check(received.arm && arm_accepted);
     if (received.kill) {
