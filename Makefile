@@ -1,12 +1,13 @@
 # The front door (as PX4 does): wraps the CMake presets for people who just want to build,
 # try and test. `make demo` and `make test` install what is missing on Debian 12 first.
 .PHONY: all deps host host-sanitize firmware cortex-m4 stm32f405 demo test test-host test-sanitize \
-        test-firmware bench flash clean help
+        test-firmware test-fuzz fuzz-build fuzz bench flash clean help
 
 JOBS ?= $(shell nproc)
 # make flash: the HIL image; make flash BOARD=omnibusf4: the flight image (DShot600);
 # BOARD=omnibusf4-pwm: the flight image with PWM motor output (scripts/flash.sh).
 BOARD ?=
+FUZZ_SECONDS ?= 600
 
 all: host firmware
 
@@ -14,6 +15,7 @@ help:
 	@echo "make demo       install what is missing, build, fly the firmware self-test (host and Cortex-M4 in QEMU)"
 	@echo "make test       install what is missing, build every preset, run every test"
 	@echo "make bench      run the benchmarks (bench_firmware, bench_planning, ...)"
+	@echo "make fuzz       run every libFuzzer target FUZZ_SECONDS (default 600) on its corpus (tests/fuzz)"
 	@echo "make firmware   build the Cortex-M4 images (mps2-an386, the stm32f405 HIL and flight images)"
 	@echo "make flash      program the STM32F405 HIL image with openocd; BOARD=omnibusf4: the flight image with dfu-util"
 	@echo "                (see firmware/ports/stm32f405/README.md)"
@@ -39,6 +41,11 @@ stm32f405: deps
 
 firmware: cortex-m4 stm32f405
 
+# The libFuzzer targets (clang; tests/fuzz/CMakeLists.txt builds only what they need).
+fuzz-build: deps
+	cmake --preset fuzz >/dev/null
+	cmake --build --preset fuzz -j $(JOBS)
+
 demo: host firmware
 	@scripts/demo.sh
 
@@ -52,7 +59,14 @@ test-firmware: firmware
 	ctest --preset cortex-m4
 	ctest --preset stm32f405
 
-test: demo test-host test-sanitize test-firmware
+# Each fuzz target replays its checked-in corpus and mutates for a few seconds (label fuzz).
+test-fuzz: fuzz-build
+	ctest --preset fuzz
+
+fuzz: fuzz-build
+	FUZZ_SECONDS=$(FUZZ_SECONDS) scripts/fuzz.sh
+
+test: demo test-host test-sanitize test-firmware test-fuzz
 	@echo "make test: every preset built and every test passed"
 
 bench: host

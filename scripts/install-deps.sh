@@ -8,6 +8,8 @@ packages=(
   catch2 libbenchmark-dev libeigen3-dev
   cyclonedds-dev cyclonedds-tools coinor-libipopt-dev libsqlite3-dev
   libcli11-dev libyaml-cpp-dev clang-format
+  # the fuzz preset: clang and libFuzzer's runtime (only recommended by clang, so named here)
+  clang libclang-rt-14-dev
   gcc-arm-none-eabi binutils-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib
   qemu-system-arm
 )

@@ -144,6 +144,29 @@ TEST_CASE("flying, a KILL stops the motors at once and stays latched until disar
   CHECK(b.vehicle.mode() == Mode::disarmed);
 }
 
+// Found by tests/fuzz/vehicle_fuzz.cpp: the KILL latch does not keep the order of arrival, so a
+// DISARM and an ARM read in the same tick as a KILL used to clear it and re-arm at once.
+TEST_CASE("a KILL wins over an ARM read in the same tick; DISARM still clears it") {
+  Bench b;
+  b.settle(50);
+  b.command(CommandCode::arm);
+  b.settle(5);
+  REQUIRE(b.vehicle.mode() == Mode::armed);
+  b.receive(Kill{0, KillReason::operator_request});
+  b.command(CommandCode::disarm);
+  b.command(CommandCode::arm);
+  CHECK_FALSE(b.tick(true, 0).motors_enabled);
+  CHECK(b.vehicle.mode() == Mode::disarmed);
+  REQUIRE(b.last_ack() != nullptr);
+  CHECK(b.last_ack()->code == CommandCode::arm);
+  CHECK(b.last_ack()->result == AckResult::refused);
+  CHECK(b.last_ack()->reason == RefuseReason::killed);
+  // The next tick's ARM is the operator's new decision.
+  b.command(CommandCode::arm);
+  b.tick(true, 0);
+  CHECK(b.vehicle.mode() == Mode::armed);
+}
+
 TEST_CASE("expect-catch is checked: its window must be sane and the vehicle flying") {
   Bench b;
   b.settle(50);

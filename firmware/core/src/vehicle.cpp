@@ -142,10 +142,11 @@ TickOutput Vehicle::tick(const ImuSample& imu) {
 
 [[gnu::always_inline]] inline void Vehicle::handle_link(std::uint32_t now_us) {
   KillReason kill_reason{};
-  if (link_.take_kill(kill_reason)) supervisor_.kill(now_us);
+  const bool killed_this_tick = link_.take_kill(kill_reason);
+  if (killed_this_tick) supervisor_.kill(now_us);
 
   Command command{};
-  while (link_.take_command(command)) handle_command(command, now_us);
+  while (link_.take_command(command)) handle_command(command, now_us, killed_this_tick);
 
   TimesyncRequest request{};
   std::uint32_t received_us = 0;
@@ -164,9 +165,15 @@ TickOutput Vehicle::tick(const ImuSample& imu) {
   link_.set_session_rebind(supervisor_.mode() == Mode::disarmed);
 }
 
-void Vehicle::handle_command(const Command& command, std::uint32_t now_us) {
+void Vehicle::handle_command(const Command& command, std::uint32_t now_us, bool killed_this_tick) {
   if (!link_.has_session() || command.session_token != link_.session_token()) {
     acknowledge(command, AckResult::refused, RefuseReason::bad_session_token);
+    return;
+  }
+  // The KILL latch does not keep the order of arrival: within one tick an ARM may have come after
+  // the KILL, after a DISARM that cleared it. KILL wins: the motors stay off at least this tick.
+  if (killed_this_tick && command.code == CommandCode::arm) {
+    acknowledge(command, AckResult::refused, RefuseReason::killed);
     return;
   }
   switch (command.code) {

@@ -71,7 +71,8 @@ class Vehicle {
   TickOutput control_and_mix(float dt_s, const Vec3& rate_radps, float thrust_mps2);
   void run_periodic_tasks(std::uint32_t now_us);
 
-  void handle_command(const pa::proto::Command& command, std::uint32_t now_us);
+  // `killed_this_tick`: a KILL was taken in this tick (ARM is refused then).
+  void handle_command(const pa::proto::Command& command, std::uint32_t now_us, bool killed_this_tick);
   void acknowledge(const pa::proto::Command& command, pa::proto::AckResult result,
                    pa::proto::RefuseReason reason);
   void update_inputs(std::uint32_t now_us);  // inputs_ for this tick, crash false
