@@ -10,6 +10,7 @@ packages=(
   libcli11-dev libyaml-cpp-dev clang-format
   gcc-arm-none-eabi binutils-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib
   qemu-system-arm
+  python3 python3-matplotlib
 )
 
 missing=()
