@@ -23,6 +23,14 @@ std::string report_script() {
   return PA_HIL_REPORT_SCRIPT;
 }
 
+// Debian's python3 first: python3-matplotlib installs for it, and a python3 earlier on PATH (a
+// pyenv or a virtual environment) may not have it. PA_HIL_PYTHON names another interpreter.
+std::string python() {
+  if (const char* over = std::getenv("PA_HIL_PYTHON"); over != nullptr && *over != '\0') return over;
+  if (::access("/usr/bin/python3", X_OK) == 0) return "/usr/bin/python3";
+  return "python3";
+}
+
 }  // namespace
 
 bool make_report(const std::string& out_dir, const std::string& tool) {
@@ -32,6 +40,9 @@ bool make_report(const std::string& out_dir, const std::string& tool) {
               << "' is missing; the CSV files are in " << out_dir << "\n";
     return false;
   }
+  const std::string interpreter = python();
+  std::vector<char*> args{const_cast<char*>(interpreter.c_str()), const_cast<char*>(script.c_str()),
+                          const_cast<char*>(out_dir.c_str()), nullptr};
   std::fflush(nullptr);
   const pid_t pid = ::fork();
   if (pid < 0) {
@@ -39,9 +50,7 @@ bool make_report(const std::string& out_dir, const std::string& tool) {
     return false;
   }
   if (pid == 0) {
-    std::vector<char*> args{const_cast<char*>("python3"), const_cast<char*>(script.c_str()),
-                            const_cast<char*>(out_dir.c_str()), nullptr};
-    ::execvp("python3", args.data());
+    ::execvp(interpreter.c_str(), args.data());
     ::_exit(kNotFound);
   }
   int status = 0;
