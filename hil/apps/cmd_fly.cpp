@@ -66,8 +66,8 @@ void write_time_series(const std::string& path, const std::vector<sil::TimeSampl
                          s.plate_normal[i].z());
     }
     for (int i = 0; i < 2; ++i) {
-      n += std::snprintf(line + n, sizeof line - n, ",%.4f,%.4f,%.4f", s.pole_end_m[i].x(), s.pole_end_m[i].y(),
-                         s.pole_end_m[i].z());
+      n += std::snprintf(line + n, sizeof line - n, ",%.4f,%.4f,%.4f", s.pole_end_m[i].x(),
+                         s.pole_end_m[i].y(), s.pole_end_m[i].z());
     }
     for (int i = 0; i < 2; ++i) {
       n += std::snprintf(line + n, sizeof line - n, ",%.3f,%.3f,%.3f,%.3f", s.thrust_cmd_mps2[i],
@@ -167,7 +167,8 @@ int cmdFly(int argc, char** argv) {
         sil::AttemptResult r = runner.run(one).front();
         learnt = runner.groundStation().learnt();
         if (!out_dir.empty() && !runner.timeSeries().empty())
-          write_time_series(out_dir + "/attempt_" + std::to_string(i + 1) + ".csv", runner.timeSeries().front());
+          write_time_series(out_dir + "/attempt_" + std::to_string(i + 1) + ".csv",
+                            runner.timeSeries().front());
         if (verbose)
           std::printf(
               "  learnt: catching height %.3f, waiting (%.3f, %.3f), bias (%.3f, %.3f), catching instant %.3f s\n",

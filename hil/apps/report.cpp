@@ -60,10 +60,12 @@ bool make_report(const std::string& out_dir, const std::string& tool) {
   if (code == 0) return true;
   if (code == kNotFound) {
     std::cerr << tool << ": warning: no report: python3 was not found (install python3 and "
-              << "python3-matplotlib, e.g. scripts/install-deps.sh); the CSV files are in " << out_dir << "\n";
+              << "python3-matplotlib, e.g. scripts/install-deps.sh); the CSV files are in " << out_dir
+              << "\n";
   } else if (code == kNoMatplotlib) {
     std::cerr << tool << ": warning: no report: matplotlib is missing (install the Debian package "
-              << "python3-matplotlib, e.g. scripts/install-deps.sh); the CSV files are in " << out_dir << "\n";
+              << "python3-matplotlib, e.g. scripts/install-deps.sh); the CSV files are in " << out_dir
+              << "\n";
   } else {
     std::cerr << tool << ": warning: the report script failed (exit " << code << "); the CSV files are in "
               << out_dir << "\n";

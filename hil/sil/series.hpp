@@ -54,9 +54,9 @@ struct AttemptResult {
   double travel_m = 0.0;        // from the catcher's waiting point to the catch point (series.cpp)
   double energy_error_J = 0.0;  // E - E* right after the impact (0 without one)
   bool impact = false;
-  std::string abort_reason;      // the ground station's, for an aborted catch
+  std::string abort_reason;        // the ground station's, for an aborted catch
   double planned_height_m = -1.0;  // the ground station's catching height for the throw (-1: none)
-  bool vehicle_crashed = false;  // a vehicle touched the floor at speed or was killed
+  bool vehicle_crashed = false;    // a vehicle touched the floor at speed or was killed
 };
 
 // One row of an attempt's time series (every 10 ms); the columns of attempt_<n>.csv are in
