@@ -12,7 +12,7 @@
 namespace gs::adaptation {
 namespace {
 
-int storeError(std::ostream& err, const char* command, const std::string& message) {
+int store_error(std::ostream& err, const char* command, const std::string& message) {
   err << "groundstation " << command << ": " << message << "\n";
   return 1;
 }
@@ -33,26 +33,26 @@ int history(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   app.add_option("--db", db, "the adaptation store (a SQLite file written by the mission)")
       ->type_name("FILE")
       ->required()
-      ->check(pa::cli::nonEmpty("wants a file name"));
+      ->check(pa::cli::non_empty("wants a file name"));
   app.add_option("--last", last, "only the last N throws (N >= 1)")
       ->type_name("N")
       ->check(pa::cli::count(1, INT64_MAX, "wants a whole number >= 1"));
   app.add_flag("--csv", csv, "CSV with a header row and every stored column, instead of the table");
   if (const std::optional<int> code = pa::cli::parse(app, argc, argv, out, err)) return *code;
   try {
-    const AdaptationStore store = AdaptationStore::openExisting(db);
+    const AdaptationStore store = AdaptationStore::open_existing(db);
     const std::vector<StoredThrow> throws =
         store.history(last ? std::optional<std::int64_t>(static_cast<std::int64_t>(*last)) : std::nullopt);
     if (csv) {
-      writeHistoryCsv(out, throws);
+      write_history_csv(out, throws);
     } else if (throws.empty()) {
       out << "no throws recorded in " << db << "\n";
     } else {
-      writeHistoryTable(out, throws);
-      out << throws.size() << " of " << store.throwCount() << " throws\n";
+      write_history_table(out, throws);
+      out << throws.size() << " of " << store.throw_count() << " throws\n";
     }
   } catch (const std::exception& e) {
-    return storeError(err, kName, e.what());
+    return store_error(err, kName, e.what());
   }
   return 0;
 }
@@ -72,7 +72,7 @@ int adaptation(int argc, const char* const* argv, std::ostream& out, std::ostrea
   app.add_option("--db", db, "the adaptation store")
       ->type_name("FILE")
       ->required()
-      ->check(pa::cli::nonEmpty("wants a file name"));
+      ->check(pa::cli::non_empty("wants a file name"));
   CLI::Option* reset_flag =
       app.add_flag("--reset", reset,
                    "set the adapted values back to the nominal ones (the history is kept; the\n"
@@ -80,7 +80,7 @@ int adaptation(int argc, const char* const* argv, std::ostream& out, std::ostrea
   app.add_flag("--yes", yes, "confirms --reset")->needs(reset_flag);
   if (const std::optional<int> code = pa::cli::parse(app, argc, argv, out, err)) return *code;
   try {
-    AdaptationStore store = AdaptationStore::openExisting(db);
+    AdaptationStore store = AdaptationStore::open_existing(db);
     if (reset) {
       const AdaptationSnapshot before = store.adaptation();
       if (!yes) {
@@ -94,16 +94,16 @@ int adaptation(int argc, const char* const* argv, std::ostream& out, std::ostrea
       out << "reset: the adapted values are the nominal ones again; they will rest on throws "
           << before.throw_count + 1 << " onwards\n";
     }
-    writeAdaptationSummary(out, db, store.settings(), store.adaptation(), store.checkConsistency());
+    write_adaptation_summary(out, db, store.settings(), store.adaptation(), store.check_consistency());
   } catch (const std::exception& e) {
-    return storeError(err, kName, e.what());
+    return store_error(err, kName, e.what());
   }
   return 0;
 }
 
 }  // namespace
 
-int runHistoryCommand(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
+int run_history_command(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
   try {
     return history(argc, argv, out, err);
   } catch (const std::exception& e) {
@@ -112,7 +112,7 @@ int runHistoryCommand(int argc, const char* const* argv, std::ostream& out, std:
   }
 }
 
-int runAdaptationCommand(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
+int run_adaptation_command(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
   try {
     return adaptation(argc, argv, out, err);
   } catch (const std::exception& e) {

@@ -10,9 +10,9 @@
 namespace gs::adaptation {
 
 // history --db FILE [--last N] [--csv]
-int runHistoryCommand(int argc, const char* const* argv, std::ostream& out, std::ostream& err);
+int run_history_command(int argc, const char* const* argv, std::ostream& out, std::ostream& err);
 
 // adaptation --db FILE [--reset --yes]
-int runAdaptationCommand(int argc, const char* const* argv, std::ostream& out, std::ostream& err);
+int run_adaptation_command(int argc, const char* const* argv, std::ostream& out, std::ostream& err);
 
 }  // namespace gs::adaptation

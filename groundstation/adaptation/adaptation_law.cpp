@@ -8,10 +8,10 @@
 
 namespace gs::adaptation {
 
-AdaptationSettings nominalAdaptationSettings(const model::PoleParams& params) {
+AdaptationSettings nominal_adaptation_settings(const model::PoleParams& params) {
   AdaptationSettings settings;
-  const planning::CatchingInstant nominal =
-      planning::findCatchingInstant(planning::poleStateAtLaunch(planning::fig5LaunchState(), params), params);
+  const planning::CatchingInstant nominal = planning::find_catching_instant(
+      planning::pole_state_at_launch(planning::fig5_launch_state(), params), params);
   if (nominal.found) {
     settings.nominal_catch_height_m = nominal.catch_height_m;
     settings.nominal_waiting_xy_m = nominal.catch_point_m;
@@ -31,14 +31,14 @@ std::string validate(const AdaptationSettings& s) {
   return "";
 }
 
-AdaptationState initialAdaptation(const AdaptationSettings& settings) {
+AdaptationState initial_adaptation(const AdaptationSettings& settings) {
   AdaptationState state;
   state.catch_height_m = settings.nominal_catch_height_m;
   state.waiting_xy_m = settings.nominal_waiting_xy_m;
   return state;
 }
 
-double iterativeMeanGain(std::int64_t samples_taken, int window) {
+double iterative_mean_gain(std::int64_t samples_taken, int window) {
   std::int64_t divisor = std::max<std::int64_t>(samples_taken, 0) + 1;
   if (window > 0) divisor = std::min<std::int64_t>(divisor, window);
   return 1.0 / static_cast<double>(divisor);
@@ -48,27 +48,28 @@ AdaptationState adapt(const AdaptationState& state, const ThrowRecord& record, i
   AdaptationState next = state;
   if (record.optimal) {
     // VI-A: the catching height and the waiting point from the evaluated optimal instant (42).
-    const double gain = iterativeMeanGain(state.catch_point_samples, window);
+    const double gain = iterative_mean_gain(state.catch_point_samples, window);
     next.catch_height_m += gain * (record.optimal->height_m - state.catch_height_m);
     next.waiting_xy_m += gain * (record.optimal->xy_m - state.waiting_xy_m);
     next.catch_point_samples = state.catch_point_samples + 1;
   }
-  if (const std::optional<Eigen::Vector2d> sample = offsetBiasSample(record)) {
+  if (const std::optional<Eigen::Vector2d> sample = offset_bias_sample(record)) {
     // VI-B: the average catching bias of the past attempts.
-    const double gain = iterativeMeanGain(state.bias_samples, window);
+    const double gain = iterative_mean_gain(state.bias_samples, window);
     next.offset_bias_m += gain * (*sample - state.offset_bias_m);
     next.bias_samples = state.bias_samples + 1;
   }
   return next;
 }
 
-AdaptationState recomputeAdaptation(const AdaptationSettings& settings, std::span<const ThrowRecord> throws) {
-  AdaptationState state = initialAdaptation(settings);
+AdaptationState recompute_adaptation(const AdaptationSettings& settings,
+                                     std::span<const ThrowRecord> throws) {
+  AdaptationState state = initial_adaptation(settings);
   for (const ThrowRecord& record : throws) state = adapt(state, record, settings.window);
   return state;
 }
 
-Eigen::Vector2d compensateOffsetBias(const Eigen::Vector2d& xy_m, const AdaptationState& state) {
+Eigen::Vector2d compensate_offset_bias(const Eigen::Vector2d& xy_m, const AdaptationState& state) {
   return xy_m - state.offset_bias_m;
 }
 

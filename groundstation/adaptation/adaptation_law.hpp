@@ -52,7 +52,7 @@ struct AdaptationSettings {
 // The nominal settings: the catch point of the nominal throw (the Fig. 5 launch state flown
 // freely to the optimal catching instant (42), planning/catching_instant.hpp), window 0 and
 // E* of the given pole.
-AdaptationSettings nominalAdaptationSettings(const model::PoleParams& params = {});
+AdaptationSettings nominal_adaptation_settings(const model::PoleParams& params = {});
 
 // An empty string if the settings are usable, else what is wrong.
 std::string validate(const AdaptationSettings& settings);
@@ -67,20 +67,20 @@ struct AdaptationState {
 };
 
 // The nominal values with no samples.
-AdaptationState initialAdaptation(const AdaptationSettings& settings);
+AdaptationState initial_adaptation(const AdaptationSettings& settings);
 
 // g_k of the header for k samples taken.
-double iterativeMeanGain(std::int64_t samples_taken, int window);
+double iterative_mean_gain(std::int64_t samples_taken, int window);
 
 // The state after one more throw.
 AdaptationState adapt(const AdaptationState& state, const ThrowRecord& record, int window);
 
-// The state after the given throws in order, from initialAdaptation(settings). The store checks
+// The state after the given throws in order, from initial_adaptation(settings). The store checks
 // its persisted values against this.
-AdaptationState recomputeAdaptation(const AdaptationSettings& settings, std::span<const ThrowRecord> throws);
+AdaptationState recompute_adaptation(const AdaptationSettings& settings, std::span<const ThrowRecord> throws);
 
 // A position of the catch trajectory (the waiting point, the target) shifted by the offset bias
 // so that the vehicle, erring by the bias, comes to rest at `xy_m` (Section VI-B).
-Eigen::Vector2d compensateOffsetBias(const Eigen::Vector2d& xy_m, const AdaptationState& state);
+Eigen::Vector2d compensate_offset_bias(const Eigen::Vector2d& xy_m, const AdaptationState& state);
 
 }  // namespace gs::adaptation

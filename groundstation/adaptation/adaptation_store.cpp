@@ -25,24 +25,24 @@ namespace {
 
 using Impl = AdaptationStore::Impl;
 
-std::string fileName(const std::string& path) { return "'" + path + "'"; }
+std::string file_name(const std::string& path) { return "'" + path + "'"; }
 
 [[noreturn]] void fail(const Impl& s, const std::string& what, int rc) {
   const std::string sqlite_says = s.db != nullptr ? sqlite3_errmsg(s.db) : sqlite3_errstr(rc);
   switch (rc & 0xff) {
     case SQLITE_NOTADB:
-      throw StoreError(fileName(s.path) + " is not an adaptation store: it is not a SQLite database (" +
+      throw StoreError(file_name(s.path) + " is not an adaptation store: it is not a SQLite database (" +
                        sqlite_says + ")");
     case SQLITE_CORRUPT:
-      throw StoreError("adaptation store " + fileName(s.path) + " is damaged: SQLite reports '" +
+      throw StoreError("adaptation store " + file_name(s.path) + " is damaged: SQLite reports '" +
                        sqlite_says + "'");
     default:
-      throw StoreError("adaptation store " + fileName(s.path) + ": " + what + " (" + sqlite_says + ")");
+      throw StoreError("adaptation store " + file_name(s.path) + ": " + what + " (" + sqlite_says + ")");
   }
 }
 
 [[noreturn]] void damaged(const Impl& s, const std::string& what) {
-  throw StoreError("adaptation store " + fileName(s.path) + " is damaged: " + what);
+  throw StoreError("adaptation store " + file_name(s.path) + " is damaged: " + what);
 }
 
 class Statement {
@@ -84,7 +84,7 @@ class Statement {
     }
     return sqlite3_column_double(stmt_, column);
   }
-  std::optional<double> optionalReal(int column) const {
+  std::optional<double> optional_real(int column) const {
     if (isNull(column)) return std::nullopt;
     return real(column);
   }
@@ -116,7 +116,7 @@ void exec(const Impl& s, const char* sql) {
   if (rc != SQLITE_OK) fail(s, std::string("cannot execute '") + sql + "'", rc);
 }
 
-std::int64_t queryInteger(const Impl& s, const char* sql) {
+std::int64_t query_integer(const Impl& s, const char* sql) {
   Statement st(s, sql);
   if (!st.step()) damaged(s, std::string("'") + sql + "' returned no row");
   return st.isNull(0) ? 0 : st.integer(0);
@@ -144,7 +144,7 @@ class Transaction {
 
 // The first problem of an integrity or quick check's report (one problem a line, after a
 // "*** in database main ***" heading), and how many more there are.
-std::string firstProblem(const std::string& report) {
+std::string first_problem(const std::string& report) {
   std::vector<std::string> lines;
   std::size_t start = 0;
   while (start <= report.size()) {
@@ -234,7 +234,7 @@ CREATE TABLE throws (
   CHECK ((energy_J IS NULL) = (energy_error_J IS NULL)),
   CHECK (outcome IN ()sql";
 
-// The columns of `throws` in the order bindThrow() and readThrow() use.
+// The columns of `throws` in the order bind_throw() and read_throw() use.
 constexpr const char* kThrowColumns =
     "id, time_s, outcome, launch_x_m, launch_y_m, launch_z_m, launch_vx_mps, launch_vy_mps, "
     "launch_vz_mps, launch_alpha_rad, launch_alpha_dot_radps, catch_height_used_m, waiting_x_m, "
@@ -243,12 +243,12 @@ constexpr const char* kThrowColumns =
     "optimal_y_m, catcher_x_m, catcher_y_m, energy_J, energy_error_J, note";
 constexpr int kThrowColumnCount = 31;
 
-std::string createThrowsSql() {
+std::string create_throws_sql() {
   std::string sql = kCreateThrowsHead;
   bool first = true;
   for (const ThrowOutcome outcome : kAllThrowOutcomes) {
     sql += first ? "'" : ", '";
-    sql += toString(outcome);
+    sql += to_string(outcome);
     sql += "'";
     first = false;
   }
@@ -261,12 +261,12 @@ std::optional<double> component(const std::optional<Eigen::Vector2d>& v, int i) 
   return (*v)(i);
 }
 
-void bindThrow(Statement& st, std::int64_t id, const ThrowRecord& r,
-               const std::optional<double>& energy_error_J) {
+void bind_throw(Statement& st, std::int64_t id, const ThrowRecord& r,
+                const std::optional<double>& energy_error_J) {
   int i = 1;
   st.bind(i++, id);
   st.bind(i++, r.time_s);
-  st.bind(i++, toString(r.outcome));
+  st.bind(i++, to_string(r.outcome));
   st.bind(i++, r.launch.x_m);
   st.bind(i++, r.launch_y_m);
   st.bind(i++, r.launch.z_m);
@@ -300,18 +300,18 @@ void bindThrow(Statement& st, std::int64_t id, const ThrowRecord& r,
   st.bind(i++, std::string_view(r.note));
 }
 
-std::optional<Eigen::Vector2d> readPair(const Statement& st, int column) {
+std::optional<Eigen::Vector2d> read_pair(const Statement& st, int column) {
   if (st.isNull(column)) return std::nullopt;
   return Eigen::Vector2d(st.real(column), st.real(column + 1));
 }
 
-StoredThrow readThrow(const Impl& s, const Statement& st) {
+StoredThrow read_throw(const Impl& s, const Statement& st) {
   StoredThrow out;
   ThrowRecord& r = out.record;
   out.id = st.integer(0);
   r.time_s = st.real(1);
   const std::string outcome = st.text(2);
-  const std::optional<ThrowOutcome> parsed = parseThrowOutcome(outcome);
+  const std::optional<ThrowOutcome> parsed = parse_throw_outcome(outcome);
   if (!parsed) damaged(s, "throw " + std::to_string(out.id) + " has unknown outcome '" + outcome + "'");
   r.outcome = *parsed;
   r.launch.x_m = st.real(3);
@@ -324,18 +324,18 @@ StoredThrow readThrow(const Impl& s, const Statement& st) {
   r.launch.alpha_dot_radps = st.real(10);
   r.catch_height_used_m = st.real(11);
   r.waiting_xy_m = Eigen::Vector2d(st.real(12), st.real(13));
-  r.target_xy_m = readPair(st, 14);
-  if (const auto xy = readPair(st, 16)) r.predicted = CatchPoint{*xy, st.real(18)};
-  if (const auto xy = readPair(st, 19)) r.actual = CatchPoint{*xy, st.real(21)};
-  if (!st.isNull(22)) r.optimal = OptimalCatch{st.real(22), st.real(23), *readPair(st, 24)};
-  r.catcher_at_impact_xy_m = readPair(st, 26);
-  r.energy_after_impact_J = st.optionalReal(28);
-  out.energy_error_J = st.optionalReal(29);
+  r.target_xy_m = read_pair(st, 14);
+  if (const auto xy = read_pair(st, 16)) r.predicted = CatchPoint{*xy, st.real(18)};
+  if (const auto xy = read_pair(st, 19)) r.actual = CatchPoint{*xy, st.real(21)};
+  if (!st.isNull(22)) r.optimal = OptimalCatch{st.real(22), st.real(23), *read_pair(st, 24)};
+  r.catcher_at_impact_xy_m = read_pair(st, 26);
+  r.energy_after_impact_J = st.optional_real(28);
+  out.energy_error_J = st.optional_real(29);
   r.note = st.text(30);
   return out;
 }
 
-AdaptationSettings readSettings(const Impl& s) {
+AdaptationSettings read_settings(const Impl& s) {
   Statement st(s, "SELECT nominal_catch_height_m, nominal_waiting_x_m, nominal_waiting_y_m, "
                   "mean_window, target_energy_J FROM settings WHERE id = 1");
   if (!st.step()) damaged(s, "the settings row is missing");
@@ -352,7 +352,7 @@ AdaptationSettings readSettings(const Impl& s) {
   return settings;
 }
 
-AdaptationSnapshot readSnapshot(const Impl& s) {
+AdaptationSnapshot read_snapshot(const Impl& s) {
   Statement st(s, "SELECT catch_height_m, waiting_x_m, waiting_y_m, catch_point_samples, "
                   "offset_bias_x_m, offset_bias_y_m, bias_samples, last_throw_id, epoch_first_id, "
                   "(SELECT count(*) FROM throws) FROM adaptation WHERE id = 1");
@@ -369,8 +369,8 @@ AdaptationSnapshot readSnapshot(const Impl& s) {
   return snap;
 }
 
-void writeSnapshot(const Impl& s, const AdaptationState& a, std::int64_t last_throw_id,
-                   std::int64_t epoch_first_id) {
+void write_snapshot(const Impl& s, const AdaptationState& a, std::int64_t last_throw_id,
+                    std::int64_t epoch_first_id) {
   Statement st(s, "UPDATE adaptation SET catch_height_m = ?1, waiting_x_m = ?2, waiting_y_m = ?3, "
                   "catch_point_samples = ?4, offset_bias_x_m = ?5, offset_bias_y_m = ?6, "
                   "bias_samples = ?7, last_throw_id = ?8, epoch_first_id = ?9 WHERE id = 1");
@@ -387,18 +387,18 @@ void writeSnapshot(const Impl& s, const AdaptationState& a, std::int64_t last_th
   if (sqlite3_changes(s.db) != 1) damaged(s, "the adaptation row is missing");
 }
 
-std::vector<StoredThrow> readThrows(const Impl& s, const char* where_order_limit,
-                                    std::optional<std::int64_t> parameter) {
+std::vector<StoredThrow> read_throws(const Impl& s, const char* where_order_limit,
+                                     std::optional<std::int64_t> parameter) {
   Statement st(s, std::string("SELECT ") + kThrowColumns + " FROM throws " + where_order_limit);
   if (parameter) st.bind(1, *parameter);
   std::vector<StoredThrow> out;
-  while (st.step()) out.push_back(readThrow(s, st));
+  while (st.step()) out.push_back(read_throw(s, st));
   return out;
 }
 
-bool isEmptyDatabase(const Impl& s) {
-  return queryInteger(s, "PRAGMA application_id") == 0 && queryInteger(s, "PRAGMA user_version") == 0 &&
-         queryInteger(s, "SELECT count(*) FROM sqlite_schema") == 0;
+bool is_empty_database(const Impl& s) {
+  return query_integer(s, "PRAGMA application_id") == 0 && query_integer(s, "PRAGMA user_version") == 0 &&
+         query_integer(s, "SELECT count(*) FROM sqlite_schema") == 0;
 }
 
 void initialise(const Impl& s, const AdaptationSettings& settings) {
@@ -406,10 +406,10 @@ void initialise(const Impl& s, const AdaptationSettings& settings) {
   // stays a rollback journal, which is as atomic.
   exec(s, "PRAGMA journal_mode = WAL");
   Transaction tx(s, true);
-  if (!isEmptyDatabase(s)) return;  // another process initialised it first
+  if (!is_empty_database(s)) return;  // another process initialised it first
   exec(s, kCreateSettings);
   exec(s, kCreateAdaptation);
-  exec(s, createThrowsSql().c_str());
+  exec(s, create_throws_sql().c_str());
   {
     Statement st(s, "INSERT INTO settings (id, nominal_catch_height_m, nominal_waiting_x_m, "
                     "nominal_waiting_y_m, mean_window, target_energy_J) VALUES (1, ?1, ?2, ?3, ?4, ?5)");
@@ -423,29 +423,29 @@ void initialise(const Impl& s, const AdaptationSettings& settings) {
   exec(s, "INSERT INTO adaptation (id, catch_height_m, waiting_x_m, waiting_y_m, "
           "catch_point_samples, offset_bias_x_m, offset_bias_y_m, bias_samples, last_throw_id, "
           "epoch_first_id) VALUES (1, 0, 0, 0, 0, 0, 0, 0, 0, 1)");
-  writeSnapshot(s, initialAdaptation(settings), 0, 1);
+  write_snapshot(s, initial_adaptation(settings), 0, 1);
   // The header fields are written by the same transaction: a crash before COMMIT leaves an empty
-  // database, which openOrCreate() initialises again.
+  // database, which open_or_create() initialises again.
   exec(s, ("PRAGMA application_id = " + std::to_string(kApplicationId)).c_str());
   exec(s, ("PRAGMA user_version = " + std::to_string(kSchemaVersion)).c_str());
   tx.commit();
 }
 
 // Identity, version and a structural check of an opened file.
-void checkIdentity(const Impl& s) {
-  const std::int64_t application_id = queryInteger(s, "PRAGMA application_id");
-  const std::int64_t version = queryInteger(s, "PRAGMA user_version");
+void check_identity(const Impl& s) {
+  const std::int64_t application_id = query_integer(s, "PRAGMA application_id");
+  const std::int64_t version = query_integer(s, "PRAGMA user_version");
   if (application_id != kApplicationId) {
     char hex[16];
     std::snprintf(hex, sizeof hex, "0x%08llx",
                   static_cast<unsigned long long>(static_cast<std::uint32_t>(application_id)));
-    throw StoreError(fileName(s.path) +
+    throw StoreError(file_name(s.path) +
                      " is not an adaptation store: it is a SQLite database of another application"
                      " (application_id " +
                      hex + ")");
   }
   if (version > kSchemaVersion) {
-    throw StoreError("adaptation store " + fileName(s.path) + " has schema version " +
+    throw StoreError("adaptation store " + file_name(s.path) + " has schema version " +
                      std::to_string(version) + ", newer than this program's " +
                      std::to_string(kSchemaVersion) + ": use a newer groundstation");
   }
@@ -456,7 +456,7 @@ void checkIdentity(const Impl& s) {
     Statement check(s, "PRAGMA quick_check");
     if (!check.step()) damaged(s, "the quick check returned nothing");
     if (const std::string verdict = check.text(0); verdict != "ok") {
-      damaged(s, "SQLite's quick check finds " + firstProblem(verdict));
+      damaged(s, "SQLite's quick check finds " + first_problem(verdict));
     }
   }
   for (const char* table : {"settings", "adaptation", "throws"}) {
@@ -464,8 +464,8 @@ void checkIdentity(const Impl& s) {
     st.bind(1, std::string_view(table));
     if (!st.step() || st.integer(0) != 1) damaged(s, std::string("the table ") + table + " is missing");
   }
-  readSettings(s);
-  readSnapshot(s);
+  read_settings(s);
+  read_snapshot(s);
 }
 
 std::unique_ptr<Impl> connect(const std::string& path, bool create) {
@@ -473,10 +473,10 @@ std::unique_ptr<Impl> connect(const std::string& path, bool create) {
   s->path = path;
   std::error_code ec;
   if (!create && !std::filesystem::exists(path, ec)) {
-    throw StoreError("no adaptation store at " + fileName(path) + ": the file does not exist");
+    throw StoreError("no adaptation store at " + file_name(path) + ": the file does not exist");
   }
   if (std::filesystem::is_directory(path, ec)) {
-    throw StoreError(fileName(path) + " is a directory, not an adaptation store");
+    throw StoreError(file_name(path) + " is a directory, not an adaptation store");
   }
   const int flags = SQLITE_OPEN_READWRITE | (create ? SQLITE_OPEN_CREATE : 0);
   const int rc = sqlite3_open_v2(path.c_str(), &s->db, flags, nullptr);
@@ -497,44 +497,44 @@ AdaptationStore::AdaptationStore(AdaptationStore&&) noexcept = default;
 AdaptationStore& AdaptationStore::operator=(AdaptationStore&&) noexcept = default;
 AdaptationStore::~AdaptationStore() = default;
 
-AdaptationStore AdaptationStore::openOrCreate(const std::string& path, const AdaptationSettings& settings) {
+AdaptationStore AdaptationStore::open_or_create(const std::string& path, const AdaptationSettings& settings) {
   if (const std::string problem = validate(settings); !problem.empty()) {
-    throw StoreError("cannot create adaptation store " + fileName(path) + ": " + problem);
+    throw StoreError("cannot create adaptation store " + file_name(path) + ": " + problem);
   }
   std::unique_ptr<Impl> s = connect(path, true);
-  if (isEmptyDatabase(*s)) initialise(*s, settings);
-  checkIdentity(*s);
+  if (is_empty_database(*s)) initialise(*s, settings);
+  check_identity(*s);
   return AdaptationStore(std::move(s));
 }
 
-AdaptationStore AdaptationStore::openExisting(const std::string& path) {
+AdaptationStore AdaptationStore::open_existing(const std::string& path) {
   std::unique_ptr<Impl> s = connect(path, false);
-  if (isEmptyDatabase(*s)) {
-    throw StoreError(fileName(path) + " is not an adaptation store: it is an empty database");
+  if (is_empty_database(*s)) {
+    throw StoreError(file_name(path) + " is not an adaptation store: it is an empty database");
   }
-  checkIdentity(*s);
+  check_identity(*s);
   return AdaptationStore(std::move(s));
 }
 
 const std::string& AdaptationStore::path() const { return impl_->path; }
 
-AdaptationSettings AdaptationStore::settings() const { return readSettings(*impl_); }
+AdaptationSettings AdaptationStore::settings() const { return read_settings(*impl_); }
 
 AdaptationSnapshot AdaptationStore::adaptation() const {
   Transaction tx(*impl_, false);
-  return readSnapshot(*impl_);
+  return read_snapshot(*impl_);
 }
 
 StoredThrow AdaptationStore::record(const ThrowRecord& record) {
   if (const std::string problem = validate(record); !problem.empty()) {
-    throw StoreError("adaptation store " + fileName(impl_->path) +
+    throw StoreError("adaptation store " + file_name(impl_->path) +
                      ": invalid throw record, nothing written: " + problem);
   }
   const Impl& s = *impl_;
   Transaction tx(s, true);
-  const AdaptationSettings settings = readSettings(s);
-  const AdaptationSnapshot snap = readSnapshot(s);
-  const std::int64_t max_id = queryInteger(s, "SELECT max(id) FROM throws");
+  const AdaptationSettings settings = read_settings(s);
+  const AdaptationSnapshot snap = read_snapshot(s);
+  const std::int64_t max_id = query_integer(s, "SELECT max(id) FROM throws");
   if (snap.last_throw_id != max_id) {
     damaged(s, "the adapted values include throw " + std::to_string(snap.last_throw_id) +
                    " but the last throw is " + std::to_string(max_id));
@@ -551,10 +551,10 @@ StoredThrow AdaptationStore::record(const ThrowRecord& record) {
                         "?15, ?16, ?17, ?18, ?19, ?20, ?21, ?22, ?23, ?24, ?25, ?26, ?27, ?28, "
                         "?29, ?30, ?31)");
     static_assert(kThrowColumnCount == 31);
-    bindThrow(st, stored.id, record, stored.energy_error_J);
+    bind_throw(st, stored.id, record, stored.energy_error_J);
     st.step();
   }
-  writeSnapshot(s, adapt(snap.state, record, settings.window), stored.id, snap.epoch_first_id);
+  write_snapshot(s, adapt(snap.state, record, settings.window), stored.id, snap.epoch_first_id);
   tx.commit();
   return stored;
 }
@@ -562,24 +562,24 @@ StoredThrow AdaptationStore::record(const ThrowRecord& record) {
 void AdaptationStore::reset() {
   const Impl& s = *impl_;
   Transaction tx(s, true);
-  const AdaptationSettings settings = readSettings(s);
-  const std::int64_t max_id = queryInteger(s, "SELECT max(id) FROM throws");
-  writeSnapshot(s, initialAdaptation(settings), max_id, max_id + 1);
+  const AdaptationSettings settings = read_settings(s);
+  const std::int64_t max_id = query_integer(s, "SELECT max(id) FROM throws");
+  write_snapshot(s, initial_adaptation(settings), max_id, max_id + 1);
   tx.commit();
 }
 
 std::vector<StoredThrow> AdaptationStore::history(std::optional<std::int64_t> last_n) const {
-  if (!last_n) return readThrows(*impl_, "ORDER BY id", std::nullopt);
+  if (!last_n) return read_throws(*impl_, "ORDER BY id", std::nullopt);
   std::vector<StoredThrow> newest_first =
-      readThrows(*impl_, "ORDER BY id DESC LIMIT ?1", std::max<std::int64_t>(*last_n, 0));
+      read_throws(*impl_, "ORDER BY id DESC LIMIT ?1", std::max<std::int64_t>(*last_n, 0));
   return {newest_first.rbegin(), newest_first.rend()};
 }
 
-std::int64_t AdaptationStore::throwCount() const {
-  return queryInteger(*impl_, "SELECT count(*) FROM throws");
+std::int64_t AdaptationStore::throw_count() const {
+  return query_integer(*impl_, "SELECT count(*) FROM throws");
 }
 
-ConsistencyReport AdaptationStore::checkConsistency() const {
+ConsistencyReport AdaptationStore::check_consistency() const {
   const Impl& s = *impl_;
   ConsistencyReport report;
   {
@@ -589,15 +589,15 @@ ConsistencyReport AdaptationStore::checkConsistency() const {
       return report;
     }
     if (const std::string verdict = check.text(0); verdict != "ok") {
-      report.problem = "SQLite's integrity check finds " + firstProblem(verdict);
+      report.problem = "SQLite's integrity check finds " + first_problem(verdict);
       return report;
     }
   }
   Transaction tx(s, false);
-  const AdaptationSettings settings = readSettings(s);
-  const AdaptationSnapshot snap = readSnapshot(s);
-  const std::int64_t max_id = queryInteger(s, "SELECT max(id) FROM throws");
-  const std::int64_t min_id = queryInteger(s, "SELECT min(id) FROM throws");
+  const AdaptationSettings settings = read_settings(s);
+  const AdaptationSnapshot snap = read_snapshot(s);
+  const std::int64_t max_id = query_integer(s, "SELECT max(id) FROM throws");
+  const std::int64_t min_id = query_integer(s, "SELECT min(id) FROM throws");
   report.stored = snap.state;
   if (snap.throw_count != max_id || (snap.throw_count > 0 && min_id != 1)) {
     report.problem = "the throw ids are not 1.." + std::to_string(snap.throw_count);
@@ -613,7 +613,7 @@ ConsistencyReport AdaptationStore::checkConsistency() const {
                      ", outside 1.." + std::to_string(max_id + 1);
     return report;
   }
-  const std::vector<StoredThrow> all = readThrows(s, "ORDER BY id", std::nullopt);
+  const std::vector<StoredThrow> all = read_throws(s, "ORDER BY id", std::nullopt);
   std::vector<ThrowRecord> records;
   for (const StoredThrow& t : all) {
     if (t.id >= snap.epoch_first_id) records.push_back(t.record);
@@ -626,7 +626,7 @@ ConsistencyReport AdaptationStore::checkConsistency() const {
       return report;
     }
   }
-  report.recomputed = recomputeAdaptation(settings, records);
+  report.recomputed = recompute_adaptation(settings, records);
   if (!(report.recomputed == report.stored)) {
     report.problem = "the stored adapted values differ from those recomputed from the history";
     return report;

@@ -23,7 +23,7 @@
 //   throws     (a row per throw, id = 1, 2, ... in recording order) the ThrowRecord fields,
 //                         NULL where a figure is absent, plus energy_error_J = |E - E*|
 // The adapted values are a pure function of the settings and the throws since the epoch
-// (adaptation_law.hpp); checkConsistency() verifies that bit for bit.
+// (adaptation_law.hpp); check_consistency() verifies that bit for bit.
 #pragma once
 
 #include <cstdint>
@@ -72,9 +72,9 @@ class AdaptationStore {
  public:
   // Opens an existing store, or creates one with these settings if the file does not exist or is
   // an empty database (a creation that a crash interrupted leaves one). Throws StoreError.
-  static AdaptationStore openOrCreate(const std::string& path, const AdaptationSettings& settings);
+  static AdaptationStore open_or_create(const std::string& path, const AdaptationSettings& settings);
   // Opens an existing store; a missing file is an error. Throws StoreError.
-  static AdaptationStore openExisting(const std::string& path);
+  static AdaptationStore open_existing(const std::string& path);
 
   AdaptationStore(AdaptationStore&&) noexcept;
   AdaptationStore& operator=(AdaptationStore&&) noexcept;
@@ -93,11 +93,11 @@ class AdaptationStore {
 
   // The throws in recording order: all, or the last `last_n`.
   std::vector<StoredThrow> history(std::optional<std::int64_t> last_n = std::nullopt) const;
-  std::int64_t throwCount() const;
+  std::int64_t throw_count() const;
 
   // SQLite's integrity check, the ids 1..n without gaps, the adaptation row pointing at the last
   // throw, and the adapted values equal (exactly) to those recomputed from the history.
-  ConsistencyReport checkConsistency() const;
+  ConsistencyReport check_consistency() const;
 
   struct Impl;  // the SQLite connection (opaque)
 

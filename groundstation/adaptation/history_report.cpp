@@ -22,12 +22,12 @@ std::string pad(const std::string& text, std::size_t width) {
   return text.size() >= width ? text + " " : text + std::string(width - text.size() + 1, ' ');
 }
 
-std::string pointCell(const Eigen::Vector2d& xy, double t_s) {
+std::string point_cell(const Eigen::Vector2d& xy, double t_s) {
   return format("(%+.3f,%+.3f)@%.3f", xy.x(), xy.y(), t_s);
 }
 
 // The note on one line.
-std::string oneLine(std::string text) {
+std::string one_line(std::string text) {
   for (char& c : text) {
     if (c == '\n' || c == '\r' || c == '\t') c = ' ';
   }
@@ -57,14 +57,14 @@ constexpr Column kColumns[] = {
 };
 
 // The shortest text that reads back as the same double: the CSV loses nothing of the store.
-std::string csvReal(const std::optional<double>& value) {
+std::string csv_real(const std::optional<double>& value) {
   if (!value) return {};
   char buffer[32];
   const auto result = std::to_chars(buffer, buffer + sizeof buffer, *value);
   return std::string(buffer, result.ptr);
 }
 
-std::string csvText(const std::string& text) {
+std::string csv_text(const std::string& text) {
   if (text.find_first_of(",\"\n\r") == std::string::npos) return text;
   std::string out = "\"";
   for (const char c : text) {
@@ -74,13 +74,13 @@ std::string csvText(const std::string& text) {
   return out + "\"";
 }
 
-std::string sampleSummary(std::int64_t n, const char* what) {
+std::string sample_summary(std::int64_t n, const char* what) {
   return n == 0 ? std::string("no ") + what + " yet" : std::to_string(n) + " " + what;
 }
 
 }  // namespace
 
-void writeHistoryTable(std::ostream& out, const std::vector<StoredThrow>& throws) {
+void write_history_table(std::ostream& out, const std::vector<StoredThrow>& throws) {
   std::string header;
   for (const Column& c : kColumns) header += pad(c.title, c.width);
   while (!header.empty() && header.back() == ' ') header.pop_back();
@@ -90,20 +90,20 @@ void writeHistoryTable(std::ostream& out, const std::vector<StoredThrow>& throws
     std::string cells[std::size(kColumns)];
     cells[0] = std::to_string(t.id);
     cells[1] = format("%.3f", r.time_s);
-    cells[2] = std::string(toString(r.outcome));
+    cells[2] = std::string(to_string(r.outcome));
     cells[3] = format("%+.2f,%+.2f,%+.2f", r.launch.x_m, r.launch_y_m, r.launch.z_m);
     cells[4] = format("%+.2f,%+.2f,%+.2f", r.launch.vx_mps, r.launch_vy_mps, r.launch.vz_mps);
     cells[5] = format("%+.3f", r.launch.alpha_rad);
     cells[6] = format("%+.2f", r.launch.alpha_dot_radps);
     cells[7] = format("%.3f", r.catch_height_used_m);
-    cells[8] = r.predicted ? pointCell(r.predicted->xy_m, r.predicted->t_s) : "-";
-    cells[9] = r.actual ? pointCell(r.actual->xy_m, r.actual->t_s) : "-";
+    cells[8] = r.predicted ? point_cell(r.predicted->xy_m, r.predicted->t_s) : "-";
+    cells[9] = r.actual ? point_cell(r.actual->xy_m, r.actual->t_s) : "-";
     cells[10] =
-        r.optimal ? format("%.3f ", r.optimal->height_m) + pointCell(r.optimal->xy_m, r.optimal->t_s) : "-";
-    const std::optional<Eigen::Vector2d> bias = offsetBiasSample(r);
+        r.optimal ? format("%.3f ", r.optimal->height_m) + point_cell(r.optimal->xy_m, r.optimal->t_s) : "-";
+    const std::optional<Eigen::Vector2d> bias = offset_bias_sample(r);
     cells[11] = bias ? format("%+.3f,%+.3f", bias->x(), bias->y()) : "-";
     cells[12] = t.energy_error_J ? format("%.4f", *t.energy_error_J) : "-";
-    cells[13] = oneLine(r.note);
+    cells[13] = one_line(r.note);
     std::string line;
     for (std::size_t i = 0; i < std::size(kColumns); ++i) line += pad(cells[i], kColumns[i].width);
     while (!line.empty() && line.back() == ' ') line.pop_back();
@@ -111,7 +111,7 @@ void writeHistoryTable(std::ostream& out, const std::vector<StoredThrow>& throws
   }
 }
 
-std::string historyCsvHeader() {
+std::string history_csv_header() {
   return "id,time_s,outcome,launch_x_m,launch_y_m,launch_z_m,launch_vx_mps,launch_vy_mps,"
          "launch_vz_mps,launch_alpha_rad,launch_alpha_dot_radps,catch_height_used_m,waiting_x_m,"
          "waiting_y_m,target_x_m,target_y_m,predicted_x_m,predicted_y_m,predicted_t_s,"
@@ -119,8 +119,8 @@ std::string historyCsvHeader() {
          "catcher_x_m,catcher_y_m,bias_sample_x_m,bias_sample_y_m,energy_J,energy_error_J,note";
 }
 
-void writeHistoryCsv(std::ostream& out, const std::vector<StoredThrow>& throws) {
-  out << historyCsvHeader() << "\n";
+void write_history_csv(std::ostream& out, const std::vector<StoredThrow>& throws) {
+  out << history_csv_header() << "\n";
   for (const StoredThrow& t : throws) {
     const ThrowRecord& r = t.record;
     auto x = [](const std::optional<Eigen::Vector2d>& v) { return v ? std::optional(v->x()) : std::nullopt; };
@@ -128,7 +128,7 @@ void writeHistoryCsv(std::ostream& out, const std::vector<StoredThrow>& throws) 
     const auto predicted_xy = r.predicted ? std::optional(r.predicted->xy_m) : std::nullopt;
     const auto actual_xy = r.actual ? std::optional(r.actual->xy_m) : std::nullopt;
     const auto optimal_xy = r.optimal ? std::optional(r.optimal->xy_m) : std::nullopt;
-    const std::optional<Eigen::Vector2d> bias = offsetBiasSample(r);
+    const std::optional<Eigen::Vector2d> bias = offset_bias_sample(r);
     const std::optional<double> fields[] = {
         r.time_s,
         r.launch.x_m,
@@ -162,14 +162,14 @@ void writeHistoryCsv(std::ostream& out, const std::vector<StoredThrow>& throws) 
         t.energy_error_J,
     };
     out << t.id;
-    out << "," << csvReal(fields[0]) << "," << toString(r.outcome);
-    for (std::size_t i = 1; i < std::size(fields); ++i) out << "," << csvReal(fields[i]);
-    out << "," << csvText(r.note) << "\n";
+    out << "," << csv_real(fields[0]) << "," << to_string(r.outcome);
+    for (std::size_t i = 1; i < std::size(fields); ++i) out << "," << csv_real(fields[i]);
+    out << "," << csv_text(r.note) << "\n";
   }
 }
 
-void writeAdaptationSummary(std::ostream& out, const std::string& path, const AdaptationSettings& settings,
-                            const AdaptationSnapshot& snapshot, const ConsistencyReport& consistency) {
+void write_adaptation_summary(std::ostream& out, const std::string& path, const AdaptationSettings& settings,
+                              const AdaptationSnapshot& snapshot, const ConsistencyReport& consistency) {
   const AdaptationState& a = snapshot.state;
   out << "adaptation store " << path << " (schema " << kSchemaVersion << ")\n";
   if (snapshot.throw_count == 0) {
@@ -185,13 +185,13 @@ void writeAdaptationSummary(std::ostream& out, const std::string& path, const Ad
     out << "\n";
   }
   out << format("  catching height:     %.4f m   (%s; nominal %.4f m)\n", a.catch_height_m,
-                sampleSummary(a.catch_point_samples, "throws").c_str(), settings.nominal_catch_height_m);
+                sample_summary(a.catch_point_samples, "throws").c_str(), settings.nominal_catch_height_m);
   out << format("  waiting position:    (%.4f, %.4f) m   (%s; nominal (%.4f, %.4f) m)\n", a.waiting_xy_m.x(),
-                a.waiting_xy_m.y(), sampleSummary(a.catch_point_samples, "throws").c_str(),
+                a.waiting_xy_m.y(), sample_summary(a.catch_point_samples, "throws").c_str(),
                 settings.nominal_waiting_xy_m.x(), settings.nominal_waiting_xy_m.y());
   out << format("  catcher offset bias: (%+.4f, %+.4f) m   (%s; the catch trajectory is shifted "
                 "by minus this)\n",
-                a.offset_bias_m.x(), a.offset_bias_m.y(), sampleSummary(a.bias_samples, "catches").c_str());
+                a.offset_bias_m.x(), a.offset_bias_m.y(), sample_summary(a.bias_samples, "catches").c_str());
   if (settings.window == 0) {
     out << "  update:              iterative mean of all throws since the last reset\n";
   } else {

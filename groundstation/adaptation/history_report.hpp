@@ -15,18 +15,18 @@ namespace gs::adaptation {
 // time, outcome, launch position and velocity, alpha and its rate, the catching height used, the
 // predicted and the actual catch point with their times after the launch, the optimal catch
 // (42) (height, point, time), the bias sample (catcher minus target), |E - E*| and the note.
-void writeHistoryTable(std::ostream& out, const std::vector<StoredThrow>& throws);
+void write_history_table(std::ostream& out, const std::vector<StoredThrow>& throws);
 
-// The column names of writeHistoryCsv's header row.
-std::string historyCsvHeader();
+// The column names of write_history_csv's header row.
+std::string history_csv_header();
 // A header row and one row per throw with every stored column and the bias sample (SI units,
 // each number the shortest text that reads back as the same double, empty where absent; the
 // note quoted as RFC 4180 asks when it holds a comma, a quote or a line break).
-void writeHistoryCsv(std::ostream& out, const std::vector<StoredThrow>& throws);
+void write_history_csv(std::ostream& out, const std::vector<StoredThrow>& throws);
 
 // The adapted catching height, waiting point and offset bias, how many throws they rest on,
 // the nominal values, the window, and the consistency verdict.
-void writeAdaptationSummary(std::ostream& out, const std::string& path, const AdaptationSettings& settings,
-                            const AdaptationSnapshot& snapshot, const ConsistencyReport& consistency);
+void write_adaptation_summary(std::ostream& out, const std::string& path, const AdaptationSettings& settings,
+                              const AdaptationSnapshot& snapshot, const ConsistencyReport& consistency);
 
 }  // namespace gs::adaptation

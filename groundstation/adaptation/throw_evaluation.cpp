@@ -5,18 +5,18 @@
 namespace gs::adaptation {
 namespace {
 
-bool headIsLower(const model::PoleState& state) { return state.n.z() < 0.0; }
+bool head_is_lower(const model::PoleState& state) { return state.n.z() < 0.0; }
 
 // The end taken as the contact end: the tail p - L n, or the head if `head`.
-Eigen::Vector3d endPoint(const model::PoleState& state, bool head, const model::PoleParams& params) {
+Eigen::Vector3d end_point(const model::PoleState& state, bool head, const model::PoleParams& params) {
   return head ? model::poleHeadEnd_m(state, params) : model::poleTailEnd_m(state, params);
 }
 
 // Eq. (42) (model/impact.hpp's form) with a fixed contact end: continuous in time for that end.
-double residualWithEnd(const model::PoleState& state, bool head, const model::PoleParams& params) {
+double residual_with_end(const model::PoleState& state, bool head, const model::PoleParams& params) {
   model::PoleState based = state;
   if (head) based.n = -state.n;
-  return model::catchingConditionResidual_radps(model::planarKinematics(based), params);
+  return model::catchingConditionResidual_radps(model::planar_kinematics(based), params);
 }
 
 bool increasing(std::span<const TimedPoleState> flight) {
@@ -28,24 +28,24 @@ bool increasing(std::span<const TimedPoleState> flight) {
 
 }  // namespace
 
-std::optional<OptimalCatchEvaluation> evaluateOptimalCatch(
+std::optional<OptimalCatchEvaluation> evaluate_optimal_catch(
     std::span<const TimedPoleState> flight, double launch_t_s, const model::PoleParams& params,
     const planning::CatchingInstantOptions& continuation) {
   if (flight.empty() || !increasing(flight)) return std::nullopt;
   for (std::size_t i = 0; i + 1 < flight.size(); ++i) {
     const TimedPoleState& a = flight[i];
     const TimedPoleState& b = flight[i + 1];
-    const bool head = headIsLower(a.state);
+    const bool head = head_is_lower(a.state);
     // Across the pole's passing the horizontal the contact end changes and (42) jumps; a catch of
     // a horizontal pole is not a root of it (planning/catching_instant.hpp skips it likewise).
-    if (headIsLower(b.state) != head) continue;
-    const double r_a = residualWithEnd(a.state, head, params);
-    const double r_b = residualWithEnd(b.state, head, params);
+    if (head_is_lower(b.state) != head) continue;
+    const double r_a = residual_with_end(a.state, head, params);
+    const double r_b = residual_with_end(b.state, head, params);
     const bool root_at_a = (i == 0 && r_a == 0.0);
     if (!root_at_a && !((r_a > 0.0 && r_b <= 0.0) || (r_a < 0.0 && r_b >= 0.0))) continue;
     const double fraction = root_at_a ? 0.0 : r_a / (r_a - r_b);
-    const Eigen::Vector3d end_a = endPoint(a.state, head, params);
-    const Eigen::Vector3d end_b = endPoint(b.state, head, params);
+    const Eigen::Vector3d end_a = end_point(a.state, head, params);
+    const Eigen::Vector3d end_b = end_point(b.state, head, params);
     const Eigen::Vector3d end = end_a + fraction * (end_b - end_a);
     OptimalCatchEvaluation result;
     result.point.t_s = a.t_s + fraction * (b.t_s - a.t_s) - launch_t_s;
@@ -55,7 +55,7 @@ std::optional<OptimalCatchEvaluation> evaluateOptimalCatch(
   }
   // Not met while observed: continue the last observed state with the free-flight model.
   const TimedPoleState& last = flight.back();
-  const planning::CatchingInstant instant = planning::findCatchingInstant(last.state, params, continuation);
+  const planning::CatchingInstant instant = planning::find_catching_instant(last.state, params, continuation);
   if (!instant.found) return std::nullopt;
   OptimalCatchEvaluation result;
   result.point.t_s = last.t_s + instant.t_s - launch_t_s;
@@ -65,8 +65,8 @@ std::optional<OptimalCatchEvaluation> evaluateOptimalCatch(
   return result;
 }
 
-std::optional<CatchPoint> lowerEndCrossing(std::span<const TimedPoleState> flight, double height_m,
-                                           double launch_t_s, const model::PoleParams& params) {
+std::optional<CatchPoint> lower_end_crossing(std::span<const TimedPoleState> flight, double height_m,
+                                             double launch_t_s, const model::PoleParams& params) {
   if (!increasing(flight)) return std::nullopt;
   for (std::size_t i = 0; i + 1 < flight.size(); ++i) {
     const TimedPoleState& a = flight[i];
@@ -74,9 +74,9 @@ std::optional<CatchPoint> lowerEndCrossing(std::span<const TimedPoleState> fligh
     if (!(model::poleLowerEnd_m(a.state, params).z() > height_m)) continue;
     // Follow the end that is the lower one at b through the step, so the interpolation stays on
     // one end even if the pole passes the horizontal in between.
-    const bool head = headIsLower(b.state);
-    const Eigen::Vector3d end_a = endPoint(a.state, head, params);
-    const Eigen::Vector3d end_b = endPoint(b.state, head, params);
+    const bool head = head_is_lower(b.state);
+    const Eigen::Vector3d end_a = end_point(a.state, head, params);
+    const Eigen::Vector3d end_b = end_point(b.state, head, params);
     if (end_b.z() > height_m) continue;
     const double fraction = (end_a.z() - height_m) / (end_a.z() - end_b.z());
     CatchPoint point;
@@ -89,7 +89,7 @@ std::optional<CatchPoint> lowerEndCrossing(std::span<const TimedPoleState> fligh
 
 double postImpactEnergy_J(const model::PoleState& before, const Eigen::Vector3d& plate_velocity_mps,
                           const model::PoleParams& params) {
-  const model::ImpactResult impact = model::impactMap(before, plate_velocity_mps, params);
+  const model::ImpactResult impact = model::impact_map(before, plate_velocity_mps, params);
   const double length = params.half_length_m;
   const double pivot_inertia = params.mass_kg * length * length + model::poleInertia_kgm2(params);
   return params.mass_kg * params.gravity_mps2 * length * impact.after.n.z() +

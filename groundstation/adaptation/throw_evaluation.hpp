@@ -7,7 +7,7 @@
 //   sample and (42) is smooth there, so this is within millimetres; tests). A catch ends the
 //   observed flight: if it came before (42) was met (the optimal height lay below the height
 //   caught at), the flight is continued by the model from the last observed state
-//   (planning::findCatchingInstant, eq. 20 with drag).
+//   (planning::find_catching_instant, eq. 20 with drag).
 // - The actual catch point: where the observed lower end passed the catching height in use.
 // - The pole's energy right after an impact, relative to the contact point (41), for a plate
 //   moving or at rest, through the 3D impact map (35)-(40) of model/impact.hpp.
@@ -37,14 +37,14 @@ struct OptimalCatchEvaluation {
 // The first instant of the flight (and, if needed, of its model continuation) satisfying (42).
 // launch_t_s is subtracted from the times. Absent if the flight is empty, its times do not
 // increase, or (42) is not met within the continuation's horizon.
-std::optional<OptimalCatchEvaluation> evaluateOptimalCatch(
+std::optional<OptimalCatchEvaluation> evaluate_optimal_catch(
     std::span<const TimedPoleState> flight, double launch_t_s, const model::PoleParams& params,
     const planning::CatchingInstantOptions& continuation = {});
 
 // The first downward pass of the observed lower end through height_m (times relative to
 // launch_t_s). Absent if the observed flight never passes it.
-std::optional<CatchPoint> lowerEndCrossing(std::span<const TimedPoleState> flight, double height_m,
-                                           double launch_t_s, const model::PoleParams& params);
+std::optional<CatchPoint> lower_end_crossing(std::span<const TimedPoleState> flight, double height_m,
+                                             double launch_t_s, const model::PoleParams& params);
 
 // The pole's energy relative to the contact point right after it hits a plate moving with
 // plate_velocity_mps: m_p g L n_z + (1/2)(m_p L^2 + Theta)|Omega+|^2 (41, in 3D), with Omega+ from

@@ -4,7 +4,7 @@
 
 namespace gs::adaptation {
 
-std::string_view toString(ThrowOutcome outcome) {
+std::string_view to_string(ThrowOutcome outcome) {
   switch (outcome) {
     case ThrowOutcome::kCaught: return "caught";
     case ThrowOutcome::kDropped: return "dropped";
@@ -17,14 +17,14 @@ std::string_view toString(ThrowOutcome outcome) {
   return "unknown";
 }
 
-std::optional<ThrowOutcome> parseThrowOutcome(std::string_view name) {
+std::optional<ThrowOutcome> parse_throw_outcome(std::string_view name) {
   for (const ThrowOutcome outcome : kAllThrowOutcomes) {
-    if (toString(outcome) == name) return outcome;
+    if (to_string(outcome) == name) return outcome;
   }
   return std::nullopt;
 }
 
-bool catcherFlewToTarget(ThrowOutcome outcome) {
+bool catcher_flew_to_target(ThrowOutcome outcome) {
   switch (outcome) {
     case ThrowOutcome::kCaught:
     case ThrowOutcome::kDropped:
@@ -58,7 +58,7 @@ class FiniteCheck {
 }  // namespace
 
 std::string validate(const ThrowRecord& r) {
-  if (!parseThrowOutcome(toString(r.outcome))) return "outcome is not one of the known outcomes";
+  if (!parse_throw_outcome(to_string(r.outcome))) return "outcome is not one of the known outcomes";
   FiniteCheck check;
   check("time_s", r.time_s);
   check("launch.x_m", r.launch.x_m);
@@ -90,8 +90,8 @@ std::string validate(const ThrowRecord& r) {
   return check.problem();
 }
 
-std::optional<Eigen::Vector2d> offsetBiasSample(const ThrowRecord& record) {
-  if (!catcherFlewToTarget(record.outcome)) return std::nullopt;
+std::optional<Eigen::Vector2d> offset_bias_sample(const ThrowRecord& record) {
+  if (!catcher_flew_to_target(record.outcome)) return std::nullopt;
   if (!record.catcher_at_impact_xy_m || !record.target_xy_m) return std::nullopt;
   return Eigen::Vector2d(*record.catcher_at_impact_xy_m - *record.target_xy_m);
 }

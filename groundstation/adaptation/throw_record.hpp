@@ -37,13 +37,13 @@ inline constexpr ThrowOutcome kAllThrowOutcomes[] = {
 
 // "caught", "dropped", "missed", "offset_practice", "aborted_out_of_reach", "aborted",
 // "throw_only".
-std::string_view toString(ThrowOutcome outcome);
-std::optional<ThrowOutcome> parseThrowOutcome(std::string_view name);
+std::string_view to_string(ThrowOutcome outcome);
+std::optional<ThrowOutcome> parse_throw_outcome(std::string_view name);
 
 // Whether the catching vehicle flew its catch manoeuvre to the end, so that it was at rest at its
 // target when the pole arrived: only then does its position at that instant measure the catching
 // bias of Section VI-B (aborted and throw-only attempts leave the vehicle elsewhere).
-bool catcherFlewToTarget(ThrowOutcome outcome);
+bool catcher_flew_to_target(ThrowOutcome outcome);
 
 // A horizontal point the pole's lower end reaches t_s after the launch.
 struct CatchPoint {
@@ -94,7 +94,7 @@ std::string validate(const ThrowRecord& record);
 // The catching bias of Section VI-B this throw measured: the catching vehicle's position at the
 // impact minus the target it was commanded to (which already contains the bias shift in force and
 // any practice offset, so the samples measure the vehicle's tracking offset itself). Present only
-// if catcherFlewToTarget(outcome) and both positions were recorded.
-std::optional<Eigen::Vector2d> offsetBiasSample(const ThrowRecord& record);
+// if catcher_flew_to_target(outcome) and both positions were recorded.
+std::optional<Eigen::Vector2d> offset_bias_sample(const ThrowRecord& record);
 
 }  // namespace gs::adaptation

@@ -7,8 +7,8 @@
 
 namespace gs::apps {
 
-int cmdAdaptation(int argc, char** argv) {
-  return adaptation::runAdaptationCommand(argc, argv, std::cout, std::cerr);
+int cmd_adaptation(int argc, char** argv) {
+  return adaptation::run_adaptation_command(argc, argv, std::cout, std::cerr);
 }
 
 }  // namespace gs::apps

@@ -42,19 +42,19 @@ int run(int argc, char** argv) {
                  "omega_y,F_N. Default: the Fig. 5 end state (x, z) = (1.5, 2.0) m,\n"
                  "(vx, vz) = (0.3, 5.5) m/s, alpha = 0.48 rad, alpha' = 2.5 rad/s.")
       ->type_name("P")
-      ->check(pa::cli::nonEmpty("needs a file or directory"));
+      ->check(pa::cli::non_empty("needs a file or directory"));
   app.add_flag("--no-drag", no_drag, "fly without aerodynamic drag (c_z = c_xy = c_rot = 0), for comparison");
   if (const std::optional<int> code = pa::cli::parse(app, argc, argv, std::cout, std::cerr)) return *code;
   const bool drag = !no_drag;
 
-  gs::planning::PlanarLaunchState launch = gs::planning::fig5LaunchState();
+  gs::planning::PlanarLaunchState launch = gs::planning::fig5_launch_state();
   std::string launch_source = "Fig. 5 end state";
   if (!launch_path.empty()) {
     std::error_code ec;
     if (std::filesystem::is_directory(launch_path, ec)) {
       launch_path = (std::filesystem::path(launch_path) / "throw.csv").string();
     }
-    const gs::planning::LaunchStateLoad load = gs::planning::loadThrowCsvLaunchState(launch_path);
+    const gs::planning::LaunchStateLoad load = gs::planning::load_throw_csv_launch_state(launch_path);
     if (!load.ok) {
       std::fprintf(stderr, "groundstation catch-instant: %s\n", load.error.c_str());
       return 2;
@@ -64,10 +64,10 @@ int run(int argc, char** argv) {
   }
 
   gs::model::PoleParams params;
-  if (!drag) params = gs::model::withoutDrag(params);
-  const gs::model::PoleState pole = gs::planning::poleStateAtLaunch(launch, params);
+  if (!drag) params = gs::model::without_drag(params);
+  const gs::model::PoleState pole = gs::planning::pole_state_at_launch(launch, params);
   const gs::planning::CatchingInstantOptions options;
-  const gs::planning::CatchingInstant ci = gs::planning::findCatchingInstant(pole, params, options);
+  const gs::planning::CatchingInstant ci = gs::planning::find_catching_instant(pole, params, options);
 
   std::printf("launch state:             %s\n", launch_source.c_str());
   std::printf("                          x %.4f m, z %.4f m, vx %.4f m/s, vz %.4f m/s,\n"
@@ -83,8 +83,8 @@ int run(int argc, char** argv) {
     std::printf("catching instant:         none within %.1f s of flight\n", options.horizon_s);
     return 1;
   }
-  const gs::model::PlanarPoleKinematics k = gs::model::planarKinematicsFromLowerEnd(ci.pole);
-  const gs::model::ImpactResult impact = gs::model::impactMap(ci.pole, Eigen::Vector3d::Zero(), params);
+  const gs::model::PlanarPoleKinematics k = gs::model::planar_kinematics_from_lower_end(ci.pole);
+  const gs::model::ImpactResult impact = gs::model::impact_map(ci.pole, Eigen::Vector3d::Zero(), params);
   const double rate_after = impact.after.omega_radps.y();
   std::printf("catching instant:         %.4f s after launch\n", ci.t_s);
   std::printf("nominal catching height:  %.4f m (lower pole end)\n", ci.catch_height_m);
@@ -108,7 +108,7 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int cmdCatchInstant(int argc, char** argv) {
+int cmd_catch_instant(int argc, char** argv) {
   try {
     return run(argc, argv);
   } catch (const std::exception& e) {

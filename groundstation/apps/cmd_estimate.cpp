@@ -44,7 +44,7 @@ int run(int argc, char** argv) {
   app.add_option("--catch-height", catch_height, "catching height (m) for the lower end's predicted crossing")
       ->type_name("Z")
       ->required()
-      ->check(pa::cli::finiteNumber("must be a number (m)"));
+      ->check(pa::cli::finite_number("must be a number (m)"));
   app.add_option("--out", out_path,
                  "output CSV ('-' for stdout), one row per pole frame:\n" +
                      std::string(estimation::kEstimateLogHeader) +
@@ -53,7 +53,7 @@ int run(int argc, char** argv) {
       ->required();
   app.add_option("--drag-scale", drag_scale, "the model's drag coefficients times K (default 1: the paper's)")
       ->type_name("K")
-      ->check(pa::cli::numberIn(0.0, 10.0, "must be in [0, 10]"));
+      ->check(pa::cli::number_in(0.0, 10.0, "must be in [0, 10]"));
   app.add_flag("--fixed-drag", fixed_drag, "do not estimate the drag online");
   if (const std::optional<int> code = pa::cli::parse(app, argc, argv, std::cout, std::cerr)) return *code;
 
@@ -74,7 +74,7 @@ int run(int argc, char** argv) {
   // The estimate goes to memory first, so that a failed run leaves no half-written file.
   std::ostringstream estimate;
   std::ostringstream diagnostics;
-  const estimation::ReplaySummary summary = estimation::replayMocapLog(in, estimate, diagnostics, options);
+  const estimation::ReplaySummary summary = estimation::replay_mocap_log(in, estimate, diagnostics, options);
   std::fputs(diagnostics.str().c_str(), stderr);
   if (!summary.ok) {
     std::fprintf(stderr, "groundstation estimate: %s in '%s': nothing to estimate\n",
@@ -109,9 +109,9 @@ int run(int argc, char** argv) {
                static_cast<unsigned long long>(h.pole.rejected), h.drag_scale);
   for (const estimation::ModeSwitch& s : summary.switches) {
     std::fprintf(stderr, "estimate: t = %.4f s: %s -> %s (%s, event at %.4f s)\n", s.detected_t_s,
-                 std::string(estimation::poleModeName(s.from)).c_str(),
-                 std::string(estimation::poleModeName(s.to)).c_str(),
-                 std::string(estimation::switchReasonName(s.reason)).c_str(), s.event_t_s);
+                 std::string(estimation::pole_mode_name(s.from)).c_str(),
+                 std::string(estimation::pole_mode_name(s.to)).c_str(),
+                 std::string(estimation::switch_reason_name(s.reason)).c_str(), s.event_t_s);
   }
   if (out_path != "-") std::fprintf(stderr, "estimate: wrote %s\n", out_path.c_str());
   return 0;
@@ -119,7 +119,7 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int cmdEstimate(int argc, char** argv) {
+int cmd_estimate(int argc, char** argv) {
   try {
     return run(argc, argv);
   } catch (const std::exception& e) {

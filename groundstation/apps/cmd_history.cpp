@@ -7,8 +7,8 @@
 
 namespace gs::apps {
 
-int cmdHistory(int argc, char** argv) {
-  return adaptation::runHistoryCommand(argc, argv, std::cout, std::cerr);
+int cmd_history(int argc, char** argv) {
+  return adaptation::run_history_command(argc, argv, std::cout, std::cerr);
 }
 
 }  // namespace gs::apps

@@ -44,7 +44,7 @@ struct Peaks {
 
 // Sample times 0, 1 ms, ..., and T_z itself.
 template <typename F>
-void forEachSample(const CatchTrajectory& traj, F&& f) {
+void for_each_sample(const CatchTrajectory& traj, F&& f) {
   const double T = traj.duration_s();
   const auto n = static_cast<long>(std::floor(T / kSampleStep_s + 1e-9));
   for (long k = 0; k <= n; ++k) f(traj.reference(static_cast<double>(k) * kSampleStep_s));
@@ -72,7 +72,7 @@ std::string describe(planning::Feasibility kind, const planning::LimitViolation&
 }
 
 // The verdict's reason first, then any other violated limit.
-std::string describeViolations(const planning::FeasibilityVerdict& verdict) {
+std::string describe_violations(const planning::FeasibilityVerdict& verdict) {
   std::string text = describe(verdict.reason, verdict.primary());
   const std::pair<planning::Feasibility, const planning::LimitViolation*> all[] = {
       {planning::Feasibility::kThrustTooHigh, &verdict.thrust_high},
@@ -102,50 +102,50 @@ int run(int argc, char** argv) {
   app.add_option("--from", from, "start position (m)")
       ->type_name("X0,Y0")
       ->required()
-      ->check(pa::cli::numberPair("wants X0,Y0 in metres"));
+      ->check(pa::cli::number_pair("wants X0,Y0 in metres"));
   app.add_option("--to", to, "catch position (m)")
       ->type_name("XT,YT")
       ->required()
-      ->check(pa::cli::numberPair("wants XT,YT in metres"));
+      ->check(pa::cli::number_pair("wants XT,YT in metres"));
   app.add_option("--catch-height", catch_height, "height of the vehicle at the catch (m)")
       ->type_name("ZT")
       ->required()
-      ->check(pa::cli::finiteNumber("wants a number (m)"));
+      ->check(pa::cli::finite_number("wants a number (m)"));
   app.add_option("--out", out_path,
                  "CSV, one row per 1 ms from t = 0 (start of the z manoeuvre) to T_z:\n"
                  "t,x,y,z,vx,vy,vz,ax,ay,az,a_q,omega_x,omega_y,omega_z (SI units)")
       ->type_name("FILE")
       ->required()
-      ->check(pa::cli::nonEmpty("wants a file name"));
+      ->check(pa::cli::non_empty("wants a file name"));
   app.add_option("--txy", params.t_xy_s, "duration of the xy correction (s), default 0.65")
       ->type_name("T")
-      ->check(pa::cli::finiteNumber("wants a number (s)"));
+      ->check(pa::cli::finite_number("wants a number (s)"));
   app.add_option("--amax", params.a_max_mps2,
                  "z acceleration bound (m/s^2), default 4.19 (Fig. 7); 0 = constant height")
       ->type_name("A")
-      ->check(pa::cli::finiteNumber("wants a number (m/s^2)"));
+      ->check(pa::cli::finite_number("wants a number (m/s^2)"));
   app.add_option("--kmax", params.k_max_mps3, "z jerk bound (m/s^3), default 18 (Fig. 7)")
       ->type_name("K")
-      ->check(pa::cli::finiteNumber("wants a number (m/s^3)"));
+      ->check(pa::cli::finite_number("wants a number (m/s^3)"));
   app.add_option("--yaw", params.yaw_rad, "constant yaw (rad), default 0")
       ->type_name("PSI")
-      ->check(pa::cli::finiteNumber("wants a number (rad)"));
+      ->check(pa::cli::finite_number("wants a number (rad)"));
   app.add_option("--limits", limits_path,
                  std::string("input limits file (default: ") + model::kVehicleLimitsRelativePath +
                      " if present,\nelse a_q in [1, 20] m/s^2, |Omega| <= 10 rad/s)")
       ->type_name("FILE");
   if (const std::optional<int> code = pa::cli::parse(app, argc, argv, std::cout, std::cerr)) return *code;
-  auto usageError = [&](const std::string& message) {
+  auto usage_error = [&](const std::string& message) {
     std::cerr << "groundstation plan-catch: " << message << "\n\n" << app.help();
     return 2;
   };
-  const pa::cli::NumberPair start = pa::cli::toNumberPair(from);
-  const pa::cli::NumberPair target = pa::cli::toNumberPair(to);
+  const pa::cli::NumberPair start = pa::cli::to_number_pair(from);
+  const pa::cli::NumberPair target = pa::cli::to_number_pair(to);
   params.start_xy_m = Eigen::Vector2d(start.first, start.second);
   params.target_xy_m = Eigen::Vector2d(target.first, target.second);
   params.catch_height_m = catch_height;
   if (const auto error = planning::validate(params); error != planning::CatchParamError::kNone) {
-    return usageError(std::string(planning::toString(error)));
+    return usage_error(std::string(planning::to_string(error)));
   }
 
   // Limits: the given file, else the repository's file if run from the repository root, else
@@ -157,15 +157,15 @@ int run(int argc, char** argv) {
     limits_path = model::kVehicleLimitsRelativePath;
   }
   if (!limits_path.empty()) {
-    const model::VehicleLimitsLoad load = model::loadVehicleLimits(limits_path);
-    if (!load.ok) return usageError("cannot use the limits: " + load.error);
+    const model::VehicleLimitsLoad load = model::load_vehicle_limits(limits_path);
+    if (!load.ok) return usage_error("cannot use the limits: " + load.error);
     limits = {load.limits.a_q_min_mps2, load.limits.a_q_max_mps2, load.limits.omega_max_radps};
     limits_source = limits_path;
   }
 
   const std::optional<CatchTrajectory> traj = CatchTrajectory::create(params);
-  if (!traj) return usageError("invalid manoeuvre parameters");
-  const planning::FeasibilityVerdict verdict = traj->checkFeasibility(limits);
+  if (!traj) return usage_error("invalid manoeuvre parameters");
+  const planning::FeasibilityVerdict verdict = traj->check_feasibility(limits);
 
   std::ofstream csv(out_path);
   if (!csv) {
@@ -176,7 +176,7 @@ int run(int argc, char** argv) {
   Peaks peaks;
   long rows = 0;
   char line[512];
-  forEachSample(*traj, [&](const planning::CatchReference& r) {
+  for_each_sample(*traj, [&](const planning::CatchReference& r) {
     std::snprintf(line, sizeof line,
                   "%.6f,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", r.t_s,
                   r.position_m.x(), r.position_m.y(), r.position_m.z(), r.velocity_mps.x(),
@@ -199,10 +199,10 @@ int run(int argc, char** argv) {
   flat.a_max_mps2 = 0.0;
   Peaks flat_peaks;
   if (const auto flat_traj = CatchTrajectory::create(flat)) {
-    forEachSample(*flat_traj, [&](const planning::CatchReference& r) { flat_peaks.add(r); });
+    for_each_sample(*flat_traj, [&](const planning::CatchReference& r) { flat_peaks.add(r); });
   }
 
-  const auto& t = traj->zManoeuvre().phaseTimes_s();
+  const auto& t = traj->z_manoeuvre().phaseTimes_s();
   std::printf("catch manoeuvre (paper Section V)\n");
   std::printf("  xy: (%.3f, %.3f) m -> (%.3f, %.3f) m, minimum snap over T_xy = %.3f s (eq. 45)\n",
               params.start_xy_m.x(), params.start_xy_m.y(), params.target_xy_m.x(), params.target_xy_m.y(),
@@ -235,14 +235,14 @@ int run(int argc, char** argv) {
   if (verdict.feasible()) {
     std::printf("feasible: yes\n");
   } else {
-    std::printf("feasible: no (%s)\n", describeViolations(verdict).c_str());
+    std::printf("feasible: no (%s)\n", describe_violations(verdict).c_str());
   }
   return 0;
 }
 
 }  // namespace
 
-int cmdPlanCatch(int argc, char** argv) {
+int cmd_plan_catch(int argc, char** argv) {
   try {
     return run(argc, argv);
   } catch (const std::exception& e) {

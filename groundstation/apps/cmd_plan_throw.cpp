@@ -35,7 +35,7 @@ int failure(const std::string& message) {
   return 1;
 }
 
-bool writeTrajectory(const std::filesystem::path& path, const planning::ThrowTrajectory& traj) {
+bool write_trajectory(const std::filesystem::path& path, const planning::ThrowTrajectory& traj) {
   std::ofstream csv(path);
   if (!csv) return false;
   csv << "t,x,z,vx,vz,theta,alpha,alpha_dot,a_q,omega_y,F_N\n";
@@ -53,7 +53,7 @@ bool writeTrajectory(const std::filesystem::path& path, const planning::ThrowTra
   return static_cast<bool>(csv);
 }
 
-bool writeGains(const std::filesystem::path& path, const planning::ThrowTracker& tracker) {
+bool write_gains(const std::filesystem::path& path, const planning::ThrowTracker& tracker) {
   std::ofstream csv(path);
   if (!csv) return false;
   csv << "t";
@@ -103,7 +103,7 @@ int run(int argc, char** argv) {
                  "  x,z,vx,vz,theta,alpha,alpha_dot; u = u_ref(t) - K(t) (s - s_ref(t))")
       ->type_name("DIR")
       ->required()
-      ->check(pa::cli::nonEmpty("wants a directory name"));
+      ->check(pa::cli::non_empty("wants a directory name"));
   std::uint64_t intervals = static_cast<std::uint64_t>(options.intervals);
   app.add_option("--intervals", intervals, "collocation intervals, 100..2000, default 100")
       ->type_name("N")
@@ -112,10 +112,10 @@ int run(int argc, char** argv) {
                  std::string("input limits file (default: ") + model::kVehicleLimitsRelativePath +
                      " if present,\nelse a_q in [1, 20] m/s^2, |Omega| <= 10 rad/s)")
       ->type_name("FILE")
-      ->check(pa::cli::nonEmpty("wants a file name"));
+      ->check(pa::cli::non_empty("wants a file name"));
   if (const std::optional<int> code = pa::cli::parse(app, argc, argv, std::cout, std::cerr)) return *code;
   options.intervals = static_cast<int>(intervals);
-  auto usageError = [&](const std::string& message) {
+  auto usage_error = [&](const std::string& message) {
     std::cerr << "groundstation plan-throw: " << message << "\n\n" << app.help();
     return 2;
   };
@@ -129,8 +129,8 @@ int run(int argc, char** argv) {
     limits_path = model::kVehicleLimitsRelativePath;
   }
   if (!limits_path.empty()) {
-    const model::VehicleLimitsLoad load = model::loadVehicleLimits(limits_path);
-    if (!load.ok) return usageError("cannot use the limits: " + load.error);
+    const model::VehicleLimitsLoad load = model::load_vehicle_limits(limits_path);
+    if (!load.ok) return usage_error("cannot use the limits: " + load.error);
     problem.limits = load.limits;
     limits_source = limits_path;
   }
@@ -138,7 +138,7 @@ int run(int argc, char** argv) {
   // Wall and process CPU time: on a loaded machine the CPU time is the figure to compare.
   const auto start = std::chrono::steady_clock::now();
   const std::clock_t cpu_start = std::clock();
-  const planning::ThrowPlan plan = planning::planThrow(problem, options);
+  const planning::ThrowPlan plan = planning::plan_throw(problem, options);
   const double solve_cpu_ms = 1e3 * static_cast<double>(std::clock() - cpu_start) / CLOCKS_PER_SEC;
   const double solve_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -158,10 +158,10 @@ int run(int argc, char** argv) {
   }
   const std::filesystem::path traj_path = dir / "throw.csv";
   const std::filesystem::path gains_path = dir / "throw_gains.csv";
-  if (!writeTrajectory(traj_path, plan.trajectory)) {
+  if (!write_trajectory(traj_path, plan.trajectory)) {
     return failure("cannot write " + traj_path.string());
   }
-  if (!writeGains(gains_path, tracker)) return failure("cannot write " + gains_path.string());
+  if (!write_gains(gains_path, tracker)) return failure("cannot write " + gains_path.string());
 
   const planning::ThrowTrajectory& traj = plan.trajectory;
   double a_min = 1e300, a_max = -1e300, omega_max = 0.0, fn_min_interior = 1e300;
@@ -223,7 +223,7 @@ int run(int argc, char** argv) {
 
 }  // namespace
 
-int cmdPlanThrow(int argc, char** argv) {
+int cmd_plan_throw(int argc, char** argv) {
   try {
     return run(argc, argv);
   } catch (const std::exception& e) {

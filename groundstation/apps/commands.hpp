@@ -6,11 +6,11 @@
 
 namespace gs::apps {
 
-int cmdAdaptation(int argc, char** argv);
-int cmdCatchInstant(int argc, char** argv);
-int cmdEstimate(int argc, char** argv);
-int cmdHistory(int argc, char** argv);
-int cmdPlanCatch(int argc, char** argv);
-int cmdPlanThrow(int argc, char** argv);
+int cmd_adaptation(int argc, char** argv);
+int cmd_catch_instant(int argc, char** argv);
+int cmd_estimate(int argc, char** argv);
+int cmd_history(int argc, char** argv);
+int cmd_plan_catch(int argc, char** argv);
+int cmd_plan_throw(int argc, char** argv);
 
 }  // namespace gs::apps

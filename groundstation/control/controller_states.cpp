@@ -8,7 +8,7 @@
 
 namespace gs::control {
 
-Eigen::VectorXd hoverState(const model::VehicleState& vehicle, const Eigen::Vector3d& set_point_m) {
+Eigen::VectorXd hover_state(const model::VehicleState& vehicle, const Eigen::Vector3d& set_point_m) {
   Eigen::VectorXd x(hover::kStateSize);
   x.segment<3>(hover::kX) = vehicle.p_m - set_point_m;
   x.segment<3>(hover::kVx) = vehicle.v_mps;
@@ -18,9 +18,9 @@ Eigen::VectorXd hoverState(const model::VehicleState& vehicle, const Eigen::Vect
   return x;
 }
 
-Eigen::VectorXd balancingState(const Pivot& pivot, const model::VehicleState& vehicle,
-                               const model::PoleState& pole, double half_length_m,
-                               const Eigen::Vector3d& set_point_m) {
+Eigen::VectorXd balancing_state(const Pivot& pivot, const model::VehicleState& vehicle,
+                                const model::PoleState& pole, double half_length_m,
+                                const Eigen::Vector3d& set_point_m) {
   namespace bal = balancing;
   Eigen::VectorXd x(bal::kStateSize);
   // From the centre relative to the pivot rather than from n, whose sign is the motion capture's
@@ -39,12 +39,12 @@ Eigen::VectorXd balancingState(const Pivot& pivot, const model::VehicleState& ve
   return x;
 }
 
-model::PlanarState<double> planarThrowState(const Pivot& pivot, const model::VehicleState& vehicle,
-                                            const model::PoleState& pole, const Eigen::Vector3d& origin_m) {
+model::PlanarState<double> planar_throw_state(const Pivot& pivot, const model::VehicleState& vehicle,
+                                              const model::PoleState& pole, const Eigen::Vector3d& origin_m) {
   namespace planar = model::planar;
   // The thrust axis ^I_B R e_z; its pitch in the x-z plane is the planar theta.
   const Eigen::Vector3d thrust_axis =
-      model::rotationInertialFromBody(vehicle.phi_rad, vehicle.theta_rad, vehicle.psi_rad).col(2);
+      model::rotation_inertial_from_body(vehicle.phi_rad, vehicle.theta_rad, vehicle.psi_rad).col(2);
   model::PlanarState<double> s;
   s(planar::kX) = pivot.p_m.x() - origin_m.x();
   s(planar::kZ) = pivot.p_m.z() - origin_m.z();

@@ -20,19 +20,19 @@ struct Pivot {
 };
 
 // s_q (eq. (6), hover_lqr.hpp order) of the vehicle's centre relative to `set_point_m`.
-Eigen::VectorXd hoverState(const model::VehicleState& vehicle, const Eigen::Vector3d& set_point_m);
+Eigen::VectorXd hover_state(const model::VehicleState& vehicle, const Eigen::Vector3d& set_point_m);
 
 // s_qp (eq. (31), balancing_lqr.hpp order) relative to `set_point_m` (where the pivot should
 // be): the pivot and its velocity, the Euler angles, and the pole's deflection L n = (a, b, c)
 // (eq. (24)) with its rate L (Omega x n).
-Eigen::VectorXd balancingState(const Pivot& pivot, const model::VehicleState& vehicle,
-                               const model::PoleState& pole, double half_length_m,
-                               const Eigen::Vector3d& set_point_m);
+Eigen::VectorXd balancing_state(const Pivot& pivot, const model::VehicleState& vehicle,
+                                const model::PoleState& pole, double half_length_m,
+                                const Eigen::Vector3d& set_point_m);
 
 // The throw's planar state (planar_pole_vehicle.hpp) in the x-z plane through `origin_m`:
 // the pivot, the thrust axis's pitch theta, the pole's tilt alpha from the vertical towards +x
 // and its rate.
-model::PlanarState<double> planarThrowState(const Pivot& pivot, const model::VehicleState& vehicle,
-                                            const model::PoleState& pole, const Eigen::Vector3d& origin_m);
+model::PlanarState<double> planar_throw_state(const Pivot& pivot, const model::VehicleState& vehicle,
+                                              const model::PoleState& pole, const Eigen::Vector3d& origin_m);
 
 }  // namespace gs::control

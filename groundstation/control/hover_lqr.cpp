@@ -2,7 +2,7 @@
 
 namespace gs::control {
 
-LinearSystem hoverLinearisation(double gravity_mps2) {
+LinearSystem hover_linearisation(double gravity_mps2) {
   using namespace hover;
   LinearSystem sys{Eigen::MatrixXd::Zero(kStateSize, kStateSize),
                    Eigen::MatrixXd::Zero(kStateSize, kInputSize)};
@@ -14,15 +14,15 @@ LinearSystem hoverLinearisation(double gravity_mps2) {
   return sys;
 }
 
-LqrWeights hoverLqrWeights() {
+LqrWeights hover_lqr_weights() {
   LqrWeights w;
   w.state = (Eigen::VectorXd(hover::kStateSize) << 4, 4, 4, 1, 1, 1, 0.5, 0.5, 0.5).finished();
   w.input = (Eigen::VectorXd(hover::kInputSize) << 0.5, 0.2, 0.2, 0.2).finished();
   return w;
 }
 
-LqrGain hoverLqr(const LqrWeights& weights, double gravity_mps2) {
-  return solveLqr(hoverLinearisation(gravity_mps2), weights);
+LqrGain hover_lqr(const LqrWeights& weights, double gravity_mps2) {
+  return solve_lqr(hover_linearisation(gravity_mps2), weights);
 }
 
 }  // namespace gs::control

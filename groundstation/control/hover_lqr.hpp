@@ -7,7 +7,7 @@
 //  cos theta cos phi), so to first order
 //   x'' = g theta,  y'' = -g phi,  z'' = a_q - g,
 // and the matrix of (5) is the identity at zero angles: (phi', theta', psi') = Omega.
-// The weights are a documented choice (the paper leaves them open, docs/paper-notes.md), see hoverLqrWeights().
+// The weights are a documented choice (the paper leaves them open, docs/paper-notes.md), see hover_lqr_weights().
 #pragma once
 
 #include "groundstation/control/lqr.hpp"
@@ -22,14 +22,14 @@ enum State : int { kX = 0, kY, kZ, kVx, kVy, kVz, kRoll, kPitch, kYaw };
 enum Input : int { kThrust = 0, kRateX, kRateY, kRateZ };
 }  // namespace hover
 
-LinearSystem hoverLinearisation(double gravity_mps2 = pa::kGravity_mps2);
+LinearSystem hover_linearisation(double gravity_mps2 = pa::kGravity_mps2);
 
 // Q = diag(4, 4, 4 | 1, 1, 1 | 0.5, 0.5, 0.5) on (m | m/s | rad),
 // R = diag(0.5 | 0.2, 0.2, 0.2) on (m/s^2 | rad/s): position errors of 0.5 m cost as much as
 // 1.4 m/s^2 of extra thrust or 2.2 rad/s of rate, which keeps a 1 m step within the default
 // limits (a_q in [1, 20] m/s^2, |Omega| <= 10 rad/s; tested).
-LqrWeights hoverLqrWeights();
+LqrWeights hover_lqr_weights();
 
-LqrGain hoverLqr(const LqrWeights& weights = hoverLqrWeights(), double gravity_mps2 = pa::kGravity_mps2);
+LqrGain hover_lqr(const LqrWeights& weights = hover_lqr_weights(), double gravity_mps2 = pa::kGravity_mps2);
 
 }  // namespace gs::control

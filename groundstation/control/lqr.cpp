@@ -6,9 +6,9 @@
 
 namespace gs::control {
 
-LqrGain solveLqr(const LinearSystem& sys, const Eigen::MatrixXd& Q, const Eigen::MatrixXd& R) {
+LqrGain solve_lqr(const LinearSystem& sys, const Eigen::MatrixXd& Q, const Eigen::MatrixXd& R) {
   LqrGain out;
-  const CareSolution care = solveCare(sys.A, sys.B, Q, R);
+  const CareSolution care = solve_care(sys.A, sys.B, Q, R);
   if (care.P.size() == 0) return out;
   out.K = care.K;
   out.P = care.P;
@@ -18,9 +18,9 @@ LqrGain solveLqr(const LinearSystem& sys, const Eigen::MatrixXd& Q, const Eigen:
   return out;
 }
 
-LqrGain solveLqr(const LinearSystem& sys, const LqrWeights& weights) {
-  return solveLqr(sys, Eigen::MatrixXd(weights.state.asDiagonal()),
-                  Eigen::MatrixXd(weights.input.asDiagonal()));
+LqrGain solve_lqr(const LinearSystem& sys, const LqrWeights& weights) {
+  return solve_lqr(sys, Eigen::MatrixXd(weights.state.asDiagonal()),
+                   Eigen::MatrixXd(weights.input.asDiagonal()));
 }
 
 }  // namespace gs::control

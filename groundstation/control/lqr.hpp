@@ -15,13 +15,13 @@ struct LqrGain {
   double care_residual = 0.0;                // relative (riccati.hpp)
 };
 
-LqrGain solveLqr(const LinearSystem& sys, const Eigen::MatrixXd& Q, const Eigen::MatrixXd& R);
+LqrGain solve_lqr(const LinearSystem& sys, const Eigen::MatrixXd& Q, const Eigen::MatrixXd& R);
 
 // Diagonal weights, the form every design in this folder uses.
 struct LqrWeights {
   Eigen::VectorXd state;  // diag(Q)
   Eigen::VectorXd input;  // diag(R)
 };
-LqrGain solveLqr(const LinearSystem& sys, const LqrWeights& weights);
+LqrGain solve_lqr(const LinearSystem& sys, const LqrWeights& weights);
 
 }  // namespace gs::control

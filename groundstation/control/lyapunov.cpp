@@ -6,7 +6,7 @@
 
 namespace gs::control {
 
-std::optional<Eigen::MatrixXd> solveContinuousLyapunov(const Eigen::MatrixXd& A, const Eigen::MatrixXd& C) {
+std::optional<Eigen::MatrixXd> solve_continuous_lyapunov(const Eigen::MatrixXd& A, const Eigen::MatrixXd& C) {
   const Eigen::Index n = A.rows();
   if (A.cols() != n || C.rows() != n || C.cols() != n) return std::nullopt;
   if (!A.allFinite() || !C.allFinite()) return std::nullopt;

@@ -12,6 +12,6 @@ namespace gs::control {
 // lower and T upper triangular. Unique when no two eigenvalues of A satisfy conj(l_i) + l_j = 0
 // (always true for a Hurwitz A); std::nullopt otherwise or for non-finite input. For a symmetric C
 // the result is symmetrised.
-std::optional<Eigen::MatrixXd> solveContinuousLyapunov(const Eigen::MatrixXd& A, const Eigen::MatrixXd& C);
+std::optional<Eigen::MatrixXd> solve_continuous_lyapunov(const Eigen::MatrixXd& A, const Eigen::MatrixXd& C);
 
 }  // namespace gs::control

@@ -13,7 +13,7 @@ namespace gs::control {
 namespace {
 
 // B R^-1 B^T via the Cholesky factor of R.
-Eigen::MatrixXd inputWeight(const Eigen::MatrixXd& B, const Eigen::MatrixXd& R) {
+Eigen::MatrixXd input_weight(const Eigen::MatrixXd& B, const Eigen::MatrixXd& R) {
   return B * R.llt().solve(B.transpose());
 }
 
@@ -32,7 +32,7 @@ Residual residual(const Eigen::MatrixXd& A, const Eigen::MatrixXd& S, const Eige
   return r;
 }
 
-bool isHurwitz(const Eigen::MatrixXd& M) {
+bool is_hurwitz(const Eigen::MatrixXd& M) {
   if (!M.allFinite()) return false;
   const Eigen::VectorXcd eig = M.eigenvalues();
   for (Eigen::Index i = 0; i < eig.size(); ++i) {
@@ -43,14 +43,14 @@ bool isHurwitz(const Eigen::MatrixXd& M) {
 
 }  // namespace
 
-Eigen::MatrixXd careResidual(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& Q,
-                             const Eigen::MatrixXd& R, const Eigen::MatrixXd& P) {
-  const Eigen::MatrixXd S = inputWeight(B, R);
+Eigen::MatrixXd care_residual(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& Q,
+                              const Eigen::MatrixXd& R, const Eigen::MatrixXd& P) {
+  const Eigen::MatrixXd S = input_weight(B, R);
   return A.transpose() * P + P * A - P * S * P + Q;
 }
 
-CareSolution solveCare(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& Q,
-                       const Eigen::MatrixXd& R, const CareOptions& options) {
+CareSolution solve_care(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& Q,
+                        const Eigen::MatrixXd& R, const CareOptions& options) {
   CareSolution out;
   const Eigen::Index n = A.rows();
   const Eigen::Index m = B.cols();
@@ -97,7 +97,7 @@ CareSolution solveCare(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const
   Residual res = residual(A, S, Qs, P);
   for (int step = 0; step < options.max_newton_steps && res.relative > 1e-15; ++step) {
     const Eigen::MatrixXd Ac = A - S * P;
-    const auto dP = solveContinuousLyapunov(Ac, res.value);
+    const auto dP = solve_continuous_lyapunov(Ac, res.value);
     if (!dP) break;
     Eigen::MatrixXd P_next = P + *dP;
     P_next = 0.5 * (P_next + P_next.transpose()).eval();
@@ -111,7 +111,7 @@ CareSolution solveCare(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const
   out.P = P;
   out.K = r_llt.solve(B.transpose() * P);
   out.residual = res.relative;
-  out.converged = isHurwitz(A - B * out.K);
+  out.converged = is_hurwitz(A - B * out.K);
   return out;
 }
 

@@ -37,11 +37,11 @@ struct CareSolution {
   int newton_steps = 0;
 };
 
-CareSolution solveCare(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& Q,
-                       const Eigen::MatrixXd& R, const CareOptions& options = {});
+CareSolution solve_care(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& Q,
+                        const Eigen::MatrixXd& R, const CareOptions& options = {});
 
 // Res(P) = A^T P + P A - P B R^-1 B^T P + Q.
-Eigen::MatrixXd careResidual(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& Q,
-                             const Eigen::MatrixXd& R, const Eigen::MatrixXd& P);
+Eigen::MatrixXd care_residual(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, const Eigen::MatrixXd& Q,
+                              const Eigen::MatrixXd& R, const Eigen::MatrixXd& P);
 
 }  // namespace gs::control

@@ -6,7 +6,7 @@
 
 namespace gs::control {
 
-LinearisationFn interpolateLinearisation(std::vector<double> times_s, std::vector<LinearSystem> samples) {
+LinearisationFn interpolate_linearisation(std::vector<double> times_s, std::vector<LinearSystem> samples) {
   if (times_s.empty() || times_s.size() != samples.size()) return {};
   for (std::size_t i = 0; i < samples.size(); ++i) {
     if (samples[i].A.rows() != samples[0].A.rows() || samples[i].A.cols() != samples[0].A.cols() ||
@@ -43,9 +43,9 @@ Eigen::MatrixXd TvLqrGains::interpolate(const std::vector<Eigen::MatrixXd>& valu
 Eigen::MatrixXd TvLqrGains::gain(double t_s) const { return interpolate(gains_, t_s); }
 Eigen::MatrixXd TvLqrGains::cost(double t_s) const { return interpolate(costs_, t_s); }
 
-TvLqrGains solveTvLqr(const LinearisationFn& linearisation, const Eigen::MatrixXd& Q,
-                      const Eigen::MatrixXd& R, const Eigen::MatrixXd& Q_final, double t0_s, double tf_s,
-                      const TvLqrOptions& options) {
+TvLqrGains solve_tv_lqr(const LinearisationFn& linearisation, const Eigen::MatrixXd& Q,
+                        const Eigen::MatrixXd& R, const Eigen::MatrixXd& Q_final, double t0_s, double tf_s,
+                        const TvLqrOptions& options) {
   const Eigen::Index n = Q.rows();
   const Eigen::Index m = R.rows();
   if (!linearisation || Q.cols() != n || R.cols() != m || Q_final.rows() != n || Q_final.cols() != n ||
@@ -74,7 +74,7 @@ TvLqrGains solveTvLqr(const LinearisationFn& linearisation, const Eigen::MatrixX
     const Eigen::MatrixXd PB = P * sys.B;
     return sys.A.transpose() * P + P * sys.A - PB * r_llt.solve(PB.transpose()) + Q;
   };
-  auto gainAt = [&](double t, const Eigen::MatrixXd& P, bool& ok) -> Eigen::MatrixXd {
+  auto gain_at = [&](double t, const Eigen::MatrixXd& P, bool& ok) -> Eigen::MatrixXd {
     const LinearSystem sys = linearisation(t);
     if (sys.B.rows() != n || sys.B.cols() != m) {
       ok = false;
@@ -87,7 +87,7 @@ TvLqrGains solveTvLqr(const LinearisationFn& linearisation, const Eigen::MatrixX
   Eigen::MatrixXd P = 0.5 * (Q_final + Q_final.transpose());
   bool ok = true;
   costs.back() = P;
-  gains.back() = gainAt(tf_s, P, ok);
+  gains.back() = gain_at(tf_s, P, ok);
   if (!ok) return {};
   for (std::size_t k = intervals; k-- > 0;) {
     const double span = times[k + 1] - times[k];
@@ -106,7 +106,7 @@ TvLqrGains solveTvLqr(const LinearisationFn& linearisation, const Eigen::MatrixX
     }
     if (!ok || !P.allFinite()) return {};
     costs[k] = P;
-    gains[k] = gainAt(times[k], P, ok);
+    gains[k] = gain_at(times[k], P, ok);
     if (!ok) return {};
   }
   return TvLqrGains(std::move(times), std::move(gains), std::move(costs));

@@ -26,9 +26,9 @@ namespace gs::control {
 using LinearisationFn = std::function<LinearSystem(double t_s)>;
 
 // A(t), B(t) interpolated linearly between samples (times strictly increasing, sizes equal),
-// clamped outside. An empty function (solveTvLqr then returns no gains) when the samples are
+// clamped outside. An empty function (solve_tv_lqr then returns no gains) when the samples are
 // inconsistent: sizes differ, times not finite or not strictly increasing.
-LinearisationFn interpolateLinearisation(std::vector<double> times_s, std::vector<LinearSystem> samples);
+LinearisationFn interpolate_linearisation(std::vector<double> times_s, std::vector<LinearSystem> samples);
 
 struct TvLqrOptions {
   double grid_step_s = 0.005;  // the stored gains: the 200 Hz control period by default
@@ -56,8 +56,8 @@ class TvLqrGains {
 
 // Empty result for inconsistent sizes, non-finite values, tf <= t0 or a non-positive step, or
 // when P leaves the finite range (an integration step too long for the system).
-TvLqrGains solveTvLqr(const LinearisationFn& linearisation, const Eigen::MatrixXd& Q,
-                      const Eigen::MatrixXd& R, const Eigen::MatrixXd& Q_final, double t0_s, double tf_s,
-                      const TvLqrOptions& options = {});
+TvLqrGains solve_tv_lqr(const LinearisationFn& linearisation, const Eigen::MatrixXd& Q,
+                        const Eigen::MatrixXd& R, const Eigen::MatrixXd& Q_final, double t0_s, double tf_s,
+                        const TvLqrOptions& options = {});
 
 }  // namespace gs::control

@@ -33,12 +33,12 @@ BodyHealth snapshot(const BodyHealthTracker& tracker, double t_now_s) {
   BodyHealth h;
   h.seen = tracker.seen();
   h.samples = tracker.samples();
-  h.rejected = tracker.rejectedSamples();
+  h.rejected = tracker.rejected_samples();
   h.rate_Hz = tracker.rate_Hz();
   h.age_s = tracker.age_s(t_now_s);
-  h.last_nis = tracker.lastNis();
-  h.mean_nis = tracker.meanNis();
-  h.nis_exceedances = tracker.nisExceedances();
+  h.last_nis = tracker.last_nis();
+  h.mean_nis = tracker.mean_nis();
+  h.nis_exceedances = tracker.nis_exceedances();
   return h;
 }
 

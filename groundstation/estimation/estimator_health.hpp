@@ -21,13 +21,13 @@ class BodyHealthTracker {
 
   bool seen() const { return samples_ > 0; }
   std::uint64_t samples() const { return samples_; }
-  std::uint64_t rejectedSamples() const { return rejected_; }
+  std::uint64_t rejected_samples() const { return rejected_; }
   double rate_Hz() const { return interval_s_ > 0.0 ? 1.0 / interval_s_ : 0.0; }
   double age_s(double t_now_s) const { return samples_ > 0 ? t_now_s - last_t_s_ : -1.0; }
-  double lastNis() const { return last_nis_; }
-  double meanNis() const { return mean_nis_; }  // exponentially weighted, ~100 samples
-  std::uint64_t nisExceedances() const { return exceedances_; }
-  double nisGate() const { return nis_gate_; }
+  double last_nis() const { return last_nis_; }
+  double mean_nis() const { return mean_nis_; }  // exponentially weighted, ~100 samples
+  std::uint64_t nis_exceedances() const { return exceedances_; }
+  double nis_gate() const { return nis_gate_; }
 
  private:
   double nis_gate_;

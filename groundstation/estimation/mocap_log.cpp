@@ -32,7 +32,7 @@ std::string quoted(std::string_view s) {
   return out;
 }
 
-std::optional<double> parseDouble(std::string_view s) {
+std::optional<double> parse_double(std::string_view s) {
   double value = 0.0;
   if (!s.empty() && s.front() == '+') s.remove_prefix(1);
   const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), value);
@@ -48,7 +48,7 @@ std::string format(const char* fmt, double v) {
 
 }  // namespace
 
-bool isMocapHeader(std::string_view line) {
+bool is_mocap_header(std::string_view line) {
   line = trim(line);
   std::size_t field = 0;
   while (true) {
@@ -62,7 +62,7 @@ bool isMocapHeader(std::string_view line) {
   return field == kFieldNames.size();
 }
 
-MocapRowParse parseMocapRow(std::string_view line) {
+MocapRowParse parse_mocap_row(std::string_view line) {
   MocapRowParse result;
   std::array<std::string_view, kFieldNames.size()> fields;
   std::size_t count = 0;
@@ -82,7 +82,7 @@ MocapRowParse parseMocapRow(std::string_view line) {
   std::array<double, kFieldNames.size()> v{};
   for (std::size_t i = 0; i < fields.size(); ++i) {
     if (i == 1) continue;
-    const std::optional<double> d = parseDouble(fields[i]);
+    const std::optional<double> d = parse_double(fields[i]);
     if (!d) {
       result.error = "field '" + std::string(kFieldNames[i]) + "' is not a number: " + quoted(fields[i]);
       return result;
@@ -115,7 +115,7 @@ MocapRowParse parseMocapRow(std::string_view line) {
   row.t_s = v[0];
   row.pose.p_m = Eigen::Vector3d(v[2], v[3], v[4]);
   row.pose.q = Eigen::Quaterniond(v[5], v[6], v[7], v[8]);
-  if (!isUsablePose(row.pose)) {
+  if (!is_usable_pose(row.pose)) {
     result.error = "quaternion norm " + format("%.4g", row.pose.q.norm()) +
                    " is not close to 1 (expected within [0.5, 1.5])";
     return result;
@@ -125,8 +125,8 @@ MocapRowParse parseMocapRow(std::string_view line) {
   return result;
 }
 
-ReplaySummary replayMocapLog(std::istream& in, std::ostream& out, std::ostream& diagnostics,
-                             const ReplayOptions& options) {
+ReplaySummary replay_mocap_log(std::istream& in, std::ostream& out, std::ostream& diagnostics,
+                               const ReplayOptions& options) {
   ReplaySummary summary;
   std::size_t reported = 0;
   const auto report = [&](std::size_t line_number, const std::string& what) {
@@ -153,16 +153,16 @@ ReplaySummary replayMocapLog(std::istream& in, std::ostream& out, std::ostream& 
     if (line.empty() || line.front() == '#') continue;
     if (!header_seen) {
       header_seen = true;
-      if (isMocapHeader(line)) continue;
+      if (is_mocap_header(line)) continue;
       diagnostics << "line " << line_number << ": no header row (expected '" << kMocapLogHeader
                   << "'); reading it as data\n";
-    } else if (isMocapHeader(line)) {
+    } else if (is_mocap_header(line)) {
       ++summary.malformed;
       report(line_number, "repeated header row");
       continue;
     }
     ++summary.rows;
-    const MocapRowParse parsed = parseMocapRow(line);
+    const MocapRowParse parsed = parse_mocap_row(line);
     if (!parsed.row) {
       ++summary.malformed;
       report(line_number, parsed.error);
@@ -197,13 +197,13 @@ ReplaySummary replayMocapLog(std::istream& in, std::ostream& out, std::ostream& 
       const model::PoleState& s = e.state;
       char buf[512];
       std::snprintf(buf, sizeof buf, "%.6f,%s,%.6f,%.6f,%.6f,%.5f,%.5f,%.5f,%.6f,%.6f,%.6f,%.5f,%.5f,%.5f,",
-                    frame.t_s, std::string(poleModeName(e.mode)).c_str(), s.p_m.x(), s.p_m.y(), s.p_m.z(),
+                    frame.t_s, std::string(pole_mode_name(e.mode)).c_str(), s.p_m.x(), s.p_m.y(), s.p_m.z(),
                     s.v_mps.x(), s.v_mps.y(), s.v_mps.z(), s.n.x(), s.n.y(), s.n.z(), s.omega_radps.x(),
                     s.omega_radps.y(), s.omega_radps.z());
       out << buf;
       std::optional<planning::CatchPointPrediction> p;
       if (e.valid && e.mode == PoleMode::free) {
-        p = planning::predictCatchPoint(s, options.catch_height_m, estimator.poleModel());
+        p = planning::predict_catch_point(s, options.catch_height_m, estimator.pole_model());
       }
       if (p && p->found) {
         ++summary.catch_predictions;
@@ -239,7 +239,7 @@ ReplaySummary replayMocapLog(std::istream& in, std::ostream& out, std::ostream& 
     frame_lines[body] = r.line;
   }
   flush();
-  summary.switches = estimator.recentSwitches();
+  summary.switches = estimator.recent_switches();
   summary.health = estimator.health(estimator.time());
   if (summary.pole_frames == 0) {
     summary.fatal_error = summary.rows == 0 ? "no data rows" : "no usable pole rows";

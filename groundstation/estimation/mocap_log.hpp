@@ -13,7 +13,7 @@
 // Output CSV, one row per frame that holds the pole:
 //   t,mode,px,py,pz,vx,vy,vz,nx,ny,nz,wx,wy,wz,catch_t,catch_x,catch_y
 // with the chosen mode's estimate (n in the log's convention) and, in free flight, the predicted
-// downward crossing of the catching height by the pole's lower end (planning::predictCatchPoint
+// downward crossing of the catching height by the pole's lower end (planning::predict_catch_point
 // with the estimated drag; catch_t on the log's clock); the catch columns are empty when no
 // crossing is predicted.
 #pragma once
@@ -49,9 +49,9 @@ struct MocapRowParse {
 
 // Parses one data row (no trailing newline; a trailing '\r' and spaces around fields are
 // tolerated).
-MocapRowParse parseMocapRow(std::string_view line);
+MocapRowParse parse_mocap_row(std::string_view line);
 // True for the header row (spaces and a trailing '\r' tolerated).
-bool isMocapHeader(std::string_view line);
+bool is_mocap_header(std::string_view line);
 
 struct ReplayOptions {
   double catch_height_m = 0.0;
@@ -75,7 +75,7 @@ struct ReplaySummary {
 
 // Replays `in` into `out` (the estimate CSV, header first); problems go to `diagnostics`, one
 // line each ("line N: ..."). Never throws on bad input.
-ReplaySummary replayMocapLog(std::istream& in, std::ostream& out, std::ostream& diagnostics,
-                             const ReplayOptions& options);
+ReplaySummary replay_mocap_log(std::istream& in, std::ostream& out, std::ostream& diagnostics,
+                               const ReplayOptions& options);
 
 }  // namespace gs::estimation

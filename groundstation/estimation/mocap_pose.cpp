@@ -6,7 +6,7 @@
 
 namespace gs::estimation {
 
-EulerZyx eulerZyxFromRotation(const Eigen::Matrix3d& r) {
+EulerZyx euler_zyx_from_rotation(const Eigen::Matrix3d& r) {
   EulerZyx e;
   e.theta_rad = -std::asin(std::clamp(r(2, 0), -1.0, 1.0));
   e.phi_rad = std::atan2(r(2, 1), r(2, 2));
@@ -14,15 +14,15 @@ EulerZyx eulerZyxFromRotation(const Eigen::Matrix3d& r) {
   return e;
 }
 
-EulerZyx eulerZyxFromQuaternion(const Eigen::Quaterniond& q) {
-  return eulerZyxFromRotation(q.normalized().toRotationMatrix());
+EulerZyx euler_zyx_from_quaternion(const Eigen::Quaterniond& q) {
+  return euler_zyx_from_rotation(q.normalized().toRotationMatrix());
 }
 
-Eigen::Vector3d poleDirectionFromQuaternion(const Eigen::Quaterniond& q) {
+Eigen::Vector3d pole_direction_from_quaternion(const Eigen::Quaterniond& q) {
   return q.normalized() * Eigen::Vector3d::UnitZ();
 }
 
-bool isUsablePose(const MocapPose& pose) {
+bool is_usable_pose(const MocapPose& pose) {
   if (!pose.p_m.allFinite() || !pose.q.coeffs().allFinite()) return false;
   const double norm = pose.q.norm();
   return norm >= 0.5 && norm <= 1.5;
@@ -35,7 +35,7 @@ double wrapAngle_rad(double angle_rad) {
   return a - std::numbers::pi;
 }
 
-Eigen::Matrix<double, 3, 2> tangentBasis(const Eigen::Vector3d& n) {
+Eigen::Matrix<double, 3, 2> tangent_basis(const Eigen::Vector3d& n) {
   // Cross with the axis least aligned with n: well conditioned for every n.
   Eigen::Vector3d axis = Eigen::Vector3d::UnitX();
   const Eigen::Vector3d a = n.cwiseAbs();
@@ -47,7 +47,7 @@ Eigen::Matrix<double, 3, 2> tangentBasis(const Eigen::Vector3d& n) {
   return b;
 }
 
-Eigen::Matrix3d crossMatrix(const Eigen::Vector3d& v) {
+Eigen::Matrix3d cross_matrix(const Eigen::Vector3d& v) {
   Eigen::Matrix3d m;
   m << 0.0, -v.z(), v.y(), v.z(), 0.0, -v.x(), -v.y(), v.x(), 0.0;
   return m;

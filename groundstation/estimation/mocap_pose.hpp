@@ -27,24 +27,24 @@ struct EulerZyx {
 };
 
 // The angles of eq. (3) for a rotation ^I_B R (theta in [-pi/2, pi/2]).
-EulerZyx eulerZyxFromRotation(const Eigen::Matrix3d& inertial_from_body);
-EulerZyx eulerZyxFromQuaternion(const Eigen::Quaterniond& inertial_from_body);
+EulerZyx euler_zyx_from_rotation(const Eigen::Matrix3d& inertial_from_body);
+EulerZyx euler_zyx_from_quaternion(const Eigen::Quaterniond& inertial_from_body);
 
 // The pole direction n = q e_z (the pole's body z-axis in the inertial frame).
-Eigen::Vector3d poleDirectionFromQuaternion(const Eigen::Quaterniond& inertial_from_body);
+Eigen::Vector3d pole_direction_from_quaternion(const Eigen::Quaterniond& inertial_from_body);
 
 // True when every component is finite and |q| is within [0.5, 1.5] (the pose is then usable
 // after normalising q); motion-capture glitches and parse errors fail it.
-bool isUsablePose(const MocapPose& pose);
+bool is_usable_pose(const MocapPose& pose);
 
 // The angle wrapped into (-pi, pi].
 double wrapAngle_rad(double angle_rad);
 
 // An orthonormal basis (two columns) of the plane normal to the unit vector n. Measurements of
 // a direction are taken in this plane (2 dof), which keeps |n| = 1 out of the filters.
-Eigen::Matrix<double, 3, 2> tangentBasis(const Eigen::Vector3d& n);
+Eigen::Matrix<double, 3, 2> tangent_basis(const Eigen::Vector3d& n);
 
 // The cross-product matrix [v]x, [v]x w = v x w.
-Eigen::Matrix3d crossMatrix(const Eigen::Vector3d& v);
+Eigen::Matrix3d cross_matrix(const Eigen::Vector3d& v);
 
 }  // namespace gs::estimation

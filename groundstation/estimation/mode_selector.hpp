@@ -44,7 +44,7 @@ class ModeSelector {
                                const std::array<bool, kPoleModeCount>& favoured);
 
   // S_c of a candidate (0 for the active mode).
-  double statistic(PoleMode mode) const { return statistic_[modeIndex(mode)]; }
+  double statistic(PoleMode mode) const { return statistic_[mode_index(mode)]; }
   // True while a candidate accumulates evidence and must not be re-seeded.
   bool accumulating(PoleMode mode) const { return statistic(mode) > 0.0; }
   const ModeSelectorParams& params() const { return params_; }

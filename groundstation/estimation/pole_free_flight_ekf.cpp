@@ -14,9 +14,9 @@ using PoleIndex = PoleFreeFlightEkf::Index;
 constexpr double kMaxDragScale = 5.0;
 
 // Linear and angular drag accelerations (16), (19) for the nominal coefficients.
-void dragAccelerations(const model::PoleState& s, const model::PoleParams& nominal, double inertia_kgm2,
-                       Eigen::Vector3d& linear, Eigen::Vector3d& angular) {
-  const model::PoleDrag d = model::poleDrag(s, nominal);
+void drag_accelerations(const model::PoleState& s, const model::PoleParams& nominal, double inertia_kgm2,
+                        Eigen::Vector3d& linear, Eigen::Vector3d& angular) {
+  const model::PoleDrag d = model::pole_drag(s, nominal);
   linear = (d.axial_force_N + d.normal_force_N) / nominal.mass_kg;
   angular = d.torque_Nm / inertia_kgm2;
 }
@@ -25,7 +25,7 @@ void dragAccelerations(const model::PoleState& s, const model::PoleParams& nomin
 // normalised state: P <- T P T^T with T the identity except in the (n, Omega) rows, where it
 // removes the radial part of n and the axial part of Omega. Only those rows and columns change,
 // so T is applied as its 6 x 6 block.
-void normaliseCovariance(const model::PoleState& s, PoleFreeFlightEkf::StateCovariance& p) {
+void normalise_covariance(const model::PoleState& s, PoleFreeFlightEkf::StateCovariance& p) {
   static_assert(PoleIndex::kW == PoleIndex::kN + 3);
   const Eigen::Matrix3d proj = Eigen::Matrix3d::Identity() - s.n * s.n.transpose();
   Eigen::Matrix<double, 6, 6> t = Eigen::Matrix<double, 6, 6>::Zero();
@@ -33,10 +33,10 @@ void normaliseCovariance(const model::PoleState& s, PoleFreeFlightEkf::StateCova
   t.block<3, 3>(3, 3) = proj;
   t.block<3, 3>(3, 0) = -s.n * s.omega_radps.transpose();
   const Eigen::Matrix<double, 6, PoleFreeFlightEkf::kSize> rows =
-      smallProduct(t, p.middleRows<6>(PoleIndex::kN));
+      small_product(t, p.middleRows<6>(PoleIndex::kN));
   p.middleRows<6>(PoleIndex::kN) = rows;
   const Eigen::Matrix<double, PoleFreeFlightEkf::kSize, 6> cols =
-      smallProduct(p.middleCols<6>(PoleIndex::kN), t.transpose());
+      small_product(p.middleCols<6>(PoleIndex::kN), t.transpose());
   p.middleCols<6>(PoleIndex::kN) = cols;
 }
 
@@ -44,7 +44,7 @@ void normaliseCovariance(const model::PoleState& s, PoleFreeFlightEkf::StateCova
 
 PoleFreeFlightEkf::PoleFreeFlightEkf(const PoleFreeFlightEkfParams& params) : params_(params) {}
 
-model::PoleParams PoleFreeFlightEkf::scaledModel() const {
+model::PoleParams PoleFreeFlightEkf::scaled_model() const {
   model::PoleParams m = params_.pole;
   m.drag_axial *= drag_scale_;
   m.drag_normal *= drag_scale_;
@@ -54,25 +54,25 @@ model::PoleParams PoleFreeFlightEkf::scaledModel() const {
 
 void PoleFreeFlightEkf::reset(const model::PoleState& state, const PoleCovariance& covariance,
                               double drag_scale, double drag_scale_sigma) {
-  state_ = model::normalisedPoleState(state);
+  state_ = model::normalised_pole_state(state);
   drag_scale_ = std::clamp(drag_scale, 0.0, kMaxDragScale);
   p_.setZero();
   p_.topLeftCorner<12, 12>() = 0.5 * (covariance + covariance.transpose());
   p_(kK, kK) = params_.estimate_drag_scale ? drag_scale_sigma * drag_scale_sigma : 0.0;
-  normaliseCovariance(state_, p_);
+  normalise_covariance(state_, p_);
   last_nis_ = 0.0;
 }
 
 PoleFreeFlightEkf::StateCovariance PoleFreeFlightEkf::jacobian() const {
   StateCovariance f = StateCovariance::Zero();
   f.block<3, 3>(kP, kV).setIdentity();
-  f.block<3, 3>(kN, kN) = crossMatrix(state_.omega_radps);  // d(Omega x n)/dn, (22)
-  f.block<3, 3>(kN, kW) = -crossMatrix(state_.n);           // d(Omega x n)/dOmega
+  f.block<3, 3>(kN, kN) = cross_matrix(state_.omega_radps);  // d(Omega x n)/dn, (22)
+  f.block<3, 3>(kN, kW) = -cross_matrix(state_.n);           // d(Omega x n)/dOmega
 
   const double inertia = model::poleInertia_kgm2(params_.pole);
   Eigen::Vector3d lin0;
   Eigen::Vector3d ang0;
-  dragAccelerations(state_, params_.pole, inertia, lin0, ang0);
+  drag_accelerations(state_, params_.pole, inertia, lin0, ang0);
   // Columns of v (3..5), n (6..8) and Omega (9..11) by forward differences.
   for (int j = 0; j < 9; ++j) {
     model::PoleState s = state_;
@@ -82,7 +82,7 @@ PoleFreeFlightEkf::StateCovariance PoleFreeFlightEkf::jacobian() const {
     (*block)(c) += eps;
     Eigen::Vector3d lin;
     Eigen::Vector3d ang;
-    dragAccelerations(s, params_.pole, inertia, lin, ang);
+    drag_accelerations(s, params_.pole, inertia, lin, ang);
     f.block<3, 1>(kV, kV + j) = drag_scale_ * (lin - lin0) / eps;  // (16)
     f.block<3, 1>(kW, kV + j) = drag_scale_ * (ang - ang0) / eps;  // (19)
   }
@@ -95,7 +95,7 @@ PoleFreeFlightEkf::StateCovariance PoleFreeFlightEkf::jacobian() const {
 
 void PoleFreeFlightEkf::step(double h, Propagation propagation) {
   if (propagation == Propagation::mean_only) {
-    state_ = model::normalisedPoleState(model::poleFreeFlightStep(state_, h, scaledModel()));
+    state_ = model::normalised_pole_state(model::pole_free_flight_step(state_, h, scaled_model()));
     return;
   }
   const StateCovariance f = jacobian();
@@ -116,17 +116,17 @@ void PoleFreeFlightEkf::step(double h, Propagation propagation) {
   // Discretised to second order in h: Phi = I + F h + (F h)^2 / 2 and
   // Q_d = M h + (F M + M F^T) h^2 / 2 (the h^3 term is below 1e-3 of M h at 5 ms steps).
   const StateCovariance fh = f * h;
-  const StateCovariance phi = StateCovariance::Identity() + fh + 0.5 * smallProduct(fh, fh);
+  const StateCovariance phi = StateCovariance::Identity() + fh + 0.5 * small_product(fh, fh);
   const StateCovariance qd = m * h + 0.5 * h * h * (fm + fm.transpose());
   p_ = congruence(phi, p_) + qd;
 
-  state_ = model::poleFreeFlightStep(state_, h, scaledModel());
+  state_ = model::pole_free_flight_step(state_, h, scaled_model());
   normalise();
 }
 
 void PoleFreeFlightEkf::normalise() {
-  state_ = model::normalisedPoleState(state_);
-  normaliseCovariance(state_, p_);
+  state_ = model::normalised_pole_state(state_);
+  normalise_covariance(state_, p_);
   p_ = 0.5 * (p_ + p_.transpose()).eval();
 }
 
@@ -141,17 +141,17 @@ void PoleFreeFlightEkf::predict(double dt_s, Propagation propagation) {
 LinearisedPoleMeasurement<PoleFreeFlightEkf::kSize> PoleFreeFlightEkf::linearise(
     const PoleMeasurement& m) const {
   LinearisedPoleMeasurement<kSize> out;
-  const Eigen::Matrix<double, 3, 2> b = tangentBasis(state_.n);
+  const Eigen::Matrix<double, 3, 2> b = tangent_basis(state_.n);
   out.nu.head<3>() = m.p_m - state_.p_m;
   out.nu.tail<2>() = b.transpose() * m.n;  // B^T n_pred = 0
   out.h.block<3, 3>(0, kP).setIdentity();
   out.h.block<2, 3>(3, kN) = b.transpose();
-  out.r = poleMeasurementNoise(params_.mocap_position_sigma_m, params_.mocap_direction_sigma_rad);
+  out.r = pole_measurement_noise(params_.mocap_position_sigma_m, params_.mocap_direction_sigma_rad);
   return out;
 }
 
 PoleInnovation PoleFreeFlightEkf::innovation(const PoleMeasurement& measurement) const {
-  return poleInnovation(linearise(measurement), p_);
+  return pole_innovation(linearise(measurement), p_);
 }
 
 PoleInnovation PoleFreeFlightEkf::update(const PoleMeasurement& measurement) {
@@ -161,7 +161,7 @@ PoleInnovation PoleFreeFlightEkf::update(const PoleMeasurement& measurement) {
 PoleInnovation PoleFreeFlightEkf::update(const PoleMeasurement& measurement, const PoleInnovation& inn) {
   if (!inn.valid) return inn;
   const LinearisedPoleMeasurement<kSize> m = linearise(measurement);
-  const StateVector dx = kalmanCorrection(m, inn, p_);
+  const StateVector dx = kalman_correction(m, inn, p_);
   state_.p_m += dx.segment<3>(kP);
   state_.v_mps += dx.segment<3>(kV);
   state_.n += dx.segment<3>(kN);
@@ -172,9 +172,9 @@ PoleInnovation PoleFreeFlightEkf::update(const PoleMeasurement& measurement, con
   return inn;
 }
 
-double freeFlightNees(const PoleFreeFlightEkf& ekf, const model::PoleState& truth) {
+double free_flight_nees(const PoleFreeFlightEkf& ekf, const model::PoleState& truth) {
   const model::PoleState& s = ekf.state();
-  const Eigen::Matrix<double, 3, 2> b = tangentBasis(s.n);
+  const Eigen::Matrix<double, 3, 2> b = tangent_basis(s.n);
   Eigen::Matrix<double, 10, 12> j = Eigen::Matrix<double, 10, 12>::Zero();
   j.block<3, 3>(0, 0).setIdentity();
   j.block<3, 3>(3, 3).setIdentity();
@@ -183,7 +183,7 @@ double freeFlightNees(const PoleFreeFlightEkf& ekf, const model::PoleState& trut
   Eigen::Matrix<double, 12, 1> e;
   e << s.p_m - truth.p_m, s.v_mps - truth.v_mps, s.n - truth.n, s.omega_radps - truth.omega_radps;
   const Eigen::Matrix<double, 10, 1> e10 = j * e;
-  const Eigen::Matrix<double, 10, 10> p10 = j * ekf.poleCovariance() * j.transpose();
+  const Eigen::Matrix<double, 10, 10> p10 = j * ekf.pole_covariance() * j.transpose();
   return e10.dot(p10.ldlt().solve(e10));
 }
 

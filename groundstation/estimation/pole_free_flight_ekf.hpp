@@ -10,10 +10,10 @@
 // state after every step and projecting the covariance with the Jacobian of that normalisation,
 // so P has rank 11 (10 without k) and the redundant directions carry no spurious uncertainty.
 //
-// Prediction: the state by RK4 of (20) (model::poleFreeFlightStep), the covariance by the
+// Prediction: the state by RK4 of (20) (model::pole_free_flight_step), the covariance by the
 // continuous-time Riccati equation over the same step, P' = F P + P F^T + G Q G^T, solved with
 // Phi = I + F h + (F h)^2 / 2 and the matching second-order noise integral. F is the Jacobian of
-// (16), (19), (22); the drag parts by forward differences of model::poleDrag (eq. (10)-(15)
+// (16), (19), (22); the drag parts by forward differences of model::pole_drag (eq. (10)-(15)
 // have no tidy closed-form derivative), the kinematic parts analytically.
 #pragma once
 
@@ -63,13 +63,13 @@ class PoleFreeFlightEkf {
   PoleInnovation update(const PoleMeasurement& measurement, const PoleInnovation& innovation);
 
   const model::PoleState& state() const { return state_; }
-  double dragScale() const { return drag_scale_; }
+  double drag_scale() const { return drag_scale_; }
   const StateCovariance& covariance() const { return p_; }
-  PoleCovariance poleCovariance() const { return p_.topLeftCorner<12, 12>(); }
-  double lastNis() const { return last_nis_; }
+  PoleCovariance pole_covariance() const { return p_.topLeftCorner<12, 12>(); }
+  double last_nis() const { return last_nis_; }
   const PoleFreeFlightEkfParams& params() const { return params_; }
   // The model with the drag coefficients scaled by the current k (for predictions elsewhere).
-  model::PoleParams scaledModel() const;
+  model::PoleParams scaled_model() const;
 
   // Continuous-time Jacobian df/dx of (20) with the drag scale, exposed for tests.
   StateCovariance jacobian() const;
@@ -89,6 +89,6 @@ class PoleFreeFlightEkf {
 // Normalised estimation error squared over the 10 physical degrees of freedom (position,
 // velocity, the 2 tangent components of n and of Omega; k excluded): chi-square with 10 dof
 // for a consistent filter.
-double freeFlightNees(const PoleFreeFlightEkf& ekf, const model::PoleState& truth);
+double free_flight_nees(const PoleFreeFlightEkf& ekf, const model::PoleState& truth);
 
 }  // namespace gs::estimation

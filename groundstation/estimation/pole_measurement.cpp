@@ -5,7 +5,7 @@
 
 namespace gs::estimation {
 
-PoleInnovation makePoleInnovation(const PoleMeasurementVector& nu, const PoleMeasurementMatrix& s) {
+PoleInnovation make_pole_innovation(const PoleMeasurementVector& nu, const PoleMeasurementMatrix& s) {
   PoleInnovation out;
   out.nu = nu;
   out.s = s;
@@ -22,8 +22,8 @@ PoleInnovation makePoleInnovation(const PoleMeasurementVector& nu, const PoleMea
   return out;
 }
 
-PoleMeasurementMatrix poleMeasurementNoise(double sigma_p_m, double sigma_n_rad,
-                                           double extra_position_variance_m2) {
+PoleMeasurementMatrix pole_measurement_noise(double sigma_p_m, double sigma_n_rad,
+                                             double extra_position_variance_m2) {
   PoleMeasurementVector d;
   const double vp = sigma_p_m * sigma_p_m + extra_position_variance_m2;
   const double vn = sigma_n_rad * sigma_n_rad;

@@ -2,7 +2,7 @@
 //
 // Measurement: the pole's centre p_p and its direction n (the body z-axis, eq. (21)). The
 // direction is used through its two components in the plane normal to the predicted direction
-// (tangentBasis), so a filter sees 5 independent measurements: 3 of position and 2 of direction,
+// (tangent_basis), so a filter sees 5 independent measurements: 3 of position and 2 of direction,
 // with noise sigma_p and sigma_n (1 mm / 1 mrad for a typical arena).
 //
 // Innovation statistics (Section IV, "the ratio of the innovation to the measurement
@@ -34,12 +34,12 @@ struct PoleInnovation {
 
 // NIS and log-likelihood of an innovation nu with covariance s (valid = false if s is not
 // positive definite or nu is not finite).
-PoleInnovation makePoleInnovation(const PoleMeasurementVector& nu, const PoleMeasurementMatrix& s);
+PoleInnovation make_pole_innovation(const PoleMeasurementVector& nu, const PoleMeasurementMatrix& s);
 
 // The measurement noise covariance: sigma_p^2 + extra_position_variance on the position,
 // sigma_n^2 on the two direction components.
-PoleMeasurementMatrix poleMeasurementNoise(double sigma_p_m, double sigma_n_rad,
-                                           double extra_position_variance_m2 = 0.0);
+PoleMeasurementMatrix pole_measurement_noise(double sigma_p_m, double sigma_n_rad,
+                                             double extra_position_variance_m2 = 0.0);
 
 // A pole filter's measurement linearised at its prediction: the innovation nu, the Jacobian H
 // of the measurement with respect to the filter's N states, and the noise R.
@@ -56,30 +56,30 @@ struct LinearisedPoleMeasurement {
 // GEMM kernel, whose packing costs more than the arithmetic at the free-flight filter's 13 x 13:
 // perf put 47 % of an estimator update there.
 template <class A, class B>
-auto smallProduct(const Eigen::MatrixBase<A>& a, const Eigen::MatrixBase<B>& b) {
+auto small_product(const Eigen::MatrixBase<A>& a, const Eigen::MatrixBase<B>& b) {
   return a.lazyProduct(b).eval();
 }
 
 // a p a^T.
 template <class A, class P>
 auto congruence(const Eigen::MatrixBase<A>& a, const Eigen::MatrixBase<P>& p) {
-  return smallProduct(smallProduct(a, p), a.transpose());
+  return small_product(small_product(a, p), a.transpose());
 }
 
 template <int N>
-PoleInnovation poleInnovation(const LinearisedPoleMeasurement<N>& m, const Eigen::Matrix<double, N, N>& p) {
-  return makePoleInnovation(m.nu, congruence(m.h, p) + m.r);
+PoleInnovation pole_innovation(const LinearisedPoleMeasurement<N>& m, const Eigen::Matrix<double, N, N>& p) {
+  return make_pole_innovation(m.nu, congruence(m.h, p) + m.r);
 }
 
 // The Kalman correction for a valid innovation `inn` of `m`: returns the state step K nu and
 // updates P in the Joseph form (kept symmetric), which stays positive definite when K is off.
 template <int N>
-Eigen::Matrix<double, N, 1> kalmanCorrection(const LinearisedPoleMeasurement<N>& m, const PoleInnovation& inn,
-                                             Eigen::Matrix<double, N, N>& p) {
+Eigen::Matrix<double, N, 1> kalman_correction(const LinearisedPoleMeasurement<N>& m,
+                                              const PoleInnovation& inn, Eigen::Matrix<double, N, N>& p) {
   const PoleMeasurementMatrix s_inverse = inn.s.llt().solve(PoleMeasurementMatrix::Identity());
   const Eigen::Matrix<double, N, kPoleMeasurementSize> k =
-      smallProduct(smallProduct(p, m.h.transpose()), s_inverse);
-  const Eigen::Matrix<double, N, N> ikh = Eigen::Matrix<double, N, N>::Identity() - smallProduct(k, m.h);
+      small_product(small_product(p, m.h.transpose()), s_inverse);
+  const Eigen::Matrix<double, N, N> ikh = Eigen::Matrix<double, N, N>::Identity() - small_product(k, m.h);
   p = congruence(ikh, p) + congruence(k, m.r);
   p = 0.5 * (p + p.transpose()).eval();
   return k * m.nu;

@@ -6,9 +6,9 @@
 //  - free flight -> on vehicle (24): the end that rests on the plate is the lower one (as in the
 //    impact map); a = L n_x, b = L n_y for n from that end to the centre, (a', b') from
 //    r' = Omega x L n, the offset o from the end's position in the plate frame.
-//  - impact: the same after the impact map (35)-(40) (model::impactMap), plus an uncertainty of
+//  - impact: the same after the impact map (35)-(40) (model::impact_map), plus an uncertainty of
 //    the post-impact rates (the real impact is neither perfectly inelastic nor instantaneous).
-//  - on vehicle -> free flight: (23), (26), (27) (model::freeFlightStateFromPoleOnVehicle), with
+//  - on vehicle -> free flight: (23), (26), (27) (model::free_flight_state_from_pole_on_vehicle), with
 //    the plate's position and velocity uncertainty added.
 #pragma once
 
@@ -38,8 +38,8 @@ struct PlateContactGeometry {
   double approach_speed_mps = 0.0;  // of the end towards the plate (> 0: closing)
   Eigen::Vector3d end_m = Eigen::Vector3d::Zero();
 };
-PlateContactGeometry plateContactGeometry(const model::PoleState& pole, const PlateKinematics& plate,
-                                          const model::PoleParams& params);
+PlateContactGeometry plate_contact_geometry(const model::PoleState& pole, const PlateKinematics& plate,
+                                            const model::PoleParams& params);
 
 struct OnVehicleSeed {
   PoleOnVehicleEkf::StateVector state = PoleOnVehicleEkf::StateVector::Zero();
@@ -49,21 +49,21 @@ struct OnVehicleSeed {
 
 // The free-flight estimate as an on-vehicle state; nullopt when the lower end is outside the
 // gate (the pole cannot be resting on that plate).
-std::optional<OnVehicleSeed> onVehicleSeedFromFreeFlight(const model::PoleState& pole,
-                                                         const PoleCovariance& covariance,
-                                                         const PlateKinematics& plate,
-                                                         const model::PoleParams& params,
-                                                         const PlateContactGate& gate);
+std::optional<OnVehicleSeed> on_vehicle_seed_from_free_flight(const model::PoleState& pole,
+                                                              const PoleCovariance& covariance,
+                                                              const PlateKinematics& plate,
+                                                              const model::PoleParams& params,
+                                                              const PlateContactGate& gate);
 
 // The on-vehicle state right after the lower end hits a plate (impact map (35)-(40)).
-OnVehicleSeed onVehicleSeedAfterImpact(const model::PoleState& before, const PoleCovariance& covariance,
-                                       const PlateKinematics& plate, const model::PoleParams& params,
-                                       double impact_rate_sigma_mps);
+OnVehicleSeed on_vehicle_seed_after_impact(const model::PoleState& before, const PoleCovariance& covariance,
+                                           const PlateKinematics& plate, const model::PoleParams& params,
+                                           double impact_rate_sigma_mps);
 
 struct FreeFlightSeed {
   model::PoleState state;
   PoleCovariance covariance = PoleCovariance::Identity();
 };
-FreeFlightSeed freeFlightSeedFromOnVehicle(const PoleOnVehicleEkf& ekf, const PlateKinematics& plate);
+FreeFlightSeed free_flight_seed_from_on_vehicle(const PoleOnVehicleEkf& ekf, const PlateKinematics& plate);
 
 }  // namespace gs::estimation

@@ -12,7 +12,7 @@ double poleNormalForcePerMass_mps2(const model::PoleOnVehicleState& pole,
                                    const Eigen::Vector3d& specific_force_mps2,
                                    const Eigen::Vector3d& plate_normal, const model::PoleParams& params) {
   const double length = params.half_length_m;
-  const Eigen::Vector3d r = length * model::poleDirectionOnVehicle(pole, params);
+  const Eigen::Vector3d r = length * model::pole_direction_on_vehicle(pole, params);
   const Eigen::Vector3d r_dot = model::poleCentreVelocityRelativeToPivot_mps(pole, params);
   const double mu = (0.75 * specific_force_mps2.dot(r) - r_dot.squaredNorm()) / (length * length);
   return (0.25 * specific_force_mps2 + mu * r).dot(plate_normal);
@@ -27,10 +27,10 @@ void PoleOnVehicleEkf::reset(const StateVector& state, const StateCovariance& co
   sign_ = direction_sign >= 0.0 ? 1.0 : -1.0;
   last_nis_ = 0.0;
   valid_ = x_.allFinite() && p_.allFinite();
-  if (valid_) valid_ = checkValid();
+  if (valid_) valid_ = check_valid();
 }
 
-bool PoleOnVehicleEkf::checkValid() {
+bool PoleOnVehicleEkf::check_valid() {
   const double rmax = params_.pole.half_length_m * std::sin(params_.max_tilt_rad);
   const double r = std::hypot(x_(kA), x_(kB));
   if (r <= rmax) return true;
@@ -76,16 +76,16 @@ void PoleOnVehicleEkf::step(double h, const Eigen::Vector3d& pivot_acceleration_
     p_ = 0.5 * (p_ + p_.transpose()).eval();
   }
 
-  const model::PoleOnVehicleState next = model::rk4Step(
+  const model::PoleOnVehicleState next = model::rk4_step(
       [&](const model::PoleOnVehicleState& s) {
-        return model::poleOnVehicleDerivative(s, pivot_acceleration_mps2, params_.pole);
+        return model::pole_on_vehicle_derivative(s, pivot_acceleration_mps2, params_.pole);
       },
       pole(), h);
   x_(kA) = next.a_m;
   x_(kB) = next.b_m;
   x_(kAdot) = next.a_dot_mps;
   x_(kBdot) = next.b_dot_mps;
-  if (!checkValid()) valid_ = false;
+  if (!check_valid()) valid_ = false;
 }
 
 void PoleOnVehicleEkf::predict(double dt_s, const Eigen::Vector3d& pivot_acceleration_mps2,
@@ -108,9 +108,9 @@ LinearisedPoleMeasurement<PoleOnVehicleEkf::kSize> PoleOnVehicleEkf::linearise(
   LinearisedPoleMeasurement<kSize> out;
   const double length = params_.pole.half_length_m;
   const model::PoleOnVehicleState s = pole();
-  const Eigen::Vector3d n = model::poleDirectionOnVehicle(s, params_.pole);
+  const Eigen::Vector3d n = model::pole_direction_on_vehicle(s, params_.pole);
   const double c = length * n.z();
-  const Eigen::Matrix<double, 3, 2> b = tangentBasis(n);
+  const Eigen::Matrix<double, 3, 2> b = tangent_basis(n);
   out.nu.head<3>() = m.p_m - (pivot_m(plate) + length * n);  // (23)
   out.nu.tail<2>() = b.transpose() * (sign_ * m.n);
   // d(L n)/da = (1, 0, -a/c), d(L n)/db = (0, 1, -b/c) from (24).
@@ -119,15 +119,15 @@ LinearisedPoleMeasurement<PoleOnVehicleEkf::kSize> PoleOnVehicleEkf::linearise(
   out.h.block<3, 2>(0, kA) = dr;
   out.h.block<3, 2>(0, kOx) = plate.inertial_from_body.leftCols<2>();
   out.h.block<2, 2>(3, kA) = b.transpose() * dr / length;
-  out.r = poleMeasurementNoise(params_.mocap_position_sigma_m, params_.mocap_direction_sigma_rad,
-                               plate.position_variance_m2);
+  out.r = pole_measurement_noise(params_.mocap_position_sigma_m, params_.mocap_direction_sigma_rad,
+                                 plate.position_variance_m2);
   return out;
 }
 
 PoleInnovation PoleOnVehicleEkf::innovation(const PoleMeasurement& measurement,
                                             const PlateKinematics& plate) const {
   if (!valid_) return {};
-  return poleInnovation(linearise(measurement, plate), p_);
+  return pole_innovation(linearise(measurement, plate), p_);
 }
 
 PoleInnovation PoleOnVehicleEkf::update(const PoleMeasurement& measurement, const PlateKinematics& plate) {
@@ -140,20 +140,20 @@ PoleInnovation PoleOnVehicleEkf::update(const PoleMeasurement& measurement, cons
   if (!valid_) return {};
   if (!inn.valid) return inn;
   const LinearisedPoleMeasurement<kSize> m = linearise(measurement, plate);
-  x_ += kalmanCorrection(m, inn, p_);
-  if (!checkValid()) valid_ = false;
+  x_ += kalman_correction(m, inn, p_);
+  if (!check_valid()) valid_ = false;
   last_nis_ = inn.nis;
   return inn;
 }
 
-model::PoleState PoleOnVehicleEkf::freeFlightState(const PlateKinematics& plate) const {
+model::PoleState PoleOnVehicleEkf::free_flight_state(const PlateKinematics& plate) const {
   model::PoleState s =
-      model::freeFlightStateFromPoleOnVehicle(pole(), pivot_m(plate), plate.v_mps, params_.pole);
+      model::free_flight_state_from_pole_on_vehicle(pole(), pivot_m(plate), plate.v_mps, params_.pole);
   s.n *= sign_;  // Omega is the same rigid-body rate whichever end n points to
   return s;
 }
 
-Eigen::Matrix<double, 12, PoleOnVehicleEkf::kSize> PoleOnVehicleEkf::freeFlightJacobian(
+Eigen::Matrix<double, 12, PoleOnVehicleEkf::kSize> PoleOnVehicleEkf::free_flight_jacobian(
     const PlateKinematics& plate) const {
   const auto flat = [](const model::PoleState& s) {
     Eigen::Matrix<double, 12, 1> v;
@@ -161,18 +161,18 @@ Eigen::Matrix<double, 12, PoleOnVehicleEkf::kSize> PoleOnVehicleEkf::freeFlightJ
     return v;
   };
   Eigen::Matrix<double, 12, kSize> j;
-  const Eigen::Matrix<double, 12, 1> base = flat(freeFlightState(plate));
+  const Eigen::Matrix<double, 12, 1> base = flat(free_flight_state(plate));
   PoleOnVehicleEkf probe = *this;
   for (int c = 0; c < kSize; ++c) {
     const double eps = 1e-7;
     probe.x_ = x_;
     probe.x_(c) += eps;
-    j.col(c) = (flat(probe.freeFlightState(plate)) - base) / eps;
+    j.col(c) = (flat(probe.free_flight_state(plate)) - base) / eps;
   }
   return j;
 }
 
-NormalForceEstimate PoleOnVehicleEkf::normalForce(const PlateKinematics& plate) const {
+NormalForceEstimate PoleOnVehicleEkf::normal_force(const PlateKinematics& plate) const {
   const Eigen::Vector3d f = plate.a_mps2 + Eigen::Vector3d(0.0, 0.0, params_.pole.gravity_mps2);
   const Eigen::Vector3d t = plate.normal();
   const model::PoleOnVehicleState s = pole();
@@ -188,7 +188,7 @@ NormalForceEstimate PoleOnVehicleEkf::normalForce(const PlateKinematics& plate) 
     j(c) = (poleNormalForcePerMass_mps2(q, f, t, params_.pole) - out.value_mps2) / eps;
   }
   const double length = params_.pole.half_length_m;
-  const Eigen::Vector3d r = length * model::poleDirectionOnVehicle(s, params_.pole);
+  const Eigen::Vector3d r = length * model::pole_direction_on_vehicle(s, params_.pole);
   const Eigen::Vector3d grad_f = 0.25 * t + (0.75 * r.dot(t) / (length * length)) * r;
   const double var = (j * p_.topLeftCorner<4, 4>() * j.transpose())(0, 0) +
                      grad_f.squaredNorm() * plate.acceleration_variance_m2ps4;

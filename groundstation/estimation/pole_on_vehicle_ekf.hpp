@@ -74,8 +74,8 @@ class PoleOnVehicleEkf {
   bool valid() const { return valid_; }
   const StateVector& state() const { return x_; }
   const StateCovariance& covariance() const { return p_; }
-  double directionSign() const { return sign_; }
-  double lastNis() const { return last_nis_; }
+  double direction_sign() const { return sign_; }
+  double last_nis() const { return last_nis_; }
   const PoleOnVehicleEkfParams& params() const { return params_; }
 
   model::PoleOnVehicleState pole() const { return {x_(kA), x_(kB), x_(kAdot), x_(kBdot)}; }
@@ -84,19 +84,19 @@ class PoleOnVehicleEkf {
   Eigen::Vector3d pivot_m(const PlateKinematics& plate) const;
   // The pole as a free-flight state (21) in the measurement's direction convention, and the
   // Jacobian of that state (p, v, n, Omega) with respect to x.
-  model::PoleState freeFlightState(const PlateKinematics& plate) const;
-  Eigen::Matrix<double, 12, kSize> freeFlightJacobian(const PlateKinematics& plate) const;
+  model::PoleState free_flight_state(const PlateKinematics& plate) const;
+  Eigen::Matrix<double, 12, kSize> free_flight_jacobian(const PlateKinematics& plate) const;
 
   // The plate's normal force (see the header comment), with a standard deviation from the
   // state covariance and the plate's acceleration variance.
-  NormalForceEstimate normalForce(const PlateKinematics& plate) const;
+  NormalForceEstimate normal_force(const PlateKinematics& plate) const;
 
   // Continuous-time Jacobian of (28), (29) for a pivot acceleration, exposed for tests.
   StateCovariance jacobian(const Eigen::Vector3d& pivot_acceleration_mps2) const;
 
  private:
   void step(double h, const Eigen::Vector3d& pivot_acceleration_mps2, Propagation propagation);
-  bool checkValid();
+  bool check_valid();
   LinearisedPoleMeasurement<kSize> linearise(const PoleMeasurement& m, const PlateKinematics& plate) const;
 
   PoleOnVehicleEkfParams params_;

@@ -21,12 +21,15 @@ PlateKinematics interpolate(const PlateKinematics& a, const PlateKinematics& b, 
   return k;
 }
 
-int vehicleIndex(int vehicle) { return vehicle == 2 ? 1 : 0; }
-bool validVehicle(int vehicle) { return vehicle == 1 || vehicle == 2; }
+// The slot (0, 1) of the vehicle the pole rests on in `mode`, -1 in free flight.
+int slot_of_mode(PoleMode mode) {
+  const std::optional<pa::VehicleId> v = vehicle_of_mode(mode);
+  return v ? static_cast<int>(pa::act_slot(*v)) : -1;
+}
 
 }  // namespace
 
-std::string_view switchReasonName(SwitchReason reason) {
+std::string_view switch_reason_name(SwitchReason reason) {
   switch (reason) {
     case SwitchReason::initial: return "initial";
     case SwitchReason::contact_force: return "contact_force";
@@ -52,12 +55,12 @@ StateEstimator::StateEstimator(const StateEstimatorConfig& config)
 // ---------------------------------------------------------------------------------------------
 // Commands and impact reports
 
-void StateEstimator::setCommand(int vehicle, double t_s, const model::VehicleInput& input) {
-  if (!validVehicle(vehicle) || !std::isfinite(t_s) || !std::isfinite(input.a_q_mps2) ||
+void StateEstimator::set_command(pa::VehicleId vehicle, double t_s, const model::VehicleInput& input) {
+  if (!pa::is_act_vehicle(vehicle) || !std::isfinite(t_s) || !std::isfinite(input.a_q_mps2) ||
       !input.omega_radps.allFinite()) {
     return;
   }
-  CommandQueue& q = commands_[vehicleIndex(vehicle)];
+  CommandQueue& q = commands_[pa::act_slot(vehicle)];
   if (q.count > 0) {
     TimedCommand& last = q.items[(q.head + q.count - 1) % kCommandQueueCapacity];
     if (t_s < last.t_s - kTimeEps_s) return;  // out of order: the newer command stands
@@ -74,7 +77,7 @@ void StateEstimator::setCommand(int vehicle, double t_s, const model::VehicleInp
   ++q.count;
 }
 
-const model::VehicleInput* StateEstimator::commandAt(int index, double t_s) const {
+const model::VehicleInput* StateEstimator::command_at(int index, double t_s) const {
   const CommandQueue& q = commands_[index];
   const TimedCommand* found = nullptr;
   for (int i = 0; i < q.count; ++i) {
@@ -86,7 +89,7 @@ const model::VehicleInput* StateEstimator::commandAt(int index, double t_s) cons
   return &found->input;
 }
 
-double StateEstimator::nextCommandChange(double after_t_s, double until_t_s) const {
+double StateEstimator::next_command_change(double after_t_s, double until_t_s) const {
   double next = until_t_s;
   for (const CommandQueue& q : commands_) {
     for (int i = 0; i < q.count; ++i) {
@@ -100,7 +103,7 @@ double StateEstimator::nextCommandChange(double after_t_s, double until_t_s) con
   return next;
 }
 
-void StateEstimator::dropOldCommands(double t_s) {
+void StateEstimator::drop_old_commands(double t_s) {
   for (CommandQueue& q : commands_) {
     while (q.count >= 2 && q.at(1).t_s <= t_s + kTimeEps_s) {
       q.head = (q.head + 1) % kCommandQueueCapacity;
@@ -109,12 +112,12 @@ void StateEstimator::dropOldCommands(double t_s) {
   }
 }
 
-void StateEstimator::reportImpact(int vehicle, double t_s) {
-  if (!validVehicle(vehicle) || !std::isfinite(t_s)) return;
-  impact_report_t_s_[vehicleIndex(vehicle)] = t_s;
+void StateEstimator::report_impact(pa::VehicleId vehicle, double t_s) {
+  if (!pa::is_act_vehicle(vehicle) || !std::isfinite(t_s)) return;
+  impact_report_t_s_[pa::act_slot(vehicle)] = t_s;
 }
 
-bool StateEstimator::impactReportPending(int index) const {
+bool StateEstimator::impact_report_pending(int index) const {
   const double t = impact_report_t_s_[index];
   return std::isfinite(t) && t_s_ >= t - config_.max_step_s && t_s_ <= t + config_.impact_report_window_s;
 }
@@ -122,7 +125,7 @@ bool StateEstimator::impactReportPending(int index) const {
 // ---------------------------------------------------------------------------------------------
 // Propagation
 
-void StateEstimator::advanceTo(double t_s) {
+void StateEstimator::advance_to(double t_s) {
   if (!std::isfinite(t_s)) return;
   if (!started_) {
     t_s_ = t_s;
@@ -130,26 +133,26 @@ void StateEstimator::advanceTo(double t_s) {
     return;
   }
   if (t_s - t_s_ > config_.max_coast_s) {
-    startOver(t_s);
+    start_over(t_s);
     return;
   }
   const double max_step = config_.max_step_s > 0.0 ? config_.max_step_s : 0.005;
   while (t_s_ < t_s - kTimeEps_s) {
-    const double next = nextCommandChange(t_s_, std::min(t_s, t_s_ + max_step));
+    const double next = next_command_change(t_s_, std::min(t_s, t_s_ + max_step));
     step(next - t_s_);
     t_s_ = next;
-    dropOldCommands(t_s_);
+    drop_old_commands(t_s_);
   }
 }
 
-void StateEstimator::startOver(double t_s) {
+void StateEstimator::start_over(double t_s) {
   vehicles_ = {VehicleObserver(config_.vehicle), VehicleObserver(config_.vehicle)};
   pole_seen_ = false;  // the next pole pose initialises it (SwitchReason::initial)
   on_candidate_valid_ = {};
   impact_report_t_s_ = {kNan, kNan};
   pole_rejections_ = 0;
   t_s_ = t_s;
-  dropOldCommands(t_s_);
+  drop_old_commands(t_s_);
   ++start_overs_;
 }
 
@@ -159,14 +162,14 @@ void StateEstimator::step(double h) {
   for (int i = 0; i < 2; ++i) {
     if (!vehicles_[i].initialised()) continue;
     before[i] = vehicles_[i].plate();
-    vehicles_[i].predict(h, commandAt(i, t_s_), propagation_);
+    vehicles_[i].predict(h, command_at(i, t_s_), propagation_);
     after[i] = vehicles_[i].plate();
   }
-  if (pole_seen_) stepPole(h, before, after);
+  if (pole_seen_) step_pole(h, before, after);
 }
 
-void StateEstimator::stepPole(double h, const std::array<PlateKinematics, 2>& before,
-                              const std::array<PlateKinematics, 2>& after) {
+void StateEstimator::step_pole(double h, const std::array<PlateKinematics, 2>& before,
+                               const std::array<PlateKinematics, 2>& after) {
   const PoleMode active = selector_.active();
   const model::PoleParams& params = config_.on_vehicle.pole;
   if (active == PoleMode::free) {
@@ -175,8 +178,8 @@ void StateEstimator::stepPole(double h, const std::array<PlateKinematics, 2>& be
     for (int i = 0; i < 2; ++i) {
       if (!vehicles_[i].initialised()) continue;
       // Impact: the lower end crossed the plate's plane inside the rim, closing on it.
-      const PlateContactGeometry g0 = plateContactGeometry(start.state(), before[i], params);
-      const PlateContactGeometry g1 = plateContactGeometry(free_.state(), after[i], params);
+      const PlateContactGeometry g0 = plate_contact_geometry(start.state(), before[i], params);
+      const PlateContactGeometry g1 = plate_contact_geometry(free_.state(), after[i], params);
       if (!(g0.height_m > 0.0 && g1.height_m <= 0.0)) continue;
       const double frac = g0.height_m / (g0.height_m - g1.height_m);
       const double radial = g0.radial_m + frac * (g1.radial_m - g0.radial_m);
@@ -188,12 +191,12 @@ void StateEstimator::stepPole(double h, const std::array<PlateKinematics, 2>& be
       free_ = start;
       free_.predict(frac * h, propagation_);
       const PlateKinematics plate = interpolate(before[i], after[i], frac);
-      const OnVehicleSeed seed = onVehicleSeedAfterImpact(free_.state(), free_.poleCovariance(), plate,
-                                                          params, config_.impact_rate_sigma_mps);
+      const OnVehicleSeed seed = on_vehicle_seed_after_impact(free_.state(), free_.pole_covariance(), plate,
+                                                              params, config_.impact_rate_sigma_mps);
       on_[i].reset(seed.state, seed.covariance, seed.direction_sign);
       on_[i].predict((1.0 - frac) * h, after[i].a_mps2, propagation_);
-      switchTo(onVehicleMode(i + 1), SwitchReason::plate_contact, t_s_ + frac * h, t_s_ + h);
-      reseedCandidates();
+      switch_to(on_vehicle_mode(pa::kActVehicles[i]), SwitchReason::plate_contact, t_s_ + frac * h, t_s_ + h);
+      reseed_candidates();
       return;
     }
     for (int i = 0; i < 2; ++i) {
@@ -202,12 +205,12 @@ void StateEstimator::stepPole(double h, const std::array<PlateKinematics, 2>& be
     return;
   }
 
-  const int j = vehicleOfMode(active) - 1;
+  const int j = slot_of_mode(active);
   if (!vehicles_[j].initialised()) return;
   const PoleOnVehicleEkf start = on_[j];
-  const NormalForceEstimate f0 = start.normalForce(before[j]);
+  const NormalForceEstimate f0 = start.normal_force(before[j]);
   on_[j].predict(h, 0.5 * (before[j].a_mps2 + after[j].a_mps2), propagation_);
-  const NormalForceEstimate f1 = on_[j].normalForce(after[j]);
+  const NormalForceEstimate f1 = on_[j].normal_force(after[j]);
   const double threshold = -(config_.launch_margin_mps2 + config_.launch_sigmas * f1.sigma_mps2);
   if (f1.value_mps2 < threshold || !on_[j].valid()) {
     // Launch: the pole is free from the instant F_N crossed zero (or the step's start).
@@ -217,12 +220,12 @@ void StateEstimator::stepPole(double h, const std::array<PlateKinematics, 2>& be
     on_[j] = start;
     on_[j].predict(frac * h, 0.5 * (before[j].a_mps2 + after[j].a_mps2), propagation_);
     const PlateKinematics plate = interpolate(before[j], after[j], frac);
-    const FreeFlightSeed seed = freeFlightSeedFromOnVehicle(on_[j], plate);
+    const FreeFlightSeed seed = free_flight_seed_from_on_vehicle(on_[j], plate);
     free_.reset(seed.state, seed.covariance, drag_scale_, config_.drag_scale_sigma);
     free_.predict((1.0 - frac) * h, propagation_);
-    switchTo(PoleMode::free, lost_geometry ? SwitchReason::filter_invalid : SwitchReason::contact_force,
-             t_s_ + frac * h, t_s_ + h);
-    reseedCandidates();
+    switch_to(PoleMode::free, lost_geometry ? SwitchReason::filter_invalid : SwitchReason::contact_force,
+              t_s_ + frac * h, t_s_ + h);
+    reseed_candidates();
     return;
   }
   free_.predict(h, propagation_);  // the free-flight candidate
@@ -231,7 +234,7 @@ void StateEstimator::stepPole(double h, const std::array<PlateKinematics, 2>& be
 // ---------------------------------------------------------------------------------------------
 // Mode bookkeeping
 
-void StateEstimator::switchTo(PoleMode mode, SwitchReason reason, double event_t_s, double detected_t_s) {
+void StateEstimator::switch_to(PoleMode mode, SwitchReason reason, double event_t_s, double detected_t_s) {
   const PoleMode from = selector_.active();
   // The drag scale learnt in a flight that ended on a plate seeds the next launch, if the flight
   // taught it something (a pole sliding on the floor teaches nothing about drag).
@@ -240,7 +243,7 @@ void StateEstimator::switchTo(PoleMode mode, SwitchReason reason, double event_t
       config_.free_flight.estimate_drag_scale) {
     const double sigma =
         std::sqrt(std::max(0.0, free_.covariance()(PoleFreeFlightEkf::kK, PoleFreeFlightEkf::kK)));
-    if (sigma < 0.5 * config_.drag_scale_sigma) drag_scale_ = free_.dragScale();
+    if (sigma < 0.5 * config_.drag_scale_sigma) drag_scale_ = free_.drag_scale();
   }
   selector_.reset(mode);
   ModeSwitch s;
@@ -253,22 +256,22 @@ void StateEstimator::switchTo(PoleMode mode, SwitchReason reason, double event_t
   ++switch_count_;
   mode_since_s_ = event_t_s;
   last_switch_detected_s_ = detected_t_s;
-  if (mode != PoleMode::free) impact_report_t_s_[vehicleOfMode(mode) - 1] = kNan;
+  if (mode != PoleMode::free) impact_report_t_s_[slot_of_mode(mode)] = kNan;
 }
 
-void StateEstimator::reseedCandidates() {
+void StateEstimator::reseed_candidates() {
   const PoleMode active = selector_.active();
   if (active == PoleMode::free) {
     for (int i = 0; i < 2; ++i) {
-      const PoleMode m = onVehicleMode(i + 1);
+      const PoleMode m = on_vehicle_mode(pa::kActVehicles[i]);
       if (!vehicles_[i].initialised()) {
         on_candidate_valid_[i] = false;
         continue;
       }
       if (on_candidate_valid_[i] && selector_.accumulating(m) && on_[i].valid()) continue;
       const std::optional<OnVehicleSeed> seed =
-          onVehicleSeedFromFreeFlight(free_.state(), free_.poleCovariance(), vehicles_[i].plate(),
-                                      config_.on_vehicle.pole, config_.candidate_gate);
+          on_vehicle_seed_from_free_flight(free_.state(), free_.pole_covariance(), vehicles_[i].plate(),
+                                           config_.on_vehicle.pole, config_.candidate_gate);
       on_candidate_valid_[i] = false;
       if (seed) {
         on_[i].reset(seed->state, seed->covariance, seed->direction_sign);
@@ -277,10 +280,10 @@ void StateEstimator::reseedCandidates() {
     }
     return;
   }
-  const int j = vehicleOfMode(active) - 1;
+  const int j = slot_of_mode(active);
   on_candidate_valid_ = {false, false};
   if (selector_.accumulating(PoleMode::free) || !vehicles_[j].initialised()) return;
-  const FreeFlightSeed seed = freeFlightSeedFromOnVehicle(on_[j], vehicles_[j].plate());
+  const FreeFlightSeed seed = free_flight_seed_from_on_vehicle(on_[j], vehicles_[j].plate());
   free_.reset(seed.state, seed.covariance, drag_scale_, config_.drag_scale_sigma);
 }
 
@@ -293,7 +296,7 @@ void StateEstimator::update(const MocapFrame& frame) {
     ++frames_out_of_order_;
     return;
   }
-  advanceTo(frame.t_s);
+  advance_to(frame.t_s);
   ++frames_;
   for (int i = 0; i < 2; ++i) {
     if (!frame.vehicle[i]) continue;
@@ -307,19 +310,19 @@ void StateEstimator::update(const MocapFrame& frame) {
   }
   if (!frame.pole) return;
   pole_health_.sample(frame.t_s);
-  if (!isUsablePose(*frame.pole)) {
+  if (!is_usable_pose(*frame.pole)) {
     pole_health_.rejected();
     return;
   }
-  const PoleMeasurement m{frame.pole->p_m, poleDirectionFromQuaternion(frame.pole->q)};
+  const PoleMeasurement m{frame.pole->p_m, pole_direction_from_quaternion(frame.pole->q)};
   if (!pole_seen_) {
-    initialisePole(m, SwitchReason::initial);
+    initialise_pole(m, SwitchReason::initial);
   } else {
-    updatePole(m);
+    update_pole(m);
   }
 }
 
-void StateEstimator::initialisePole(const PoleMeasurement& m, SwitchReason reason) {
+void StateEstimator::initialise_pole(const PoleMeasurement& m, SwitchReason reason) {
   model::PoleState s;
   s.p_m = m.p_m;
   s.n = m.n;
@@ -338,18 +341,18 @@ void StateEstimator::initialisePole(const PoleMeasurement& m, SwitchReason reaso
     // At rest relative to the vehicle, if it rests on it.
     model::PoleState rel = s;
     rel.v_mps = vehicles_[i].plate().v_mps;
-    const std::optional<OnVehicleSeed> seed = onVehicleSeedFromFreeFlight(
-        rel, free_.poleCovariance(), vehicles_[i].plate(), config_.on_vehicle.pole, config_.candidate_gate);
+    const std::optional<OnVehicleSeed> seed = on_vehicle_seed_from_free_flight(
+        rel, free_.pole_covariance(), vehicles_[i].plate(), config_.on_vehicle.pole, config_.candidate_gate);
     if (!seed) continue;
     on_[i].reset(seed->state, seed->covariance, seed->direction_sign);
-    if (on_[i].valid()) mode = onVehicleMode(i + 1);
+    if (on_[i].valid()) mode = on_vehicle_mode(pa::kActVehicles[i]);
   }
-  switchTo(mode, reason, t_s_, t_s_);
-  reseedCandidates();
+  switch_to(mode, reason, t_s_, t_s_);
+  reseed_candidates();
   pole_rejections_ = 0;
 }
 
-void StateEstimator::updatePole(const PoleMeasurement& m) {
+void StateEstimator::update_pole(const PoleMeasurement& m) {
   const model::PoleParams& params = config_.on_vehicle.pole;
   std::array<PlateKinematics, 2> plates;
   for (int i = 0; i < 2; ++i) {
@@ -365,62 +368,63 @@ void StateEstimator::updatePole(const PoleMeasurement& m) {
     model::PoleState measured = free_.state();
     measured.p_m = m.p_m;
     measured.n = m.n;
-    measured = model::normalisedPoleState(measured);
+    measured = model::normalised_pole_state(measured);
     for (int i = 0; i < 2; ++i) {
-      if (!impactReportPending(i) || !vehicles_[i].initialised()) continue;
-      const PlateContactGeometry g = plateContactGeometry(measured, plates[i], params);
+      if (!impact_report_pending(i) || !vehicles_[i].initialised()) continue;
+      const PlateContactGeometry g = plate_contact_geometry(measured, plates[i], params);
       const PlateContactGate& gate = config_.impact_report_gate;
       if (g.radial_m > gate.plate_radius_m + gate.radial_margin_m ||
           std::abs(g.height_m) > gate.height_margin_m) {
         continue;
       }
-      const OnVehicleSeed seed = onVehicleSeedAfterImpact(measured, free_.poleCovariance(), plates[i], params,
-                                                          config_.impact_rate_sigma_mps);
+      const OnVehicleSeed seed = on_vehicle_seed_after_impact(measured, free_.pole_covariance(), plates[i],
+                                                              params, config_.impact_rate_sigma_mps);
       on_[i].reset(seed.state, seed.covariance, seed.direction_sign);
       if (!on_[i].valid()) continue;
-      switchTo(onVehicleMode(i + 1), SwitchReason::impact_report, impact_report_t_s_[i], t_s_);
-      reseedCandidates();
+      switch_to(on_vehicle_mode(pa::kActVehicles[i]), SwitchReason::impact_report, impact_report_t_s_[i],
+                t_s_);
+      reseed_candidates();
       break;
     }
   }
   // The active on-vehicle filter lost its geometry: the pole is no longer on the plate.
-  if (const int v = vehicleOfMode(selector_.active()); v != 0 && !on_[v - 1].valid()) {
-    const FreeFlightSeed seed = freeFlightSeedFromOnVehicle(on_[v - 1], plates[v - 1]);
+  if (const int v = slot_of_mode(selector_.active()); v >= 0 && !on_[v].valid()) {
+    const FreeFlightSeed seed = free_flight_seed_from_on_vehicle(on_[v], plates[v]);
     free_.reset(seed.state, seed.covariance, drag_scale_, config_.drag_scale_sigma);
-    switchTo(PoleMode::free, SwitchReason::filter_invalid, t_s_, t_s_);
-    reseedCandidates();
+    switch_to(PoleMode::free, SwitchReason::filter_invalid, t_s_, t_s_);
+    reseed_candidates();
   }
 
   const PoleMode active = selector_.active();
   std::array<bool, kPoleModeCount> evaluated{};
-  evaluated[modeIndex(PoleMode::free)] = true;  // active, or the candidate of an on-vehicle mode
+  evaluated[mode_index(PoleMode::free)] = true;  // active, or the candidate of an on-vehicle mode
   for (int i = 0; i < 2; ++i) {
-    const PoleMode mi = onVehicleMode(i + 1);
-    evaluated[modeIndex(mi)] =
+    const PoleMode mi = on_vehicle_mode(pa::kActVehicles[i]);
+    evaluated[mode_index(mi)] =
         active == mi || (active == PoleMode::free && on_candidate_valid_[i] && on_[i].valid());
   }
   std::array<PoleInnovation, kPoleModeCount> inn;
   std::array<std::optional<double>, kPoleModeCount> ll;
   std::array<bool, kPoleModeCount> favoured{};
   for (PoleMode mode : kPoleModes) {
-    const int k = modeIndex(mode);
+    const int k = mode_index(mode);
     if (!evaluated[k]) continue;
-    const int v = vehicleOfMode(mode);
-    inn[k] = v == 0 ? free_.innovation(m) : on_[v - 1].innovation(m, plates[v - 1]);
+    const int v = slot_of_mode(mode);
+    inn[k] = v < 0 ? free_.innovation(m) : on_[v].innovation(m, plates[v]);
     if (inn[k].valid) ll[k] = inn[k].log_likelihood;
-    if (v != 0) favoured[k] = impactReportPending(v - 1);
+    if (v >= 0) favoured[k] = impact_report_pending(v);
   }
   // A pose that no filter explains: a glitch, or (if it persists) a pole that is elsewhere.
   bool explained = false;
   for (PoleMode mode : kPoleModes) {
-    const int k = modeIndex(mode);
+    const int k = mode_index(mode);
     explained |= evaluated[k] && inn[k].valid && inn[k].nis <= config_.pole_outlier_nis;
   }
   if (!explained) {
     pole_health_.rejected();
     if (++pole_rejections_ > config_.pole_max_rejections) {
       pole_seen_ = false;
-      initialisePole(m, SwitchReason::reinitialised);
+      initialise_pole(m, SwitchReason::reinitialised);
     }
     return;
   }
@@ -433,24 +437,24 @@ void StateEstimator::updatePole(const PoleMeasurement& m) {
     // The selector has already made the switch; record it (at the reported impact if a report
     // favoured the mode).
     const PoleMode to = *chosen;
-    const int v = vehicleOfMode(to);
-    const double event_t = v != 0 && favoured[modeIndex(to)] ? impact_report_t_s_[v - 1] : t_s_;
+    const int v = slot_of_mode(to);
+    const double event_t = v >= 0 && favoured[mode_index(to)] ? impact_report_t_s_[v] : t_s_;
     selector_.reset(active);
-    switchTo(to, SwitchReason::innovation, event_t, t_s_);
+    switch_to(to, SwitchReason::innovation, event_t, t_s_);
   }
-  pole_health_.innovation(inn[modeIndex(selector_.active())].nis);
+  pole_health_.innovation(inn[mode_index(selector_.active())].nis);
 
   for (PoleMode mode : kPoleModes) {
-    const int k = modeIndex(mode);
+    const int k = mode_index(mode);
     if (!evaluated[k] || !inn[k].valid) continue;
-    const int v = vehicleOfMode(mode);
-    if (v == 0) {
+    const int v = slot_of_mode(mode);
+    if (v < 0) {
       free_.update(m, inn[k]);
     } else {
-      on_[v - 1].update(m, plates[v - 1], inn[k]);
+      on_[v].update(m, plates[v], inn[k]);
     }
   }
-  reseedCandidates();
+  reseed_candidates();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -461,13 +465,13 @@ PoleEstimate StateEstimator::pole() const {
   e.valid = pole_seen_;
   e.t_s = t_s_;
   e.mode = selector_.active();
-  const int v = vehicleOfMode(e.mode);
-  if (v == 0 || !vehicles_[v - 1].initialised()) {
+  const int v = slot_of_mode(e.mode);
+  if (v < 0 || !vehicles_[v].initialised()) {
     e.state = free_.state();
-    e.covariance = free_.poleCovariance();
-    e.drag_scale = free_.dragScale();
+    e.covariance = free_.pole_covariance();
+    e.drag_scale = free_.drag_scale();
   } else {
-    const FreeFlightSeed s = freeFlightSeedFromOnVehicle(on_[v - 1], vehicles_[v - 1].plate());
+    const FreeFlightSeed s = free_flight_seed_from_on_vehicle(on_[v], vehicles_[v].plate());
     e.state = s.state;
     e.covariance = s.covariance;
     e.drag_scale = drag_scale_;
@@ -475,32 +479,34 @@ PoleEstimate StateEstimator::pole() const {
   return e;
 }
 
-bool StateEstimator::vehicleInitialised(int vehicle) const {
-  return validVehicle(vehicle) && vehicles_[vehicleIndex(vehicle)].initialised();
+bool StateEstimator::vehicle_initialised(pa::VehicleId vehicle) const {
+  return pa::is_act_vehicle(vehicle) && vehicles_[pa::act_slot(vehicle)].initialised();
 }
 
-VehicleEstimate StateEstimator::vehicle(int vehicle) const {
-  return vehicles_[vehicleIndex(vehicle)].estimate();
+VehicleEstimate StateEstimator::vehicle(pa::VehicleId vehicle) const {
+  return vehicles_[pa::act_slot(vehicle)].estimate();
 }
 
-PlateKinematics StateEstimator::plate(int vehicle) const { return vehicles_[vehicleIndex(vehicle)].plate(); }
+PlateKinematics StateEstimator::plate(pa::VehicleId vehicle) const {
+  return vehicles_[pa::act_slot(vehicle)].plate();
+}
 
-std::optional<NormalForceEstimate> StateEstimator::normalForce() const {
-  const int v = vehicleOfMode(selector_.active());
-  if (v == 0 || !vehicles_[v - 1].initialised()) return std::nullopt;
-  return on_[v - 1].normalForce(vehicles_[v - 1].plate());
+std::optional<NormalForceEstimate> StateEstimator::normal_force() const {
+  const int v = slot_of_mode(selector_.active());
+  if (v < 0 || !vehicles_[v].initialised()) return std::nullopt;
+  return on_[v].normal_force(vehicles_[v].plate());
 }
 
 StateEstimator StateEstimator::predicted(double t_s) const {
   StateEstimator ahead = *this;
   ahead.propagation_ = Propagation::mean_only;
-  ahead.advanceTo(t_s);
+  ahead.advance_to(t_s);
   return ahead;
 }
 
-PoleEstimate StateEstimator::predictPole(double t_s) const { return predicted(t_s).pole(); }
+PoleEstimate StateEstimator::predict_pole(double t_s) const { return predicted(t_s).pole(); }
 
-VehicleEstimate StateEstimator::predictVehicle(int vehicle, double t_s) const {
+VehicleEstimate StateEstimator::predict_vehicle(pa::VehicleId vehicle, double t_s) const {
   return predicted(t_s).vehicle(vehicle);
 }
 
@@ -522,12 +528,12 @@ EstimatorHealth StateEstimator::health(double t_now_s) const {
   return h;
 }
 
-std::optional<ModeSwitch> StateEstimator::lastSwitch() const {
+std::optional<ModeSwitch> StateEstimator::last_switch() const {
   if (switch_count_ == 0) return std::nullopt;
   return switch_log_[(switch_count_ - 1) % kSwitchLogCapacity];
 }
 
-std::vector<ModeSwitch> StateEstimator::recentSwitches() const {
+std::vector<ModeSwitch> StateEstimator::recent_switches() const {
   std::vector<ModeSwitch> out;
   const std::uint64_t n = std::min<std::uint64_t>(switch_count_, kSwitchLogCapacity);
   out.reserve(n);

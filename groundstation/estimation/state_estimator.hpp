@@ -116,7 +116,7 @@ enum class SwitchReason : std::uint8_t {
   filter_invalid,  // the active on-vehicle filter lost its geometry (pole fell over)
   reinitialised,   // no mode explained the pole's poses: started over from them
 };
-std::string_view switchReasonName(SwitchReason reason);
+std::string_view switch_reason_name(SwitchReason reason);
 
 struct ModeSwitch {
   double event_t_s = 0.0;     // when the event happened (estimated)
@@ -135,42 +135,44 @@ class StateEstimator {
 
   // The input that vehicle (1 or 2) applies from t_s on (commands arrive in time order; a
   // command for the future, e.g. sent now to act after the link latency, is queued).
-  void setCommand(int vehicle, double t_s, const model::VehicleInput& input);
+  void set_command(pa::VehicleId vehicle, double t_s, const model::VehicleInput& input);
   // An impact the vehicle's firmware reported, at t_s on the estimator's clock.
-  void reportImpact(int vehicle, double t_s);
+  void report_impact(pa::VehicleId vehicle, double t_s);
   // Processes a frame; frames older than the estimator's time are counted and ignored.
   void update(const MocapFrame& frame);
   // Propagates to t_s without measurements (the frame did not come); a gap longer than
   // config().max_coast_s starts over instead.
-  void advanceTo(double t_s);
+  void advance_to(double t_s);
 
   double time() const { return t_s_; }
   PoleMode mode() const { return selector_.active(); }
   PoleEstimate pole() const;
-  bool vehicleInitialised(int vehicle) const;
-  VehicleEstimate vehicle(int vehicle) const;
-  PlateKinematics plate(int vehicle) const;
+  bool vehicle_initialised(pa::VehicleId vehicle) const;
+  VehicleEstimate vehicle(pa::VehicleId vehicle) const;
+  PlateKinematics plate(pa::VehicleId vehicle) const;
   // The plate's normal force under the pole (on-vehicle modes; nullopt in free flight).
-  std::optional<NormalForceEstimate> normalForce() const;
+  std::optional<NormalForceEstimate> normal_force() const;
   // The pole model with the estimated drag scale (for catch-point prediction).
-  model::PoleParams poleModel() const { return free_.scaledModel(); }
+  model::PoleParams pole_model() const { return free_.scaled_model(); }
 
   // Latency compensation: the estimator propagated to t_s >= time() without covariances (see the
   // header); a copy to read pole(), vehicle(), plate() from.
   StateEstimator predicted(double t_s) const;
-  PoleEstimate predictPole(double t_s) const;
-  VehicleEstimate predictVehicle(int vehicle, double t_s) const;
+  PoleEstimate predict_pole(double t_s) const;
+  VehicleEstimate predict_vehicle(pa::VehicleId vehicle, double t_s) const;
 
   EstimatorHealth health(double t_now_s) const;
-  std::uint64_t switchCount() const { return switch_count_; }
-  std::uint64_t startOverCount() const { return start_overs_; }
-  std::optional<ModeSwitch> lastSwitch() const;
+  std::uint64_t switch_count() const { return switch_count_; }
+  std::uint64_t start_over_count() const { return start_overs_; }
+  std::optional<ModeSwitch> last_switch() const;
   // Up to kSwitchLogCapacity most recent switches, oldest first.
-  std::vector<ModeSwitch> recentSwitches() const;
+  std::vector<ModeSwitch> recent_switches() const;
 
   // The filters, for tests and diagnostics.
-  const PoleFreeFlightEkf& freeFlightFilter() const { return free_; }
-  const PoleOnVehicleEkf& onVehicleFilter(int vehicle) const { return on_[vehicle == 2 ? 1 : 0]; }
+  const PoleFreeFlightEkf& free_flight_filter() const { return free_; }
+  const PoleOnVehicleEkf& on_vehicle_filter(pa::VehicleId vehicle) const {
+    return on_[pa::act_slot(vehicle)];
+  }
   const ModeSelector& selector() const { return selector_; }
   const StateEstimatorConfig& config() const { return config_; }
 
@@ -186,18 +188,18 @@ class StateEstimator {
     const TimedCommand& at(int i) const { return items[(head + i) % kCommandQueueCapacity]; }
   };
 
-  const model::VehicleInput* commandAt(int index, double t_s) const;
-  double nextCommandChange(double after_t_s, double until_t_s) const;
-  void dropOldCommands(double t_s);
+  const model::VehicleInput* command_at(int index, double t_s) const;
+  double next_command_change(double after_t_s, double until_t_s) const;
+  void drop_old_commands(double t_s);
   void step(double h);
-  void stepPole(double h, const std::array<PlateKinematics, 2>& before,
-                const std::array<PlateKinematics, 2>& after);
-  void switchTo(PoleMode mode, SwitchReason reason, double event_t_s, double detected_t_s);
-  void startOver(double t_s);
-  void reseedCandidates();
-  void initialisePole(const PoleMeasurement& m, SwitchReason reason);
-  void updatePole(const PoleMeasurement& m);
-  bool impactReportPending(int index) const;
+  void step_pole(double h, const std::array<PlateKinematics, 2>& before,
+                 const std::array<PlateKinematics, 2>& after);
+  void switch_to(PoleMode mode, SwitchReason reason, double event_t_s, double detected_t_s);
+  void start_over(double t_s);
+  void reseed_candidates();
+  void initialise_pole(const PoleMeasurement& m, SwitchReason reason);
+  void update_pole(const PoleMeasurement& m);
+  bool impact_report_pending(int index) const;
 
   StateEstimatorConfig config_;
   Propagation propagation_ = Propagation::mean_and_covariance;

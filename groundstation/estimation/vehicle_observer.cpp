@@ -6,7 +6,7 @@
 namespace gs::estimation {
 namespace {
 
-bool finiteInput(const model::VehicleInput& in) {
+bool finite_input(const model::VehicleInput& in) {
   return std::isfinite(in.a_q_mps2) && in.omega_radps.allFinite();
 }
 
@@ -22,8 +22,8 @@ VehicleObserver::VehicleObserver(const VehicleObserverParams& params) : params_(
 }
 
 void VehicleObserver::reset(const MocapPose& pose) {
-  if (!isUsablePose(pose)) return;
-  const EulerZyx e = eulerZyxFromQuaternion(pose.q);
+  if (!is_usable_pose(pose)) return;
+  const EulerZyx e = euler_zyx_from_quaternion(pose.q);
   const double eta[3] = {e.phi_rad, e.theta_rad, e.psi_rad};
   const double sp = params_.mocap_position_sigma_m;
   const double sa = params_.mocap_attitude_sigma_rad;
@@ -49,7 +49,7 @@ void VehicleObserver::reset(const MocapPose& pose) {
 Eigen::Vector3d VehicleObserver::eulerAngles() const { return {att_x_[0](0), att_x_[1](0), att_x_[2](0)}; }
 
 // u = ^I_B R(eta) e_z a_q - g e_z, eq. (4).
-Eigen::Vector3d VehicleObserver::modelAcceleration(double a_q_mps2) const {
+Eigen::Vector3d VehicleObserver::model_acceleration(double a_q_mps2) const {
   const Eigen::Vector3d eta = eulerAngles();
   model::VehicleState s;
   s.phi_rad = eta(0);
@@ -60,7 +60,7 @@ Eigen::Vector3d VehicleObserver::modelAcceleration(double a_q_mps2) const {
 
 void VehicleObserver::predict(double dt_s, const model::VehicleInput* command, Propagation propagation) {
   if (!initialised_ || !(dt_s > 0.0) || !std::isfinite(dt_s)) return;
-  const bool commanded = command != nullptr && finiteInput(*command);
+  const bool commanded = command != nullptr && finite_input(*command);
 
   // The acceleration and Euler rate the filter currently believes in, kept continuous when the
   // input model changes (d and delta take up the difference).
@@ -85,11 +85,11 @@ void VehicleObserver::predict(double dt_s, const model::VehicleInput* command, P
     double mean_weight = 0.0;
     lag(params_.thrust_time_constant_s, decay, mean_weight);
     const double a_c = command->a_q_mps2;
-    u = modelAcceleration(a_c + (thrust_mps2_ - a_c) * mean_weight);
+    u = model_acceleration(a_c + (thrust_mps2_ - a_c) * mean_weight);
     thrust_mps2_ = a_c + (thrust_mps2_ - a_c) * decay;
-    const Eigen::Vector3d w_mean = propagateRates(dt_s, command->omega_radps);
+    const Eigen::Vector3d w_mean = propagate_rates(dt_s, command->omega_radps);
     const Eigen::Vector3d eta = eulerAngles();
-    r = model::eulerRatesFromBodyRates(eta(0), eta(1), w_mean);  // (5)
+    r = model::euler_rates_from_body_rates(eta(0), eta(1), w_mean);  // (5)
   }
   if (commanded != commanded_) {
     for (int i = 0; i < 3; ++i) {
@@ -137,7 +137,7 @@ void VehicleObserver::predict(double dt_s, const model::VehicleInput* command, P
 // The rate loop's second-order response (see the header) to a command held over dt_s: RK4 in
 // steps of at most 1 ms (omega_n h <= 0.04, far inside RK4's accuracy), returning the mean rate
 // over dt_s for the attitude's propagation.
-Eigen::Vector3d VehicleObserver::propagateRates(double dt_s, const Eigen::Vector3d& command_radps) {
+Eigen::Vector3d VehicleObserver::propagate_rates(double dt_s, const Eigen::Vector3d& command_radps) {
   const Eigen::Vector3d w2 = params_.rate_natural_frequency_radps.cwiseAbs2();
   const Eigen::Vector3d two_zeta_w =
       2.0 * params_.rate_damping.cwiseProduct(params_.rate_natural_frequency_radps);
@@ -165,8 +165,8 @@ Eigen::Vector3d VehicleObserver::propagateRates(double dt_s, const Eigen::Vector
 }
 
 double VehicleObserver::nis(const MocapPose& pose) const {
-  if (!initialised_ || !isUsablePose(pose)) return 0.0;
-  const EulerZyx e = eulerZyxFromQuaternion(pose.q);
+  if (!initialised_ || !is_usable_pose(pose)) return 0.0;
+  const EulerZyx e = euler_zyx_from_quaternion(pose.q);
   const double eta[3] = {e.phi_rad, e.theta_rad, e.psi_rad};
   const double rp = params_.mocap_position_sigma_m * params_.mocap_position_sigma_m;
   const double ra = params_.mocap_attitude_sigma_rad * params_.mocap_attitude_sigma_rad;
@@ -181,7 +181,7 @@ double VehicleObserver::nis(const MocapPose& pose) const {
 
 VehicleUpdateResult VehicleObserver::update(const MocapPose& pose) {
   VehicleUpdateResult result;
-  if (!isUsablePose(pose)) return result;
+  if (!is_usable_pose(pose)) return result;
   if (!initialised_) {
     reset(pose);
     result.accepted = true;
@@ -198,7 +198,7 @@ VehicleUpdateResult VehicleObserver::update(const MocapPose& pose) {
     return result;
   }
   rejections_ = 0;
-  const EulerZyx e = eulerZyxFromQuaternion(pose.q);
+  const EulerZyx e = euler_zyx_from_quaternion(pose.q);
   const double eta[3] = {e.phi_rad, e.theta_rad, e.psi_rad};
   const double rp = params_.mocap_position_sigma_m * params_.mocap_position_sigma_m;
   const double ra = params_.mocap_attitude_sigma_rad * params_.mocap_attitude_sigma_rad;
@@ -247,18 +247,19 @@ VehicleEstimate VehicleObserver::estimate() const {
   e.euler_rates_radps = delta;
   if (commanded_) {
     // The inputs re-evaluated at the current attitude and applied thrust.
-    e.acceleration_mps2 += modelAcceleration(thrust_mps2_);
-    e.euler_rates_radps += model::eulerRatesFromBodyRates(eta(0), eta(1), rates_radps_);
+    e.acceleration_mps2 += model_acceleration(thrust_mps2_);
+    e.euler_rates_radps += model::euler_rates_from_body_rates(eta(0), eta(1), rates_radps_);
     e.body_rate_derivative_radps2 = rate_derivative_radps2_;
   }
-  e.body_rates_radps = model::bodyRatesFromEulerRates(eta(0), eta(1), e.euler_rates_radps);
+  e.body_rates_radps = model::body_rates_from_euler_rates(eta(0), eta(1), e.euler_rates_radps);
   return e;
 }
 
 PlateKinematics VehicleObserver::plate() const {
   const VehicleEstimate e = estimate();
   PlateKinematics k;
-  k.inertial_from_body = model::rotationInertialFromBody(e.state.phi_rad, e.state.theta_rad, e.state.psi_rad);
+  k.inertial_from_body =
+      model::rotation_inertial_from_body(e.state.phi_rad, e.state.theta_rad, e.state.psi_rad);
   const Eigen::Vector3d r_h = params_.plate_height_m * k.inertial_from_body.col(2);
   const Eigen::Vector3d omega_inertial = k.inertial_from_body * e.body_rates_radps;
   k.p_m = e.state.p_m + r_h;

@@ -131,14 +131,14 @@ class VehicleObserver {
 
   // The per-axis filters, exposed for tests: (p, v, d) and (eta, delta) with covariances.
   const Eigen::Vector3d& translation(int axis) const { return trans_x_[axis]; }
-  const Eigen::Matrix3d& translationCovariance(int axis) const { return trans_p_[axis]; }
+  const Eigen::Matrix3d& translation_covariance(int axis) const { return trans_p_[axis]; }
   const Eigen::Vector2d& attitude(int axis) const { return att_x_[axis]; }
-  const Eigen::Matrix2d& attitudeCovariance(int axis) const { return att_p_[axis]; }
+  const Eigen::Matrix2d& attitude_covariance(int axis) const { return att_p_[axis]; }
 
  private:
-  Eigen::Vector3d modelAcceleration(double a_q_mps2) const;
+  Eigen::Vector3d model_acceleration(double a_q_mps2) const;
   Eigen::Vector3d eulerAngles() const;
-  Eigen::Vector3d propagateRates(double dt_s, const Eigen::Vector3d& command_radps);
+  Eigen::Vector3d propagate_rates(double dt_s, const Eigen::Vector3d& command_radps);
 
   VehicleObserverParams params_;
   bool initialised_ = false;

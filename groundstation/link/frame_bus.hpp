@@ -3,7 +3,7 @@
 // carries it to the vehicles), and later a SocketCAN bus for the real radio bridge.
 //
 // Receiving is not part of the interface: whoever reads the bus hands each frame to
-// GroundLink::onFrame with the ground time it was read, so the link needs no thread or clock.
+// GroundLink::on_frame with the ground time it was read, so the link needs no thread or clock.
 #pragma once
 
 #include <cstddef>

@@ -27,42 +27,42 @@ constexpr double kScheduleSlack_s = 1e-6;
 
 bool reached(double now_s, double due_s) { return now_s >= due_s - kScheduleSlack_s; }
 
-bool positiveFinite(double v) { return std::isfinite(v) && v > 0.0; }
+bool positive_finite(double v) { return std::isfinite(v) && v > 0.0; }
 
-void requireFinite(double now_s, const char* what) {
+void require_finite(double now_s, const char* what) {
   if (!std::isfinite(now_s))
     throw std::invalid_argument(std::string("GroundLink::") + what + ": now_s is not finite");
 }
 
-float toFrameValue(double v) { return static_cast<float>(std::clamp(v, -kSetpointClamp, kSetpointClamp)); }
+float to_frame_value(double v) { return static_cast<float>(std::clamp(v, -kSetpointClamp, kSetpointClamp)); }
 
 }  // namespace
 
-std::uint32_t GroundLink::groundTimeUs(double now_s) {
+std::uint32_t GroundLink::ground_time_us(double now_s) {
   // Modulo 2^32 through the unsigned 64-bit conversion, negative times included.
   return static_cast<std::uint32_t>(static_cast<std::uint64_t>(std::llround(now_s * 1e6)));
 }
 
-std::uint32_t GroundLink::groundTimeMs(double now_s) {
+std::uint32_t GroundLink::ground_time_ms(double now_s) {
   return static_cast<std::uint32_t>(
       static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(now_s * 1e3))));
 }
 
-GroundLink::GroundLink(FrameBus& bus, std::vector<std::uint8_t> vehicle_nodes, const GroundLinkConfig& config)
-    : bus_(bus), nodes_(std::move(vehicle_nodes)), config_(config) {
-  if (nodes_.empty()) throw std::invalid_argument("GroundLink: no vehicle nodes");
+GroundLink::GroundLink(FrameBus& bus, std::vector<pa::VehicleId> vehicles, const GroundLinkConfig& config)
+    : bus_(bus), ids_(std::move(vehicles)), config_(config) {
+  if (ids_.empty()) throw std::invalid_argument("GroundLink: no vehicles");
   index_.fill(-1);
-  for (std::size_t i = 0; i < nodes_.size(); ++i) {
-    const std::uint8_t n = nodes_[i];
-    if (n < kFirstVehicleNode || n > kLastVehicleNode)
+  for (std::size_t i = 0; i < ids_.size(); ++i) {
+    const std::uint8_t n = ids_[i].node();
+    if (!ids_[i].valid())
       throw std::invalid_argument("GroundLink: vehicle node " + std::to_string(n) + " is not 1..14");
     if (index_[n] >= 0)
       throw std::invalid_argument("GroundLink: vehicle node " + std::to_string(n) + " is listed twice");
     index_[n] = static_cast<std::int8_t>(i);
   }
-  if (!positiveFinite(config_.heartbeat_period_s) || !positiveFinite(config_.timesync_period_s) ||
-      !positiveFinite(config_.command_retry_s) || !positiveFinite(config_.vehicle_timeout_s) ||
-      !positiveFinite(config_.link_quality_window_s) || !positiveFinite(config_.vehicle_heartbeat_period_s))
+  if (!positive_finite(config_.heartbeat_period_s) || !positive_finite(config_.timesync_period_s) ||
+      !positive_finite(config_.command_retry_s) || !positive_finite(config_.vehicle_timeout_s) ||
+      !positive_finite(config_.link_quality_window_s) || !positive_finite(config_.vehicle_heartbeat_period_s))
     throw std::invalid_argument("GroundLink: periods and time-outs must be positive and finite");
   if (config_.command_attempts < 1)
     throw std::invalid_argument("GroundLink: command_attempts must be at least 1");
@@ -70,27 +70,24 @@ GroundLink::GroundLink(FrameBus& bus, std::vector<std::uint8_t> vehicle_nodes, c
       static_cast<double>(kHeartbeatHistory))
     throw std::invalid_argument("GroundLink: link_quality_window_s spans more heartbeats than are kept");
 
-  vehicles_.resize(nodes_.size());
-  for (std::size_t i = 0; i < nodes_.size(); ++i) vehicles_[i].status.node = nodes_[i];
+  vehicles_.resize(ids_.size());
+  for (std::size_t i = 0; i < ids_.size(); ++i) vehicles_[i].status.vehicle = ids_[i];
 }
 
-int GroundLink::indexOf(std::uint8_t node) const { return node < index_.size() ? index_[node] : -1; }
+int GroundLink::index_of(std::uint8_t node) const { return node < index_.size() ? index_[node] : -1; }
 
-const GroundLink::Vehicle& GroundLink::vehicle(std::uint8_t node) const {
-  const int i = indexOf(node);
+const GroundLink::Vehicle& GroundLink::vehicle(pa::VehicleId id) const {
+  const int i = index_of(id.node());
   if (i < 0)
-    throw std::out_of_range("GroundLink: node " + std::to_string(node) + " is not one of its vehicles");
+    throw std::out_of_range("GroundLink: node " + std::to_string(id.node()) + " is not one of its vehicles");
   return vehicles_[static_cast<std::size_t>(i)];
 }
 
-GroundLink::Vehicle& GroundLink::vehicle(std::uint8_t node) {
-  const int i = indexOf(node);
-  if (i < 0)
-    throw std::out_of_range("GroundLink: node " + std::to_string(node) + " is not one of its vehicles");
-  return vehicles_[static_cast<std::size_t>(i)];
+GroundLink::Vehicle& GroundLink::vehicle(pa::VehicleId id) {
+  return const_cast<Vehicle&>(static_cast<const GroundLink&>(*this).vehicle(id));
 }
 
-const VehicleLinkStatus& GroundLink::status(std::uint8_t node) const { return vehicle(node).status; }
+const VehicleLinkStatus& GroundLink::status(pa::VehicleId id) const { return vehicle(id).status; }
 
 bool GroundLink::send(const Frame& frame) {
   if (bus_.send(frame)) {
@@ -114,8 +111,8 @@ bool GroundLink::due(bool& started, double& next_s, double period_s, double now_
 // ---------------------------------------------------------------------------------------
 // Receiving
 // ---------------------------------------------------------------------------------------
-void GroundLink::onFrame(const Frame& frame, double now_s) {
-  requireFinite(now_s, "onFrame");
+void GroundLink::on_frame(const Frame& frame, double now_s) {
+  require_finite(now_s, "on_frame");
   ++counters_.frames_received;
   Message m;
   switch (decode(frame, m)) {
@@ -129,7 +126,7 @@ void GroundLink::onFrame(const Frame& frame, double now_s) {
     ++counters_.wrong_direction;
     return;
   }
-  const int i = indexOf(m.node);
+  const int i = index_of(m.node);
   if (i < 0) {
     ++counters_.foreign_node;
     return;
@@ -139,10 +136,10 @@ void GroundLink::onFrame(const Frame& frame, double now_s) {
 
   bool used = true;
   switch (m.type) {
-    case Type::vehicle_heartbeat: used = onHeartbeat(v, m.vehicle_heartbeat, now_s); break;
-    case Type::timesync_reply: used = onTimesyncReply(v, m.timesync_reply, now_s); break;
-    case Type::command_ack: used = onAck(v, m.command_ack); break;
-    case Type::impact: onImpact(v, m.impact, now_s); break;
+    case Type::vehicle_heartbeat: used = on_heartbeat(v, m.vehicle_heartbeat, now_s); break;
+    case Type::timesync_reply: used = on_timesync_reply(v, m.timesync_reply, now_s); break;
+    case Type::command_ack: used = on_ack(v, m.command_ack); break;
+    case Type::impact: on_impact(v, m.impact, now_s); break;
     case Type::telemetry_rates: v.status.rates = {true, now_s, m.telemetry_rates}; break;
     case Type::telemetry_attitude: v.status.attitude = {true, now_s, m.telemetry_attitude}; break;
     case Type::telemetry_motors: v.status.motors = {true, now_s, m.telemetry_motors}; break;
@@ -153,7 +150,7 @@ void GroundLink::onFrame(const Frame& frame, double now_s) {
   else ++counters_.stale;
 }
 
-bool GroundLink::onHeartbeat(Vehicle& v, const VehicleHeartbeat& hb, double now_s) {
+bool GroundLink::on_heartbeat(Vehicle& v, const VehicleHeartbeat& hb, double now_s) {
   VehicleLinkStatus& s = v.status;
   // The uptime is the vehicle's 32-bit microsecond clock in ms (it wraps with it, every 71.6
   // min), so it is unwrapped as a microsecond stamp: the clock of the IMPACT and TIMESYNC frames.
@@ -164,7 +161,7 @@ bool GroundLink::onHeartbeat(Vehicle& v, const VehicleHeartbeat& hb, double now_
     const std::int64_t advance_us = pa::elapsed_us(stamp_us, static_cast<std::uint32_t>(v.clock_us));
     const double ground_advance_s = now_s - s.last_heard_s;
     if (std::abs(static_cast<double>(advance_us) * 1e-6 - ground_advance_s) > kClockJump_s) {
-      resetClock(v);
+      reset_clock(v);
       ++s.clock_resets;
       v.clock_us = stamp_us;
     } else if (advance_us <= 0) {
@@ -187,11 +184,11 @@ bool GroundLink::onHeartbeat(Vehicle& v, const VehicleHeartbeat& hb, double now_
   v.heartbeat_times[v.next_heartbeat_slot] = now_s;
   v.next_heartbeat_slot = (v.next_heartbeat_slot + 1) % kHeartbeatHistory;
   v.heartbeat_count = std::min(v.heartbeat_count + 1, kHeartbeatHistory);
-  updateLinkQuality(v, now_s);
+  update_link_quality(v, now_s);
   return true;
 }
 
-void GroundLink::resetClock(Vehicle& v) {
+void GroundLink::reset_clock(Vehicle& v) {
   v.sample_count = 0;
   v.next_sample_slot = 0;
   for (OutstandingRequest& r : v.requests) r.outstanding = false;  // their replies carry the old clock
@@ -200,14 +197,14 @@ void GroundLink::resetClock(Vehicle& v) {
   v.status.clock_uncertainty_s = 0.0;
 }
 
-std::int64_t GroundLink::unwrapVehicleTime(const Vehicle& v, std::uint32_t vehicle_time_us) const {
+std::int64_t GroundLink::unwrap_vehicle_time(const Vehicle& v, std::uint32_t vehicle_time_us) const {
   return v.clock_us + pa::elapsed_us(vehicle_time_us, static_cast<std::uint32_t>(v.clock_us));
 }
 
 // NTP with the vehicle's receive and transmit stamps taken as one (fw::Vehicle stamps the
 // request when it is read and replies on its next 1 kHz tick): the vehicle read the request
 // at ground time (sent + received) / 2 when the two legs take equally long.
-bool GroundLink::onTimesyncReply(Vehicle& v, const pa::proto::TimesyncReply& reply, double now_s) {
+bool GroundLink::on_timesync_reply(Vehicle& v, const pa::proto::TimesyncReply& reply, double now_s) {
   if (!v.status.heard) return false;  // no uptime yet to unwrap the vehicle's stamp near
   OutstandingRequest* request = nullptr;
   for (OutstandingRequest& r : v.requests)
@@ -216,7 +213,7 @@ bool GroundLink::onTimesyncReply(Vehicle& v, const pa::proto::TimesyncReply& rep
   request->outstanding = false;
   const double round_trip_s = now_s - request->sent_s;
   if (round_trip_s < 0.0) return false;
-  const double vehicle_s = static_cast<double>(unwrapVehicleTime(v, reply.vehicle_time_us)) * 1e-6;
+  const double vehicle_s = static_cast<double>(unwrap_vehicle_time(v, reply.vehicle_time_us)) * 1e-6;
   v.samples[v.next_sample_slot] = TimesyncSample{0.5 * (request->sent_s + now_s) - vehicle_s, round_trip_s};
   v.next_sample_slot = (v.next_sample_slot + 1) % kTimesyncSamples;
   v.sample_count = std::min(v.sample_count + 1, kTimesyncSamples);
@@ -233,7 +230,7 @@ bool GroundLink::onTimesyncReply(Vehicle& v, const pa::proto::TimesyncReply& rep
   return true;
 }
 
-bool GroundLink::onAck(Vehicle& v, const CommandAck& ack) {
+bool GroundLink::on_ack(Vehicle& v, const CommandAck& ack) {
   for (CommandRecord& r : v.commands) {
     const bool pending = r.serial != 0 && r.outcome.state == CommandState::pending;
     if (!pending || r.sequence != ack.seq || r.outcome.code != ack.code) continue;
@@ -255,12 +252,12 @@ bool GroundLink::onAck(Vehicle& v, const CommandAck& ack) {
   return false;  // a late ack of a resolved command, or not ours
 }
 
-void GroundLink::onImpact(Vehicle& v, const pa::proto::Impact& impact, double now_s) {
+void GroundLink::on_impact(Vehicle& v, const pa::proto::Impact& impact, double now_s) {
   ImpactReport r;
-  r.node = v.status.node;
+  r.vehicle = v.status.vehicle;
   r.received_s = now_s;
   r.t_from_clock_sync = v.status.clock_synced;
-  r.t_s = r.t_from_clock_sync ? static_cast<double>(unwrapVehicleTime(v, impact.vehicle_time_us)) * 1e-6 +
+  r.t_s = r.t_from_clock_sync ? static_cast<double>(unwrap_vehicle_time(v, impact.vehicle_time_us)) * 1e-6 +
                                     v.status.clock_offset_s
                               : now_s;
   r.peak_mps2 = impact.peak_mps2;
@@ -276,7 +273,7 @@ void GroundLink::onImpact(Vehicle& v, const pa::proto::Impact& impact, double no
   ++impact_count_;
 }
 
-std::vector<ImpactReport> GroundLink::takeImpacts() {
+std::vector<ImpactReport> GroundLink::take_impacts() {
   std::vector<ImpactReport> out;
   out.reserve(impact_count_);
   for (std::size_t i = 0; i < impact_count_; ++i) out.push_back(impacts_[(impact_head_ + i) % kImpactQueue]);
@@ -285,13 +282,13 @@ std::vector<ImpactReport> GroundLink::takeImpacts() {
   return out;
 }
 
-double GroundLink::groundTime(std::uint8_t node, std::uint32_t vehicle_time_us) const {
-  const Vehicle& v = vehicle(node);
+double GroundLink::ground_time(pa::VehicleId id, std::uint32_t vehicle_time_us) const {
+  const Vehicle& v = vehicle(id);
   if (!v.status.clock_synced) return std::numeric_limits<double>::quiet_NaN();
-  return static_cast<double>(unwrapVehicleTime(v, vehicle_time_us)) * 1e-6 + v.status.clock_offset_s;
+  return static_cast<double>(unwrap_vehicle_time(v, vehicle_time_us)) * 1e-6 + v.status.clock_offset_s;
 }
 
-void GroundLink::updateLinkQuality(Vehicle& v, double now_s) const {
+void GroundLink::update_link_quality(Vehicle& v, double now_s) const {
   // The arrivals are in time order in the ring: count back from the newest.
   std::size_t in_window = 0;
   for (std::size_t k = 1; k <= v.heartbeat_count; ++k) {
@@ -307,10 +304,10 @@ void GroundLink::updateLinkQuality(Vehicle& v, double now_s) const {
 // Sending
 // ---------------------------------------------------------------------------------------
 void GroundLink::tick(double now_s) {
-  requireFinite(now_s, "tick");
+  require_finite(now_s, "tick");
   if (due(heartbeat_started_, next_heartbeat_s_, config_.heartbeat_period_s, now_s)) {
     Frame f;
-    encode(GsHeartbeat{groundTimeMs(now_s), config_.session, ground_state_, heartbeat_seq_}, kBroadcastNode,
+    encode(GsHeartbeat{ground_time_ms(now_s), config_.session, ground_state_, heartbeat_seq_}, kBroadcastNode,
            f);
     heartbeat_seq_ = static_cast<std::uint8_t>(pa::HeartbeatSeq::next(heartbeat_seq_));
     send(f);
@@ -321,21 +318,21 @@ void GroundLink::tick(double now_s) {
     if (v.status.heard && due(v.timesync_started, v.next_timesync_s, config_.timesync_period_s, now_s)) {
       OutstandingRequest& r = v.requests[v.next_request_slot];  // the oldest: its reply is overdue
       v.next_request_slot = (v.next_request_slot + 1) % kTimesyncOutstanding;
-      r = OutstandingRequest{true, groundTimeUs(now_s), now_s};
+      r = OutstandingRequest{true, ground_time_us(now_s), now_s};
       Frame f;
-      encode(TimesyncRequest{r.ground_time_us, v.timesync_seq++}, v.status.node, f);
+      encode(TimesyncRequest{r.ground_time_us, v.timesync_seq++}, v.status.vehicle.node(), f);
       send(f);
     }
-    tickCommands(v, now_s);
-    tickKill(v.kill, now_s, killConfirmed(v, v.heartbeats_at_kill));
-    all_killed = all_killed && killConfirmed(v, v.heartbeats_at_broadcast_kill);
+    tick_commands(v, now_s);
+    tick_kill(v.kill, now_s, kill_confirmed(v, v.heartbeats_at_kill));
+    all_killed = all_killed && kill_confirmed(v, v.heartbeats_at_broadcast_kill);
     v.status.lost = !v.status.heard || now_s - v.status.last_heard_s > config_.vehicle_timeout_s;
-    updateLinkQuality(v, now_s);
+    update_link_quality(v, now_s);
   }
-  tickKill(broadcast_kill_, now_s, all_killed);
+  tick_kill(broadcast_kill_, now_s, all_killed);
 }
 
-void GroundLink::tickCommands(Vehicle& v, double now_s) {
+void GroundLink::tick_commands(Vehicle& v, double now_s) {
   for (CommandRecord& r : v.commands) {
     if (r.serial == 0 || r.outcome.state != CommandState::pending || !reached(now_s, r.next_send_s)) continue;
     if (r.outcome.attempts >= config_.command_attempts) {
@@ -348,11 +345,11 @@ void GroundLink::tickCommands(Vehicle& v, double now_s) {
   }
 }
 
-bool GroundLink::killConfirmed(const Vehicle& v, std::uint64_t heartbeats_at_kill) {
+bool GroundLink::kill_confirmed(const Vehicle& v, std::uint64_t heartbeats_at_kill) {
   return v.status.heartbeats_received > heartbeats_at_kill && v.status.mode == Mode::killed;
 }
 
-void GroundLink::tickKill(KillRepeat& kill, double now_s, bool done) {
+void GroundLink::tick_kill(KillRepeat& kill, double now_s, bool done) {
   if (!kill.active) return;
   if (done || kill.sends_left <= 0) {
     kill.active = false;
@@ -369,17 +366,17 @@ void GroundLink::tickKill(KillRepeat& kill, double now_s, bool done) {
   kill.next_s = now_s + config_.command_retry_s;
 }
 
-gs::model::VehicleInput GroundLink::sendSetpoint(std::uint8_t node, const gs::model::VehicleInput& input) {
-  Vehicle& v = vehicle(node);
+gs::model::VehicleInput GroundLink::send_setpoint(pa::VehicleId id, const gs::model::VehicleInput& input) {
+  Vehicle& v = vehicle(id);
   if (!std::isfinite(input.a_q_mps2) || !input.omega_radps.allFinite())
-    throw std::invalid_argument("GroundLink::sendSetpoint: non-finite input");
+    throw std::invalid_argument("GroundLink::send_setpoint: non-finite input");
   const auto seq = static_cast<std::uint8_t>(pa::SetpointSeq::next(v.setpoint_seq));
-  const RateThrust sp{{toFrameValue(input.omega_radps.x()), toFrameValue(input.omega_radps.y()),
-                       toFrameValue(input.omega_radps.z())},
-                      toFrameValue(input.a_q_mps2),
+  const RateThrust sp{{to_frame_value(input.omega_radps.x()), to_frame_value(input.omega_radps.y()),
+                       to_frame_value(input.omega_radps.z())},
+                      to_frame_value(input.a_q_mps2),
                       seq};
   Frame f;
-  encode(sp, node, f);  // finite values and a vehicle node: always encodes
+  encode(sp, id.node(), f);  // finite values and a vehicle node: always encodes
   v.setpoint_seq = seq;
   v.status.setpoint_seq_sent = seq;
   send(f);  // a refused frame is counted; the next one is still newer for the vehicle
@@ -394,13 +391,13 @@ gs::model::VehicleInput GroundLink::sendSetpoint(std::uint8_t node, const gs::mo
   return carried;
 }
 
-CommandHandle GroundLink::sendCommand(std::uint8_t node, CommandCode code, std::int32_t argument,
-                                      double now_s) {
-  requireFinite(now_s, "sendCommand");
-  Vehicle& v = vehicle(node);
+CommandHandle GroundLink::send_command(pa::VehicleId id, CommandCode code, std::int32_t argument,
+                                       double now_s) {
+  require_finite(now_s, "send_command");
+  Vehicle& v = vehicle(id);
   const auto raw_code = static_cast<std::uint8_t>(code);
   if (raw_code == 0 || raw_code > kCommandCodeMax)
-    throw std::invalid_argument("GroundLink::sendCommand: unknown command");
+    throw std::invalid_argument("GroundLink::send_command: unknown command");
 
   // At most kMaxPendingCommands in flight: give up on the oldest. Then reuse a free slot or the
   // oldest resolved one (there is always one: fewer are pending than there are slots).
@@ -427,7 +424,7 @@ CommandHandle GroundLink::sendCommand(std::uint8_t node, CommandCode code, std::
   r = CommandRecord{};
   r.serial = ++command_serial_;
   r.sequence = seq;
-  encode(Command{code, seq, config_.session, argument}, node, r.frame);
+  encode(Command{code, seq, config_.session, argument}, id.node(), r.frame);
   r.outcome.state = CommandState::pending;
   r.outcome.code = code;
   r.outcome.attempts = 1;
@@ -438,31 +435,33 @@ CommandHandle GroundLink::sendCommand(std::uint8_t node, CommandCode code, std::
     broadcast_kill_.active = false;
   }
   send(r.frame);
-  return CommandHandle{node, seq, r.serial};
+  return CommandHandle{id, seq, r.serial};
 }
 
-CommandOutcome GroundLink::commandOutcome(const CommandHandle& handle) const {
-  const int i = indexOf(handle.node);
+CommandOutcome GroundLink::command_outcome(const CommandHandle& handle) const {
+  const int i = index_of(handle.vehicle.node());
   if (i < 0 || handle.serial == 0) return CommandOutcome{};
   for (const CommandRecord& r : vehicles_[static_cast<std::size_t>(i)].commands)
     if (r.serial == handle.serial && r.sequence == handle.sequence) return r.outcome;
   return CommandOutcome{};
 }
 
-void GroundLink::sendKill(std::uint8_t node, KillReason reason) {
-  KillRepeat* kill = nullptr;
-  if (node == kBroadcastNode) {
-    kill = &broadcast_kill_;
-    for (Vehicle& v : vehicles_) v.heartbeats_at_broadcast_kill = v.status.heartbeats_received;
-  } else {
-    Vehicle& v = vehicle(node);
-    kill = &v.kill;
-    v.heartbeats_at_kill = v.status.heartbeats_received;
-  }
+void GroundLink::send_kill(pa::VehicleId id, KillReason reason) {
+  Vehicle& v = vehicle(id);
+  v.heartbeats_at_kill = v.status.heartbeats_received;
+  send_kill(v.kill, id.node(), reason);
+}
+
+void GroundLink::send_kill_all(KillReason reason) {
+  for (Vehicle& v : vehicles_) v.heartbeats_at_broadcast_kill = v.status.heartbeats_received;
+  send_kill(broadcast_kill_, kBroadcastNode, reason);
+}
+
+void GroundLink::send_kill(KillRepeat& kill, std::uint8_t node, KillReason reason) {
   Frame f;
   if (!encode(Kill{config_.session, reason}, node, f))
-    throw std::invalid_argument("GroundLink::sendKill: unknown reason");
-  *kill = KillRepeat{config_.command_attempts > 1, f, config_.command_attempts - 1, false, 0.0};
+    throw std::invalid_argument("GroundLink::send_kill: unknown reason");
+  kill = KillRepeat{config_.command_attempts > 1, f, config_.command_attempts - 1, false, 0.0};
   send(f);
 }
 

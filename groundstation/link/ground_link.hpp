@@ -4,14 +4,14 @@
 //
 // No clocks, no threads: the ground time now_s (seconds) is always passed in. The caller
 // calls tick() often (at least at the heartbeat rate, 50 Hz; the control loop's 200 Hz is
-// fine), hands every frame read from the ground bus to onFrame(), and sends setpoints, commands
+// fine), hands every frame read from the ground bus to on_frame(), and sends setpoints, commands
 // and KILLs when it wants. Frames go out through a FrameBus. Every frame is encoded and decoded
 // by pa::proto (shared/include/pa/protocol.hpp); frames that do not decode, come from a node
 // this link does not talk to, or travel the other way are counted and dropped, never asserted on.
 //
 // State is fixed once constructed: per vehicle a bounded command table, a bounded list of
 // outstanding TIMESYNC requests and a ring of heartbeat arrival times; one bounded impact
-// queue. A flood of frames costs counters, not memory; onFrame() does not allocate.
+// queue. A flood of frames costs counters, not memory; on_frame() does not allocate.
 //
 // What the vehicle requires (firmware/core: fw::CommandLink, fw::Supervisor, fw::Vehicle):
 // - Session: the vehicle adopts the session token of the GS_HEARTBEATs it hears while disarmed
@@ -24,13 +24,13 @@
 //   hover, then descends. Keep calling tick().
 // - ARM: accepted only from disarmed (DISARM first after a KILL or a landing), with a live
 //   heartbeat, a healthy IMU, and the vehicle's LATEST ACCEPTED setpoint at zero thrust (it need
-//   not be fresh; before the first setpoint it is zero). Send sendSetpoint(node, {0 thrust, 0
+//   not be fresh; before the first setpoint it is zero). Send send_setpoint(node, {0 thrust, 0
 //   rates}) first whenever the vehicle may hold a non-zero one; note that VehicleInput's default
 //   thrust is g, not zero. Armed, the motors idle until a fresh setpoint asks for more than the
 //   take-off thrust (2 m/s^2), which makes it fly.
 // - Flying, the setpoints must keep coming with new sequence numbers: a stream older than 20 ms
 //   is stale and the vehicle hovers level on its own (failsafe), then descends. Each
-//   sendSetpoint() uses the next sequence; repeating an old frame does not refresh the stream.
+//   send_setpoint() uses the next sequence; repeating an old frame does not refresh the stream.
 // - The vehicle does not recognise a retried COMMAND as a duplicate: it executes it again. So
 //   when the ack of an accepted ARM is lost, the retry is refused with not_disarmed and the
 //   ack's mode armed; the link reports that as accepted (an earlier attempt armed it, see
@@ -56,6 +56,7 @@
 #include "groundstation/link/frame_bus.hpp"
 #include "groundstation/model/vehicle.hpp"
 #include "pa/protocol.hpp"
+#include "pa/vehicle_id.hpp"
 
 namespace gs::link {
 
@@ -80,9 +81,9 @@ enum class CommandState : std::uint8_t {
 };
 
 struct CommandHandle {
-  std::uint8_t node = 0;
-  std::uint8_t sequence = 0;  // the COMMAND's 8-bit sequence, per vehicle
-  std::uint32_t serial = 0;   // unique per link (from 1), so a wrapped sequence is not mistaken
+  pa::VehicleId vehicle{pa::proto::kGroundNode};  // none until sent
+  std::uint8_t sequence = 0;                      // the COMMAND's 8-bit sequence, per vehicle
+  std::uint32_t serial = 0;  // unique per link (from 1), so a wrapped sequence is not mistaken
 };
 
 struct CommandOutcome {
@@ -105,7 +106,7 @@ struct Received {
 // What the ground knows of one vehicle. Heartbeat fields are those of the latest
 // VEHICLE_HEARTBEAT (defaults before the first).
 struct VehicleLinkStatus {
-  std::uint8_t node = 0;
+  pa::VehicleId vehicle{pa::proto::kGroundNode};
   bool heard = false;         // a VEHICLE_HEARTBEAT has arrived since construction
   bool lost = true;           // none for vehicle_timeout_s (or never heard)
   double last_heard_s = 0.0;  // ground time of the latest heartbeat
@@ -139,7 +140,7 @@ struct VehicleLinkStatus {
 };
 
 struct ImpactReport {
-  std::uint8_t node = 0;
+  pa::VehicleId vehicle{pa::proto::kGroundNode};
   double t_s = 0.0;                // impact onset on the GROUND clock (via TIMESYNC) ...
   bool t_from_clock_sync = false;  // ... or, false: the ground time the frame arrived (no sync yet)
   double received_s = 0.0;         // ground time the frame arrived
@@ -152,7 +153,7 @@ struct ImpactReport {
 struct GroundLinkCounters {
   std::uint64_t frames_sent = 0;      // accepted by the bus
   std::uint64_t send_refused = 0;     // refused by the bus
-  std::uint64_t frames_received = 0;  // every frame handed to onFrame()
+  std::uint64_t frames_received = 0;  // every frame handed to on_frame()
   std::uint64_t accepted = 0;         // decoded, from one of our vehicles, and used
   std::uint64_t unknown_type = 0;     // undecodable, by pa::proto::DecodeStatus
   std::uint64_t wrong_length = 0;
@@ -178,10 +179,10 @@ class GroundLink {
 
   // `vehicle_nodes`: the CAN nodes (1..14, distinct, at least one) of the vehicles this link
   // talks to. Throws std::invalid_argument for a bad node list or configuration.
-  GroundLink(FrameBus& bus, std::vector<std::uint8_t> vehicle_nodes, const GroundLinkConfig& config = {});
+  GroundLink(FrameBus& bus, std::vector<pa::VehicleId> vehicles, const GroundLinkConfig& config = {});
 
   // Decode one frame read from the ground bus at ground time now_s.
-  void onFrame(const pa::proto::Frame& frame, double now_s);
+  void on_frame(const pa::proto::Frame& frame, double now_s);
   // The periodic work: GS_HEARTBEAT when due (the first on the first call), TIMESYNC requests
   // when due (to each vehicle once it has been heard), COMMAND retries and time-outs, KILL
   // repeats, lost detection, link quality.
@@ -192,46 +193,47 @@ class GroundLink {
   // to +-65.534 rad/s), which is what the vehicle will fly and what the estimator must be told.
   // Throws std::out_of_range for an unknown node, std::invalid_argument for a non-finite input
   // (nothing is sent: the vehicle's stream goes stale and it hovers level on its own).
-  gs::model::VehicleInput sendSetpoint(std::uint8_t node, const gs::model::VehicleInput& input);
+  gs::model::VehicleInput send_setpoint(pa::VehicleId vehicle, const gs::model::VehicleInput& input);
 
   // Send a COMMAND now (argument: EXPECT_CATCH's window in ms, 1..10000; 0 otherwise); tick()
   // resends it until acknowledged. A DISARM also stops the KILL repeats to that vehicle.
   // Throws std::out_of_range for an unknown node.
-  CommandHandle sendCommand(std::uint8_t node, pa::proto::CommandCode code, std::int32_t argument,
-                            double now_s);
-  CommandState commandState(const CommandHandle& handle) const { return commandOutcome(handle).state; }
-  CommandOutcome commandOutcome(const CommandHandle& handle) const;
+  CommandHandle send_command(pa::VehicleId vehicle, pa::proto::CommandCode code, std::int32_t argument,
+                             double now_s);
+  CommandState command_state(const CommandHandle& handle) const { return command_outcome(handle).state; }
+  CommandOutcome command_outcome(const CommandHandle& handle) const;
 
   // KILL (motors off at once, latched until DISARM) to one vehicle, or to every vehicle on the
-  // bus with node pa::proto::kBroadcastNode. Never gated. Sent now, then repeated by tick() every
-  // command_retry_s, at most command_attempts sends in all, until a heartbeat received after the
-  // KILL reports the vehicle killed (for broadcast: every vehicle of this link). Throws
-  // std::out_of_range for a node that is neither ours nor broadcast.
-  void sendKill(std::uint8_t node, pa::proto::KillReason reason);
+  // bus (broadcast). Never gated. Sent now, then repeated by tick() every command_retry_s, at
+  // most command_attempts sends in all, until a heartbeat received after the KILL reports the
+  // vehicle killed (for broadcast: every vehicle of this link). send_kill throws
+  // std::out_of_range for a vehicle that is not ours.
+  void send_kill(pa::VehicleId vehicle, pa::proto::KillReason reason);
+  void send_kill_all(pa::proto::KillReason reason);
 
   // The ground state broadcast in GS_HEARTBEAT (idle until set).
-  void setGroundState(pa::proto::GroundState state) { ground_state_ = state; }
+  void set_ground_state(pa::proto::GroundState state) { ground_state_ = state; }
 
-  // std::out_of_range for an unknown node.
-  const VehicleLinkStatus& status(std::uint8_t node) const;
-  const std::vector<std::uint8_t>& vehicleNodes() const { return nodes_; }
+  // std::out_of_range for a vehicle that is not ours.
+  const VehicleLinkStatus& status(pa::VehicleId vehicle) const;
+  const std::vector<pa::VehicleId>& vehicles() const { return ids_; }
 
   // The IMPACT reports since the last call, oldest first (at most kImpactQueue; older ones were
   // dropped and counted).
-  std::vector<ImpactReport> takeImpacts();
+  std::vector<ImpactReport> take_impacts();
 
   // A vehicle clock reading -> ground time, unwrapped near the latest heartbeat's uptime (good
   // within about 35 minutes of it). NaN while the vehicle's clock is not synced.
-  // std::out_of_range for an unknown node.
-  double groundTime(std::uint8_t node, std::uint32_t vehicle_time_us) const;
+  // std::out_of_range for a vehicle that is not ours.
+  double ground_time(pa::VehicleId vehicle, std::uint32_t vehicle_time_us) const;
 
   const GroundLinkCounters& counters() const { return counters_; }
   const GroundLinkConfig& config() const { return config_; }
 
   // The ground clock on the wire: microseconds (TIMESYNC) and milliseconds (GS_HEARTBEAT),
   // wrapping uint32.
-  static std::uint32_t groundTimeUs(double now_s);
-  static std::uint32_t groundTimeMs(double now_s);
+  static std::uint32_t ground_time_us(double now_s);
+  static std::uint32_t ground_time_ms(double now_s);
 
  private:
   struct CommandRecord {
@@ -254,7 +256,7 @@ class GroundLink {
     bool active = false;
     pa::proto::Frame frame{};
     int sends_left = 0;
-    bool next_set = false;  // sendKill has no clock: the first tick() after it schedules the repeat
+    bool next_set = false;  // send_kill has no clock: the first tick() after it schedules the repeat
     double next_s = 0.0;
   };
   struct Vehicle {
@@ -281,26 +283,27 @@ class GroundLink {
     std::uint64_t heartbeats_at_broadcast_kill = 0;
   };
 
-  int indexOf(std::uint8_t node) const;  // -1: not one of ours
-  Vehicle& vehicle(std::uint8_t node);   // std::out_of_range when not ours
-  const Vehicle& vehicle(std::uint8_t node) const;
+  int index_of(std::uint8_t node) const;  // -1: not one of ours
+  Vehicle& vehicle(pa::VehicleId id);     // std::out_of_range when not ours
+  const Vehicle& vehicle(pa::VehicleId id) const;
+  void send_kill(KillRepeat& kill, std::uint8_t node, pa::proto::KillReason reason);
   bool send(const pa::proto::Frame& frame);
   // Each answers whether the frame was news (false: counted stale).
-  bool onHeartbeat(Vehicle& v, const pa::proto::VehicleHeartbeat& hb, double now_s);
-  bool onTimesyncReply(Vehicle& v, const pa::proto::TimesyncReply& reply, double now_s);
-  bool onAck(Vehicle& v, const pa::proto::CommandAck& ack);
-  void onImpact(Vehicle& v, const pa::proto::Impact& impact, double now_s);
-  void resetClock(Vehicle& v);
-  void updateLinkQuality(Vehicle& v, double now_s) const;
+  bool on_heartbeat(Vehicle& v, const pa::proto::VehicleHeartbeat& hb, double now_s);
+  bool on_timesync_reply(Vehicle& v, const pa::proto::TimesyncReply& reply, double now_s);
+  bool on_ack(Vehicle& v, const pa::proto::CommandAck& ack);
+  void on_impact(Vehicle& v, const pa::proto::Impact& impact, double now_s);
+  void reset_clock(Vehicle& v);
+  void update_link_quality(Vehicle& v, double now_s) const;
   // True when periodic work is due at now_s, and schedules its next time.
   static bool due(bool& started, double& next_s, double period_s, double now_s);
-  void tickCommands(Vehicle& v, double now_s);
-  void tickKill(KillRepeat& kill, double now_s, bool done);
-  static bool killConfirmed(const Vehicle& v, std::uint64_t heartbeats_at_kill);
-  std::int64_t unwrapVehicleTime(const Vehicle& v, std::uint32_t vehicle_time_us) const;
+  void tick_commands(Vehicle& v, double now_s);
+  void tick_kill(KillRepeat& kill, double now_s, bool done);
+  static bool kill_confirmed(const Vehicle& v, std::uint64_t heartbeats_at_kill);
+  std::int64_t unwrap_vehicle_time(const Vehicle& v, std::uint32_t vehicle_time_us) const;
 
   FrameBus& bus_;
-  std::vector<std::uint8_t> nodes_;
+  std::vector<pa::VehicleId> ids_;
   GroundLinkConfig config_;
   std::array<std::int8_t, 16> index_{};  // node -> vehicles_ index, -1: not ours
   std::vector<Vehicle> vehicles_;        // sized once, in the constructor

@@ -2,7 +2,7 @@
 
 namespace gs::mission {
 
-std::string_view taskName(Task task) {
+std::string_view task_name(Task task) {
   switch (task) {
     case Task::parked: return "parked";
     case Task::arming: return "arming";
@@ -22,7 +22,7 @@ std::string_view taskName(Task task) {
   return "?";
 }
 
-std::string_view conditionName(int bit) {
+std::string_view condition_name(int bit) {
   static constexpr std::array<std::string_view, condition::kCount> kNames = {
       "vehicle_lost",     "estimate_lost", "armed",        "on_ground",        "command_failed",
       "at_height",        "at_target",     "pole_on_self", "pole_free",        "pole_down",
@@ -32,7 +32,7 @@ std::string_view conditionName(int bit) {
   return bit >= 0 && bit < condition::kCount ? kNames[static_cast<std::size_t>(bit)] : "?";
 }
 
-std::string_view reasonName(Reason reason) {
+std::string_view reason_name(Reason reason) {
   switch (reason) {
     case Reason::none: return "none";
     case Reason::vehicle_lost: return "vehicle_lost";
@@ -64,9 +64,9 @@ std::string_view reasonName(Reason reason) {
   return "?";
 }
 
-const Transition* findTransition(Task task, std::uint32_t conditions) {
+const Transition* find_transition(Task task, std::uint32_t conditions) {
   for (const Transition& row : kTransitions) {
-    if ((row.from & taskBit(task)) == 0) continue;
+    if ((row.from & task_bit(task)) == 0) continue;
     if ((conditions & row.all) != row.all) continue;
     if ((conditions & row.none) != 0) continue;
     return &row;
@@ -76,7 +76,7 @@ const Transition* findTransition(Task task, std::uint32_t conditions) {
 
 bool VehicleSequencer::step(std::uint32_t conditions, double now_s) {
   conditions_ = conditions;
-  const Transition* row = findTransition(task_, conditions);
+  const Transition* row = find_transition(task_, conditions);
   if (row == nullptr || row->to == task_) return false;
   task_ = row->to;
   since_s_ = now_s;

@@ -38,14 +38,14 @@ enum class Task : std::uint8_t {
   failsafe,   // vehicle or its estimate lost: no setpoints (the firmware levels and lands)
 };
 inline constexpr int kTaskCount = 14;
-std::string_view taskName(Task task);
+std::string_view task_name(Task task);
 
 // Sets of tasks for the rows' `from`.
 using TaskSet = std::uint32_t;
-constexpr TaskSet taskBit(Task t) { return TaskSet{1} << static_cast<unsigned>(t); }
+constexpr TaskSet task_bit(Task t) { return TaskSet{1} << static_cast<unsigned>(t); }
 template <typename... T>
 constexpr TaskSet tasks(T... t) {
-  return (taskBit(t) | ...);
+  return (task_bit(t) | ...);
 }
 inline constexpr TaskSet kAirborne =
     tasks(Task::take_off, Task::hover, Task::balance, Task::throwing, Task::release, Task::retreat,
@@ -79,7 +79,7 @@ inline constexpr std::uint32_t request_abort = 1u << 21;
 inline constexpr std::uint32_t request_land = 1u << 22;
 inline constexpr int kCount = 23;
 }  // namespace condition
-std::string_view conditionName(int bit);
+std::string_view condition_name(int bit);
 
 enum class Reason : std::uint8_t {
   none,
@@ -109,7 +109,7 @@ enum class Reason : std::uint8_t {
   pole_upright,
   pole_down,
 };
-std::string_view reasonName(Reason reason);
+std::string_view reason_name(Reason reason);
 
 struct Transition {
   TaskSet from;
@@ -169,15 +169,15 @@ inline constexpr std::array kTransitions = {
 };
 
 // The first row of kTransitions that matches `task` under `conditions`, or nullptr.
-const Transition* findTransition(Task task, std::uint32_t conditions);
+const Transition* find_transition(Task task, std::uint32_t conditions);
 
 // One vehicle's sequencer: its task, since when, and the last transition taken.
 class VehicleSequencer {
  public:
   Task task() const { return task_; }
   double taskSince_s() const { return since_s_; }
-  Reason lastReason() const { return reason_; }
-  std::uint32_t lastConditions() const { return conditions_; }
+  Reason last_reason() const { return reason_; }
+  std::uint32_t last_conditions() const { return conditions_; }
 
   // At most one transition; true if the task changed.
   bool step(std::uint32_t conditions, double now_s);

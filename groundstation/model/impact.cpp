@@ -4,39 +4,39 @@
 
 namespace gs::model {
 
-PoleState withLowerEndAsBase(const PoleState& state) {
+PoleState with_lower_end_as_base(const PoleState& state) {
   PoleState out = state;
   if (state.n.z() < 0.0) out.n = -state.n;
   return out;
 }
 
-Eigen::Vector3d poleAngularMomentumAbout(const PoleState& state, const Eigen::Vector3d& point_m,
-                                         const PoleParams& params) {
+Eigen::Vector3d pole_angular_momentum_about(const PoleState& state, const Eigen::Vector3d& point_m,
+                                            const PoleParams& params) {
   const Eigen::Vector3d omega_normal = state.omega_radps - state.omega_radps.dot(state.n) * state.n;
   return poleInertia_kgm2(params) * omega_normal + params.mass_kg * (state.p_m - point_m).cross(state.v_mps);
 }
 
-ImpactResult impactMap(const PoleState& before, const Eigen::Vector3d& plate_velocity_mps,
-                       const PoleParams& params) {
+ImpactResult impact_map(const PoleState& before, const Eigen::Vector3d& plate_velocity_mps,
+                        const PoleParams& params) {
   const double length = params.half_length_m;
-  const PoleState pole = normalisedPoleState(withLowerEndAsBase(before));
+  const PoleState pole = normalised_pole_state(with_lower_end_as_base(before));
   ImpactResult result;
   result.contact_point_m = pole.p_m - length * pole.n;
   result.after = pole;
   result.after.omega_radps =
       0.25 * pole.omega_radps + (0.75 / length) * pole.n.cross(pole.v_mps - plate_velocity_mps);
   result.after.v_mps = plate_velocity_mps + length * result.after.omega_radps.cross(pole.n);
-  result.on_vehicle = poleOnVehicleStateFromFreeFlight(result.after, params);
+  result.on_vehicle = pole_on_vehicle_state_from_free_flight(result.after, params);
   result.impulse_Ns = params.mass_kg * (result.after.v_mps - pole.v_mps);
   return result;
 }
 
-PlanarPoleKinematics planarKinematics(const PoleState& state) {
+PlanarPoleKinematics planar_kinematics(const PoleState& state) {
   return {std::atan2(state.n.x(), state.n.z()), state.omega_radps.y(), state.v_mps.x(), state.v_mps.z()};
 }
 
-PlanarPoleKinematics planarKinematicsFromLowerEnd(const PoleState& state) {
-  return planarKinematics(withLowerEndAsBase(state));
+PlanarPoleKinematics planar_kinematics_from_lower_end(const PoleState& state) {
+  return planar_kinematics(with_lower_end_as_base(state));
 }
 
 double postImpactRate_radps(const PlanarPoleKinematics& before, const PoleParams& params) {
@@ -67,7 +67,7 @@ double catchingConditionResidual_radps(const PlanarPoleKinematics& before, const
 }
 
 double catchingConditionResidual_radps(const PoleState& before, const PoleParams& params) {
-  return catchingConditionResidual_radps(planarKinematicsFromLowerEnd(before), params);
+  return catchingConditionResidual_radps(planar_kinematics_from_lower_end(before), params);
 }
 
 }  // namespace gs::model

@@ -50,11 +50,11 @@ namespace gs::model {
 
 // The same pole with n pointing from its lower end up to its centre (n_z >= 0); Omega unchanged
 // (the same rigid-body motion).
-PoleState withLowerEndAsBase(const PoleState& state);
+PoleState with_lower_end_as_base(const PoleState& state);
 
 // Angular momentum of the pole about a fixed point (kg m^2/s): Theta Omega_perp + m_p r x v.
-Eigen::Vector3d poleAngularMomentumAbout(const PoleState& state, const Eigen::Vector3d& point_m,
-                                         const PoleParams& params);
+Eigen::Vector3d pole_angular_momentum_about(const PoleState& state, const Eigen::Vector3d& point_m,
+                                            const PoleParams& params);
 
 struct ImpactResult {
   Eigen::Vector3d contact_point_m = Eigen::Vector3d::Zero();  // the lower end at impact
@@ -65,8 +65,8 @@ struct ImpactResult {
 
 // The 3D impact map (see the header comment): the lower end sticks to a plate moving with
 // plate_velocity_mps (the catching vehicle's velocity).
-ImpactResult impactMap(const PoleState& before, const Eigen::Vector3d& plate_velocity_mps,
-                       const PoleParams& params);
+ImpactResult impact_map(const PoleState& before, const Eigen::Vector3d& plate_velocity_mps,
+                        const PoleParams& params);
 
 // The planar quantities of the header's convention for a pole flying in the xz-plane: alpha and
 // alpha' of the direction n (from the end taken as the contact end to the centre) and the
@@ -79,11 +79,11 @@ struct PlanarPoleKinematics {
   double z_dot_mps = 0.0;
 };
 // With the tail end p - L n as the contact end (alpha in (-pi, pi]).
-PlanarPoleKinematics planarKinematics(const PoleState& state);
-// With the lower end as the contact end (|alpha| <= pi/2): planarKinematics(withLowerEndAsBase()).
+PlanarPoleKinematics planar_kinematics(const PoleState& state);
+// With the lower end as the contact end (|alpha| <= pi/2): planar_kinematics(with_lower_end_as_base()).
 // Note that alpha jumps by pi when the pole passes the horizontal and the other end becomes the
 // lower one; eq. (42) is continuous in time only between such instants.
-PlanarPoleKinematics planarKinematicsFromLowerEnd(const PoleState& state);
+PlanarPoleKinematics planar_kinematics_from_lower_end(const PoleState& state);
 
 // alpha'+ for a plate at rest, eq. (40).
 double postImpactRate_radps(const PlanarPoleKinematics& before, const PoleParams& params);
@@ -93,7 +93,7 @@ double uprightEnergy_J(const PoleParams& params);
 double pivotedPoleEnergy_J(double alpha_rad, double alpha_dot_radps, const PoleParams& params);
 // The rate on the separatrix branch that ends at the upright: -sqrt(3 g / L) sin(alpha / 2).
 double swingUpRate_radps(double alpha_rad, const PoleParams& params);
-// This file's eq. (42): C = 4 (alpha'+ - swingUpRate). Zero at the optimal catching instant.
+// This file's eq. (42): C = 4 (alpha'+ - swing_up_rate). Zero at the optimal catching instant.
 double catchingConditionResidual_radps(const PlanarPoleKinematics& before, const PoleParams& params);
 // The same for a free-flying pole, with its lower end as the contact end.
 double catchingConditionResidual_radps(const PoleState& before, const PoleParams& params);

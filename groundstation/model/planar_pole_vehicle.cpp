@@ -4,8 +4,8 @@
 
 namespace gs::model {
 
-PlanarLinearisation linearisePlanarPoleVehicle(const PlanarState<double>& s, const PlanarInput<double>& u,
-                                               const PlanarPoleVehicleParams& params) {
+PlanarLinearisation linearise_planar_pole_vehicle(const PlanarState<double>& s, const PlanarInput<double>& u,
+                                                  const PlanarPoleVehicleParams& params) {
   constexpr int kN = planar::kStateSize + planar::kInputSize;
   using Ad = Eigen::AutoDiffScalar<Eigen::Matrix<double, kN, 1>>;
   PlanarState<Ad> s_ad;
@@ -14,7 +14,7 @@ PlanarLinearisation linearisePlanarPoleVehicle(const PlanarState<double>& s, con
   for (int j = 0; j < planar::kInputSize; ++j) {
     u_ad(j) = Ad(u(j), kN, planar::kStateSize + j);
   }
-  const PlanarState<Ad> f = planarPoleVehicleDynamics<Ad>(s_ad, u_ad, params);
+  const PlanarState<Ad> f = planar_pole_vehicle_dynamics<Ad>(s_ad, u_ad, params);
   PlanarLinearisation lin;
   for (int r = 0; r < planar::kStateSize; ++r) {
     if (f(r).derivatives().size() != kN) {  // an output with no dependence at all

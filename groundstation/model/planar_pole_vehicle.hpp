@@ -90,8 +90,8 @@ Scalar planarNormalForcePerMass_mps2(const PlanarState<Scalar>& s, const PlanarI
 // s' = f(s, u): eq. (4) and (5) in the xz-plane (phi = psi = 0, so theta' = Omega_y) and the
 // pendulum equation above.
 template <typename Scalar>
-PlanarState<Scalar> planarPoleVehicleDynamics(const PlanarState<Scalar>& s, const PlanarInput<Scalar>& u,
-                                              const PlanarPoleVehicleParams& params = {}) {
+PlanarState<Scalar> planar_pole_vehicle_dynamics(const PlanarState<Scalar>& s, const PlanarInput<Scalar>& u,
+                                                 const PlanarPoleVehicleParams& params = {}) {
   using std::cos;
   using std::sin;
   const Scalar& theta = s(planar::kTheta);
@@ -109,13 +109,13 @@ PlanarState<Scalar> planarPoleVehicleDynamics(const PlanarState<Scalar>& s, cons
 }
 
 // A = df/ds, B = df/du at (s, u), by forward automatic differentiation of
-// planarPoleVehicleDynamics (planar_pole_vehicle.cpp): the linearisation for the LQR designs.
+// planar_pole_vehicle_dynamics (planar_pole_vehicle.cpp): the linearisation for the LQR designs.
 struct PlanarLinearisation {
   Eigen::Matrix<double, planar::kStateSize, planar::kStateSize> A;
   Eigen::Matrix<double, planar::kStateSize, planar::kInputSize> B;
 };
-PlanarLinearisation linearisePlanarPoleVehicle(const PlanarState<double>& s, const PlanarInput<double>& u,
-                                               const PlanarPoleVehicleParams& params = {});
+PlanarLinearisation linearise_planar_pole_vehicle(const PlanarState<double>& s, const PlanarInput<double>& u,
+                                                  const PlanarPoleVehicleParams& params = {});
 
 // The launch condition F_N = 0 (Section III-A) solved for the thrust: with delta = alpha - theta,
 // a_q (1 - (3/4) sin^2 delta) = L alpha'^2 cos delta. The bracket is at least 1/4, so the

@@ -20,7 +20,7 @@ constexpr double kGaussWeights[kGaussPoints] = {0.3478548451374538, 0.6521451548
 //   K2 = 1/8 [t s (2 t^2 + a^2) - a^4 asinh(t/a)],   s = sqrt(t^2 + a^2).
 // asinh(t1/a) - asinh(t0/a) = log((t1 + s1) / (t0 + s0)), with t + s = a^2 / (s - t) for t < 0
 // (no cancellation); for a -> 0 the a^2 log terms vanish. s1^3 - s0^3 is factored to avoid
-// cancellation. Used only for a < 3L and |xi*| < 4L, i.e. |t| < 5L (see poleDrag), where the
+// cancellation. Used only for a < 3L and |xi*| < 4L, i.e. |t| < 5L (see pole_drag), where the
 // rounding error stays within a few hundred ulp of the integrals.
 struct SqrtMoments {
   double k0;
@@ -28,7 +28,7 @@ struct SqrtMoments {
   double k2;
 };
 
-inline SqrtMoments sqrtMoments(double t0, double t1, double a_sq) {
+inline SqrtMoments sqrt_moments(double t0, double t1, double a_sq) {
   const double s0 = std::sqrt(t0 * t0 + a_sq);
   const double s1 = std::sqrt(t1 * t1 + a_sq);
   double log_ratio = 0.0;
@@ -45,7 +45,7 @@ inline SqrtMoments sqrtMoments(double t0, double t1, double a_sq) {
 
 }  // namespace
 
-PoleParams withoutDrag(PoleParams params) {
+PoleParams without_drag(PoleParams params) {
   params.drag_axial = 0.0;
   params.drag_normal = 0.0;
   params.drag_rotational = 0.0;
@@ -71,11 +71,11 @@ double poleInertia_kgm2(const PoleParams& params) {
 //    vanishes (planar flight: d = 0, a kink inside the pole) or nearly so (the complex
 //    singularity xi* +/- i a): a plain Gauss rule converges slowly there (a 2 x 6-point rule
 //    split at xi* still errs by 1.5e-4). These moments are evaluated in closed form
-//    (sqrtMoments, exact up to rounding) whenever the singularity lies within 3L of the pole;
+//    (sqrt_moments, exact up to rounding) whenever the singularity lies within 3L of the pole;
 //    further away the integrand is smooth on [-L, L] and a single 4-point Gauss rule errs by
 //    below 1e-6 (Bernstein ellipse rho >= 5.8), with no log and no cancellation from a large
 //    |xi*| or a. Pinned against a fine trapezoid of (10)-(15) in the tests.
-PoleDrag poleDrag(const PoleState& state, const PoleParams& params) {
+PoleDrag pole_drag(const PoleState& state, const PoleParams& params) {
   const double length = params.half_length_m;
   const Eigen::Vector3d& n = state.n;
   const double v_axial = state.v_mps.dot(n);
@@ -124,11 +124,11 @@ PoleDrag poleDrag(const PoleState& state, const PoleParams& params) {
   const double t1 = length - xi_star;
   const double w_norm = std::sqrt(w_sq);
   if (!normal_far) {
-    const SqrtMoments m = sqrtMoments(t0, t1, d_sq);
+    const SqrtMoments m = sqrt_moments(t0, t1, d_sq);
     normal_integral = w_norm * (m.k1 * w + m.k0 * e);
   }
   if (!torque_far) {
-    const SqrtMoments m = sqrtMoments(t0, t1, big_d_sq);
+    const SqrtMoments m = sqrt_moments(t0, t1, big_d_sq);
     torque_integral = w_norm * ((m.k2 + xi_star * m.k1) * w + (m.k1 + xi_star * m.k0) * e);
   }
   drag.normal_force_N = -params.drag_normal * normal_integral;          // (11)
@@ -136,8 +136,8 @@ PoleDrag poleDrag(const PoleState& state, const PoleParams& params) {
   return drag;
 }
 
-PoleState poleFreeFlightDerivative(const PoleState& state, const PoleParams& params) {
-  const PoleDrag drag = poleDrag(state, params);
+PoleState pole_free_flight_derivative(const PoleState& state, const PoleParams& params) {
+  const PoleDrag drag = pole_drag(state, params);
   PoleState rate;
   rate.p_m = state.v_mps;
   rate.v_mps = (drag.axial_force_N + drag.normal_force_N) / params.mass_kg -
@@ -147,7 +147,7 @@ PoleState poleFreeFlightDerivative(const PoleState& state, const PoleParams& par
   return rate;
 }
 
-PoleState normalisedPoleState(const PoleState& state) {
+PoleState normalised_pole_state(const PoleState& state) {
   PoleState out = state;
   out.n = state.n.normalized();
   out.omega_radps -= out.omega_radps.dot(out.n) * out.n;
@@ -156,19 +156,19 @@ PoleState normalisedPoleState(const PoleState& state) {
 
 // The input is normalised too: a spin left in Omega would, under (19), leak into the normal rate
 // within the step (header comment) and make the result depend on the step length.
-PoleState poleFreeFlightStep(const PoleState& state, double dt_s, const PoleParams& params) {
-  return normalisedPoleState(
-      rk4Step([&params](const PoleState& s) { return poleFreeFlightDerivative(s, params); },
-              normalisedPoleState(state), dt_s));
+PoleState pole_free_flight_step(const PoleState& state, double dt_s, const PoleParams& params) {
+  return normalised_pole_state(
+      rk4_step([&params](const PoleState& s) { return pole_free_flight_derivative(s, params); },
+               normalised_pole_state(state), dt_s));
 }
 
-PoleState propagatePole(const PoleState& state, double duration_s, double max_step_s,
-                        const PoleParams& params) {
+PoleState propagate_pole(const PoleState& state, double duration_s, double max_step_s,
+                         const PoleParams& params) {
   PoleState s = state;
   if (!(duration_s > 0.0) || !(max_step_s > 0.0)) return s;
   const int steps = std::max(1, static_cast<int>(std::ceil(duration_s / max_step_s - 1e-12)));
   const double dt = duration_s / steps;
-  for (int i = 0; i < steps; ++i) s = poleFreeFlightStep(s, dt, params);
+  for (int i = 0; i < steps; ++i) s = pole_free_flight_step(s, dt, params);
   return s;
 }
 

@@ -9,7 +9,7 @@
 // part). The paper keeps the spin constant; with a non-zero spin eq. (19) would also turn the
 // normal rate (the true law is Theta d(Omega_perp)/dt = M_drag, since the angular momentum is
 // Theta Omega_perp by (18)). This model therefore keeps Omega_p normal to n: then (19) is exact,
-// the spin stays zero analytically, and normalisedPoleState() removes the round-off.
+// the spin stays zero analytically, and normalised_pole_state() removes the round-off.
 #pragma once
 
 #include <Eigen/Dense>
@@ -28,7 +28,7 @@ struct PoleParams {
 };
 
 // The same parameters with c_z = c_xy = c_rot = 0 (drag off).
-PoleParams withoutDrag(PoleParams params);
+PoleParams without_drag(PoleParams params);
 
 // Theta = m_p L^2 / 3, the rod's inertia about a transverse axis through its centre, eq. (9).
 double poleInertia_kgm2(const PoleParams& params);
@@ -58,20 +58,20 @@ struct PoleDrag {
 };
 
 // Eq. (10)-(15), integrated along the pole. See pole_free_flight.cpp for the quadrature.
-PoleDrag poleDrag(const PoleState& state, const PoleParams& params);
+PoleDrag pole_drag(const PoleState& state, const PoleParams& params);
 
 // s_p' = f_p(s_p), eq. (20): (16), (19) and (22).
-PoleState poleFreeFlightDerivative(const PoleState& state, const PoleParams& params);
+PoleState pole_free_flight_derivative(const PoleState& state, const PoleParams& params);
 
 // n scaled to unit length and the spin Omega_p . n removed (see the header comment).
-PoleState normalisedPoleState(const PoleState& state);
+PoleState normalised_pole_state(const PoleState& state);
 
-// One RK4 step of eq. (20) of length dt_s from normalisedPoleState(state), normalised again.
-PoleState poleFreeFlightStep(const PoleState& state, double dt_s, const PoleParams& params);
+// One RK4 step of eq. (20) of length dt_s from normalised_pole_state(state), normalised again.
+PoleState pole_free_flight_step(const PoleState& state, double dt_s, const PoleParams& params);
 
 // Integrates eq. (20) over duration_s with steps of at most max_step_s (the last one shorter).
-PoleState propagatePole(const PoleState& state, double duration_s, double max_step_s,
-                        const PoleParams& params);
+PoleState propagate_pole(const PoleState& state, double duration_s, double max_step_s,
+                         const PoleParams& params);
 
 // Total mechanical energy: translational + rotational + potential (zero at z = 0), in J.
 double poleEnergy_J(const PoleState& state, const PoleParams& params);

@@ -28,7 +28,7 @@ VehiclePoleState operator*(double scale, const VehiclePoleState& state) {
   return {scale * state.vehicle, scale * state.pole};
 }
 
-Eigen::Vector3d poleDirectionOnVehicle(const PoleOnVehicleState& pole, const PoleParams& params) {
+Eigen::Vector3d pole_direction_on_vehicle(const PoleOnVehicleState& pole, const PoleParams& params) {
   return Eigen::Vector3d(pole.a_m, pole.b_m, poleHeight_m(pole, params)) / params.half_length_m;
 }
 
@@ -53,22 +53,22 @@ Eigen::Vector2d poleOnVehicleAcceleration_mps2(const PoleOnVehicleState& pole,
   return {r_ddot.x(), r_ddot.y()};
 }
 
-PoleOnVehicleState poleOnVehicleDerivative(const PoleOnVehicleState& pole,
-                                           const Eigen::Vector3d& pivot_acceleration_mps2,
-                                           const PoleParams& params) {
+PoleOnVehicleState pole_on_vehicle_derivative(const PoleOnVehicleState& pole,
+                                              const Eigen::Vector3d& pivot_acceleration_mps2,
+                                              const PoleParams& params) {
   const Eigen::Vector2d acc = poleOnVehicleAcceleration_mps2(pole, pivot_acceleration_mps2, params);
   return {pole.a_dot_mps, pole.b_dot_mps, acc.x(), acc.y()};
 }
 
-VehiclePoleState vehiclePoleDynamics(const VehiclePoleState& state, const VehicleInput& input,
-                                     const PoleParams& params) {
-  const VehicleState vehicle_rate = vehicleDynamics(state.vehicle, input, params.gravity_mps2);
-  return {vehicle_rate, poleOnVehicleDerivative(state.pole, vehicle_rate.v_mps, params)};
+VehiclePoleState vehicle_pole_dynamics(const VehiclePoleState& state, const VehicleInput& input,
+                                       const PoleParams& params) {
+  const VehicleState vehicle_rate = vehicle_dynamics(state.vehicle, input, params.gravity_mps2);
+  return {vehicle_rate, pole_on_vehicle_derivative(state.pole, vehicle_rate.v_mps, params)};
 }
 
 double poleOnVehicleLagrangian_J(const PoleOnVehicleState& pole, const Eigen::Vector3d& pivot_p_m,
                                  const Eigen::Vector3d& pivot_v_mps, const PoleParams& params) {
-  const Eigen::Vector3d n = poleDirectionOnVehicle(pole, params);
+  const Eigen::Vector3d n = pole_direction_on_vehicle(pole, params);
   const Eigen::Vector3d r_dot = poleCentreVelocityRelativeToPivot_mps(pole, params);
   const Eigen::Vector3d p_p = pivot_p_m + params.half_length_m * n;     // (23)
   const Eigen::Vector3d v_p = pivot_v_mps + r_dot;                      // (26)
@@ -79,7 +79,7 @@ double poleOnVehicleLagrangian_J(const PoleOnVehicleState& pole, const Eigen::Ve
 
 double poleOnVehicleEnergy_J(const PoleOnVehicleState& pole, const Eigen::Vector3d& pivot_p_m,
                              const Eigen::Vector3d& pivot_v_mps, const PoleParams& params) {
-  const Eigen::Vector3d n = poleDirectionOnVehicle(pole, params);
+  const Eigen::Vector3d n = pole_direction_on_vehicle(pole, params);
   const Eigen::Vector3d r_dot = poleCentreVelocityRelativeToPivot_mps(pole, params);
   const Eigen::Vector3d omega = n.cross(r_dot / params.half_length_m);
   return 0.5 * params.mass_kg * (pivot_v_mps + r_dot).squaredNorm() +
@@ -87,9 +87,11 @@ double poleOnVehicleEnergy_J(const PoleOnVehicleState& pole, const Eigen::Vector
          params.mass_kg * params.gravity_mps2 * (pivot_p_m.z() + params.half_length_m * n.z());
 }
 
-PoleState freeFlightStateFromPoleOnVehicle(const PoleOnVehicleState& pole, const Eigen::Vector3d& pivot_p_m,
-                                           const Eigen::Vector3d& pivot_v_mps, const PoleParams& params) {
-  const Eigen::Vector3d n = poleDirectionOnVehicle(pole, params);
+PoleState free_flight_state_from_pole_on_vehicle(const PoleOnVehicleState& pole,
+                                                 const Eigen::Vector3d& pivot_p_m,
+                                                 const Eigen::Vector3d& pivot_v_mps,
+                                                 const PoleParams& params) {
+  const Eigen::Vector3d n = pole_direction_on_vehicle(pole, params);
   const Eigen::Vector3d r_dot = poleCentreVelocityRelativeToPivot_mps(pole, params);
   PoleState out;
   out.p_m = pivot_p_m + params.half_length_m * n;
@@ -99,7 +101,7 @@ PoleState freeFlightStateFromPoleOnVehicle(const PoleOnVehicleState& pole, const
   return out;
 }
 
-PoleOnVehicleState poleOnVehicleStateFromFreeFlight(const PoleState& pole, const PoleParams& params) {
+PoleOnVehicleState pole_on_vehicle_state_from_free_flight(const PoleState& pole, const PoleParams& params) {
   const Eigen::Vector3d r = params.half_length_m * pole.n;
   const Eigen::Vector3d r_dot = pole.omega_radps.cross(r);
   return {r.x(), r.y(), r_dot.x(), r_dot.y()};

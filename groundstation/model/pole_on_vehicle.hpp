@@ -34,7 +34,7 @@
 namespace gs::model {
 
 // The pole part of s_qp (31): deflections a, b (m) and their rates (m/s). Also carries the time
-// derivative (a', b', a'', b'') when returned by poleOnVehicleDerivative().
+// derivative (a', b', a'', b'') when returned by pole_on_vehicle_derivative().
 struct PoleOnVehicleState {
   double a_m = 0.0;
   double b_m = 0.0;
@@ -55,7 +55,7 @@ VehiclePoleState operator+(const VehiclePoleState& lhs, const VehiclePoleState& 
 VehiclePoleState operator*(double scale, const VehiclePoleState& state);
 
 // n from (a, b), eq. (24). Requires a^2 + b^2 < L^2.
-Eigen::Vector3d poleDirectionOnVehicle(const PoleOnVehicleState& pole, const PoleParams& params);
+Eigen::Vector3d pole_direction_on_vehicle(const PoleOnVehicleState& pole, const PoleParams& params);
 // r' = L n' = (a', b', c'), eq. (26) without the pivot velocity.
 Eigen::Vector3d poleCentreVelocityRelativeToPivot_mps(const PoleOnVehicleState& pole,
                                                       const PoleParams& params);
@@ -66,13 +66,13 @@ Eigen::Vector2d poleOnVehicleAcceleration_mps2(const PoleOnVehicleState& pole,
                                                const PoleParams& params);
 
 // (a', b', a'', b'') for a pivot with the given acceleration.
-PoleOnVehicleState poleOnVehicleDerivative(const PoleOnVehicleState& pole,
-                                           const Eigen::Vector3d& pivot_acceleration_mps2,
-                                           const PoleParams& params);
+PoleOnVehicleState pole_on_vehicle_derivative(const PoleOnVehicleState& pole,
+                                              const Eigen::Vector3d& pivot_acceleration_mps2,
+                                              const PoleParams& params);
 
 // s_qp' = f_qp(s_qp, u_q), eq. (30): f_q (8) and the pole equations driven by (4).
-VehiclePoleState vehiclePoleDynamics(const VehiclePoleState& state, const VehicleInput& input,
-                                     const PoleParams& params);
+VehiclePoleState vehicle_pole_dynamics(const VehiclePoleState& state, const VehicleInput& input,
+                                       const PoleParams& params);
 
 // The Lagrangian (25)-(27) for a pivot at pivot_p_m moving with pivot_v_mps (J).
 double poleOnVehicleLagrangian_J(const PoleOnVehicleState& pole, const Eigen::Vector3d& pivot_p_m,
@@ -83,11 +83,13 @@ double poleOnVehicleEnergy_J(const PoleOnVehicleState& pole, const Eigen::Vector
 
 // The free-flight state (21) of a pole on a pivot: p_p = p_q + L n (23), p_p' from (26),
 // Omega_p = n x n' (27) (normal to n, as PoleState requires).
-PoleState freeFlightStateFromPoleOnVehicle(const PoleOnVehicleState& pole, const Eigen::Vector3d& pivot_p_m,
-                                           const Eigen::Vector3d& pivot_v_mps, const PoleParams& params);
+PoleState free_flight_state_from_pole_on_vehicle(const PoleOnVehicleState& pole,
+                                                 const Eigen::Vector3d& pivot_p_m,
+                                                 const Eigen::Vector3d& pivot_v_mps,
+                                                 const PoleParams& params);
 
 // The inverse for a pole whose n points from the pivot up to its centre (n_z > 0): a, b from
 // L n, a', b' from L n' = L Omega_p x n. The pivot's velocity is not needed.
-PoleOnVehicleState poleOnVehicleStateFromFreeFlight(const PoleState& pole, const PoleParams& params);
+PoleOnVehicleState pole_on_vehicle_state_from_free_flight(const PoleState& pole, const PoleParams& params);
 
 }  // namespace gs::model

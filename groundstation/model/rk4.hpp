@@ -7,7 +7,7 @@ namespace gs::model {
 
 // One RK4 step of length dt_s for the autonomous system x' = f(x).
 template <typename State, typename F>
-State rk4Step(F&& f, const State& x, double dt_s) {
+State rk4_step(F&& f, const State& x, double dt_s) {
   const State k1 = f(x);
   const State k2 = f(State(x + (0.5 * dt_s) * k1));
   const State k3 = f(State(x + (0.5 * dt_s) * k2));

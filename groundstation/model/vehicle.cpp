@@ -15,7 +15,7 @@ VehicleState operator*(double scale, const VehicleState& state) {
 }
 
 // Passive rotations: the coordinates of a fixed vector in a frame turned by +angle about the axis.
-Eigen::Matrix3d rotationX(double angle_rad) {
+Eigen::Matrix3d rotation_x(double angle_rad) {
   const double c = std::cos(angle_rad);
   const double s = std::sin(angle_rad);
   Eigen::Matrix3d r;
@@ -23,7 +23,7 @@ Eigen::Matrix3d rotationX(double angle_rad) {
   return r;
 }
 
-Eigen::Matrix3d rotationY(double angle_rad) {
+Eigen::Matrix3d rotation_y(double angle_rad) {
   const double c = std::cos(angle_rad);
   const double s = std::sin(angle_rad);
   Eigen::Matrix3d r;
@@ -31,7 +31,7 @@ Eigen::Matrix3d rotationY(double angle_rad) {
   return r;
 }
 
-Eigen::Matrix3d rotationZ(double angle_rad) {
+Eigen::Matrix3d rotation_z(double angle_rad) {
   const double c = std::cos(angle_rad);
   const double s = std::sin(angle_rad);
   Eigen::Matrix3d r;
@@ -39,18 +39,18 @@ Eigen::Matrix3d rotationZ(double angle_rad) {
   return r;
 }
 
-Eigen::Matrix3d rotationBodyFromInertial(double phi_rad, double theta_rad, double psi_rad) {
-  return rotationX(phi_rad) * rotationY(theta_rad) * rotationZ(psi_rad);  // eq. (3)
+Eigen::Matrix3d rotation_body_from_inertial(double phi_rad, double theta_rad, double psi_rad) {
+  return rotation_x(phi_rad) * rotation_y(theta_rad) * rotation_z(psi_rad);  // eq. (3)
 }
 
-Eigen::Matrix3d rotationInertialFromBody(double phi_rad, double theta_rad, double psi_rad) {
-  return rotationBodyFromInertial(phi_rad, theta_rad, psi_rad).transpose();
+Eigen::Matrix3d rotation_inertial_from_body(double phi_rad, double theta_rad, double psi_rad) {
+  return rotation_body_from_inertial(phi_rad, theta_rad, psi_rad).transpose();
 }
 
 // The columns of W are the body-frame images of the three Euler axes: e_x for phi',
 // R_x(phi) e_y for theta', R_x(phi) R_y(theta) e_z for psi'. That is the printed matrix of (5).
-Eigen::Vector3d bodyRatesFromEulerRates(double phi_rad, double theta_rad,
-                                        const Eigen::Vector3d& euler_rates_radps) {
+Eigen::Vector3d body_rates_from_euler_rates(double phi_rad, double theta_rad,
+                                            const Eigen::Vector3d& euler_rates_radps) {
   const double sp = std::sin(phi_rad);
   const double cp = std::cos(phi_rad);
   const double st = std::sin(theta_rad);
@@ -64,8 +64,8 @@ Eigen::Vector3d bodyRatesFromEulerRates(double phi_rad, double theta_rad,
 //   phi'   = Omega_x + tan(theta) (sin(phi) Omega_y + cos(phi) Omega_z)
 //   theta' = cos(phi) Omega_y - sin(phi) Omega_z
 //   psi'   = (sin(phi) Omega_y + cos(phi) Omega_z) / cos(theta)
-Eigen::Vector3d eulerRatesFromBodyRates(double phi_rad, double theta_rad,
-                                        const Eigen::Vector3d& body_rates_radps) {
+Eigen::Vector3d euler_rates_from_body_rates(double phi_rad, double theta_rad,
+                                            const Eigen::Vector3d& body_rates_radps) {
   const double sp = std::sin(phi_rad);
   const double cp = std::cos(phi_rad);
   const double ct = std::cos(theta_rad);
@@ -77,13 +77,13 @@ Eigen::Vector3d eulerRatesFromBodyRates(double phi_rad, double theta_rad,
 // ^I_B R e_z is the third row of ^B_I R = R_x R_y R_z.
 Eigen::Vector3d vehicleAcceleration_mps2(const VehicleState& state, double a_q_mps2, double gravity_mps2) {
   const Eigen::Vector3d thrust_direction =
-      rotationBodyFromInertial(state.phi_rad, state.theta_rad, state.psi_rad).row(2).transpose();
+      rotation_body_from_inertial(state.phi_rad, state.theta_rad, state.psi_rad).row(2).transpose();
   return a_q_mps2 * thrust_direction - Eigen::Vector3d(0.0, 0.0, gravity_mps2);
 }
 
-VehicleState vehicleDynamics(const VehicleState& state, const VehicleInput& input, double gravity_mps2) {
+VehicleState vehicle_dynamics(const VehicleState& state, const VehicleInput& input, double gravity_mps2) {
   const Eigen::Vector3d euler_rates =
-      eulerRatesFromBodyRates(state.phi_rad, state.theta_rad, input.omega_radps);
+      euler_rates_from_body_rates(state.phi_rad, state.theta_rad, input.omega_radps);
   return {state.v_mps, vehicleAcceleration_mps2(state, input.a_q_mps2, gravity_mps2), euler_rates.x(),
           euler_rates.y(), euler_rates.z()};
 }

@@ -34,29 +34,29 @@ struct VehicleInput {
 };
 
 // The elementary passive rotations of eq. (3).
-Eigen::Matrix3d rotationX(double angle_rad);
-Eigen::Matrix3d rotationY(double angle_rad);
-Eigen::Matrix3d rotationZ(double angle_rad);
+Eigen::Matrix3d rotation_x(double angle_rad);
+Eigen::Matrix3d rotation_y(double angle_rad);
+Eigen::Matrix3d rotation_z(double angle_rad);
 
 // ^B_I R (eq. 3): maps inertial coordinates into body coordinates.
-Eigen::Matrix3d rotationBodyFromInertial(double phi_rad, double theta_rad, double psi_rad);
+Eigen::Matrix3d rotation_body_from_inertial(double phi_rad, double theta_rad, double psi_rad);
 // ^I_B R, its inverse (transpose).
-Eigen::Matrix3d rotationInertialFromBody(double phi_rad, double theta_rad, double psi_rad);
+Eigen::Matrix3d rotation_inertial_from_body(double phi_rad, double theta_rad, double psi_rad);
 
 // Body rates from Euler rates: the matrix printed in eq. (5), Omega = W (phi', theta', psi').
-Eigen::Vector3d bodyRatesFromEulerRates(double phi_rad, double theta_rad,
-                                        const Eigen::Vector3d& euler_rates_radps);
+Eigen::Vector3d body_rates_from_euler_rates(double phi_rad, double theta_rad,
+                                            const Eigen::Vector3d& euler_rates_radps);
 // Euler rates (phi', theta', psi') from body rates: eq. (5), i.e. W^-1 Omega (singular at
 // cos theta = 0, the zyx gimbal lock).
-Eigen::Vector3d eulerRatesFromBodyRates(double phi_rad, double theta_rad,
-                                        const Eigen::Vector3d& body_rates_radps);
+Eigen::Vector3d euler_rates_from_body_rates(double phi_rad, double theta_rad,
+                                            const Eigen::Vector3d& body_rates_radps);
 
 // p_q'' = ^I_B R (0, 0, a_q) + (0, 0, -g), eq. (4).
 Eigen::Vector3d vehicleAcceleration_mps2(const VehicleState& state, double a_q_mps2,
                                          double gravity_mps2 = pa::kGravity_mps2);
 
 // s_q' = f_q(s_q, u_q), eq. (8): (4) and (5).
-VehicleState vehicleDynamics(const VehicleState& state, const VehicleInput& input,
-                             double gravity_mps2 = pa::kGravity_mps2);
+VehicleState vehicle_dynamics(const VehicleState& state, const VehicleInput& input,
+                              double gravity_mps2 = pa::kGravity_mps2);
 
 }  // namespace gs::model

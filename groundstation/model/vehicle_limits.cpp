@@ -31,15 +31,15 @@ constexpr int kKeyCount = static_cast<int>(sizeof(kKeys) / sizeof(kKeys[0]));
 
 }  // namespace
 
-VehicleLimitsLoad parseVehicleLimits(std::string_view text, std::string_view source_name) {
+VehicleLimitsLoad parse_vehicle_limits(std::string_view text, std::string_view source_name) {
   const std::string source(source_name);
   VehicleLimits limits;
   int seen_at_line[kKeyCount] = {};
   YAML::Node root;
   std::vector<pa::yaml::Entry> entries;
   std::string error;
-  if (!pa::yaml::parseDocument(text, source, root, error) ||
-      (!root.IsNull() && !pa::yaml::entriesOf(root, source, entries, error))) {
+  if (!pa::yaml::parse_document(text, source, root, error) ||
+      (!root.IsNull() && !pa::yaml::entries_of(root, source, entries, error))) {
     VehicleLimitsLoad result;
     result.error = error;
     return result;
@@ -50,7 +50,7 @@ VehicleLimitsLoad parseVehicleLimits(std::string_view text, std::string_view sou
       if (e.key == kKeys[i].name) index = i;
     }
     if (index < 0) return failure(source_name, e.line, "unknown key `" + e.key + "`");
-    const std::optional<double> value = pa::yaml::finiteNumber(e.value);
+    const std::optional<double> value = pa::yaml::finite_number(e.value);
     if (!value) {
       return failure(source_name, e.line,
                      "value of `" + e.key + "` is not a finite number: `" + pa::yaml::text(e.value) + "`");
@@ -80,16 +80,16 @@ VehicleLimitsLoad parseVehicleLimits(std::string_view text, std::string_view sou
   return result;
 }
 
-VehicleLimitsLoad loadVehicleLimits(const std::string& path) {
+VehicleLimitsLoad load_vehicle_limits(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return failure(path, 0, "cannot open file");
   std::ostringstream buffer;
   buffer << in.rdbuf();
   if (in.bad()) return failure(path, 0, "read error");
-  return parseVehicleLimits(buffer.str(), path);
+  return parse_vehicle_limits(buffer.str(), path);
 }
 
-bool inputWithinLimits(const VehicleInput& input, const VehicleLimits& limits) {
+bool input_within_limits(const VehicleInput& input, const VehicleLimits& limits) {
   if (!(input.a_q_mps2 >= limits.a_q_min_mps2 && input.a_q_mps2 <= limits.a_q_max_mps2)) {
     return false;
   }
@@ -99,7 +99,7 @@ bool inputWithinLimits(const VehicleInput& input, const VehicleLimits& limits) {
   return true;
 }
 
-VehicleInput saturateInput(const VehicleInput& input, const VehicleLimits& limits) {
+VehicleInput saturate_input(const VehicleInput& input, const VehicleLimits& limits) {
   VehicleInput out;
   out.a_q_mps2 = std::clamp(input.a_q_mps2, limits.a_q_min_mps2, limits.a_q_max_mps2);
   for (int i = 0; i < 3; ++i) {

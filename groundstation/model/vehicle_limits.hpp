@@ -24,16 +24,16 @@ struct VehicleLimitsLoad {
 };
 
 // Parses the text (YAML) of a limits file; `source_name` is used in error messages.
-VehicleLimitsLoad parseVehicleLimits(std::string_view text, std::string_view source_name);
+VehicleLimitsLoad parse_vehicle_limits(std::string_view text, std::string_view source_name);
 // Reads and parses a limits file.
-VehicleLimitsLoad loadVehicleLimits(const std::string& path);
+VehicleLimitsLoad load_vehicle_limits(const std::string& path);
 
 // The repository's file relative to the repository root.
 inline constexpr const char* kVehicleLimitsRelativePath = "groundstation/config/vehicle_limits.yaml";
 
 // Eq. (1) and (2).
-bool inputWithinLimits(const VehicleInput& input, const VehicleLimits& limits);
+bool input_within_limits(const VehicleInput& input, const VehicleLimits& limits);
 // The input clamped into the box of eq. (1) and (2), axis by axis.
-VehicleInput saturateInput(const VehicleInput& input, const VehicleLimits& limits);
+VehicleInput saturate_input(const VehicleInput& input, const VehicleLimits& limits);
 
 }  // namespace gs::model

@@ -13,8 +13,8 @@ struct LowerEndHeight {
   double rate_mps;
 };
 
-LowerEndHeight lowerEndHeight(const model::PoleState& s, double catch_height_m,
-                              const model::PoleParams& params) {
+LowerEndHeight lower_end_height(const model::PoleState& s, double catch_height_m,
+                                const model::PoleParams& params) {
   const double sign = s.n.z() >= 0.0 ? 1.0 : -1.0;
   const double n_z_dot = s.omega_radps.x() * s.n.y() - s.omega_radps.y() * s.n.x();
   return {s.p_m.z() - params.half_length_m * sign * s.n.z() - catch_height_m,
@@ -24,7 +24,7 @@ LowerEndHeight lowerEndHeight(const model::PoleState& s, double catch_height_m,
 // Root in [0, 1] of the cubic Hermite interpolant with h(0) = h0 > 0, h(1) = h1 <= 0 and end
 // slopes d0, d1 (already scaled by the step length); bisection keeps it bracketed. Only the
 // first guess: the interpolant is poor when |n_z| has its kink (pole horizontal) in the step.
-double hermiteRoot(double h0, double h1, double d0, double d1) {
+double hermite_root(double h0, double h1, double d0, double d1) {
   const auto h = [&](double u) {
     const double u2 = u * u;
     const double u3 = u2 * u;
@@ -45,32 +45,32 @@ constexpr int kMaxRefinements = 12;
 
 }  // namespace
 
-CatchPointPrediction predictCatchPoint(const model::PoleState& pole, double catch_height_m,
-                                       const model::PoleParams& params,
-                                       const CatchPointPredictorOptions& options) {
+CatchPointPrediction predict_catch_point(const model::PoleState& pole, double catch_height_m,
+                                         const model::PoleParams& params,
+                                         const CatchPointPredictorOptions& options) {
   CatchPointPrediction result;
   if (!(options.step_s > 0.0) || !(options.horizon_s > 0.0) || !std::isfinite(catch_height_m)) {
     return result;
   }
-  model::PoleState s0 = model::normalisedPoleState(pole);
-  LowerEndHeight g0 = lowerEndHeight(s0, catch_height_m, params);
+  model::PoleState s0 = model::normalised_pole_state(pole);
+  LowerEndHeight g0 = lower_end_height(s0, catch_height_m, params);
   double t0 = 0.0;
   while (t0 < options.horizon_s) {
     const double dt = std::min(options.step_s, options.horizon_s - t0);
-    const model::PoleState s1 = model::poleFreeFlightStep(s0, dt, params);
-    const LowerEndHeight g1 = lowerEndHeight(s1, catch_height_m, params);
+    const model::PoleState s1 = model::pole_free_flight_step(s0, dt, params);
+    const LowerEndHeight g1 = lower_end_height(s1, catch_height_m, params);
     if (g0.height_m > 0.0 && g1.height_m <= 0.0) {
       // Safeguarded Newton on the crossing time, each iterate an RK4 sub-step of length tau
       // from the step start (the same integrator as the grid), started from the Hermite guess.
       double lo = 0.0;
       double hi = dt;
       model::PoleState s_hi = s1;
-      double tau = dt * hermiteRoot(g0.height_m, g1.height_m, g0.rate_mps * dt, g1.rate_mps * dt);
+      double tau = dt * hermite_root(g0.height_m, g1.height_m, g0.rate_mps * dt, g1.rate_mps * dt);
       model::PoleState s_tau = s1;
       bool converged = false;
       for (int i = 0; i < kMaxRefinements; ++i) {
-        s_tau = model::poleFreeFlightStep(s0, tau, params);
-        const LowerEndHeight g = lowerEndHeight(s_tau, catch_height_m, params);
+        s_tau = model::pole_free_flight_step(s0, tau, params);
+        const LowerEndHeight g = lower_end_height(s_tau, catch_height_m, params);
         if (std::abs(g.height_m) <= kHeightTolerance_m) {
           converged = true;
           break;

@@ -34,8 +34,8 @@ struct CatchPointPrediction {
 
 // The first instant within the horizon at which the lower end (p_z - L |n_z|) passes downwards
 // through catch_height_m. A pole already at or below the height must rise above it first.
-CatchPointPrediction predictCatchPoint(const model::PoleState& pole, double catch_height_m,
-                                       const model::PoleParams& params,
-                                       const CatchPointPredictorOptions& options = {});
+CatchPointPrediction predict_catch_point(const model::PoleState& pole, double catch_height_m,
+                                         const model::PoleParams& params,
+                                         const CatchPointPredictorOptions& options = {});
 
 }  // namespace gs::planning

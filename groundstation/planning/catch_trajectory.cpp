@@ -26,7 +26,7 @@ bool allFinite(const CatchTrajectoryParams& p) {
 
 }  // namespace
 
-std::string_view toString(CatchParamError error) {
+std::string_view to_string(CatchParamError error) {
   switch (error) {
     case CatchParamError::kNone: return "ok";
     case CatchParamError::kNonFinite: return "a parameter is not finite";
@@ -50,7 +50,7 @@ CatchParamError validate(const CatchTrajectoryParams& p) {
   return CatchParamError::kNone;
 }
 
-std::string_view toString(Feasibility verdict) {
+std::string_view to_string(Feasibility verdict) {
   switch (verdict) {
     case Feasibility::kFeasible: return "feasible";
     case Feasibility::kThrustTooHigh: return "thrust_too_high";
@@ -164,8 +164,8 @@ ZSample MinimaxZManoeuvre::operator()(double t_s) const {
 // ---------------------------------------------------------------------------------------------
 // Nominal inputs, eqs. (46), (47), (4), (5).
 
-NominalInputs nominalInputs(const Eigen::Vector3d& acceleration_mps2, const Eigen::Vector3d& jerk_mps3,
-                            double yaw_rad, double gravity_mps2) {
+NominalInputs nominal_inputs(const Eigen::Vector3d& acceleration_mps2, const Eigen::Vector3d& jerk_mps3,
+                             double yaw_rad, double gravity_mps2) {
   NominalInputs out;
   const Eigen::Vector3d f = acceleration_mps2 + Eigen::Vector3d(0.0, 0.0, gravity_mps2);  // (46)
   const double f_norm = f.norm();
@@ -229,7 +229,7 @@ CatchReference CatchTrajectory::reference(double t_s) const {
   ref.acceleration_mps2 = Eigen::Vector3d(sx.ddq, sy.ddq, sz.ddz);
   ref.jerk_mps3 = Eigen::Vector3d(sx.jerk, sy.jerk, sz.jerk);
   const NominalInputs in =
-      nominalInputs(ref.acceleration_mps2, ref.jerk_mps3, params_.yaw_rad, params_.gravity_mps2);
+      nominal_inputs(ref.acceleration_mps2, ref.jerk_mps3, params_.yaw_rad, params_.gravity_mps2);
   ref.thrust_mps2 = in.thrust_mps2;
   ref.body_rates_radps = in.body_rates_radps;
   ref.roll_rad = in.roll_rad;
@@ -246,7 +246,7 @@ CatchReference CatchTrajectory::reference(double t_s) const {
 //   Omega_y = cos(phi) theta'  =  c J   / (N   sqrt(h^2 c^2 + w^2))
 //   Omega_z = -sin(phi) theta' =  h s c J / (N (h^2 c^2 + w^2))
 // and Omega_x^2 + Omega_y^2 = (J / N^2)^2 = |d/dt (f/|f|)|^2.
-CatchTrajectory::PointInputs CatchTrajectory::xyPhaseInputs(double t_s) const {
+CatchTrajectory::PointInputs CatchTrajectory::xy_phase_inputs(double t_s) const {
   const double T = params_.t_xy_s;
   const double tau = std::clamp((t_s - xyStartTime_s()) / T, 0.0, 1.0);
   const double h = distance_m_ / (T * T) * min_snap_shape::d2(tau);
@@ -278,7 +278,7 @@ CatchTrajectory::PointInputs CatchTrajectory::xyPhaseInputs(double t_s) const {
 //   |Omega_z| = |tan(phi)| |Omega_y| <= (|h| / w) |J| / N^2.
 // Every bound tends to the exact value as the section shrinks, so only a limit met within
 // O(section length) stays undecided down to the 1 ms floor.
-FeasibilityVerdict CatchTrajectory::checkFeasibility(const InputLimits& limits) const {
+FeasibilityVerdict CatchTrajectory::check_feasibility(const InputLimits& limits) const {
   FeasibilityVerdict verdict;
   const double g = params_.gravity_mps2;
   const double a_max = params_.a_max_mps2;
@@ -362,14 +362,14 @@ FeasibilityVerdict CatchTrajectory::checkFeasibility(const InputLimits& limits) 
       if (thrust_hi2 <= thrust_max2 && thrust_lo2 >= thrust_min2 && rate_hi <= rate_max) continue;
 
       const double tm = 0.5 * (s.ta + s.tb);
-      const PointInputs mid = xyPhaseInputs(tm);
+      const PointInputs mid = xy_phase_inputs(tm);
       if (violates(mid)) {
         found_t = tm;
         break;
       }
       if (s.tb - s.ta <= kMinSection_s || top + 2 > static_cast<int>(stack.size())) {
-        const PointInputs pa = xyPhaseInputs(s.ta);
-        const PointInputs pb = xyPhaseInputs(s.tb);
+        const PointInputs pa = xy_phase_inputs(s.ta);
+        const PointInputs pb = xy_phase_inputs(s.tb);
         if (violates(pa) || violates(pb)) {
           found_t = violates(pa) ? s.ta : s.tb;
           break;
@@ -391,7 +391,7 @@ FeasibilityVerdict CatchTrajectory::checkFeasibility(const InputLimits& limits) 
   double rate_hi = 0.0, rate_hi_t = 0.0;
   int rate_axis = 1;
   auto consider = [&](double t) {
-    const PointInputs p = xyPhaseInputs(t);
+    const PointInputs p = xy_phase_inputs(t);
     if (p.thrust_mps2 > thrust_hi) thrust_hi = p.thrust_mps2, thrust_hi_t = t;
     if (p.thrust_mps2 < thrust_lo) thrust_lo = p.thrust_mps2, thrust_lo_t = t;
     if (p.rate_radps > rate_hi) rate_hi = p.rate_radps, rate_hi_t = t, rate_axis = p.axis;

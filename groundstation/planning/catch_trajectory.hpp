@@ -58,7 +58,7 @@ enum class CatchParamError {
   kNonPositiveGravity,
   kHoldTooShort,  // T_xy < a_max / k_max: no hold phase, (48)/(49) cannot both hold
 };
-std::string_view toString(CatchParamError error);
+std::string_view to_string(CatchParamError error);
 CatchParamError validate(const CatchTrajectoryParams& params);
 
 // Closed-form minimum-snap motion from rest to rest, eqs. (43)-(45): with tau = t/T,
@@ -132,11 +132,11 @@ struct NominalInputs {
   Eigen::Vector3d body_rates_radps = Eigen::Vector3d::Zero();
   double roll_rad = 0, pitch_rad = 0;
 };
-NominalInputs nominalInputs(const Eigen::Vector3d& acceleration_mps2, const Eigen::Vector3d& jerk_mps3,
-                            double yaw_rad, double gravity_mps2 = pa::kGravity_mps2);
+NominalInputs nominal_inputs(const Eigen::Vector3d& acceleration_mps2, const Eigen::Vector3d& jerk_mps3,
+                             double yaw_rad, double gravity_mps2 = pa::kGravity_mps2);
 
 enum class Feasibility { kFeasible, kThrustTooHigh, kThrustTooLow, kRatesTooHigh };
-std::string_view toString(Feasibility verdict);
+std::string_view to_string(Feasibility verdict);
 
 struct LimitViolation {
   bool violated = false;
@@ -146,7 +146,7 @@ struct LimitViolation {
   int axis = -1;  // rates: 0, 1, 2 for Omega_x, Omega_y, Omega_z
 };
 
-// What checkFeasibility guarantees (see catch_trajectory.cpp for the bounds):
+// What check_feasibility guarantees (see catch_trajectory.cpp for the bounds):
 // - Phases [t0, t3] (xy at rest): exact. The thrust is z'' + g, extremes g - a_max and g + a_max,
 //   and the body rates are zero (the jerk is parallel to f).
 // - Phases [t3, t4] and [t4, t5] (xy moving): recursive bisection. On each section rigorous upper
@@ -176,10 +176,10 @@ class CatchTrajectory {
   static std::optional<CatchTrajectory> create(const CatchTrajectoryParams& params);
 
   CatchReference reference(double t_s) const;
-  FeasibilityVerdict checkFeasibility(const InputLimits& limits) const;
+  FeasibilityVerdict check_feasibility(const InputLimits& limits) const;
 
   const CatchTrajectoryParams& params() const { return params_; }
-  const MinimaxZManoeuvre& zManoeuvre() const { return z_; }
+  const MinimaxZManoeuvre& z_manoeuvre() const { return z_; }
   double duration_s() const { return z_.duration_s(); }                      // T_z (impact time)
   double xyStartTime_s() const { return z_.duration_s() - params_.t_xy_s; }  // t3
   double startHeight_m() const { return z_.startHeight_m(); }                // z0
@@ -191,7 +191,7 @@ class CatchTrajectory {
     double thrust_mps2, rate_radps;
     int axis;
   };
-  PointInputs xyPhaseInputs(double t_s) const;
+  PointInputs xy_phase_inputs(double t_s) const;
 
   CatchTrajectoryParams params_;
   MinimaxZManoeuvre z_;

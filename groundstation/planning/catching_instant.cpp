@@ -15,27 +15,27 @@ namespace {
 
 // Eq. (42) with a fixed choice of contact end (tail if !flip, head if flip): continuous in time
 // for that choice.
-double residualWithBase(const model::PoleState& state, bool flip, const model::PoleParams& params) {
+double residual_with_base(const model::PoleState& state, bool flip, const model::PoleParams& params) {
   model::PoleState based = state;
   if (flip) based.n = -state.n;
-  return model::catchingConditionResidual_radps(model::planarKinematics(based), params);
+  return model::catchingConditionResidual_radps(model::planar_kinematics(based), params);
 }
 
-bool headIsLower(const model::PoleState& state) { return state.n.z() < 0.0; }
+bool head_is_lower(const model::PoleState& state) { return state.n.z() < 0.0; }
 
 // The state tau after `start`, from a single RK4 step: the same integrator as the step grid.
-model::PoleState stateAt(const model::PoleState& start, double tau_s, const model::PoleParams& params) {
+model::PoleState state_at(const model::PoleState& start, double tau_s, const model::PoleParams& params) {
   if (!(tau_s > 0.0)) return start;
-  return model::poleFreeFlightStep(start, tau_s, params);
+  return model::pole_free_flight_step(start, tau_s, params);
 }
 
-// Bisection for the root of residualWithBase(flip) in [lo, hi] (a sign change is known).
-double bisectResidual(const model::PoleState& start, double lo, double hi, bool flip,
-                      const model::PoleParams& params, double tolerance_s) {
-  double r_lo = residualWithBase(stateAt(start, lo, params), flip, params);
+// Bisection for the root of residual_with_base(flip) in [lo, hi] (a sign change is known).
+double bisect_residual(const model::PoleState& start, double lo, double hi, bool flip,
+                       const model::PoleParams& params, double tolerance_s) {
+  double r_lo = residual_with_base(state_at(start, lo, params), flip, params);
   while (hi - lo > tolerance_s) {
     const double mid = 0.5 * (lo + hi);
-    const double r_mid = residualWithBase(stateAt(start, mid, params), flip, params);
+    const double r_mid = residual_with_base(state_at(start, mid, params), flip, params);
     if ((r_mid > 0.0) == (r_lo > 0.0) && r_mid != 0.0) {
       lo = mid;
       r_lo = r_mid;
@@ -46,29 +46,29 @@ double bisectResidual(const model::PoleState& start, double lo, double hi, bool 
   return 0.5 * (lo + hi);
 }
 
-bool signChange(double a, double b) { return (a > 0.0 && b <= 0.0) || (a < 0.0 && b >= 0.0); }
+bool sign_change(double a, double b) { return (a > 0.0 && b <= 0.0) || (a < 0.0 && b >= 0.0); }
 
 constexpr std::array<const char*, 11> kThrowCsvColumns = {
     "t", "x", "z", "vx", "vz", "theta", "alpha", "alpha_dot", "a_q", "omega_y", "F_N"};
 
-std::string_view trimField(std::string_view s) {
+std::string_view trim_field(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
   while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
   return s;
 }
 
-std::vector<std::string_view> splitCsvLine(std::string_view line) {
+std::vector<std::string_view> split_csv_line(std::string_view line) {
   std::vector<std::string_view> fields;
   while (true) {
     const std::size_t comma = line.find(',');
-    fields.push_back(trimField(line.substr(0, comma)));
+    fields.push_back(trim_field(line.substr(0, comma)));
     if (comma == std::string_view::npos) break;
     line.remove_prefix(comma + 1);
   }
   return fields;
 }
 
-LaunchStateLoad csvFailure(std::string_view source, int line, const std::string& what) {
+LaunchStateLoad csv_failure(std::string_view source, int line, const std::string& what) {
   LaunchStateLoad result;
   result.line = line;
   result.error = std::string(source) + (line > 0 ? ":" + std::to_string(line) : "") + ": " + what;
@@ -77,7 +77,7 @@ LaunchStateLoad csvFailure(std::string_view source, int line, const std::string&
 
 }  // namespace
 
-LaunchStateLoad parseThrowCsvLaunchState(std::string_view text, std::string_view source_name) {
+LaunchStateLoad parse_throw_csv_launch_state(std::string_view text, std::string_view source_name) {
   std::array<int, kThrowCsvColumns.size()> column{};
   column.fill(-1);
   std::size_t header_fields = 0;
@@ -87,27 +87,27 @@ LaunchStateLoad parseThrowCsvLaunchState(std::string_view text, std::string_view
   int line_number = 0;
   while (!text.empty()) {
     const std::size_t eol = text.find('\n');
-    const std::string_view line = trimField(text.substr(0, eol));
+    const std::string_view line = trim_field(text.substr(0, eol));
     text = eol == std::string_view::npos ? std::string_view{} : text.substr(eol + 1);
     ++line_number;
     if (line.empty()) continue;
-    const std::vector<std::string_view> fields = splitCsvLine(line);
+    const std::vector<std::string_view> fields = split_csv_line(line);
     if (!have_header) {
       for (std::size_t i = 0; i < fields.size(); ++i) {
         for (std::size_t k = 0; k < kThrowCsvColumns.size(); ++k) {
           if (fields[i] != kThrowCsvColumns[k]) continue;
           if (column[k] >= 0) {
-            return csvFailure(source_name, line_number,
-                              "duplicate column `" + std::string(fields[i]) + "` in the header");
+            return csv_failure(source_name, line_number,
+                               "duplicate column `" + std::string(fields[i]) + "` in the header");
           }
           column[k] = static_cast<int>(i);
         }
       }
       for (std::size_t k = 0; k < kThrowCsvColumns.size(); ++k) {
         if (column[k] < 0) {
-          return csvFailure(source_name, line_number,
-                            std::string("header lacks column `") + kThrowCsvColumns[k] +
-                                "` (expected t,x,z,vx,vz,theta,alpha,alpha_dot,a_q,omega_y,F_N)");
+          return csv_failure(source_name, line_number,
+                             std::string("header lacks column `") + kThrowCsvColumns[k] +
+                                 "` (expected t,x,z,vx,vz,theta,alpha,alpha_dot,a_q,omega_y,F_N)");
         }
       }
       header_fields = fields.size();
@@ -115,7 +115,7 @@ LaunchStateLoad parseThrowCsvLaunchState(std::string_view text, std::string_view
       continue;
     }
     if (fields.size() != header_fields) {
-      return csvFailure(
+      return csv_failure(
           source_name, line_number,
           "expected " + std::to_string(header_fields) + " fields, got " + std::to_string(fields.size()));
     }
@@ -124,7 +124,7 @@ LaunchStateLoad parseThrowCsvLaunchState(std::string_view text, std::string_view
       const std::string_view f = fields[i];
       const auto [ptr, ec] = std::from_chars(f.data(), f.data() + f.size(), row[i]);
       if (f.empty() || ec != std::errc{} || ptr != f.data() + f.size() || !std::isfinite(row[i])) {
-        return csvFailure(
+        return csv_failure(
             source_name, line_number,
             "field " + std::to_string(i + 1) + " is not a finite number: `" + std::string(f) + "`");
       }
@@ -132,8 +132,8 @@ LaunchStateLoad parseThrowCsvLaunchState(std::string_view text, std::string_view
     last_row = std::move(row);
     last_row_line = line_number;
   }
-  if (!have_header) return csvFailure(source_name, 0, "empty file (no header row)");
-  if (last_row.empty()) return csvFailure(source_name, line_number, "no data rows after the header");
+  if (!have_header) return csv_failure(source_name, 0, "empty file (no header row)");
+  if (last_row.empty()) return csv_failure(source_name, line_number, "no data rows after the header");
   const auto value = [&](const char* name) {
     for (std::size_t k = 0; k < kThrowCsvColumns.size(); ++k) {
       if (std::string_view(kThrowCsvColumns[k]) == name) return last_row[column[k]];
@@ -147,20 +147,20 @@ LaunchStateLoad parseThrowCsvLaunchState(std::string_view text, std::string_view
   return result;
 }
 
-LaunchStateLoad loadThrowCsvLaunchState(const std::string& path) {
+LaunchStateLoad load_throw_csv_launch_state(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) return csvFailure(path, 0, "cannot open file");
+  if (!in) return csv_failure(path, 0, "cannot open file");
   std::ostringstream buffer;
   buffer << in.rdbuf();
-  if (in.bad()) return csvFailure(path, 0, "read error");
-  return parseThrowCsvLaunchState(buffer.str(), path);
+  if (in.bad()) return csv_failure(path, 0, "read error");
+  return parse_throw_csv_launch_state(buffer.str(), path);
 }
 
-PlanarLaunchState fig5LaunchState() { return {1.5, 2.0, 0.3, 5.5, 0.48, 2.5}; }
+PlanarLaunchState fig5_launch_state() { return {1.5, 2.0, 0.3, 5.5, 0.48, 2.5}; }
 
-// Eq. (23), (26), (27) in the plane; the same as model::freeFlightStateFromPoleOnVehicle() with
+// Eq. (23), (26), (27) in the plane; the same as model::free_flight_state_from_pole_on_vehicle() with
 // a = L sin alpha, b = 0 (eq. 32), but also valid for |alpha| >= pi/2, which (24) does not cover.
-model::PoleState poleStateAtLaunch(const PlanarLaunchState& launch, const model::PoleParams& params) {
+model::PoleState pole_state_at_launch(const PlanarLaunchState& launch, const model::PoleParams& params) {
   const double length = params.half_length_m;
   const double s = std::sin(launch.alpha_rad);
   const double c = std::cos(launch.alpha_rad);
@@ -173,22 +173,22 @@ model::PoleState poleStateAtLaunch(const PlanarLaunchState& launch, const model:
   return state;
 }
 
-CatchingInstant findCatchingInstant(const model::PoleState& launch, const model::PoleParams& params,
-                                    const CatchingInstantOptions& options) {
+CatchingInstant find_catching_instant(const model::PoleState& launch, const model::PoleParams& params,
+                                      const CatchingInstantOptions& options) {
   CatchingInstant result;
   if (!(options.step_s > 0.0) || !(options.horizon_s > 0.0)) return result;
   const double tolerance = options.time_tolerance_s > 0.0 ? options.time_tolerance_s : 1e-10;
-  model::PoleState s0 = model::normalisedPoleState(launch);
+  model::PoleState s0 = model::normalised_pole_state(launch);
   double t0 = 0.0;
   while (t0 < options.horizon_s) {
     const double dt = std::min(options.step_s, options.horizon_s - t0);
-    const model::PoleState s1 = model::poleFreeFlightStep(s0, dt, params);
-    const bool flip0 = headIsLower(s0);
-    const bool flip1 = headIsLower(s1);
+    const model::PoleState s1 = model::pole_free_flight_step(s0, dt, params);
+    const bool flip0 = head_is_lower(s0);
+    const bool flip1 = head_is_lower(s1);
     double root = -1.0;
     if (flip0 == flip1) {
-      if (signChange(residualWithBase(s0, flip0, params), residualWithBase(s1, flip0, params))) {
-        root = bisectResidual(s0, 0.0, dt, flip0, params, tolerance);
+      if (sign_change(residual_with_base(s0, flip0, params), residual_with_base(s1, flip0, params))) {
+        root = bisect_residual(s0, 0.0, dt, flip0, params, tolerance);
       }
     } else {
       // The pole passes the horizontal inside this step: find that instant and look for a root
@@ -197,20 +197,21 @@ CatchingInstant findCatchingInstant(const model::PoleState& launch, const model:
       double hi = dt;
       while (hi - lo > tolerance) {
         const double mid = 0.5 * (lo + hi);
-        (headIsLower(stateAt(s0, mid, params)) == flip0 ? lo : hi) = mid;
+        (head_is_lower(state_at(s0, mid, params)) == flip0 ? lo : hi) = mid;
       }
-      const model::PoleState s_lo = stateAt(s0, lo, params);
-      const model::PoleState s_hi = stateAt(s0, hi, params);
-      if (signChange(residualWithBase(s0, flip0, params), residualWithBase(s_lo, flip0, params))) {
-        root = bisectResidual(s0, 0.0, lo, flip0, params, tolerance);
-      } else if (signChange(residualWithBase(s_hi, flip1, params), residualWithBase(s1, flip1, params))) {
-        root = bisectResidual(s0, hi, dt, flip1, params, tolerance);
+      const model::PoleState s_lo = state_at(s0, lo, params);
+      const model::PoleState s_hi = state_at(s0, hi, params);
+      if (sign_change(residual_with_base(s0, flip0, params), residual_with_base(s_lo, flip0, params))) {
+        root = bisect_residual(s0, 0.0, lo, flip0, params, tolerance);
+      } else if (sign_change(residual_with_base(s_hi, flip1, params),
+                             residual_with_base(s1, flip1, params))) {
+        root = bisect_residual(s0, hi, dt, flip1, params, tolerance);
       }
     }
     if (root >= 0.0) {
       result.found = true;
       result.t_s = t0 + root;
-      result.pole = stateAt(s0, root, params);
+      result.pole = state_at(s0, root, params);
       const Eigen::Vector3d lower_end = model::poleLowerEnd_m(result.pole, params);
       result.catch_height_m = lower_end.z();
       result.catch_point_m = lower_end.head<2>();

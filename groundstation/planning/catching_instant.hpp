@@ -28,11 +28,11 @@ struct PlanarLaunchState {
 
 // The end state printed with Fig. 5: (x, z) = (1.5, 2.0) m, (x', z') = (0.3, 5.5) m/s,
 // alpha = 0.48 rad, alpha' = 2.5 rad/s.
-PlanarLaunchState fig5LaunchState();
+PlanarLaunchState fig5_launch_state();
 
 // The pole's free-flight state right after leaving the vehicle: centre p_q + L n (23) with
 // n = (sin alpha, 0, cos alpha), centre velocity p_q' + L n' (26), Omega = (0, alpha', 0) (27).
-model::PoleState poleStateAtLaunch(const PlanarLaunchState& launch, const model::PoleParams& params);
+model::PoleState pole_state_at_launch(const PlanarLaunchState& launch, const model::PoleParams& params);
 
 // The launch state from the throw planner's CSV (`groundstation plan-throw`, DIR/throw.csv): a
 // header row naming the columns t,x,z,vx,vz,theta,alpha,alpha_dot,a_q,omega_y,F_N (any order,
@@ -44,8 +44,8 @@ struct LaunchStateLoad {
   int line = 0;       // the row the launch state came from (1-based)
   std::string error;  // when !ok
 };
-LaunchStateLoad parseThrowCsvLaunchState(std::string_view text, std::string_view source_name);
-LaunchStateLoad loadThrowCsvLaunchState(const std::string& path);
+LaunchStateLoad parse_throw_csv_launch_state(std::string_view text, std::string_view source_name);
+LaunchStateLoad load_throw_csv_launch_state(const std::string& path);
 
 struct CatchingInstantOptions {
   double step_s = 0.005;            // RK4 step of the free-flight simulation
@@ -65,7 +65,7 @@ struct CatchingInstant {
 // Simulates the free flight from `launch` and returns the first instant satisfying (42).
 // A sign change of (42) across the instant the pole passes the horizontal (where the other end
 // becomes the lower one and alpha jumps by pi) is not a root and is skipped.
-CatchingInstant findCatchingInstant(const model::PoleState& launch, const model::PoleParams& params,
-                                    const CatchingInstantOptions& options = {});
+CatchingInstant find_catching_instant(const model::PoleState& launch, const model::PoleParams& params,
+                                      const CatchingInstantOptions& options = {});
 
 }  // namespace gs::planning

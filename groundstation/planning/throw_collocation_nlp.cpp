@@ -23,12 +23,12 @@ constexpr double kInfinity = 2e19;  // IPOPT's default nlp_upper_bound_inf is 1e
 
 // g(p) = (f(s, u), F_N(s, u) / m_p, running cost of (34)) for one collocation point.
 template <typename Scalar>
-Eigen::Matrix<Scalar, kO, 1> pointOutputs(const Eigen::Matrix<Scalar, kP, 1>& p,
-                                          const ThrowProblem& problem) {
+Eigen::Matrix<Scalar, kO, 1> point_outputs(const Eigen::Matrix<Scalar, kP, 1>& p,
+                                           const ThrowProblem& problem) {
   const model::PlanarState<Scalar> s = p.template head<kS>();
   const model::PlanarInput<Scalar> u = p.template tail<planar::kInputSize>();
   Eigen::Matrix<Scalar, kO, 1> out;
-  out.template head<kS>() = model::planarPoleVehicleDynamics<Scalar>(s, u, problem.params);
+  out.template head<kS>() = model::planar_pole_vehicle_dynamics<Scalar>(s, u, problem.params);
   out(ThrowCollocationNlp::kNormalForceOutput) =
       model::planarNormalForcePerMass_mps2<Scalar>(s, u, problem.params);
   const Scalar thrust_dev = u(planar::kThrust) - problem.params.gravity_mps2;
@@ -41,11 +41,11 @@ Eigen::Matrix<Scalar, kO, 1> pointOutputs(const Eigen::Matrix<Scalar, kP, 1>& p,
 
 using Ad = Eigen::AutoDiffScalar<Eigen::Matrix<double, kP, 1>>;
 
-void pointJacobian(const Eigen::Matrix<double, kP, 1>& p, const ThrowProblem& problem,
-                   Eigen::Matrix<double, kO, 1>& value, Eigen::Matrix<double, kO, kP>& jacobian) {
+void point_jacobian(const Eigen::Matrix<double, kP, 1>& p, const ThrowProblem& problem,
+                    Eigen::Matrix<double, kO, 1>& value, Eigen::Matrix<double, kO, kP>& jacobian) {
   Eigen::Matrix<Ad, kP, 1> p_ad;
   for (int i = 0; i < kP; ++i) p_ad(i) = Ad(p(i), kP, i);
-  const Eigen::Matrix<Ad, kO, 1> out = pointOutputs<Ad>(p_ad, problem);
+  const Eigen::Matrix<Ad, kO, 1> out = point_outputs<Ad>(p_ad, problem);
   for (int o = 0; o < kO; ++o) {
     value(o) = out(o).value();
     // A term that does not depend on any variable (a constant output) has empty derivatives.
@@ -60,9 +60,9 @@ void pointJacobian(const Eigen::Matrix<double, kP, 1>& p, const ThrowProblem& pr
 // The Hessian of weights . g(p) over the point variables `vars` (the others held constant), by
 // forward-over-forward AD.
 template <int D>
-Eigen::Matrix<double, D, D> weightedHessian(const Eigen::Matrix<double, kP, 1>& p,
-                                            const Eigen::Matrix<double, kO, 1>& weights,
-                                            const ThrowProblem& problem, const std::array<int, D>& vars) {
+Eigen::Matrix<double, D, D> weighted_hessian(const Eigen::Matrix<double, kP, 1>& p,
+                                             const Eigen::Matrix<double, kO, 1>& weights,
+                                             const ThrowProblem& problem, const std::array<int, D>& vars) {
   using Inner = Eigen::AutoDiffScalar<Eigen::Matrix<double, D, 1>>;
   using Outer = Eigen::AutoDiffScalar<Eigen::Matrix<Inner, D, 1>>;
   const Inner zero(0.0, Eigen::Matrix<double, D, 1>::Zero());
@@ -75,7 +75,7 @@ Eigen::Matrix<double, D, D> weightedHessian(const Eigen::Matrix<double, kP, 1>& 
     p_ad(vars[a]).value() = Inner(p(vars[a]), D, a);
     p_ad(vars[a]).derivatives()(a) = Inner(1.0, Eigen::Matrix<double, D, 1>::Zero());
   }
-  const Eigen::Matrix<Outer, kO, 1> out = pointOutputs<Outer>(p_ad, problem);
+  const Eigen::Matrix<Outer, kO, 1> out = point_outputs<Outer>(p_ad, problem);
   Eigen::Matrix<double, D, D> hessian = Eigen::Matrix<double, D, D>::Zero();
   for (int o = 0; o < kO; ++o) {
     if (weights(o) == 0.0 || out(o).derivatives().size() != D) continue;
@@ -93,10 +93,10 @@ Eigen::Matrix<double, D, D> weightedHessian(const Eigen::Matrix<double, kP, 1>& 
 constexpr std::array<int, 5> kCurved = {planar::kTheta, planar::kAlpha, planar::kAlphaDot,
                                         kS + planar::kThrust, kS + planar::kPitchRate};
 
-Eigen::Matrix<double, kP, kP> pointHessian(const Eigen::Matrix<double, kP, 1>& p,
-                                           const Eigen::Matrix<double, kO, 1>& weights,
-                                           const ThrowProblem& problem) {
-  const Eigen::Matrix<double, 5, 5> curved = weightedHessian<5>(p, weights, problem, kCurved);
+Eigen::Matrix<double, kP, kP> point_hessian(const Eigen::Matrix<double, kP, 1>& p,
+                                            const Eigen::Matrix<double, kO, 1>& weights,
+                                            const ThrowProblem& problem) {
+  const Eigen::Matrix<double, 5, 5> curved = weighted_hessian<5>(p, weights, problem, kCurved);
   Eigen::Matrix<double, kP, kP> hessian = Eigen::Matrix<double, kP, kP>::Zero();
   for (int r = 0; r < 5; ++r) {
     for (int c = 0; c < 5; ++c) hessian(kCurved[r], kCurved[c]) = curved(r, c);
@@ -105,7 +105,7 @@ Eigen::Matrix<double, kP, kP> pointHessian(const Eigen::Matrix<double, kP, 1>& p
 }
 
 // Throws when the model is curved outside kCurved (at a few points with no special values).
-void checkCurvedVariables(const ThrowProblem& problem) {
+void check_curved_variables(const ThrowProblem& problem) {
   std::array<int, kP> all;
   for (int i = 0; i < kP; ++i) all[i] = i;
   for (int trial = 0; trial < 3; ++trial) {
@@ -114,7 +114,7 @@ void checkCurvedVariables(const ThrowProblem& problem) {
     for (int i = 0; i < kP; ++i) p(i) = 0.7 * std::sin(1.3 * i + 2.1 * trial + 0.4) + 0.05 * i;
     p(kS + planar::kThrust) = 7.0 + trial;  // a positive thrust
     for (int o = 0; o < kO; ++o) weights(o) = 1.0 + 0.37 * o + 0.11 * trial;
-    Eigen::Matrix<double, kP, kP> outside = weightedHessian<kP>(p, weights, problem, all);
+    Eigen::Matrix<double, kP, kP> outside = weighted_hessian<kP>(p, weights, problem, all);
     for (int r : kCurved) {
       for (int c : kCurved) outside(r, c) = 0.0;
     }
@@ -126,7 +126,7 @@ void checkCurvedVariables(const ThrowProblem& problem) {
 
 }  // namespace
 
-std::vector<double> throwCollocationMesh(double duration_s, int intervals, double end_refinement) {
+std::vector<double> throw_collocation_mesh(double duration_s, int intervals, double end_refinement) {
   // t = T phi(sigma), phi(sigma) = sigma - r sin(2 pi sigma) / (2 pi): phi' = 1 - r cos(2 pi sigma)
   // is 1 - r at both ends and 1 + r in the middle.
   std::vector<double> knots(intervals + 1);
@@ -142,7 +142,7 @@ std::vector<double> throwCollocationMesh(double duration_s, int intervals, doubl
 
 ThrowCollocationNlp::ThrowCollocationNlp(const ThrowProblem& problem, std::vector<double> knots_s)
     : problem_(problem), intervals_(static_cast<int>(knots_s.size()) - 1), knots_s_(std::move(knots_s)) {
-  checkCurvedVariables(problem_);
+  check_curved_variables(problem_);
   // The structures, in the order eval_jac_g and eval_h write their values. Dense blocks (see
   // the header): an interval's rows on its first knot with its slacks and on its second knot's
   // point; a knot's row on the knot with its slacks.
@@ -156,8 +156,8 @@ ThrowCollocationNlp::ThrowCollocationNlp(const ThrowProblem& problem, std::vecto
   for (int k = 0; k < intervals_; ++k) {
     for (int i = 0; i < kIntervalRows; ++i) add_jac(kIntervalRows * k + i, k, kV + kP);
   }
-  for (int j = 1; j < intervals_; ++j) add_jac(knotRow(j), j, kV);
-  for (int j = 0; j < knotCount(); ++j) {
+  for (int j = 1; j < intervals_; ++j) add_jac(knot_row(j), j, kV);
+  for (int j = 0; j < knot_count(); ++j) {
     for (int r = 0; r < kP; ++r) {
       for (int c = 0; c <= r; ++c) {
         hess_rows_.push_back(var(j, r));
@@ -176,7 +176,7 @@ ThrowCollocationNlp::ThrowCollocationNlp(const ThrowProblem& problem, std::vecto
 }
 
 void ThrowCollocationNlp::evaluate(const double* x, Evaluation& e) const {
-  const int knots = knotCount();
+  const int knots = knot_count();
   e.knot_value.resize(knots);
   e.knot_jacobian.resize(knots);
   e.mid_value.resize(intervals_);
@@ -185,10 +185,10 @@ void ThrowCollocationNlp::evaluate(const double* x, Evaluation& e) const {
   e.mid_map.resize(intervals_);
   e.mid_total.resize(intervals_);
   for (int j = 0; j < knots; ++j) {
-    pointJacobian(Eigen::Map<const PointVector>(x + kV * j), problem_, e.knot_value[j], e.knot_jacobian[j]);
+    point_jacobian(Eigen::Map<const PointVector>(x + kV * j), problem_, e.knot_value[j], e.knot_jacobian[j]);
   }
   for (int k = 0; k < intervals_; ++k) {
-    const double h = intervalLength(k);
+    const double h = interval_length(k);
     const Eigen::Map<const PointVector> p_a(x + kV * k), p_b(x + kV * (k + 1));
     PointVector& p_m = e.mid_point[k];
     p_m = 0.5 * (p_a + p_b);
@@ -199,36 +199,36 @@ void ThrowCollocationNlp::evaluate(const double* x, Evaluation& e) const {
     map.rightCols<kP>().diagonal().setConstant(0.5);
     map.topLeftCorner<kS, kP>() += h / 8.0 * e.knot_jacobian[k].topRows<kS>();
     map.topRightCorner<kS, kP>() -= h / 8.0 * e.knot_jacobian[k + 1].topRows<kS>();
-    pointJacobian(p_m, problem_, e.mid_value[k], e.mid_jacobian[k]);
+    point_jacobian(p_m, problem_, e.mid_value[k], e.mid_jacobian[k]);
     e.mid_total[k] = e.mid_jacobian[k].lazyProduct(map);
   }
 }
 
-void ThrowCollocationNlp::evaluateCached(const double* x) {
-  const Eigen::Map<const Eigen::VectorXd> xv(x, variableCount());
+void ThrowCollocationNlp::evaluate_cached(const double* x) {
+  const Eigen::Map<const Eigen::VectorXd> xv(x, variable_count());
   if (cache_valid_ && cached_x_ == xv) return;
   evaluate(x, cache_);
   cached_x_ = xv;
   cache_valid_ = true;
 }
 
-double ThrowCollocationNlp::slewLimit(int k, int i) const {
+double ThrowCollocationNlp::slew_limit(int k, int i) const {
   const double rate =
       i == planar::kThrust ? problem_.thrust_rate_max_mps3 : problem_.pitch_acceleration_max_radps2;
-  return rate > 0.0 ? rate * intervalLength(k) : kInfinity;
+  return rate > 0.0 ? rate * interval_length(k) : kInfinity;
 }
 
-double ThrowCollocationNlp::pointTime(int point) const {
+double ThrowCollocationNlp::point_time(int point) const {
   const int k = point / 2;
   return point % 2 == 0 ? knots_s_[k] : 0.5 * (knots_s_[k] + knots_s_[k + 1]);
 }
 
-void ThrowCollocationNlp::fixedBounds(Eigen::VectorXd& lower, Eigen::VectorXd& upper) const {
-  const int n = variableCount();
+void ThrowCollocationNlp::fixed_bounds(Eigen::VectorXd& lower, Eigen::VectorXd& upper) const {
+  const int n = variable_count();
   lower.setConstant(n, -kInfinity);
   upper.setConstant(n, kInfinity);
   const model::VehicleLimits& lim = problem_.limits;
-  for (int j = 0; j < knotCount(); ++j) {
+  for (int j = 0; j < knot_count(); ++j) {
     lower(kV * j + kS + planar::kThrust) = lim.a_q_min_mps2;
     upper(kV * j + kS + planar::kThrust) = lim.a_q_max_mps2;
     lower(kV * j + kS + planar::kPitchRate) = -lim.omega_max_radps;
@@ -240,26 +240,26 @@ void ThrowCollocationNlp::fixedBounds(Eigen::VectorXd& lower, Eigen::VectorXd& u
     lower(kV * j + kMidForceSlack) = 0.0;
     upper(kV * j + kMidForceSlack) = has_interval ? kInfinity : 0.0;
     for (int i = 0; i < planar::kInputSize; ++i) {
-      const double limit = has_interval ? slewLimit(j, i) : 0.0;
+      const double limit = has_interval ? slew_limit(j, i) : 0.0;
       lower(kV * j + kSlewSlack + i) = -limit;
       upper(kV * j + kSlewSlack + i) = limit;
     }
   }
   // s(0) = 0 with the hover input; s(T) = s_T with u_T (F_N = 0 exactly).
   PointVector start, end;
-  start << model::PlanarState<double>::Zero(), problem_.hoverInput();
-  end << problem_.launch_state, problem_.launchInput();
+  start << model::PlanarState<double>::Zero(), problem_.hover_input();
+  end << problem_.launch_state, problem_.launch_input();
   lower.head<kP>() = start;
   upper.head<kP>() = start;
   lower.segment<kP>(kV * intervals_) = end;
   upper.segment<kP>(kV * intervals_) = end;
 }
 
-Eigen::VectorXd ThrowCollocationNlp::initialGuess() const {
+Eigen::VectorXd ThrowCollocationNlp::initial_guess() const {
   PointVector start, end;
-  start << model::PlanarState<double>::Zero(), problem_.hoverInput();
-  end << problem_.launch_state, problem_.launchInput();
-  Eigen::VectorXd x = Eigen::VectorXd::Zero(variableCount());
+  start << model::PlanarState<double>::Zero(), problem_.hover_input();
+  end << problem_.launch_state, problem_.launch_input();
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(variable_count());
   for (int j = 0; j <= intervals_; ++j) {
     const double w = static_cast<double>(j) / intervals_;
     x.segment<kP>(kV * j) = (1.0 - w) * start + w * end;
@@ -268,7 +268,7 @@ Eigen::VectorXd ThrowCollocationNlp::initialGuess() const {
   Evaluation e;
   evaluate(x.data(), e);
   Eigen::VectorXd lower, upper;
-  fixedBounds(lower, upper);
+  fixed_bounds(lower, upper);
   for (int j = 0; j <= intervals_; ++j) {
     x(kV * j + kKnotForceSlack) = e.knot_value[j](kNormalForceOutput);
     if (j < intervals_) {
@@ -283,14 +283,14 @@ Eigen::VectorXd ThrowCollocationNlp::initialGuess() const {
   return x;
 }
 
-ThrowTrajectory ThrowCollocationNlp::trajectoryFrom(const Eigen::VectorXd& x) const {
+ThrowTrajectory ThrowCollocationNlp::trajectory_from(const Eigen::VectorXd& x) const {
   Evaluation e;
   evaluate(x.data(), e);
   ThrowTrajectory traj;
   traj.params = problem_.params;
-  for (int q = 0; q < pointCount(); ++q) {
+  for (int q = 0; q < point_count(); ++q) {
     const PointVector p = q % 2 == 0 ? PointVector(x.segment<kP>(kV * (q / 2))) : e.mid_point[q / 2];
-    traj.t_s.push_back(pointTime(q));
+    traj.t_s.push_back(point_time(q));
     traj.state.push_back(p.head<kS>());
     traj.input.push_back(p.tail<planar::kInputSize>());
     traj.normal_force_per_mass_mps2.push_back(
@@ -299,24 +299,24 @@ ThrowTrajectory ThrowCollocationNlp::trajectoryFrom(const Eigen::VectorXd& x) co
   return traj;
 }
 
-double ThrowCollocationNlp::maxViolation(const Eigen::VectorXd& x) const {
+double ThrowCollocationNlp::max_violation(const Eigen::VectorXd& x) const {
   // The constraints of (34) on the trajectory itself, not through the slacks.
   Evaluation e;
   evaluate(x.data(), e);
-  Eigen::VectorXd g(constraintCount()), lower, upper;
-  if (!constraintsFrom(x.data(), e, g.data())) return std::numeric_limits<double>::infinity();
+  Eigen::VectorXd g(constraint_count()), lower, upper;
+  if (!constraints_from(x.data(), e, g.data())) return std::numeric_limits<double>::infinity();
   double worst = 0.0;
   for (int k = 0; k < intervals_; ++k) {
     worst = std::max(worst, g.segment<kS>(kIntervalRows * k).cwiseAbs().maxCoeff());
     worst = std::max(worst, -e.mid_value[k](kNormalForceOutput));
     for (int i = 0; i < planar::kInputSize; ++i) {
       const double slew = x(kV * (k + 1) + kS + i) - x(kV * k + kS + i);
-      worst = std::max(worst, std::abs(slew) - slewLimit(k, i));
+      worst = std::max(worst, std::abs(slew) - slew_limit(k, i));
     }
   }
   // F_N >= 0 at every knot, the fixed end knots included.
   for (const OutputVector& v : e.knot_value) worst = std::max(worst, -v(kNormalForceOutput));
-  fixedBounds(lower, upper);
+  fixed_bounds(lower, upper);
   for (int j = 0; j <= intervals_; ++j) {
     for (int d = 0; d < kP; ++d) {
       const int i = kV * j + d;
@@ -328,10 +328,10 @@ double ThrowCollocationNlp::maxViolation(const Eigen::VectorXd& x) const {
 
 bool ThrowCollocationNlp::get_nlp_info(Ipopt::Index& n, Ipopt::Index& m, Ipopt::Index& nnz_jac_g,
                                        Ipopt::Index& nnz_h_lag, IndexStyleEnum& index_style) {
-  n = variableCount();
-  m = constraintCount();
-  nnz_jac_g = jacobianNonzeros();
-  nnz_h_lag = hessianNonzeros();
+  n = variable_count();
+  m = constraint_count();
+  nnz_jac_g = jacobian_nonzeros();
+  nnz_h_lag = hessian_nonzeros();
   index_style = C_STYLE;
   return true;
 }
@@ -339,7 +339,7 @@ bool ThrowCollocationNlp::get_nlp_info(Ipopt::Index& n, Ipopt::Index& m, Ipopt::
 bool ThrowCollocationNlp::get_bounds_info(Ipopt::Index n, Ipopt::Number* x_l, Ipopt::Number* x_u,
                                           Ipopt::Index m, Ipopt::Number* g_l, Ipopt::Number* g_u) {
   Eigen::VectorXd lower, upper;
-  fixedBounds(lower, upper);
+  fixed_bounds(lower, upper);
   Eigen::Map<Eigen::VectorXd>(x_l, n) = lower;
   Eigen::Map<Eigen::VectorXd>(x_u, n) = upper;
   std::fill(g_l, g_l + m, 0.0);  // every row is an equality; the inequalities are on slacks
@@ -351,15 +351,15 @@ bool ThrowCollocationNlp::get_starting_point(Ipopt::Index n, bool init_x, Ipopt:
                                              Ipopt::Number*, Ipopt::Number*, Ipopt::Index, bool init_lambda,
                                              Ipopt::Number*) {
   if (!init_x || init_z || init_lambda) return false;
-  Eigen::Map<Eigen::VectorXd>(x, n) = initialGuess();
+  Eigen::Map<Eigen::VectorXd>(x, n) = initial_guess();
   return true;
 }
 
 bool ThrowCollocationNlp::eval_f(Ipopt::Index, const Ipopt::Number* x, bool, Ipopt::Number& obj_value) {
-  evaluateCached(x);
+  evaluate_cached(x);
   double sum = 0.0;
   for (int k = 0; k < intervals_; ++k) {
-    sum += intervalLength(k) / 6.0 *
+    sum += interval_length(k) / 6.0 *
            (cache_.knot_value[k](kCostOutput) + 4.0 * cache_.mid_value[k](kCostOutput) +
             cache_.knot_value[k + 1](kCostOutput));
   }
@@ -368,11 +368,11 @@ bool ThrowCollocationNlp::eval_f(Ipopt::Index, const Ipopt::Number* x, bool, Ipo
 }
 
 bool ThrowCollocationNlp::eval_grad_f(Ipopt::Index n, const Ipopt::Number* x, bool, Ipopt::Number* grad_f) {
-  evaluateCached(x);
+  evaluate_cached(x);
   Eigen::Map<Eigen::VectorXd> grad(grad_f, n);
   grad.setZero();
   for (int k = 0; k < intervals_; ++k) {
-    const double h = intervalLength(k);
+    const double h = interval_length(k);
     const auto mid = cache_.mid_total[k].row(kCostOutput);
     grad.segment<kP>(kV * k) +=
         h / 6.0 * (cache_.knot_jacobian[k].row(kCostOutput) + 4.0 * mid.head<kP>()).transpose();
@@ -383,13 +383,13 @@ bool ThrowCollocationNlp::eval_grad_f(Ipopt::Index n, const Ipopt::Number* x, bo
 }
 
 bool ThrowCollocationNlp::eval_g(Ipopt::Index, const Ipopt::Number* x, bool, Ipopt::Index, Ipopt::Number* g) {
-  evaluateCached(x);
-  return constraintsFrom(x, cache_, g);
+  evaluate_cached(x);
+  return constraints_from(x, cache_, g);
 }
 
-bool ThrowCollocationNlp::constraintsFrom(const double* x, const Evaluation& e, double* g) const {
+bool ThrowCollocationNlp::constraints_from(const double* x, const Evaluation& e, double* g) const {
   for (int k = 0; k < intervals_; ++k) {
-    const double h = intervalLength(k);
+    const double h = interval_length(k);
     const double* knot_a = x + kV * k;
     const double* knot_b = x + kV * (k + 1);
     double* row = g + kIntervalRows * k;
@@ -405,9 +405,9 @@ bool ThrowCollocationNlp::constraintsFrom(const double* x, const Evaluation& e, 
     }
   }
   for (int j = 1; j < intervals_; ++j) {
-    g[knotRow(j)] = e.knot_value[j](kNormalForceOutput) - x[kV * j + kKnotForceSlack];
+    g[knot_row(j)] = e.knot_value[j](kNormalForceOutput) - x[kV * j + kKnotForceSlack];
   }
-  for (int r = 0; r < constraintCount(); ++r) {
+  for (int r = 0; r < constraint_count(); ++r) {
     if (!std::isfinite(g[r])) return false;
   }
   return true;
@@ -421,7 +421,7 @@ bool ThrowCollocationNlp::eval_jac_g(Ipopt::Index, const Ipopt::Number* x, bool,
     std::copy(jac_cols_.begin(), jac_cols_.end(), jCol);
     return true;
   }
-  evaluateCached(x);
+  evaluate_cached(x);
   // Each row as its dense block of the structure: (knot a, its slacks, knot b's point).
   Eigen::Matrix<double, 1, kV + kP> row;
   double* out = values;
@@ -429,7 +429,7 @@ bool ThrowCollocationNlp::eval_jac_g(Ipopt::Index, const Ipopt::Number* x, bool,
     for (int d = 0; d < r.size(); ++d) *out++ = r(d);
   };
   for (int k = 0; k < intervals_; ++k) {
-    const SimpsonJacobian simpson = simpsonJacobian(k, cache_);
+    const SimpsonJacobian simpson = simpson_jacobian(k, cache_);
     for (int i = 0; i < kS; ++i) {
       row.setZero();
       row.segment<kP>(0) = simpson.row(i).head<kP>();
@@ -459,9 +459,9 @@ bool ThrowCollocationNlp::eval_jac_g(Ipopt::Index, const Ipopt::Number* x, bool,
   return out - values == nele_jac;
 }
 
-ThrowCollocationNlp::SimpsonJacobian ThrowCollocationNlp::simpsonJacobian(int k, const Evaluation& e) const {
+ThrowCollocationNlp::SimpsonJacobian ThrowCollocationNlp::simpson_jacobian(int k, const Evaluation& e) const {
   // d/d(p_a, p_b) of s_b - s_a - h/6 (f_a + 4 f(p_m) + f_b).
-  const double h = intervalLength(k);
+  const double h = interval_length(k);
   SimpsonJacobian jac = -4.0 * h / 6.0 * e.mid_total[k].topRows<kS>();
   jac.leftCols<kP>() -= h / 6.0 * e.knot_jacobian[k].topRows<kS>();
   jac.rightCols<kP>() -= h / 6.0 * e.knot_jacobian[k + 1].topRows<kS>();
@@ -478,10 +478,10 @@ bool ThrowCollocationNlp::eval_h(Ipopt::Index, const Ipopt::Number* x, bool, Ipo
     std::copy(hess_cols_.begin(), hess_cols_.end(), jCol);
     return true;
   }
-  evaluateCached(x);
-  hessianBlocks(x, cache_, obj_factor, lambda, hess_diagonal_, hess_coupling_);
+  evaluate_cached(x);
+  hessian_blocks(x, cache_, obj_factor, lambda, hess_diagonal_, hess_coupling_);
   double* out = values;
-  for (int j = 0; j < knotCount(); ++j) {
+  for (int j = 0; j < knot_count(); ++j) {
     for (int r = 0; r < kP; ++r) {
       for (int c = 0; c <= r; ++c) {
         *out++ = hess_diagonal_[j](r, c);
@@ -498,15 +498,15 @@ bool ThrowCollocationNlp::eval_h(Ipopt::Index, const Ipopt::Number* x, bool, Ipo
   return out - values == nele_hess;
 }
 
-void ThrowCollocationNlp::hessianBlocks(const double* x, const Evaluation& e, double obj_factor,
-                                        const double* lambda, std::vector<Block>& diagonal,
-                                        std::vector<Block>& coupling) const {
+void ThrowCollocationNlp::hessian_blocks(const double* x, const Evaluation& e, double obj_factor,
+                                         const double* lambda, std::vector<Block>& diagonal,
+                                         std::vector<Block>& coupling) const {
   // The weight of each knot's outputs in the Lagrangian, and the Hessian blocks.
-  std::vector<OutputVector> knot_weight(knotCount(), OutputVector::Zero());
-  diagonal.assign(knotCount(), Block::Zero());
+  std::vector<OutputVector> knot_weight(knot_count(), OutputVector::Zero());
+  diagonal.assign(knot_count(), Block::Zero());
   coupling.resize(intervals_);  // rows of knot k + 1, columns of knot k
   for (int k = 0; k < intervals_; ++k) {
-    const double h = intervalLength(k);
+    const double h = interval_length(k);
     const Eigen::Map<const model::PlanarState<double>> simpson(lambda + kIntervalRows * k);
     OutputVector w_m = OutputVector::Zero();
     w_m.head<kS>() = -4.0 * h / 6.0 * simpson;
@@ -523,7 +523,7 @@ void ThrowCollocationNlp::hessianBlocks(const double* x, const Evaluation& e, do
     knot_weight[k + 1].head<kS>() -= h / 8.0 * slope.head<kS>();
     // The rest is the midpoint's Hessian carried through d p_m / d(p_a, p_b). Coefficient-based
     // products: Eigen's blocked GEMM costs more than the arithmetic at 9 x 9.
-    const Block hess_m = pointHessian(e.mid_point[k], w_m, problem_);
+    const Block hess_m = point_hessian(e.mid_point[k], w_m, problem_);
     const auto map_a = e.mid_map[k].leftCols<kP>();
     const auto map_b = e.mid_map[k].rightCols<kP>();
     const Block ha = hess_m.lazyProduct(map_a), hb = hess_m.lazyProduct(map_b);
@@ -532,10 +532,10 @@ void ThrowCollocationNlp::hessianBlocks(const double* x, const Evaluation& e, do
     coupling[k] = map_b.transpose().lazyProduct(ha);
   }
   for (int j = 1; j < intervals_; ++j) {
-    knot_weight[j](kNormalForceOutput) = lambda[knotRow(j)];
+    knot_weight[j](kNormalForceOutput) = lambda[knot_row(j)];
   }
-  for (int j = 0; j < knotCount(); ++j) {
-    diagonal[j] += pointHessian(Eigen::Map<const PointVector>(x + kV * j), knot_weight[j], problem_);
+  for (int j = 0; j < knot_count(); ++j) {
+    diagonal[j] += point_hessian(Eigen::Map<const PointVector>(x + kV * j), knot_weight[j], problem_);
   }
 }
 

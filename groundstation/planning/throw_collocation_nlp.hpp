@@ -45,7 +45,7 @@ namespace gs::planning {
 // ends to (1 - r) T / N and lengthens the middle ones to (1 + r) T / N, smoothly (a sine map).
 // The optimal throw's inputs change fastest at the fixed end inputs (hover at 0, the launch input
 // at T, which the unconstrained optimum would jump to), so that is where resolution pays.
-std::vector<double> throwCollocationMesh(double duration_s, int intervals, double end_refinement);
+std::vector<double> throw_collocation_mesh(double duration_s, int intervals, double end_refinement);
 
 class ThrowCollocationNlp final : public Ipopt::TNLP {
  public:
@@ -57,31 +57,31 @@ class ThrowCollocationNlp final : public Ipopt::TNLP {
   static constexpr int kCostOutput = model::planar::kStateSize + 1;
 
   // Precondition: problem.validate() is empty; knots_s strictly increasing from 0 to T, at least
-  // two of them (throwCollocationMesh). Throws std::logic_error if the model has become curved
+  // two of them (throw_collocation_mesh). Throws std::logic_error if the model has become curved
   // in variables the point Hessians leave out (x, z, vx, vz; see the implementation).
   ThrowCollocationNlp(const ThrowProblem& problem, std::vector<double> knots_s);
 
   int intervals() const { return intervals_; }
-  int knotCount() const { return intervals_ + 1; }
+  int knot_count() const { return intervals_ + 1; }
   // Collocation points of the trajectory: the knots and the interval midpoints, in time order.
-  int pointCount() const { return 2 * intervals_ + 1; }
-  int variableCount() const { return kKnotSize * knotCount(); }
-  int constraintCount() const { return knotRow(intervals_); }
-  int jacobianNonzeros() const { return static_cast<int>(jac_rows_.size()); }
-  int hessianNonzeros() const { return static_cast<int>(hess_rows_.size()); }
+  int point_count() const { return 2 * intervals_ + 1; }
+  int variable_count() const { return kKnotSize * knot_count(); }
+  int constraint_count() const { return knot_row(intervals_); }
+  int jacobian_nonzeros() const { return static_cast<int>(jac_rows_.size()); }
+  int hessian_nonzeros() const { return static_cast<int>(hess_rows_.size()); }
 
   // The straight line from hover to the launch state, states and inputs alike, with each slack
   // at its row's value moved into its bounds: the starting point given to IPOPT.
-  Eigen::VectorXd initialGuess() const;
+  Eigen::VectorXd initial_guess() const;
   // The trajectory a variable vector describes (with F_N at every point).
-  ThrowTrajectory trajectoryFrom(const Eigen::VectorXd& x) const;
+  ThrowTrajectory trajectory_from(const Eigen::VectorXd& x) const;
   // The largest violation of any constraint or bound at x (dynamics defects, F_N >= 0, input
   // box, fixed end points): the figure to hold against the 1e-6 requirement.
-  double maxViolation(const Eigen::VectorXd& x) const;
+  double max_violation(const Eigen::VectorXd& x) const;
 
   // What IPOPT handed back in finalize_solution.
   const Eigen::VectorXd& solution() const { return solution_; }
-  double solutionObjective() const { return solution_objective_; }
+  double solution_objective() const { return solution_objective_; }
 
   // Ipopt::TNLP.
   bool get_nlp_info(Ipopt::Index& n, Ipopt::Index& m, Ipopt::Index& nnz_jac_g, Ipopt::Index& nnz_h_lag,
@@ -123,17 +123,17 @@ class ThrowCollocationNlp final : public Ipopt::TNLP {
     std::vector<PairJacobian> mid_total;                     // d g(p_m) / d(p_a, p_b)
   };
   void evaluate(const double* x, Evaluation& e) const;
-  void evaluateCached(const double* x);  // into cache_, unless x is the cached point
-  bool constraintsFrom(const double* x, const Evaluation& e, double* g) const;
-  SimpsonJacobian simpsonJacobian(int k, const Evaluation& e) const;  // interval k's 7 rows
+  void evaluate_cached(const double* x);  // into cache_, unless x is the cached point
+  bool constraints_from(const double* x, const Evaluation& e, double* g) const;
+  SimpsonJacobian simpson_jacobian(int k, const Evaluation& e) const;  // interval k's 7 rows
   // The Lagrangian's Hessian as blocks: per knot, and between knots k + 1 (rows) and k.
-  void hessianBlocks(const double* x, const Evaluation& e, double obj_factor, const double* lambda,
-                     std::vector<Block>& diagonal, std::vector<Block>& coupling) const;
-  double intervalLength(int k) const { return knots_s_[k + 1] - knots_s_[k]; }
-  int knotRow(int j) const { return kIntervalRows * intervals_ + j - 1; }  // F_N at knot 1..N-1
-  double slewLimit(int k, int i) const;  // |bound| of interval k's input-i slew; infinity when off
-  double pointTime(int point) const;
-  void fixedBounds(Eigen::VectorXd& lower, Eigen::VectorXd& upper) const;
+  void hessian_blocks(const double* x, const Evaluation& e, double obj_factor, const double* lambda,
+                      std::vector<Block>& diagonal, std::vector<Block>& coupling) const;
+  double interval_length(int k) const { return knots_s_[k + 1] - knots_s_[k]; }
+  int knot_row(int j) const { return kIntervalRows * intervals_ + j - 1; }  // F_N at knot 1..N-1
+  double slew_limit(int k, int i) const;  // |bound| of interval k's input-i slew; infinity when off
+  double point_time(int point) const;
+  void fixed_bounds(Eigen::VectorXd& lower, Eigen::VectorXd& upper) const;
 
   ThrowProblem problem_;
   int intervals_;

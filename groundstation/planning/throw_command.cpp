@@ -6,7 +6,7 @@
 
 namespace gs::planning {
 
-Eigen::VectorXd lateralBalancingState(const Eigen::VectorXd& balancing_state) {
+Eigen::VectorXd lateral_balancing_state(const Eigen::VectorXd& balancing_state) {
   namespace bal = control::balancing;
   Eigen::VectorXd lateral = balancing_state;
   for (int i : {bal::kX, bal::kZ, bal::kVx, bal::kVz, bal::kPitch, bal::kA, bal::kADot}) {
@@ -15,12 +15,13 @@ Eigen::VectorXd lateralBalancingState(const Eigen::VectorXd& balancing_state) {
   return lateral;
 }
 
-model::VehicleInput throwCommand(const ThrowTracker& tracker, const control::LqrGain& balancing, double t_s,
-                                 const model::PlanarState<double>& planar_state,
-                                 const Eigen::VectorXd& balancing_state, const model::VehicleLimits& limits) {
+model::VehicleInput throw_command(const ThrowTracker& tracker, const control::LqrGain& balancing, double t_s,
+                                  const model::PlanarState<double>& planar_state,
+                                  const Eigen::VectorXd& balancing_state,
+                                  const model::VehicleLimits& limits) {
   namespace bal = control::balancing;
   const model::PlanarInput<double> planar = saturate(tracker.command(t_s, planar_state), limits);
-  const Eigen::VectorXd lateral = -balancing.K * lateralBalancingState(balancing_state);
+  const Eigen::VectorXd lateral = -balancing.K * lateral_balancing_state(balancing_state);
   const double omega_max = limits.omega_max_radps;
   model::VehicleInput u;
   u.a_q_mps2 = planar(model::planar::kThrust);

@@ -22,14 +22,14 @@ namespace gs::planning {
 
 // `planar_state` is the throw's state (planar_pole_vehicle.hpp) and `balancing_state` s_qp of
 // eq. (31) (balancing_lqr.hpp order), both relative to the plan's origin at plan time t_s;
-// `balancing` the balancing LQR (balancingLqr()). The thrust and the rates are clamped into the
+// `balancing` the balancing LQR (balancing_lqr()). The thrust and the rates are clamped into the
 // box of eq. (1), (2). Precondition: tracker.valid(), balancing.K is 4 x 13.
-model::VehicleInput throwCommand(const ThrowTracker& tracker, const control::LqrGain& balancing, double t_s,
-                                 const model::PlanarState<double>& planar_state,
-                                 const Eigen::VectorXd& balancing_state, const model::VehicleLimits& limits);
+model::VehicleInput throw_command(const ThrowTracker& tracker, const control::LqrGain& balancing, double t_s,
+                                  const model::PlanarState<double>& planar_state,
+                                  const Eigen::VectorXd& balancing_state, const model::VehicleLimits& limits);
 
 // s_qp with the throw plane's components (x, z, vx, vz, pitch, a, a') set to zero: what the
 // lateral balancing sees.
-Eigen::VectorXd lateralBalancingState(const Eigen::VectorXd& balancing_state);
+Eigen::VectorXd lateral_balancing_state(const Eigen::VectorXd& balancing_state);
 
 }  // namespace gs::planning

@@ -9,7 +9,7 @@
 namespace gs::planning {
 namespace {
 
-const char* statusText(Ipopt::ApplicationReturnStatus status) {
+const char* status_text(Ipopt::ApplicationReturnStatus status) {
   switch (status) {
     case Ipopt::Solve_Succeeded: return "solved";
     case Ipopt::Solved_To_Acceptable_Level: return "solved to acceptable level";
@@ -49,7 +49,7 @@ ThrowPlan solve(const ThrowProblem& problem, const ThrowSolverOptions& options) 
   }
 
   Ipopt::SmartPtr<ThrowCollocationNlp> nlp = new ThrowCollocationNlp(
-      problem, throwCollocationMesh(problem.duration_s, options.intervals, options.end_refinement));
+      problem, throw_collocation_mesh(problem.duration_s, options.intervals, options.end_refinement));
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   Ipopt::OptionsList& opts = *app->Options();
   opts.SetIntegerValue("print_level", options.print_level);
@@ -81,16 +81,16 @@ ThrowPlan solve(const ThrowProblem& problem, const ThrowSolverOptions& options) 
   if (status == Ipopt::Solve_Succeeded) status = app->OptimizeTNLP(nlp);
 
   plan.ipopt_status = static_cast<int>(status);
-  plan.status = statusText(status);
+  plan.status = status_text(status);
   if (Ipopt::SmartPtr<Ipopt::SolveStatistics> stats = app->Statistics(); Ipopt::IsValid(stats)) {
     plan.iterations = stats->IterationCount();
   }
-  if (nlp->solution().size() != nlp->variableCount()) return plan;
+  if (nlp->solution().size() != nlp->variable_count()) return plan;
 
   const Eigen::VectorXd& x = nlp->solution();
-  plan.cost = nlp->solutionObjective();
-  plan.trajectory = nlp->trajectoryFrom(x);
-  plan.max_violation = nlp->maxViolation(x);
+  plan.cost = nlp->solution_objective();
+  plan.trajectory = nlp->trajectory_from(x);
+  plan.max_violation = nlp->max_violation(x);
   plan.end_state_error = (plan.trajectory.state.back() - problem.launch_state).cwiseAbs().maxCoeff();
   const bool converged = status == Ipopt::Solve_Succeeded || status == Ipopt::Solved_To_Acceptable_Level;
   // The 1e-6 promise of the planner, checked on the returned point rather than trusted.
@@ -101,7 +101,7 @@ ThrowPlan solve(const ThrowProblem& problem, const ThrowSolverOptions& options) 
 
 }  // namespace
 
-ThrowPlan planThrow(const ThrowProblem& problem, const ThrowSolverOptions& options) {
+ThrowPlan plan_throw(const ThrowProblem& problem, const ThrowSolverOptions& options) {
   try {
     return solve(problem, options);
   } catch (const std::exception& e) {

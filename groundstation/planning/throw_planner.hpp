@@ -12,7 +12,7 @@ namespace gs::planning {
 
 struct ThrowSolverOptions {
   int intervals = 100;          // N, collocation intervals over [0, T]
-  double end_refinement = 0.9;  // mesh grading, see throwCollocationMesh
+  double end_refinement = 0.9;  // mesh grading, see throw_collocation_mesh
   // IPOPT's tol (the overall optimality error) and constr_viol_tol (absolute, the unscaled
   // problem); the result is held against 1e-6 on every constraint.
   double optimality_tolerance = 1e-8;
@@ -35,6 +35,6 @@ struct ThrowPlan {
 };
 
 // Never throws; a rejected problem or a solver failure comes back with success = false.
-ThrowPlan planThrow(const ThrowProblem& problem, const ThrowSolverOptions& options = {});
+ThrowPlan plan_throw(const ThrowProblem& problem, const ThrowSolverOptions& options = {});
 
 }  // namespace gs::planning

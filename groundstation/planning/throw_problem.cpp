@@ -6,7 +6,7 @@ namespace gs::planning {
 
 namespace planar = model::planar;
 
-model::PlanarState<double> ThrowProblem::figure5LaunchState() {
+model::PlanarState<double> ThrowProblem::figure5_launch_state() {
   model::PlanarState<double> s;
   s(planar::kX) = 1.5;
   s(planar::kZ) = 2.0;
@@ -18,7 +18,7 @@ model::PlanarState<double> ThrowProblem::figure5LaunchState() {
   return s;
 }
 
-model::VehicleLimits ThrowProblem::defaultLimits() {
+model::VehicleLimits ThrowProblem::default_limits() {
   model::VehicleLimits limits;
   limits.a_q_min_mps2 = 1.0;
   limits.a_q_max_mps2 = 20.0;
@@ -31,11 +31,11 @@ double ThrowProblem::launchThrust_mps2() const {
                                         launch_state(planar::kAlphaDot), params);
 }
 
-model::PlanarInput<double> ThrowProblem::launchInput() const {
+model::PlanarInput<double> ThrowProblem::launch_input() const {
   return model::PlanarInput<double>(launchThrust_mps2(), launch_pitch_rate_radps);
 }
 
-model::PlanarInput<double> ThrowProblem::hoverInput() const {
+model::PlanarInput<double> ThrowProblem::hover_input() const {
   return model::PlanarInput<double>(params.gravity_mps2, 0.0);
 }
 
@@ -55,8 +55,8 @@ std::string ThrowProblem::validate() const {
     return u(planar::kThrust) >= limits.a_q_min_mps2 && u(planar::kThrust) <= limits.a_q_max_mps2 &&
            std::abs(u(planar::kPitchRate)) <= limits.omega_max_radps;
   };
-  if (!in_box(hoverInput())) return "the hover input (g, 0) is outside the input limits";
-  if (!in_box(launchInput())) {
+  if (!in_box(hover_input())) return "the hover input (g, 0) is outside the input limits";
+  if (!in_box(launch_input())) {
     return "the launch input (a_q,T = " + std::to_string(launchThrust_mps2()) +
            " m/s^2 from F_N = 0, Omega_T) is outside the input limits";
   }

@@ -24,7 +24,7 @@ struct ThrowProblem {
   double duration_s = 2.5;  // T of Fig. 5
   // The launch state s_qp,T of Fig. 5 and the pitch rate of u_q,T; the launch thrust is not a
   // free design value: launchThrust_mps2() solves F_N(s_T, u_T) = 0 for it.
-  model::PlanarState<double> launch_state = figure5LaunchState();
+  model::PlanarState<double> launch_state = figure5_launch_state();
   double launch_pitch_rate_radps = 2.5;
   ThrowCostWeights weights;
   // Input slew limits, not in (34): without them the optimum jumps to the fixed launch input at
@@ -35,22 +35,22 @@ struct ThrowProblem {
   // hold between consecutive collocation points; 0 turns one off (the paper's problem).
   double thrust_rate_max_mps3 = 100.0;
   double pitch_acceleration_max_radps2 = 60.0;
-  model::VehicleLimits limits = defaultLimits();
+  model::VehicleLimits limits = default_limits();
   model::PlanarPoleVehicleParams params;
 
   // (x, z) = (1.5, 2.0) m, (vx, vz) = (0.3, 5.5) m/s, theta = -0.48 rad, alpha = 0.48 rad,
   // alpha' = 2.5 rad/s (Fig. 5 caption).
-  static model::PlanarState<double> figure5LaunchState();
+  static model::PlanarState<double> figure5_launch_state();
   // The values of groundstation/config/vehicle_limits.yaml (a_q in [1, 20] m/s^2,
   // |Omega| <= 10 rad/s), for callers that do not load the file.
-  static model::VehicleLimits defaultLimits();
+  static model::VehicleLimits default_limits();
 
   // a_q,T with F_N(s_T, (a_q,T, Omega_T)) = 0 exactly (the printed figure says 4.48 m/s^2,
   // which leaves F_N = -0.16 m/s^2 in the derived model; see planar_pole_vehicle.hpp).
   double launchThrust_mps2() const;
-  model::PlanarInput<double> launchInput() const;
+  model::PlanarInput<double> launch_input() const;
   // Hover at the origin with the pole upright: s(0) = 0, u(0) = (g, 0).
-  model::PlanarInput<double> hoverInput() const;
+  model::PlanarInput<double> hover_input() const;
 
   // Empty when the problem is well posed, else what is wrong with it (non-positive duration,
   // limits violated by the fixed end inputs, a launch thrust outside the limits, ...).

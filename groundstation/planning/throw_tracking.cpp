@@ -24,11 +24,11 @@ ThrowTracker::ThrowTracker(ThrowTrajectory reference, const ThrowTrackingWeights
   const ThrowTrajectory& ref = reference_;
   const control::LinearisationFn linearisation = [&ref](double t_s) {
     const model::PlanarLinearisation lin =
-        model::linearisePlanarPoleVehicle(ref.stateAt(t_s), ref.inputAt(t_s), ref.params);
+        model::linearise_planar_pole_vehicle(ref.state_at(t_s), ref.input_at(t_s), ref.params);
     return control::LinearSystem{lin.A, lin.B};
   };
-  gains_ = control::solveTvLqr(linearisation, weights.Q(), weights.R(), weights.Qfinal(), ref.t_s.front(),
-                               ref.t_s.back(), options);
+  gains_ = control::solve_tv_lqr(linearisation, weights.Q(), weights.R(), weights.Qfinal(), ref.t_s.front(),
+                                 ref.t_s.back(), options);
 }
 
 Eigen::Matrix<double, 2, 7> ThrowTracker::gain(double t_s) const {
@@ -37,7 +37,7 @@ Eigen::Matrix<double, 2, 7> ThrowTracker::gain(double t_s) const {
 }
 
 model::PlanarInput<double> ThrowTracker::command(double t_s, const model::PlanarState<double>& s) const {
-  return reference_.inputAt(t_s) - gain(t_s) * (s - reference_.stateAt(t_s));
+  return reference_.input_at(t_s) - gain(t_s) * (s - reference_.state_at(t_s));
 }
 
 model::PlanarInput<double> saturate(const model::PlanarInput<double>& u, const model::VehicleLimits& limits) {

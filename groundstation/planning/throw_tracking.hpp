@@ -1,7 +1,7 @@
 // Time-varying LQR tracking of the planned throw (Section VII-A: the manoeuvres are tracked by
 // "finite-horizon time-varying LQR controllers, obtained by linearizing the system dynamics ...
 // about the desired trajectories"). The planar model is linearised along the throw by automatic
-// differentiation (linearisePlanarPoleVehicle) and the Riccati differential equation is
+// differentiation (linearise_planar_pole_vehicle) and the Riccati differential equation is
 // integrated backward from T by control/tvlqr.hpp. The control law is
 //   u(t) = u_ref(t) - K(t) (s - s_ref(t)),
 // then clamped into the input box of eq. (1), (2) by the caller (saturate()).

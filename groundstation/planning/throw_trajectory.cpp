@@ -28,13 +28,14 @@ Locator locate(const ThrowTrajectory& traj, double t_s) {
 
 }  // namespace
 
-model::PlanarState<double> ThrowTrajectory::stateAt(double t) const {
+model::PlanarState<double> ThrowTrajectory::state_at(double t) const {
   const Locator at = locate(*this, t);
   const model::PlanarState<double>& s0 = state[at.knot];
   const model::PlanarState<double>& s1 = state[at.knot + 2];
-  const model::PlanarState<double> f0 = model::planarPoleVehicleDynamics<double>(s0, input[at.knot], params);
+  const model::PlanarState<double> f0 =
+      model::planar_pole_vehicle_dynamics<double>(s0, input[at.knot], params);
   const model::PlanarState<double> f1 =
-      model::planarPoleVehicleDynamics<double>(s1, input[at.knot + 2], params);
+      model::planar_pole_vehicle_dynamics<double>(s1, input[at.knot + 2], params);
   const double tau = at.tau, tau2 = tau * tau, tau3 = tau2 * tau;
   const double h00 = 2.0 * tau3 - 3.0 * tau2 + 1.0;
   const double h10 = tau3 - 2.0 * tau2 + tau;
@@ -43,7 +44,7 @@ model::PlanarState<double> ThrowTrajectory::stateAt(double t) const {
   return h00 * s0 + (h10 * at.h) * f0 + h01 * s1 + (h11 * at.h) * f1;
 }
 
-model::PlanarInput<double> ThrowTrajectory::inputAt(double t) const {
+model::PlanarInput<double> ThrowTrajectory::input_at(double t) const {
   const Locator at = locate(*this, t);
   const double tau = at.tau;
   // Lagrange basis on the nodes 0, 1/2, 1.

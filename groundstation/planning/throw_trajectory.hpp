@@ -24,8 +24,8 @@ struct ThrowTrajectory {
   double duration_s() const { return t_s.empty() ? 0.0 : t_s.back(); }
 
   // The interpolants; t is clamped into [0, T]. Precondition: at least one interval.
-  model::PlanarState<double> stateAt(double t_s) const;
-  model::PlanarInput<double> inputAt(double t_s) const;
+  model::PlanarState<double> state_at(double t_s) const;
+  model::PlanarInput<double> input_at(double t_s) const;
 };
 
 }  // namespace gs::planning

@@ -20,7 +20,7 @@ using mission::Task;
 constexpr double kGravity_mps2 = pa::kGravity_mps2;
 
 // The lower end of a pole state (the end nearer the floor).
-Eigen::Vector3d lowerEnd(const model::PoleState& s, double half_length_m) {
+Eigen::Vector3d lower_end(const model::PoleState& s, double half_length_m) {
   const Eigen::Vector3d a = s.p_m + half_length_m * s.n;
   const Eigen::Vector3d b = s.p_m - half_length_m * s.n;
   return a.z() < b.z() ? a : b;
@@ -29,11 +29,11 @@ Eigen::Vector3d lowerEnd(const model::PoleState& s, double half_length_m) {
 // The pole's tilt from the vertical (either end up).
 double tilt_rad(const model::PoleState& s) { return std::acos(std::min(1.0, std::abs(s.n.z()))); }
 
-control::Pivot pivotOf(const estimation::PlateKinematics& plate) { return {plate.p_m, plate.v_mps}; }
+control::Pivot pivot_of(const estimation::PlateKinematics& plate) { return {plate.p_m, plate.v_mps}; }
 
 }  // namespace
 
-std::string_view attemptPhaseName(AttemptPhase phase) {
+std::string_view attempt_phase_name(AttemptPhase phase) {
   switch (phase) {
     case AttemptPhase::idle: return "idle";
     case AttemptPhase::preparing: return "preparing";
@@ -47,21 +47,21 @@ std::string_view attemptPhaseName(AttemptPhase phase) {
 
 GroundStation::GroundStation(link::FrameBus& bus, const GroundStationConfig& config)
     : config_(config),
-      link_(bus, {config.nodes[0], config.nodes[1]}, config.link),
+      link_(bus, {pa::kActVehicles.begin(), pa::kActVehicles.end()}, config.link),
       estimator_(config.estimator) {
   problem_.limits = config_.limits;
-  plan_ = planning::planThrow(problem_);
+  plan_ = planning::plan_throw(problem_);
   if (!plan_.success) throw std::runtime_error("the throw could not be planned: " + plan_.status);
   tracker_.emplace(plan_.trajectory, config_.throw_tracking);
   if (!tracker_->valid()) throw std::runtime_error("the throw's TV-LQR could not be designed");
-  hover_ = control::hoverLqr();
-  balancing_ = control::balancingLqr();
+  hover_ = control::hover_lqr();
+  balancing_ = control::balancing_lqr();
   if (!hover_.ok || !balancing_.ok) throw std::runtime_error("the LQR design failed");
   const model::PoleParams& pole = config_.estimator.free_flight.pole;
-  adaptation_settings_ = adaptation::nominalAdaptationSettings(pole);
-  adaptation_ = adaptation::initialAdaptation(adaptation_settings_);
-  const planning::CatchingInstant nominal =
-      planning::findCatchingInstant(planning::poleStateAtLaunch(planning::fig5LaunchState(), pole), pole);
+  adaptation_settings_ = adaptation::nominal_adaptation_settings(pole);
+  adaptation_ = adaptation::initial_adaptation(adaptation_settings_);
+  const planning::CatchingInstant nominal = planning::find_catching_instant(
+      planning::pole_state_at_launch(planning::fig5_launch_state(), pole), pole);
   catch_instant_s_ = nominal.found ? nominal.t_s : 0.8;
   // What earlier runs learnt (the adaptation store's state), in force from the first throw.
   if (config_.learnt) {
@@ -71,7 +71,7 @@ GroundStation::GroundStation(link::FrameBus& bus, const GroundStationConfig& con
   }
   if (!config_.adaptation_store_path.empty()) {
     store_.emplace(
-        adaptation::AdaptationStore::openOrCreate(config_.adaptation_store_path, adaptation_settings_));
+        adaptation::AdaptationStore::open_or_create(config_.adaptation_store_path, adaptation_settings_));
     const adaptation::AdaptationSnapshot snapshot = store_->adaptation();
     adaptation_ = snapshot.state;
     catch_instant_samples_ = 0;
@@ -81,47 +81,41 @@ GroundStation::GroundStation(link::FrameBus& bus, const GroundStationConfig& con
       catch_instant_s_ += (t.record.optimal->t_s - catch_instant_s_) / catch_instant_samples_;
     }
   }
-  for (int i = 0; i < 2; ++i) {
-    vehicles_[i].node = config_.nodes[i];
-    vehicles_[i].index = i;
-  }
 }
 
-GroundStation::Vehicle& GroundStation::vehicleOf(std::uint8_t node) {
-  for (Vehicle& v : vehicles_)
-    if (v.node == node) return v;
-  throw std::out_of_range("no vehicle with this node");
+GroundStation::Vehicle& GroundStation::vehicle_of(pa::VehicleId id) {
+  if (!pa::is_act_vehicle(id)) throw std::out_of_range("no vehicle with node " + std::to_string(id.node()));
+  return vehicles_[pa::act_slot(id)];
 }
-const GroundStation::Vehicle& GroundStation::vehicleOf(std::uint8_t node) const {
-  for (const Vehicle& v : vehicles_)
-    if (v.node == node) return v;
-  throw std::out_of_range("no vehicle with this node");
+const GroundStation::Vehicle& GroundStation::vehicle_of(pa::VehicleId id) const {
+  if (!pa::is_act_vehicle(id)) throw std::out_of_range("no vehicle with node " + std::to_string(id.node()));
+  return vehicles_[pa::act_slot(id)];
 }
 
-mission::Task GroundStation::task(std::uint8_t node) const { return vehicleOf(node).sequencer.task(); }
-const mission::VehicleSequencer& GroundStation::sequencer(std::uint8_t node) const {
-  return vehicleOf(node).sequencer;
+mission::Task GroundStation::task(pa::VehicleId id) const { return vehicle_of(id).sequencer.task(); }
+const mission::VehicleSequencer& GroundStation::sequencer(pa::VehicleId id) const {
+  return vehicle_of(id).sequencer;
 }
 
-Eigen::Vector2d GroundStation::waitingXy() const {
+Eigen::Vector2d GroundStation::waiting_xy() const {
   return config_.throw_origin_m.head<2>() +
-         adaptation::compensateOffsetBias(adaptation_.waiting_xy_m, adaptation_);
+         adaptation::compensate_offset_bias(adaptation_.waiting_xy_m, adaptation_);
 }
-double GroundStation::catchHeight() const { return config_.throw_origin_m.z() + adaptation_.catch_height_m; }
+double GroundStation::catch_height() const { return config_.throw_origin_m.z() + adaptation_.catch_height_m; }
 
-void GroundStation::requestTakeOff() {
+void GroundStation::request_take_off() {
   for (Vehicle& v : vehicles_) v.requests |= c::request_take_off;
 }
-void GroundStation::requestLand() {
+void GroundStation::request_land() {
   for (Vehicle& v : vehicles_) v.requests |= c::request_land;
 }
-void GroundStation::requestAbort() {
+void GroundStation::request_abort() {
   for (Vehicle& v : vehicles_) v.requests |= c::request_abort;
 }
 
-bool GroundStation::requestAttempt(const AttemptRequest& request) {
+bool GroundStation::request_attempt(const AttemptRequest& request) {
   if (phase_ != AttemptPhase::idle) return false;
-  if (request.thrower != config_.nodes[0] && request.thrower != config_.nodes[1]) return false;
+  if (!pa::is_act_vehicle(request.thrower)) return false;
   request_ = request;
   phase_ = AttemptPhase::preparing;
   current_ = AttemptReport{};
@@ -130,7 +124,7 @@ bool GroundStation::requestAttempt(const AttemptRequest& request) {
   catch_.reset();
   catch_unreachable_ = catch_infeasible_ = catch_missed_ = false;
   balanced_since_s_.reset();
-  Vehicle& thrower = vehicleOf(request.thrower);
+  Vehicle& thrower = vehicle_of(request.thrower);
   thrower.target_m = config_.throw_origin_m - pa::kPlateHeightAboveCg_m * Eigen::Vector3d::UnitZ();
   if (request.catch_it) {
     Vehicle& catcher = other(thrower);
@@ -139,13 +133,11 @@ bool GroundStation::requestAttempt(const AttemptRequest& request) {
   return true;
 }
 
-void GroundStation::onFrame(const pa::proto::Frame& frame, double now_s) {
-  link_.onFrame(frame, now_s);
-  for (const link::ImpactReport& r : link_.takeImpacts()) {
+void GroundStation::on_frame(const pa::proto::Frame& frame, double now_s) {
+  link_.on_frame(frame, now_s);
+  for (const link::ImpactReport& r : link_.take_impacts()) {
     if (impacts_.size() < kEventLogCapacity) impacts_.push_back(r);
-    for (const Vehicle& v : vehicles_) {
-      if (v.node == r.node) estimator_.reportImpact(v.index + 1, r.t_s);
-    }
+    if (pa::is_act_vehicle(r.vehicle)) estimator_.report_impact(r.vehicle, r.t_s);
   }
 }
 
@@ -153,7 +145,7 @@ void GroundStation::tick(double now_s) {
   link_.tick(now_s);
   for (Vehicle& v : vehicles_) {
     if (!v.pending) continue;
-    const link::CommandState s = link_.commandState(*v.pending);
+    const link::CommandState s = link_.command_state(*v.pending);
     if (s == link::CommandState::pending) continue;
     if (s != link::CommandState::accepted) v.command_failed = true;
     v.pending.reset();
@@ -162,9 +154,9 @@ void GroundStation::tick(double now_s) {
 
 std::uint32_t GroundStation::conditions(const Vehicle& v, double now_s) const {
   std::uint32_t w = v.requests;
-  const link::VehicleLinkStatus& status = link_.status(v.node);
+  const link::VehicleLinkStatus& status = link_.status(v.id);
   if (status.lost) w |= c::vehicle_lost;
-  const bool estimated = estimator_.vehicleInitialised(v.index + 1);
+  const bool estimated = estimator_.vehicle_initialised(v.id);
   if (!estimated || now_s - v.last_pose_s > config_.lost_estimate_s) w |= c::estimate_lost;
   if (status.armed) w |= c::armed;
   if (status.mode == pa::proto::Mode::disarmed || status.mode == pa::proto::Mode::landed ||
@@ -174,7 +166,7 @@ std::uint32_t GroundStation::conditions(const Vehicle& v, double now_s) const {
   const Task task = v.sequencer.task();
   const double in_task_s = now_s - v.sequencer.taskSince_s();
   if (estimated) {
-    const estimation::VehicleEstimate e = estimator_.vehicle(v.index + 1);
+    const estimation::VehicleEstimate e = estimator_.vehicle(v.id);
     if (e.state.p_m.z() >= v.target_m.z() - 0.1) w |= c::at_height;
     if ((e.state.p_m - v.target_m).norm() < config_.at_target_m &&
         e.state.v_mps.norm() < config_.at_target_speed_mps)
@@ -190,7 +182,7 @@ std::uint32_t GroundStation::conditions(const Vehicle& v, double now_s) const {
   bool pole_at_plate = false;
   const bool holding = task == Task::throwing || task == Task::rebalance || task == Task::balance;
   if (holding && last_pole_pose_ && estimated) {
-    const estimation::PlateKinematics plate = estimator_.plate(v.index + 1);
+    const estimation::PlateKinematics plate = estimator_.plate(v.id);
     const Eigen::Vector3d n = last_pole_pose_->q * Eigen::Vector3d::UnitZ();
     const double L = config_.estimator.free_flight.pole.half_length_m;
     const Eigen::Vector3d a = last_pole_pose_->p_m + L * n, b = last_pole_pose_->p_m - L * n;
@@ -198,7 +190,7 @@ std::uint32_t GroundStation::conditions(const Vehicle& v, double now_s) const {
   }
   if (pole_at_plate) w |= c::pole_on_self;
   if (pole.valid) {
-    if (mode == estimation::onVehicleMode(v.index + 1)) {
+    if (mode == estimation::on_vehicle_mode(v.id)) {
       w |= c::pole_on_self;
       if (tilt_rad(pole.state) < config_.upright_rad) w |= c::pole_upright;
     }
@@ -211,7 +203,7 @@ std::uint32_t GroundStation::conditions(const Vehicle& v, double now_s) const {
     w |= c::pole_down;
   if (task == Task::throwing && in_task_s >= problem_.duration_s) w |= c::throw_over;
   if (task == Task::release && in_task_s >= config_.release_low_s) w |= c::release_over;
-  const bool catcher = request_.catch_it && v.node != request_.thrower && phase_ != AttemptPhase::idle;
+  const bool catcher = request_.catch_it && v.id != request_.thrower && phase_ != AttemptPhase::idle;
   if (catcher && (phase_ == AttemptPhase::throwing || phase_ == AttemptPhase::flight) &&
       now_s >= catch_start_s_)
     w |= c::catch_due;
@@ -227,8 +219,8 @@ std::uint32_t GroundStation::conditions(const Vehicle& v, double now_s) const {
 
 void GroundStation::enter(Vehicle& v, double now_s) {
   const Task task = v.sequencer.task();
-  const bool estimated = estimator_.vehicleInitialised(v.index + 1);
-  const Eigen::Vector3d here = estimated ? estimator_.vehicle(v.index + 1).state.p_m : v.target_m;
+  const bool estimated = estimator_.vehicle_initialised(v.id);
+  const Eigen::Vector3d here = estimated ? estimator_.vehicle(v.id).state.p_m : v.target_m;
   v.integral.setZero();
   v.set_point_velocity_mps.setZero();
   switch (task) {
@@ -237,7 +229,7 @@ void GroundStation::enter(Vehicle& v, double now_s) {
     case Task::arming:
       v.requests &= ~c::request_take_off;
       v.command_failed = false;
-      v.pending = link_.sendCommand(v.node, pa::proto::CommandCode::arm, 0, now_s);
+      v.pending = link_.send_command(v.id, pa::proto::CommandCode::arm, 0, now_s);
       break;
     case Task::take_off:
       v.target_m = Eigen::Vector3d(here.x(), here.y(), config_.take_off_height_m);
@@ -268,17 +260,17 @@ void GroundStation::enter(Vehicle& v, double now_s) {
       current_.catch_start_s = now_s;
       // The firmware classes an impact inside this window as a catch, not a crash (which
       // would kill the motors): the manoeuvre's remaining time and a second of margin.
-      const planning::MinimaxZManoeuvre z(catchHeight() - pa::kPlateHeightAboveCg_m, config_.t_xy_s,
+      const planning::MinimaxZManoeuvre z(catch_height() - pa::kPlateHeightAboveCg_m, config_.t_xy_s,
                                           config_.catch_a_max_mps2, config_.catch_k_max_mps3);
       const double window_s = catch_start_s_ + z.duration_s() - now_s + 1.0;
       v.pending =
-          link_.sendCommand(v.node, pa::proto::CommandCode::expect_catch,
-                            static_cast<std::int32_t>(std::clamp(window_s, 0.1, 10.0) * 1000.0), now_s);
+          link_.send_command(v.id, pa::proto::CommandCode::expect_catch,
+                             static_cast<std::int32_t>(std::clamp(window_s, 0.1, 10.0) * 1000.0), now_s);
       break;
     }
     case Task::rebalance:
       // The ground station flies the caught pole from here: end the firmware's own reaction.
-      v.pending = link_.sendCommand(v.node, pa::proto::CommandCode::catch_handled, 0, now_s);
+      v.pending = link_.send_command(v.id, pa::proto::CommandCode::catch_handled, 0, now_s);
       v.target_m = here;
       v.set_point_m = here;
       v.set_point_valid = true;
@@ -300,17 +292,17 @@ void GroundStation::enter(Vehicle& v, double now_s) {
     }
     case Task::landing:
       v.requests &= ~c::request_land;
-      v.pending = link_.sendCommand(v.node, pa::proto::CommandCode::land, 0, now_s);
+      v.pending = link_.send_command(v.id, pa::proto::CommandCode::land, 0, now_s);
       break;
   }
   // Whatever ended the throw and the catch is the attempt's account of them.
-  if (phase_ != AttemptPhase::idle && v.node == request_.thrower && task == Task::release &&
+  if (phase_ != AttemptPhase::idle && v.id == request_.thrower && task == Task::release &&
       current_.thrower_end == mission::Reason::none)
-    current_.thrower_end = v.sequencer.lastReason();
-  if (request_.catch_it && v.node != request_.thrower &&
+    current_.thrower_end = v.sequencer.last_reason();
+  if (request_.catch_it && v.id != request_.thrower &&
       (task == Task::clear || task == Task::rebalance || (task == Task::hover && current_.catch_start_s)) &&
       current_.catcher_end == mission::Reason::none) {
-    current_.catcher_end = v.sequencer.lastReason();
+    current_.catcher_end = v.sequencer.last_reason();
   }
 }
 
@@ -318,7 +310,7 @@ void GroundStation::enter(Vehicle& v, double now_s) {
 // braking to stop on it) and its velocity is the controllers' velocity reference: a set point
 // that jumped along at constant speed with a zero velocity reference made the vehicle lag it
 // and overshoot by 0.08 m after a 1 m move to the waiting point (measured, the paper's series).
-void GroundStation::moveSetPoint(Vehicle& v, const Eigen::Vector3d& position_m, double dt_s) {
+void GroundStation::move_set_point(Vehicle& v, const Eigen::Vector3d& position_m, double dt_s) {
   if (!v.set_point_valid) {
     v.set_point_m = position_m;
     v.set_point_velocity_mps.setZero();
@@ -343,7 +335,7 @@ void GroundStation::moveSetPoint(Vehicle& v, const Eigen::Vector3d& position_m, 
   }
 }
 
-model::VehicleInput GroundStation::clampInput(model::VehicleInput u) const {
+model::VehicleInput GroundStation::clamp_input(model::VehicleInput u) const {
   u.a_q_mps2 = std::clamp(u.a_q_mps2, config_.limits.a_q_min_mps2, config_.limits.a_q_max_mps2);
   for (int i = 0; i < 3; ++i)
     u.omega_radps(i) =
@@ -356,20 +348,20 @@ model::VehicleInput GroundStation::clampInput(model::VehicleInput u) const {
 // velocity feed-forward), and integrating that lag wound the integral up: a 1 m move to the
 // waiting point overshot by 0.17 m and crept back for seconds, so the catch started from
 // elsewhere (measured, the paper's series, throw 8).
-void GroundStation::integratePositionError(Vehicle& v, const estimation::VehicleEstimate& e, double dt_s) {
+void GroundStation::integrate_position_error(Vehicle& v, const estimation::VehicleEstimate& e, double dt_s) {
   if ((v.target_m - v.set_point_m).norm() > 1e-9) return;
   v.integral += (v.set_point_m - e.state.p_m) * dt_s;
   v.integral = v.integral.cwiseMax(-1.0).cwiseMin(1.0);
 }
 
-model::VehicleInput GroundStation::hoverControl(Vehicle& v, const estimation::VehicleEstimate& e, double dt_s,
-                                                bool integrate) {
+model::VehicleInput GroundStation::hover_control(Vehicle& v, const estimation::VehicleEstimate& e,
+                                                 double dt_s, bool integrate) {
   namespace hv = control::hover;
-  if (integrate) integratePositionError(v, e, dt_s);
+  if (integrate) integrate_position_error(v, e, dt_s);
   // The integral shifts the LQR's reference position (p_ref = set point + k_i int e): a constant
   // force offset then leaves no position error, whatever the controller (hover or balancing).
   Eigen::VectorXd x =
-      control::hoverState(e.state, v.set_point_m + config_.position_integral_gain * v.integral);
+      control::hover_state(e.state, v.set_point_m + config_.position_integral_gain * v.integral);
   x.segment<3>(hv::kVx) -= v.set_point_velocity_mps;
   const Eigen::VectorXd du = -hover_.K * x;
   model::VehicleInput u;
@@ -386,12 +378,12 @@ std::optional<model::VehicleInput> GroundStation::control(Vehicle& v, double now
     idle.a_q_mps2 = 0.0;  // ARM needs a zero-thrust setpoint (fw/supervisor.hpp)
     return idle;
   }
-  if (!estimator_.vehicleInitialised(v.index + 1)) return std::nullopt;
+  if (!estimator_.vehicle_initialised(v.id)) return std::nullopt;
   // Latency compensation: the state when this command acts.
   const double t_act = std::max(estimator_.time(), now_s + config_.command_lead_s);
-  const estimation::VehicleEstimate e = ahead_->vehicle(v.index + 1);
+  const estimation::VehicleEstimate e = ahead_->vehicle(v.id);
   const estimation::PoleEstimate pole = ahead_->pole();
-  const estimation::PlateKinematics plate = ahead_->plate(v.index + 1);
+  const estimation::PlateKinematics plate = ahead_->plate(v.id);
   const double L = config_.estimator.free_flight.pole.half_length_m;
   const Eigen::Vector3d plate_offset = pa::kPlateHeightAboveCg_m * Eigen::Vector3d::UnitZ();
 
@@ -402,36 +394,36 @@ std::optional<model::VehicleInput> GroundStation::control(Vehicle& v, double now
     case Task::retreat:
     case Task::clear:
     case Task::rebalance: {
-      if (task == Task::wait) v.target_m = waitingTarget();
-      moveSetPoint(v, e.state.p_m, dt_s);
-      model::VehicleInput u = hoverControl(v, e, dt_s, task != Task::take_off || e.state.p_m.z() > 0.2);
+      if (task == Task::wait) v.target_m = waiting_target();
+      move_set_point(v, e.state.p_m, dt_s);
+      model::VehicleInput u = hover_control(v, e, dt_s, task != Task::take_off || e.state.p_m.z() > 0.2);
       if (task == Task::rebalance) u.a_q_mps2 += config_.pole_weight_mps2;
-      return clampInput(u);
+      return clamp_input(u);
     }
     case Task::balance: {
       namespace bal = control::balancing;
-      moveSetPoint(v, e.state.p_m, dt_s);
+      move_set_point(v, e.state.p_m, dt_s);
       if (pole.valid && tilt_rad(pole.state) < config_.balance_settled_rad) {
         if (!balanced_since_s_) balanced_since_s_ = now_s;
       } else {
         balanced_since_s_.reset();
       }
-      integratePositionError(v, e, dt_s);
-      Eigen::VectorXd x =
-          control::balancingState(pivotOf(plate), e.state, pole.state, L,
-                                  v.set_point_m + plate_offset + config_.position_integral_gain * v.integral);
+      integrate_position_error(v, e, dt_s);
+      Eigen::VectorXd x = control::balancing_state(
+          pivot_of(plate), e.state, pole.state, L,
+          v.set_point_m + plate_offset + config_.position_integral_gain * v.integral);
       x.segment<3>(bal::kVx) -= v.set_point_velocity_mps;
       Eigen::VectorXd u = -balancing_.K * x;
       u(bal::kThrust) += kGravity_mps2 + config_.pole_weight_mps2;
-      return clampInput(control::fromBalancingInput(u));
+      return clamp_input(control::from_balancing_input(u));
     }
     case Task::throwing: {
       const double tau = std::min(t_act - v.sequencer.taskSince_s(), problem_.duration_s);
       const model::PlanarState<double> s =
-          control::planarThrowState(pivotOf(plate), e.state, pole.state, config_.throw_origin_m);
+          control::planar_throw_state(pivot_of(plate), e.state, pole.state, config_.throw_origin_m);
       const Eigen::VectorXd b =
-          control::balancingState(pivotOf(plate), e.state, pole.state, L, config_.throw_origin_m);
-      return planning::throwCommand(*tracker_, balancing_, tau, s, b, config_.limits);
+          control::balancing_state(pivot_of(plate), e.state, pole.state, L, config_.throw_origin_m);
+      return planning::throw_command(*tracker_, balancing_, tau, s, b, config_.limits);
     }
     case Task::release: {
       const double since = t_act - v.sequencer.taskSince_s();
@@ -440,18 +432,18 @@ std::optional<model::VehicleInput> GroundStation::control(Vehicle& v, double now
       u.omega_radps = since < config_.release_pitch_s
                           ? Eigen::Vector3d(0.0, problem_.launch_pitch_rate_radps, 0.0)
                           : Eigen::Vector3d(-8.0 * e.state.phi_rad, -8.0 * e.state.theta_rad, 0.0);
-      return clampInput(u);
+      return clamp_input(u);
     }
     case Task::catching: {
       namespace hv = control::hover;
-      if (!catch_) return clampInput(hoverControl(v, e, dt_s, false));
+      if (!catch_) return clamp_input(hover_control(v, e, dt_s, false));
       const planning::CatchReference ref = catch_->reference(t_act - catch_start_s_);
       // The hover LQR about the reference's state with its nominal inputs (46), (47) as feed
       // forward: a time-varying reference tracked with the hover gains, which hold across the
       // manoeuvre's tilts (at most atan(a_max / g) ~ 23 degrees plus the xy correction's). The
       // integral learnt while waiting stays in force, frozen.
       Eigen::VectorXd x =
-          control::hoverState(e.state, ref.position_m + config_.position_integral_gain * v.integral);
+          control::hover_state(e.state, ref.position_m + config_.position_integral_gain * v.integral);
       x.segment<3>(hv::kVx) -= ref.velocity_mps;
       x(hv::kRoll) -= ref.roll_rad;
       x(hv::kPitch) -= ref.pitch_rad;
@@ -461,26 +453,26 @@ std::optional<model::VehicleInput> GroundStation::control(Vehicle& v, double now
       u.a_q_mps2 = ref.thrust_mps2 + du(hv::kThrust);
       u.omega_radps = ref.body_rates_radps + du.segment<3>(hv::kRateX);
       v.set_point_m = ref.position_m;
-      return clampInput(u);
+      return clamp_input(u);
     }
     default: return std::nullopt;
   }
 }
 
-Eigen::Vector3d GroundStation::waitingTarget() const {
-  const Eigen::Vector2d xy = waitingXy() + request_.catch_offset_m;
-  const double z_T = catchHeight() - pa::kPlateHeightAboveCg_m;
+Eigen::Vector3d GroundStation::waiting_target() const {
+  const Eigen::Vector2d xy = waiting_xy() + request_.catch_offset_m;
+  const double z_T = catch_height() - pa::kPlateHeightAboveCg_m;
   const planning::MinimaxZManoeuvre z(z_T, config_.t_xy_s, config_.catch_a_max_mps2,
                                       config_.catch_k_max_mps3);
   return Eigen::Vector3d(xy.x(), xy.y(), z.startHeight_m());
 }
 
-void GroundStation::onMocap(const estimation::MocapFrame& frame, double now_s) {
+void GroundStation::on_mocap(const estimation::MocapFrame& frame, double now_s) {
   const double dt_s = last_mocap_s_ > -1e8 ? std::clamp(now_s - last_mocap_s_, 0.0, 0.05) : 0.005;
   last_mocap_s_ = now_s;
   estimator_.update(frame);
   for (Vehicle& v : vehicles_) {
-    if (frame.vehicle[static_cast<std::size_t>(v.index)]) v.last_pose_s = now_s;
+    if (frame.vehicle[pa::act_slot(v.id)]) v.last_pose_s = now_s;
   }
   if (frame.pole) {
     last_pole_seen_m_ = frame.pole->p_m;
@@ -489,39 +481,39 @@ void GroundStation::onMocap(const estimation::MocapFrame& frame, double now_s) {
   // The estimator predicted, states only, to when the commands act (latency compensation).
   ahead_.emplace(estimator_.predicted(std::max(estimator_.time(), now_s + config_.command_lead_s)));
 
-  updateAttempt(now_s);
+  update_attempt(now_s);
   for (Vehicle& v : vehicles_) {
     const Task before = v.sequencer.task();
     if (v.sequencer.step(conditions(v, now_s), now_s)) {
       if (events_.size() < kEventLogCapacity)
-        events_.push_back({now_s, v.node, before, v.sequencer.task(), v.sequencer.lastReason()});
+        events_.push_back({now_s, v.id, before, v.sequencer.task(), v.sequencer.last_reason()});
       enter(v, now_s);
     }
     const std::optional<model::VehicleInput> u = control(v, now_s, dt_s);
     if (!u) continue;
-    const model::VehicleInput sent = link_.sendSetpoint(v.node, *u);
+    const model::VehicleInput sent = link_.send_setpoint(v.id, *u);
     v.last_sent = sent;
-    estimator_.setCommand(v.index + 1, now_s + config_.command_lead_s, sent);
+    estimator_.set_command(v.id, now_s + config_.command_lead_s, sent);
   }
 }
 
 Learnt GroundStation::learnt() const { return {adaptation_, catch_instant_s_, catch_instant_samples_}; }
 
-std::vector<link::ImpactReport> GroundStation::takeImpacts() {
+std::vector<link::ImpactReport> GroundStation::take_impacts() {
   std::vector<link::ImpactReport> out;
   out.swap(impacts_);
   return out;
 }
 
-std::vector<MissionEvent> GroundStation::takeEvents() {
+std::vector<MissionEvent> GroundStation::take_events() {
   std::vector<MissionEvent> out;
   out.swap(events_);
   return out;
 }
 
-void GroundStation::updateAttempt(double now_s) {
+void GroundStation::update_attempt(double now_s) {
   if (phase_ == AttemptPhase::idle) return;
-  Vehicle& thrower = vehicleOf(request_.thrower);
+  Vehicle& thrower = vehicle_of(request_.thrower);
   Vehicle& catcher = other(thrower);
   const estimation::PoleEstimate pole = estimator_.pole();
 
@@ -531,16 +523,16 @@ void GroundStation::updateAttempt(double now_s) {
   switch (phase_) {
     case AttemptPhase::preparing: {
       const bool catcher_ready = !request_.catch_it || (catcher.sequencer.task() == Task::wait &&
-                                                        (catcher.sequencer.lastConditions() & c::at_target));
-      const bool thrower_at_origin = (thrower.sequencer.lastConditions() & c::at_target) != 0;
+                                                        (catcher.sequencer.last_conditions() & c::at_target));
+      const bool thrower_at_origin = (thrower.sequencer.last_conditions() & c::at_target) != 0;
       if (catcher_ready && thrower_at_origin) thrower.requests |= c::request_throw;
       if (thrower.sequencer.task() == Task::throwing) {
         phase_ = AttemptPhase::throwing;
         current_.throw_start_s = thrower.sequencer.taskSince_s();
-        current_.waiting_xy_m = waitingXy() + request_.catch_offset_m;
-        current_.catch_height_m = catchHeight();
+        current_.waiting_xy_m = waiting_xy() + request_.catch_offset_m;
+        current_.catch_height_m = catch_height();
         catch_target_xy_m_ = current_.waiting_xy_m;
-        const planning::MinimaxZManoeuvre z(catchHeight() - pa::kPlateHeightAboveCg_m, config_.t_xy_s,
+        const planning::MinimaxZManoeuvre z(catch_height() - pa::kPlateHeightAboveCg_m, config_.t_xy_s,
                                             config_.catch_a_max_mps2, config_.catch_k_max_mps3);
         catch_start_s_ = current_.throw_start_s + problem_.duration_s + config_.launch_delay_s +
                          catch_instant_s_ - z.duration_s();
@@ -551,7 +543,7 @@ void GroundStation::updateAttempt(double now_s) {
     }
     case AttemptPhase::throwing: {
       // The launch: the estimator's switch to free flight after the throw's manoeuvre began.
-      const std::optional<estimation::ModeSwitch> s = estimator_.lastSwitch();
+      const std::optional<estimation::ModeSwitch> s = estimator_.last_switch();
       // Only a call at the end of the throw (see conditions() on the flip-flops during it).
       if (s && s->to == estimation::PoleMode::free &&
           s->event_t_s > current_.throw_start_s + problem_.duration_s - 0.05) {
@@ -559,7 +551,7 @@ void GroundStation::updateAttempt(double now_s) {
         phase_ = AttemptPhase::flight;
       } else if (thrower.sequencer.task() != Task::throwing && thrower.sequencer.task() != Task::release &&
                  !current_.launch_s) {
-        endAttempt(now_s);  // the throw was abandoned (aborted or the pole fell)
+        end_attempt(now_s);  // the throw was abandoned (aborted or the pole fell)
         return;
       }
       break;
@@ -568,8 +560,8 @@ void GroundStation::updateAttempt(double now_s) {
   }
   // The catch manoeuvre starts before the launch (T_z ~ 1.8 s against ~1.1 s of flight): plan
   // it from the throw's start on, from the waiting point until the pole flies.
-  if (phase_ == AttemptPhase::flight) predictOptimalCatch(now_s);
-  if (request_.catch_it && phase_ != AttemptPhase::preparing) updateCatchTarget(now_s);
+  if (phase_ == AttemptPhase::flight) predict_optimal_catch(now_s);
+  if (request_.catch_it && phase_ != AttemptPhase::preparing) update_catch_target(now_s);
   if (phase_ == AttemptPhase::flight || phase_ == AttemptPhase::balancing) {
     // The pole's free flight, from the launch to the impact, for the evaluation of (42).
     if (pole.valid && pole.mode == estimation::PoleMode::free && current_.launch_s && !current_.impact_s &&
@@ -581,7 +573,7 @@ void GroundStation::updateAttempt(double now_s) {
       if (!balanced_on_catcher_s_) balanced_on_catcher_s_ = now_s;
       if (now_s - *balanced_on_catcher_s_ >= 3.0) {
         current_.caught = true;
-        endAttempt(now_s);
+        end_attempt(now_s);
         return;
       }
     } else {
@@ -589,13 +581,13 @@ void GroundStation::updateAttempt(double now_s) {
     }
     const bool down = last_pole_seen_m_ && last_pole_seen_m_->z() < config_.pole_down_height_m;
     if (down || now_s - current_.throw_start_s > 15.0) {
-      endAttempt(now_s);
+      end_attempt(now_s);
       return;
     }
   }
 }
 
-void GroundStation::predictOptimalCatch(double now_s) {
+void GroundStation::predict_optimal_catch(double now_s) {
   const estimation::PoleEstimate pole = estimator_.pole();
   const bool flying = pole.valid && pole.mode == estimation::PoleMode::free && current_.launch_s;
   // Beyond the paper: this throw's own optimal catching instant. The adaptation gives the mean
@@ -612,14 +604,14 @@ void GroundStation::predictOptimalCatch(double now_s) {
     options.step_s = 0.01;
     options.horizon_s = 2.0;
     const planning::CatchingInstant optimal =
-        planning::findCatchingInstant(pole.state, estimator_.poleModel(), options);
+        planning::find_catching_instant(pole.state, estimator_.pole_model(), options);
     if (optimal.found) {
       current_.predicted_optimal = adaptation::OptimalCatch{pole.t_s + optimal.t_s - *current_.launch_s,
                                                             optimal.catch_height_m, optimal.catch_point_m};
       current_.catch_height_m =
           adapted_catch_height_m_ + std::clamp(optimal.catch_height_m - adapted_catch_height_m_,
                                                -config_.catch_retime_max_m, config_.catch_retime_max_m);
-      const double end_s = planned_catch_start_s_ + catchDuration();
+      const double end_s = planned_catch_start_s_ + catch_duration();
       catch_start_s_ =
           planned_catch_start_s_ +
           std::clamp(pole.t_s + optimal.t_s - end_s, -config_.catch_retime_max_s, config_.catch_retime_max_s);
@@ -627,8 +619,8 @@ void GroundStation::predictOptimalCatch(double now_s) {
   }
 }
 
-void GroundStation::updateCatchTarget(double now_s) {
-  Vehicle& catcher = other(vehicleOf(request_.thrower));
+void GroundStation::update_catch_target(double now_s) {
+  Vehicle& catcher = other(vehicle_of(request_.thrower));
   const Task task = catcher.sequencer.task();
   if (task != Task::wait && task != Task::catching) return;
   const estimation::PoleEstimate pole = estimator_.pole();
@@ -642,17 +634,18 @@ void GroundStation::updateCatchTarget(double now_s) {
   const bool converged = flying && now_s - *current_.launch_s >= config_.catch_verdict_delay_s;
   if (flying) {
     const planning::CatchPointPrediction p =
-        planning::predictCatchPoint(pole.state, height, estimator_.poleModel());
+        planning::predict_catch_point(pole.state, height, estimator_.pole_model());
     if (p.found) {
       const Eigen::Vector2d predicted(p.x_m, p.y_m);
-      catch_target_xy_m_ = adaptation::compensateOffsetBias(predicted, adaptation_) + request_.catch_offset_m;
+      catch_target_xy_m_ =
+          adaptation::compensate_offset_bias(predicted, adaptation_) + request_.catch_offset_m;
       current_.last_target_xy_m = catch_target_xy_m_;
       current_.predicted = adaptation::CatchPoint{predicted, now_s + p.t_s - *current_.launch_s};
       if (converged && (catch_target_xy_m_ - start_xy).norm() > config_.catch_reach_m)
         catch_unreachable_ = true;
     }
     // Missed: the lower end already below the plate and still free.
-    const Eigen::Vector3d low = lowerEnd(pole.state, L);
+    const Eigen::Vector3d low = lower_end(pole.state, L);
     if (task == Task::catching && catch_ && now_s - catch_start_s_ > catch_->duration_s() &&
         low.z() < height - 0.15)
       catch_missed_ = true;
@@ -669,35 +662,35 @@ void GroundStation::updateCatchTarget(double now_s) {
     if (converged) catch_infeasible_ = true;
     return;
   }
-  if (converged && !plan->checkFeasibility(problemLimits()).feasible()) catch_infeasible_ = true;
+  if (converged && !plan->check_feasibility(problem_limits()).feasible()) catch_infeasible_ = true;
   // The catch manoeuvre re-planned at every frame from the latest prediction (Section V).
   if (task == Task::catching) catch_ = plan;
-  const estimation::VehicleEstimate e = estimator_.vehicle(catcher.index + 1);
+  const estimation::VehicleEstimate e = estimator_.vehicle(catcher.id);
   if (task == Task::catching) {
     current_.travel_m += (e.state.p_m - last_catcher_p_m_).head<2>().norm();
   }
   last_catcher_p_m_ = e.state.p_m;
 }
 
-double GroundStation::catchDuration() const {
+double GroundStation::catch_duration() const {
   return planning::MinimaxZManoeuvre(adapted_catch_height_m_ - pa::kPlateHeightAboveCg_m, config_.t_xy_s,
                                      config_.catch_a_max_mps2, config_.catch_k_max_mps3)
       .duration_s();
 }
 
-planning::InputLimits GroundStation::problemLimits() const {
+planning::InputLimits GroundStation::problem_limits() const {
   return planning::InputLimits{config_.limits.a_q_min_mps2, config_.limits.a_q_max_mps2,
                                config_.limits.omega_max_radps};
 }
 
-void GroundStation::endAttempt(double now_s) {
-  Vehicle& thrower = vehicleOf(request_.thrower);
+void GroundStation::end_attempt(double now_s) {
+  Vehicle& thrower = vehicle_of(request_.thrower);
   Vehicle& catcher = other(thrower);
   catcher.requests &= ~c::request_catch;
   thrower.requests &= ~c::request_throw;
-  const model::PoleParams model = estimator_.poleModel();
+  const model::PoleParams model = estimator_.pole_model();
   if (current_.launch_s && flight_.size() >= 2) {
-    current_.optimal = adaptation::evaluateOptimalCatch(flight_, *current_.launch_s, model);
+    current_.optimal = adaptation::evaluate_optimal_catch(flight_, *current_.launch_s, model);
   }
   // Adaptation (Section VI): every throw whose optimal catching instant could be evaluated moves
   // the catching height and the waiting point; a catch flown to its end moves the offset bias.
@@ -760,7 +753,8 @@ void GroundStation::endAttempt(double now_s) {
       record.note = "optimal catch evaluation rejected: outside the adaptation gate";
     }
   }
-  if (current_.impact_s && current_.catcher_at_impact_m && adaptation::catcherFlewToTarget(record.outcome)) {
+  if (current_.impact_s && current_.catcher_at_impact_m &&
+      adaptation::catcher_flew_to_target(record.outcome)) {
     record.catcher_at_impact_xy_m =
         current_.catcher_at_impact_m->head<2>() - config_.throw_origin_m.head<2>();
   }
@@ -778,7 +772,7 @@ void GroundStation::endAttempt(double now_s) {
   catch_.reset();
   // Back to the start: the thrower to the throw's origin, the catcher to the next waiting point.
   thrower.target_m = config_.throw_origin_m - pa::kPlateHeightAboveCg_m * Eigen::Vector3d::UnitZ();
-  catcher.target_m = waitingTarget();
+  catcher.target_m = waiting_target();
 }
 
 }  // namespace gs::runtime

@@ -1,9 +1,9 @@
 // The ground-station runtime: the one object that flies the mission. It owns the estimator, the
 // link, both vehicles' sequencers, the planners and controllers and the adaptation state, and is
 // driven from outside by three calls and nothing else:
-//   onMocap(frame, now)  a motion-capture frame arrived: estimator update, then for each vehicle
+//   on_mocap(frame, now)  a motion-capture frame arrived: estimator update, then for each vehicle
 //                        its sequencer step and the active controller's setpoint;
-//   onFrame(frame, now)  a frame from the ground CAN bus (heartbeats, acks, IMPACT, TIMESYNC);
+//   on_frame(frame, now)  a frame from the ground CAN bus (heartbeats, acks, IMPACT, TIMESYNC);
 //   tick(now)            link housekeeping (heartbeats, retries, TIMESYNC, lost vehicles).
 // No clock, no thread: `now` is the ground clock, which is also the clock the motion capture
 // stamps its frames with (in simulation both are the plant's time). So the same object runs in
@@ -58,7 +58,6 @@ struct Learnt {
 };
 
 struct GroundStationConfig {
-  std::array<std::uint8_t, 2> nodes{1, 2};  // vehicle 1 and vehicle 2 (the estimator's 1 and 2)
   link::GroundLinkConfig link;
   // The vehicle observers' pose gate opened to NIS 1000 (from 60): through the throw's fastest
   // phase their model misses by enough (it did with the first-order rate model it had then) that
@@ -120,7 +119,7 @@ struct GroundStationConfig {
   double catch_reach_m = 1.0;          // a predicted catch point farther from the waiting point aborts
   double catch_verdict_delay_s = 0.1;  // after the launch, before reach and feasibility are judged
   // This throw's optimal catching instant (42) moves the catch's end for this long after the
-  // launch, by at most these (see predictOptimalCatch); 0 s keeps the adapted values (the paper).
+  // launch, by at most these (see predict_optimal_catch); 0 s keeps the adapted values (the paper).
   // With randomised plants a throw's (42) height lay up to 0.7 m from the adapted mean, and a
   // catch held far below it arrives too fast and drops the pole: at a 0.3 m bound 5 of 49 with
   // seed 2, at 0.5 m 3 (hil fly --throws 50 --randomise, seeds 1-3: 141, then 144 of 147 caught).
@@ -131,7 +130,7 @@ struct GroundStationConfig {
   double pole_down_height_m = 0.25;  // the pole's centre below this: it lies on the floor
   double lost_estimate_s = 0.1;      // no pose of a vehicle for this long: its estimate is lost
   // A throw's optimal catch point, evaluated after it, further than these from the one predicted
-  // in flight is rejected by the adaptation (see endAttempt).
+  // in flight is rejected by the adaptation (see end_attempt).
   double adaptation_gate_m = 0.2;
   double adaptation_gate_s = 0.1;
   // A sample further than this from the adapted values counts only as the
@@ -148,13 +147,13 @@ struct GroundStationConfig {
 
 // What the mission script (an operator, `hil fly`) asks for one attempt.
 struct AttemptRequest {
-  std::uint8_t thrower = 1;
+  pa::VehicleId thrower = pa::kVehicle1;
   bool catch_it = true;                                      // the other vehicle flies the catch
   Eigen::Vector2d catch_offset_m = Eigen::Vector2d::Zero();  // practice: catch this far off
 };
 
 enum class AttemptPhase : std::uint8_t { idle, preparing, throwing, flight, balancing, ended };
-std::string_view attemptPhaseName(AttemptPhase phase);
+std::string_view attempt_phase_name(AttemptPhase phase);
 
 // The ground station's own account of an attempt (the referee in hil judges with the truth).
 struct AttemptReport {
@@ -181,7 +180,7 @@ struct AttemptReport {
 // A task change of one vehicle, for telemetry and logs.
 struct MissionEvent {
   double t_s = 0.0;
-  std::uint8_t node = 0;
+  pa::VehicleId vehicle{pa::proto::kGroundNode};
   mission::Task from = mission::Task::parked;
   mission::Task to = mission::Task::parked;
   mission::Reason reason = mission::Reason::none;
@@ -195,46 +194,46 @@ class GroundStation {
   // adaptation store cannot be opened (the message names the file).
   GroundStation(link::FrameBus& bus, const GroundStationConfig& config = {});
 
-  void onMocap(const estimation::MocapFrame& frame, double now_s);
-  void onFrame(const pa::proto::Frame& frame, double now_s);
+  void on_mocap(const estimation::MocapFrame& frame, double now_s);
+  void on_frame(const pa::proto::Frame& frame, double now_s);
   void tick(double now_s);
 
   // Operator requests.
-  void requestTakeOff();
-  void requestLand();
-  void requestAbort();
+  void request_take_off();
+  void request_land();
+  void request_abort();
   // Starts an attempt; false (and nothing changes) while one is running.
-  bool requestAttempt(const AttemptRequest& request);
+  bool request_attempt(const AttemptRequest& request);
 
-  AttemptPhase attemptPhase() const { return phase_; }
+  AttemptPhase attempt_phase() const { return phase_; }
   // Completed attempts, oldest first.
   const std::vector<AttemptReport>& attempts() const { return reports_; }
-  const AttemptReport& currentAttempt() const { return current_; }
+  const AttemptReport& current_attempt() const { return current_; }
   // The mission events since the last call, oldest first (at most kEventLogCapacity).
-  std::vector<MissionEvent> takeEvents();
+  std::vector<MissionEvent> take_events();
   // The vehicles' IMPACT reports since the last call, oldest first (at most kEventLogCapacity).
-  std::vector<link::ImpactReport> takeImpacts();
+  std::vector<link::ImpactReport> take_impacts();
   // The throw records the adaptation took, oldest first (relative to the throw's origin).
-  const std::vector<adaptation::ThrowRecord>& throwRecords() const { return records_; }
+  const std::vector<adaptation::ThrowRecord>& throw_records() const { return records_; }
 
-  mission::Task task(std::uint8_t node) const;
-  const mission::VehicleSequencer& sequencer(std::uint8_t node) const;
+  mission::Task task(pa::VehicleId vehicle) const;
+  const mission::VehicleSequencer& sequencer(pa::VehicleId vehicle) const;
   const estimation::StateEstimator& estimator() const { return estimator_; }
   const link::GroundLink& link() const { return link_; }
   const adaptation::AdaptationState& adaptation() const { return adaptation_; }
   Learnt learnt() const;
   const GroundStationConfig& config() const { return config_; }
-  const planning::ThrowPlan& throwPlan() const { return plan_; }
+  const planning::ThrowPlan& throw_plan() const { return plan_; }
   // The catch point (lower end, x y) and height expected for the next throw, arena frame.
-  Eigen::Vector2d waitingXy() const;
-  double catchHeight() const;
+  Eigen::Vector2d waiting_xy() const;
+  double catch_height() const;
   // The catch manoeuvre flown in the current attempt (nullopt before it starts).
-  const std::optional<planning::CatchTrajectory>& catchTrajectory() const { return catch_; }
+  const std::optional<planning::CatchTrajectory>& catch_trajectory() const { return catch_; }
 
  private:
   struct Vehicle {
-    std::uint8_t node = 0;
-    int index = 0;  // 0 or 1: the estimator's vehicle number minus one
+    explicit Vehicle(pa::VehicleId vehicle) : id(vehicle) {}
+    pa::VehicleId id;
     mission::VehicleSequencer sequencer;
     Eigen::Vector3d target_m = Eigen::Vector3d::Zero();                // where the task wants the CG
     Eigen::Vector3d set_point_m = Eigen::Vector3d::Zero();             // the carrot moving towards it
@@ -248,31 +247,31 @@ class GroundStation {
     model::VehicleInput last_sent;
   };
 
-  Vehicle& vehicleOf(std::uint8_t node);
-  const Vehicle& vehicleOf(std::uint8_t node) const;
-  Vehicle& other(const Vehicle& v) { return vehicles_[1 - v.index]; }
+  Vehicle& vehicle_of(pa::VehicleId vehicle);  // std::out_of_range for a vehicle not of the act
+  const Vehicle& vehicle_of(pa::VehicleId vehicle) const;
+  Vehicle& other(const Vehicle& v) { return vehicle_of(pa::other_vehicle(v.id)); }
   std::uint32_t conditions(const Vehicle& v, double now_s) const;
   void enter(Vehicle& v, double now_s);
   std::optional<model::VehicleInput> control(Vehicle& v, double now_s, double dt_s);
-  void integratePositionError(Vehicle& v, const estimation::VehicleEstimate& e, double dt_s);
-  model::VehicleInput hoverControl(Vehicle& v, const estimation::VehicleEstimate& e, double dt_s,
-                                   bool integrate);
-  void moveSetPoint(Vehicle& v, const Eigen::Vector3d& position_m, double dt_s);
-  void updateAttempt(double now_s);
-  void updateCatchTarget(double now_s);
-  void predictOptimalCatch(double now_s);
-  void endAttempt(double now_s);
-  model::VehicleInput clampInput(model::VehicleInput u) const;
-  planning::InputLimits problemLimits() const;
+  void integrate_position_error(Vehicle& v, const estimation::VehicleEstimate& e, double dt_s);
+  model::VehicleInput hover_control(Vehicle& v, const estimation::VehicleEstimate& e, double dt_s,
+                                    bool integrate);
+  void move_set_point(Vehicle& v, const Eigen::Vector3d& position_m, double dt_s);
+  void update_attempt(double now_s);
+  void update_catch_target(double now_s);
+  void predict_optimal_catch(double now_s);
+  void end_attempt(double now_s);
+  model::VehicleInput clamp_input(model::VehicleInput u) const;
+  planning::InputLimits problem_limits() const;
   // The catcher's waiting point for the next throw: above the catch point, at the height the z
   // manoeuvre starts from (eq. (49)).
-  Eigen::Vector3d waitingTarget() const;
-  double catchDuration() const;  // T_z (48) of the catch manoeuvre at the adapted height
+  Eigen::Vector3d waiting_target() const;
+  double catch_duration() const;  // T_z (48) of the catch manoeuvre at the adapted height
 
   GroundStationConfig config_;
   link::GroundLink link_;
   estimation::StateEstimator estimator_;
-  std::array<Vehicle, 2> vehicles_;
+  std::array<Vehicle, 2> vehicles_{Vehicle(pa::kVehicle1), Vehicle(pa::kVehicle2)};  // by pa::act_slot()
   planning::ThrowProblem problem_;
   planning::ThrowPlan plan_;
   std::optional<planning::ThrowTracker> tracker_;

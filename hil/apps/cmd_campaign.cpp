@@ -44,7 +44,7 @@ std::pair<double, double> wilson95(int k, int n) {
 
 }  // namespace
 
-int cmdCampaign(int argc, char** argv) {
+int cmd_campaign(int argc, char** argv) {
   std::string plant_file, out_dir;
   std::uint64_t attempts = 0, seed = 1, jobs = 0;
   bool no_report = false;
@@ -90,7 +90,7 @@ int cmdCampaign(int argc, char** argv) {
   const auto start = std::chrono::steady_clock::now();
   std::vector<sil::CampaignAttempt> results;
   try {
-    results = sil::runCampaign(config, [&](const std::vector<const sil::CampaignAttempt*>& done) {
+    results = sil::run_campaign(config, [&](const std::vector<const sil::CampaignAttempt*>& done) {
       const int caught =
           static_cast<int>(std::count_if(done.begin(), done.end(), [](const sil::CampaignAttempt* a) {
             return a->result.outcome == "caught";
@@ -109,7 +109,7 @@ int cmdCampaign(int argc, char** argv) {
 
   std::ofstream csv(out_dir + "/throws.csv");
   csv << "throw,outcome,flight_s,catch_height_m,catch_x_m,catch_y_m,travel_m,energy_error_J,abort_reason,seed";
-  for (const DrawnParameter& p : drawnParameters(results.front().plant)) csv << "," << p.key;
+  for (const DrawnParameter& p : drawn_parameters(results.front().plant)) csv << "," << p.key;
   csv << "\n";
   std::map<std::string, int> failures;
   int caught = 0, crashed = 0;
@@ -120,7 +120,7 @@ int cmdCampaign(int argc, char** argv) {
                   r.outcome.c_str(), r.flight_s, r.catch_height_m, r.catch_x_m, r.catch_y_m, r.travel_m,
                   r.energy_error_J, r.abort_reason.c_str(), static_cast<unsigned long long>(a.seed));
     csv << line;
-    for (const DrawnParameter& p : drawnParameters(a.plant)) {
+    for (const DrawnParameter& p : drawn_parameters(a.plant)) {
       std::snprintf(line, sizeof line, ",%.6g", p.value);
       csv << line;
     }

@@ -11,7 +11,7 @@
 
 namespace hil::apps {
 
-int cmdConfig(int argc, char** argv) {
+int cmd_config(int argc, char** argv) {
   std::string plant_path;
   std::uint64_t seed = 1;
   bool randomise = false;

@@ -32,7 +32,7 @@ int usage(const std::string& message) {
   return 2;
 }
 
-void writeRow(std::ostream& out, const sil::AttemptResult& r) {
+void write_row(std::ostream& out, const sil::AttemptResult& r) {
   char line[512];
   std::snprintf(line, sizeof line, "%d,%s,%.4f,%.4f,%.4f,%.4f,%.4f,%.5f,%s,%.4f\n", r.throw_number,
                 r.outcome.c_str(), r.flight_s, r.catch_height_m, r.catch_x_m, r.catch_y_m, r.travel_m,
@@ -79,7 +79,7 @@ void write_time_series(const std::string& path, const std::vector<sil::TimeSampl
 
 }  // namespace
 
-int cmdFly(int argc, char** argv) {
+int cmd_fly(int argc, char** argv) {
   std::string series, plant_file, out_dir, store_file;
   std::uint64_t throws = 0, seed = 1;
   bool randomise = false, verbose = false, no_report = false;
@@ -90,7 +90,7 @@ int cmdFly(int argc, char** argv) {
       "on the plant's truth; prints a table per throw and a summary beside the paper's figures.");
   app.add_option("--series", series, "the paper's series of throws")
       ->type_name("paper")
-      ->check(pa::cli::oneOf({"paper"}, "must be 'paper'"));
+      ->check(pa::cli::one_of({"paper"}, "must be 'paper'"));
   app.add_option("--throws", throws, "N throws to catch instead")
       ->type_name("N")
       ->check(pa::cli::count(1, 100000, "needs a count 1..100000"));
@@ -116,7 +116,7 @@ int cmdFly(int argc, char** argv) {
     }
   }
   const std::vector<sil::AttemptPlan> plans =
-      series == "paper" ? sil::paperSeries() : sil::catchSeries(static_cast<int>(throws));
+      series == "paper" ? sil::paper_series() : sil::catch_series(static_cast<int>(throws));
   if (!out_dir.empty()) {
     std::error_code ec;
     std::filesystem::create_directories(out_dir, ec);
@@ -146,8 +146,8 @@ int cmdFly(int argc, char** argv) {
       sil::SeriesRunner runner(config);
       results = runner.run(plans, print);
       if (!out_dir.empty()) {
-        for (std::size_t i = 0; i < runner.timeSeries().size(); ++i)
-          write_time_series(out_dir + "/attempt_" + std::to_string(i + 1) + ".csv", runner.timeSeries()[i]);
+        for (std::size_t i = 0; i < runner.time_series().size(); ++i)
+          write_time_series(out_dir + "/attempt_" + std::to_string(i + 1) + ".csv", runner.time_series()[i]);
       }
     } else {
       // Each attempt on a plant drawn anew from its ranges: one series of one throw per draw,
@@ -165,10 +165,10 @@ int cmdFly(int argc, char** argv) {
         sil::SeriesRunner runner(config);
         std::vector<sil::AttemptPlan> one{plans[i]};
         sil::AttemptResult r = runner.run(one).front();
-        learnt = runner.groundStation().learnt();
-        if (!out_dir.empty() && !runner.timeSeries().empty())
+        learnt = runner.ground_station().learnt();
+        if (!out_dir.empty() && !runner.time_series().empty())
           write_time_series(out_dir + "/attempt_" + std::to_string(i + 1) + ".csv",
-                            runner.timeSeries().front());
+                            runner.time_series().front());
         if (verbose)
           std::printf(
               "  learnt: catching height %.3f, waiting (%.3f, %.3f), bias (%.3f, %.3f), catching instant %.3f s\n",
@@ -220,7 +220,7 @@ int cmdFly(int argc, char** argv) {
     std::ofstream csv(out_dir + "/throws.csv");
     csv << "throw,outcome,flight_s,catch_height_m,catch_x_m,catch_y_m,travel_m,energy_error_J,abort_reason,"
            "planned_height_m\n";
-    for (const sil::AttemptResult& r : results) writeRow(csv, r);
+    for (const sil::AttemptResult& r : results) write_row(csv, r);
     csv.close();
     if (!no_report) make_report(out_dir, "hil fly");
   }

@@ -9,7 +9,7 @@
 
 namespace hil::apps {
 
-int cmdRecord(int argc, char** argv) {
+int cmd_record(int argc, char** argv) {
   std::vector<std::string> args;
   for (int i = 1; i < argc; ++i) args.emplace_back(argv[i]);
   return record_command(args, std::cout, std::cerr);

@@ -6,9 +6,9 @@
 
 namespace hil::apps {
 
-int cmdRecord(int argc, char** argv);
-int cmdConfig(int argc, char** argv);
-int cmdFly(int argc, char** argv);
-int cmdCampaign(int argc, char** argv);
+int cmd_record(int argc, char** argv);
+int cmd_config(int argc, char** argv);
+int cmd_fly(int argc, char** argv);
+int cmd_campaign(int argc, char** argv);
 
 }  // namespace hil::apps

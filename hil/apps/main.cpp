@@ -7,14 +7,14 @@ namespace {
 
 constexpr pa::cli::Subcommand kSubcommands[] = {
     {"record", "run a scenario on the truth plant and write the motion-capture log as CSV",
-     hil::apps::cmdRecord},
+     hil::apps::cmd_record},
     {"fly", "fly a series of throws in the lockstep arena with the ground-station runtime",
-     hil::apps::cmdFly},
+     hil::apps::cmd_fly},
     {"campaign", "fly many independent attempts on randomised plants, in parallel, with a summary",
-     hil::apps::cmdCampaign},
-    {"config", "print the plant parameters (optionally randomised from a seed)", hil::apps::cmdConfig},
+     hil::apps::cmd_campaign},
+    {"config", "print the plant parameters (optionally randomised from a seed)", hil::apps::cmd_config},
 };
 
 }  // namespace
 
-int main(int argc, char** argv) { return pa::cli::runSubcommand("hil", kSubcommands, argc, argv); }
+int main(int argc, char** argv) { return pa::cli::run_subcommand("hil", kSubcommands, argc, argv); }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 
 #include "hil/plant/motor.hpp"
 #include "hil/plant/pole_drag.hpp"
@@ -89,23 +90,23 @@ VehicleState Plant::parked_vehicle(double x_m, double y_m, double yaw_rad) const
   return v;
 }
 
-MotorCommands Plant::hover_commands(int vehicle) const {
+MotorCommands Plant::hover_commands(pa::VehicleId vehicle) const {
   MotorCommands c;
   const double per_motor_N = config_.vehicle.mass_kg * config_.gravity_mps2 / 4.0;
   for (int i = 0; i < 4; ++i) {
     c.command[i] =
-        per_motor_N / (config_.vehicle.motor_gain[index(vehicle)][i] * config_.vehicle.motor_thrust_max_N);
+        per_motor_N / (config_.vehicle.motor_gain[slot(vehicle)][i] * config_.vehicle.motor_thrust_max_N);
   }
   return c;
 }
 
-Vec3 Plant::plate_centre_m(int vehicle) const {
-  const RigidBodyState& b = vehicles_[index(vehicle)].body;
+Vec3 Plant::plate_centre_m(pa::VehicleId vehicle) const {
+  const RigidBodyState& b = vehicles_[slot(vehicle)].body;
   return b.position_m + b.attitude * Vec3(0.0, 0.0, config_.vehicle.plate_height_m);
 }
 
-Vec3 Plant::plate_normal(int vehicle) const {
-  return vehicles_[index(vehicle)].body.attitude * Vec3::UnitZ();
+Vec3 Plant::plate_normal(pa::VehicleId vehicle) const {
+  return vehicles_[slot(vehicle)].body.attitude * Vec3::UnitZ();
 }
 
 namespace {
@@ -115,9 +116,9 @@ bool finite(const RigidBodyState& b) {
 }
 }  // namespace
 
-void Plant::set_vehicle(int vehicle, const VehicleState& state) {
+void Plant::set_vehicle(pa::VehicleId vehicle, const VehicleState& state) {
   if (!finite(state.body)) throw std::invalid_argument("Plant::set_vehicle: the state is not finite");
-  VehicleState& v = vehicles_[index(vehicle)];
+  VehicleState& v = vehicles_[slot(vehicle)];
   v = state;
   v.body.attitude.normalize();
   for (double& f : v.motor_thrust_N) f = std::isfinite(f) ? std::max(0.0, f) : 0.0;
@@ -158,12 +159,19 @@ void Plant::reset_pair(int pair) {
   }
 }
 
+std::size_t Plant::slot(pa::VehicleId vehicle) {
+  if (!pa::is_act_vehicle(vehicle)) {
+    throw std::invalid_argument("Plant: no vehicle with node " + std::to_string(vehicle.node()));
+  }
+  return pa::act_slot(vehicle);
+}
+
 void Plant::reset_pairs_of_pole() {
   for (int p = 0; p < kPolePairs; ++p) reset_pair(p);
 }
 
-void Plant::reset_pairs_of_vehicle(int vehicle) {
-  const int v = static_cast<int>(index(vehicle));
+void Plant::reset_pairs_of_vehicle(pa::VehicleId vehicle) {
+  const int v = static_cast<int>(slot(vehicle));
   const Surface plate = v == 0 ? Surface::plate1 : Surface::plate2;
   for (int p = 0; p < kPolePairs; ++p) {
     if (pair_surface(p) == plate) reset_pair(p);
@@ -242,9 +250,8 @@ Plant::PairGeometry Plant::geometry(const Bodies& b, const Kinematics& k, int pa
 
 // --- dynamics --------------------------------------------------------------------------------
 
-std::array<double, 4> Plant::thrust_at(int vehicle, double elapsed_s) const {
+std::array<double, 4> Plant::thrust_at(std::size_t v, double elapsed_s) const {
   std::array<double, 4> f{};
-  const std::size_t v = index(vehicle);
   for (int i = 0; i < 4; ++i) {
     f[i] = motor_thrust_after_N(vehicles_[v].motor_thrust_N[i], target_thrust_N_[v][i],
                                 config_.vehicle.motor_time_constant_s, elapsed_s);
@@ -263,7 +270,7 @@ Plant::Evaluation Plant::evaluate(const Bodies& b, double elapsed_s) const {
   std::array<Vec3, 2> vehicle_torque_body;  // about the CG
   for (int v = 0; v < 2; ++v) {
     const RigidBodyState& body = b.vehicle[v];
-    const BodyWrench rotors = rotor_wrench(vc, thrust_at(v, elapsed_s));
+    const BodyWrench rotors = rotor_wrench(vc, thrust_at(static_cast<std::size_t>(v), elapsed_s));
     vehicle_force[v] = k.vehicle_rotation[v] * rotors.force_N - vc.drag_Nspm * body.velocity_mps;
     vehicle_torque_body[v] = rotors.torque_Nm;
   }
@@ -430,7 +437,7 @@ void Plant::substep(std::int64_t h_ns) {
   imu_sum_time_s_ += h;
 
   store(advance(b0, mean, h));
-  for (int v = 0; v < 2; ++v) vehicles_[v].motor_thrust_N = thrust_at(v, h);
+  for (int v = 0; v < 2; ++v) vehicles_[v].motor_thrust_N = thrust_at(static_cast<std::size_t>(v), h);
   t_ns_ += h_ns;
   update_contacts();
   update_pole_rest(h);
@@ -527,8 +534,8 @@ void Plant::capture_mocap() {
   ++mocap_index_;
 }
 
-bool Plant::pop_imu(int vehicle, ImuSample& out) {
-  auto& q = imu_queue_[index(vehicle)];
+bool Plant::pop_imu(pa::VehicleId vehicle, ImuSample& out) {
+  auto& q = imu_queue_[slot(vehicle)];
   if (q.empty()) return false;
   out = q.front();
   q.pop_front();
@@ -558,8 +565,8 @@ Vec3 Plant::pole_end_force_N(int end, Surface surface) const {
   return pairs_[(end == 0 ? 0 : 3) + static_cast<int>(surface)].force_N;
 }
 
-bool Plant::vehicle_on_floor(int vehicle) const {
-  const int base = kPolePairs + 4 * static_cast<int>(index(vehicle));
+bool Plant::vehicle_on_floor(pa::VehicleId vehicle) const {
+  const int base = kPolePairs + 4 * static_cast<int>(slot(vehicle));
   for (int f = 0; f < 4; ++f) {
     if (pairs_[base + f].engaged) return true;
   }
@@ -594,9 +601,9 @@ double Plant::pole_energy_J() const {
          m * config_.gravity_mps2 * b.position_m.z();
 }
 
-double Plant::vehicle_energy_J(int vehicle) const {
+double Plant::vehicle_energy_J(pa::VehicleId vehicle) const {
   const VehicleConfig& vc = config_.vehicle;
-  const RigidBodyState& b = vehicles_[index(vehicle)].body;
+  const RigidBodyState& b = vehicles_[slot(vehicle)].body;
   const Vec3 inertia(vc.inertia_xx_kgm2, vc.inertia_yy_kgm2, vc.inertia_zz_kgm2);
   return 0.5 * vc.mass_kg * b.velocity_mps.squaredNorm() +
          0.5 * b.rate_body_radps.dot(inertia.cwiseProduct(b.rate_body_radps)) +
@@ -605,8 +612,8 @@ double Plant::vehicle_energy_J(int vehicle) const {
 
 Vec3 Plant::pole_momentum_Ns() const { return config_.pole.mass_kg * pole_.body.velocity_mps; }
 
-Vec3 Plant::vehicle_momentum_Ns(int vehicle) const {
-  return config_.vehicle.mass_kg * vehicles_[index(vehicle)].body.velocity_mps;
+Vec3 Plant::vehicle_momentum_Ns(pa::VehicleId vehicle) const {
+  return config_.vehicle.mass_kg * vehicles_[slot(vehicle)].body.velocity_mps;
 }
 
 Vec3 Plant::pole_angular_momentum_Nms(const Vec3& about_m) const {
@@ -617,9 +624,9 @@ Vec3 Plant::pole_angular_momentum_Nms(const Vec3& about_m) const {
          b.attitude * inertia.cwiseProduct(b.rate_body_radps);
 }
 
-Vec3 Plant::vehicle_angular_momentum_Nms(int vehicle, const Vec3& about_m) const {
+Vec3 Plant::vehicle_angular_momentum_Nms(pa::VehicleId vehicle, const Vec3& about_m) const {
   const VehicleConfig& vc = config_.vehicle;
-  const RigidBodyState& b = vehicles_[index(vehicle)].body;
+  const RigidBodyState& b = vehicles_[slot(vehicle)].body;
   const Vec3 inertia(vc.inertia_xx_kgm2, vc.inertia_yy_kgm2, vc.inertia_zz_kgm2);
   return (b.position_m - about_m).cross(vehicle_momentum_Ns(vehicle)) +
          b.attitude * inertia.cwiseProduct(b.rate_body_radps);

@@ -33,6 +33,7 @@
 #include "hil/plant/mocap.hpp"
 #include "hil/plant/plant_config.hpp"
 #include "hil/plant/types.hpp"
+#include "pa/vehicle_id.hpp"
 
 namespace hil {
 
@@ -56,18 +57,18 @@ class Plant {
   const PlantConfig& config() const { return config_; }
   double t_s() const { return static_cast<double>(t_ns_) * 1e-9; }
 
-  // Replace a body's state (vehicle 0 = vehicle1, 1 = vehicle2). Contacts of the moved body are
+  // Replace a vehicle's state. Contacts of the moved body are
   // re-evaluated from scratch: a point placed up to 5 mm inside a surface rests on it (sticking
   // where it is); one placed deeper does not engage it at all. A state with a non-finite value
   // (or a zero quaternion) throws std::invalid_argument and changes nothing.
-  void set_vehicle(int vehicle, const VehicleState& state);
+  void set_vehicle(pa::VehicleId vehicle, const VehicleState& state);
   void set_pole(const PoleState& state);
 
   // Advances by dt_s (rounded to whole nanoseconds; non-finite or negative does nothing) with
   // the motor commands held over the interval.
   void step(double dt_s, const MotorCommands& vehicle1, const MotorCommands& vehicle2);
 
-  const VehicleState& vehicle(int vehicle) const { return vehicles_[index(vehicle)]; }
+  const VehicleState& vehicle(pa::VehicleId vehicle) const { return vehicles_[slot(vehicle)]; }
   const PoleState& pole() const { return pole_; }
 
   // --- contacts ---------------------------------------------------------------------------
@@ -78,7 +79,7 @@ class Plant {
   // The contact force on pole end `end` from `surface`, averaged over the last integration
   // step (inertial frame; the surface received the opposite).
   Vec3 pole_end_force_N(int end, Surface surface) const;
-  bool vehicle_on_floor(int vehicle) const;
+  bool vehicle_on_floor(pa::VehicleId vehicle) const;
   // A pole lying still on the floor (both ends on it, speed below 1 mm/s and tumbling rate below
   // 0.01 rad/s for 0.2 s) is put to sleep: it keeps its place (a spin about its own axis, which
   // nothing damps, is dropped) and costs no short steps until set_pole() moves it. Nothing else
@@ -90,8 +91,8 @@ class Plant {
   // --- sensors ------------------------------------------------------------------------------
   // The next IMU sample of `vehicle` not yet taken, oldest first. Samples are produced at
   // imu_rate_Hz; at most kImuQueueLimit are kept.
-  bool pop_imu(int vehicle, ImuSample& out);
-  const ImuSample& latest_imu(int vehicle) const { return latest_imu_[index(vehicle)]; }
+  bool pop_imu(pa::VehicleId vehicle, ImuSample& out);
+  const ImuSample& latest_imu(pa::VehicleId vehicle) const { return latest_imu_[slot(vehicle)]; }
   // The next motion-capture frame delivered by now (capture time + latency <= t_s()).
   bool pop_mocap(MocapFrame& out) { return mocap_.pop(t_s(), out); }
   static constexpr std::size_t kImuQueueLimit = 100000;
@@ -99,16 +100,18 @@ class Plant {
   // --- truth diagnostics (noise-free) -------------------------------------------------------
   // The specific force (body frame) and body rate of a vehicle averaged over the last
   // integration step: what a perfect IMU would read.
-  const Vec3& true_specific_force_mps2(int vehicle) const { return true_specific_force_[index(vehicle)]; }
-  double pole_energy_J() const;                // kinetic + potential (zero at z = 0)
-  double vehicle_energy_J(int vehicle) const;  // idem
+  const Vec3& true_specific_force_mps2(pa::VehicleId vehicle) const {
+    return true_specific_force_[slot(vehicle)];
+  }
+  double pole_energy_J() const;                          // kinetic + potential (zero at z = 0)
+  double vehicle_energy_J(pa::VehicleId vehicle) const;  // idem
   Vec3 pole_momentum_Ns() const;
-  Vec3 vehicle_momentum_Ns(int vehicle) const;
+  Vec3 vehicle_momentum_Ns(pa::VehicleId vehicle) const;
   Vec3 pole_angular_momentum_Nms(const Vec3& about_m) const;
-  Vec3 vehicle_angular_momentum_Nms(int vehicle, const Vec3& about_m) const;
+  Vec3 vehicle_angular_momentum_Nms(pa::VehicleId vehicle, const Vec3& about_m) const;
   double pole_transverse_inertia_kgm2() const;
   double pole_axial_inertia_kgm2() const;
-  const ImuModel& imu_model(int vehicle) const { return imu_[index(vehicle)]; }
+  const ImuModel& imu_model(pa::VehicleId vehicle) const { return imu_[slot(vehicle)]; }
 
   // --- state builders -----------------------------------------------------------------------
   // A vehicle at `position_m`, level, with heading `yaw_rad`, at rest, each motor producing a
@@ -118,10 +121,10 @@ class Plant {
   VehicleState parked_vehicle(double x_m, double y_m, double yaw_rad) const;
   // The commands that hold every motor of `vehicle` at a quarter of the vehicle's weight with
   // this plant's motor gains (an oracle: a real controller does not know the gains).
-  MotorCommands hover_commands(int vehicle) const;
+  MotorCommands hover_commands(pa::VehicleId vehicle) const;
   // The plate's centre (on its surface) and normal, inertial frame.
-  Vec3 plate_centre_m(int vehicle) const;
-  Vec3 plate_normal(int vehicle) const;
+  Vec3 plate_centre_m(pa::VehicleId vehicle) const;
+  Vec3 plate_normal(pa::VehicleId vehicle) const;
 
   // A pole with centre `centre_m`, axis `axis` (normalised here), centre velocity `velocity_mps`
   // and angular velocity `rate_radps` (inertial frame; its component along the axis is the spin).
@@ -183,21 +186,23 @@ class Plant {
     Vec3 pole_rate;
   };
 
-  static std::size_t index(int vehicle) { return vehicle == 1 ? 1u : 0u; }
+  // The vehicle's slot in the per-vehicle arrays; std::invalid_argument for a vehicle the act
+  // does not fly.
+  static std::size_t slot(pa::VehicleId vehicle);
   Kinematics kinematics(const Bodies& b) const;
   ContactLaw law(Surface surface) const;
   Surface pair_surface(int pair) const;
   PairGeometry geometry(const Bodies& b, const Kinematics& k, int pair) const;
   Evaluation evaluate(const Bodies& b, double elapsed_s) const;
   static Bodies advance(const Bodies& b, const Evaluation& rate, double h_s);
-  std::array<double, 4> thrust_at(int vehicle, double elapsed_s) const;
+  std::array<double, 4> thrust_at(std::size_t v, double elapsed_s) const;
   std::int64_t choose_step_ns(std::int64_t limit_ns) const;
   void substep(std::int64_t h_ns);
   void update_contacts();
   void update_pole_rest(double h_s);
   void reset_pair(int pair);
   void reset_pairs_of_pole();
-  void reset_pairs_of_vehicle(int vehicle);
+  void reset_pairs_of_vehicle(pa::VehicleId vehicle);
   void capture_mocap();
   void sample_imu();
   Bodies bodies() const;

@@ -140,7 +140,7 @@ bool set_plant_parameter(PlantConfig& config, std::string_view key, const YAML::
   }
   double v = 0.0;
   if (p->real) {
-    const auto parsed = pa::yaml::finiteNumber(value);
+    const auto parsed = pa::yaml::finite_number(value);
     if (!parsed) {
       error = "'" + std::string(key) + "' needs a finite number, got '" + pa::yaml::text(value) + "'";
       return false;
@@ -190,7 +190,7 @@ std::string check_plant_config(const PlantConfig& c) {
 bool apply_plant_entries(const YAML::Node& map, const std::string& name, PlantConfig& config,
                          std::string& error) {
   std::vector<pa::yaml::Entry> entries;
-  if (!pa::yaml::entriesOf(map, name, entries, error)) return false;
+  if (!pa::yaml::entries_of(map, name, entries, error)) return false;
   PlantConfig updated = config;
   for (const pa::yaml::Entry& e : entries) {
     std::string message;
@@ -212,14 +212,14 @@ bool apply_plant_entries(const YAML::Node& map, const std::string& name, PlantCo
 bool parse_plant_config(std::string_view text, const std::string& name, PlantConfig& config,
                         std::string& error) {
   YAML::Node root;
-  if (!pa::yaml::parseDocument(text, name, root, error)) return false;
+  if (!pa::yaml::parse_document(text, name, root, error)) return false;
   if (root.IsNull()) return true;  // an empty file: every parameter keeps its value
   return apply_plant_entries(root, name, config, error);
 }
 
 bool load_plant_config(const std::string& path, PlantConfig& config, std::string& error) {
   std::string text;
-  return pa::yaml::readFile(path, text, error) && parse_plant_config(text, path, config, error);
+  return pa::yaml::read_file(path, text, error) && parse_plant_config(text, path, config, error);
 }
 
 std::string format_plant_config(const PlantConfig& config) {

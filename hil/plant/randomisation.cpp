@@ -31,7 +31,7 @@ PlantConfig randomised(const PlantConfig& nominal, std::uint64_t seed) {
   return c;
 }
 
-std::vector<DrawnParameter> drawnParameters(const PlantConfig& c) {
+std::vector<DrawnParameter> drawn_parameters(const PlantConfig& c) {
   std::vector<DrawnParameter> out = {
       {"pole_drag_axial_kgpm2", c.pole.drag_axial_kgpm2},
       {"pole_drag_normal_kgpm2", c.pole.drag_normal_kgpm2},

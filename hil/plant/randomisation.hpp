@@ -24,6 +24,6 @@ struct DrawnParameter {
   std::string_view key;
   double value = 0.0;
 };
-std::vector<DrawnParameter> drawnParameters(const PlantConfig& config);
+std::vector<DrawnParameter> drawn_parameters(const PlantConfig& config);
 
 }  // namespace hil

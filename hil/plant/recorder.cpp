@@ -52,7 +52,7 @@ void write_vehicle_truth_csv(std::ostream& out, const std::vector<VehicleTruthRo
     const auto& f = r.state.motor_thrust_N;
     out << format(
         "%.6f,vehicle%d,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.6f,%.6f,%.6f,%.6f\n",
-        r.t_s, r.vehicle + 1, b.position_m.x(), b.position_m.y(), b.position_m.z(), b.velocity_mps.x(),
+        r.t_s, r.vehicle.node(), b.position_m.x(), b.position_m.y(), b.position_m.z(), b.velocity_mps.x(),
         b.velocity_mps.y(), b.velocity_mps.z(), q.w(), q.x(), q.y(), q.z(), b.rate_body_radps.x(),
         b.rate_body_radps.y(), b.rate_body_radps.z(), f[0], f[1], f[2], f[3]);
   }
@@ -92,7 +92,7 @@ void define_record_arguments(CLI::App& app, RecordArguments& a) {
                  "delivery (default): t is when the frame reached the ground station;\n"
                  "capture: t is when the poses were true")
       ->type_name("")
-      ->check(pa::cli::oneOf({"delivery", "capture"}, "must be delivery or capture"));
+      ->check(pa::cli::one_of({"delivery", "capture"}, "must be delivery or capture"));
 }
 
 }  // namespace

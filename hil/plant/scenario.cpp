@@ -27,7 +27,7 @@ std::string apply(Scenario& s, const pa::yaml::Entry& e, bool& position_given1, 
   const std::string& k = e.key;
   const std::string v = pa::yaml::text(e.value);
   auto real = [&](double& target, double lo, double hi) -> std::string {
-    const auto x = pa::yaml::finiteNumber(e.value);
+    const auto x = pa::yaml::finite_number(e.value);
     if (!x) return "'" + k + "' needs a finite number, got '" + v + "'";
     if (*x < lo || *x > hi) {
       std::ostringstream m;
@@ -121,7 +121,7 @@ std::string apply(Scenario& s, const pa::yaml::Entry& e, bool& position_given1, 
   if (k == "balance_vehicle") {
     const auto x = pa::yaml::integer(e.value);
     if (!x || (*x != 1 && *x != 2)) return "'balance_vehicle' must be 1 or 2, got '" + v + "'";
-    s.balance_vehicle = static_cast<int>(*x);
+    s.balance_vehicle = pa::VehicleId(static_cast<std::uint8_t>(*x));
     return {};
   }
   if (k == "balance_tilt_rad") return real(s.balance_tilt_rad, -0.5, 0.5);
@@ -135,8 +135,8 @@ bool parse_scenario(std::string_view text, const std::string& name, const std::s
                     Scenario& out, std::string& error) {
   YAML::Node root;
   std::vector<pa::yaml::Entry> entries;
-  if (!pa::yaml::parseDocument(text, name, root, error)) return false;
-  if (!root.IsNull() && !pa::yaml::entriesOf(root, name, entries, error)) return false;
+  if (!pa::yaml::parse_document(text, name, root, error)) return false;
+  if (!root.IsNull() && !pa::yaml::entries_of(root, name, entries, error)) return false;
   Scenario s;
   s.source = name;
 
@@ -195,9 +195,10 @@ bool parse_scenario(std::string_view text, const std::string& name, const std::s
       return false;
     }
   }
-  if (s.pole_start == PoleStart::balanced && s.vehicle[s.balance_vehicle - 1].mode == VehicleMode::parked) {
-    error =
-        name + ": the pole is balanced on vehicle" + std::to_string(s.balance_vehicle) + ", which is parked";
+  if (s.pole_start == PoleStart::balanced &&
+      s.vehicle[pa::act_slot(s.balance_vehicle)].mode == VehicleMode::parked) {
+    error = name + ": the pole is balanced on vehicle" + std::to_string(s.balance_vehicle.node()) +
+            ", which is parked";
     return false;
   }
   if (s.pole_start == PoleStart::launch && s.launch_time_s > s.duration_s) {
@@ -210,7 +211,7 @@ bool parse_scenario(std::string_view text, const std::string& name, const std::s
 
 bool load_scenario(const std::string& path, Scenario& out, std::string& error) {
   std::string text;
-  return pa::yaml::readFile(path, text, error) && parse_scenario(text, path, directory_of(path), out, error);
+  return pa::yaml::read_file(path, text, error) && parse_scenario(text, path, directory_of(path), out, error);
 }
 
 std::string scenario_directory() { return std::string(PA_HIL_CONFIG_DIR) + "/scenarios"; }

@@ -13,6 +13,7 @@
 
 #include "hil/plant/plant_config.hpp"
 #include "hil/plant/types.hpp"
+#include "pa/vehicle_id.hpp"
 
 namespace hil {
 
@@ -72,7 +73,7 @@ struct Scenario {
   Vec3 catch_offset_m = Vec3::Zero();  // added to the auto position (x, y; z ignored)
 
   // pole_start = balanced.
-  int balance_vehicle = 1;            // 1 or 2
+  pa::VehicleId balance_vehicle = pa::kVehicle1;
   double balance_tilt_rad = 0.02;     // initial tilt towards +x
   double balance_lambda_radps = 3.0;  // balancer closed-loop roots (pole_balancer.hpp)
 };

@@ -28,8 +28,8 @@ PoleState carried(const PoleState& launch, double dt_s) {
 // catch height.
 bool find_catch_point(const PlantConfig& config, const Scenario& s, Vec3& out, std::string& error) {
   Plant probe(config, s.seed);
-  probe.set_vehicle(0, probe.parked_vehicle(-1e4, 0.0, 0.0));
-  probe.set_vehicle(1, probe.parked_vehicle(1e4, 0.0, 0.0));
+  probe.set_vehicle(pa::kVehicle1, probe.parked_vehicle(-1e4, 0.0, 0.0));
+  probe.set_vehicle(pa::kVehicle2, probe.parked_vehicle(1e4, 0.0, 0.0));
   probe.set_pole(launch_state(s));
   const double L = config.pole.half_length_m;
   std::array<Vec3, 2> previous{probe.pole().end_m(0, L), probe.pole().end_m(1, L)};
@@ -82,6 +82,7 @@ bool run(const Scenario& s, ScenarioResult& out, std::string& error) {
   std::array<Vec3, 2> hold_position{s.vehicle[0].position_m, s.vehicle[1].position_m};
   for (int i = 0; i < 2; ++i) {
     const ScenarioVehicle& v = s.vehicle[i];
+    const pa::VehicleId id = pa::kActVehicles[i];
     if (v.position_auto) {
       Vec3 point;
       if (!find_catch_point(config, s, point, error)) return false;
@@ -90,13 +91,13 @@ bool run(const Scenario& s, ScenarioResult& out, std::string& error) {
       out.catch_position_m = hold_position[i];
     }
     if (v.mode == VehicleMode::parked) {
-      plant.set_vehicle(i, plant.parked_vehicle(v.position_m.x(), v.position_m.y(), v.yaw_rad));
+      plant.set_vehicle(id, plant.parked_vehicle(v.position_m.x(), v.position_m.y(), v.yaw_rad));
     } else {
       VehicleState state = plant.hovering_vehicle(hold_position[i], v.yaw_rad);
-      if (!launching && s.balance_vehicle - 1 == i) {
+      if (!launching && s.balance_vehicle == id) {
         for (double& f : state.motor_thrust_N) f += config.pole.mass_kg * config.gravity_mps2 / 4.0;
       }
-      plant.set_vehicle(i, state);
+      plant.set_vehicle(id, state);
     }
   }
 
@@ -108,12 +109,13 @@ bool run(const Scenario& s, ScenarioResult& out, std::string& error) {
   auto carry = [&](double t_s) {
     const PoleState pole = carried(launch, t_s - s.launch_time_s);
     plant.set_pole(pole);
-    if (thrower >= 0) plant.set_vehicle(thrower, carrying(plant, pole, s.vehicle[thrower].yaw_rad));
+    if (thrower >= 0)
+      plant.set_vehicle(pa::kActVehicles[thrower], carrying(plant, pole, s.vehicle[thrower].yaw_rad));
   };
   if (launching) {
     carry(0.0);
   } else {
-    const int v = s.balance_vehicle - 1;
+    const pa::VehicleId v = s.balance_vehicle;
     const Vec3 axis(std::sin(s.balance_tilt_rad), 0.0, std::cos(s.balance_tilt_rad));
     plant.set_pole(Plant::make_pole(plant.plate_centre_m(v) + L * axis, axis, Vec3::Zero(), Vec3::Zero()));
   }
@@ -132,6 +134,7 @@ bool run(const Scenario& s, ScenarioResult& out, std::string& error) {
     std::array<MotorCommands, 2> commands{};
     for (int i = 0; i < 2; ++i) {
       const ScenarioVehicle& v = s.vehicle[i];
+      const pa::VehicleId id = pa::kActVehicles[i];
       if (v.mode == VehicleMode::parked) continue;
       // A thrower carries the pole with its motors off, and falls away from it after the launch.
       if (v.mode == VehicleMode::thrower && plant.t_s() < s.launch_time_s + s.thrower_release_s - 1e-9)
@@ -148,9 +151,9 @@ bool run(const Scenario& s, ScenarioResult& out, std::string& error) {
       if (balancing && supported >= 0) {
         sp.hold_horizontal = false;
         sp.acceleration_mps2 =
-            balance_acceleration(balancer, plant.pole(), supported, plant.vehicle(i), hold_position[i]);
+            balance_acceleration(balancer, plant.pole(), supported, plant.vehicle(id), hold_position[i]);
       }
-      commands[i] = controllers[i].update(plant.vehicle(i), sp, dt);
+      commands[i] = controllers[i].update(plant.vehicle(id), sp, dt);
     }
     plant.step(dt, commands[0], commands[1]);
     // Until the launch the thrower carries the pole: it moves with the launch state unaccelerated,
@@ -168,8 +171,9 @@ bool run(const Scenario& s, ScenarioResult& out, std::string& error) {
     }
     for (int i = 0; i < 2; ++i) {
       ImuSample sample;
-      while (plant.pop_imu(i, sample)) out.imu[i].push_back(sample);
-      out.vehicle_truth.push_back(VehicleTruthRow{plant.t_s(), i, plant.vehicle(i)});
+      const pa::VehicleId id = pa::kActVehicles[i];
+      while (plant.pop_imu(id, sample)) out.imu[i].push_back(sample);
+      out.vehicle_truth.push_back(VehicleTruthRow{plant.t_s(), id, plant.vehicle(id)});
     }
     const PoleState& pole = plant.pole();
     // While carried, the pole stands on the thrower's plate by construction.

@@ -36,7 +36,7 @@ struct PoleTruthRow {
 
 struct VehicleTruthRow {
   double t_s = 0.0;
-  int vehicle = 0;  // 0 = vehicle1, 1 = vehicle2
+  pa::VehicleId vehicle = pa::kVehicle1;
   VehicleState state{};
 };
 

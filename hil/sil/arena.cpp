@@ -33,30 +33,28 @@ RadioConfig radio_for(RadioConfig radio, std::uint64_t arena_seed, std::uint8_t 
 Arena::Arena(const PlantConfig& plant, const ArenaConfig& config, std::uint64_t seed)
     : lockstep_(plant, seed) {
   links_.reserve(2);
-  for (int v = 0; v < 2; ++v) {
-    const std::uint8_t node = nodeOf(v);
-    links_.emplace_back(radio_for(config.radio, seed, node));
-    vehicles_[static_cast<std::size_t>(v)] =
-        &lockstep_.attach_firmware(v, firmware_config_for(plant.vehicle, node));
+  for (const pa::VehicleId v : pa::kActVehicles) {
+    links_.emplace_back(radio_for(config.radio, seed, v.node()));
+    vehicles_[pa::act_slot(v)] = &lockstep_.attach_firmware(firmware_config_for(plant.vehicle, v));
   }
 }
 
-std::size_t Arena::slot(std::uint8_t node) {
-  const int v = plantIndexOf(node);
-  if (v < 0) throw std::out_of_range("no arena vehicle has node " + std::to_string(node) + " (1 or 2)");
-  return static_cast<std::size_t>(v);
+std::size_t Arena::slot(pa::VehicleId vehicle) {
+  if (!pa::is_act_vehicle(vehicle))
+    throw std::out_of_range("no arena vehicle has node " + std::to_string(vehicle.node()) + " (1 or 2)");
+  return pa::act_slot(vehicle);
 }
 
-FirmwareVehicle& Arena::vehicle(std::uint8_t node) { return *vehicles_[slot(node)]; }
-const FirmwareVehicle& Arena::vehicle(std::uint8_t node) const { return *vehicles_[slot(node)]; }
+FirmwareVehicle& Arena::vehicle(pa::VehicleId vehicle) { return *vehicles_[slot(vehicle)]; }
+const FirmwareVehicle& Arena::vehicle(pa::VehicleId vehicle) const { return *vehicles_[slot(vehicle)]; }
 
-void Arena::sendFromGround(const Frame& frame) {
+void Arena::send_from_ground(const Frame& frame) {
   const std::uint8_t node = pa::proto::id_node(frame.id);
   const double t = t_s();
   if (node == pa::proto::kBroadcastNode) {
     for (Link& link : links_) link.bridge.offer(Side::ground, frame, t);
-  } else if (plantIndexOf(node) >= 0) {
-    links_[slot(node)].bridge.offer(Side::ground, frame, t);
+  } else if (pa::is_act_vehicle(pa::VehicleId(node))) {
+    links_[slot(pa::VehicleId(node))].bridge.offer(Side::ground, frame, t);
   } else {
     ++not_carried_;
   }
@@ -86,20 +84,20 @@ void Arena::step() {
   while (lockstep_.plant().pop_mocap(m)) mocap_.push_back(m);
 }
 
-std::vector<Frame> Arena::takeGroundFrames() {
+std::vector<Frame> Arena::take_ground_frames() {
   std::vector<Frame> out;
   out.swap(ground_);
   return out;
 }
 
-std::vector<MocapFrame> Arena::takeMocap() {
+std::vector<MocapFrame> Arena::take_mocap() {
   std::vector<MocapFrame> out;
   out.swap(mocap_);
   return out;
 }
 
-RadioCounters Arena::radio(std::uint8_t node) const {
-  const Link& link = links_[slot(node)];
+RadioCounters Arena::radio(pa::VehicleId vehicle) const {
+  const Link& link = links_[slot(vehicle)];
   RadioCounters c;
   c.uplink_offered = link.bridge.offered(Side::ground);
   c.uplink_lost = link.bridge.lost(Side::ground);

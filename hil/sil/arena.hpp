@@ -4,8 +4,8 @@
 // at a time, reproducible from one seed, without a wall clock.
 //
 // The ground station is not in it. The arena's face to the ground is what a ground station in
-// the arena sees: the ground bus (frames in with sendFromGround(), frames out with
-// takeGroundFrames()) and the motion-capture frames (takeMocap()).
+// the arena sees: the ground bus (frames in with send_from_ground(), frames out with
+// take_ground_frames()) and the motion-capture frames (take_mocap()).
 //
 // Timing contract. Arena time is the plant's: t_k = k ms after k steps. Ground-side calls are
 // made between steps, at the current t_s(). L is RadioConfig::latency_s, J its jitter_s, and a
@@ -19,13 +19,13 @@
 //    is executed and acknowledged there, a setpoint flown from there).
 //  - Downlink: every frame the firmware sends in the step t_k -> t_(k+1) (except HIL_MOTORS,
 //    which is the plant's) is offered to its radio at t_(k+1), due on the ground bus at
-//    d = t_(k+1) + L + U(0, J), and returned by takeGroundFrames() after the first step that
+//    d = t_(k+1) + L + U(0, J), and returned by take_ground_frames() after the first step that
 //    ends at t >= d. A COMMAND sent at t_k with J = 0 is thus acknowledged on the ground bus at
 //    t_k + 2 L + 1 ms, no earlier.
 //  - Motion capture: frame i captures the true poses at i / mocap.rate_Hz (the first at t = 0)
-//    and is returned by takeMocap() after the first step that ends at t >= its delivery_t_s
+//    and is returned by take_mocap() after the first step that ends at t >= its delivery_t_s
 //    (capture + mocap latency + jitter, both from the plant's configuration).
-//  - takeGroundFrames() and takeMocap() return what arrived since their last call; a caller
+//  - take_ground_frames() and take_mocap() return what arrived since their last call; a caller
 //    that steps once between calls sees every arrival within 1 ms of its due time. Nothing is
 //    dropped when they are not called: what arrived accumulates.
 //
@@ -48,17 +48,6 @@
 #include "pa/protocol.hpp"
 
 namespace hil::sil {
-
-// The arena's vehicles: CAN node 1 flies plant vehicle 0 (vehicle1), node 2 plant vehicle 1
-// (vehicle2). The one mapping between the two numberings.
-inline constexpr std::array<std::uint8_t, 2> kArenaNodes{1, 2};
-// The plant index node `node` flies, or -1 if no arena vehicle has that node.
-constexpr int plantIndexOf(std::uint8_t node) { return node == 1 ? 0 : node == 2 ? 1 : -1; }
-// The node flying plant vehicle `plant_index`, or pa::proto::kGroundNode (0, never a vehicle)
-// for an index other than 0 or 1.
-constexpr std::uint8_t nodeOf(int plant_index) {
-  return plant_index == 0 ? std::uint8_t{1} : plant_index == 1 ? std::uint8_t{2} : pa::proto::kGroundNode;
-}
 
 struct ArenaConfig {
   // Both vehicles' radios (each seeded from the arena's seed, see above).
@@ -89,10 +78,10 @@ class Arena {
   Plant& plant() { return lockstep_.plant(); }
   const Plant& plant() const { return lockstep_.plant(); }
 
-  // The firmware of node 1 or 2; throws std::out_of_range for any other node. Its inject()
-  // bypasses the radio.
-  FirmwareVehicle& vehicle(std::uint8_t node);
-  const FirmwareVehicle& vehicle(std::uint8_t node) const;
+  // The firmware of pa::kVehicle1 or pa::kVehicle2; throws std::out_of_range for any other
+  // vehicle. Its inject() bypasses the radio.
+  FirmwareVehicle& vehicle(pa::VehicleId vehicle);
+  const FirmwareVehicle& vehicle(pa::VehicleId vehicle) const;
 
   double t_s() const { return lockstep_.t_s(); }
   double period_s() const { return lockstep_.period_s(); }  // 1 ms, the firmware's IMU period
@@ -101,7 +90,7 @@ class Arena {
   // vehicle its identifier's node addresses, by both radios when broadcast (node 15); a frame
   // addressed to any other node (the ground's own 0, vehicles not in the arena) is carried by
   // no radio and counted in not_carried().
-  void sendFromGround(const pa::proto::Frame& frame);
+  void send_from_ground(const pa::proto::Frame& frame);
 
   // One IMU period, t_k -> t_(k+1): the radios put on each vehicle bus what is due by t_k, the
   // plant and both firmwares step (Lockstep::step()), the frames the firmwares sent are offered
@@ -111,12 +100,12 @@ class Arena {
 
   // Frames that arrived on the ground bus since the last call, oldest first (within one step,
   // node 1's radio before node 2's).
-  std::vector<pa::proto::Frame> takeGroundFrames();
+  std::vector<pa::proto::Frame> take_ground_frames();
   // Motion-capture frames delivered since the last call, in capture order.
-  std::vector<MocapFrame> takeMocap();
+  std::vector<MocapFrame> take_mocap();
 
-  // Node 1 or 2's radio; throws std::out_of_range for any other node.
-  RadioCounters radio(std::uint8_t node) const;
+  // The radio of pa::kVehicle1 or pa::kVehicle2; throws std::out_of_range for any other vehicle.
+  RadioCounters radio(pa::VehicleId vehicle) const;
   // Ground frames addressed to no arena vehicle.
   std::uint64_t not_carried() const { return not_carried_; }
 
@@ -127,11 +116,11 @@ class Arena {
     std::uint64_t uplink_delivered = 0;
     std::uint64_t downlink_delivered = 0;
   };
-  static std::size_t slot(std::uint8_t node);  // throws std::out_of_range
+  static std::size_t slot(pa::VehicleId vehicle);  // throws std::out_of_range
 
   Lockstep lockstep_;
-  std::array<FirmwareVehicle*, 2> vehicles_{};  // owned by lockstep_, indexed by plant vehicle
-  std::vector<Link> links_;                     // indexed by plant vehicle
+  std::array<FirmwareVehicle*, 2> vehicles_{};  // owned by lockstep_, indexed by pa::act_slot()
+  std::vector<Link> links_;                     // indexed by pa::act_slot()
   std::vector<pa::proto::Frame> ground_;
   std::vector<MocapFrame> mocap_;
   std::uint64_t not_carried_ = 0;

@@ -18,18 +18,18 @@ namespace hil::sil {
 namespace {
 
 // What the ground station learns from one throw on the nominal plant (see the header).
-gs::runtime::Learnt warmUp(const CampaignConfig& config) {
+gs::runtime::Learnt warm_up(const CampaignConfig& config) {
   SeriesConfig series;
   series.plant = config.plant;
   series.seed = config.seed;
   SeriesRunner runner(series);
   runner.run({AttemptPlan{false}});
-  return runner.groundStation().learnt();
+  return runner.ground_station().learnt();
 }
 
 CampaignAttempt fly(const CampaignConfig& config, const gs::runtime::Learnt& learnt, int attempt) {
   CampaignAttempt a;
-  a.seed = attemptSeed(config.seed, attempt);
+  a.seed = attempt_seed(config.seed, attempt);
   a.plant = randomised(config.plant, a.seed);
   SeriesConfig series;
   series.plant = a.plant;
@@ -41,7 +41,7 @@ CampaignAttempt fly(const CampaignConfig& config, const gs::runtime::Learnt& lea
   return a;
 }
 
-bool writeAll(int fd, const std::string& text) {
+bool write_all(int fd, const std::string& text) {
   std::size_t done = 0;
   while (done < text.size()) {
     const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
@@ -58,7 +58,7 @@ bool writeAll(int fd, const std::string& text) {
   try {
     for (int i = k; i <= config.attempts && status == 0; i += config.jobs) {
       const CampaignAttempt a = fly(config, learnt, i);
-      if (!writeAll(fd, std::to_string(i) + "\t" + encodeResult(a.result) + "\n")) status = 1;
+      if (!write_all(fd, std::to_string(i) + "\t" + encode_result(a.result) + "\n")) status = 1;
     }
   } catch (...) {
     status = 3;
@@ -70,11 +70,11 @@ bool writeAll(int fd, const std::string& text) {
 
 }  // namespace
 
-std::uint64_t attemptSeed(std::uint64_t seed, int attempt) {
+std::uint64_t attempt_seed(std::uint64_t seed, int attempt) {
   return seed * 1000003ULL + static_cast<std::uint64_t>(attempt);
 }
 
-std::string encodeResult(const AttemptResult& r) {
+std::string encode_result(const AttemptResult& r) {
   char numbers[256];
   std::snprintf(numbers, sizeof numbers, "%.17g\t%.17g\t%.17g\t%.17g\t%.17g\t%.17g\t%d\t%d", r.flight_s,
                 r.catch_height_m, r.catch_x_m, r.catch_y_m, r.travel_m, r.energy_error_J, r.impact ? 1 : 0,
@@ -82,7 +82,7 @@ std::string encodeResult(const AttemptResult& r) {
   return r.outcome + "\t" + numbers + "\t" + r.abort_reason;
 }
 
-bool decodeResult(const std::string& line, AttemptResult& r) {
+bool decode_result(const std::string& line, AttemptResult& r) {
   std::vector<std::string> fields;
   std::stringstream in(line);
   std::string field;
@@ -106,19 +106,19 @@ bool decodeResult(const std::string& line, AttemptResult& r) {
   return true;
 }
 
-std::vector<CampaignAttempt> runCampaign(
+std::vector<CampaignAttempt> run_campaign(
     const CampaignConfig& config,
     const std::function<void(const std::vector<const CampaignAttempt*>&)>& progress) {
   if (config.attempts < 1 || config.jobs < 1)
     throw std::runtime_error("a campaign needs attempts and jobs >= 1");
-  const gs::runtime::Learnt learnt = warmUp(config);
+  const gs::runtime::Learnt learnt = warm_up(config);
 
   // The plants are drawn here too (a draw is cheap and deterministic): the workers report only
   // the referee's results.
   std::vector<CampaignAttempt> attempts(static_cast<std::size_t>(config.attempts));
   for (int i = 1; i <= config.attempts; ++i) {
     CampaignAttempt& a = attempts[static_cast<std::size_t>(i - 1)];
-    a.seed = attemptSeed(config.seed, i);
+    a.seed = attempt_seed(config.seed, i);
     a.plant = randomised(config.plant, a.seed);
     a.result.throw_number = i;
   }
@@ -179,7 +179,7 @@ std::vector<CampaignAttempt> runCampaign(
         int i = 0;
         AttemptResult r;
         if (tab == std::string::npos || std::sscanf(line.c_str(), "%d", &i) != 1 || i < 1 ||
-            i > config.attempts || !decodeResult(line.substr(tab + 1), r)) {
+            i > config.attempts || !decode_result(line.substr(tab + 1), r)) {
           throw std::runtime_error("a worker reported an unreadable result: '" + line + "'");
         }
         r.throw_number = i;

@@ -5,7 +5,7 @@
 // Independent attempts. First a warm-up flies one throw (adapt only) on the nominal plant; what
 // the ground station learnt there is where every attempt's ground station starts, as a real one
 // would start from its store after calibration flights. Attempt i (1..N) then takes off on the
-// plant randomised(plant, attemptSeed(seed, i)) with that seed for its noise, and throws once to
+// plant randomised(plant, attempt_seed(seed, i)) with that seed for its noise, and throws once to
 // catch. Nothing else is shared, so the results depend on the seed alone, whatever the number of
 // workers.
 //
@@ -39,17 +39,17 @@ struct CampaignAttempt {
 };
 
 // The seed of attempt i (1..N) of a campaign seeded with `seed`.
-std::uint64_t attemptSeed(std::uint64_t seed, int attempt);
+std::uint64_t attempt_seed(std::uint64_t seed, int attempt);
 
 // Flies the campaign. `progress` is called in the calling process after each attempt with the
 // results so far (in order of completion). Throws std::runtime_error when a worker cannot be
 // started or dies without reporting its attempts.
-std::vector<CampaignAttempt> runCampaign(
+std::vector<CampaignAttempt> run_campaign(
     const CampaignConfig& config,
     const std::function<void(const std::vector<const CampaignAttempt*>& done)>& progress = {});
 
 // One attempt's result as one line and back (the workers' reports; tab-separated, no newline).
-std::string encodeResult(const AttemptResult& r);
-bool decodeResult(const std::string& line, AttemptResult& r);
+std::string encode_result(const AttemptResult& r);
+bool decode_result(const std::string& line, AttemptResult& r);
 
 }  // namespace hil::sil

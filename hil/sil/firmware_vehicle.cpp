@@ -9,7 +9,7 @@ namespace hil::sil {
 
 using pa::proto::Frame;
 
-fw::VehicleConfig firmware_config_for(const VehicleConfig& plant_vehicle, std::uint8_t node) {
+fw::VehicleConfig firmware_config_for(const VehicleConfig& plant_vehicle, pa::VehicleId vehicle) {
   fw::VehicleConfig c{};
   fw::AirframeConfig& a = c.airframe;
   a.mass_kg = static_cast<float>(plant_vehicle.mass_kg);
@@ -25,15 +25,14 @@ fw::VehicleConfig firmware_config_for(const VehicleConfig& plant_vehicle, std::u
   // sides, and only the plant's (unknown to the firmware) gains differ.
   a.motor_thrust_max_N = static_cast<float>(plant_vehicle.motor_thrust_max_N);
   a.motor_time_constant_s = static_cast<float>(plant_vehicle.motor_time_constant_s);
-  c.link.node = node;
+  c.link.vehicle = vehicle;
   return c;
 }
 
-FirmwareVehicle::FirmwareVehicle(int plant_vehicle, const fw::VehicleConfig& config)
-    : plant_vehicle_(plant_vehicle), node_(config.link.node), node_impl_(config) {
-  if (plant_vehicle != 0 && plant_vehicle != 1)
-    throw std::invalid_argument("plant vehicle " + std::to_string(plant_vehicle) +
-                                " does not exist (0 or 1)");
+FirmwareVehicle::FirmwareVehicle(const fw::VehicleConfig& config)
+    : vehicle_(config.link.vehicle), node_(config.link.vehicle.node()), node_impl_(config) {
+  if (!pa::is_act_vehicle(vehicle_))
+    throw std::invalid_argument("no plant vehicle has node " + std::to_string(node_) + " (1 or 2)");
   inbox_.reserve(16);
   sent_.reserve(64);
 }
@@ -93,16 +92,16 @@ Lockstep::Lockstep(const PlantConfig& config, std::uint64_t seed)
                                 " Hz IMU; the plant's imu_rate_Hz is " + std::to_string(config.imu.rate_Hz));
 }
 
-FirmwareVehicle& Lockstep::attach_firmware(int vehicle, const fw::VehicleConfig& config) {
-  if (vehicle != 0 && vehicle != 1)
-    throw std::invalid_argument("plant vehicle " + std::to_string(vehicle) + " does not exist (0 or 1)");
-  firmware_[static_cast<std::size_t>(vehicle)].emplace(vehicle, config);
-  return *firmware_[static_cast<std::size_t>(vehicle)];
+FirmwareVehicle& Lockstep::attach_firmware(const fw::VehicleConfig& config) {
+  const pa::VehicleId vehicle = config.link.vehicle;
+  if (!pa::is_act_vehicle(vehicle))
+    throw std::invalid_argument("no plant vehicle has node " + std::to_string(vehicle.node()) + " (1 or 2)");
+  return firmware_[pa::act_slot(vehicle)].emplace(config);
 }
 
-FirmwareVehicle* Lockstep::firmware(int vehicle) {
-  if (vehicle != 0 && vehicle != 1) return nullptr;
-  auto& slot = firmware_[static_cast<std::size_t>(vehicle)];
+FirmwareVehicle* Lockstep::firmware(pa::VehicleId vehicle) {
+  if (!pa::is_act_vehicle(vehicle)) return nullptr;
+  auto& slot = firmware_[pa::act_slot(vehicle)];
   return slot ? &*slot : nullptr;
 }
 
@@ -111,10 +110,11 @@ void Lockstep::step() {
   const MotorCommands& v1 = firmware_[0] ? firmware_[0]->motor_commands() : off;
   const MotorCommands& v2 = firmware_[1] ? firmware_[1]->motor_commands() : off;
   plant_.step(period_s_, v1, v2);
-  for (int v = 0; v < 2; ++v) {
+  for (const pa::VehicleId v : pa::kActVehicles) {
+    std::optional<FirmwareVehicle>& firmware = firmware_[pa::act_slot(v)];
     ImuSample sample;
     while (plant_.pop_imu(v, sample)) {
-      if (firmware_[static_cast<std::size_t>(v)]) firmware_[static_cast<std::size_t>(v)]->on_imu(sample);
+      if (firmware) firmware->on_imu(sample);
     }
   }
 }

@@ -38,20 +38,19 @@ namespace hil::sil {
 // the same newtons on both sides) and the motor time constant. Everything else keeps the
 // firmware's documented defaults (fw/config.hpp), in particular motor_thrust_min_N, the ESC's
 // armed idle, which the plant has no parameter for: the plant turns its command into thrust
-// linearly from zero. `node` is the vehicle's CAN node (1..14).
+// linearly from zero.
 // The plant's per-motor gains, drag and randomised parameters are deliberately not passed on:
 // they are what the firmware has to cope with (randomise the plant after building this).
-fw::VehicleConfig firmware_config_for(const VehicleConfig& plant_vehicle, std::uint8_t node);
+fw::VehicleConfig firmware_config_for(const VehicleConfig& plant_vehicle, pa::VehicleId vehicle);
 
 // One plant vehicle flown by one firmware core.
 class FirmwareVehicle {
  public:
-  // `plant_vehicle` is the plant's index (0 = vehicle1, 1 = vehicle2); `config.link.node` the
-  // firmware's node id. Throws std::invalid_argument for an index other than 0 or 1.
-  FirmwareVehicle(int plant_vehicle, const fw::VehicleConfig& config);
+  // Flies the plant vehicle `config.link.vehicle` is; throws std::invalid_argument for a vehicle
+  // other than pa::kVehicle1 and pa::kVehicle2.
+  explicit FirmwareVehicle(const fw::VehicleConfig& config);
 
-  int plant_vehicle() const { return plant_vehicle_; }
-  std::uint8_t node() const { return node_; }
+  pa::VehicleId vehicle() const { return vehicle_; }
 
   // A frame from the ground side (COMMAND, GS_HEARTBEAT, RATE_THRUST, KILL, TIMESYNC_REQUEST...),
   // put on the vehicle bus before the next IMU sample (the firmware reads it then).
@@ -78,8 +77,8 @@ class FirmwareVehicle {
   std::uint64_t missed_ticks() const { return missed_ticks_; }
 
  private:
-  int plant_vehicle_;
-  std::uint8_t node_;
+  pa::VehicleId vehicle_;
+  std::uint8_t node_;  // vehicle_'s, on the wire
   fw::posix::HilVehicleNode node_impl_;
   std::vector<pa::proto::Frame> inbox_;
   std::vector<pa::proto::Frame> sent_;
@@ -101,11 +100,12 @@ class Lockstep {
   Plant& plant() { return plant_; }
   const Plant& plant() const { return plant_; }
 
-  // Fly plant vehicle `vehicle` (0 or 1) with a firmware built from `config`; replaces any
-  // firmware already there. The firmware receives its first sample at the next step().
-  FirmwareVehicle& attach_firmware(int vehicle, const fw::VehicleConfig& config);
+  // Fly plant vehicle `config.link.vehicle` with a firmware built from `config`; replaces any
+  // firmware already there (std::invalid_argument for a vehicle the plant does not have). The
+  // firmware receives its first sample at the next step().
+  FirmwareVehicle& attach_firmware(const fw::VehicleConfig& config);
   // The firmware flying `vehicle`, or nullptr.
-  FirmwareVehicle* firmware(int vehicle);
+  FirmwareVehicle* firmware(pa::VehicleId vehicle);
 
   // One IMU period: the plant advances with the held commands, then each firmware gets the new
   // sample and answers with the commands for the following period.

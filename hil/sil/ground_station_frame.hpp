@@ -9,7 +9,7 @@
 
 namespace hil::sil {
 
-inline gs::estimation::MocapFrame toGroundStationFrame(const MocapFrame& f) {
+inline gs::estimation::MocapFrame to_ground_station_frame(const MocapFrame& f) {
   gs::estimation::MocapFrame out;
   out.t_s = f.capture_t_s;
   auto pose = [](const MocapPose& p) {

@@ -10,18 +10,16 @@ namespace {
 
 using gs::mission::Task;
 
-constexpr std::uint8_t kThrower = 1;
-constexpr std::uint8_t kCatcher = 2;
-constexpr int kThrowerIndex = plantIndexOf(kThrower);
-constexpr int kCatcherIndex = plantIndexOf(kCatcher);
+constexpr pa::VehicleId kThrower = pa::kVehicle1;
+constexpr pa::VehicleId kCatcher = pa::kVehicle2;
 constexpr double kUpright_rad = 5.0 * M_PI / 180.0;  // the acceptance's "within 5 degrees"
 constexpr double kBalancedFor_s = 3.0;
 
-double tiltOf(const PoleState& pole) { return std::acos(std::min(1.0, std::abs(pole.axis().z()))); }
+double tilt_of(const PoleState& pole) { return std::acos(std::min(1.0, std::abs(pole.axis().z()))); }
 
 }  // namespace
 
-std::vector<AttemptPlan> paperSeries() {
+std::vector<AttemptPlan> paper_series() {
   std::vector<AttemptPlan> plans;
   plans.push_back(AttemptPlan{false, Eigen::Vector2d::Zero(), 0.0});
   for (int i = 0; i < 6; ++i) plans.push_back(AttemptPlan{true, Eigen::Vector2d(1.0, 0.0), 0.0});
@@ -30,7 +28,7 @@ std::vector<AttemptPlan> paperSeries() {
   return plans;
 }
 
-std::vector<AttemptPlan> catchSeries(int n) {
+std::vector<AttemptPlan> catch_series(int n) {
   std::vector<AttemptPlan> plans;
   if (n <= 0) return plans;
   plans.push_back(AttemptPlan{false, Eigen::Vector2d::Zero(), 0.0});
@@ -44,58 +42,58 @@ SeriesRunner::SeriesRunner(const SeriesConfig& config)
 void SeriesRunner::step() {
   arena_.step();
   const double now = arena_.t_s();
-  for (const pa::proto::Frame& f : arena_.takeGroundFrames()) gs_.onFrame(f, now);
-  for (const MocapFrame& m : arena_.takeMocap()) {
-    const gs::estimation::MocapFrame frame = toGroundStationFrame(m);
+  for (const pa::proto::Frame& f : arena_.take_ground_frames()) gs_.on_frame(f, now);
+  for (const MocapFrame& m : arena_.take_mocap()) {
+    const gs::estimation::MocapFrame frame = to_ground_station_frame(m);
     if (!config_.time_ground_station) {
-      gs_.onMocap(frame, now);
+      gs_.on_mocap(frame, now);
       continue;
     }
     const auto start = std::chrono::steady_clock::now();
-    gs_.onMocap(frame, now);
+    gs_.on_mocap(frame, now);
     frame_times_s_.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   }
   gs_.tick(now);
-  for (const pa::proto::Frame& f : bus_.take()) arena_.sendFromGround(f);
+  for (const pa::proto::Frame& f : bus_.take()) arena_.send_from_ground(f);
   if (config_.log) {
-    for (const gs::runtime::MissionEvent& e : gs_.takeEvents()) {
+    for (const gs::runtime::MissionEvent& e : gs_.take_events()) {
       char line[200];
-      std::snprintf(line, sizeof line, "%9.3f  vehicle %d: %s -> %s (%s)", e.t_s, int(e.node),
-                    std::string(gs::mission::taskName(e.from)).c_str(),
-                    std::string(gs::mission::taskName(e.to)).c_str(),
-                    std::string(gs::mission::reasonName(e.reason)).c_str());
+      std::snprintf(line, sizeof line, "%9.3f  vehicle %d: %s -> %s (%s)", e.t_s, int(e.vehicle.node()),
+                    std::string(gs::mission::task_name(e.from)).c_str(),
+                    std::string(gs::mission::task_name(e.to)).c_str(),
+                    std::string(gs::mission::reason_name(e.reason)).c_str());
       config_.log(line);
     }
-    for (const gs::link::ImpactReport& i : gs_.takeImpacts()) {
+    for (const gs::link::ImpactReport& i : gs_.take_impacts()) {
       char line[200];
       std::snprintf(line, sizeof line, "%9.3f  IMPACT from vehicle %d at %.3f: class %d, peak %.1f m/s^2, %s",
-                    now, int(i.node), i.t_s, int(i.classification), double(i.peak_mps2),
+                    now, int(i.vehicle.node()), i.t_s, int(i.classification), double(i.peak_mps2),
                     i.final ? "final" : "provisional");
       config_.log(line);
     }
-    if (gs_.estimator().switchCount() != switches_logged_) {
-      switches_logged_ = gs_.estimator().switchCount();
-      if (const auto s = gs_.estimator().lastSwitch()) {
+    if (gs_.estimator().switch_count() != switches_logged_) {
+      switches_logged_ = gs_.estimator().switch_count();
+      if (const auto s = gs_.estimator().last_switch()) {
         char line[200];
         std::snprintf(line, sizeof line, "%9.3f  pole: %s -> %s (%s, event at %.3f)", now,
-                      std::string(gs::estimation::poleModeName(s->from)).c_str(),
-                      std::string(gs::estimation::poleModeName(s->to)).c_str(),
-                      std::string(gs::estimation::switchReasonName(s->reason)).c_str(), s->event_t_s);
+                      std::string(gs::estimation::pole_mode_name(s->from)).c_str(),
+                      std::string(gs::estimation::pole_mode_name(s->to)).c_str(),
+                      std::string(gs::estimation::switch_reason_name(s->reason)).c_str(), s->event_t_s);
         config_.log(line);
       }
     }
   } else {
-    gs_.takeEvents();
-    gs_.takeImpacts();
+    gs_.take_events();
+    gs_.take_impacts();
   }
-  for (std::uint8_t node : kArenaNodes) {
-    const fw::Vehicle& fw = arena_.vehicle(node).firmware();
+  for (const pa::VehicleId vehicle : pa::kActVehicles) {
+    const fw::Vehicle& fw = arena_.vehicle(vehicle).firmware();
     if (fw.mode() == pa::proto::Mode::killed) crashed_ = true;
-    const int i = plantIndexOf(node);
+    const std::size_t i = pa::act_slot(vehicle);
     if (config_.log && fw.mode() != firmware_modes_[i]) {
       char line[160];
       std::snprintf(line, sizeof line, "%9.3f  firmware %d: mode %d, failsafe reason %d, impacts %d", now,
-                    int(node), int(fw.mode()), int(fw.failsafe_reason()), int(fw.impact_count()));
+                    int(vehicle.node()), int(fw.mode()), int(fw.failsafe_reason()), int(fw.impact_count()));
       config_.log(line);
     }
     firmware_modes_[i] = fw.mode();
@@ -108,30 +106,30 @@ TimeSample SeriesRunner::time_sample(double now) const {
   const Plant& p = arena_.plant();
   const double half_length_m = p.config().pole.half_length_m;
   TimeSample s{now,
-               p.vehicle(0).body.position_m,
-               p.vehicle(1).body.position_m,
+               p.vehicle(pa::kVehicle1).body.position_m,
+               p.vehicle(pa::kVehicle2).body.position_m,
                p.pole().body.position_m,
                p.pole().axis(),
-               std::string(gs::mission::taskName(gs_.task(kThrower))),
-               std::string(gs::mission::taskName(gs_.task(kCatcher))),
+               std::string(gs::mission::task_name(gs_.task(kThrower))),
+               std::string(gs::mission::task_name(gs_.task(kCatcher))),
                {},
                {},
                {},
                {},
                {}};
-  for (std::uint8_t node : kArenaNodes) {
-    const int i = plantIndexOf(node);
-    s.plate_m[i] = p.plate_centre_m(i);
-    s.plate_normal[i] = p.plate_normal(i);
-    s.pole_end_m[i] = p.pole().end_m(i, half_length_m);
-    const pa::proto::RateThrust& cmd = arena_.vehicle(node).firmware().link().setpoint();
+  for (const pa::VehicleId vehicle : pa::kActVehicles) {
+    const std::size_t i = pa::act_slot(vehicle);
+    s.plate_m[i] = p.plate_centre_m(vehicle);
+    s.plate_normal[i] = p.plate_normal(vehicle);
+    s.pole_end_m[i] = p.pole().end_m(static_cast<int>(i), half_length_m);
+    const pa::proto::RateThrust& cmd = arena_.vehicle(vehicle).firmware().link().setpoint();
     s.thrust_cmd_mps2[i] = cmd.thrust_mps2;
     s.rate_cmd_radps[i] = Vec3(cmd.rate_radps[0], cmd.rate_radps[1], cmd.rate_radps[2]);
   }
   return s;
 }
 
-bool SeriesRunner::runUntil(const std::function<bool()>& done, double timeout_s) {
+bool SeriesRunner::run_until(const std::function<bool()>& done, double timeout_s) {
   const double until = arena_.t_s() + timeout_s;
   while (arena_.t_s() < until) {
     step();
@@ -142,27 +140,27 @@ bool SeriesRunner::runUntil(const std::function<bool()>& done, double timeout_s)
 
 bool SeriesRunner::thrower_at_origin() const {
   const Plant& p = arena_.plant();
-  const VehicleState& v = p.vehicle(kThrowerIndex);
+  const VehicleState& v = p.vehicle(kThrower);
   const Vec3 origin = config_.ground_station.throw_origin_m;
   const Task task = gs_.task(kThrower);
   return (task == Task::hover || task == Task::balance) &&
-         (p.plate_centre_m(kThrowerIndex) - origin).norm() < 0.1 && v.body.velocity_mps.norm() < 0.2;
+         (p.plate_centre_m(kThrower) - origin).norm() < 0.1 && v.body.velocity_mps.norm() < 0.2;
 }
 
-void SeriesRunner::placePoleOnThrower() {
+void SeriesRunner::place_pole_on_thrower() {
   Plant& p = arena_.plant();
   const double L = p.config().pole.half_length_m;
-  const Vec3 plate = p.plate_centre_m(kThrowerIndex);
-  p.set_pole(Plant::make_pole(plate + L * Vec3::UnitZ(), Vec3::UnitZ(),
-                              p.vehicle(kThrowerIndex).body.velocity_mps, Vec3::Zero()));
+  const Vec3 plate = p.plate_centre_m(kThrower);
+  p.set_pole(Plant::make_pole(plate + L * Vec3::UnitZ(), Vec3::UnitZ(), p.vehicle(kThrower).body.velocity_mps,
+                              Vec3::Zero()));
 }
 
 std::vector<AttemptResult> SeriesRunner::run(const std::vector<AttemptPlan>& plans,
                                              const std::function<void(const AttemptResult&)>& on_result) {
   std::vector<AttemptResult> results;
-  gs_.requestTakeOff();
+  gs_.request_take_off();
   const bool airborne =
-      runUntil([&] { return gs_.task(kThrower) == Task::hover && gs_.task(kCatcher) == Task::hover; }, 10.0);
+      run_until([&] { return gs_.task(kThrower) == Task::hover && gs_.task(kCatcher) == Task::hover; }, 10.0);
   for (std::size_t i = 0; i < plans.size(); ++i) {
     AttemptResult r;
     if (airborne) {
@@ -187,8 +185,8 @@ namespace {
 // (a throw-only one too: how far the catcher would have had to go). The path a catcher flies
 // also depends on aborts and on the manoeuvre's shape; this is what adapting the waiting point
 // reduces. 0 when the pole never came down through that height.
-double requiredTravel(const Eigen::Vector2d& waiting_xy_m, const std::vector<Vec3>& lower_end_m,
-                      double catch_height_m, const Eigen::Vector2d& offset_m, const AttemptResult& r) {
+double required_travel(const Eigen::Vector2d& waiting_xy_m, const std::vector<Vec3>& lower_end_m,
+                       double catch_height_m, const Eigen::Vector2d& offset_m, const AttemptResult& r) {
   std::optional<Eigen::Vector2d> catch_xy;
   if (r.impact) catch_xy = Eigen::Vector2d(r.catch_x_m, r.catch_y_m);
   for (std::size_t i = 1; i < lower_end_m.size() && !catch_xy; ++i) {
@@ -225,7 +223,7 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
   request.catch_it = plan.catch_it;
   request.catch_offset_m = plan.catch_offset_m;
   const std::size_t reports_before = gs_.attempts().size();
-  if (!gs_.requestAttempt(request)) {
+  if (!gs_.request_attempt(request)) {
     r.outcome = "aborted";
     r.abort_reason = "ground_station_busy";
     return r;
@@ -245,18 +243,18 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
     step();
     const double t = arena_.t_s();
     // The person: the pole onto the thrower hovering at the throw's origin.
-    if (!placed && thrower_at_origin() && gs_.attemptPhase() == gs::runtime::AttemptPhase::preparing) {
-      placePoleOnThrower();
+    if (!placed && thrower_at_origin() && gs_.attempt_phase() == gs::runtime::AttemptPhase::preparing) {
+      place_pole_on_thrower();
       placed = true;
     }
     if (!throw_start_s && gs_.task(kThrower) == Task::throwing) throw_start_s = t;
     if (plan.push_sideways_m != 0.0 && !pushed && throw_start_s && t - *throw_start_s >= 2.2) {
       // The spoiled launch: thrower and pole moved sideways together, as by a gust.
-      VehicleState v = plant.vehicle(kThrowerIndex);
+      VehicleState v = plant.vehicle(kThrower);
       PoleState pole = plant.pole();
       v.body.position_m.y() += plan.push_sideways_m;
       pole.body.position_m.y() += plan.push_sideways_m;
-      plant.set_vehicle(kThrowerIndex, v);
+      plant.set_vehicle(kThrower, v);
       plant.set_pole(pole);
       pushed = true;
     }
@@ -292,7 +290,7 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
       r.energy_error_J = e - e_star;
     }
     // Caught: on the catcher's plate within 5 degrees of upright for 3 s.
-    if (impact_s && plant.pole_contact() == Contact::vehicle2 && tiltOf(plant.pole()) < kUpright_rad) {
+    if (impact_s && plant.pole_contact() == Contact::vehicle2 && tilt_of(plant.pole()) < kUpright_rad) {
       if (upright_since_s < 0.0) upright_since_s = t;
       if (t - upright_since_s >= kBalancedFor_s) caught = true;
     } else {
@@ -335,12 +333,13 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
     // The throw itself failed (the pole left the plate before T, or it was aborted): the
     // catcher had nothing to catch.
     r.outcome = "aborted";
-    r.abort_reason =
-        throw_end == gs::mission::Reason::none ? "no_throw" : std::string(gs::mission::reasonName(throw_end));
+    r.abort_reason = throw_end == gs::mission::Reason::none
+                         ? "no_throw"
+                         : std::string(gs::mission::reason_name(throw_end));
   } else if (end == gs::mission::Reason::out_of_reach || end == gs::mission::Reason::infeasible ||
              end == gs::mission::Reason::abort_requested) {
     r.outcome = "aborted";
-    r.abort_reason = std::string(gs::mission::reasonName(end));
+    r.abort_reason = std::string(gs::mission::reason_name(end));
   } else if (plan.catch_offset_m.norm() > 0.0) {
     r.outcome = "practice";
   } else if (caught) {
@@ -357,7 +356,7 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
   if (report) r.planned_height_m = report->catch_height_m;
   if (report)
     r.travel_m =
-        requiredTravel(report->waiting_xy_m, lower_end_m, report->catch_height_m, plan.catch_offset_m, r);
+        required_travel(report->waiting_xy_m, lower_end_m, report->catch_height_m, plan.catch_offset_m, r);
   return r;
 }
 

@@ -11,7 +11,7 @@
 // The ground station sees neither: it gets frames and poses only.
 //
 // Timing per 1 ms step: the arena steps; the ground frames that arrived go to
-// GroundStation::onFrame, the motion-capture frames delivered to onMocap, then tick(); the
+// GroundStation::on_frame, the motion-capture frames delivered to on_mocap, then tick(); the
 // frames the ground station sent go onto the ground bus (the radios carry them from the next
 // step on). A series is reproducible from its seed.
 #pragma once
@@ -40,9 +40,9 @@ struct AttemptPlan {
 
 // The paper's series (Section VII-B): throw 1 adapts only, throws 2-7 practise with the catch
 // manoeuvre 1 m off, throws 8 and 9 are caught.
-std::vector<AttemptPlan> paperSeries();
+std::vector<AttemptPlan> paper_series();
 // One throw that adapts only, then n - 1 catches.
-std::vector<AttemptPlan> catchSeries(int n);
+std::vector<AttemptPlan> catch_series(int n);
 
 // The referee's account of one attempt, the columns of throws.csv.
 struct AttemptResult {
@@ -83,7 +83,7 @@ struct SeriesConfig {
   bool record_time_series = false;
   // Called with a line for every mission event and pole mode switch (a log for people).
   std::function<void(const std::string&)> log;
-  // Measure the wall time of every GroundStation::onMocap call (one whole ground-station frame:
+  // Measure the wall time of every GroundStation::on_mocap call (one whole ground-station frame:
   // estimator update, latency compensation, mission, controllers, catch re-planning, link).
   bool time_ground_station = false;
   // Called after every 1 ms step (diagnostics, tests that watch the truth).
@@ -98,20 +98,20 @@ class SeriesRunner {
   std::vector<AttemptResult> run(const std::vector<AttemptPlan>& plans,
                                  const std::function<void(const AttemptResult&)>& on_result = {});
 
-  const gs::runtime::GroundStation& groundStation() const { return gs_; }
+  const gs::runtime::GroundStation& ground_station() const { return gs_; }
   const Arena& arena() const { return arena_; }
   // The time series of every attempt (when record_time_series), attempt by attempt.
-  const std::vector<std::vector<TimeSample>>& timeSeries() const { return series_; }
+  const std::vector<std::vector<TimeSample>>& time_series() const { return series_; }
   double simulatedTime_s() const { return arena_.t_s(); }
-  // The measured onMocap durations (time_ground_station), in seconds, in call order.
+  // The measured on_mocap durations (time_ground_station), in seconds, in call order.
   const std::vector<double>& groundStationFrameTimes_s() const { return frame_times_s_; }
 
  private:
   void step();
   TimeSample time_sample(double now) const;
-  bool runUntil(const std::function<bool()>& done, double timeout_s);
+  bool run_until(const std::function<bool()>& done, double timeout_s);
   AttemptResult fly(const AttemptPlan& plan, int number);
-  void placePoleOnThrower();
+  void place_pole_on_thrower();
   bool thrower_at_origin() const;
 
   SeriesConfig config_;

@@ -40,13 +40,13 @@ std::optional<double> finite(const std::string& text) {
 }
 
 // The flag a CLI11 message starts with ("--out: 1 required TEXT missing" -> "--out").
-std::string flagOf(const std::string& message) {
+std::string flag_of(const std::string& message) {
   const std::size_t colon = message.find(": ");
   return colon == std::string::npos ? std::string() : message.substr(0, colon);
 }
 
 // The message in the tools' words; every one names the flag (or the argument) concerned.
-std::string messageOf(const CLI::App& app, const CLI::ParseError& e) {
+std::string message_of(const CLI::App& app, const CLI::ParseError& e) {
   const std::string what = e.what();
   // An unknown argument first, as a typo is the likelier mistake: CLI11 would report a missing
   // required flag before it.
@@ -54,13 +54,13 @@ std::string messageOf(const CLI::App& app, const CLI::ParseError& e) {
   const bool unknown = dynamic_cast<const CLI::ExtrasError*>(&e) != nullptr ||
                        dynamic_cast<const CLI::RequiredError*>(&e) != nullptr;
   if (unknown && !extras.empty()) return "unknown argument '" + extras.front() + "'";
-  if (dynamic_cast<const CLI::ArgumentMismatch*>(&e) != nullptr && !flagOf(what).empty() &&
+  if (dynamic_cast<const CLI::ArgumentMismatch*>(&e) != nullptr && !flag_of(what).empty() &&
       what.size() >= 8 && what.compare(what.size() - 8, 8, " missing") == 0) {
-    return flagOf(what) + " needs a value";
+    return flag_of(what) + " needs a value";
   }
   // Our checks continue the flag's name: "--seed: needs ..." reads "--seed needs ...".
-  if (dynamic_cast<const CLI::ValidationError*>(&e) != nullptr && !flagOf(what).empty()) {
-    return flagOf(what) + " " + what.substr(flagOf(what).size() + 2);
+  if (dynamic_cast<const CLI::ValidationError*>(&e) != nullptr && !flag_of(what).empty()) {
+    return flag_of(what) + " " + what.substr(flag_of(what).size() + 2);
   }
   return what;
 }
@@ -83,7 +83,7 @@ std::optional<int> parse(CLI::App& app, const std::vector<std::string>& args, st
     out << app.help();
     return 0;
   } catch (const CLI::ParseError& e) {
-    err << app.get_name() << ": " << messageOf(app, e) << "\n\n" << app.help();
+    err << app.get_name() << ": " << message_of(app, e) << "\n\n" << app.help();
     return 2;
   }
   return std::nullopt;
@@ -96,12 +96,12 @@ std::optional<int> parse(CLI::App& app, int argc, const char* const* argv, std::
   return parse(app, args, out, err);
 }
 
-CLI::Validator finiteNumber(std::string need) {
+CLI::Validator finite_number(std::string need) {
   return CLI::Validator([need](std::string& text) { return finite(text) ? std::string() : got(need, text); },
                         "");
 }
 
-CLI::Validator numberIn(double lo, double hi, std::string need) {
+CLI::Validator number_in(double lo, double hi, std::string need) {
   return CLI::Validator(
       [=](std::string& text) {
         const std::optional<double> v = finite(text);
@@ -125,7 +125,7 @@ CLI::Validator count(std::uint64_t lo, std::uint64_t hi, std::string need) {
       "");
 }
 
-CLI::Validator numberPair(std::string need) {
+CLI::Validator number_pair(std::string need) {
   return CLI::Validator(
       [need](std::string& text) {
         const std::size_t comma = text.find(',');
@@ -136,13 +136,13 @@ CLI::Validator numberPair(std::string need) {
       "");
 }
 
-NumberPair toNumberPair(const std::string& text) {
+NumberPair to_number_pair(const std::string& text) {
   const std::size_t comma = text.find(',');
   if (comma == std::string::npos) return {};
   return {finite(text.substr(0, comma)).value_or(0.0), finite(text.substr(comma + 1)).value_or(0.0)};
 }
 
-CLI::Validator oneOf(std::vector<std::string> choices, std::string need) {
+CLI::Validator one_of(std::vector<std::string> choices, std::string need) {
   return CLI::Validator(
       [=](std::string& text) {
         for (const std::string& c : choices) {
@@ -153,13 +153,13 @@ CLI::Validator oneOf(std::vector<std::string> choices, std::string need) {
       "");
 }
 
-CLI::Validator nonEmpty(std::string need) {
+CLI::Validator non_empty(std::string need) {
   return CLI::Validator([need](std::string& text) { return text.empty() ? need : std::string(); }, "");
 }
 
 namespace {
 
-int unknownSubcommand(CLI::App& app, const std::string& name) {
+int unknown_subcommand(CLI::App& app, const std::string& name) {
   std::cerr << app.get_name() << ": unknown subcommand '" << name << "'\n\n" << app.help();
   return 2;
 }
@@ -173,7 +173,7 @@ int dispatch(CLI::App& app, std::span<const Subcommand> table, int argc, char** 
       std::cout << app.help();
       return 0;
     } catch (const CLI::ParseError&) {
-      return unknownSubcommand(app, argv[1]);
+      return unknown_subcommand(app, argv[1]);
     }
   }
   const std::vector<CLI::App*> chosen = app.get_subcommands();
@@ -193,12 +193,12 @@ int dispatch(CLI::App& app, std::span<const Subcommand> table, int argc, char** 
     char* sub_argv[] = {argv[2], help_flag, nullptr};
     return c.run(2, sub_argv);
   }
-  return unknownSubcommand(app, name);
+  return unknown_subcommand(app, name);
 }
 
 }  // namespace
 
-int runSubcommand(std::string_view program, std::span<const Subcommand> table, int argc, char** argv) {
+int run_subcommand(std::string_view program, std::span<const Subcommand> table, int argc, char** argv) {
   const std::string name(program);
   try {
     CLI::App app(std::string(), name);

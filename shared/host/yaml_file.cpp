@@ -14,7 +14,7 @@ std::string at(const std::string& name, const YAML::Mark& mark) {
 
 }  // namespace
 
-bool entriesOf(const YAML::Node& map, const std::string& name, std::vector<Entry>& out, std::string& error) {
+bool entries_of(const YAML::Node& map, const std::string& name, std::vector<Entry>& out, std::string& error) {
   out.clear();
   if (!map.IsMap()) {
     error = at(name, map.Mark()) + "expected a map of `key: value` lines";
@@ -40,7 +40,7 @@ bool entriesOf(const YAML::Node& map, const std::string& name, std::vector<Entry
   return true;
 }
 
-bool parseDocument(std::string_view text, const std::string& name, YAML::Node& root, std::string& error) {
+bool parse_document(std::string_view text, const std::string& name, YAML::Node& root, std::string& error) {
   try {
     root = YAML::Load(std::string(text));
   } catch (const YAML::Exception& e) {
@@ -50,7 +50,7 @@ bool parseDocument(std::string_view text, const std::string& name, YAML::Node& r
   return true;
 }
 
-bool readFile(const std::string& path, std::string& text, std::string& error) {
+bool read_file(const std::string& path, std::string& text, std::string& error) {
   std::ifstream in(path, std::ios::binary);
   std::ostringstream buffer;
   if (in) buffer << in.rdbuf();
@@ -71,7 +71,7 @@ std::string where(const std::string& name, const Entry& entry) {
 
 std::string text(const YAML::Node& node) { return node.IsScalar() ? node.Scalar() : std::string(); }
 
-std::optional<double> finiteNumber(const YAML::Node& node) {
+std::optional<double> finite_number(const YAML::Node& node) {
   double value = 0.0;
   if (!node.IsScalar() || !YAML::convert<double>::decode(node, value) || !std::isfinite(value)) {
     return std::nullopt;
@@ -95,7 +95,7 @@ std::optional<std::vector<double>> numbers(const YAML::Node& node, std::size_t c
   if (!node.IsSequence() || node.size() != count) return std::nullopt;
   std::vector<double> values;
   for (const YAML::Node& item : node) {
-    const std::optional<double> v = finiteNumber(item);
+    const std::optional<double> v = finite_number(item);
     if (!v) return std::nullopt;
     values.push_back(*v);
   }

@@ -12,7 +12,7 @@ struct LinkFixture {
   fw::LinkConfig link_config{};
   fw::SupervisorConfig supervisor_config{};
   fw::CommandLink link;
-  LinkFixture() : link((link_config.node = kNode, link_config), supervisor_config) {}
+  LinkFixture() : link((link_config.vehicle = pa::VehicleId(kNode), link_config), supervisor_config) {}
 
   template <class M>
   void receive(const M& m, std::uint32_t now_us, std::uint8_t node = kNode) {

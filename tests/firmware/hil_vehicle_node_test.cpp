@@ -40,7 +40,7 @@ TEST_CASE("a vehicle on the in-memory bus answers every IMU sample with its moto
   enum { kPlant = 0, kVehicle = 1, kGround = 2 };
   static fw::posix::InMemoryBus<3, 512> bus;
   fw::VehicleConfig config{};
-  config.link.node = 1;
+  config.link.vehicle = pa::kVehicle1;
   static fw::posix::HilVehicleNode node(config);
 
   const long before = g_allocations.load();

@@ -20,7 +20,7 @@
 namespace {
 
 using namespace gs::adaptation;
-using adaptation_test::makeRecord;
+using adaptation_test::make_record;
 using adaptation_test::ScratchDir;
 
 struct Run {
@@ -42,8 +42,8 @@ Run run(int (*command)(int, const char* const*, std::ostream&, std::ostream&),
   return r;
 }
 
-Run history(std::initializer_list<std::string> args) { return run(runHistoryCommand, args); }
-Run adaptationCmd(std::initializer_list<std::string> args) { return run(runAdaptationCommand, args); }
+Run history(std::initializer_list<std::string> args) { return run(run_history_command, args); }
+Run adaptation_cmd(std::initializer_list<std::string> args) { return run(run_adaptation_command, args); }
 
 AdaptationSettings settings() {
   AdaptationSettings s;
@@ -54,7 +54,7 @@ AdaptationSettings settings() {
 }
 
 // RFC 4180 records: fields split on commas outside quotes, records on line breaks outside quotes.
-std::vector<std::vector<std::string>> parseCsv(const std::string& text) {
+std::vector<std::vector<std::string>> parse_csv(const std::string& text) {
   std::vector<std::vector<std::string>> rows(1);
   std::string field;
   bool quoted = false;
@@ -86,7 +86,7 @@ std::vector<std::vector<std::string>> parseCsv(const std::string& text) {
   return rows;
 }
 
-int countLines(const std::string& text) {
+int count_lines(const std::string& text) {
   int n = 0;
   for (const char c : text) n += (c == '\n');
   return n;
@@ -99,9 +99,9 @@ TEST_CASE("history and adaptation reject bad arguments with the usage and exit 2
                        history({"history", "--db", "x.sqlite", "--last", "0"}),
                        history({"history", "--db", "x.sqlite", "--last", "-3"}),
                        history({"history", "--db", "x.sqlite", "--last", "3x"}),
-                       history({"history", "--db", "x.sqlite", "--color"}), adaptationCmd({"adaptation"}),
-                       adaptationCmd({"adaptation", "--db", "x.sqlite", "--yes"}),
-                       adaptationCmd({"adaptation", "--db", "x.sqlite", "--frobnicate"})}) {
+                       history({"history", "--db", "x.sqlite", "--color"}), adaptation_cmd({"adaptation"}),
+                       adaptation_cmd({"adaptation", "--db", "x.sqlite", "--yes"}),
+                       adaptation_cmd({"adaptation", "--db", "x.sqlite", "--frobnicate"})}) {
     INFO(r.err);
     CHECK(r.code == 2);
     CHECK(r.out.empty());
@@ -110,7 +110,7 @@ TEST_CASE("history and adaptation reject bad arguments with the usage and exit 2
   const Run help = history({"history", "--help"});
   CHECK(help.code == 0);
   CHECK_THAT(help.out, Catch::Contains("--last N"));
-  CHECK(adaptationCmd({"adaptation", "-h"}).code == 0);
+  CHECK(adaptation_cmd({"adaptation", "-h"}).code == 0);
 }
 
 TEST_CASE("a missing or damaged store is a clear message and exit 1") {
@@ -119,30 +119,30 @@ TEST_CASE("a missing or damaged store is a clear message and exit 1") {
   const Run a = history({"history", "--db", missing});
   CHECK(a.code == 1);
   CHECK_THAT(a.err, Catch::Contains("does not exist") && Catch::Contains(missing));
-  CHECK(adaptationCmd({"adaptation", "--db", missing}).code == 1);
+  CHECK(adaptation_cmd({"adaptation", "--db", missing}).code == 1);
 
   const std::string garbage = dir.file("garbage.sqlite");
   std::ofstream(garbage) << std::string(2000, '#') << "\n";
-  const Run b = adaptationCmd({"adaptation", "--db", garbage});
+  const Run b = adaptation_cmd({"adaptation", "--db", garbage});
   CHECK(b.code == 1);
   CHECK_THAT(b.err, Catch::Contains("not an adaptation store"));
-  CHECK(countLines(b.err) == 1);  // a message, not a usage text or a trace
+  CHECK(count_lines(b.err) == 1);  // a message, not a usage text or a trace
 }
 
 TEST_CASE("history prints a table, the last N, or CSV with a header row and exact numbers") {
   ScratchDir dir("adaptation-cli-history");
   const std::string path = dir.file("store.sqlite");
   {
-    AdaptationStore store = AdaptationStore::openOrCreate(path, settings());
+    AdaptationStore store = AdaptationStore::open_or_create(path, settings());
     const Run empty = history({"history", "--db", path});
     CHECK(empty.code == 0);
     CHECK_THAT(empty.out, Catch::Contains("no throws recorded"));
-    for (int id = 1; id <= 10; ++id) store.record(makeRecord(id));
+    for (int id = 1; id <= 10; ++id) store.record(make_record(id));
   }
   const Run table = history({"history", "--db", path});
   INFO(table.err);
   REQUIRE(table.code == 0);
-  CHECK(countLines(table.out) == 1 + 10 + 1);  // header, a line per throw, the count
+  CHECK(count_lines(table.out) == 1 + 10 + 1);  // header, a line per throw, the count
   CHECK_THAT(table.out, Catch::StartsWith("id "));
   CHECK_THAT(table.out, Catch::Contains("aborted_out_of_reach") && Catch::Contains("10 of 10 throws"));
   // The note with a line break stays on its throw's line.
@@ -150,24 +150,24 @@ TEST_CASE("history prints a table, the last N, or CSV with a header row and exac
 
   const Run last = history({"history", "--db", path, "--last", "3"});
   REQUIRE(last.code == 0);
-  CHECK(countLines(last.out) == 1 + 3 + 1);
+  CHECK(count_lines(last.out) == 1 + 3 + 1);
   CHECK_THAT(last.out, Catch::Contains("3 of 10 throws"));
 
   const Run csv = history({"history", "--db", path, "--csv"});
   REQUIRE(csv.code == 0);
-  const auto rows = parseCsv(csv.out);
+  const auto rows = parse_csv(csv.out);
   REQUIRE(rows.size() == 11);
-  const auto header = parseCsv(historyCsvHeader() + "\n").front();
+  const auto header = parse_csv(history_csv_header() + "\n").front();
   CHECK(rows.front() == header);
   auto column = [&](const char* name) {
     return static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
   };
   for (std::size_t i = 1; i < rows.size(); ++i) {
-    const ThrowRecord r = makeRecord(static_cast<std::int64_t>(i));
+    const ThrowRecord r = make_record(static_cast<std::int64_t>(i));
     INFO("row " << i);
     REQUIRE(rows[i].size() == header.size());
     CHECK(rows[i][column("id")] == std::to_string(i));
-    CHECK(rows[i][column("outcome")] == toString(r.outcome));
+    CHECK(rows[i][column("outcome")] == to_string(r.outcome));
     CHECK(std::strtod(rows[i][column("time_s")].c_str(), nullptr) == r.time_s);
     CHECK(std::strtod(rows[i][column("launch_alpha_dot_radps")].c_str(), nullptr) ==
           r.launch.alpha_dot_radps);
@@ -177,11 +177,11 @@ TEST_CASE("history prints a table, the last N, or CSV with a header row and exac
     } else {
       CHECK(rows[i][column("optimal_height_m")].empty());
     }
-    const auto bias = offsetBiasSample(r);
+    const auto bias = offset_bias_sample(r);
     CHECK(rows[i][column("bias_sample_x_m")].empty() == !bias);
   }
   const Run csv_last = history({"history", "--db", path, "--csv", "--last", "2"});
-  const auto last_rows = parseCsv(csv_last.out);
+  const auto last_rows = parse_csv(csv_last.out);
   REQUIRE(last_rows.size() == 3);
   CHECK(last_rows[1][0] == "9");
 }
@@ -191,11 +191,11 @@ TEST_CASE("adaptation prints the adapted values and resets only with --yes") {
   const std::string path = dir.file("store.sqlite");
   AdaptationState state;
   {
-    AdaptationStore store = AdaptationStore::openOrCreate(path, settings());
-    for (int id = 1; id <= 14; ++id) store.record(makeRecord(id));
+    AdaptationStore store = AdaptationStore::open_or_create(path, settings());
+    for (int id = 1; id <= 14; ++id) store.record(make_record(id));
     state = store.adaptation().state;
   }
-  const Run shown = adaptationCmd({"adaptation", "--db", path});
+  const Run shown = adaptation_cmd({"adaptation", "--db", path});
   INFO(shown.err);
   REQUIRE(shown.code == 0);
   char height[64];
@@ -208,15 +208,15 @@ TEST_CASE("adaptation prints the adapted values and resets only with --yes") {
   CHECK_THAT(shown.out, Catch::Contains(bias));
   CHECK_THAT(shown.out, Catch::Contains("consistent with the history: yes"));
 
-  const Run unconfirmed = adaptationCmd({"adaptation", "--db", path, "--reset"});
+  const Run unconfirmed = adaptation_cmd({"adaptation", "--db", path, "--reset"});
   CHECK(unconfirmed.code == 2);
   CHECK_THAT(unconfirmed.err, Catch::Contains("--yes"));
-  CHECK(AdaptationStore::openExisting(path).adaptation().state == state);
+  CHECK(AdaptationStore::open_existing(path).adaptation().state == state);
 
-  const Run confirmed = adaptationCmd({"adaptation", "--db", path, "--reset", "--yes"});
+  const Run confirmed = adaptation_cmd({"adaptation", "--db", path, "--reset", "--yes"});
   CHECK(confirmed.code == 0);
   CHECK_THAT(confirmed.out, Catch::Contains("reset") && Catch::Contains("no throws yet"));
-  const AdaptationStore store = AdaptationStore::openExisting(path);
-  CHECK(store.adaptation().state == initialAdaptation(settings()));
-  CHECK(store.throwCount() == 14);
+  const AdaptationStore store = AdaptationStore::open_existing(path);
+  CHECK(store.adaptation().state == initial_adaptation(settings()));
+  CHECK(store.throw_count() == 14);
 }

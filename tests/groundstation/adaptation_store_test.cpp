@@ -26,11 +26,11 @@
 namespace {
 
 using namespace gs::adaptation;
-using adaptation_test::makeRecord;
-using adaptation_test::sameRecord;
+using adaptation_test::make_record;
+using adaptation_test::same_record;
 using adaptation_test::ScratchDir;
 
-AdaptationSettings testSettings(int window = 0) {
+AdaptationSettings test_settings(int window = 0) {
   AdaptationSettings s;
   s.nominal_catch_height_m = 1.40;
   s.nominal_waiting_xy_m = {0.70, 0.05};
@@ -39,18 +39,18 @@ AdaptationSettings testSettings(int window = 0) {
   return s;
 }
 
-std::string readBytes(const std::string& path) {
+std::string read_bytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-void writeBytes(const std::string& path, const std::string& bytes) {
+void write_bytes(const std::string& path, const std::string& bytes) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   out << bytes;
 }
 
 // Runs raw SQL on a file with SQLite itself (to make foreign or newer files).
-void rawSql(const std::string& path, const char* sql) {
+void raw_sql(const std::string& path, const char* sql) {
   sqlite3* db = nullptr;
   REQUIRE(sqlite3_open(path.c_str(), &db) == SQLITE_OK);
   char* message = nullptr;
@@ -61,9 +61,9 @@ void rawSql(const std::string& path, const char* sql) {
   REQUIRE(rc == SQLITE_OK);
 }
 
-std::string openError(const std::string& path) {
+std::string open_error(const std::string& path) {
   try {
-    AdaptationStore::openExisting(path);
+    AdaptationStore::open_existing(path);
   } catch (const StoreError& e) {
     return e.what();
   }
@@ -71,9 +71,9 @@ std::string openError(const std::string& path) {
 }
 
 // Fills a store with `n` throws and closes it (the WAL is checkpointed into the file on close).
-void fill(const std::string& path, int n, const AdaptationSettings& settings = testSettings()) {
-  AdaptationStore store = AdaptationStore::openOrCreate(path, settings);
-  for (int id = 1; id <= n; ++id) store.record(makeRecord(id));
+void fill(const std::string& path, int n, const AdaptationSettings& settings = test_settings()) {
+  AdaptationStore store = AdaptationStore::open_or_create(path, settings);
+  for (int id = 1; id <= n; ++id) store.record(make_record(id));
 }
 
 }  // namespace
@@ -81,17 +81,17 @@ void fill(const std::string& path, int n, const AdaptationSettings& settings = t
 TEST_CASE("a new store holds the nominal values, and throws and values survive reopening") {
   ScratchDir dir("adaptation-store");
   const std::string path = dir.file("store.sqlite");
-  const AdaptationSettings settings = testSettings(3);
+  const AdaptationSettings settings = test_settings(3);
   std::vector<ThrowRecord> records;
-  AdaptationState expected = initialAdaptation(settings);
+  AdaptationState expected = initial_adaptation(settings);
   {
-    AdaptationStore store = AdaptationStore::openOrCreate(path, settings);
+    AdaptationStore store = AdaptationStore::open_or_create(path, settings);
     const AdaptationSnapshot empty = store.adaptation();
-    CHECK(empty.state == initialAdaptation(settings));
+    CHECK(empty.state == initial_adaptation(settings));
     CHECK(empty.throw_count == 0);
     CHECK(empty.last_throw_id == 0);
     for (int id = 1; id <= 30; ++id) {
-      records.push_back(makeRecord(id));
+      records.push_back(make_record(id));
       const StoredThrow stored = store.record(records.back());
       expected = adapt(expected, records.back(), settings.window);
       REQUIRE(stored.id == id);
@@ -105,7 +105,7 @@ TEST_CASE("a new store holds the nominal values, and throws and values survive r
     }
   }
   // Reopened (by the CLI's way in), everything is there, bit for bit.
-  const AdaptationStore store = AdaptationStore::openExisting(path);
+  const AdaptationStore store = AdaptationStore::open_existing(path);
   const AdaptationSettings reread = store.settings();
   CHECK(reread.nominal_catch_height_m == settings.nominal_catch_height_m);
   CHECK(reread.nominal_waiting_xy_m == settings.nominal_waiting_xy_m);
@@ -121,9 +121,9 @@ TEST_CASE("a new store holds the nominal values, and throws and values survive r
   for (std::size_t i = 0; i < records.size(); ++i) {
     INFO("throw " << i + 1);
     CHECK(history[i].id == static_cast<std::int64_t>(i + 1));
-    CHECK(sameRecord(history[i].record, records[i]));
+    CHECK(same_record(history[i].record, records[i]));
   }
-  const ConsistencyReport report = store.checkConsistency();
+  const ConsistencyReport report = store.check_consistency();
   INFO(report.problem);
   CHECK(report.ok);
   CHECK(report.recomputed == expected);
@@ -137,52 +137,52 @@ TEST_CASE("a new store holds the nominal values, and throws and values survive r
   CHECK(store.history(0).empty());
 
   // Opening an existing store keeps its own settings.
-  AdaptationSettings other = testSettings(0);
+  AdaptationSettings other = test_settings(0);
   other.nominal_catch_height_m = 2.0;
-  CHECK(AdaptationStore::openOrCreate(path, other).settings().nominal_catch_height_m == 1.40);
+  CHECK(AdaptationStore::open_or_create(path, other).settings().nominal_catch_height_m == 1.40);
 }
 
 TEST_CASE("reset returns to the nominal values and later values rest on later throws only") {
   ScratchDir dir("adaptation-reset");
   const std::string path = dir.file("store.sqlite");
-  const AdaptationSettings settings = testSettings();
+  const AdaptationSettings settings = test_settings();
   {
-    AdaptationStore store = AdaptationStore::openOrCreate(path, settings);
-    for (int id = 1; id <= 10; ++id) store.record(makeRecord(id));
+    AdaptationStore store = AdaptationStore::open_or_create(path, settings);
+    for (int id = 1; id <= 10; ++id) store.record(make_record(id));
     REQUIRE(store.adaptation().state.catch_point_samples > 0);
     store.reset();
     const AdaptationSnapshot after = store.adaptation();
-    CHECK(after.state == initialAdaptation(settings));
+    CHECK(after.state == initial_adaptation(settings));
     CHECK(after.epoch_first_id == 11);
     CHECK(after.throw_count == 10);  // the history is kept
-    for (int id = 11; id <= 16; ++id) store.record(makeRecord(id));
+    for (int id = 11; id <= 16; ++id) store.record(make_record(id));
   }
-  const AdaptationStore store = AdaptationStore::openExisting(path);
+  const AdaptationStore store = AdaptationStore::open_existing(path);
   std::vector<ThrowRecord> later;
-  for (int id = 11; id <= 16; ++id) later.push_back(makeRecord(id));
-  CHECK(store.adaptation().state == recomputeAdaptation(settings, later));
+  for (int id = 11; id <= 16; ++id) later.push_back(make_record(id));
+  CHECK(store.adaptation().state == recompute_adaptation(settings, later));
   CHECK(store.history().size() == 16);
-  CHECK(store.checkConsistency().ok);
+  CHECK(store.check_consistency().ok);
 }
 
 TEST_CASE("an invalid record is rejected and nothing is written") {
   ScratchDir dir("adaptation-invalid");
   const std::string path = dir.file("store.sqlite");
-  AdaptationStore store = AdaptationStore::openOrCreate(path, testSettings());
-  store.record(makeRecord(1));
+  AdaptationStore store = AdaptationStore::open_or_create(path, test_settings());
+  store.record(make_record(1));
   const AdaptationSnapshot before = store.adaptation();
-  ThrowRecord bad = makeRecord(2);
+  ThrowRecord bad = make_record(2);
   bad.catch_height_used_m = std::nan("");
   CHECK_THROWS_WITH(store.record(bad), Catch::Contains("catch_height_used_m is not finite") &&
                                            Catch::Contains("nothing written"));
   CHECK(store.adaptation().state == before.state);
-  CHECK(store.throwCount() == 1);
-  CHECK_THROWS_AS(AdaptationStore::openOrCreate(dir.file("other.sqlite"),
-                                                [] {
-                                                  AdaptationSettings s = testSettings();
-                                                  s.target_energy_J = 0.0;
-                                                  return s;
-                                                }()),
+  CHECK(store.throw_count() == 1);
+  CHECK_THROWS_AS(AdaptationStore::open_or_create(dir.file("other.sqlite"),
+                                                  [] {
+                                                    AdaptationSettings s = test_settings();
+                                                    s.target_energy_J = 0.0;
+                                                    return s;
+                                                  }()),
                   StoreError);
 }
 
@@ -191,66 +191,66 @@ TEST_CASE("missing, empty, foreign, newer and damaged files give a clear error, 
 
   SECTION("missing: an error, and no file is created") {
     const std::string path = dir.file("missing.sqlite");
-    CHECK_THAT(openError(path), Catch::Contains("does not exist") && Catch::Contains(path));
+    CHECK_THAT(open_error(path), Catch::Contains("does not exist") && Catch::Contains(path));
     CHECK_FALSE(std::filesystem::exists(path));
   }
-  SECTION("a directory") { CHECK_THAT(openError(dir.file("")), Catch::Contains("directory")); }
-  SECTION("empty: not a store for the CLI; initialised by openOrCreate (an interrupted creation)") {
+  SECTION("a directory") { CHECK_THAT(open_error(dir.file("")), Catch::Contains("directory")); }
+  SECTION("empty: not a store for the CLI; initialised by open_or_create (an interrupted creation)") {
     const std::string path = dir.file("empty.sqlite");
-    writeBytes(path, "");
-    CHECK_THAT(openError(path), Catch::Contains("empty database"));
-    AdaptationStore store = AdaptationStore::openOrCreate(path, testSettings());
-    CHECK(store.throwCount() == 0);
-    CHECK(store.checkConsistency().ok);
+    write_bytes(path, "");
+    CHECK_THAT(open_error(path), Catch::Contains("empty database"));
+    AdaptationStore store = AdaptationStore::open_or_create(path, test_settings());
+    CHECK(store.throw_count() == 0);
+    CHECK(store.check_consistency().ok);
   }
   SECTION("a text file") {
     const std::string path = dir.file("notes.txt");
     const std::string text = std::string(3000, 'x') + "\nthis is not a database\n";
-    writeBytes(path, text);
-    CHECK_THAT(openError(path),
+    write_bytes(path, text);
+    CHECK_THAT(open_error(path),
                Catch::Contains("not an adaptation store") && Catch::Contains("not a SQLite database"));
-    CHECK_THROWS_AS(AdaptationStore::openOrCreate(path, testSettings()), StoreError);
-    CHECK(readBytes(path) == text);  // left alone
+    CHECK_THROWS_AS(AdaptationStore::open_or_create(path, test_settings()), StoreError);
+    CHECK(read_bytes(path) == text);  // left alone
   }
   SECTION("another application's SQLite database") {
     const std::string path = dir.file("foreign.sqlite");
-    rawSql(path, "CREATE TABLE photos (id INTEGER PRIMARY KEY, name TEXT);"
-                 "INSERT INTO photos (name) VALUES ('arena.jpg');");
-    const std::string before = readBytes(path);
-    CHECK_THAT(openError(path), Catch::Contains("another application"));
-    CHECK_THROWS_WITH(AdaptationStore::openOrCreate(path, testSettings()),
+    raw_sql(path, "CREATE TABLE photos (id INTEGER PRIMARY KEY, name TEXT);"
+                  "INSERT INTO photos (name) VALUES ('arena.jpg');");
+    const std::string before = read_bytes(path);
+    CHECK_THAT(open_error(path), Catch::Contains("another application"));
+    CHECK_THROWS_WITH(AdaptationStore::open_or_create(path, test_settings()),
                       Catch::Contains("another application"));
-    CHECK(readBytes(path) == before);
+    CHECK(read_bytes(path) == before);
   }
   SECTION("a newer schema") {
     const std::string path = dir.file("newer.sqlite");
     fill(path, 3);
-    rawSql(path, "PRAGMA user_version = 2");
-    CHECK_THAT(openError(path), Catch::Contains("schema version 2") && Catch::Contains("newer"));
+    raw_sql(path, "PRAGMA user_version = 2");
+    CHECK_THAT(open_error(path), Catch::Contains("schema version 2") && Catch::Contains("newer"));
   }
   SECTION("a missing table") {
     const std::string path = dir.file("no-table.sqlite");
     fill(path, 3);
-    rawSql(path, "DROP TABLE throws");
-    CHECK_THAT(openError(path), Catch::Contains("damaged") && Catch::Contains("throws"));
+    raw_sql(path, "DROP TABLE throws");
+    CHECK_THAT(open_error(path), Catch::Contains("damaged") && Catch::Contains("throws"));
   }
   SECTION("pages overwritten in the middle of the file") {
     const std::string path = dir.file("scribbled.sqlite");
     fill(path, 200);
-    std::string bytes = readBytes(path);
+    std::string bytes = read_bytes(path);
     REQUIRE(bytes.size() > 8 * 4096);
     std::mt19937 rng(1);
     for (std::size_t i = 2 * 4096; i < 5 * 4096; ++i) bytes[i] = static_cast<char>(rng());
-    writeBytes(path, bytes);
-    const std::string message = openError(path);
+    write_bytes(path, bytes);
+    const std::string message = open_error(path);
     CHECK_THAT(message, Catch::Contains("damaged") && Catch::Contains(path));
   }
   SECTION("truncated to half its length") {
     const std::string path = dir.file("truncated.sqlite");
     fill(path, 200);
-    const std::string bytes = readBytes(path);
-    writeBytes(path, bytes.substr(0, bytes.size() / 2));
-    CHECK_THAT(openError(path), Catch::Contains("damaged"));
+    const std::string bytes = read_bytes(path);
+    write_bytes(path, bytes.substr(0, bytes.size() / 2));
+    CHECK_THAT(open_error(path), Catch::Contains("damaged"));
   }
 }
 
@@ -258,12 +258,12 @@ namespace {
 
 // The writer of the kill test: records throws (each a complete throw plus the adapted values, one
 // transaction), now and then resetting, until it is killed. Never returns.
-[[noreturn]] void writerChild(const std::string& path, const AdaptationSettings& settings) {
+[[noreturn]] void writer_child(const std::string& path, const AdaptationSettings& settings) {
   try {
-    AdaptationStore store = AdaptationStore::openOrCreate(path, settings);
+    AdaptationStore store = AdaptationStore::open_or_create(path, settings);
     for (;;) {
-      const std::int64_t id = store.throwCount() + 1;
-      if (store.record(makeRecord(id)).id != id) ::_exit(4);
+      const std::int64_t id = store.throw_count() + 1;
+      if (store.record(make_record(id)).id != id) ::_exit(4);
       if (id % 9 == 0) store.reset();
     }
   } catch (...) {
@@ -276,7 +276,7 @@ namespace {
 TEST_CASE("kill -9 during writes: the store opens, is consistent and loses no committed throw") {
   ScratchDir dir("adaptation-kill");
   const std::string path = dir.file("store.sqlite");
-  const AdaptationSettings settings = testSettings(4);
+  const AdaptationSettings settings = test_settings(4);
 
   // The kill delays span the time a writer needs to open the store and record a few throws on
   // this machine, so the kills land before, inside and between transactions.
@@ -285,9 +285,9 @@ TEST_CASE("kill -9 during writes: the store opens, is consistent and loses no co
   {
     const std::string scratch = dir.file("calibration.sqlite");
     const auto t0 = std::chrono::steady_clock::now();
-    AdaptationStore store = AdaptationStore::openOrCreate(scratch, settings);
+    AdaptationStore store = AdaptationStore::open_or_create(scratch, settings);
     const auto t1 = std::chrono::steady_clock::now();
-    for (int id = 1; id <= 10; ++id) store.record(makeRecord(id));
+    for (int id = 1; id <= 10; ++id) store.record(make_record(id));
     const auto t2 = std::chrono::steady_clock::now();
     open_us = std::chrono::duration<double, std::micro>(t1 - t0).count();
     record_us = std::chrono::duration<double, std::micro>(t2 - t1).count() / 10.0;
@@ -307,7 +307,7 @@ TEST_CASE("kill -9 during writes: the store opens, is consistent and loses no co
     std::fflush(nullptr);  // nothing buffered is written twice by the child
     const pid_t child = ::fork();
     REQUIRE(child >= 0);
-    if (child == 0) writerChild(path, settings);
+    if (child == 0) writer_child(path, settings);
     std::uniform_int_distribution<int> delay_us(0, static_cast<int>(max_delay_us));
     std::this_thread::sleep_for(std::chrono::microseconds(delay_us(rng)));
     REQUIRE(::kill(child, SIGKILL) == 0);
@@ -321,8 +321,8 @@ TEST_CASE("kill -9 during writes: the store opens, is consistent and loses no co
     if (std::filesystem::file_size(path + "-wal", ec) > 0 && !ec) ++rounds_with_hot_wal;
 
     // Reopened as the mission would after the crash: no exception, consistent, nothing partial.
-    AdaptationStore store = AdaptationStore::openOrCreate(path, settings);
-    const ConsistencyReport report = store.checkConsistency();
+    AdaptationStore store = AdaptationStore::open_or_create(path, settings);
+    const ConsistencyReport report = store.check_consistency();
     INFO(report.problem);
     REQUIRE(report.ok);
     const std::vector<StoredThrow> history = store.history();
@@ -330,7 +330,7 @@ TEST_CASE("kill -9 during writes: the store opens, is consistent and loses no co
     REQUIRE(count >= previous_count);
     for (const StoredThrow& t : history) {
       INFO("throw " << t.id);
-      REQUIRE(sameRecord(t.record, makeRecord(t.id)));
+      REQUIRE(same_record(t.record, make_record(t.id)));
     }
     if (count > previous_count) ++rounds_with_progress;
     if (count == 0) max_delay_us = std::min(1.3 * max_delay_us, 1e6);
@@ -458,22 +458,22 @@ void install(long kill_at) {
 
 // Kills a writer child at its k-th file-changing call and checks the reopened store. Returns the
 // throw count after the crash.
-std::int64_t crashAtEventAndCheck(const std::string& path, const AdaptationSettings& settings, long kill_at,
-                                  std::int64_t previous_count) {
+std::int64_t crash_at_event_and_check(const std::string& path, const AdaptationSettings& settings,
+                                      long kill_at, std::int64_t previous_count) {
   std::fflush(nullptr);
   const pid_t child = ::fork();
   REQUIRE(child >= 0);
   if (child == 0) {
     crash_vfs::install(kill_at);
-    writerChild(path, settings);
+    writer_child(path, settings);
   }
   int status = 0;
   REQUIRE(::waitpid(child, &status, 0) == child);
   INFO("writer exit status " << (WIFEXITED(status) ? WEXITSTATUS(status) : -1));
   REQUIRE(WIFSIGNALED(status));
   REQUIRE(WTERMSIG(status) == SIGKILL);
-  AdaptationStore store = AdaptationStore::openOrCreate(path, settings);
-  const ConsistencyReport report = store.checkConsistency();
+  AdaptationStore store = AdaptationStore::open_or_create(path, settings);
+  const ConsistencyReport report = store.check_consistency();
   INFO(report.problem);
   REQUIRE(report.ok);
   const std::vector<StoredThrow> history = store.history();
@@ -481,7 +481,7 @@ std::int64_t crashAtEventAndCheck(const std::string& path, const AdaptationSetti
   REQUIRE(count >= previous_count);
   for (const StoredThrow& t : history) {
     INFO("throw " << t.id);
-    REQUIRE(sameRecord(t.record, makeRecord(t.id)));
+    REQUIRE(same_record(t.record, make_record(t.id)));
   }
   return count;
 }
@@ -490,10 +490,10 @@ std::int64_t crashAtEventAndCheck(const std::string& path, const AdaptationSetti
 
 TEST_CASE("SIGKILL at every write boundary of creation, record and reset leaves a sound store") {
   ScratchDir dir("adaptation-crashpoints");
-  const AdaptationSettings settings = testSettings(2);
+  const AdaptationSettings settings = test_settings(2);
 
   // Creation and the first throws of a new file, killed at each write in turn until a throw got
-  // through: the interrupted creation must leave a file that openOrCreate initialises.
+  // through: the interrupted creation must leave a file that open_or_create initialises.
   const std::string fresh = dir.file("fresh.sqlite");
   long first_with_throw = 0;
   for (long k = 1; k <= 200 && first_with_throw == 0; ++k) {
@@ -501,7 +501,7 @@ TEST_CASE("SIGKILL at every write boundary of creation, record and reset leaves 
     std::filesystem::remove(fresh);
     std::filesystem::remove(fresh + "-wal");
     std::filesystem::remove(fresh + "-shm");
-    if (crashAtEventAndCheck(fresh, settings, k, 0) > 0) first_with_throw = k;
+    if (crash_at_event_and_check(fresh, settings, k, 0) > 0) first_with_throw = k;
   }
   REQUIRE(first_with_throw > 0);
 
@@ -514,7 +514,7 @@ TEST_CASE("SIGKILL at every write boundary of creation, record and reset leaves 
   constexpr long kSweep = 60;
   for (long k = 1; k <= kSweep; ++k) {
     INFO("populated store, killed at write " << k);
-    const std::int64_t after = crashAtEventAndCheck(path, settings, k, count);
+    const std::int64_t after = crash_at_event_and_check(path, settings, k, count);
     if (after > count) ++committed_rounds;
     count = after;
   }

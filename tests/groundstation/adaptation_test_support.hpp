@@ -48,7 +48,7 @@ class ScratchDir {
 
 // Throw `id` (1, 2, ...): every outcome in turn, optional figures present or absent in patterns
 // that cover all combinations over a few dozen ids, values from a seeded generator.
-inline ThrowRecord makeRecord(std::int64_t id) {
+inline ThrowRecord make_record(std::int64_t id) {
   std::mt19937_64 rng(static_cast<std::uint64_t>(id) * 0x9E3779B97F4A7C15ull + 17u);
   std::normal_distribution<double> n(0.0, 1.0);
   ThrowRecord r;
@@ -79,8 +79,8 @@ inline bool same(const std::optional<Eigen::Vector2d>& a, const std::optional<Ei
 }
 
 // Field by field, exactly (a stored double must come back bit for bit).
-inline bool sameRecord(const ThrowRecord& a, const ThrowRecord& b) {
-  auto samePoint = [](const std::optional<CatchPoint>& p, const std::optional<CatchPoint>& q) {
+inline bool same_record(const ThrowRecord& a, const ThrowRecord& b) {
+  auto same_point = [](const std::optional<CatchPoint>& p, const std::optional<CatchPoint>& q) {
     return p.has_value() == q.has_value() && (!p || (p->xy_m == q->xy_m && p->t_s == q->t_s));
   };
   const bool optimal_same =
@@ -93,7 +93,7 @@ inline bool sameRecord(const ThrowRecord& a, const ThrowRecord& b) {
          a.launch.alpha_dot_radps == b.launch.alpha_dot_radps && a.launch_y_m == b.launch_y_m &&
          a.launch_vy_mps == b.launch_vy_mps && a.catch_height_used_m == b.catch_height_used_m &&
          a.waiting_xy_m == b.waiting_xy_m && same(a.target_xy_m, b.target_xy_m) &&
-         samePoint(a.predicted, b.predicted) && samePoint(a.actual, b.actual) && optimal_same &&
+         same_point(a.predicted, b.predicted) && same_point(a.actual, b.actual) && optimal_same &&
          same(a.catcher_at_impact_xy_m, b.catcher_at_impact_xy_m) &&
          a.energy_after_impact_J == b.energy_after_impact_J && a.note == b.note;
 }

@@ -19,7 +19,7 @@ constexpr double kL = pa::kPoleHalfLength_m;
 
 // The hand derivation (header comment of balancing_lqr.hpp): hover plus
 //   a'' = (3g/4L) a - (3g/4) theta,  b'' = (3g/4L) b + (3g/4) phi.
-gs::control::LinearSystem analyticLinearisation() {
+gs::control::LinearSystem analytic_linearisation() {
   gs::control::LinearSystem s{Eigen::MatrixXd::Zero(13, 13), Eigen::MatrixXd::Zero(13, 4)};
   s.A(bal::kX, bal::kVx) = s.A(bal::kY, bal::kVy) = s.A(bal::kZ, bal::kVz) = 1.0;
   s.A(bal::kVx, bal::kPitch) = kG;
@@ -36,8 +36,8 @@ gs::control::LinearSystem analyticLinearisation() {
 }  // namespace
 
 TEST_CASE("balancing linearisation: the model's Jacobians match the hand derivation") {
-  const auto numeric = gs::control::balancingLinearisation();
-  const auto analytic = analyticLinearisation();
+  const auto numeric = gs::control::balancing_linearisation();
+  const auto analytic = analytic_linearisation();
   CHECK((numeric.A - analytic.A).cwiseAbs().maxCoeff() < 1e-6);
   CHECK((numeric.B - analytic.B).cwiseAbs().maxCoeff() < 1e-6);
 }
@@ -47,12 +47,12 @@ TEST_CASE("balancing linearisation: the planar model agrees in its plane") {
   // a = L alpha and a' = L alpha' to first order.
   namespace pl = gs::model::planar;
   auto f = [](const Eigen::VectorXd& x, const Eigen::VectorXd& u) -> Eigen::VectorXd {
-    return gs::model::planarPoleVehicleDynamics<double>(x, u);
+    return gs::model::planar_pole_vehicle_dynamics<double>(x, u);
   };
   Eigen::VectorXd u0(2);
   u0 << kG, 0.0;
   const auto planar = gs::control::linearise(f, Eigen::VectorXd::Zero(7), u0);
-  const auto full = gs::control::balancingLinearisation();
+  const auto full = gs::control::balancing_linearisation();
   // Planar index -> 13-state index, and the scale from alpha to a.
   const int map[7] = {bal::kX, bal::kZ, bal::kVx, bal::kVz, bal::kPitch, bal::kA, bal::kADot};
   const double scale[7] = {1, 1, 1, 1, 1, kL, kL};
@@ -67,20 +67,20 @@ TEST_CASE("balancing linearisation: the planar model agrees in its plane") {
 }
 
 TEST_CASE("balancing LQR: the closed loop is stable") {
-  const auto lqr = gs::control::balancingLqr();
+  const auto lqr = gs::control::balancing_lqr();
   REQUIRE(lqr.ok);
   CHECK(lqr.care_residual < 1e-12);
   const Eigen::VectorXd re = lqr.closed_loop_eigenvalues.real();
   INFO("closed-loop eigenvalues (real parts): " << re.transpose());
   CHECK(re.maxCoeff() < 0.0);
   // The open loop is unstable (the inverted pendulum, sqrt(3g/4L) = 3.3 1/s).
-  const auto open = gs::control::balancingLinearisation();
+  const auto open = gs::control::balancing_linearisation();
   CHECK(open.A.eigenvalues().real().maxCoeff() == Approx(std::sqrt(3.0 * kG / (4.0 * kL))).epsilon(1e-6));
 }
 
 TEST_CASE("balancing LQR: the nonlinear planar pole on a vehicle returns upright to the origin") {
   namespace pl = gs::model::planar;
-  const auto lqr = gs::control::balancingLqr();
+  const auto lqr = gs::control::balancing_lqr();
   REQUIRE(lqr.ok);
   gs::model::PlanarState<double> s = gs::model::PlanarState<double>::Zero();
   s(pl::kAlpha) = 5.0 * M_PI / 180.0;
@@ -108,9 +108,9 @@ TEST_CASE("balancing LQR: the nonlinear planar pole on a vehicle returns upright
       thrust_max = std::max(thrust_max, u(pl::kThrust));
       rate_max = std::max(rate_max, std::abs(u(pl::kPitchRate)));
     }
-    s = gs::model::rk4Step(
+    s = gs::model::rk4_step(
         [&](const gs::model::PlanarState<double>& x) {
-          return gs::model::PlanarState<double>(gs::model::planarPoleVehicleDynamics<double>(x, u));
+          return gs::model::PlanarState<double>(gs::model::planar_pole_vehicle_dynamics<double>(x, u));
         },
         s, dt);
     alpha_max = std::max(alpha_max, std::abs(s(pl::kAlpha)));
@@ -129,7 +129,7 @@ TEST_CASE("balancing LQR: the nonlinear planar pole on a vehicle returns upright
 }
 
 TEST_CASE("balancing LQR: the 3D pole-on-vehicle model returns upright from a skew tilt") {
-  const auto lqr = gs::control::balancingLqr();
+  const auto lqr = gs::control::balancing_lqr();
   REQUIRE(lqr.ok);
   gs::model::VehiclePoleState s;
   s.vehicle.p_m = Eigen::Vector3d(0.2, -0.15, 0.1);
@@ -141,18 +141,18 @@ TEST_CASE("balancing LQR: the 3D pole-on-vehicle model returns upright from a sk
   double thrust_min = 1e9, thrust_max = 0.0, rate_max = 0.0;
   for (int k = 0; k < 10000; ++k) {
     if (k % 5 == 0) {
-      Eigen::VectorXd u = -lqr.K * gs::control::toBalancingVector(s);
+      Eigen::VectorXd u = -lqr.K * gs::control::to_balancing_vector(s);
       u(bal::kThrust) += kG;
-      in = gs::control::fromBalancingInput(u);
+      in = gs::control::from_balancing_input(u);
       thrust_min = std::min(thrust_min, in.a_q_mps2);
       thrust_max = std::max(thrust_max, in.a_q_mps2);
       rate_max = std::max(rate_max, in.omega_radps.cwiseAbs().maxCoeff());
     }
-    s = gs::model::rk4Step(
-        [&](const gs::model::VehiclePoleState& x) { return gs::model::vehiclePoleDynamics(x, in, params); },
+    s = gs::model::rk4_step(
+        [&](const gs::model::VehiclePoleState& x) { return gs::model::vehicle_pole_dynamics(x, in, params); },
         s, 1e-3);
   }
-  CHECK(gs::control::toBalancingVector(s).norm() < 1e-2);
+  CHECK(gs::control::to_balancing_vector(s).norm() < 1e-2);
   CHECK(std::hypot(s.pole.a_m, s.pole.b_m) < 1e-3);
   CHECK(thrust_min >= 1.0);
   CHECK(thrust_max <= 20.0);

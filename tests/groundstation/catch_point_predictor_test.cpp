@@ -27,13 +27,13 @@ struct Reference {
 
 // 0.1 ms RK4 steps and linear interpolation of the crossing between them (the lower end moves
 // < 1 mm per step; the interpolation error is ~ z'' dt^2 / 8, about 1e-8 m).
-Reference referenceCrossing(const PoleState& start, double height, const PoleParams& params,
-                            double horizon_s) {
+Reference reference_crossing(const PoleState& start, double height, const PoleParams& params,
+                             double horizon_s) {
   const double dt = 1e-4;
-  PoleState s = gs::model::normalisedPoleState(start);
+  PoleState s = gs::model::normalised_pole_state(start);
   Eigen::Vector3d low = gs::model::poleLowerEnd_m(s, params);
   for (int i = 0; i * dt < horizon_s; ++i) {
-    const PoleState next = gs::model::poleFreeFlightStep(s, dt, params);
+    const PoleState next = gs::model::pole_free_flight_step(s, dt, params);
     const Eigen::Vector3d next_low = gs::model::poleLowerEnd_m(next, params);
     if (low.z() > height && next_low.z() <= height) {
       const double f = (low.z() - height) / (low.z() - next_low.z());
@@ -49,7 +49,7 @@ Reference referenceCrossing(const PoleState& start, double height, const PolePar
 
 TEST_CASE("the predictor agrees with a fine-step reference within 1 mm", "[predictor]") {
   const PoleParams params;
-  const PoleState launch = gs::planning::poleStateAtLaunch(gs::planning::fig5LaunchState(), params);
+  const PoleState launch = gs::planning::pole_state_at_launch(gs::planning::fig5_launch_state(), params);
   std::mt19937 rng(31);
   std::normal_distribution<double> n01;
   double worst_xy = 0.0;
@@ -60,11 +60,11 @@ TEST_CASE("the predictor agrees with a fine-step reference within 1 mm", "[predi
     PoleState s = launch;
     s.v_mps += Eigen::Vector3d(n01(rng), n01(rng), n01(rng));
     s.omega_radps += 2.0 * Eigen::Vector3d(n01(rng), n01(rng), n01(rng));
-    s = gs::model::normalisedPoleState(s);
-    if (i % 2 == 1) s = gs::model::propagatePole(s, 0.4, 0.01, params);
+    s = gs::model::normalised_pole_state(s);
+    if (i % 2 == 1) s = gs::model::propagate_pole(s, 0.4, 0.01, params);
     const double height = 1.0 + 0.5 * n01(rng);
-    const CatchPointPrediction p = gs::planning::predictCatchPoint(s, height, params);
-    const Reference ref = referenceCrossing(s, height, params, 3.0);
+    const CatchPointPrediction p = gs::planning::predict_catch_point(s, height, params);
+    const Reference ref = reference_crossing(s, height, params, 3.0);
     INFO("sample " << i);
     REQUIRE(p.found == ref.found);
     if (!p.found) continue;
@@ -88,10 +88,10 @@ TEST_CASE("the predictor agrees with a fine-step reference within 1 mm", "[predi
 
 TEST_CASE("the predictor at the nominal catching height reproduces the catching instant", "[predictor]") {
   const PoleParams params;
-  const PoleState launch = gs::planning::poleStateAtLaunch(gs::planning::fig5LaunchState(), params);
-  const gs::planning::CatchingInstant ci = gs::planning::findCatchingInstant(launch, params);
+  const PoleState launch = gs::planning::pole_state_at_launch(gs::planning::fig5_launch_state(), params);
+  const gs::planning::CatchingInstant ci = gs::planning::find_catching_instant(launch, params);
   REQUIRE(ci.found);
-  const CatchPointPrediction p = gs::planning::predictCatchPoint(launch, ci.catch_height_m, params);
+  const CatchPointPrediction p = gs::planning::predict_catch_point(launch, ci.catch_height_m, params);
   REQUIRE(p.found);
   CHECK(p.t_s == Approx(ci.t_s).margin(1e-5));
   CHECK(p.x_m == Approx(ci.catch_point_m.x()).margin(1e-4));
@@ -99,7 +99,7 @@ TEST_CASE("the predictor at the nominal catching height reproduces the catching 
 }
 
 TEST_CASE("free fall without drag matches the closed form", "[predictor]") {
-  const PoleParams params = gs::model::withoutDrag(PoleParams{});
+  const PoleParams params = gs::model::without_drag(PoleParams{});
   // A pole not turning: the lower end follows z0 + vz t - g t^2 / 2.
   PoleState s;
   s.n = Eigen::Vector3d(0.3, -0.2, 0.9).normalized();
@@ -109,7 +109,7 @@ TEST_CASE("free fall without drag matches the closed form", "[predictor]") {
   const double z0 = s.p_m.z() - kL * s.n.z();
   // z0 + vz t - g t^2 / 2 = height, the later root.
   const double t = (s.v_mps.z() + std::sqrt(s.v_mps.z() * s.v_mps.z() + 2 * kG * (z0 - height))) / kG;
-  const CatchPointPrediction p = gs::planning::predictCatchPoint(s, height, params);
+  const CatchPointPrediction p = gs::planning::predict_catch_point(s, height, params);
   REQUIRE(p.found);
   // RK4 is exact for this motion; what is left is the crossing search (height within 1e-7 m).
   CHECK(p.t_s == Approx(t).margin(1e-8));
@@ -118,7 +118,7 @@ TEST_CASE("free fall without drag matches the closed form", "[predictor]") {
   // Turning too: compare with the closed-form flight (ballistic centre, uniform rotation),
   // bisected on the lower end's height.
   s.omega_radps = Eigen::Vector3d(0.0, 2.5, 0.0);
-  s = gs::model::normalisedPoleState(s);
+  s = gs::model::normalised_pole_state(s);
   const auto at = [&](double tt) {
     PoleState x = s;
     x.p_m = s.p_m + s.v_mps * tt + 0.5 * Eigen::Vector3d(0, 0, -kG) * tt * tt;
@@ -134,7 +134,7 @@ TEST_CASE("free fall without drag matches the closed form", "[predictor]") {
     const double mid = 0.5 * (lo + hi);
     (at(mid).z() > height ? lo : hi) = mid;
   }
-  const CatchPointPrediction q = gs::planning::predictCatchPoint(s, height, params);
+  const CatchPointPrediction q = gs::planning::predict_catch_point(s, height, params);
   REQUIRE(q.found);
   CHECK(q.t_s == Approx(0.5 * (lo + hi)).margin(1e-7));
   CHECK(q.x_m == Approx(at(q.t_s).x()).margin(1e-6));
@@ -148,33 +148,33 @@ TEST_CASE("no crossing on the way down: not found", "[predictor]") {
   s.p_m = Eigen::Vector3d(0.0, 0.0, 1.0);
   // Already below the height and going down.
   s.v_mps = Eigen::Vector3d(0.5, 0.0, -2.0);
-  CHECK_FALSE(gs::planning::predictCatchPoint(s, 1.5, params).found);
+  CHECK_FALSE(gs::planning::predict_catch_point(s, 1.5, params).found);
   // Rising, but not up to the height: the apex of the lower end is below it.
   s.v_mps = Eigen::Vector3d(0.0, 0.0, 2.0);
-  CHECK_FALSE(gs::planning::predictCatchPoint(s, 1.0, params).found);
+  CHECK_FALSE(gs::planning::predict_catch_point(s, 1.0, params).found);
   // Above the height, but the crossing lies beyond the horizon: 59 m of fall take more than
   // sqrt(2 * 59 / g) = 3.5 s.
   s.p_m.z() = 60.0 + kL;
   s.v_mps = Eigen::Vector3d::Zero();
   gs::planning::CatchPointPredictorOptions options;
-  CHECK_FALSE(gs::planning::predictCatchPoint(s, 1.0, params, options).found);  // 3 s horizon
+  CHECK_FALSE(gs::planning::predict_catch_point(s, 1.0, params, options).found);  // 3 s horizon
   options.horizon_s = 6.0;
-  const CatchPointPrediction later = gs::planning::predictCatchPoint(s, 1.0, params, options);
+  const CatchPointPrediction later = gs::planning::predict_catch_point(s, 1.0, params, options);
   CHECK(later.found);
   CHECK(later.t_s > std::sqrt(2.0 * 59.0 / kG));
   // Invalid arguments.
-  CHECK_FALSE(gs::planning::predictCatchPoint(s, std::nan(""), params).found);
+  CHECK_FALSE(gs::planning::predict_catch_point(s, std::nan(""), params).found);
   options.step_s = 0.0;
-  CHECK_FALSE(gs::planning::predictCatchPoint(s, 1.0, params, options).found);
+  CHECK_FALSE(gs::planning::predict_catch_point(s, 1.0, params, options).found);
 }
 
 TEST_CASE("a pole starting below the height is caught on its way back down", "[predictor]") {
-  const PoleParams params = gs::model::withoutDrag(PoleParams{});
+  const PoleParams params = gs::model::without_drag(PoleParams{});
   PoleState s;
   s.n = Eigen::Vector3d::UnitZ();
   s.p_m = Eigen::Vector3d(0.0, 0.0, 1.0 + kL);  // lower end at 1 m
   s.v_mps = Eigen::Vector3d(0.2, 0.0, 5.0);
-  const CatchPointPrediction p = gs::planning::predictCatchPoint(s, 1.5, params);
+  const CatchPointPrediction p = gs::planning::predict_catch_point(s, 1.5, params);
   REQUIRE(p.found);
   // Up through 1.5 m (not a catch), apex, down through 1.5 m: the later root.
   const double t = (5.0 + std::sqrt(25.0 - 2 * kG * 0.5)) / kG;

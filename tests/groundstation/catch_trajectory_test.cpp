@@ -20,7 +20,7 @@ using gs::planning::MinSnapAxis;
 
 constexpr double kG = pa::kGravity_mps2;
 
-CatchTrajectoryParams fig7Params() {
+CatchTrajectoryParams fig7_params() {
   CatchTrajectoryParams p;
   p.start_xy_m = {0.0, 0.0};
   p.target_xy_m = {0.25, 0.0};
@@ -32,7 +32,7 @@ CatchTrajectoryParams fig7Params() {
 }
 
 // Eq. (45) exactly as printed.
-double snapEq45(double t, double T, double x0, double xT) {
+double snap_eq45(double t, double T, double x0, double xT) {
   return 840.0 / std::pow(T, 7) * (xT - x0) *
          (-20.0 * t * t * t + 30.0 * t * t * T - 12.0 * t * T * T + T * T * T);
 }
@@ -41,7 +41,7 @@ double snapEq45(double t, double T, double x0, double xT) {
 struct Scan {
   double thrust_max = -1e300, thrust_min = 1e300, rate_max = 0.0;
 };
-Scan bruteForce(const CatchTrajectory& traj, double step_s) {
+Scan brute_force(const CatchTrajectory& traj, double step_s) {
   Scan s;
   for (double t = 0.0; t <= traj.duration_s() + 1e-12; t += step_s) {
     const auto r = traj.reference(t);
@@ -75,7 +75,7 @@ TEST_CASE("minimum snap meets the boundary conditions of (44) and its snap is (4
     CHECK(std::abs(b.jerk) < 1e-9);
     for (double tau : {0.05, 0.3, 0.5, 0.77, 0.99}) {
       const double t = tau * T;
-      CHECK(axis(t).snap == Approx(snapEq45(t, T, axis.q0, axis.qT)).epsilon(1e-12).margin(1e-9));
+      CHECK(axis(t).snap == Approx(snap_eq45(t, T, axis.q0, axis.qT)).epsilon(1e-12).margin(1e-9));
     }
   }
   // The derivatives are consistent with each other (central differences of the position).
@@ -112,7 +112,7 @@ TEST_CASE("(45) is the optimum of the discretised minimum-snap problem (44)") {
   double max_err = 0.0, max_u = 0.0;
   for (int i = 0; i < N; ++i) {
     const double t_mid = (i + 0.5) * dt;
-    max_err = std::max(max_err, std::abs(u(i) - snapEq45(t_mid, T, x0, xT)));
+    max_err = std::max(max_err, std::abs(u(i) - snap_eq45(t_mid, T, x0, xT)));
     max_u = std::max(max_u, std::abs(u(i)));
   }
   CHECK(max_err / max_u < 1e-4);
@@ -135,7 +135,7 @@ TEST_CASE("(45) solves the Euler-Lagrange conditions of (44) for the same bounda
   // boundary conditions; solved numerically with Eigen.
   const double T = 0.8, x0 = 1.3, xT = -0.7;
   Eigen::Matrix<double, 8, 8> M = Eigen::Matrix<double, 8, 8>::Zero();
-  auto derivRow = [](double t, int k) {
+  auto deriv_row = [](double t, int k) {
     Eigen::Matrix<double, 1, 8> row = Eigen::Matrix<double, 1, 8>::Zero();
     for (int j = k; j < 8; ++j) {
       double c = 1.0;
@@ -145,8 +145,8 @@ TEST_CASE("(45) solves the Euler-Lagrange conditions of (44) for the same bounda
     return row;
   };
   for (int k = 0; k < 4; ++k) {
-    M.row(k) = derivRow(0.0, k);
-    M.row(4 + k) = derivRow(T, k);
+    M.row(k) = deriv_row(0.0, k);
+    M.row(4 + k) = deriv_row(T, k);
   }
   Eigen::Matrix<double, 8, 1> rhs;
   rhs << x0, 0, 0, 0, xT, 0, 0, 0;
@@ -154,9 +154,9 @@ TEST_CASE("(45) solves the Euler-Lagrange conditions of (44) for the same bounda
   const MinSnapAxis axis{x0, xT, T};
   for (int k = 0; k <= 37; ++k) {
     const double t = k * T / 37;
-    CHECK(axis(t).q == Approx(derivRow(t, 0) * c).margin(1e-9));
-    CHECK(axis(t).ddq == Approx(derivRow(t, 2) * c).margin(1e-7));
-    CHECK(axis(t).snap == Approx(derivRow(t, 4) * c).margin(1e-5));
+    CHECK(axis(t).q == Approx(deriv_row(t, 0) * c).margin(1e-9));
+    CHECK(axis(t).ddq == Approx(deriv_row(t, 2) * c).margin(1e-7));
+    CHECK(axis(t).snap == Approx(deriv_row(t, 4) * c).margin(1e-5));
   }
 }
 
@@ -220,7 +220,7 @@ TEST_CASE("the z manoeuvre satisfies (48) and (49) and has the phase structure o
 }
 
 TEST_CASE("the catch trajectory starts hovering, moves xy during [t3, t5] and ends at rest") {
-  const auto traj = CatchTrajectory::create(fig7Params());
+  const auto traj = CatchTrajectory::create(fig7_params());
   REQUIRE(traj);
   const auto start = traj->reference(0.0);
   CHECK(start.position_m.isApprox(Eigen::Vector3d(0.0, 0.0, traj->startHeight_m())));
@@ -237,13 +237,13 @@ TEST_CASE("the catch trajectory starts hovering, moves xy during [t3, t5] and en
   for (double t = traj->xyStartTime_s(); t < traj->duration_s(); t += 0.01) {
     CHECK(traj->reference(t).acceleration_mps2.z() >= -1e-12);
   }
-  CHECK(traj->xyStartTime_s() == Approx(traj->zManoeuvre().phaseTimes_s()[3]));
+  CHECK(traj->xyStartTime_s() == Approx(traj->z_manoeuvre().phaseTimes_s()[3]));
 
-  CatchTrajectoryParams bad = fig7Params();
+  CatchTrajectoryParams bad = fig7_params();
   bad.t_xy_s = 0.2;  // < a_max / k_max = 0.233 s
   CHECK_FALSE(CatchTrajectory::create(bad));
   CHECK(gs::planning::validate(bad) == gs::planning::CatchParamError::kHoldTooShort);
-  bad = fig7Params();
+  bad = fig7_params();
   bad.target_xy_m.x() = std::nan("");
   CHECK_FALSE(CatchTrajectory::create(bad));
 }
@@ -252,7 +252,7 @@ TEST_CASE("the nominal inputs fly the trajectory through the vehicle model (4), 
   // Eq. (4) and (5) written out here (independently of the models): the thrust axis is the third
   // row of B_I R = R_x(phi) R_y(theta) R_z(psi), and the Euler rates are the inverse of the printed
   // matrix of (5) applied to Omega. Diagonal move with a yaw, so that every body rate is used.
-  CatchTrajectoryParams p = fig7Params();
+  CatchTrajectoryParams p = fig7_params();
   p.start_xy_m = {-0.3, 0.4};
   p.target_xy_m = {0.5, -0.2};
   p.yaw_rad = 0.7;
@@ -286,7 +286,7 @@ TEST_CASE("the nominal inputs fly the trajectory through the vehicle model (4), 
   s(8) = p.yaw_rad;
   double max_pos_err = 0.0, max_att_err = 0.0, max_rate = 0.0;
   // The body rates jump where the z jerk does (phase boundaries): RK4 steps end on them.
-  const auto& phases = traj->zManoeuvre().phaseTimes_s();
+  const auto& phases = traj->z_manoeuvre().phaseTimes_s();
   for (int ph = 0; ph < 5; ++ph) {
     const int n = std::max(1, static_cast<int>(std::ceil((phases[ph + 1] - phases[ph]) / 1e-4)));
     const double h = (phases[ph + 1] - phases[ph]) / n;
@@ -313,44 +313,44 @@ TEST_CASE("the nominal inputs fly the trajectory through the vehicle model (4), 
 }
 
 TEST_CASE("nominal inputs: hover, and (47) as a derivative of the thrust direction") {
-  const auto hover = gs::planning::nominalInputs(Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 0.3);
+  const auto hover = gs::planning::nominal_inputs(Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 0.3);
   CHECK(hover.thrust_mps2 == Approx(kG));
   CHECK(hover.body_rates_radps.norm() == 0.0);
   CHECK(hover.roll_rad == 0.0);
   CHECK(hover.pitch_rad == 0.0);
   // Tilt forward: x'' = g tan(theta) at level height.
   const auto fwd =
-      gs::planning::nominalInputs(Eigen::Vector3d(kG * std::tan(0.3), 0, 0), Eigen::Vector3d::Zero(), 0.0);
+      gs::planning::nominal_inputs(Eigen::Vector3d(kG * std::tan(0.3), 0, 0), Eigen::Vector3d::Zero(), 0.0);
   CHECK(fwd.pitch_rad == Approx(0.3));
   CHECK(fwd.roll_rad == Approx(0.0).margin(1e-15));
   // Positive y acceleration needs negative roll (thrust axis (.., -sin phi, ..)).
-  const auto left = gs::planning::nominalInputs(Eigen::Vector3d(0, 2.0, 0), Eigen::Vector3d::Zero(), 0.0);
+  const auto left = gs::planning::nominal_inputs(Eigen::Vector3d(0, 2.0, 0), Eigen::Vector3d::Zero(), 0.0);
   CHECK(left.roll_rad < 0.0);
 }
 
 TEST_CASE("feasibility: small moves are feasible and certified") {
   const InputLimits limits;  // a_q in [1, 20], |Omega| <= 10
-  auto p = fig7Params();
+  auto p = fig7_params();
   const auto fig7 = CatchTrajectory::create(p);
   REQUIRE(fig7);
-  const auto v = fig7->checkFeasibility(limits);
+  const auto v = fig7->check_feasibility(limits);
   CHECK(v.feasible());
   CHECK(v.certified);
   CHECK(v.reason == Feasibility::kFeasible);
   p.target_xy_m = {0.03, -0.02};
   const auto tiny = CatchTrajectory::create(p);
-  CHECK(tiny->checkFeasibility(limits).feasible());
+  CHECK(tiny->check_feasibility(limits).feasible());
   p.target_xy_m = p.start_xy_m;  // no move at all
-  CHECK(CatchTrajectory::create(p)->checkFeasibility(limits).feasible());
+  CHECK(CatchTrajectory::create(p)->check_feasibility(limits).feasible());
 }
 
 TEST_CASE("feasibility: a huge move in a short T_xy is infeasible") {
-  auto p = fig7Params();
+  auto p = fig7_params();
   p.target_xy_m = {3.0, 2.0};
   p.t_xy_s = 0.4;
   const auto traj = CatchTrajectory::create(p);
   REQUIRE(traj);
-  const auto v = traj->checkFeasibility(InputLimits{});
+  const auto v = traj->check_feasibility(InputLimits{});
   CHECK_FALSE(v.feasible());
   CHECK((v.reason == Feasibility::kThrustTooHigh || v.reason == Feasibility::kRatesTooHigh));
   CHECK(v.thrust_high.violated);
@@ -362,59 +362,59 @@ TEST_CASE("feasibility: a huge move in a short T_xy is infeasible") {
   CHECK(v.rates.value == Approx(r_rates.body_rates_radps.cwiseAbs().maxCoeff()).epsilon(1e-9));
   CHECK(v.rates.value == Approx(std::abs(r_rates.body_rates_radps(v.rates.axis))).epsilon(1e-9));
   // ... and they are the worst of a 0.1 ms brute-force scan, to the 1 ms scan resolution.
-  const Scan scan = bruteForce(*traj, 1e-4);
+  const Scan scan = brute_force(*traj, 1e-4);
   CHECK(v.thrust_high.value == Approx(scan.thrust_max).epsilon(1e-3));
   CHECK(v.rates.value == Approx(scan.rate_max).epsilon(1e-3));
 }
 
 TEST_CASE("feasibility: rates alone too high") {
-  auto p = fig7Params();
+  auto p = fig7_params();
   p.target_xy_m = {0.12, 0.0};
   p.t_xy_s = 0.35;
   const auto traj = CatchTrajectory::create(p);
   REQUIRE(traj);
-  const auto v = traj->checkFeasibility(InputLimits{});
+  const auto v = traj->check_feasibility(InputLimits{});
   CHECK(v.reason == Feasibility::kRatesTooHigh);
   CHECK_FALSE(v.thrust_high.violated);
   CHECK_FALSE(v.thrust_low.violated);
   CHECK(v.rates.axis == 1);  // a move along x with zero yaw pitches: Omega_y
   CHECK(v.rates.value > 10.0);
   CHECK(v.rates.t_s >= traj->xyStartTime_s());
-  const Scan scan = bruteForce(*traj, 1e-4);
+  const Scan scan = brute_force(*traj, 1e-4);
   CHECK(scan.rate_max > 10.0);
   CHECK(scan.thrust_max < 20.0);
 }
 
 TEST_CASE("feasibility: a_max too large makes the thrust too high") {
-  auto p = fig7Params();
+  auto p = fig7_params();
   p.a_max_mps2 = 7.0;  // g + a_max = 16.81 during the hold
   const auto traj = CatchTrajectory::create(p);
   REQUIRE(traj);
-  const auto v = traj->checkFeasibility(InputLimits{0.5, 15.0, 10.0});
+  const auto v = traj->check_feasibility(InputLimits{0.5, 15.0, 10.0});
   CHECK(v.reason == Feasibility::kThrustTooHigh);
   CHECK(v.thrust_high.value >= kG + 7.0 - 1e-9);
-  CHECK(v.thrust_high.t_s >= traj->zManoeuvre().phaseTimes_s()[3]);
+  CHECK(v.thrust_high.t_s >= traj->z_manoeuvre().phaseTimes_s()[3]);
   CHECK_FALSE(v.thrust_low.violated);
   // With the default limits an a_max above 20 - g breaks both thrust limits; the reason names
   // the upper one first and the lower one is reported too.
   p.a_max_mps2 = 10.5;
-  const auto both = CatchTrajectory::create(p)->checkFeasibility(InputLimits{});
+  const auto both = CatchTrajectory::create(p)->check_feasibility(InputLimits{});
   CHECK(both.reason == Feasibility::kThrustTooHigh);
   CHECK(both.thrust_low.violated);
   CHECK(both.thrust_low.value == Approx(kG - 10.5));
 }
 
 TEST_CASE("feasibility: a very deep drop needs too little thrust") {
-  auto p = fig7Params();
+  auto p = fig7_params();
   p.a_max_mps2 = 9.0;
   p.t_xy_s = 1.5;
   const auto traj = CatchTrajectory::create(p);
   REQUIRE(traj);
   CHECK(traj->startHeight_m() - p.catch_height_m > 25.0);
-  const auto v = traj->checkFeasibility(InputLimits{});
+  const auto v = traj->check_feasibility(InputLimits{});
   CHECK(v.reason == Feasibility::kThrustTooLow);
   CHECK(v.thrust_low.value == Approx(kG - 9.0));
-  const auto& t = traj->zManoeuvre().phaseTimes_s();
+  const auto& t = traj->z_manoeuvre().phaseTimes_s();
   CHECK(v.thrust_low.t_s >= t[1] - 1e-12);
   CHECK(v.thrust_low.t_s <= t[2] + 1e-12);
   CHECK(traj->reference(v.thrust_low.t_s).thrust_mps2 == Approx(kG - 9.0));
@@ -437,8 +437,8 @@ TEST_CASE("feasibility agrees with a brute-force scan on random manoeuvres") {
     const InputLimits limits{1.0, thrust_hi(rng), rate(rng)};
     const auto traj = CatchTrajectory::create(p);
     REQUIRE(traj);
-    const auto v = traj->checkFeasibility(limits);
-    const Scan scan = bruteForce(*traj, 2e-4);
+    const auto v = traj->check_feasibility(limits);
+    const Scan scan = brute_force(*traj, 2e-4);
     CAPTURE(trial, p.t_xy_s, p.a_max_mps2, p.k_max_mps3, limits.a_q_max_mps2, limits.omega_max_radps);
     if (v.feasible()) {
       ++feasible;

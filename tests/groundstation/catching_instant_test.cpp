@@ -22,8 +22,8 @@ using gs::planning::CatchingInstant;
 constexpr double kL = pa::kPoleHalfLength_m;
 constexpr double kG = pa::kGravity_mps2;
 
-PoleState fig5Launch(const PoleParams& params) {
-  return gs::planning::poleStateAtLaunch(gs::planning::fig5LaunchState(), params);
+PoleState fig5_launch(const PoleParams& params) {
+  return gs::planning::pole_state_at_launch(gs::planning::fig5_launch_state(), params);
 }
 
 // Drag-free flight in closed form: ballistic centre, n turning uniformly about the constant Omega.
@@ -46,14 +46,14 @@ SwingOutcome swing(const gs::model::PoleOnVehicleState& start, const PoleParams&
   gs::model::PoleOnVehicleState s = start;
   const Eigen::Vector3d still = Eigen::Vector3d::Zero();
   const auto f = [&](const gs::model::PoleOnVehicleState& x) {
-    return gs::model::poleOnVehicleDerivative(x, still, params);
+    return gs::model::pole_on_vehicle_derivative(x, still, params);
   };
   SwingOutcome out{std::asin(std::abs(s.a_m) / kL), false};
   const double sign0 = s.a_m > 0 ? 1.0 : -1.0;
   // 2 s: on the separatrix the pole approaches the upright for ever, but any residual error grows
   // like exp(t sqrt(3g / 4L)) (time constant 0.3 s); the on-time catch stays up beyond 3 s.
   for (int i = 0; i < 2000; ++i) {
-    s = gs::model::rk4Step(f, s, 1e-3);
+    s = gs::model::rk4_step(f, s, 1e-3);
     const double tilt = std::asin(std::min(1.0, std::abs(s.a_m) / kL));
     out.min_tilt_rad = std::min(out.min_tilt_rad, tilt);
     if (s.a_m * sign0 < 0.0) {
@@ -69,11 +69,11 @@ SwingOutcome swing(const gs::model::PoleOnVehicleState& start, const PoleParams&
 
 TEST_CASE("launch state: eq. (23), (26), (27) from the planar throw end", "[catching_instant]") {
   const PoleParams params;
-  const gs::planning::PlanarLaunchState launch = gs::planning::fig5LaunchState();
-  const PoleState s = gs::planning::poleStateAtLaunch(launch, params);
+  const gs::planning::PlanarLaunchState launch = gs::planning::fig5_launch_state();
+  const PoleState s = gs::planning::pole_state_at_launch(launch, params);
   gs::model::PoleOnVehicleState on{kL * std::sin(launch.alpha_rad), 0.0,
                                    kL * std::cos(launch.alpha_rad) * launch.alpha_dot_radps, 0.0};
-  const PoleState expected = gs::model::freeFlightStateFromPoleOnVehicle(
+  const PoleState expected = gs::model::free_flight_state_from_pole_on_vehicle(
       on, {launch.x_m, 0.0, launch.z_m}, {launch.vx_mps, 0.0, launch.vz_mps}, params);
   CHECK((s.p_m - expected.p_m).norm() < 1e-14);
   CHECK((s.v_mps - expected.v_mps).norm() < 1e-14);
@@ -85,8 +85,8 @@ TEST_CASE("launch state: eq. (23), (26), (27) from the planar throw end", "[catc
 
 TEST_CASE("Fig. 5 launch: the first instant satisfying (42)", "[catching_instant]") {
   const PoleParams params;
-  const PoleState launch = fig5Launch(params);
-  const CatchingInstant ci = gs::planning::findCatchingInstant(launch, params);
+  const PoleState launch = fig5_launch(params);
+  const CatchingInstant ci = gs::planning::find_catching_instant(launch, params);
   REQUIRE(ci.found);
   std::printf("catching instant (Fig. 5 launch, drag): t = %.4f s, height %.4f m, point (%.4f, %.4f) m"
               " [paper, measured: 0.812 s, 1.343 m]\n",
@@ -95,7 +95,7 @@ TEST_CASE("Fig. 5 launch: the first instant satisfying (42)", "[catching_instant
   CHECK(std::abs(ci.residual_radps) < 1e-6);
   CHECK(std::abs(gs::model::catchingConditionResidual_radps(ci.pole, params)) < 1e-6);
   // Consistent with an independent integration to t*.
-  const PoleState at = gs::model::propagatePole(launch, ci.t_s, 1e-3, params);
+  const PoleState at = gs::model::propagate_pole(launch, ci.t_s, 1e-3, params);
   const Eigen::Vector3d lower = gs::model::poleLowerEnd_m(at, params);
   CHECK(lower.z() == Approx(ci.catch_height_m).margin(1e-6));
   CHECK(lower.x() == Approx(ci.catch_point_m.x()).margin(1e-6));
@@ -110,7 +110,7 @@ TEST_CASE("Fig. 5 launch: the first instant satisfying (42)", "[catching_instant
   int end_switches = 0;
   const int samples = static_cast<int>(std::floor(ci.t_s / 1e-3)) - 1;
   for (int i = 0; i < samples; ++i) {
-    s = gs::model::poleFreeFlightStep(s, 1e-3, params);
+    s = gs::model::pole_free_flight_step(s, 1e-3, params);
     const double r = gs::model::catchingConditionResidual_radps(s, params);
     const bool head = s.n.z() < 0.0;
     if (head != previous_head) {
@@ -125,16 +125,16 @@ TEST_CASE("Fig. 5 launch: the first instant satisfying (42)", "[catching_instant
   CHECK(end_switches == 1);  // the Fig. 5 pole turns over once: the catch is on its other end
   // And just after t*, the residual has changed sign.
   const double before = gs::model::catchingConditionResidual_radps(
-      gs::model::propagatePole(launch, ci.t_s - 2e-3, 1e-3, params), params);
+      gs::model::propagate_pole(launch, ci.t_s - 2e-3, 1e-3, params), params);
   const double after = gs::model::catchingConditionResidual_radps(
-      gs::model::propagatePole(launch, ci.t_s + 2e-3, 1e-3, params), params);
+      gs::model::propagate_pole(launch, ci.t_s + 2e-3, 1e-3, params), params);
   CHECK(before * after < 0.0);
 }
 
 TEST_CASE("without drag the catching instant matches the ballistic closed form", "[catching_instant]") {
-  const PoleParams params = gs::model::withoutDrag(PoleParams{});
-  const PoleState launch = fig5Launch(params);
-  const CatchingInstant ci = gs::planning::findCatchingInstant(launch, params);
+  const PoleParams params = gs::model::without_drag(PoleParams{});
+  const PoleState launch = fig5_launch(params);
+  const CatchingInstant ci = gs::planning::find_catching_instant(launch, params);
   REQUIRE(ci.found);
   const PoleState exact = ballistic(launch, ci.t_s);
   CHECK((ci.pole.p_m - exact.p_m).norm() < 1e-9);
@@ -165,13 +165,13 @@ TEST_CASE("without drag the catching instant matches the ballistic closed form",
 TEST_CASE("caught at t* by a vehicle at rest the pole swings up; earlier or later it does not",
           "[catching_instant]") {
   const PoleParams params;
-  const PoleState launch = fig5Launch(params);
-  const CatchingInstant ci = gs::planning::findCatchingInstant(launch, params);
+  const PoleState launch = fig5_launch(params);
+  const CatchingInstant ci = gs::planning::find_catching_instant(launch, params);
   REQUIRE(ci.found);
   const double one_degree = M_PI / 180.0;
   const auto catch_at = [&](double t) {
-    const PoleState before = gs::model::propagatePole(launch, t, 1e-3, params);
-    return swing(gs::model::impactMap(before, Eigen::Vector3d::Zero(), params).on_vehicle, params);
+    const PoleState before = gs::model::propagate_pole(launch, t, 1e-3, params);
+    return swing(gs::model::impact_map(before, Eigen::Vector3d::Zero(), params).on_vehicle, params);
   };
   const SwingOutcome on_time = catch_at(ci.t_s);
   CHECK(on_time.min_tilt_rad < one_degree);
@@ -189,9 +189,9 @@ TEST_CASE("no instant within the horizon: not found", "[catching_instant]") {
   const PoleParams params;
   gs::planning::CatchingInstantOptions options;
   options.horizon_s = 0.3;  // the Fig. 5 pole has not turned over yet
-  CHECK_FALSE(gs::planning::findCatchingInstant(fig5Launch(params), params, options).found);
+  CHECK_FALSE(gs::planning::find_catching_instant(fig5_launch(params), params, options).found);
   options.horizon_s = -1.0;
-  CHECK_FALSE(gs::planning::findCatchingInstant(fig5Launch(params), params, options).found);
+  CHECK_FALSE(gs::planning::find_catching_instant(fig5_launch(params), params, options).found);
 }
 
 TEST_CASE("launch state from the throw planner's CSV", "[catching_instant]") {
@@ -199,7 +199,7 @@ TEST_CASE("launch state from the throw planner's CSV", "[catching_instant]") {
   const std::string good = header + "0,0,0,0,0,0,0,0,9.81,0,9.81\n"
                                     "2.5,1.5,2.0,0.3,5.5,-0.48,0.48,2.5,4.48,2.5,0\n"
                                     "\n";
-  const auto ok = gs::planning::parseThrowCsvLaunchState(good, "throw.csv");
+  const auto ok = gs::planning::parse_throw_csv_launch_state(good, "throw.csv");
   INFO(ok.error);
   REQUIRE(ok.ok);
   CHECK(ok.line == 3);
@@ -210,7 +210,7 @@ TEST_CASE("launch state from the throw planner's CSV", "[catching_instant]") {
   CHECK(ok.launch.alpha_rad == 0.48);
   CHECK(ok.launch.alpha_dot_radps == 2.5);
   // Columns in another order, CRLF line ends.
-  const auto reordered = gs::planning::parseThrowCsvLaunchState(
+  const auto reordered = gs::planning::parse_throw_csv_launch_state(
       "alpha_dot,alpha,F_N,omega_y,a_q,theta,vz,vx,z,x,t\r\n2.5,0.48,0,2.5,4.48,-0.48,5.5,0.3,2,1.5,2.5\r\n",
       "r.csv");
   REQUIRE(reordered.ok);
@@ -233,12 +233,12 @@ TEST_CASE("launch state from the throw planner's CSV", "[catching_instant]") {
       {header + "0,0,0,0,0,0,0,,9.81,0,9.81\n", "throw.csv:2: field 8"},
   };
   for (const Case& c : bad) {
-    const auto r = gs::planning::parseThrowCsvLaunchState(c.text, "throw.csv");
+    const auto r = gs::planning::parse_throw_csv_launch_state(c.text, "throw.csv");
     INFO(c.text << " -> " << r.error);
     CHECK_FALSE(r.ok);
     CHECK(r.error.find(c.expect) != std::string::npos);
   }
-  const auto missing = gs::planning::loadThrowCsvLaunchState("/nonexistent/throw.csv");
+  const auto missing = gs::planning::load_throw_csv_launch_state("/nonexistent/throw.csv");
   CHECK_FALSE(missing.ok);
   CHECK(missing.error.find("/nonexistent/throw.csv") != std::string::npos);
 }

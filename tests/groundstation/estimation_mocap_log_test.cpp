@@ -15,7 +15,7 @@
 namespace {
 
 using gs::estimation::MocapBody;
-using gs::estimation::parseMocapRow;
+using gs::estimation::parse_mocap_row;
 
 std::vector<std::string> lines(const std::string& text) {
   std::vector<std::string> out;
@@ -37,7 +37,7 @@ std::vector<std::string> fields(const std::string& line) {
   return out;
 }
 
-void writeRow(std::ostream& out, double t, const char* body, const estimation_test::Pose& p) {
+void write_row(std::ostream& out, double t, const char* body, const estimation_test::Pose& p) {
   char buf[256];
   std::snprintf(buf, sizeof buf, "%.4f,%s,%.6f,%.6f,%.6f,%.9f,%.9f,%.9f,%.9f\n", t, body, p.p.x(), p.p.y(),
                 p.p.z(), p.q.w(), p.q.x(), p.q.y(), p.q.z());
@@ -47,22 +47,22 @@ void writeRow(std::ostream& out, double t, const char* body, const estimation_te
 }  // namespace
 
 TEST_CASE("mocap rows parse, malformed ones say what is wrong", "[estimation]") {
-  CHECK(gs::estimation::isMocapHeader("t,body,x,y,z,qw,qx,qy,qz"));
-  CHECK(gs::estimation::isMocapHeader(" t, body ,x,y,z,qw,qx,qy,qz\r"));
-  CHECK_FALSE(gs::estimation::isMocapHeader("t,body,x,y,z,qw,qx,qy"));
+  CHECK(gs::estimation::is_mocap_header("t,body,x,y,z,qw,qx,qy,qz"));
+  CHECK(gs::estimation::is_mocap_header(" t, body ,x,y,z,qw,qx,qy,qz\r"));
+  CHECK_FALSE(gs::estimation::is_mocap_header("t,body,x,y,z,qw,qx,qy"));
 
-  const auto ok = parseMocapRow("1.25,pole,0.1,-0.2,1.5,1,0,0,0");
+  const auto ok = parse_mocap_row("1.25,pole,0.1,-0.2,1.5,1,0,0,0");
   REQUIRE(ok.row);
   CHECK(ok.row->t_s == 1.25);
   CHECK(ok.row->body == MocapBody::pole);
   CHECK(ok.row->pose.p_m.y() == -0.2);
-  const auto scaled = parseMocapRow("0,vehicle2,0,0,0,0.9,0,0,0");  // normalised
+  const auto scaled = parse_mocap_row("0,vehicle2,0,0,0,0.9,0,0,0");  // normalised
   REQUIRE(scaled.row);
   CHECK(scaled.row->pose.q.norm() == Approx(1.0));
 
   // The row is rejected with a message that names what is wrong.
   const auto rejects = [](const char* row, const char* message) {
-    return parseMocapRow(row).error.find(message) != std::string::npos;
+    return parse_mocap_row(row).error.find(message) != std::string::npos;
   };
   CHECK(rejects("1,pole,0,0,0,1,0,0", "expected 9 fields"));
   CHECK(rejects("1,pole,0,abc,0,1,0,0,0", "'y' is not a number"));
@@ -74,7 +74,7 @@ TEST_CASE("mocap rows parse, malformed ones say what is wrong", "[estimation]") 
   CHECK(rejects("1e300,pole,0,0,0,1,0,0,0", "'t' is out of range (|t| <= 1e+09)"));
   CHECK(rejects("1,pole,0,-2e4,0,1,0,0,0", "'y' is out of range"));
   CHECK(rejects("1,pole,0,0,0,3,0,0,0", "'qw' is out of range"));
-  CHECK(parseMocapRow("-86400,pole,-9999,0,0,1,0,0,0").row);
+  CHECK(parse_mocap_row("-86400,pole,-9999,0,0,1,0,0,0").row);
 }
 
 TEST_CASE("a log with malformed rows is replayed, each problem reported by line", "[estimation]") {
@@ -94,7 +94,7 @@ TEST_CASE("a log with malformed rows is replayed, each problem reported by line"
   std::ostringstream diag;
   gs::estimation::ReplayOptions options;
   options.catch_height_m = 1.0;
-  const gs::estimation::ReplaySummary s = gs::estimation::replayMocapLog(in, out, diag, options);
+  const gs::estimation::ReplaySummary s = gs::estimation::replay_mocap_log(in, out, diag, options);
   const std::vector<std::string> d = lines(diag.str());
   REQUIRE(d.size() == 4);
   CHECK(d[0].rfind("line 5: expected 9 fields", 0) == 0);
@@ -122,7 +122,7 @@ TEST_CASE("a log without a header or without pole rows is handled", "[estimation
     std::istringstream in("0,pole,0,0,2,1,0,0,0\n0.005,pole,0,0,2,1,0,0,0\n");
     std::ostringstream out;
     std::ostringstream diag;
-    const auto s = gs::estimation::replayMocapLog(in, out, diag, {});
+    const auto s = gs::estimation::replay_mocap_log(in, out, diag, {});
     CHECK(s.ok);
     CHECK(diag.str().find("line 1: no header row") != std::string::npos);
     CHECK(s.pole_frames == 2);
@@ -131,7 +131,7 @@ TEST_CASE("a log without a header or without pole rows is handled", "[estimation
     std::istringstream in("t,body,x,y,z,qw,qx,qy,qz\n0,vehicle1,0,0,1,1,0,0,0\ngarbage\n");
     std::ostringstream out;
     std::ostringstream diag;
-    const auto s = gs::estimation::replayMocapLog(in, out, diag, {});
+    const auto s = gs::estimation::replay_mocap_log(in, out, diag, {});
     CHECK_FALSE(s.ok);
     CHECK(s.fatal_error == "no usable pole rows");
     CHECK(diag.str().find("line 3:") != std::string::npos);
@@ -140,28 +140,28 @@ TEST_CASE("a log without a header or without pole rows is handled", "[estimation
     std::istringstream in("");
     std::ostringstream out;
     std::ostringstream diag;
-    const auto s = gs::estimation::replayMocapLog(in, out, diag, {});
+    const auto s = gs::estimation::replay_mocap_log(in, out, diag, {});
     CHECK_FALSE(s.ok);
     CHECK(s.fatal_error == "no data rows");
   }
 }
 
 TEST_CASE("a recorded throw replays into modes and catch predictions", "[estimation]") {
-  const estimation_test::Recording rec = estimation_test::recordThrow(estimation_test::WorldParams{}, 3);
+  const estimation_test::Recording rec = estimation_test::record_throw(estimation_test::WorldParams{}, 3);
   REQUIRE(rec.launch_t);
   REQUIRE(rec.impact_t);
   std::stringstream log;
   log << gs::estimation::kMocapLogHeader << '\n';
   for (const estimation_test::Frame& f : rec.frames) {
-    writeRow(log, f.t_s, "vehicle1", f.vehicle[0]);
-    writeRow(log, f.t_s, "vehicle2", f.vehicle[1]);
-    writeRow(log, f.t_s, "pole", f.pole);
+    write_row(log, f.t_s, "vehicle1", f.vehicle[0]);
+    write_row(log, f.t_s, "vehicle2", f.vehicle[1]);
+    write_row(log, f.t_s, "pole", f.pole);
   }
   std::ostringstream out;
   std::ostringstream diag;
   gs::estimation::ReplayOptions options;
   options.catch_height_m = rec.catch_height;
-  const gs::estimation::ReplaySummary s = gs::estimation::replayMocapLog(log, out, diag, options);
+  const gs::estimation::ReplaySummary s = gs::estimation::replay_mocap_log(log, out, diag, options);
   CHECK(s.ok);
   CHECK(s.malformed == 0);
   CHECK(diag.str().empty());
@@ -193,14 +193,14 @@ TEST_CASE("a recorded throw replays into modes and catch predictions", "[estimat
 }
 
 TEST_CASE("a wrong time stamp or a glitching pose does not spoil the rest of the log", "[estimation]") {
-  const estimation_test::Recording rec = estimation_test::recordThrow(estimation_test::WorldParams{}, 2);
+  const estimation_test::Recording rec = estimation_test::record_throw(estimation_test::WorldParams{}, 2);
   std::stringstream log;
   log << gs::estimation::kMocapLogHeader << '\n';
   std::size_t k = 0;
   for (const estimation_test::Frame& f : rec.frames) {
-    writeRow(log, f.t_s, "vehicle1", f.vehicle[0]);
-    writeRow(log, f.t_s, "vehicle2", f.vehicle[1]);
-    writeRow(log, f.t_s, "pole", f.pole);
+    write_row(log, f.t_s, "vehicle1", f.vehicle[0]);
+    write_row(log, f.t_s, "vehicle2", f.vehicle[1]);
+    write_row(log, f.t_s, "pole", f.pole);
     if (++k == 100) {
       // A pole row from a second later, and a pole pose 1 m off in the next frame.
       log << f.t_s + 1.0 << ",pole,1,2,3,1,0,0,0\n";
@@ -211,7 +211,7 @@ TEST_CASE("a wrong time stamp or a glitching pose does not spoil the rest of the
   std::ostringstream diag;
   gs::estimation::ReplayOptions options;
   options.catch_height_m = rec.catch_height;
-  const gs::estimation::ReplaySummary s = gs::estimation::replayMocapLog(log, out, diag, options);
+  const gs::estimation::ReplaySummary s = gs::estimation::replay_mocap_log(log, out, diag, options);
   CHECK(s.ok);
   CHECK(s.reordered == 1);
   int reinitialised = 0;

@@ -56,7 +56,7 @@ TEST_CASE("evidence from elsewhere lowers the threshold of a mode", "[estimation
   ModeSelector s;
   s.reset(PoleMode::free);
   Favoured favoured{};
-  favoured[gs::estimation::modeIndex(PoleMode::on_vehicle2)] = true;
+  favoured[gs::estimation::mode_index(PoleMode::on_vehicle2)] = true;
   const LogLikelihoods ll{-10.0, std::nullopt, -5.0};
   const auto chosen = s.step(ll, favoured);  // 5 nats >= the favoured threshold of 4
   REQUIRE(chosen);
@@ -73,16 +73,16 @@ TEST_CASE("the pole cannot pass between vehicles without flying", "[estimation]"
     CHECK_FALSE(s.step(LogLikelihoods{std::nullopt, -50.0, -5.0}, Favoured{}));
   }
   CHECK(s.statistic(PoleMode::on_vehicle2) == 0.0);
-  CHECK_FALSE(gs::estimation::poleModeTransitionAllowed(PoleMode::on_vehicle1, PoleMode::on_vehicle2));
-  CHECK(gs::estimation::poleModeTransitionAllowed(PoleMode::on_vehicle2, PoleMode::free));
+  CHECK_FALSE(gs::estimation::pole_mode_transition_allowed(PoleMode::on_vehicle1, PoleMode::on_vehicle2));
+  CHECK(gs::estimation::pole_mode_transition_allowed(PoleMode::on_vehicle2, PoleMode::free));
   // Without the active mode's likelihood nothing is decided.
   CHECK_FALSE(s.step(LogLikelihoods{-1.0, std::nullopt, std::nullopt}, Favoured{}));
 }
 
 TEST_CASE("mode names", "[estimation]") {
   for (PoleMode m : gs::estimation::kPoleModes) {
-    CHECK(gs::estimation::poleModeFromName(gs::estimation::poleModeName(m)) == m);
+    CHECK(gs::estimation::pole_mode_from_name(gs::estimation::pole_mode_name(m)) == m);
   }
-  CHECK(gs::estimation::poleModeName(PoleMode::on_vehicle2) == "on_vehicle2");
-  CHECK_FALSE(gs::estimation::poleModeFromName("vehicle3"));
+  CHECK(gs::estimation::pole_mode_name(PoleMode::on_vehicle2) == "on_vehicle2");
+  CHECK_FALSE(gs::estimation::pole_mode_from_name("vehicle3"));
 }

@@ -7,7 +7,7 @@
 
 namespace estimation_test {
 
-inline gs::estimation::MocapPose toPose(const Pose& p) {
+inline gs::estimation::MocapPose to_pose(const Pose& p) {
   gs::estimation::MocapPose out;
   out.p_m = p.p;
   out.q = p.q;
@@ -15,12 +15,12 @@ inline gs::estimation::MocapPose toPose(const Pose& p) {
 }
 
 // The frame's three noisy poses.
-inline gs::estimation::MocapFrame toMocap(const Frame& f) {
+inline gs::estimation::MocapFrame to_mocap(const Frame& f) {
   gs::estimation::MocapFrame m;
   m.t_s = f.t_s;
-  m.vehicle[0] = toPose(f.vehicle[0]);
-  m.vehicle[1] = toPose(f.vehicle[1]);
-  m.pole = toPose(f.pole);
+  m.vehicle[0] = to_pose(f.vehicle[0]);
+  m.vehicle[1] = to_pose(f.vehicle[1]);
+  m.pole = to_pose(f.pole);
   return m;
 }
 
@@ -29,7 +29,7 @@ inline gs::estimation::MocapFrame toMocap(const Frame& f) {
 // second-order model takes it with a second pole far beyond the first: natural frequency
 // omega_n = 300 rad/s and the damping that puts the slow pole at -1 / tau (the other lies at
 // about -1100 rad/s, within the model's 1 ms integration steps).
-inline gs::estimation::VehicleObserverParams observerFor(const WorldParams& world = {}) {
+inline gs::estimation::VehicleObserverParams observer_for(const WorldParams& world = {}) {
   gs::estimation::VehicleObserverParams p;
   constexpr double kNaturalFrequency_radps = 300.0;
   const double x = 1.0 / (world.rate_tau_s * kNaturalFrequency_radps);
@@ -39,13 +39,13 @@ inline gs::estimation::VehicleObserverParams observerFor(const WorldParams& worl
   return p;
 }
 
-inline gs::estimation::StateEstimatorConfig estimatorFor(const WorldParams& world = {}) {
+inline gs::estimation::StateEstimatorConfig estimator_for(const WorldParams& world = {}) {
   gs::estimation::StateEstimatorConfig c;
-  c.vehicle = observerFor(world);
+  c.vehicle = observer_for(world);
   return c;
 }
 
-inline gs::model::VehicleInput toInput(const Command& c) {
+inline gs::model::VehicleInput to_input(const Command& c) {
   gs::model::VehicleInput in;
   in.a_q_mps2 = c.thrust_mps2;
   in.omega_radps = c.rates_radps;

@@ -110,7 +110,7 @@ class World {
 
   // The pole resting on vehicle i's plate centre, direction n_pivot (pivot to centre), at rest
   // relative to it; body_sign: the pole's body z-axis is body_sign * n_pivot.
-  void placePoleOn(int i, const Vector3d& n_pivot, double body_sign) {
+  void place_pole_on(int i, const Vector3d& n_pivot, double body_sign) {
     mode_ = i == 0 ? TruthMode::on_vehicle1 : TruthMode::on_vehicle2;
     contact_body_ = Vector3d(0.0, 0.0, wp_.plate_height_m);
     np_ = n_pivot.normalized();
@@ -119,7 +119,7 @@ class World {
   }
 
   // The pole in free flight (body z-axis n, rate omega normal to it).
-  void placePoleFree(const Vector3d& p, const Vector3d& v, const Vector3d& n, const Vector3d& omega) {
+  void place_pole_free(const Vector3d& p, const Vector3d& v, const Vector3d& n, const Vector3d& omega) {
     mode_ = TruthMode::free;
     pp_ = p;
     pv_ = v;
@@ -128,17 +128,17 @@ class World {
   }
 
   TruthMode mode() const { return mode_; }
-  std::optional<double> launchTime() const { return launch_t_; }
-  std::optional<double> impactTime() const { return impact_t_; }
-  int impactVehicle() const { return impact_vehicle_; }  // 0 or 1
+  std::optional<double> launch_time() const { return launch_t_; }
+  std::optional<double> impact_time() const { return impact_t_; }
+  int impact_vehicle() const { return impact_vehicle_; }  // 0 or 1
   std::optional<Crossing> crossing() const { return crossing_; }
-  void setCatchHeight(double z) { catch_height_ = z; }
+  void set_catch_height(double z) { catch_height_ = z; }
 
   // The pivot-to-centre direction and rate while on a plate (for the controllers).
-  Vector3d pivotDirection() const { return np_; }
-  Vector3d poleRate() const { return w_; }
+  Vector3d pivot_direction() const { return np_; }
+  Vector3d pole_rate() const { return w_; }
 
-  PoleTruth poleTruth() const {
+  PoleTruth pole_truth() const {
     PoleTruth t;
     t.mode = mode_;
     if (mode_ == TruthMode::free) {
@@ -168,15 +168,15 @@ class World {
     std::array<Vector3d, 2> rate_dot0;
     std::array<Vehicle, 2> before = veh_;
     for (int i = 0; i < 2; ++i) {
-      acc0[i] = vehicleAcceleration(veh_[i]);
+      acc0[i] = vehicle_acceleration(veh_[i]);
       rate_dot0[i] = (veh_[i].cmd.rates_radps - veh_[i].rates) / wp_.rate_tau_s;
-      integrateVehicle(veh_[i], h);
+      integrate_vehicle(veh_[i], h);
     }
     if (mode_ == TruthMode::free) {
-      stepFree(h, before);
+      step_free(h, before);
     } else {
       const int i = mode_ == TruthMode::on_vehicle1 ? 0 : 1;
-      stepOnPlate(h, before[i], acc0[i], rate_dot0[i]);
+      step_on_plate(h, before[i], acc0[i], rate_dot0[i]);
     }
     t_ += h;
   }
@@ -191,14 +191,14 @@ class World {
       f.vehicle_p[i] = veh_[i].p;
       f.vehicle_v[i] = veh_[i].v;
     }
-    f.truth = poleTruth();
+    f.truth = pole_truth();
     f.pole = noisy(f.truth.p, Quaterniond::FromTwoVectors(Vector3d::UnitZ(), f.truth.n));
     return f;
   }
 
   // Drag loads of the paper's law (10)-(15) by the midpoint rule: force, torque about the centre.
-  void dragLoads(const Vector3d& v, const Vector3d& n, const Vector3d& w, Vector3d& force,
-                 Vector3d& torque) const {
+  void drag_loads(const Vector3d& v, const Vector3d& n, const Vector3d& w, Vector3d& force,
+                  Vector3d& torque) const {
     const int k_max = wp_.drag_segments;
     const double l = wp_.pole_half_length_m;
     const double dxi = 2.0 * l / k_max;
@@ -215,27 +215,27 @@ class World {
     }
   }
 
-  Vector3d vehicleAcceleration(const Vehicle& v) const {
+  Vector3d vehicle_acceleration(const Vehicle& v) const {
     return v.r.col(2) * v.thrust - Vector3d(0.0, 0.0, wp_.gravity);
   }
 
  private:
-  static Matrix3d expSo3(const Vector3d& phi) {
+  static Matrix3d exp_so3(const Vector3d& phi) {
     const double a = phi.norm();
     if (a < 1e-12) return Matrix3d::Identity();
     return Eigen::AngleAxisd(a, phi / a).toRotationMatrix();
   }
 
-  void integrateVehicle(Vehicle& v, double h) const {
-    const Vector3d acc0 = vehicleAcceleration(v);
+  void integrate_vehicle(Vehicle& v, double h) const {
+    const Vector3d acc0 = vehicle_acceleration(v);
     const double thrust0 = v.thrust;
     const Vector3d rates0 = v.rates;
     const double dt = std::exp(-h / wp_.thrust_tau_s);
     const double dr = std::exp(-h / wp_.rate_tau_s);
     v.thrust = v.cmd.thrust_mps2 + (thrust0 - v.cmd.thrust_mps2) * dt;
     v.rates = v.cmd.rates_radps + (rates0 - v.cmd.rates_radps) * dr;
-    v.r = v.r * expSo3(0.5 * (rates0 + v.rates) * h);
-    const Vector3d acc1 = vehicleAcceleration(v);
+    v.r = v.r * exp_so3(0.5 * (rates0 + v.rates) * h);
+    const Vector3d acc1 = vehicle_acceleration(v);
     v.p += v.v * h + (h * h / 6.0) * (2.0 * acc0 + acc1);
     v.v += 0.5 * h * (acc0 + acc1);
   }
@@ -244,10 +244,10 @@ class World {
   struct FreeState {
     Vector3d p, v, n, w;
   };
-  FreeState freeRate(const FreeState& s) const {
+  FreeState free_rate(const FreeState& s) const {
     Vector3d force;
     Vector3d torque;
-    dragLoads(s.v, s.n, s.w, force, torque);
+    drag_loads(s.v, s.n, s.w, force, torque);
     const double m = wp_.pole_mass_kg;
     const double theta = m * wp_.pole_half_length_m * wp_.pole_half_length_m / 3.0;
     FreeState d;
@@ -257,14 +257,14 @@ class World {
     d.w = (torque - torque.dot(s.n) * s.n) / theta;
     return d;
   }
-  FreeState freeStep(const FreeState& s, double h) const {
+  FreeState free_step(const FreeState& s, double h) const {
     const auto add = [](const FreeState& a, const FreeState& b, double k) {
       return FreeState{a.p + k * b.p, a.v + k * b.v, a.n + k * b.n, a.w + k * b.w};
     };
-    const FreeState k1 = freeRate(s);
-    const FreeState k2 = freeRate(add(s, k1, 0.5 * h));
-    const FreeState k3 = freeRate(add(s, k2, 0.5 * h));
-    const FreeState k4 = freeRate(add(s, k3, h));
+    const FreeState k1 = free_rate(s);
+    const FreeState k2 = free_rate(add(s, k1, 0.5 * h));
+    const FreeState k3 = free_rate(add(s, k2, 0.5 * h));
+    const FreeState k4 = free_rate(add(s, k3, h));
     FreeState out{s.p + h / 6.0 * (k1.p + 2 * k2.p + 2 * k3.p + k4.p),
                   s.v + h / 6.0 * (k1.v + 2 * k2.v + 2 * k3.v + k4.v),
                   s.n + h / 6.0 * (k1.n + 2 * k2.n + 2 * k3.n + k4.n),
@@ -275,7 +275,7 @@ class World {
   }
 
   // Lower end relative to vehicle i's plate: height along the normal and radial distance.
-  void plateRelation(const FreeState& s, const Vehicle& v, double& height, double& radial) const {
+  void plate_relation(const FreeState& s, const Vehicle& v, double& height, double& radial) const {
     const double sgn = s.n.z() >= 0.0 ? 1.0 : -1.0;
     const Vector3d end = s.p - wp_.pole_half_length_m * sgn * s.n;
     const Vector3d rel = v.r.transpose() * (end - v.p) - Vector3d(0.0, 0.0, wp_.plate_height_m);
@@ -283,20 +283,20 @@ class World {
     radial = rel.head<2>().norm();
   }
 
-  double lowerEndHeight(const FreeState& s) const {
+  double lower_end_height(const FreeState& s) const {
     return s.p.z() - wp_.pole_half_length_m * std::abs(s.n.z());
   }
 
-  void stepFree(double h, const std::array<Vehicle, 2>& before) {
+  void step_free(double h, const std::array<Vehicle, 2>& before) {
     const FreeState s0{pp_, pv_, np_, w_};
-    FreeState s1 = freeStep(s0, h);
+    FreeState s1 = free_step(s0, h);
     // Crossing of the catching height (downwards), for the catch-point truth.
     if (catch_height_ && !crossing_) {
-      const double z0 = lowerEndHeight(s0) - *catch_height_;
-      const double z1 = lowerEndHeight(s1) - *catch_height_;
+      const double z0 = lower_end_height(s0) - *catch_height_;
+      const double z1 = lower_end_height(s1) - *catch_height_;
       if (z0 > 0.0 && z1 <= 0.0) {
         const double frac = z0 / (z0 - z1);
-        const FreeState sc = freeStep(s0, frac * h);
+        const FreeState sc = free_step(s0, frac * h);
         const double sgn = sc.n.z() >= 0.0 ? 1.0 : -1.0;
         const Vector3d end = sc.p - wp_.pole_half_length_m * sgn * sc.n;
         crossing_ = Crossing{t_ + frac * h, end.x(), end.y()};
@@ -304,13 +304,13 @@ class World {
     }
     for (int i = 0; i < 2; ++i) {
       double h0 = 0.0, r0 = 0.0, h1 = 0.0, r1 = 0.0;
-      plateRelation(s0, before[i], h0, r0);
-      plateRelation(s1, veh_[i], h1, r1);
+      plate_relation(s0, before[i], h0, r0);
+      plate_relation(s1, veh_[i], h1, r1);
       if (!(h0 > 0.0 && h1 <= 0.0) || r1 > wp_.plate_radius_m) continue;
       // Impact at the crossing: sub-step there, then conserve the angular momentum about the
       // contact point (moving with the plate).
       const double frac = h0 / (h0 - h1);
-      const FreeState sc = freeStep(s0, frac * h);
+      const FreeState sc = free_step(s0, frac * h);
       const Vehicle& v = veh_[i];
       const double sgn = sc.n.z() >= 0.0 ? 1.0 : -1.0;
       const Vector3d n_pivot = sgn * sc.n;
@@ -331,8 +331,8 @@ class World {
         impact_vehicle_ = i;
       }
       // The rest of the step on the plate.
-      stepOnPlate((1.0 - frac) * h, veh_[i], vehicleAcceleration(veh_[i]),
-                  (veh_[i].cmd.rates_radps - veh_[i].rates) / wp_.rate_tau_s);
+      step_on_plate((1.0 - frac) * h, veh_[i], vehicle_acceleration(veh_[i]),
+                    (veh_[i].cmd.rates_radps - veh_[i].rates) / wp_.rate_tau_s);
       return;
     }
     pp_ = s1.p;
@@ -345,14 +345,14 @@ class World {
   struct PlateState {
     Vector3d n, w;
   };
-  PlateState plateRate(const PlateState& s, const Vector3d& pivot_acc, const Vector3d& pivot_v,
-                       Vector3d* contact_force) const {
+  PlateState plate_rate(const PlateState& s, const Vector3d& pivot_acc, const Vector3d& pivot_v,
+                        Vector3d* contact_force) const {
     const double l = wp_.pole_half_length_m;
     const double m = wp_.pole_mass_kg;
     const Vector3d centre_v = pivot_v + l * s.w.cross(s.n);
     Vector3d force;
     Vector3d torque;
-    dragLoads(centre_v, s.n, s.w, force, torque);
+    drag_loads(centre_v, s.n, s.w, force, torque);
     const Vector3d f = pivot_acc + Vector3d(0.0, 0.0, wp_.gravity);
     Vector3d tau = (l * s.n).cross(-m * f + force) + torque;
     tau -= tau.dot(s.n) * s.n;
@@ -366,7 +366,7 @@ class World {
     return d;
   }
 
-  void stepOnPlate(double h, const Vehicle& v0, const Vector3d& acc0, const Vector3d& rate_dot0) {
+  void step_on_plate(double h, const Vehicle& v0, const Vector3d& acc0, const Vector3d& rate_dot0) {
     // Pivot motion: p_q + R c, its velocity and acceleration with the rotation terms.
     const Vector3d arm = v0.r * contact_body_;
     const Vector3d w_i = v0.r * v0.rates;
@@ -377,10 +377,10 @@ class World {
     const auto add = [](const PlateState& a, const PlateState& b, double k) {
       return PlateState{a.n + k * b.n, a.w + k * b.w};
     };
-    const PlateState k1 = plateRate(s0, pivot_acc, pivot_v, &contact);
-    const PlateState k2 = plateRate(add(s0, k1, 0.5 * h), pivot_acc, pivot_v, nullptr);
-    const PlateState k3 = plateRate(add(s0, k2, 0.5 * h), pivot_acc, pivot_v, nullptr);
-    const PlateState k4 = plateRate(add(s0, k3, h), pivot_acc, pivot_v, nullptr);
+    const PlateState k1 = plate_rate(s0, pivot_acc, pivot_v, &contact);
+    const PlateState k2 = plate_rate(add(s0, k1, 0.5 * h), pivot_acc, pivot_v, nullptr);
+    const PlateState k3 = plate_rate(add(s0, k2, 0.5 * h), pivot_acc, pivot_v, nullptr);
+    const PlateState k4 = plate_rate(add(s0, k3, h), pivot_acc, pivot_v, nullptr);
     const double fn = contact.dot(v0.r.col(2)) / wp_.pole_mass_kg;
     last_fn_ = fn;
     if (fn < 0.0 || np_.dot(v0.r.col(2)) < 0.1) {
@@ -391,7 +391,7 @@ class World {
       np_ = sign_ * np_;
       mode_ = TruthMode::free;
       if (!launch_t_) launch_t_ = t_;
-      const FreeState s1 = freeStep(FreeState{pp_, pv_, np_, w_}, h);
+      const FreeState s1 = free_step(FreeState{pp_, pv_, np_, w_}, h);
       pp_ = s1.p;
       pv_ = s1.v;
       np_ = s1.n;
@@ -412,7 +412,7 @@ class World {
     Pose out;
     out.p = p + Vector3d(np(rng_), np(rng_), np(rng_));
     const Vector3d dr(nr(rng_), nr(rng_), nr(rng_));
-    out.q = (q * Quaterniond(expSo3(dr))).normalized();
+    out.q = (q * Quaterniond(exp_so3(dr))).normalized();
     return out;
   }
 
@@ -441,7 +441,7 @@ class World {
 inline double wrap(double a) { return std::atan2(std::sin(a), std::cos(a)); }
 
 // Thrust and body rates that track a desired acceleration with zero yaw.
-inline Command trackAcceleration(const World& w, const World::Vehicle& v, const Vector3d& acc) {
+inline Command track_acceleration(const World& w, const World::Vehicle& v, const Vector3d& acc) {
   const WorldParams& p = w.params();
   Vector3d t = acc + Vector3d(0.0, 0.0, p.gravity);
   t.z() = std::max(t.z(), 0.2 * p.gravity);
@@ -457,9 +457,9 @@ inline Command trackAcceleration(const World& w, const World::Vehicle& v, const 
   return c;
 }
 
-inline Command holdPosition(const World& w, const World::Vehicle& v, const Vector3d& target) {
+inline Command hold_position(const World& w, const World::Vehicle& v, const Vector3d& target) {
   const Vector3d acc = 4.0 * (target - v.p) - 4.0 * v.v;
-  return trackAcceleration(w, v, acc.cwiseMax(-8.0).cwiseMin(8.0));
+  return track_acceleration(w, v, acc.cwiseMax(-8.0).cwiseMin(8.0));
 }
 
 // Balancing the pole (an inverted pendulum on the pivot, per horizontal axis): the pivot
@@ -477,8 +477,8 @@ struct BalanceReference {
 
 inline Command balance(const World& w, const World::Vehicle& v, const BalanceReference& ref) {
   const WorldParams& p = w.params();
-  const Vector3d n = w.pivotDirection();
-  const Vector3d ndot = w.poleRate().cross(n);
+  const Vector3d n = w.pivot_direction();
+  const Vector3d ndot = w.pole_rate().cross(n);
   const double l = p.pole_half_length_m;
   constexpr double kWn = 7.0;
   constexpr double kZeta = 1.0;
@@ -499,7 +499,7 @@ inline Command balance(const World& w, const World::Vehicle& v, const BalanceRef
   }
   acc.z() = ref.z_free ? ref.z_acc_ff + 4.0 * (ref.z_vel_ref - v.v.z())
                        : 4.0 * (ref.target.z() - v.p.z()) - 4.0 * v.v.z();
-  return trackAcceleration(w, v, acc);
+  return track_acceleration(w, v, acc);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -531,17 +531,17 @@ struct Recording {
 inline const Vector3d kVehicle1Start(0.0, 0.0, 1.0);
 inline const Vector3d kVehicle2Away(2.5, 0.0, 1.0);
 
-inline World makeWorld(const WorldParams& params, unsigned seed) {
+inline World make_world(const WorldParams& params, unsigned seed) {
   World w(params, seed);
   w.vehicle(0).p = kVehicle1Start;
   w.vehicle(1).p = kVehicle2Away;
-  w.placePoleOn(0, Vector3d(0.02, -0.01, 1.0), 1.0);
+  w.place_pole_on(0, Vector3d(0.02, -0.01, 1.0), 1.0);
   return w;
 }
 
 // A balanced hover on vehicle 1 (with a small lateral move), vehicle 2 hovering nearby.
-inline Recording recordBalancedHover(const WorldParams& params, unsigned seed, double duration_s) {
-  World w = makeWorld(params, seed);
+inline Recording record_balanced_hover(const WorldParams& params, unsigned seed, double duration_s) {
+  World w = make_world(params, seed);
   Recording rec;
   const int frames = static_cast<int>(std::lround(duration_s / (params.step_s * params.steps_per_frame)));
   for (int k = 0; k <= frames; ++k) {
@@ -549,18 +549,18 @@ inline Recording recordBalancedHover(const WorldParams& params, unsigned seed, d
     BalanceReference ref;
     ref.target = kVehicle1Start + Vector3d(t > 1.0 ? 0.3 : 0.0, t > 2.0 ? -0.2 : 0.0, 0.0);
     w.vehicle(0).cmd = balance(w, w.vehicle(0), ref);
-    w.vehicle(1).cmd = holdPosition(w, w.vehicle(1), kVehicle2Away);
+    w.vehicle(1).cmd = hold_position(w, w.vehicle(1), kVehicle2Away);
     rec.frames.push_back(w.frame());
     for (int s = 0; s < params.steps_per_frame; ++s) w.step();
   }
-  rec.launch_t = w.launchTime();
+  rec.launch_t = w.launch_time();
   return rec;
 }
 
 // The throw from vehicle 1 onto vehicle 2 (see ThrowOptions). Runs until after_impact_s past
 // the impact (or 2.5 s past the launch).
-inline Recording recordThrowRun(const WorldParams& params, unsigned seed, const ThrowOptions& o) {
-  World w = makeWorld(params, seed);
+inline Recording record_throw_run(const WorldParams& params, unsigned seed, const ThrowOptions& o) {
+  World w = make_world(params, seed);
   Recording rec;
   Vector3d catcher_target = kVehicle2Away;
   if (o.with_catcher && o.catcher_at && o.catch_height) {
@@ -589,14 +589,14 @@ inline Recording recordThrowRun(const WorldParams& params, unsigned seed, const 
       if (t > t_release - o.flick_s) {
         const Vector3d acc(-o.flick_acc_mps2, 0.0,
                            o.up_acc_mps2 + 4.0 * (o.up_acc_mps2 * (t - t_throw) - v1.v.z()));
-        v1.cmd = trackAcceleration(w, v1, acc);
+        v1.cmd = track_acceleration(w, v1, acc);
       }
     } else if (t < t_release + o.cut_s) {
       v1.cmd.thrust_mps2 = params.a_min;
       v1.cmd.rates_radps = Vector3d::Zero();
     } else {
       if (!thrower_home) thrower_home = v1.p + Vector3d(-0.6, 0.0, -0.3);
-      v1.cmd = holdPosition(w, v1, *thrower_home);
+      v1.cmd = hold_position(w, v1, *thrower_home);
     }
     World::Vehicle& v2 = w.vehicle(1);
     if (w.mode() == TruthMode::on_vehicle2) {
@@ -604,24 +604,24 @@ inline Recording recordThrowRun(const WorldParams& params, unsigned seed, const 
       ref.target = catcher_target;
       v2.cmd = balance(w, v2, ref);
     } else {
-      v2.cmd = holdPosition(w, v2, catcher_target);
+      v2.cmd = hold_position(w, v2, catcher_target);
     }
     rec.frames.push_back(w.frame());
     if (w.mode() == TruthMode::on_vehicle1 && t < t_release) {
-      const PoleTruth pt = w.poleTruth();
+      const PoleTruth pt = w.pole_truth();
       z_launch_end = pt.p.z() - params.pole_half_length_m * std::abs(pt.n.z());
     }
-    if (w.launchTime() && !rec.launch_t) {
-      rec.launch_t = w.launchTime();
+    if (w.launch_time() && !rec.launch_t) {
+      rec.launch_t = w.launch_time();
       rec.catch_height = o.catch_height ? *o.catch_height : z_launch_end - o.catch_below_launch_m;
-      w.setCatchHeight(rec.catch_height);
+      w.set_catch_height(rec.catch_height);
     }
-    if (w.impactTime() && t > *w.impactTime() + o.after_impact_s) break;
+    if (w.impact_time() && t > *w.impact_time() + o.after_impact_s) break;
     if (rec.launch_t && t > *rec.launch_t + 2.5) break;
     for (int s = 0; s < params.steps_per_frame; ++s) w.step();
   }
-  rec.impact_t = w.impactTime();
-  rec.impact_vehicle = w.impactVehicle();
+  rec.impact_t = w.impact_time();
+  rec.impact_vehicle = w.impact_vehicle();
   rec.crossing = w.crossing();
   return rec;
 }
@@ -629,15 +629,15 @@ inline Recording recordThrowRun(const WorldParams& params, unsigned seed, const 
 // The throw with the catcher in place: a first run without vehicle 2 finds the truth crossing of
 // the catching height, the second places vehicle 2's plate there (the world is deterministic up
 // to the motion-capture noise, which does not feed back into the truth).
-inline Recording recordThrow(const WorldParams& params, unsigned seed, ThrowOptions o = {}) {
+inline Recording record_throw(const WorldParams& params, unsigned seed, ThrowOptions o = {}) {
   ThrowOptions first = o;
   first.with_catcher = false;
-  const Recording probe = recordThrowRun(params, seed, first);
+  const Recording probe = record_throw_run(params, seed, first);
   if (!probe.crossing) return probe;
   o.with_catcher = true;
   o.catcher_at = probe.crossing;
   o.catch_height = probe.catch_height;
-  Recording rec = recordThrowRun(params, seed, o);
+  Recording rec = record_throw_run(params, seed, o);
   rec.catch_height = probe.catch_height;
   if (!rec.crossing) rec.crossing = probe.crossing;
   return rec;

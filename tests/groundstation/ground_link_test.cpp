@@ -21,27 +21,27 @@
 #include "hil/radio/radio_bridge.hpp"
 
 // Every allocation in this executable is counted, so that a test can show a code path does not
-// allocate (the link's onFrame under a flood).
+// allocate (the link's on_frame under a flood).
 namespace {
 std::uint64_t g_allocations = 0;
 }  // namespace
 
 // (Every form is replaced, so that a sanitizer's own operators never free what these allocated.)
 namespace {
-void* countedAllocation(std::size_t size) noexcept {
+void* counted_allocation(std::size_t size) noexcept {
   ++g_allocations;
   return std::malloc(size == 0 ? 1 : size);
 }
-void* countedOrThrow(std::size_t size) {
-  if (void* p = countedAllocation(size)) return p;
+void* counted_or_throw(std::size_t size) {
+  if (void* p = counted_allocation(size)) return p;
   throw std::bad_alloc();
 }
 }  // namespace
 
-void* operator new(std::size_t size) { return countedOrThrow(size); }
-void* operator new[](std::size_t size) { return countedOrThrow(size); }
-void* operator new(std::size_t size, const std::nothrow_t&) noexcept { return countedAllocation(size); }
-void* operator new[](std::size_t size, const std::nothrow_t&) noexcept { return countedAllocation(size); }
+void* operator new(std::size_t size) { return counted_or_throw(size); }
+void* operator new[](std::size_t size) { return counted_or_throw(size); }
+void* operator new(std::size_t size, const std::nothrow_t&) noexcept { return counted_allocation(size); }
+void* operator new[](std::size_t size, const std::nothrow_t&) noexcept { return counted_allocation(size); }
 void operator delete(void* p) noexcept { std::free(p); }
 void operator delete[](void* p) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t) noexcept { std::free(p); }
@@ -90,11 +90,11 @@ struct SimVehicle {
 
   SimVehicle(std::uint8_t node, double offset_s, const hil::RadioConfig& radio_config)
       : radio(radio_config), clock_offset_s(offset_s) {
-    config.link.node = node;
+    config.link.vehicle = pa::VehicleId(node);
     firmware = std::make_unique<fw::Vehicle>(config);
   }
-  std::uint8_t node() const { return config.link.node; }
-  std::uint32_t clockUs(double ground_s) const {
+  std::uint8_t node() const { return config.link.vehicle.node(); }
+  std::uint32_t clock_us(double ground_s) const {
     return static_cast<std::uint32_t>(
         static_cast<std::uint64_t>(std::llround((ground_s - clock_offset_s) * 1e6)));
   }
@@ -110,6 +110,12 @@ struct Sent {
   Frame frame;
 };
 
+std::vector<pa::VehicleId> ids_of(const std::vector<std::uint8_t>& nodes) {
+  std::vector<pa::VehicleId> ids;
+  for (std::uint8_t n : nodes) ids.emplace_back(n);
+  return ids;
+}
+
 struct Rig {
   InMemoryFrameBus bus;
   GroundLink link;
@@ -119,7 +125,7 @@ struct Rig {
 
   explicit Rig(std::vector<std::uint8_t> nodes, const hil::RadioConfig& radio = {0.0, 0.0, 0.0, 1},
                std::vector<double> clock_offsets_s = {}, const GroundLinkConfig& config = {})
-      : link(bus, nodes, config) {
+      : link(bus, ids_of(nodes), config) {
     for (std::size_t i = 0; i < nodes.size(); ++i) {
       hil::RadioConfig r = radio;
       r.seed = radio.seed + static_cast<std::uint32_t>(i);
@@ -143,9 +149,9 @@ struct Rig {
     for (auto& v : vehicles) {
       Frame f;
       if (v->powered) {
-        while (v->radio.deliver(hil::Side::vehicle, now, f)) v->firmware->on_frame(f, v->clockUs(now));
+        while (v->radio.deliver(hil::Side::vehicle, now, f)) v->firmware->on_frame(f, v->clock_us(now));
         fw::ImuSample imu;
-        imu.t_us = v->clockUs(now);
+        imu.t_us = v->clock_us(now);
         imu.accel_mps2 = {0.0f, 0.0f, v->accel_z_mps2};
         v->firmware->tick(imu);
         while (v->firmware->pop_tx(f))
@@ -154,7 +160,7 @@ struct Rig {
         while (v->radio.deliver(hil::Side::vehicle, now, f)) {
         }
       }
-      while (v->radio.deliver(hil::Side::ground, now, f)) link.onFrame(f, now);
+      while (v->radio.deliver(hil::Side::ground, now, f)) link.on_frame(f, now);
     }
     ++step_count;
   }
@@ -163,7 +169,7 @@ struct Rig {
     for (long i = 0; i < n; ++i) step();
   }
   // Steps until `done` holds (true) or max_s has passed (false).
-  bool runUntil(const std::function<bool()>& done, double max_s) {
+  bool run_until(const std::function<bool()>& done, double max_s) {
     const long n = std::lround(max_s * 1e3);
     for (long i = 0; i < n; ++i) {
       if (done()) return true;
@@ -171,15 +177,15 @@ struct Rig {
     }
     return done();
   }
-  std::vector<Sent> sentOfType(Type type) const {
+  std::vector<Sent> sent_of_type(Type type) const {
     std::vector<Sent> out;
     for (const Sent& s : uplink)
       if (id_type(s.frame.id) == static_cast<std::uint8_t>(type)) out.push_back(s);
     return out;
   }
-  CommandState waitFor(const CommandHandle& h, double max_s = 1.0) {
-    runUntil([&] { return link.commandState(h) != CommandState::pending; }, max_s);
-    return link.commandState(h);
+  CommandState wait_for(const CommandHandle& h, double max_s = 1.0) {
+    run_until([&] { return link.command_state(h) != CommandState::pending; }, max_s);
+    return link.command_state(h);
   }
 };
 
@@ -190,36 +196,36 @@ gs::model::VehicleInput input(double thrust_mps2, Eigen::Vector3d rates_radps = 
   return u;
 }
 
-bool isCommandAck(const Message& m) { return m.type == Type::command_ack; }
+bool is_command_ack(const Message& m) { return m.type == Type::command_ack; }
 
 }  // namespace
 
 TEST_CASE("the link is built for a list of distinct vehicle nodes 1..14 and a sane configuration") {
   InMemoryFrameBus bus;
-  CHECK_NOTHROW(GroundLink(bus, {1, 2, 14}));
-  CHECK_THROWS_AS(GroundLink(bus, {}), std::invalid_argument);
-  CHECK_THROWS_AS(GroundLink(bus, {0}), std::invalid_argument);
-  CHECK_THROWS_AS(GroundLink(bus, {15}), std::invalid_argument);
-  CHECK_THROWS_AS(GroundLink(bus, {3, 4, 3}), std::invalid_argument);
+  CHECK_NOTHROW(GroundLink(bus, ids_of({1, 2, 14})));
+  CHECK_THROWS_AS(GroundLink(bus, ids_of({})), std::invalid_argument);
+  CHECK_THROWS_AS(GroundLink(bus, ids_of({0})), std::invalid_argument);
+  CHECK_THROWS_AS(GroundLink(bus, ids_of({15})), std::invalid_argument);
+  CHECK_THROWS_AS(GroundLink(bus, ids_of({3, 4, 3})), std::invalid_argument);
   GroundLinkConfig bad;
   bad.command_attempts = 0;
-  CHECK_THROWS_AS(GroundLink(bus, {1}, bad), std::invalid_argument);
+  CHECK_THROWS_AS(GroundLink(bus, ids_of({1}), bad), std::invalid_argument);
   bad = {};
   bad.heartbeat_period_s = 0.0;
-  CHECK_THROWS_AS(GroundLink(bus, {1}, bad), std::invalid_argument);
+  CHECK_THROWS_AS(GroundLink(bus, ids_of({1}), bad), std::invalid_argument);
   bad = {};
   bad.link_quality_window_s = 60.0;  // more heartbeats than the link keeps
-  CHECK_THROWS_AS(GroundLink(bus, {1}, bad), std::invalid_argument);
+  CHECK_THROWS_AS(GroundLink(bus, ids_of({1}), bad), std::invalid_argument);
 
-  GroundLink link(bus, {2, 5});
-  CHECK(link.status(5).node == 5);
-  CHECK(link.status(5).lost);
-  CHECK_FALSE(link.status(5).heard);
-  CHECK_THROWS_AS(link.status(3), std::out_of_range);
-  CHECK_THROWS_AS(link.sendSetpoint(3, input(0.0)), std::out_of_range);
-  CHECK_THROWS_AS(link.sendCommand(3, CommandCode::arm, 0, 0.0), std::out_of_range);
-  CHECK_THROWS_AS(link.sendKill(3, KillReason::operator_request), std::out_of_range);
-  CHECK_THROWS_AS(link.groundTime(3, 0), std::out_of_range);
+  GroundLink link(bus, ids_of({2, 5}));
+  CHECK(link.status(pa::VehicleId(5)).vehicle == pa::VehicleId(5));
+  CHECK(link.status(pa::VehicleId(5)).lost);
+  CHECK_FALSE(link.status(pa::VehicleId(5)).heard);
+  CHECK_THROWS_AS(link.status(pa::VehicleId(3)), std::out_of_range);
+  CHECK_THROWS_AS(link.send_setpoint(pa::VehicleId(3), input(0.0)), std::out_of_range);
+  CHECK_THROWS_AS(link.send_command(pa::VehicleId(3), CommandCode::arm, 0, 0.0), std::out_of_range);
+  CHECK_THROWS_AS(link.send_kill(pa::VehicleId(3), KillReason::operator_request), std::out_of_range);
+  CHECK_THROWS_AS(link.ground_time(pa::VehicleId(3), 0), std::out_of_range);
   CHECK(bus.pending() == 0);  // nothing went out for the unknown node
 }
 
@@ -230,23 +236,23 @@ TEST_CASE(
   Rig rig({1}, {0.0, 0.0, 0.0, 1}, {}, config);
   rig.run(1.0);
 
-  const std::vector<Sent> hb = rig.sentOfType(Type::gs_heartbeat);
+  const std::vector<Sent> hb = rig.sent_of_type(Type::gs_heartbeat);
   REQUIRE(hb.size() == 50);
   for (std::size_t i = 0; i < hb.size(); ++i) {
     const Message m = decoded(hb[i].frame);
     CHECK(m.node == kBroadcastNode);
     CHECK(m.gs_heartbeat.session_token == 0x5A17);
     CHECK(m.gs_heartbeat.seq == static_cast<std::uint8_t>(i));
-    CHECK(m.gs_heartbeat.ground_time_ms == GroundLink::groundTimeMs(hb[i].t_s));
+    CHECK(m.gs_heartbeat.ground_time_ms == GroundLink::ground_time_ms(hb[i].t_s));
     if (i > 0) CHECK(hb[i].t_s - hb[i - 1].t_s == Approx(0.02).margin(1e-9));
   }
   const fw::Vehicle& vehicle = *rig.vehicle().firmware;
   CHECK(vehicle.link().has_session());
   CHECK(vehicle.link().session_token() == 0x5A17);
-  CHECK(vehicle.link().heartbeat_live(rig.vehicle().clockUs(rig.t())));
+  CHECK(vehicle.link().heartbeat_live(rig.vehicle().clock_us(rig.t())));
   CHECK(vehicle.link().counters().stale_sequence == 0);
   // ... and says so in its own heartbeat.
-  const auto& status = rig.link.status(1);
+  const auto& status = rig.link.status(pa::VehicleId(1));
   CHECK(status.heard);
   CHECK_FALSE(status.lost);
   CHECK((status.flags & kFlagGroundHeartbeatOk) != 0);
@@ -257,21 +263,21 @@ TEST_CASE(
     "ARM through the link: a real vehicle accepts it with a zero-thrust setpoint and a live heartbeat") {
   Rig rig({1});
   rig.run(0.1);
-  rig.link.sendSetpoint(1, input(0.0));
+  rig.link.send_setpoint(pa::VehicleId(1), input(0.0));
   rig.run(0.01);
-  const CommandHandle h = rig.link.sendCommand(1, CommandCode::arm, 0, rig.t());
-  CHECK(h.node == 1);
-  CHECK(rig.link.commandState(h) == CommandState::pending);
-  CHECK(rig.waitFor(h) == CommandState::accepted);
-  const auto outcome = rig.link.commandOutcome(h);
+  const CommandHandle h = rig.link.send_command(pa::VehicleId(1), CommandCode::arm, 0, rig.t());
+  CHECK(h.vehicle == pa::kVehicle1);
+  CHECK(rig.link.command_state(h) == CommandState::pending);
+  CHECK(rig.wait_for(h) == CommandState::accepted);
+  const auto outcome = rig.link.command_outcome(h);
   CHECK(outcome.attempts == 1);
   CHECK_FALSE(outcome.inferred);
   CHECK(outcome.mode == Mode::armed);
   CHECK(rig.vehicle().firmware->mode() == Mode::armed);
   rig.run(0.3);
-  CHECK(rig.sentOfType(Type::command).size() == 1);  // acknowledged: never resent
-  CHECK(rig.link.status(1).mode == Mode::armed);
-  CHECK(rig.link.status(1).armed);
+  CHECK(rig.sent_of_type(Type::command).size() == 1);  // acknowledged: never resent
+  CHECK(rig.link.status(pa::VehicleId(1)).mode == Mode::armed);
+  CHECK(rig.link.status(pa::VehicleId(1)).armed);
   CHECK(rig.link.counters().stale == 0);
 }
 
@@ -279,46 +285,46 @@ TEST_CASE("a refused command reports the vehicle's reason and is not retried") {
   Rig rig({1});
   SECTION("a non-zero setpoint held by the vehicle: thrust_not_zero, until a zero one replaces it") {
     rig.run(0.1);
-    rig.link.sendSetpoint(1, input(3.0));
+    rig.link.send_setpoint(pa::VehicleId(1), input(3.0));
     rig.run(0.1);  // no longer fresh, but still the vehicle's latest setpoint
-    const CommandHandle h = rig.link.sendCommand(1, CommandCode::arm, 0, rig.t());
-    CHECK(rig.waitFor(h) == CommandState::refused);
-    CHECK(rig.link.commandOutcome(h).reason == RefuseReason::thrust_not_zero);
+    const CommandHandle h = rig.link.send_command(pa::VehicleId(1), CommandCode::arm, 0, rig.t());
+    CHECK(rig.wait_for(h) == CommandState::refused);
+    CHECK(rig.link.command_outcome(h).reason == RefuseReason::thrust_not_zero);
     CHECK(rig.vehicle().firmware->mode() == Mode::disarmed);
     rig.run(0.3);
-    CHECK(rig.sentOfType(Type::command).size() == 1);
+    CHECK(rig.sent_of_type(Type::command).size() == 1);
 
-    rig.link.sendSetpoint(1, input(0.0));
-    const CommandHandle again = rig.link.sendCommand(1, CommandCode::arm, 0, rig.t());
+    rig.link.send_setpoint(pa::VehicleId(1), input(0.0));
+    const CommandHandle again = rig.link.send_command(pa::VehicleId(1), CommandCode::arm, 0, rig.t());
     CHECK(again.sequence != h.sequence);
-    CHECK(rig.waitFor(again) == CommandState::accepted);
+    CHECK(rig.wait_for(again) == CommandState::accepted);
   }
   SECTION("no ground heartbeat ever reached the vehicle: it has no session") {
     rig.vehicle().drop_uplink = [](const Message& m) { return m.type == Type::gs_heartbeat; };
     rig.run(0.1);
-    const CommandHandle h = rig.link.sendCommand(1, CommandCode::arm, 0, rig.t());
-    CHECK(rig.waitFor(h) == CommandState::refused);
-    CHECK(rig.link.commandOutcome(h).reason == RefuseReason::bad_session_token);
+    const CommandHandle h = rig.link.send_command(pa::VehicleId(1), CommandCode::arm, 0, rig.t());
+    CHECK(rig.wait_for(h) == CommandState::refused);
+    CHECK(rig.link.command_outcome(h).reason == RefuseReason::bad_session_token);
   }
   SECTION("LAND on the ground: not_flying") {
     rig.run(0.1);
-    const CommandHandle h = rig.link.sendCommand(1, CommandCode::land, 0, rig.t());
-    CHECK(rig.waitFor(h) == CommandState::refused);
-    CHECK(rig.link.commandOutcome(h).reason == RefuseReason::not_flying);
+    const CommandHandle h = rig.link.send_command(pa::VehicleId(1), CommandCode::land, 0, rig.t());
+    CHECK(rig.wait_for(h) == CommandState::refused);
+    CHECK(rig.link.command_outcome(h).reason == RefuseReason::not_flying);
   }
 }
 
 TEST_CASE("an unacknowledged ARM is retried with the same sequence") {
   Rig rig({1});
   rig.run(0.1);
-  rig.link.sendSetpoint(1, input(0.0));
+  rig.link.send_setpoint(pa::VehicleId(1), input(0.0));
   int dropped = 0;
 
   SECTION("the ack was lost: the retry finds the vehicle armed, which the link reports as accepted") {
-    rig.vehicle().drop_downlink = [&](const Message& m) { return isCommandAck(m) && dropped++ == 0; };
-    const CommandHandle h = rig.link.sendCommand(1, CommandCode::arm, 0, rig.t());
-    CHECK(rig.waitFor(h) == CommandState::accepted);
-    const auto outcome = rig.link.commandOutcome(h);
+    rig.vehicle().drop_downlink = [&](const Message& m) { return is_command_ack(m) && dropped++ == 0; };
+    const CommandHandle h = rig.link.send_command(pa::VehicleId(1), CommandCode::arm, 0, rig.t());
+    CHECK(rig.wait_for(h) == CommandState::accepted);
+    const auto outcome = rig.link.command_outcome(h);
     CHECK(outcome.attempts == 2);
     CHECK(outcome.inferred);
     CHECK(outcome.reason == RefuseReason::not_disarmed);  // what the firmware answered the retry
@@ -326,13 +332,13 @@ TEST_CASE("an unacknowledged ARM is retried with the same sequence") {
   }
   SECTION("the command was lost: the retry arms the vehicle") {
     rig.vehicle().drop_uplink = [&](const Message& m) { return m.type == Type::command && dropped++ == 0; };
-    const CommandHandle h = rig.link.sendCommand(1, CommandCode::arm, 0, rig.t());
-    CHECK(rig.waitFor(h) == CommandState::accepted);
-    CHECK(rig.link.commandOutcome(h).attempts == 2);
-    CHECK_FALSE(rig.link.commandOutcome(h).inferred);
+    const CommandHandle h = rig.link.send_command(pa::VehicleId(1), CommandCode::arm, 0, rig.t());
+    CHECK(rig.wait_for(h) == CommandState::accepted);
+    CHECK(rig.link.command_outcome(h).attempts == 2);
+    CHECK_FALSE(rig.link.command_outcome(h).inferred);
     CHECK(rig.vehicle().firmware->mode() == Mode::armed);
   }
-  const std::vector<Sent> commands = rig.sentOfType(Type::command);
+  const std::vector<Sent> commands = rig.sent_of_type(Type::command);
   REQUIRE(commands.size() == 2);
   CHECK(commands[1].t_s - commands[0].t_s == Approx(0.05).margin(0.0015));
   CHECK(decoded(commands[0].frame).command.seq == decoded(commands[1].frame).command.seq);
@@ -343,31 +349,31 @@ TEST_CASE("a COMMAND that never gets through times out after its attempts, its o
   rig.vehicle().drop_uplink = [](const Message& m) { return m.type == Type::command; };
   rig.run(0.1);
   const double sent_s = rig.t();
-  const CommandHandle h = rig.link.sendCommand(1, CommandCode::arm, 0, sent_s);
-  rig.runUntil([&] { return rig.t() >= sent_s + 0.24; }, 1.0);
-  CHECK(rig.link.commandState(h) == CommandState::pending);  // 5 attempts, 50 ms apart
-  CHECK(rig.waitFor(h) == CommandState::timed_out);
+  const CommandHandle h = rig.link.send_command(pa::VehicleId(1), CommandCode::arm, 0, sent_s);
+  rig.run_until([&] { return rig.t() >= sent_s + 0.24; }, 1.0);
+  CHECK(rig.link.command_state(h) == CommandState::pending);  // 5 attempts, 50 ms apart
+  CHECK(rig.wait_for(h) == CommandState::timed_out);
   CHECK(rig.t() - sent_s <= 0.26);
-  CHECK(rig.link.commandOutcome(h).attempts == 5);
+  CHECK(rig.link.command_outcome(h).attempts == 5);
   rig.run(0.5);
-  CHECK(rig.sentOfType(Type::command).size() == 5);
+  CHECK(rig.sent_of_type(Type::command).size() == 5);
   CHECK(rig.vehicle().firmware->mode() == Mode::disarmed);
 }
 
 TEST_CASE("pending commands are bounded per vehicle; a handle the link does not know is unknown") {
   InMemoryFrameBus bus;
-  GroundLink link(bus, {1});
+  GroundLink link(bus, ids_of({1}));
   std::vector<CommandHandle> handles;
   for (std::size_t i = 0; i <= GroundLink::kMaxPendingCommands; ++i)
-    handles.push_back(link.sendCommand(1, CommandCode::disarm, 0, 0.0));
-  CHECK(link.commandState(handles.front()) == CommandState::timed_out);
+    handles.push_back(link.send_command(pa::VehicleId(1), CommandCode::disarm, 0, 0.0));
+  CHECK(link.command_state(handles.front()) == CommandState::timed_out);
   CHECK(link.counters().commands_evicted == 1);
   for (std::size_t i = 1; i < handles.size(); ++i)
-    CHECK(link.commandState(handles[i]) == CommandState::pending);
-  for (int i = 0; i < 40; ++i) link.sendCommand(1, CommandCode::disarm, 0, 0.0);
-  CHECK(link.commandState(handles.back()) == CommandState::unknown);  // its record was reused
-  CHECK(link.commandState(CommandHandle{}) == CommandState::unknown);
-  CHECK(link.commandState(CommandHandle{7, 0, 1}) == CommandState::unknown);
+    CHECK(link.command_state(handles[i]) == CommandState::pending);
+  for (int i = 0; i < 40; ++i) link.send_command(pa::VehicleId(1), CommandCode::disarm, 0, 0.0);
+  CHECK(link.command_state(handles.back()) == CommandState::unknown);  // its record was reused
+  CHECK(link.command_state(CommandHandle{}) == CommandState::unknown);
+  CHECK(link.command_state(CommandHandle{pa::VehicleId(7), 0, 1}) == CommandState::unknown);
 }
 
 TEST_CASE(
@@ -377,11 +383,11 @@ TEST_CASE(
   std::vector<gs::model::VehicleInput> returned;
   std::vector<std::uint8_t> seqs;
   for (int i = 0; i < 40; ++i) {
-    const auto u = rig.link.sendSetpoint(1, input(0.0, Eigen::Vector3d(0.01 * i, -0.3, 0.0)));
+    const auto u = rig.link.send_setpoint(pa::VehicleId(1), input(0.0, Eigen::Vector3d(0.01 * i, -0.3, 0.0)));
     rig.step();  // the vehicle reads it in this millisecond's tick
     const fw::Vehicle& fw = *rig.vehicle().firmware;
     const RateThrust& held = fw.link().setpoint();
-    CHECK(fw.link().setpoint_fresh(rig.vehicle().clockUs(rig.t() - 1e-3)));
+    CHECK(fw.link().setpoint_fresh(rig.vehicle().clock_us(rig.t() - 1e-3)));
     // What the link returned is what the vehicle flies, exactly.
     CHECK(u.omega_radps.x() == static_cast<double>(held.rate_radps[0]));
     CHECK(u.omega_radps.y() == static_cast<double>(held.rate_radps[1]));
@@ -391,31 +397,34 @@ TEST_CASE(
   }
   CHECK(rig.vehicle().firmware->link().counters().stale_sequence == 0);
   for (std::size_t i = 1; i < seqs.size(); ++i) CHECK(seqs[i] == ((seqs[i - 1] + 1) & 0x0F));
-  CHECK(rig.link.status(1).setpoint_seq_sent == seqs.back());
+  CHECK(rig.link.status(pa::VehicleId(1)).setpoint_seq_sent == seqs.back());
   rig.run(0.05);
-  CHECK(rig.link.status(1).last_setpoint_seq == seqs.back());  // reported back in its heartbeat
+  CHECK(rig.link.status(pa::VehicleId(1)).last_setpoint_seq ==
+        seqs.back());  // reported back in its heartbeat
 }
 
 TEST_CASE("a setpoint comes back as the frame carries it: quantised and clamped") {
   InMemoryFrameBus bus;
-  GroundLink link(bus, {4});
-  auto u = link.sendSetpoint(4, input(9.8149, Eigen::Vector3d(1.0011, -0.0029, 70.0)));
+  GroundLink link(bus, ids_of({4}));
+  auto u = link.send_setpoint(pa::VehicleId(4), input(9.8149, Eigen::Vector3d(1.0011, -0.0029, 70.0)));
   CHECK(u.a_q_mps2 == Approx(9.81).margin(1e-5));
   CHECK(u.omega_radps.x() == Approx(1.002).margin(1e-5));
   CHECK(u.omega_radps.y() == Approx(-0.002).margin(1e-6));
   CHECK(u.omega_radps.z() == Approx(65.534).margin(1e-3));  // the frame's range
-  u = link.sendSetpoint(4, input(100.0));
+  u = link.send_setpoint(pa::VehicleId(4), input(100.0));
   CHECK(u.a_q_mps2 == Approx(kThrustMax_mps2));
-  u = link.sendSetpoint(4, input(-3.0));
+  u = link.send_setpoint(pa::VehicleId(4), input(-3.0));
   CHECK(u.a_q_mps2 == 0.0);
-  u = link.sendSetpoint(4, input(1e300, Eigen::Vector3d(-1e300, 0, 0)));  // finite but far out
+  u = link.send_setpoint(pa::VehicleId(4),
+                         input(1e300, Eigen::Vector3d(-1e300, 0, 0)));  // finite but far out
   CHECK(u.a_q_mps2 == Approx(kThrustMax_mps2));
   CHECK(u.omega_radps.x() == Approx(-65.534).margin(1e-3));
   CHECK(bus.pending() == 4);
 
-  CHECK_THROWS_AS(link.sendSetpoint(4, input(std::nan(""))), std::invalid_argument);
+  CHECK_THROWS_AS(link.send_setpoint(pa::VehicleId(4), input(std::nan(""))), std::invalid_argument);
   CHECK_THROWS_AS(
-      link.sendSetpoint(4, input(5.0, Eigen::Vector3d(0, std::numeric_limits<double>::infinity(), 0))),
+      link.send_setpoint(pa::VehicleId(4),
+                         input(5.0, Eigen::Vector3d(0, std::numeric_limits<double>::infinity(), 0))),
       std::invalid_argument);
   CHECK(bus.pending() == 4);  // nothing sent for them
 }
@@ -427,13 +436,13 @@ TEST_CASE(
   // within half the difference of the two legs, 1.5 ms, of the truth.
   const double offset_s = kT0 - (kVehicleWrap_s - 0.3);
   Rig rig({1, 2}, {0.008, 0.002, 0.0, 3}, {offset_s, kT0 - 12.5});
-  CHECK_FALSE(rig.link.status(1).clock_synced);
-  CHECK(std::isnan(rig.link.groundTime(1, 0)));
+  CHECK_FALSE(rig.link.status(pa::VehicleId(1)).clock_synced);
+  CHECK(std::isnan(rig.link.ground_time(pa::VehicleId(1), 0)));
   rig.run(1.0);
 
-  CHECK(rig.sentOfType(Type::timesync_request).size() == 20);  // 10 Hz to each vehicle
+  CHECK(rig.sent_of_type(Type::timesync_request).size() == 20);  // 10 Hz to each vehicle
   for (std::uint8_t node : kBothNodes) {
-    const auto& s = rig.link.status(node);
+    const auto& s = rig.link.status(pa::VehicleId(node));
     const double truth = node == 1 ? offset_s : kT0 - 12.5;
     REQUIRE(s.clock_synced);
     CHECK(std::abs(s.clock_offset_s - truth) <= 1.6e-3);
@@ -446,62 +455,63 @@ TEST_CASE(
   SimVehicle& v = rig.vehicle(0);
   for (double ago_s : {0.0, 0.2, 0.69, 0.71, 0.9}) {
     const double ground_s = rig.t() - ago_s;
-    CHECK(std::abs(rig.link.groundTime(1, v.clockUs(ground_s)) - ground_s) <= 1.6e-3);
+    CHECK(std::abs(rig.link.ground_time(pa::VehicleId(1), v.clock_us(ground_s)) - ground_s) <= 1.6e-3);
   }
-  CHECK(v.clockUs(rig.t() - 0.9) > v.clockUs(rig.t()));  // the stamps did wrap
+  CHECK(v.clock_us(rig.t() - 0.9) > v.clock_us(rig.t()));  // the stamps did wrap
   CHECK(rig.link.counters().stale == 0);
 }
 
 TEST_CASE("a vehicle that reboots restarts the clock sync on its new clock") {
   Rig rig({1}, {0.004, 0.0, 0.0, 5});
   rig.run(0.5);
-  REQUIRE(rig.link.status(1).clock_synced);
-  CHECK(rig.link.status(1).clock_resets == 0);
+  REQUIRE(rig.link.status(pa::VehicleId(1)).clock_synced);
+  CHECK(rig.link.status(pa::VehicleId(1)).clock_resets == 0);
   rig.vehicle().powered = false;
   rig.run(0.3);
-  CHECK(rig.link.status(1).lost);
-  CHECK(rig.link.status(1).clock_synced);  // a silent vehicle keeps its clock
+  CHECK(rig.link.status(pa::VehicleId(1)).lost);
+  CHECK(rig.link.status(pa::VehicleId(1)).clock_synced);  // a silent vehicle keeps its clock
   rig.vehicle().reboot(rig.t());
   rig.vehicle().powered = true;
-  rig.runUntil([&] { return !rig.link.status(1).lost; }, 0.1);
-  CHECK(rig.link.status(1).clock_resets == 1);
+  rig.run_until([&] { return !rig.link.status(pa::VehicleId(1)).lost; }, 0.1);
+  CHECK(rig.link.status(pa::VehicleId(1)).clock_resets == 1);
   rig.run(0.3);
-  const auto& s = rig.link.status(1);
+  const auto& s = rig.link.status(pa::VehicleId(1));
   REQUIRE(s.clock_synced);
   CHECK(std::abs(s.clock_offset_s - rig.vehicle().clock_offset_s) <= 1.1e-3);
-  CHECK(std::abs(rig.link.groundTime(1, rig.vehicle().clockUs(rig.t())) - rig.t()) <= 1.1e-3);
+  CHECK(std::abs(rig.link.ground_time(pa::VehicleId(1), rig.vehicle().clock_us(rig.t())) - rig.t()) <=
+        1.1e-3);
 }
 
 TEST_CASE("a vehicle is lost after 0.2 s without a heartbeat and found again with the next one") {
   Rig rig({1});
   rig.run(0.5);
-  REQUIRE_FALSE(rig.link.status(1).lost);
+  REQUIRE_FALSE(rig.link.status(pa::VehicleId(1)).lost);
   bool silent = false;
   rig.vehicle().drop_downlink = [&](const Message&) { return silent; };
   silent = true;
-  const double last_s = rig.link.status(1).last_heard_s;
-  rig.runUntil([&] { return rig.t() > last_s + 0.195; }, 1.0);
-  CHECK_FALSE(rig.link.status(1).lost);
-  REQUIRE(rig.runUntil([&] { return rig.link.status(1).lost; }, 1.0));
+  const double last_s = rig.link.status(pa::VehicleId(1)).last_heard_s;
+  rig.run_until([&] { return rig.t() > last_s + 0.195; }, 1.0);
+  CHECK_FALSE(rig.link.status(pa::VehicleId(1)).lost);
+  REQUIRE(rig.run_until([&] { return rig.link.status(pa::VehicleId(1)).lost; }, 1.0));
   const double lost_at_s = rig.t() - 1e-3;  // the tick of the step just run
   CHECK(lost_at_s - last_s > 0.2);
   CHECK(lost_at_s - last_s <= 0.2015);
-  CHECK(rig.link.status(1).last_heard_s == last_s);
+  CHECK(rig.link.status(pa::VehicleId(1)).last_heard_s == last_s);
   rig.run(1.0);
-  CHECK(rig.link.status(1).lost);
-  CHECK(rig.link.status(1).link_quality == 0.0);
+  CHECK(rig.link.status(pa::VehicleId(1)).lost);
+  CHECK(rig.link.status(pa::VehicleId(1)).link_quality == 0.0);
 
   silent = false;
-  CHECK(rig.runUntil([&] { return !rig.link.status(1).lost; }, 0.021));
-  CHECK(rig.link.status(1).last_heard_s > last_s);
-  CHECK(rig.link.status(1).clock_resets == 0);  // silence is not a reboot: the clock ran on
+  CHECK(rig.run_until([&] { return !rig.link.status(pa::VehicleId(1)).lost; }, 0.021));
+  CHECK(rig.link.status(pa::VehicleId(1)).last_heard_s > last_s);
+  CHECK(rig.link.status(pa::VehicleId(1)).clock_resets == 0);  // silence is not a reboot: the clock ran on
 }
 
 TEST_CASE("link quality counts the vehicle's heartbeats against the 50 Hz expected") {
   Rig rig({1});
   SECTION("all arrive") {
     rig.run(2.0);
-    CHECK(rig.link.status(1).link_quality >= 0.97);
+    CHECK(rig.link.status(pa::VehicleId(1)).link_quality >= 0.97);
   }
   SECTION("every second one is lost") {
     int n = 0;
@@ -509,8 +519,8 @@ TEST_CASE("link quality counts the vehicle's heartbeats against the 50 Hz expect
       return m.type == Type::vehicle_heartbeat && (n++ % 2) == 1;
     };
     rig.run(2.0);
-    CHECK(rig.link.status(1).link_quality == Approx(0.5).margin(0.03));
-    CHECK_FALSE(rig.link.status(1).lost);
+    CHECK(rig.link.status(pa::VehicleId(1)).link_quality == Approx(0.5).margin(0.03));
+    CHECK_FALSE(rig.link.status(pa::VehicleId(1)).lost);
   }
 }
 
@@ -519,8 +529,8 @@ TEST_CASE("an IMPACT is reported on the ground clock, both its reports sharing t
   const double offset_s = kT0 - (kVehicleWrap_s - 0.605);
   Rig rig({1}, {0.008, 0.002, 0.0, 11}, {offset_s});
   rig.run(0.6);
-  REQUIRE(rig.link.status(1).clock_synced);
-  CHECK(rig.link.takeImpacts().empty());
+  REQUIRE(rig.link.status(pa::VehicleId(1)).clock_synced);
+  CHECK(rig.link.take_impacts().empty());
 
   // A 40 m/s^2 push down the body z-axis for 3 ms: an unexpected impact for the firmware's detector.
   const double onset_s = rig.t();
@@ -533,12 +543,12 @@ TEST_CASE("an IMPACT is reported on the ground clock, both its reports sharing t
   rig.run(0.2);
   REQUIRE(rig.vehicle().firmware->impact_count() == 1);
 
-  const auto impacts = rig.link.takeImpacts();
+  const auto impacts = rig.link.take_impacts();
   REQUIRE(impacts.size() == 2);
   CHECK_FALSE(impacts[0].final);
   CHECK(impacts[1].final);
   for (const auto& r : impacts) {
-    CHECK(r.node == 1);
+    CHECK(r.vehicle == pa::kVehicle1);
     CHECK(r.count == rig.vehicle().firmware->impact_count());
     CHECK(r.t_from_clock_sync);
     // The onset, on the ground clock: within the 1.5 ms of the clock sync and the detector's
@@ -548,18 +558,18 @@ TEST_CASE("an IMPACT is reported on the ground clock, both its reports sharing t
     CHECK(r.peak_mps2 > 30.0f);
   }
   CHECK(impacts[0].t_s == Approx(impacts[1].t_s).margin(1e-3));  // the sync may improve in between
-  CHECK(rig.link.takeImpacts().empty());
+  CHECK(rig.link.take_impacts().empty());
 }
 
 TEST_CASE("IMPACT reports are kept in a bounded queue: the oldest go, counted") {
   InMemoryFrameBus bus;
-  GroundLink link(bus, {1});
+  GroundLink link(bus, ids_of({1}));
   for (int i = 0; i < 100; ++i)
-    link.onFrame(encoded(Impact{static_cast<std::uint32_t>(i) * 1000u, 12.0f, ImpactClass::catch_impact,
-                                false, static_cast<std::uint8_t>(i)},
-                         1),
-                 1.0 + 0.001 * i);
-  const auto impacts = link.takeImpacts();
+    link.on_frame(encoded(Impact{static_cast<std::uint32_t>(i) * 1000u, 12.0f, ImpactClass::catch_impact,
+                                 false, static_cast<std::uint8_t>(i)},
+                          1),
+                  1.0 + 0.001 * i);
+  const auto impacts = link.take_impacts();
   REQUIRE(impacts.size() == GroundLink::kImpactQueue);
   CHECK(link.counters().impacts_dropped == 100 - GroundLink::kImpactQueue);
   CHECK(impacts.front().count == 100 - GroundLink::kImpactQueue);
@@ -567,101 +577,103 @@ TEST_CASE("IMPACT reports are kept in a bounded queue: the oldest go, counted") 
   // Without a clock sync (the vehicle never heard) the time is when the frame arrived.
   CHECK_FALSE(impacts.back().t_from_clock_sync);
   CHECK(impacts.back().t_s == Approx(1.099));
-  CHECK(link.takeImpacts().empty());
+  CHECK(link.take_impacts().empty());
 }
 
 TEST_CASE("KILL: never gated, repeated until the vehicle reports killed, to one vehicle or all") {
   Rig rig({1, 2});
   rig.run(0.1);
   for (std::uint8_t node : kBothNodes) {
-    rig.link.sendSetpoint(node, input(0.0));
-    REQUIRE(rig.waitFor(rig.link.sendCommand(node, CommandCode::arm, 0, rig.t())) == CommandState::accepted);
+    rig.link.send_setpoint(pa::VehicleId(node), input(0.0));
+    REQUIRE(rig.wait_for(rig.link.send_command(pa::VehicleId(node), CommandCode::arm, 0, rig.t())) ==
+            CommandState::accepted);
   }
   // The first KILL to vehicle 1 is lost on its radio.
   int lost = 0;
   rig.vehicle(0).drop_uplink = [&](const Message& m) { return m.type == Type::kill && lost++ == 0; };
-  rig.link.sendKill(1, KillReason::operator_request);
+  rig.link.send_kill(pa::VehicleId(1), KillReason::operator_request);
   rig.run(0.5);
   CHECK(rig.vehicle(0).firmware->mode() == Mode::killed);
   CHECK(rig.vehicle(1).firmware->mode() == Mode::armed);
-  CHECK(rig.link.status(1).mode == Mode::killed);
-  CHECK(rig.sentOfType(Type::kill).size() == 2);  // the lost one and one repeat: then confirmed
+  CHECK(rig.link.status(pa::VehicleId(1)).mode == Mode::killed);
+  CHECK(rig.sent_of_type(Type::kill).size() == 2);  // the lost one and one repeat: then confirmed
 
-  rig.link.sendKill(kBroadcastNode, KillReason::estimator);
+  rig.link.send_kill_all(KillReason::estimator);
   rig.run(0.3);
   CHECK(rig.vehicle(1).firmware->mode() == Mode::killed);
-  CHECK(rig.sentOfType(Type::kill).size() == 3);  // both vehicles confirmed after the first
-  CHECK(decoded(rig.sentOfType(Type::kill).back().frame).node == kBroadcastNode);
+  CHECK(rig.sent_of_type(Type::kill).size() == 3);  // both vehicles confirmed after the first
+  CHECK(decoded(rig.sent_of_type(Type::kill).back().frame).node == kBroadcastNode);
 
   // DISARM clears the latch (and stops any repeat).
-  REQUIRE(rig.waitFor(rig.link.sendCommand(1, CommandCode::disarm, 0, rig.t())) == CommandState::accepted);
+  REQUIRE(rig.wait_for(rig.link.send_command(pa::VehicleId(1), CommandCode::disarm, 0, rig.t())) ==
+          CommandState::accepted);
   rig.run(0.1);
   CHECK(rig.vehicle(0).firmware->mode() == Mode::disarmed);
-  CHECK(rig.link.status(1).mode == Mode::disarmed);
+  CHECK(rig.link.status(pa::VehicleId(1)).mode == Mode::disarmed);
 }
 
 TEST_CASE("a KILL nobody confirms is sent command_attempts times, then given up") {
   Rig rig({1});
   rig.vehicle().drop_uplink = [](const Message& m) { return m.type == Type::kill; };
   rig.run(0.1);
-  rig.link.sendKill(1, KillReason::geofence);
+  rig.link.send_kill(pa::VehicleId(1), KillReason::geofence);
   rig.run(1.0);
-  CHECK(rig.sentOfType(Type::kill).size() == 5);
+  CHECK(rig.sent_of_type(Type::kill).size() == 5);
   CHECK(rig.vehicle().firmware->mode() == Mode::disarmed);
 }
 
 TEST_CASE("malformed, unknown, foreign and wrong-direction frames are counted and dropped") {
   InMemoryFrameBus bus;
-  GroundLink link(bus, {1, 2});
+  GroundLink link(bus, ids_of({1, 2}));
   const VehicleHeartbeat hb{1234, Mode::flying, kFlagArmed, 3, FailsafeReason::none, 0};
 
   Frame wrong_length = encoded(hb, 1);
   wrong_length.len = 7;
-  link.onFrame(wrong_length, 1.0);
+  link.on_frame(wrong_length, 1.0);
   CHECK(link.counters().wrong_length == 1);
 
   Frame unknown = encoded(hb, 1);
   unknown.id = make_id(static_cast<Type>(0x7F), 1);
-  link.onFrame(unknown, 1.0);
+  link.on_frame(unknown, 1.0);
   unknown.id = 0x900;  // beyond 11 bits
-  link.onFrame(unknown, 1.0);
+  link.on_frame(unknown, 1.0);
   CHECK(link.counters().unknown_type == 2);
 
   Frame bad_mode = encoded(hb, 1);
   bad_mode.data[4] = 9;
-  link.onFrame(bad_mode, 1.0);
+  link.on_frame(bad_mode, 1.0);
   Frame reserved_bit = encoded(hb, 1);
   reserved_bit.data[5] = 0x80;
-  link.onFrame(reserved_bit, 1.0);
+  link.on_frame(reserved_bit, 1.0);
   CHECK(link.counters().out_of_range == 2);
   CHECK(link.counters().undecodable() == 5);
 
   const std::uint8_t not_ours[] = {kGroundNode, 3, 14, kBroadcastNode};
-  for (std::uint8_t node : not_ours) link.onFrame(encoded(hb, node), 1.0);
+  for (std::uint8_t node : not_ours) link.on_frame(encoded(hb, node), 1.0);
   CHECK(link.counters().foreign_node == 4);
 
   // Ground-to-vehicle and HIL frames: another ground station, or a plant on the wrong bus.
-  link.onFrame(encoded(GsHeartbeat{1, 0x77, GroundState::active, 1}, kBroadcastNode), 1.0);
-  link.onFrame(encoded(RateThrust{{0, 0, 0}, 5.0f, 1}, 1), 1.0);
-  link.onFrame(encoded(Command{CommandCode::arm, 0, 0x77, 0}, 1), 1.0);
-  link.onFrame(encoded(HilImuGyro{{0, 0, 0}, 1}, 1), 1.0);
+  link.on_frame(encoded(GsHeartbeat{1, 0x77, GroundState::active, 1}, kBroadcastNode), 1.0);
+  link.on_frame(encoded(RateThrust{{0, 0, 0}, 5.0f, 1}, 1), 1.0);
+  link.on_frame(encoded(Command{CommandCode::arm, 0, 0x77, 0}, 1), 1.0);
+  link.on_frame(encoded(HilImuGyro{{0, 0, 0}, 1}, 1), 1.0);
   CHECK(link.counters().wrong_direction == 4);
 
   // None of it touched what the link knows of vehicle 1.
-  CHECK_FALSE(link.status(1).heard);
-  CHECK(link.status(1).frames_received == 0);
-  CHECK(link.status(1).mode == Mode::disarmed);
+  CHECK_FALSE(link.status(pa::VehicleId(1)).heard);
+  CHECK(link.status(pa::VehicleId(1)).frames_received == 0);
+  CHECK(link.status(pa::VehicleId(1)).mode == Mode::disarmed);
 
   // Valid frames that match nothing outstanding are stale.
-  link.onFrame(
+  link.on_frame(
       encoded(CommandAck{0, CommandCode::arm, AckResult::accepted, Mode::armed, RefuseReason::none}, 1), 1.0);
-  link.onFrame(encoded(TimesyncReply{5, 6}, 1), 1.0);
-  link.onFrame(encoded(hb, 1), 1.0);
-  link.onFrame(encoded(hb, 1), 1.001);  // the same heartbeat again
+  link.on_frame(encoded(TimesyncReply{5, 6}, 1), 1.0);
+  link.on_frame(encoded(hb, 1), 1.0);
+  link.on_frame(encoded(hb, 1), 1.001);  // the same heartbeat again
   CHECK(link.counters().stale == 3);
-  CHECK(link.status(1).heartbeats_received == 1);
-  CHECK(link.status(1).mode == Mode::flying);
-  CHECK(link.status(1).frames_received == 4);
+  CHECK(link.status(pa::VehicleId(1)).heartbeats_received == 1);
+  CHECK(link.status(pa::VehicleId(1)).mode == Mode::flying);
+  CHECK(link.status(pa::VehicleId(1)).frames_received == 4);
 
   const auto& c = link.counters();
   CHECK(c.frames_received == 17);
@@ -671,20 +683,20 @@ TEST_CASE("malformed, unknown, foreign and wrong-direction frames are counted an
 
 TEST_CASE("the bus refusing a frame is counted") {
   InMemoryFrameBus bus(1);
-  GroundLink link(bus, {1});
+  GroundLink link(bus, ids_of({1}));
   link.tick(0.0);  // the first heartbeat fills it
   CHECK(link.counters().frames_sent == 1);
-  link.sendSetpoint(1, input(0.0));
+  link.send_setpoint(pa::VehicleId(1), input(0.0));
   CHECK(link.counters().send_refused == 1);
   CHECK(bus.take().size() == 1);
-  link.sendSetpoint(1, input(0.0));
+  link.send_setpoint(pa::VehicleId(1), input(0.0));
   CHECK(link.counters().frames_sent == 2);
   CHECK(link.counters().send_refused == 1);
 }
 
 TEST_CASE("a flood of 100k random frames neither crashes the link nor makes it allocate") {
   InMemoryFrameBus bus;
-  GroundLink link(bus, {1, 2});
+  GroundLink link(bus, ids_of({1, 2}));
   std::mt19937 rng(20240611);
   std::uniform_int_distribution<int> byte(0, 255);
   std::uniform_int_distribution<int> node(0, 15);
@@ -706,7 +718,7 @@ TEST_CASE("a flood of 100k random frames neither crashes the link nor makes it a
     }
     for (auto& b : f.data) b = static_cast<std::uint8_t>(byte(rng));
     const std::uint64_t before = g_allocations;
-    link.onFrame(f, t);
+    link.on_frame(f, t);
     allocations += g_allocations - before;
     if (i % 100 == 0) {
       t += 0.001;
@@ -720,10 +732,10 @@ TEST_CASE("a flood of 100k random frames neither crashes the link nor makes it a
   CHECK(c.accepted + c.undecodable() + c.foreign_node + c.wrong_direction + c.stale == c.frames_received);
   CHECK(c.accepted > 0);
   CHECK(c.undecodable() > 0);
-  CHECK(link.takeImpacts().size() <= GroundLink::kImpactQueue);
+  CHECK(link.take_impacts().size() <= GroundLink::kImpactQueue);
   for (std::uint8_t n : kBothNodes) {
-    CHECK(link.status(n).link_quality >= 0.0);
-    CHECK(link.status(n).link_quality <= 1.0);
+    CHECK(link.status(pa::VehicleId(n)).link_quality >= 0.0);
+    CHECK(link.status(pa::VehicleId(n)).link_quality <= 1.0);
   }
   // Still working: the periodic frames go out.
   link.tick(t + 1.0);

@@ -15,15 +15,15 @@ namespace hover = gs::control::hover;
 using gs::model::VehicleInput;
 using gs::model::VehicleState;
 
-Eigen::VectorXd toVector(const VehicleState& s) {
+Eigen::VectorXd to_vector(const VehicleState& s) {
   Eigen::VectorXd x(hover::kStateSize);
   x << s.p_m, s.v_mps, s.phi_rad, s.theta_rad, s.psi_rad;
   return x;
 }
-VehicleState fromVector(const Eigen::VectorXd& x) {
+VehicleState from_vector(const Eigen::VectorXd& x) {
   return {x.segment<3>(0), x.segment<3>(3), x(6), x(7), x(8)};
 }
-VehicleInput inputFrom(const Eigen::VectorXd& u) {
+VehicleInput input_from(const Eigen::VectorXd& u) {
   VehicleInput in;
   in.a_q_mps2 = u(0);
   in.omega_radps = u.segment<3>(1);
@@ -33,9 +33,9 @@ VehicleInput inputFrom(const Eigen::VectorXd& u) {
 }  // namespace
 
 TEST_CASE("hover linearisation matches the Jacobians of the vehicle model (4), (5)") {
-  const auto analytic = gs::control::hoverLinearisation();
+  const auto analytic = gs::control::hover_linearisation();
   auto f = [](const Eigen::VectorXd& x, const Eigen::VectorXd& u) -> Eigen::VectorXd {
-    return toVector(gs::model::vehicleDynamics(fromVector(x), inputFrom(u)));
+    return to_vector(gs::model::vehicle_dynamics(from_vector(x), input_from(u)));
   };
   Eigen::VectorXd u0(4);
   u0 << pa::kGravity_mps2, 0, 0, 0;
@@ -45,7 +45,7 @@ TEST_CASE("hover linearisation matches the Jacobians of the vehicle model (4), (
 }
 
 TEST_CASE("hover LQR: stable closed loop, and the nonlinear vehicle returns to hover") {
-  const auto lqr = gs::control::hoverLqr();
+  const auto lqr = gs::control::hover_lqr();
   REQUIRE(lqr.ok);
   CHECK(lqr.care_residual < 1e-12);
   CHECK((lqr.closed_loop_eigenvalues.real().array() < 0.0).all());
@@ -59,14 +59,14 @@ TEST_CASE("hover LQR: stable closed loop, and the nonlinear vehicle returns to h
   VehicleInput in;
   for (int k = 0; k < 10000; ++k) {
     if (k % 5 == 0) {
-      Eigen::VectorXd u = -lqr.K * toVector(s);
+      Eigen::VectorXd u = -lqr.K * to_vector(s);
       u(0) += pa::kGravity_mps2;
-      in = inputFrom(u);
+      in = input_from(u);
       thrust_min = std::min(thrust_min, in.a_q_mps2);
       thrust_max = std::max(thrust_max, in.a_q_mps2);
       rate_max = std::max(rate_max, in.omega_radps.cwiseAbs().maxCoeff());
     }
-    s = gs::model::rk4Step([&](const VehicleState& x) { return gs::model::vehicleDynamics(x, in); }, s, dt);
+    s = gs::model::rk4_step([&](const VehicleState& x) { return gs::model::vehicle_dynamics(x, in); }, s, dt);
   }
   CHECK(s.p_m.norm() < 1e-3);
   CHECK(s.v_mps.norm() < 1e-3);

@@ -24,7 +24,7 @@ template <int N>
 using Vec = Eigen::Matrix<double, N, 1>;
 
 template <int N>
-Vec<N> rk4Step(const std::function<Vec<N>(double, const Vec<N>&)>& f, double t, const Vec<N>& y, double h) {
+Vec<N> rk4_step(const std::function<Vec<N>(double, const Vec<N>&)>& f, double t, const Vec<N>& y, double h) {
   const Vec<N> k1 = f(t, y);
   const Vec<N> k2 = f(t + 0.5 * h, y + 0.5 * h * k1);
   const Vec<N> k3 = f(t + 0.5 * h, y + 0.5 * h * k2);
@@ -34,13 +34,13 @@ Vec<N> rk4Step(const std::function<Vec<N>(double, const Vec<N>&)>& f, double t, 
 
 // Energy per unit pole mass of the rod about a pivot that feels the constant effective gravity
 // a_q along -(sin theta, cos theta): kinetic (1/2)(4/3) L^2 alpha'^2 plus potential of the centre.
-double pivotFrameEnergyPerMass(double theta, double alpha, double alpha_dot, double a_q) {
+double pivot_frame_energy_per_mass(double theta, double alpha, double alpha_dot, double a_q) {
   return (2.0 / 3.0) * kL * kL * alpha_dot * alpha_dot + a_q * kL * std::cos(alpha - theta);
 }
 
 // The prescribed pivot motion for the independent simulation: a varying thrust and pitch.
-double thrustProfile(double t) { return kG + 1.5 + 3.0 * std::sin(2.0 * t); }
-double pitchRateProfile(double t) { return 0.9 * std::cos(1.5 * t); }
+double thrust_profile(double t) { return kG + 1.5 + 3.0 * std::sin(2.0 * t); }
+double pitch_rate_profile(double t) { return 0.9 * std::cos(1.5 * t); }
 
 // Independent simulation: the rod as a free rigid body in maximal coordinates (centre x_c, z_c,
 // angle phi from the vertical towards +x, i.e. a rotation about +y), held to the pivot by a
@@ -57,7 +57,7 @@ struct ConstrainedRod {
   };
 
   Solution evaluate(double t, const Vec<11>& y) const {
-    const double a_q = thrustProfile(t);
+    const double a_q = thrust_profile(t);
     const double theta = y(4);
     const Eigen::Vector2d pivot_acc(a_q * std::sin(theta), a_q * std::cos(theta) - kG);
     const double phi = y(9), phi_dot = y(10);
@@ -94,7 +94,7 @@ struct ConstrainedRod {
     const Vec<5> sol = a.partialPivLu().solve(b);
 
     Solution out;
-    out.derivative << y(2), y(3), pivot_acc.x(), pivot_acc.y(), pitchRateProfile(t), y(7), y(8), sol(0),
+    out.derivative << y(2), y(3), pivot_acc.x(), pivot_acc.y(), pitch_rate_profile(t), y(7), y(8), sol(0),
         sol(1), phi_dot, sol(2);
     out.constraint_force_N = sol.segment<2>(3);
     return out;
@@ -106,10 +106,10 @@ struct ConstrainedRod {
 TEST_CASE("the upright pole is an unstable equilibrium of the hovering vehicle", "[planar_pole_vehicle]") {
   PlanarState<double> s = PlanarState<double>::Zero();
   PlanarInput<double> u(kG, 0.0);
-  CHECK(gs::model::planarPoleVehicleDynamics<double>(s, u).norm() == Approx(0.0).margin(1e-12));
+  CHECK(gs::model::planar_pole_vehicle_dynamics<double>(s, u).norm() == Approx(0.0).margin(1e-12));
   s(planar::kAlpha) = 0.01;
   // A small tilt towards +x accelerates further towards +x: (4/3) L alpha'' = g sin alpha.
-  const double alpha_ddot = gs::model::planarPoleVehicleDynamics<double>(s, u)(planar::kAlphaDot);
+  const double alpha_ddot = gs::model::planar_pole_vehicle_dynamics<double>(s, u)(planar::kAlphaDot);
   CHECK(alpha_ddot == Approx(0.75 * kG * std::sin(0.01) / kL).epsilon(1e-12));
   CHECK(alpha_ddot > 0.0);
 }
@@ -122,7 +122,7 @@ TEST_CASE("the vehicle's translation follows the thrust direction (sin theta, co
   s(planar::kTheta) = 0.4;
   s(planar::kAlphaDot) = 1.1;
   const PlanarInput<double> u(12.0, -2.0);
-  const PlanarState<double> d = gs::model::planarPoleVehicleDynamics<double>(s, u);
+  const PlanarState<double> d = gs::model::planar_pole_vehicle_dynamics<double>(s, u);
   CHECK(d(planar::kX) == 0.3);
   CHECK(d(planar::kZ) == -0.2);
   CHECK(d(planar::kVx) == Approx(12.0 * std::sin(0.4)));
@@ -139,16 +139,16 @@ TEST_CASE("with the pivot hovering (a_q = g, theta = 0) the rod conserves its en
   s(planar::kAlphaDot) = -0.5;
   const PlanarInput<double> u(kG, 0.0);
   const auto f = [&](double, const Vec<7>& y) -> Vec<7> {
-    return gs::model::planarPoleVehicleDynamics<double>(y, u);
+    return gs::model::planar_pole_vehicle_dynamics<double>(y, u);
   };
-  const double e0 = pivotFrameEnergyPerMass(0.0, s(planar::kAlpha), s(planar::kAlphaDot), kG);
+  const double e0 = pivot_frame_energy_per_mass(0.0, s(planar::kAlpha), s(planar::kAlphaDot), kG);
   double max_alpha = 0.0;
   double max_drift = 0.0;
   const double h = 1e-4;
   for (int k = 0; k < 30000; ++k) {
-    s = rk4Step<7>(f, k * h, s, h);
+    s = rk4_step<7>(f, k * h, s, h);
     max_alpha = std::max(max_alpha, std::abs(s(planar::kAlpha)));
-    const double e = pivotFrameEnergyPerMass(0.0, s(planar::kAlpha), s(planar::kAlphaDot), kG);
+    const double e = pivot_frame_energy_per_mass(0.0, s(planar::kAlpha), s(planar::kAlphaDot), kG);
     max_drift = std::max(max_drift, std::abs(e - e0));
   }
   CHECK(max_alpha > 3.0);  // the pole fell over and swung through the bottom
@@ -165,12 +165,12 @@ TEST_CASE("at a tilted constant thrust the rod swings about the thrust axis, con
   s(planar::kAlphaDot) = 0.4;
   const PlanarInput<double> u(6.0, 0.0);
   const auto f = [&](double, const Vec<7>& y) -> Vec<7> {
-    return gs::model::planarPoleVehicleDynamics<double>(y, u);
+    return gs::model::planar_pole_vehicle_dynamics<double>(y, u);
   };
-  const double e0 = pivotFrameEnergyPerMass(-0.35, -0.2, 0.4, 6.0);
+  const double e0 = pivot_frame_energy_per_mass(-0.35, -0.2, 0.4, 6.0);
   const double h = 1e-4;
-  for (int k = 0; k < 20000; ++k) s = rk4Step<7>(f, k * h, s, h);
-  CHECK(pivotFrameEnergyPerMass(-0.35, s(planar::kAlpha), s(planar::kAlphaDot), 6.0) ==
+  for (int k = 0; k < 20000; ++k) s = rk4_step<7>(f, k * h, s, h);
+  CHECK(pivot_frame_energy_per_mass(-0.35, s(planar::kAlpha), s(planar::kAlphaDot), 6.0) ==
         Approx(e0).epsilon(1e-9));
 }
 
@@ -193,8 +193,8 @@ TEST_CASE("F_N equals the plate-normal contact force of an independent Newton-Eu
   s(planar::kAlpha) = alpha0;
   s(planar::kAlphaDot) = alpha_dot0;
   const auto reduced = [](double t, const Vec<7>& x) -> Vec<7> {
-    const PlanarInput<double> u(thrustProfile(t), pitchRateProfile(t));
-    return gs::model::planarPoleVehicleDynamics<double>(x, u);
+    const PlanarInput<double> u(thrust_profile(t), pitch_rate_profile(t));
+    return gs::model::planar_pole_vehicle_dynamics<double>(x, u);
   };
   const auto maximal = [&](double t, const Vec<11>& x) -> Vec<11> { return rod.evaluate(t, x).derivative; };
 
@@ -208,14 +208,14 @@ TEST_CASE("F_N equals the plate-normal contact force of an independent Newton-Eu
       const double fn_newton =
           sol.constraint_force_N.dot(Eigen::Vector2d(std::sin(theta), std::cos(theta))) / rod.mass_kg;
       const double fn_model =
-          gs::model::planarNormalForcePerMass_mps2<double>(theta, y(9), y(10), thrustProfile(t));
+          gs::model::planarNormalForcePerMass_mps2<double>(theta, y(9), y(10), thrust_profile(t));
       max_force_error = std::max(max_force_error, std::abs(fn_newton - fn_model));
       max_alpha_error = std::max(max_alpha_error, std::abs(y(9) - s(planar::kAlpha)));
       min_fn = std::min(min_fn, fn_model);
       max_fn = std::max(max_fn, fn_model);
     }
-    y = rk4Step<11>(maximal, t, y, h);
-    s = rk4Step<7>(reduced, t, s, h);
+    y = rk4_step<11>(maximal, t, y, h);
+    s = rk4_step<7>(reduced, t, s, h);
   }
   // The run covers both a pressing and a pulling contact, so the sign of every term is tested.
   CHECK(min_fn < 0.0);
@@ -236,13 +236,13 @@ TEST_CASE("the AutoDiff instantiation matches finite differences of the double o
     if (i < 7) s(i) = v;
     else u(i - 7) = v;
   }
-  const PlanarState<Ad> f = gs::model::planarPoleVehicleDynamics<Ad>(s, u);
+  const PlanarState<Ad> f = gs::model::planar_pole_vehicle_dynamics<Ad>(s, u);
   const Ad fn = gs::model::planarNormalForcePerMass_mps2<Ad>(s, u);
   const auto eval = [](const Vec<9>& x) {
     Vec<8> out;
     const PlanarState<double> ss = x.head<7>();
     const PlanarInput<double> uu = x.tail<2>();
-    out.head<7>() = gs::model::planarPoleVehicleDynamics<double>(ss, uu);
+    out.head<7>() = gs::model::planar_pole_vehicle_dynamics<double>(ss, uu);
     out(7) = gs::model::planarNormalForcePerMass_mps2<double>(ss, uu);
     return out;
   };
@@ -324,19 +324,19 @@ TEST_CASE("the linearisation A = df/ds, B = df/du matches central differences", 
   PlanarState<double> s;
   s << 0.4, 1.2, 0.3, -0.8, -0.35, 0.6, 1.9;
   const PlanarInput<double> u(8.3, -1.4);
-  const gs::model::PlanarLinearisation lin = gs::model::linearisePlanarPoleVehicle(s, u);
+  const gs::model::PlanarLinearisation lin = gs::model::linearise_planar_pole_vehicle(s, u);
   const double eps = 1e-6;
   for (int i = 0; i < planar::kStateSize; ++i) {
     const PlanarState<double> ds = PlanarState<double>::Unit(i) * eps;
-    const PlanarState<double> fd = (gs::model::planarPoleVehicleDynamics<double>(s + ds, u) -
-                                    gs::model::planarPoleVehicleDynamics<double>(s - ds, u)) /
+    const PlanarState<double> fd = (gs::model::planar_pole_vehicle_dynamics<double>(s + ds, u) -
+                                    gs::model::planar_pole_vehicle_dynamics<double>(s - ds, u)) /
                                    (2.0 * eps);
     CHECK((lin.A.col(i) - fd).cwiseAbs().maxCoeff() < 1e-8);
   }
   for (int j = 0; j < planar::kInputSize; ++j) {
     const PlanarInput<double> du = PlanarInput<double>::Unit(j) * eps;
-    const PlanarState<double> fd = (gs::model::planarPoleVehicleDynamics<double>(s, u + du) -
-                                    gs::model::planarPoleVehicleDynamics<double>(s, u - du)) /
+    const PlanarState<double> fd = (gs::model::planar_pole_vehicle_dynamics<double>(s, u + du) -
+                                    gs::model::planar_pole_vehicle_dynamics<double>(s, u - du)) /
                                    (2.0 * eps);
     CHECK((lin.B.col(j) - fd).cwiseAbs().maxCoeff() < 1e-8);
   }

@@ -25,16 +25,16 @@ inline const hil::Vec3 kStart_m(0.0, 0.0, 1.5);
 
 // The throw's start on the plant: vehicle 1 hovering with the plate at the plan's origin and
 // carrying the pole's weight, the pole upright and still on the plate, vehicle 2 parked aside.
-inline void placeForThrow(hil::Plant& plant) {
+inline void place_for_throw(hil::Plant& plant) {
   const hil::PlantConfig& config = plant.config();
   hil::VehicleState thrower =
       plant.hovering_vehicle(kStart_m - hil::Vec3(0, 0, config.vehicle.plate_height_m), 0.0);
   for (double& f : thrower.motor_thrust_N) f += config.pole.mass_kg * config.gravity_mps2 / 4.0;
-  plant.set_vehicle(0, thrower);
-  plant.set_vehicle(1, plant.parked_vehicle(-2.0, 2.0, 0.0));
+  plant.set_vehicle(pa::kVehicle1, thrower);
+  plant.set_vehicle(pa::kVehicle2, plant.parked_vehicle(-2.0, 2.0, 0.0));
   const double L = config.pole.half_length_m;
-  plant.set_pole(hil::Plant::make_pole(plant.plate_centre_m(0) + L * hil::Vec3::UnitZ(), hil::Vec3::UnitZ(),
-                                       hil::Vec3::Zero(), hil::Vec3::Zero()));
+  plant.set_pole(hil::Plant::make_pole(plant.plate_centre_m(pa::kVehicle1) + L * hil::Vec3::UnitZ(),
+                                       hil::Vec3::UnitZ(), hil::Vec3::Zero(), hil::Vec3::Zero()));
 }
 
 // The pivot (the plate's centre, where the pole's lower end rests) of the plant's vehicle 1,
@@ -43,19 +43,19 @@ struct Pivot {
   hil::Vec3 p_m;
   hil::Vec3 v_mps;
 };
-inline Pivot pivotOf(const hil::Plant& plant) {
-  const hil::VehicleState& v = plant.vehicle(0);
-  const hil::Vec3 lever = plant.plate_centre_m(0) - v.body.position_m;
-  return {plant.plate_centre_m(0) - kStart_m,
+inline Pivot pivot_of(const hil::Plant& plant) {
+  const hil::VehicleState& v = plant.vehicle(pa::kVehicle1);
+  const hil::Vec3 lever = plant.plate_centre_m(pa::kVehicle1) - v.body.position_m;
+  return {plant.plate_centre_m(pa::kVehicle1) - kStart_m,
           v.body.velocity_mps + v.body.rate_inertial_radps().cross(lever)};
 }
 
 // The planar state (planar_pole_vehicle.hpp) of the plant's vehicle 1 and pole, from the truth:
 // the pivot is the plate's centre (where the pole's lower end rests), theta the pitch of the
 // thrust axis, alpha the pole's tilt from the vertical towards +x.
-inline gs::model::PlanarState<double> planarState(const hil::Plant& plant) {
-  const hil::Mat3 r = plant.vehicle(0).body.rotation();
-  const Pivot pivot = pivotOf(plant);
+inline gs::model::PlanarState<double> planar_state(const hil::Plant& plant) {
+  const hil::Mat3 r = plant.vehicle(pa::kVehicle1).body.rotation();
+  const Pivot pivot = pivot_of(plant);
   const hil::Vec3 n = plant.pole().axis();
   gs::model::PlanarState<double> s;
   s << pivot.p_m.x(), pivot.p_m.z(), pivot.v_mps.x(), pivot.v_mps.z(), std::atan2(r(0, 2), r(2, 2)),
@@ -67,10 +67,10 @@ inline gs::model::PlanarState<double> planarState(const hil::Plant& plant) {
 // pivot (plate centre) and its velocity, Z-Y-X Euler angles of eq. (3) (the thrust axis is
 // (cos phi sin theta, -sin phi, cos phi cos theta) at psi = 0), and the pole's deflection
 // L n = (a, b, c) (eq. (24)) with its rate L (omega x n).
-inline Eigen::VectorXd balancingState(const hil::Plant& plant, double half_length_m) {
+inline Eigen::VectorXd balancing_state(const hil::Plant& plant, double half_length_m) {
   namespace bal = gs::control::balancing;
-  const hil::Mat3 r = plant.vehicle(0).body.rotation();
-  const Pivot pivot = pivotOf(plant);
+  const hil::Mat3 r = plant.vehicle(pa::kVehicle1).body.rotation();
+  const Pivot pivot = pivot_of(plant);
   const hil::Vec3 n = plant.pole().axis();
   const hil::Vec3 n_dot = plant.pole().body.rate_inertial_radps().cross(n);
   Eigen::VectorXd x = Eigen::VectorXd::Zero(bal::kStateSize);
@@ -87,8 +87,8 @@ inline Eigen::VectorXd balancingState(const hil::Plant& plant, double half_lengt
 }
 
 // The motion-capture frame as the estimator takes it (the arena's own adapter).
-inline gs::estimation::MocapFrame toEstimatorFrame(const hil::MocapFrame& f) {
-  return hil::sil::toGroundStationFrame(f);
+inline gs::estimation::MocapFrame to_estimator_frame(const hil::MocapFrame& f) {
+  return hil::sil::to_ground_station_frame(f);
 }
 
 // Where the plant's pole really comes down through the catching height, against the catch
@@ -124,11 +124,11 @@ class CatchCheck {
   };
   std::optional<Errors> errors(double release_t_s) const {
     if (!crossing_t_s_) return std::nullopt;
-    return Errors{*crossing_t_s_, errorAt(release_t_s + 0.1), errorAt(*crossing_t_s_ - 0.15)};
+    return Errors{*crossing_t_s_, error_at(release_t_s + 0.1), error_at(*crossing_t_s_ - 0.15)};
   }
   // The horizontal miss of the first prediction made at or after t_s (1e9 when there is none or
   // it found no crossing).
-  double errorAt(double t_s) const {
+  double error_at(double t_s) const {
     for (const auto& [tp, p] : predictions_) {
       if (tp < t_s - 1e-9) continue;
       return p.found ? std::hypot(p.x_m - crossing_m_.x(), p.y_m - crossing_m_.y()) : 1e9;

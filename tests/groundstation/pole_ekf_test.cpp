@@ -22,16 +22,16 @@ using gs::estimation::PoleOnVehicleEkf;
 using gs::model::PoleParams;
 using gs::model::PoleState;
 
-PoleState throwLikeState() {
+PoleState throw_like_state() {
   PoleState s;
   s.p_m = Eigen::Vector3d(1.5, 0.1, 2.3);
   s.v_mps = Eigen::Vector3d(0.3, 0.05, 5.5);
   s.n = Eigen::Vector3d(std::sin(0.48), 0.0, std::cos(0.48));
   s.omega_radps = Eigen::Vector3d(0.1, 2.5, 0.0);
-  return gs::model::normalisedPoleState(s);
+  return gs::model::normalised_pole_state(s);
 }
 
-PoleCovariance diagonalCovariance(double sp, double sv, double sn, double sw) {
+PoleCovariance diagonal_covariance(double sp, double sv, double sn, double sw) {
   PoleCovariance p = PoleCovariance::Zero();
   p.diagonal() << sp * sp, sp * sp, sp * sp, sv * sv, sv * sv, sv * sv, sn * sn, sn * sn, sn * sn, sw * sw,
       sw * sw, sw * sw;
@@ -50,15 +50,15 @@ struct FlightStats {
 };
 
 // A free flight of the world's pole (broadside, spinning), filtered from a perturbed start.
-FlightStats filterFreeFlight(const gs::estimation::PoleFreeFlightEkfParams& params, unsigned seed,
-                             double duration_s, double skip_s) {
+FlightStats filter_free_flight(const gs::estimation::PoleFreeFlightEkfParams& params, unsigned seed,
+                               double duration_s, double skip_s) {
   World w(WorldParams{}, seed);
   w.vehicle(0).p = Eigen::Vector3d(10, 0, 0);
   w.vehicle(1).p = Eigen::Vector3d(-10, 0, 0);
   const Eigen::Vector3d v0(1.5, 0.3, 5.0);
   const Eigen::Vector3d n0 = Eigen::Vector3d(0.6, 0.0, 0.8).normalized();
   const Eigen::Vector3d w0(0.0, 3.0, 0.5);
-  w.placePoleFree(Eigen::Vector3d(0, 0, 2), v0, n0, w0);
+  w.place_pole_free(Eigen::Vector3d(0, 0, 2), v0, n0, w0);
   PoleFreeFlightEkf ekf(params);
   const estimation_test::Frame f0 = w.frame();
   PoleState start;
@@ -66,7 +66,7 @@ FlightStats filterFreeFlight(const gs::estimation::PoleFreeFlightEkfParams& para
   start.v_mps = f0.truth.v + Eigen::Vector3d(0.05, -0.03, 0.04);
   start.n = f0.pole.q * Eigen::Vector3d::UnitZ();
   start.omega_radps = f0.truth.omega + Eigen::Vector3d(0.05, -0.05, 0.0);
-  ekf.reset(start, diagonalCovariance(1e-3, 0.06, 1e-3, 0.08), 1.0, 0.3);
+  ekf.reset(start, diagonal_covariance(1e-3, 0.06, 1e-3, 0.08), 1.0, 0.3);
   FlightStats s;
   int n = 0;
   const int frames = static_cast<int>(duration_s / 0.005);
@@ -83,13 +83,13 @@ FlightStats filterFreeFlight(const gs::estimation::PoleFreeFlightEkfParams& para
     truth.n = f.truth.n;
     truth.omega_radps = f.truth.omega;
     s.mean_nis += inn.nis;
-    s.mean_nees += gs::estimation::freeFlightNees(ekf, truth);
+    s.mean_nees += gs::estimation::free_flight_nees(ekf, truth);
     s.final_position_error_m = (ekf.state().p_m - truth.p_m).norm();
     ++n;
   }
   s.mean_nis /= n;
   s.mean_nees /= n;
-  s.drag_scale = ekf.dragScale();
+  s.drag_scale = ekf.drag_scale();
   return s;
 }
 
@@ -98,11 +98,11 @@ FlightStats filterFreeFlight(const gs::estimation::PoleFreeFlightEkfParams& para
 TEST_CASE("the free-flight EKF predicts with the model of eq. (20)", "[estimation]") {
   gs::estimation::PoleFreeFlightEkfParams params;
   PoleFreeFlightEkf ekf(params);
-  const PoleState s0 = throwLikeState();
-  ekf.reset(s0, diagonalCovariance(1e-3, 0.01, 1e-3, 0.01), 1.0, 0.1);
+  const PoleState s0 = throw_like_state();
+  ekf.reset(s0, diagonal_covariance(1e-3, 0.01, 1e-3, 0.01), 1.0, 0.1);
   const double trace0 = ekf.covariance().trace();
   ekf.predict(0.1);
-  const PoleState ref = gs::model::propagatePole(s0, 0.1, 0.005, params.pole);
+  const PoleState ref = gs::model::propagate_pole(s0, 0.1, 0.005, params.pole);
   CHECK((ekf.state().p_m - ref.p_m).norm() < 1e-12);
   CHECK((ekf.state().n - ref.n).norm() < 1e-12);
   CHECK(ekf.covariance().trace() > trace0);
@@ -123,9 +123,9 @@ TEST_CASE("the free-flight EKF predicts with the model of eq. (20)", "[estimatio
 TEST_CASE("the free-flight Jacobian matches central differences of eq. (20)", "[estimation]") {
   gs::estimation::PoleFreeFlightEkfParams params;
   PoleFreeFlightEkf ekf(params);
-  const PoleState s0 = throwLikeState();
+  const PoleState s0 = throw_like_state();
   const double k = 1.2;
-  ekf.reset(s0, diagonalCovariance(1e-3, 0.01, 1e-3, 0.01), k, 0.1);
+  ekf.reset(s0, diagonal_covariance(1e-3, 0.01, 1e-3, 0.01), k, 0.1);
   const PoleFreeFlightEkf::StateCovariance f = ekf.jacobian();
   PoleParams scaled = params.pole;
   scaled.drag_axial *= k;
@@ -150,14 +150,15 @@ TEST_CASE("the free-flight Jacobian matches central differences of eq. (20)", "[
       s.omega_radps = v.segment<3>(9);
       return s;
     };
-    const Eigen::Matrix<double, 12, 1> col = (flat(gs::model::poleFreeFlightDerivative(unflat(xp), scaled)) -
-                                              flat(gs::model::poleFreeFlightDerivative(unflat(xm), scaled))) /
-                                             (2.0 * eps);
+    const Eigen::Matrix<double, 12, 1> col =
+        (flat(gs::model::pole_free_flight_derivative(unflat(xp), scaled)) -
+         flat(gs::model::pole_free_flight_derivative(unflat(xm), scaled))) /
+        (2.0 * eps);
     CHECK((f.col(c).head<12>() - col).norm() < 1e-4 * (1.0 + col.norm()));
   }
   // d/dk: the drag at k = 1.
-  const PoleState d1 = gs::model::poleFreeFlightDerivative(s0, params.pole);
-  const PoleState d0 = gs::model::poleFreeFlightDerivative(s0, gs::model::withoutDrag(params.pole));
+  const PoleState d1 = gs::model::pole_free_flight_derivative(s0, params.pole);
+  const PoleState d0 = gs::model::pole_free_flight_derivative(s0, gs::model::without_drag(params.pole));
   CHECK((f.block<3, 1>(3, 12) - (d1.v_mps - d0.v_mps)).norm() < 1e-9);
 }
 
@@ -167,7 +168,7 @@ TEST_CASE("the free-flight EKF is consistent on the truth world's flight", "[est
   double nees = 0.0;
   const int runs = 8;
   for (int r = 0; r < runs; ++r) {
-    const FlightStats s = filterFreeFlight(params, 100 + r, 0.8, 0.1);
+    const FlightStats s = filter_free_flight(params, 100 + r, 0.8, 0.1);
     nis += s.mean_nis / runs;
     nees += s.mean_nees / runs;
     CHECK(s.final_position_error_m < 2e-3);
@@ -188,7 +189,7 @@ TEST_CASE("the drag scale is estimated online", "[estimation]") {
   }
   double k_mean = 0.0;
   const int runs = 4;
-  for (int r = 0; r < runs; ++r) k_mean += filterFreeFlight(params, 200 + r, 0.8, 0.1).drag_scale / runs;
+  for (int r = 0; r < runs; ++r) k_mean += filter_free_flight(params, 200 + r, 0.8, 0.1).drag_scale / runs;
   std::printf("drag scale after 0.8 s of flight with the coefficients 30%% high: %.3f (truth "
               "%.3f)\n",
               k_mean, 1.0 / 1.3);
@@ -219,7 +220,7 @@ TEST_CASE("the plate's normal force is the planar formula of docs/paper-notes.md
 }
 
 TEST_CASE("the on-vehicle EKF follows a pole balanced on the world's vehicle", "[estimation]") {
-  const estimation_test::Recording rec = estimation_test::recordBalancedHover(WorldParams{}, 21, 4.0);
+  const estimation_test::Recording rec = estimation_test::record_balanced_hover(WorldParams{}, 21, 4.0);
   gs::estimation::VehicleObserver vehicle;
   PoleOnVehicleEkf ekf;
   bool started = false;
@@ -238,8 +239,8 @@ TEST_CASE("the on-vehicle EKF follows a pole balanced on the world's vehicle", "
       PoleState s;
       s.p_m = m.p_m;
       s.n = m.n;
-      const auto seed = gs::estimation::onVehicleSeedFromFreeFlight(
-          s, diagonalCovariance(1e-3, 1.0, 1e-3, 1.0), plate, PoleParams{}, {});
+      const auto seed = gs::estimation::on_vehicle_seed_from_free_flight(
+          s, diagonal_covariance(1e-3, 1.0, 1e-3, 1.0), plate, PoleParams{}, {});
       REQUIRE(seed);
       ekf.reset(seed->state, seed->covariance, seed->direction_sign);
       started = true;
@@ -247,8 +248,8 @@ TEST_CASE("the on-vehicle EKF follows a pole balanced on the world's vehicle", "
       const gs::estimation::PoleInnovation inn = ekf.update(m, plate);
       if (f.t_s > 0.5) {
         nis += inn.nis;
-        fn_error += std::abs(ekf.normalForce(plate).value_mps2 - f.truth.normal_force_per_mass);
-        angle_error += std::acos(std::min(1.0, ekf.freeFlightState(plate).n.dot(f.truth.n)));
+        fn_error += std::abs(ekf.normal_force(plate).value_mps2 - f.truth.normal_force_per_mass);
+        angle_error += std::acos(std::min(1.0, ekf.free_flight_state(plate).n.dot(f.truth.n)));
         ++n;
       }
     }
@@ -278,16 +279,16 @@ TEST_CASE("mode conversions round-trip and the impact seed is the impact map", "
   s.n = -n_pivot;
   s.p_m = contact + params.half_length_m * n_pivot;
   s.omega_radps = Eigen::Vector3d(0.5, 1.5, 0.0);
-  s = gs::model::normalisedPoleState(s);
+  s = gs::model::normalised_pole_state(s);
   s.v_mps = plate.v_mps + params.half_length_m * s.omega_radps.cross(n_pivot);
-  const PoleCovariance p = diagonalCovariance(1e-3, 0.01, 1e-3, 0.01);
-  const auto seed = gs::estimation::onVehicleSeedFromFreeFlight(s, p, plate, params, {});
+  const PoleCovariance p = diagonal_covariance(1e-3, 0.01, 1e-3, 0.01);
+  const auto seed = gs::estimation::on_vehicle_seed_from_free_flight(s, p, plate, params, {});
   REQUIRE(seed);
   CHECK(seed->direction_sign == -1.0);
   CHECK(seed->state(4) == Approx(0.02).margin(1e-12));
   PoleOnVehicleEkf ekf;
   ekf.reset(seed->state, seed->covariance, seed->direction_sign);
-  const gs::estimation::FreeFlightSeed back = gs::estimation::freeFlightSeedFromOnVehicle(ekf, plate);
+  const gs::estimation::FreeFlightSeed back = gs::estimation::free_flight_seed_from_on_vehicle(ekf, plate);
   CHECK((back.state.p_m - s.p_m).norm() < 1e-12);
   CHECK((back.state.v_mps - s.v_mps).norm() < 1e-12);
   CHECK((back.state.n - s.n).norm() < 1e-12);
@@ -295,14 +296,14 @@ TEST_CASE("mode conversions round-trip and the impact seed is the impact map", "
   // Far from the plate: no seed.
   PoleState away = s;
   away.p_m.z() += 0.2;
-  CHECK_FALSE(gs::estimation::onVehicleSeedFromFreeFlight(away, p, plate, params, {}));
+  CHECK_FALSE(gs::estimation::on_vehicle_seed_from_free_flight(away, p, plate, params, {}));
 
-  // The impact seed is model::impactMap.
+  // The impact seed is model::impact_map.
   PoleState falling = s;
   falling.v_mps = Eigen::Vector3d(0.4, 0.0, -3.0);
-  const gs::model::ImpactResult r = gs::model::impactMap(falling, plate.v_mps, params);
+  const gs::model::ImpactResult r = gs::model::impact_map(falling, plate.v_mps, params);
   const gs::estimation::OnVehicleSeed impact =
-      gs::estimation::onVehicleSeedAfterImpact(falling, p, plate, params, 0.2);
+      gs::estimation::on_vehicle_seed_after_impact(falling, p, plate, params, 0.2);
   CHECK(impact.state(0) == Approx(r.on_vehicle.a_m));
   CHECK(impact.state(2) == Approx(r.on_vehicle.a_dot_mps));
   CHECK(impact.state(3) == Approx(r.on_vehicle.b_dot_mps));

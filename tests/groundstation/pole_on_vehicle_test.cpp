@@ -35,8 +35,8 @@ double lagrangian(const Eigen::Vector2d& q, const Eigen::Vector2d& q_dot, double
 
 // q'' from d/dt dLag/dq' - dLag/dq = 0 with every derivative by central differences:
 //   M q'' = dLag/dq - (d2Lag/dq' dq) q' - d2Lag/dq' dt,   M = d2Lag/dq'^2.
-Eigen::Vector2d eulerLagrangeAcceleration(const Eigen::Vector2d& q, const Eigen::Vector2d& q_dot,
-                                          const Pivot& pivot, const PoleParams& params) {
+Eigen::Vector2d euler_lagrange_acceleration(const Eigen::Vector2d& q, const Eigen::Vector2d& q_dot,
+                                            const Pivot& pivot, const PoleParams& params) {
   const double h = 5e-5;  // truncation ~h^2 above, round-off ~eps/h^2 below: ~2e-6 here
   const auto lag = [&](const Eigen::Vector2d& qq, const Eigen::Vector2d& qd, double t) {
     return lagrangian(qq, qd, t, pivot, params);
@@ -61,7 +61,7 @@ Eigen::Vector2d eulerLagrangeAcceleration(const Eigen::Vector2d& q, const Eigen:
   return mass.fullPivLu().solve(force - mixed * q_dot - time_derivative);
 }
 
-double tiltFromVertical(const PoleOnVehicleState& s) { return std::asin(std::hypot(s.a_m, s.b_m) / kL); }
+double tilt_from_vertical(const PoleOnVehicleState& s) { return std::asin(std::hypot(s.a_m, s.b_m) / kL); }
 
 }  // namespace
 
@@ -80,7 +80,7 @@ TEST_CASE("eq. (28), (29) agree with Euler-Lagrange on the Lagrangian (25)-(27)"
                       Eigen::Vector3d(8 * u(rng), 8 * u(rng), 8 * u(rng))};
     const Eigen::Vector2d model = gs::model::poleOnVehicleAcceleration_mps2(s, pivot.acc, params);
     const Eigen::Vector2d reference =
-        eulerLagrangeAcceleration({s.a_m, s.b_m}, {s.a_dot_mps, s.b_dot_mps}, pivot, params);
+        euler_lagrange_acceleration({s.a_m, s.b_m}, {s.a_dot_mps, s.b_dot_mps}, pivot, params);
     const double error = (model - reference).norm() / std::max(1.0, reference.norm());
     worst = std::max(worst, error);
     INFO("sample " << i << " model " << model.transpose() << " EL " << reference.transpose());
@@ -123,12 +123,12 @@ TEST_CASE("pivot at rest: a falling pole conserves its energy", "[pole_on_vehicl
   const Eigen::Vector3d still = Eigen::Vector3d::Zero();
   const double e0 = gs::model::poleOnVehicleEnergy_J(s, p0, v0, params);
   const auto f = [&](const PoleOnVehicleState& x) {
-    return gs::model::poleOnVehicleDerivative(x, still, params);
+    return gs::model::pole_on_vehicle_derivative(x, still, params);
   };
   double worst = 0.0;
   int steps = 0;
-  while (tiltFromVertical(s) < 80.0 * M_PI / 180.0 && steps < 100000) {
-    s = gs::model::rk4Step(f, s, 1e-3);
+  while (tilt_from_vertical(s) < 80.0 * M_PI / 180.0 && steps < 100000) {
+    s = gs::model::rk4_step(f, s, 1e-3);
     ++steps;
     worst = std::max(worst, std::abs(gs::model::poleOnVehicleEnergy_J(s, p0, v0, params) - e0));
   }
@@ -146,17 +146,17 @@ TEST_CASE("pivot at rest, gravity reversed: a long spherical swing conserves ene
   const Eigen::Vector3d still = Eigen::Vector3d::Zero();
   const double e0 = gs::model::poleOnVehicleEnergy_J(s, p0, still, params);
   const auto f = [&](const PoleOnVehicleState& x) {
-    return gs::model::poleOnVehicleDerivative(x, still, params);
+    return gs::model::pole_on_vehicle_derivative(x, still, params);
   };
   double worst = 0.0;
   double max_tilt = 0.0;
   double lz0 = s.a_m * s.b_dot_mps - s.b_m * s.a_dot_mps;  // angular momentum about z (conserved)
   double worst_lz = 0.0;
   for (int i = 0; i < 30000; ++i) {  // 30 s
-    s = gs::model::rk4Step(f, s, 1e-3);
+    s = gs::model::rk4_step(f, s, 1e-3);
     worst = std::max(worst, std::abs(gs::model::poleOnVehicleEnergy_J(s, p0, still, params) - e0));
     worst_lz = std::max(worst_lz, std::abs(s.a_m * s.b_dot_mps - s.b_m * s.a_dot_mps - lz0));
-    max_tilt = std::max(max_tilt, tiltFromVertical(s));
+    max_tilt = std::max(max_tilt, tilt_from_vertical(s));
   }
   CHECK(max_tilt < 1.2);
   CHECK(worst < 1e-9);
@@ -172,8 +172,8 @@ TEST_CASE("eq. (30): f_qp drives the pole with the vehicle's acceleration", "[po
   gs::model::VehicleInput input;
   input.a_q_mps2 = 4.48;
   input.omega_radps = Eigen::Vector3d(0.0, 2.5, 0.0);
-  const gs::model::VehiclePoleState rate = gs::model::vehiclePoleDynamics(s, input, params);
-  const gs::model::VehicleState vehicle_rate = gs::model::vehicleDynamics(s.vehicle, input);
+  const gs::model::VehiclePoleState rate = gs::model::vehicle_pole_dynamics(s, input, params);
+  const gs::model::VehicleState vehicle_rate = gs::model::vehicle_dynamics(s.vehicle, input);
   CHECK((rate.vehicle.v_mps - vehicle_rate.v_mps).norm() < 1e-15);
   CHECK(rate.vehicle.theta_rad == vehicle_rate.theta_rad);
   const Eigen::Vector2d acc = gs::model::poleOnVehicleAcceleration_mps2(s.pole, vehicle_rate.v_mps, params);
@@ -188,7 +188,7 @@ TEST_CASE("eq. (23)-(27): on-vehicle and free-flight states convert both ways", 
   const PoleOnVehicleState s{0.2, -0.15, 0.7, -1.1};
   const Eigen::Vector3d p(1.0, 2.0, 3.0);
   const Eigen::Vector3d v(0.3, -0.2, 4.0);
-  const gs::model::PoleState free = gs::model::freeFlightStateFromPoleOnVehicle(s, p, v, params);
+  const gs::model::PoleState free = gs::model::free_flight_state_from_pole_on_vehicle(s, p, v, params);
   CHECK(free.n.norm() == Approx(1.0));
   CHECK((free.p_m - (p + kL * free.n)).norm() < 1e-15);
   CHECK(std::abs(free.omega_radps.dot(free.n)) < 1e-15);
@@ -196,7 +196,7 @@ TEST_CASE("eq. (23)-(27): on-vehicle and free-flight states convert both ways", 
   CHECK((free.v_mps - (v + free.omega_radps.cross(kL * free.n))).norm() < 1e-14);
   CHECK(gs::model::poleEnergy_J(free, params) ==
         Approx(gs::model::poleOnVehicleEnergy_J(s, p, v, params)).epsilon(1e-14));
-  const PoleOnVehicleState back = gs::model::poleOnVehicleStateFromFreeFlight(free, params);
+  const PoleOnVehicleState back = gs::model::pole_on_vehicle_state_from_free_flight(free, params);
   CHECK(back.a_m == Approx(s.a_m));
   CHECK(back.b_m == Approx(s.b_m));
   CHECK(back.a_dot_mps == Approx(s.a_dot_mps));

@@ -24,7 +24,7 @@ using gs::estimation::StateEstimator;
 
 constexpr double kFrame_s = 0.005;
 
-hil::ScenarioResult runScenario(const std::string& name, hil::Scenario& scenario) {
+hil::ScenarioResult run_scenario(const std::string& name, hil::Scenario& scenario) {
   std::string error;
   const bool loaded = hil::load_scenario(hil::scenario_directory() + "/" + name, scenario, error);
   INFO(error);
@@ -57,7 +57,7 @@ std::vector<MocapFrame> frames(const hil::ScenarioResult& r) {
 }
 
 // The true pole at a time (the nearest plant tick), in the free-flight state's convention.
-gs::model::PoleState truthAt(const hil::ScenarioResult& r, double t_s) {
+gs::model::PoleState truth_at(const hil::ScenarioResult& r, double t_s) {
   const auto it = std::lower_bound(r.pole_truth.begin(), r.pole_truth.end(), t_s,
                                    [](const hil::PoleTruthRow& row, double t) { return row.t_s < t - 1e-9; });
   const hil::PoleTruthRow& row = it == r.pole_truth.end() ? r.pole_truth.back() : *it;
@@ -66,7 +66,7 @@ gs::model::PoleState truthAt(const hil::ScenarioResult& r, double t_s) {
   s.v_mps = row.velocity_mps;
   s.n = row.axis;
   s.omega_radps = row.rate_radps;
-  return gs::model::normalisedPoleState(s);  // the tube's spin about its axis is not estimated
+  return gs::model::normalised_pole_state(s);  // the tube's spin about its axis is not estimated
 }
 
 struct Crossing {
@@ -75,8 +75,8 @@ struct Crossing {
 };
 
 // The true pole's lowest end coming down through a height after t0.
-std::optional<Crossing> trueCrossing(const hil::ScenarioResult& r, double t0, double height,
-                                     double half_length) {
+std::optional<Crossing> true_crossing(const hil::ScenarioResult& r, double t0, double height,
+                                      double half_length) {
   std::optional<Eigen::Vector3d> previous;
   double previous_t = 0.0;
   for (const hil::PoleTruthRow& row : r.pole_truth) {
@@ -98,13 +98,13 @@ std::optional<Crossing> trueCrossing(const hil::ScenarioResult& r, double t0, do
 
 TEST_CASE("HIL plant: a thrown pole is tracked from launch to the catch", "[estimation][hil]") {
   hil::Scenario scenario;
-  const hil::ScenarioResult r = runScenario("free_flight_catch.yaml", scenario);
+  const hil::ScenarioResult r = run_scenario("free_flight_catch.yaml", scenario);
   REQUIRE(r.launch_t_s);
   REQUIRE(r.impact_t_s);
   REQUIRE(r.impact_on == hil::Contact::vehicle2);
   const double catch_height = scenario.catch_height_m;
   const std::optional<Crossing> crossing =
-      trueCrossing(r, *r.launch_t_s, catch_height, r.config.pole.half_length_m);
+      true_crossing(r, *r.launch_t_s, catch_height, r.config.pole.half_length_m);
   REQUIRE(crossing);
 
   StateEstimator est;
@@ -116,10 +116,10 @@ TEST_CASE("HIL plant: a thrown pole is tracked from launch to the catch", "[esti
   int nees_n = 0;
   int switches_in_flight = 0;
   for (const MocapFrame& f : frames(r)) {
-    const std::uint64_t before = est.switchCount();
+    const std::uint64_t before = est.switch_count();
     est.update(f);
     const double t = f.t_s;
-    if (est.switchCount() != before && t > *r.launch_t_s + 0.05 && t < *r.impact_t_s - 0.01) {
+    if (est.switch_count() != before && t > *r.launch_t_s + 0.05 && t < *r.impact_t_s - 0.01) {
       ++switches_in_flight;
     }
     if (!launch_detected && t >= *r.launch_t_s - 0.05 && est.mode() == PoleMode::free) {
@@ -129,13 +129,13 @@ TEST_CASE("HIL plant: a thrown pole is tracked from launch to the catch", "[esti
     if (est.mode() != PoleMode::free) continue;
     const auto predict = [&]() {
       const gs::planning::CatchPointPrediction p =
-          gs::planning::predictCatchPoint(est.pole().state, catch_height, est.poleModel());
+          gs::planning::predict_catch_point(est.pole().state, catch_height, est.pole_model());
       return p.found ? std::hypot(p.x_m - crossing->end.x(), p.y_m - crossing->end.y()) : 1e9;
     };
     if (catch_error_early < 0.0 && t >= *r.launch_t_s + 0.1 - 1e-9) catch_error_early = predict();
     if (catch_error_late < 0.0 && t >= crossing->t_s - 0.15 - 1e-9) catch_error_late = predict();
     if (t > *r.launch_t_s + 0.05 && t < *r.impact_t_s - 0.01) {
-      nees_sum += gs::estimation::freeFlightNees(est.freeFlightFilter(), truthAt(r, t));
+      nees_sum += gs::estimation::free_flight_nees(est.free_flight_filter(), truth_at(r, t));
       ++nees_n;
     }
   }
@@ -154,22 +154,22 @@ TEST_CASE("HIL plant: a thrown pole is tracked from launch to the catch", "[esti
 
 TEST_CASE("HIL plant: no mode switch while vehicle 1 balances the pole", "[estimation][hil]") {
   hil::Scenario scenario;
-  const hil::ScenarioResult r = runScenario("balanced_hover.yaml", scenario);
+  const hil::ScenarioResult r = run_scenario("balanced_hover.yaml", scenario);
   StateEstimator est;
   double max_error = 0.0;
   for (const MocapFrame& f : frames(r)) {
     est.update(f);
     if (f.t_s > 0.5 && f.pole) {
-      max_error = std::max(max_error, (est.pole().state.p_m - truthAt(r, f.t_s).p_m).norm());
+      max_error = std::max(max_error, (est.pole().state.p_m - truth_at(r, f.t_s).p_m).norm());
     }
   }
   const gs::estimation::EstimatorHealth h = est.health(est.time());
   std::printf("HIL balanced_hover (no commands): %llu switches (1 = the initial mode) in %.1f s, "
               "mode %s, max pole position error %.2f mm, pole NIS mean %.2f\n",
-              static_cast<unsigned long long>(est.switchCount()), est.time(),
-              std::string(gs::estimation::poleModeName(est.mode())).c_str(), 1e3 * max_error,
+              static_cast<unsigned long long>(est.switch_count()), est.time(),
+              std::string(gs::estimation::pole_mode_name(est.mode())).c_str(), 1e3 * max_error,
               h.pole.mean_nis);
-  CHECK(est.switchCount() == 1);
+  CHECK(est.switch_count() == 1);
   CHECK(est.mode() == PoleMode::on_vehicle1);
   CHECK(max_error < 0.01);
 }

@@ -24,13 +24,13 @@ using gs::estimation::MocapFrame;
 using gs::estimation::PoleMode;
 using gs::estimation::StateEstimator;
 using gs::estimation::StateEstimatorConfig;
-using estimation_test::toInput;
-using estimation_test::estimatorFor;
-using estimation_test::toMocap;
+using estimation_test::to_input;
+using estimation_test::estimator_for;
+using estimation_test::to_mocap;
 
 constexpr double kFrame_s = 0.005;
 
-gs::model::PoleState truthState(const Frame& f) {
+gs::model::PoleState truth_state(const Frame& f) {
   gs::model::PoleState s;
   s.p_m = f.truth.p;
   s.v_mps = f.truth.v;
@@ -50,13 +50,13 @@ struct RunOptions {
 void run(const Recording& rec, StateEstimator& est, const RunOptions& options = {}) {
   for (const Frame& f : rec.frames) {
     if (options.drop && options.drop(f)) {
-      est.advanceTo(f.t_s);
+      est.advance_to(f.t_s);
     } else {
-      est.update(toMocap(f));
+      est.update(to_mocap(f));
     }
     if (options.commands) {
-      est.setCommand(1, f.t_s, toInput(f.command[0]));
-      est.setCommand(2, f.t_s, toInput(f.command[1]));
+      est.set_command(pa::kVehicle1, f.t_s, to_input(f.command[0]));
+      est.set_command(pa::kVehicle2, f.t_s, to_input(f.command[1]));
     }
     if (options.observe) options.observe(f, est);
   }
@@ -77,30 +77,30 @@ struct ThrowRun {
   std::vector<gs::estimation::ModeSwitch> switches;
 };
 
-ThrowRun runThrow(unsigned seed, const StateEstimatorConfig& config, bool commands = true,
-                  const ThrowOptions& options = {}) {
+ThrowRun run_throw(unsigned seed, const StateEstimatorConfig& config, bool commands = true,
+                   const ThrowOptions& options = {}) {
   ThrowRun out;
-  out.rec = estimation_test::recordThrow(WorldParams{}, seed, options);
+  out.rec = estimation_test::record_throw(WorldParams{}, seed, options);
   StateEstimator est(config);
   RunOptions ro;
   ro.commands = commands;
   ro.observe = [&](const Frame& f, const StateEstimator& e) {
-    if (!out.launch.t_s && e.mode() == PoleMode::free && e.switchCount() > 1) {
+    if (!out.launch.t_s && e.mode() == PoleMode::free && e.switch_count() > 1) {
       out.launch.t_s = f.t_s;
-      out.launch.event_t_s = e.lastSwitch()->event_t_s;
+      out.launch.event_t_s = e.last_switch()->event_t_s;
     }
     if (!out.impact.t_s && e.mode() == PoleMode::on_vehicle2) {
       out.impact.t_s = f.t_s;
-      out.impact.event_t_s = e.lastSwitch()->event_t_s;
+      out.impact.event_t_s = e.last_switch()->event_t_s;
     }
   };
   run(out.rec, est, ro);
-  out.switches = est.recentSwitches();
+  out.switches = est.recent_switches();
   return out;
 }
 
 // Switches not matched by a true event (within 2 frames; the launch within launch_frames).
-int unmatchedSwitches(const ThrowRun& r, double launch_frames = 2.0) {
+int unmatched_switches(const ThrowRun& r, double launch_frames = 2.0) {
   int n = 0;
   for (const auto& s : r.switches) {
     if (s.reason == gs::estimation::SwitchReason::initial) continue;
@@ -113,17 +113,17 @@ int unmatchedSwitches(const ThrowRun& r, double launch_frames = 2.0) {
   return n;
 }
 
-double catchError(const StateEstimator& est, const Recording& rec, double* dt_out = nullptr) {
+double catch_error(const StateEstimator& est, const Recording& rec, double* dt_out = nullptr) {
   const gs::estimation::PoleEstimate e = est.pole();
   const gs::planning::CatchPointPrediction p =
-      gs::planning::predictCatchPoint(e.state, rec.catch_height, est.poleModel());
+      gs::planning::predict_catch_point(e.state, rec.catch_height, est.pole_model());
   if (!p.found) return 1e9;
   if (dt_out) *dt_out = est.time() + p.t_s - rec.crossing->t_s;
   return std::hypot(p.x_m - rec.crossing->x, p.y_m - rec.crossing->y);
 }
 
-StateEstimatorConfig withDragFactor(double factor, bool estimate) {
-  StateEstimatorConfig c = estimatorFor();
+StateEstimatorConfig with_drag_factor(double factor, bool estimate) {
+  StateEstimatorConfig c = estimator_for();
   for (gs::model::PoleParams* p : {&c.free_flight.pole, &c.on_vehicle.pole}) {
     p->drag_axial *= factor;
     p->drag_normal *= factor;
@@ -134,7 +134,7 @@ StateEstimatorConfig withDragFactor(double factor, bool estimate) {
 }
 
 // Wilson-Hilferty approximation of the chi-square quantile.
-double chiSquareQuantile(double z, double dof) {
+double chi_square_quantile(double z, double dof) {
   const double a = 2.0 / (9.0 * dof);
   return dof * std::pow(1.0 - a + z * std::sqrt(a), 3.0);
 }
@@ -142,7 +142,7 @@ double chiSquareQuantile(double z, double dof) {
 }  // namespace
 
 TEST_CASE("the truth world throws the pole from vehicle 1 onto vehicle 2's plate", "[estimation]") {
-  const Recording rec = estimation_test::recordThrow(WorldParams{}, 1);
+  const Recording rec = estimation_test::record_throw(WorldParams{}, 1);
   REQUIRE(rec.launch_t);
   REQUIRE(rec.impact_t);
   REQUIRE(rec.crossing);
@@ -168,11 +168,11 @@ TEST_CASE("the truth world throws the pole from vehicle 1 onto vehicle 2's plate
 }
 
 TEST_CASE("launch and impact are detected within 2 frames, with no false switch", "[estimation]") {
-  const StateEstimatorConfig config = estimatorFor();
+  const StateEstimatorConfig config = estimator_for();
   double worst_launch = 0.0;
   double worst_impact = 0.0;
   for (unsigned seed = 1; seed <= 5; ++seed) {
-    const ThrowRun r = runThrow(seed, config);
+    const ThrowRun r = run_throw(seed, config);
     REQUIRE(r.rec.launch_t);
     REQUIRE(r.rec.impact_t);
     REQUIRE(r.launch.t_s);
@@ -182,10 +182,10 @@ TEST_CASE("launch and impact are detected within 2 frames, with no false switch"
     std::printf("seed %u: launch detected %+.2f frames after the true event (placed %+.2f ms from it), "
                 "impact %+.2f frames (placed %+.2f ms); %d unmatched switches\n",
                 seed, dl, 1e3 * (*r.launch.event_t_s - *r.rec.launch_t), di,
-                1e3 * (*r.impact.event_t_s - *r.rec.impact_t), unmatchedSwitches(r));
+                1e3 * (*r.impact.event_t_s - *r.rec.impact_t), unmatched_switches(r));
     CHECK(std::abs(dl) <= 2.0 + 1e-6);
     CHECK(std::abs(di) <= 2.0 + 1e-6);
-    CHECK(unmatchedSwitches(r) == 0);
+    CHECK(unmatched_switches(r) == 0);
     worst_launch = std::max(worst_launch, std::abs(dl));
     worst_impact = std::max(worst_impact, std::abs(di));
   }
@@ -194,9 +194,9 @@ TEST_CASE("launch and impact are detected within 2 frames, with no false switch"
 }
 
 TEST_CASE("no mode switch during a balanced hover", "[estimation]") {
-  const Recording rec = estimation_test::recordBalancedHover(WorldParams{}, 7, 10.0);
+  const Recording rec = estimation_test::record_balanced_hover(WorldParams{}, 7, 10.0);
   REQUIRE_FALSE(rec.launch_t);  // the truth pole stayed balanced
-  StateEstimator est(estimatorFor());
+  StateEstimator est(estimator_for());
   double max_error = 0.0;
   RunOptions ro;
   ro.observe = [&](const Frame& f, const StateEstimator& e) {
@@ -205,9 +205,9 @@ TEST_CASE("no mode switch during a balanced hover", "[estimation]") {
   run(rec, est, ro);
   std::printf("balanced hover, 10 s: %llu switches (1 = the initial mode), mode %s, max pole "
               "position error %.2f mm after 0.5 s\n",
-              static_cast<unsigned long long>(est.switchCount()),
-              std::string(gs::estimation::poleModeName(est.mode())).c_str(), 1e3 * max_error);
-  CHECK(est.switchCount() == 1);
+              static_cast<unsigned long long>(est.switch_count()),
+              std::string(gs::estimation::pole_mode_name(est.mode())).c_str(), 1e3 * max_error);
+  CHECK(est.switch_count() == 1);
   CHECK(est.mode() == PoleMode::on_vehicle1);
   CHECK(max_error < 0.005);
 }
@@ -215,16 +215,16 @@ TEST_CASE("no mode switch during a balanced hover", "[estimation]") {
 TEST_CASE("the catch point is within 2 cm 0.1 s after launch (true drag)", "[estimation]") {
   double worst = 0.0;
   for (unsigned seed = 1; seed <= 5; ++seed) {
-    const Recording rec = estimation_test::recordThrow(WorldParams{}, seed);
+    const Recording rec = estimation_test::record_throw(WorldParams{}, seed);
     REQUIRE(rec.launch_t);
     REQUIRE(rec.crossing);
-    StateEstimator est(estimatorFor());
+    StateEstimator est(estimator_for());
     double error = -1.0;
     double dt = 0.0;
     RunOptions ro;
     ro.observe = [&](const Frame& f, const StateEstimator& e) {
       if (error < 0.0 && f.t_s >= *rec.launch_t + 0.1 - 1e-9 && e.mode() == PoleMode::free) {
-        error = catchError(e, rec, &dt);
+        error = catch_error(e, rec, &dt);
       }
     };
     run(rec, est, ro);
@@ -247,18 +247,18 @@ TEST_CASE("with the drag 30% off, the catch point is within 2 cm 0.15 s before t
       double k_sum = 0.0;
       const int seeds = 4;
       for (unsigned seed = 1; seed <= seeds; ++seed) {
-        const Recording rec = estimation_test::recordThrow(WorldParams{}, seed);
+        const Recording rec = estimation_test::record_throw(WorldParams{}, seed);
         REQUIRE(rec.crossing);
-        StateEstimator est(withDragFactor(factor, estimate));
+        StateEstimator est(with_drag_factor(factor, estimate));
         double early = -1.0;
         double late = -1.0;
         double k = 1.0;
         RunOptions ro;
         ro.observe = [&](const Frame& f, const StateEstimator& e) {
           if (e.mode() != PoleMode::free) return;
-          if (early < 0.0 && f.t_s >= *rec.launch_t + 0.1 - 1e-9) early = catchError(e, rec);
+          if (early < 0.0 && f.t_s >= *rec.launch_t + 0.1 - 1e-9) early = catch_error(e, rec);
           if (late < 0.0 && f.t_s >= rec.crossing->t_s - 0.15 - 1e-9) {
-            late = catchError(e, rec);
+            late = catch_error(e, rec);
             k = e.pole().drag_scale;
           }
         };
@@ -292,17 +292,17 @@ TEST_CASE("the free-flight estimate is consistent: NEES in its 95% band", "[esti
   double total = 0.0;
   int samples = 0;
   for (int r = 0; r < runs; ++r) {
-    const Recording rec = estimation_test::recordThrow(WorldParams{}, 100 + r);
+    const Recording rec = estimation_test::record_throw(WorldParams{}, 100 + r);
     REQUIRE(rec.launch_t);
     REQUIRE(rec.impact_t);
-    StateEstimator est(estimatorFor());
+    StateEstimator est(estimator_for());
     int index = -1;
     RunOptions ro;
     ro.observe = [&](const Frame& f, const StateEstimator& e) {
       if (f.truth.mode != TruthMode::free || e.mode() != PoleMode::free) return;
       if (f.t_s < *rec.launch_t + 2 * kFrame_s || f.t_s > *rec.impact_t - 2 * kFrame_s) return;
       ++index;
-      const double nees = gs::estimation::freeFlightNees(e.freeFlightFilter(), truthState(f));
+      const double nees = gs::estimation::free_flight_nees(e.free_flight_filter(), truth_state(f));
       if (static_cast<int>(sum_per_frame.size()) <= index) {
         sum_per_frame.push_back(0.0);
         count_per_frame.push_back(0);
@@ -315,8 +315,8 @@ TEST_CASE("the free-flight estimate is consistent: NEES in its 95% band", "[esti
     run(rec, est, ro);
   }
   const double mean = total / samples;
-  const double lo = chiSquareQuantile(-1.959964, dof * runs) / runs;
-  const double hi = chiSquareQuantile(1.959964, dof * runs) / runs;
+  const double lo = chi_square_quantile(-1.959964, dof * runs) / runs;
+  const double hi = chi_square_quantile(1.959964, dof * runs) / runs;
   int inside = 0;
   int frames = 0;
   for (std::size_t i = 0; i < sum_per_frame.size(); ++i) {
@@ -333,11 +333,11 @@ TEST_CASE("the free-flight estimate is consistent: NEES in its 95% band", "[esti
 }
 
 TEST_CASE("a 100 ms motion-capture dropout is coasted through", "[estimation]") {
-  const Recording rec = estimation_test::recordThrow(WorldParams{}, 2);
+  const Recording rec = estimation_test::record_throw(WorldParams{}, 2);
   REQUIRE(rec.launch_t);
   const double t0 = *rec.launch_t + 0.2;
   const double t1 = t0 + 0.1;
-  StateEstimator est(estimatorFor());
+  StateEstimator est(estimator_for());
   double sigma_before = 0.0;
   double sigma_end = 0.0;
   double error_end = 0.0;
@@ -352,14 +352,14 @@ TEST_CASE("a 100 ms motion-capture dropout is coasted through", "[estimation]") 
     if (ro.drop(f)) {  // the values at the last lost frame remain
       sigma_end = sigma;
       error_end = (e.pole().state.p_m - f.truth.p).norm();
-      nees_end = gs::estimation::freeFlightNees(e.freeFlightFilter(), truthState(f));
+      nees_end = gs::estimation::free_flight_nees(e.free_flight_filter(), truth_state(f));
     }
     if (error_after < 0.0 && f.t_s >= t1 + 0.05) error_after = (e.pole().state.p_m - f.truth.p).norm();
-    if (late_error < 0.0 && f.t_s >= rec.crossing->t_s - 0.15 - 1e-9) late_error = catchError(e, rec);
+    if (late_error < 0.0 && f.t_s >= rec.crossing->t_s - 0.15 - 1e-9) late_error = catch_error(e, rec);
   };
   run(rec, est, ro);
   int switches_in_flight = 0;
-  for (const auto& s : est.recentSwitches()) {
+  for (const auto& s : est.recent_switches()) {
     if (s.detected_t_s > *rec.launch_t + 0.05 && s.detected_t_s < *rec.impact_t - 0.05) ++switches_in_flight;
   }
   std::printf("dropout of 100 ms in free flight: position error %.2f mm at its end (sigma %.2f mm, "
@@ -376,7 +376,7 @@ TEST_CASE("a 100 ms motion-capture dropout is coasted through", "[estimation]") 
   CHECK(late_error < 0.02);
 
   // The same on a balanced pole (both vehicles and the pole missing).
-  const Recording hover = estimation_test::recordBalancedHover(WorldParams{}, 4, 3.0);
+  const Recording hover = estimation_test::record_balanced_hover(WorldParams{}, 4, 3.0);
   StateEstimator h;
   RunOptions rh;
   rh.drop = [](const Frame& f) { return f.t_s >= 1.5 && f.t_s < 1.6; };
@@ -386,28 +386,28 @@ TEST_CASE("a 100 ms motion-capture dropout is coasted through", "[estimation]") 
   };
   run(hover, h, rh);
   std::printf("dropout of 100 ms on a balanced pole: %llu switches, max error after it %.2f mm\n",
-              static_cast<unsigned long long>(h.switchCount()), 1e3 * hover_error);
-  CHECK(h.switchCount() == 1);
+              static_cast<unsigned long long>(h.switch_count()), 1e3 * hover_error);
+  CHECK(h.switch_count() == 1);
   CHECK(hover_error < 0.01);
 }
 
 TEST_CASE("a gap longer than max_coast_s starts over instead of coasting", "[estimation]") {
-  const Recording hover = estimation_test::recordBalancedHover(WorldParams{}, 4, 1.0);
-  StateEstimator est(estimatorFor());
-  for (const Frame& f : hover.frames) est.update(toMocap(f));
+  const Recording hover = estimation_test::record_balanced_hover(WorldParams{}, 4, 1.0);
+  StateEstimator est(estimator_for());
+  for (const Frame& f : hover.frames) est.update(to_mocap(f));
   REQUIRE(est.mode() == PoleMode::on_vehicle1);
-  REQUIRE(est.startOverCount() == 0);
-  const std::uint64_t switches = est.switchCount();
+  REQUIRE(est.start_over_count() == 0);
+  const std::uint64_t switches = est.switch_count();
 
   // The motion capture comes back after a day (or a log's clock jumps): one call, no coasting
   // through 17 million steps, and the next poses initialise everything afresh.
-  MocapFrame late = toMocap(hover.frames.back());
+  MocapFrame late = to_mocap(hover.frames.back());
   late.t_s += 86400.0;
   est.update(late);
-  CHECK(est.startOverCount() == 1);
+  CHECK(est.start_over_count() == 1);
   CHECK(est.time() == late.t_s);
-  CHECK(est.switchCount() == switches + 1);
-  CHECK(est.lastSwitch()->reason == gs::estimation::SwitchReason::initial);
+  CHECK(est.switch_count() == switches + 1);
+  CHECK(est.last_switch()->reason == gs::estimation::SwitchReason::initial);
   CHECK(est.pole().valid);
   CHECK((est.pole().state.p_m - hover.frames.back().truth.p).norm() < 0.01);
 
@@ -415,20 +415,20 @@ TEST_CASE("a gap longer than max_coast_s starts over instead of coasting", "[est
   MocapFrame soon = late;
   soon.t_s += 0.5;
   est.update(soon);
-  CHECK(est.startOverCount() == 1);
+  CHECK(est.start_over_count() == 1);
 
   // A clock beyond any real one (a corrupt log row) is handled the same way.
   MocapFrame absurd = late;
   absurd.t_s = 1e300;
   est.update(absurd);
-  CHECK(est.startOverCount() == 2);
+  CHECK(est.start_over_count() == 2);
 }
 
 TEST_CASE("latency compensation predicts the chosen state to when a command acts", "[estimation]") {
   const double latency = 0.03;
   const int ahead = static_cast<int>(std::lround(latency / kFrame_s));
-  const Recording rec = estimation_test::recordThrow(WorldParams{}, 4);
-  StateEstimator est(estimatorFor());
+  const Recording rec = estimation_test::record_throw(WorldParams{}, 4);
+  StateEstimator est(estimator_for());
   double free_error = 0.0;
   double free_error_now = 0.0;
   double balanced_error = 0.0;
@@ -440,19 +440,19 @@ TEST_CASE("latency compensation predicts the chosen state to when a command acts
     if (k + ahead > rec.frames.size()) return;
     const Frame& later = rec.frames[k - 1 + ahead];
     if (later.truth.mode != f.truth.mode) return;
-    const gs::estimation::PoleEstimate p = e.predictPole(f.t_s + latency);
+    const gs::estimation::PoleEstimate p = e.predict_pole(f.t_s + latency);
     CHECK(p.t_s == Approx(f.t_s + latency));
     // The states-only prediction against the whole estimator advanced, covariances and all:
     // the states propagate alike (only a launch call, whose threshold has a sigma term, could
     // come a step apart).
     StateEstimator whole = e;
-    whole.advanceTo(f.t_s + latency);
+    whole.advance_to(f.t_s + latency);
     if (whole.mode() == p.mode) {
       states_only_difference =
           std::max(states_only_difference, (whole.pole().state.p_m - p.state.p_m).norm());
-      const gs::estimation::VehicleEstimate v = e.predictVehicle(1, f.t_s + latency);
+      const gs::estimation::VehicleEstimate v = e.predict_vehicle(pa::kVehicle1, f.t_s + latency);
       states_only_difference =
-          std::max(states_only_difference, (whole.vehicle(1).state.p_m - v.state.p_m).norm());
+          std::max(states_only_difference, (whole.vehicle(pa::kVehicle1).state.p_m - v.state.p_m).norm());
     }
     const double err = (p.state.p_m - later.truth.p).norm();
     if (f.truth.mode == TruthMode::free && e.mode() == PoleMode::free) {
@@ -473,13 +473,13 @@ TEST_CASE("latency compensation predicts the chosen state to when a command acts
   CHECK(states_only_difference < 1e-9);
   // The estimator itself is not moved by a prediction.
   const double t = est.time();
-  est.predictPole(t + 1.0);
+  est.predict_pole(t + 1.0);
   CHECK(est.time() == t);
 }
 
 TEST_CASE("health: motion-capture rate, sample age, innovation statistics", "[estimation]") {
-  const Recording rec = estimation_test::recordBalancedHover(WorldParams{}, 9, 3.0);
-  StateEstimator est(estimatorFor());
+  const Recording rec = estimation_test::record_balanced_hover(WorldParams{}, 9, 3.0);
+  StateEstimator est(estimator_for());
   RunOptions ro;
   ro.drop = [](const Frame& f) {
     return f.t_s > 2.0 && f.t_s < 2.5 && std::lround(f.t_s / kFrame_s) % 2 == 0;
@@ -518,7 +518,7 @@ TEST_CASE("health: motion-capture rate, sample age, innovation statistics", "[es
 }
 
 TEST_CASE("an impact reported by the vehicle counts as evidence for the switch", "[estimation]") {
-  const Recording rec = estimation_test::recordThrow(WorldParams{}, 5);
+  const Recording rec = estimation_test::record_throw(WorldParams{}, 5);
   REQUIRE(rec.impact_t);
   const double radio_latency = 0.015;
   // Runs with the plate-contact check off; `report`: the vehicle's IMPACT frame arrives
@@ -529,17 +529,17 @@ TEST_CASE("an impact reported by the vehicle counts as evidence for the switch",
     std::optional<gs::estimation::ModeSwitch> found;
     for (const Frame& f : rec.frames) {
       if (report && !reported && f.t_s >= *rec.impact_t + radio_latency) {
-        est.reportImpact(2, *rec.impact_t);
+        est.report_impact(pa::kVehicle2, *rec.impact_t);
         reported = true;
       }
-      est.update(toMocap(f));
-      est.setCommand(1, f.t_s, toInput(f.command[0]));
-      est.setCommand(2, f.t_s, toInput(f.command[1]));
-      if (!found && est.mode() == PoleMode::on_vehicle2) found = est.lastSwitch();
+      est.update(to_mocap(f));
+      est.set_command(pa::kVehicle1, f.t_s, to_input(f.command[0]));
+      est.set_command(pa::kVehicle2, f.t_s, to_input(f.command[1]));
+      if (!found && est.mode() == PoleMode::on_vehicle2) found = est.last_switch();
     }
     return found;
   };
-  StateEstimatorConfig no_contact = estimatorFor();
+  StateEstimatorConfig no_contact = estimator_for();
   no_contact.impact_min_approach_speed_mps = 1e9;
   StateEstimatorConfig report_only = no_contact;
   report_only.selector.switch_threshold_nats = 1e9;  // the innovations alone never switch
@@ -553,7 +553,7 @@ TEST_CASE("an impact reported by the vehicle counts as evidence for the switch",
               "truth)\n",
               (by_innovation->detected_t_s - *rec.impact_t) / kFrame_s,
               (by_report->detected_t_s - *rec.impact_t) / kFrame_s,
-              std::string(gs::estimation::switchReasonName(by_report->reason)).c_str(),
+              std::string(gs::estimation::switch_reason_name(by_report->reason)).c_str(),
               1e3 * (by_report->event_t_s - *rec.impact_t));
   CHECK(by_innovation->reason == gs::estimation::SwitchReason::innovation);
   CHECK(by_innovation->detected_t_s - *rec.impact_t <= 3 * kFrame_s + 1e-9);
@@ -570,12 +570,12 @@ TEST_CASE("without the commands (offline replay) modes are still found", "[estim
   double worst_launch = 0.0;
   int unmatched = 0;
   for (unsigned seed = 1; seed <= 3; ++seed) {
-    const ThrowRun r = runThrow(seed, estimatorFor(), false);
+    const ThrowRun r = run_throw(seed, estimator_for(), false);
     REQUIRE(r.launch.t_s);
     REQUIRE(r.impact.t_s);
     worst_launch = std::max(worst_launch, std::abs(*r.launch.t_s - *r.rec.launch_t) / kFrame_s);
     worst_impact = std::max(worst_impact, std::abs(*r.impact.t_s - *r.rec.impact_t) / kFrame_s);
-    unmatched += unmatchedSwitches(r, 12.0);
+    unmatched += unmatched_switches(r, 12.0);
   }
   std::printf("without commands: worst launch detection %.1f frames, impact %.1f frames, %d other "
               "switches (3 throws)\n",
@@ -593,17 +593,17 @@ TEST_CASE("a plant whose lags differ from the observer's by 20%", "[estimation]"
   int unmatched = 0;
   for (unsigned seed = 1; seed <= 3; ++seed) {
     ThrowRun r;
-    r.rec = estimation_test::recordThrow(slow, seed);
-    StateEstimator est(estimatorFor());
+    r.rec = estimation_test::record_throw(slow, seed);
+    StateEstimator est(estimator_for());
     RunOptions ro;
     ro.observe = [&](const Frame& f, const StateEstimator& e) {
-      if (!r.launch.t_s && e.mode() == PoleMode::free && e.switchCount() > 1) r.launch.t_s = f.t_s;
+      if (!r.launch.t_s && e.mode() == PoleMode::free && e.switch_count() > 1) r.launch.t_s = f.t_s;
     };
     run(r.rec, est, ro);
-    r.switches = est.recentSwitches();
+    r.switches = est.recent_switches();
     REQUIRE(r.launch.t_s);
     worst = std::max(worst, std::abs(*r.launch.t_s - *r.rec.launch_t) / kFrame_s);
-    unmatched += unmatchedSwitches(r);
+    unmatched += unmatched_switches(r);
   }
   std::printf("plant lags 20%% slower than modelled: worst launch detection %.1f frames, %d "
               "unmatched switches (3 throws)\n",

@@ -15,8 +15,8 @@ using gs::planning::ThrowProblem;
 
 struct Setup {
   ThrowProblem problem;
-  gs::planning::ThrowTracker tracker{gs::planning::planThrow(ThrowProblem{}).trajectory};
-  gs::control::LqrGain balancing = gs::control::balancingLqr();
+  gs::planning::ThrowTracker tracker{gs::planning::plan_throw(ThrowProblem{}).trajectory};
+  gs::control::LqrGain balancing = gs::control::balancing_lqr();
 };
 
 const Setup& setup() {
@@ -25,8 +25,8 @@ const Setup& setup() {
 }
 
 // A planar state off the plan at t, and the matching in-plane part of s_qp.
-gs::model::PlanarState<double> offPlan(const Setup& s, double t) {
-  gs::model::PlanarState<double> x = s.tracker.reference().stateAt(t);
+gs::model::PlanarState<double> off_plan(const Setup& s, double t) {
+  gs::model::PlanarState<double> x = s.tracker.reference().state_at(t);
   x(planar::kX) += 0.03;
   x(planar::kAlpha) += 0.01;
   return x;
@@ -39,13 +39,13 @@ TEST_CASE("in the throw's plane the command is the planar TV-LQR's, saturated", 
   REQUIRE(s.tracker.valid());
   REQUIRE(s.balancing.ok);
   for (double t : {0.0, 1.0, 2.0, 2.45}) {
-    const gs::model::PlanarState<double> x = offPlan(s, t);
+    const gs::model::PlanarState<double> x = off_plan(s, t);
     Eigen::VectorXd sqp = Eigen::VectorXd::Zero(bal::kStateSize);
     sqp(bal::kX) = x(planar::kX);  // in-plane parts of s_qp do not reach the lateral rows
     sqp(bal::kPitch) = x(planar::kTheta);
     sqp(bal::kA) = 0.4;
     const gs::model::VehicleInput u =
-        gs::planning::throwCommand(s.tracker, s.balancing, t, x, sqp, s.problem.limits);
+        gs::planning::throw_command(s.tracker, s.balancing, t, x, sqp, s.problem.limits);
     const gs::model::PlanarInput<double> expected =
         gs::planning::saturate(s.tracker.command(t, x), s.problem.limits);
     CHECK(u.a_q_mps2 == expected(planar::kThrust));
@@ -58,7 +58,7 @@ TEST_CASE("in the throw's plane the command is the planar TV-LQR's, saturated", 
 TEST_CASE("across the plane the pole is balanced by the balancing LQR's lateral rows", "[throw_command]") {
   const Setup& s = setup();
   const double t = 2.0;
-  const gs::model::PlanarState<double> x = offPlan(s, t);
+  const gs::model::PlanarState<double> x = off_plan(s, t);
   Eigen::VectorXd lateral = Eigen::VectorXd::Zero(bal::kStateSize);
   lateral(bal::kY) = 0.02;
   lateral(bal::kRoll) = 0.01;
@@ -66,7 +66,7 @@ TEST_CASE("across the plane the pole is balanced by the balancing LQR's lateral 
   lateral(bal::kB) = 0.01;
   lateral(bal::kBDot) = 0.02;
   const gs::model::VehicleInput u =
-      gs::planning::throwCommand(s.tracker, s.balancing, t, x, lateral, s.problem.limits);
+      gs::planning::throw_command(s.tracker, s.balancing, t, x, lateral, s.problem.limits);
   const Eigen::VectorXd hover = -s.balancing.K * lateral;
   CHECK(u.omega_radps.x() == Approx(hover(bal::kRateX)));
   CHECK(u.omega_radps.z() == Approx(hover(bal::kRateZ)));
@@ -80,7 +80,7 @@ TEST_CASE("across the plane the pole is balanced by the balancing LQR's lateral 
   // + (3g / 4) phi (balancing_lqr.hpp), so the roll must go negative.
   Eigen::VectorXd leaning = Eigen::VectorXd::Zero(bal::kStateSize);
   leaning(bal::kB) = 0.02;
-  CHECK(gs::planning::throwCommand(s.tracker, s.balancing, t, x, leaning, s.problem.limits).omega_radps.x() <
+  CHECK(gs::planning::throw_command(s.tracker, s.balancing, t, x, leaning, s.problem.limits).omega_radps.x() <
         0.0);
 }
 
@@ -91,8 +91,8 @@ TEST_CASE("the lateral rates are clamped into the rate limit", "[throw_command]"
   fallen(bal::kBDot) = 5.0;
   fallen(bal::kYaw) = -3.0;
   const gs::model::VehicleInput u =
-      gs::planning::throwCommand(s.tracker, s.balancing, 1.0, offPlan(s, 1.0), fallen, s.problem.limits);
+      gs::planning::throw_command(s.tracker, s.balancing, 1.0, off_plan(s, 1.0), fallen, s.problem.limits);
   CHECK(std::abs(u.omega_radps.x()) == Approx(s.problem.limits.omega_max_radps));
   CHECK(std::abs(u.omega_radps.z()) <= s.problem.limits.omega_max_radps);
-  CHECK(gs::planning::lateralBalancingState(fallen) == fallen);
+  CHECK(gs::planning::lateral_balancing_state(fallen) == fallen);
 }

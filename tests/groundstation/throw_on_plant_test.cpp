@@ -47,19 +47,19 @@ struct Flight {
   std::optional<double> crossing_t_s;
 };
 
-Flight flyThrow(double catch_height_m) {
+Flight fly_throw(double catch_height_m) {
   const gs::planning::ThrowProblem problem;
-  const gs::planning::ThrowPlan plan = gs::planning::planThrow(problem);
+  const gs::planning::ThrowPlan plan = gs::planning::plan_throw(problem);
   REQUIRE(plan.success);
   const gs::planning::ThrowTracker tracker(plan.trajectory);
   REQUIRE(tracker.valid());
-  const gs::control::LqrGain balancing = gs::control::balancingLqr();
+  const gs::control::LqrGain balancing = gs::control::balancing_lqr();
   REQUIRE(balancing.ok);
   const double T = problem.duration_s;
 
   hil::PlantConfig config;  // the documented defaults (hil/config/plant.yaml)
   hil::Plant plant(config, 7);
-  placeForThrow(plant);
+  place_for_throw(plant);
   const double L = config.pole.half_length_m;
   const hil::VehicleController rate_loop(config.vehicle, config.gravity_mps2);
 
@@ -78,27 +78,27 @@ Flight flyThrow(double catch_height_m) {
     if (t < T - 1e-9) {
       // The ground station's 3D throw command (throw_command.hpp): the planar TV-LQR in the
       // throw's plane, the pole balanced across it.
-      command = gs::planning::throwCommand(tracker, balancing, t, planarState(plant),
-                                           balancingState(plant, L), problem.limits);
+      command = gs::planning::throw_command(tracker, balancing, t, planar_state(plant),
+                                            balancing_state(plant, L), problem.limits);
     } else {
       // The release: the thrust drops to its minimum and the plate pitches back at the plan's
       // launch rate (Omega_y,T > 0, away from the pole's lower end), so that the plate falls
       // away from the pole (0.1 s) and keeps falling away (0.3 s) before it recovers.
-      const hil::Mat3 r = plant.vehicle(0).body.rotation();
+      const hil::Mat3 r = plant.vehicle(pa::kVehicle1).body.rotation();
       command.a_q_mps2 = t < T + 0.3 ? problem.limits.a_q_min_mps2 : config.gravity_mps2;
       command.omega_radps = t < T + 0.1 ? hil::Vec3(0.0, problem.launch_pitch_rate_radps, 0.0)
                                         : hil::Vec3(0.0, -8.0 * std::atan2(r(0, 2), r(2, 2)), 0.0);
     }
-    est.setCommand(1, t, command);
+    est.set_command(pa::kVehicle1, t, command);
     if (t < T - 1e-9) {
       const double e =
-          std::abs(planarState(plant)(planar::kAlpha) - tracker.reference().stateAt(t)(planar::kAlpha));
+          std::abs(planar_state(plant)(planar::kAlpha) - tracker.reference().state_at(t)(planar::kAlpha));
       flight.max_tilt_error_rad = std::max(flight.max_tilt_error_rad, e);
     }
 
     for (int k = 0; k < steps_per_frame; ++k) {
       const hil::MotorCommands m =
-          rate_loop.track_rates(plant.vehicle(0), command.a_q_mps2, command.omega_radps);
+          rate_loop.track_rates(plant.vehicle(pa::kVehicle1), command.a_q_mps2, command.omega_radps);
       plant.step(kRateLoop_s, m, hil::MotorCommands{});
       if (!flight.release_t_s && plant.t_s() > T - 0.2 &&
           plant.pole_end_force_N(0, hil::Surface::plate1).norm() == 0.0) {
@@ -107,7 +107,7 @@ Flight flyThrow(double catch_height_m) {
       for (const hil::PoleContactEvent& e : plant.take_contact_events()) {
         if (!flight.launch_t_s && !e.begins && e.surface == hil::Surface::plate1 && e.t_s > 0.5) {
           flight.launch_t_s = e.t_s;
-          flight.launch_state = planarState(plant);
+          flight.launch_state = planar_state(plant);
         }
       }
       catches.watch(plant, plant.t_s(), L, flight.launch_t_s.has_value());
@@ -115,14 +115,14 @@ Flight flyThrow(double catch_height_m) {
 
     hil::MocapFrame f;
     while (plant.pop_mocap(f)) {
-      est.update(toEstimatorFrame(f));
+      est.update(to_estimator_frame(f));
       if (flight.launch_t_s && est.mode() == gs::estimation::PoleMode::free) {
-        catches.predicted(f.capture_t_s,
-                          gs::planning::predictCatchPoint(est.pole().state, catch_height_m, est.poleModel()));
+        catches.predicted(f.capture_t_s, gs::planning::predict_catch_point(est.pole().state, catch_height_m,
+                                                                           est.pole_model()));
       }
     }
   }
-  flight.switches = est.recentSwitches();
+  flight.switches = est.recent_switches();
   REQUIRE(flight.release_t_s);
   REQUIRE(flight.launch_t_s);
   const std::optional<CatchCheck::Errors> misses = catches.errors(*flight.release_t_s);
@@ -138,7 +138,7 @@ Flight flyThrow(double catch_height_m) {
 TEST_CASE("the planned throw flown on the truth plant: released at T, one mode switch",
           "[estimation][hil][throw]") {
   const double catch_height_m = kStart_m.z() + 0.5;
-  const Flight f = flyThrow(catch_height_m);
+  const Flight f = fly_throw(catch_height_m);
   const gs::planning::ThrowProblem problem;
   const double T = problem.duration_s;
   const PlanarState<double> target = problem.launch_state;
@@ -155,9 +155,9 @@ TEST_CASE("the planned throw flown on the truth plant: released at T, one mode s
   for (const gs::estimation::ModeSwitch& s : later) {
     std::printf("  switch %s -> %s (%s): event at T %+.1f ms, decided at T %+.1f ms, %+.1f frames "
                 "from the plate force's end\n",
-                std::string(gs::estimation::poleModeName(s.from)).c_str(),
-                std::string(gs::estimation::poleModeName(s.to)).c_str(),
-                std::string(gs::estimation::switchReasonName(s.reason)).c_str(), 1e3 * (s.event_t_s - T),
+                std::string(gs::estimation::pole_mode_name(s.from)).c_str(),
+                std::string(gs::estimation::pole_mode_name(s.to)).c_str(),
+                std::string(gs::estimation::switch_reason_name(s.reason)).c_str(), 1e3 * (s.event_t_s - T),
                 1e3 * (s.detected_t_s - T), (s.detected_t_s - *f.release_t_s) / kFrame_s);
   }
   std::printf("  catch point %.1f mm off 0.1 s after the release, %.1f mm 0.15 s before the "

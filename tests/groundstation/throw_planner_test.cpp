@@ -19,13 +19,13 @@ using gs::planning::ThrowProblem;
 using gs::planning::ThrowTrajectory;
 namespace planar = gs::model::planar;
 
-const ThrowPlan& paperPlan() {
-  static const ThrowPlan plan = gs::planning::planThrow(ThrowProblem{});
+const ThrowPlan& paper_plan() {
+  static const ThrowPlan plan = gs::planning::plan_throw(ThrowProblem{});
   return plan;
 }
 
 // Simpson quadrature of (34)'s integrand with the paper's weights over the collocation points.
-double paperCost(const ThrowTrajectory& traj) {
+double paper_cost(const ThrowTrajectory& traj) {
   const auto l = [&](int j) {
     const double alpha = traj.state[j](planar::kAlpha);
     const double da = traj.input[j](planar::kThrust) - pa::kGravity_mps2;
@@ -39,9 +39,9 @@ double paperCost(const ThrowTrajectory& traj) {
   return cost;
 }
 
-PlanarState<double> rk4Step(const PlanarState<double>& s, double t, double h, const ThrowTrajectory& traj) {
+PlanarState<double> rk4_step(const PlanarState<double>& s, double t, double h, const ThrowTrajectory& traj) {
   const auto f = [&](const PlanarState<double>& x, double tt) -> PlanarState<double> {
-    return gs::model::planarPoleVehicleDynamics<double>(x, traj.inputAt(tt), traj.params);
+    return gs::model::planar_pole_vehicle_dynamics<double>(x, traj.input_at(tt), traj.params);
   };
   const PlanarState<double> k1 = f(s, t);
   const PlanarState<double> k2 = f(s + 0.5 * h * k1, t + 0.5 * h);
@@ -53,7 +53,7 @@ PlanarState<double> rk4Step(const PlanarState<double>& s, double t, double h, co
 }  // namespace
 
 TEST_CASE("the collocation mesh is graded towards both ends", "[throw_planner]") {
-  const std::vector<double> knots = gs::planning::throwCollocationMesh(2.5, 100, 0.9);
+  const std::vector<double> knots = gs::planning::throw_collocation_mesh(2.5, 100, 0.9);
   REQUIRE(knots.size() == 101);
   CHECK(knots.front() == 0.0);
   CHECK(knots.back() == 2.5);
@@ -62,13 +62,13 @@ TEST_CASE("the collocation mesh is graded towards both ends", "[throw_planner]")
   CHECK(knots[1] - knots[0] == Approx(0.1 * mean).epsilon(0.02));
   CHECK(knots[100] - knots[99] == Approx(0.1 * mean).epsilon(0.02));
   CHECK(knots[51] - knots[50] == Approx(1.9 * mean).epsilon(0.02));
-  const std::vector<double> uniform = gs::planning::throwCollocationMesh(2.5, 10, 0.0);
+  const std::vector<double> uniform = gs::planning::throw_collocation_mesh(2.5, 10, 0.0);
   for (int k = 0; k <= 10; ++k) CHECK(uniform[k] == Approx(0.25 * k));
 }
 
 TEST_CASE("the NLP's gradient, Jacobian and Hessian match finite differences", "[throw_planner]") {
   const ThrowProblem problem;
-  ThrowCollocationNlp nlp(problem, gs::planning::throwCollocationMesh(problem.duration_s, 4, 0.5));
+  ThrowCollocationNlp nlp(problem, gs::planning::throw_collocation_mesh(problem.duration_s, 4, 0.5));
   Ipopt::Index n = 0, m = 0, nnz_jac = 0, nnz_h = 0;
   Ipopt::TNLP::IndexStyleEnum style;
   REQUIRE(nlp.get_nlp_info(n, m, nnz_jac, nnz_h, style));
@@ -76,7 +76,7 @@ TEST_CASE("the NLP's gradient, Jacobian and Hessian match finite differences", "
   REQUIRE(m == 10 * 4 + 3);  // per interval Simpson, F_N and slew rows; F_N at inner knots
 
   // A generic point: the straight line with a deterministic wiggle in every variable.
-  Eigen::VectorXd x = nlp.initialGuess();
+  Eigen::VectorXd x = nlp.initial_guess();
   for (int i = 0; i < n; ++i) x(i) += 0.1 * std::sin(0.7 * i + 0.3);
   Eigen::VectorXd lambda(m);
   for (int r = 0; r < m; ++r) lambda(r) = std::cos(1.1 * r + 0.2);
@@ -144,7 +144,7 @@ TEST_CASE("the NLP's gradient, Jacobian and Hessian match finite differences", "
 TEST_CASE("the launch input makes F_N vanish exactly at the end state", "[throw_planner]") {
   const ThrowProblem problem;
   CHECK(problem.validate().empty());
-  const PlanarInput<double> u_T = problem.launchInput();
+  const PlanarInput<double> u_T = problem.launch_input();
   CHECK(u_T(planar::kPitchRate) == 2.5);
   CHECK(gs::model::planarNormalForcePerMass_mps2<double>(problem.launch_state, u_T) ==
         Approx(0.0).margin(1e-12));
@@ -153,7 +153,7 @@ TEST_CASE("the launch input makes F_N vanish exactly at the end state", "[throw_
 
 TEST_CASE("the planned throw meets every constraint of (34)", "[throw_planner]") {
   const ThrowProblem problem;
-  const ThrowPlan& plan = paperPlan();
+  const ThrowPlan& plan = paper_plan();
   INFO(plan.status);
   REQUIRE(plan.success);
   CHECK(plan.ipopt_status == 0);
@@ -170,7 +170,7 @@ TEST_CASE("the planned throw meets every constraint of (34)", "[throw_planner]")
     const double h = traj.t_s[b] - traj.t_s[a];
     CHECK(traj.t_s[m] == Approx(0.5 * (traj.t_s[a] + traj.t_s[b])));
     const auto f = [&](int j) {
-      return gs::model::planarPoleVehicleDynamics<double>(traj.state[j], traj.input[j]);
+      return gs::model::planar_pole_vehicle_dynamics<double>(traj.state[j], traj.input[j]);
     };
     const PlanarState<double> simpson = traj.state[b] - traj.state[a] - h / 6.0 * (f(a) + 4.0 * f(m) + f(b));
     const PlanarState<double> hermite =
@@ -206,47 +206,47 @@ TEST_CASE("the planned throw meets every constraint of (34)", "[throw_planner]")
   CHECK(traj.normal_force_per_mass_mps2.back() == Approx(0.0).margin(1e-9));
 
   // The reported cost is the Simpson quadrature of (34)'s integrand over the points.
-  const double cost = paperCost(traj);
+  const double cost = paper_cost(traj);
   CHECK(plan.cost == Approx(cost).epsilon(1e-9));
 }
 
 TEST_CASE("the throw is optimal: a finer mesh changes the cost little, and another feasible "
           "throw costs more",
           "[throw_planner]") {
-  const ThrowPlan& plan = paperPlan();
+  const ThrowPlan& plan = paper_plan();
   REQUIRE(plan.success);
   gs::planning::ThrowSolverOptions fine;
   fine.intervals = 200;
-  const ThrowPlan finer = gs::planning::planThrow(ThrowProblem{}, fine);
+  const ThrowPlan finer = gs::planning::plan_throw(ThrowProblem{}, fine);
   REQUIRE(finer.success);
   CHECK(finer.cost == Approx(plan.cost).epsilon(0.01));
   // Another feasible throw, the optimum for a doubled pitch-rate weight, evaluated under the
   // weights of (34).
   ThrowProblem heavy;
   heavy.weights.pitch_rate = 16.0;
-  const ThrowPlan other = gs::planning::planThrow(heavy);
+  const ThrowPlan other = gs::planning::plan_throw(heavy);
   REQUIRE(other.success);
-  const double other_cost = paperCost(other.trajectory);
+  const double other_cost = paper_cost(other.trajectory);
   CHECK(other_cost > plan.cost);
 }
 
 TEST_CASE("the trajectory's interpolants pass through its collocation points", "[throw_planner]") {
-  const ThrowTrajectory& traj = paperPlan().trajectory;
+  const ThrowTrajectory& traj = paper_plan().trajectory;
   REQUIRE(!traj.t_s.empty());
   for (std::size_t j = 0; j < traj.t_s.size(); ++j) {
     // Knots exactly; midpoints through the Hermite constraint of the transcription.
-    CHECK((traj.stateAt(traj.t_s[j]) - traj.state[j]).cwiseAbs().maxCoeff() < 1e-6);
-    CHECK((traj.inputAt(traj.t_s[j]) - traj.input[j]).cwiseAbs().maxCoeff() < 1e-9);
+    CHECK((traj.state_at(traj.t_s[j]) - traj.state[j]).cwiseAbs().maxCoeff() < 1e-6);
+    CHECK((traj.input_at(traj.t_s[j]) - traj.input[j]).cwiseAbs().maxCoeff() < 1e-9);
   }
-  CHECK((traj.stateAt(-1.0) - traj.state.front()).norm() == 0.0);
-  CHECK((traj.stateAt(9.0) - traj.state.back()).norm() == 0.0);
+  CHECK((traj.state_at(-1.0) - traj.state.front()).norm() == 0.0);
+  CHECK((traj.state_at(9.0) - traj.state.back()).norm() == 0.0);
 }
 
 TEST_CASE("flown open loop on the planar model, the pole stays on the plate until T and leaves "
           "there",
           "[throw_planner]") {
   const ThrowProblem problem;
-  const ThrowPlan& plan = paperPlan();
+  const ThrowPlan& plan = paper_plan();
   REQUIRE(plan.success);
   const ThrowTrajectory& traj = plan.trajectory;
   // RK4 with the interpolated inputs in 0.1 ms steps (the shortest interval is 2.5 ms).
@@ -256,9 +256,9 @@ TEST_CASE("flown open loop on the planar model, the pole stays on the plate unti
   double min_fn_early = 1e9;  // on [0, T - 0.1 s]
   double min_fn_all = 1e9;
   for (int k = 0; k < steps; ++k) {
-    s = rk4Step(s, k * h, h, traj);
+    s = rk4_step(s, k * h, h, traj);
     const double t = (k + 1) * h;
-    const double fn = gs::model::planarNormalForcePerMass_mps2<double>(s, traj.inputAt(t), traj.params);
+    const double fn = gs::model::planarNormalForcePerMass_mps2<double>(s, traj.input_at(t), traj.params);
     min_fn_all = std::min(min_fn_all, fn);
     if (t <= problem.duration_s - 0.1) min_fn_early = std::min(min_fn_early, fn);
   }
@@ -274,15 +274,16 @@ TEST_CASE("flown open loop on the planar model, the pole stays on the plate unti
   CHECK(std::abs(err(planar::kTheta)) < 1e-5);
   CHECK(std::abs(err(planar::kAlpha)) < 1e-3);
   CHECK(std::abs(err(planar::kAlphaDot)) < 5e-3);
-  const double fn_T = gs::model::planarNormalForcePerMass_mps2<double>(s, problem.launchInput(), traj.params);
+  const double fn_T =
+      gs::model::planarNormalForcePerMass_mps2<double>(s, problem.launch_input(), traj.params);
   CHECK(std::abs(fn_T) < 1e-2);
 
   // Holding the launch input past T the normal force turns negative at once: the pole leaves.
-  const PlanarInput<double> u_T = problem.launchInput();
+  const PlanarInput<double> u_T = problem.launch_input();
   PlanarState<double> after = s;
   for (int k = 0; k < 100; ++k) {
     const auto f = [&](const PlanarState<double>& x) {
-      return gs::model::planarPoleVehicleDynamics<double>(x, u_T);
+      return gs::model::planar_pole_vehicle_dynamics<double>(x, u_T);
     };
     const double hh = 1e-4;
     const PlanarState<double> k1 = f(after);
@@ -297,7 +298,7 @@ TEST_CASE("flown open loop on the planar model, the pole stays on the plate unti
 TEST_CASE("an ill-posed or infeasible throw is reported, not returned as a plan", "[throw_planner]") {
   ThrowProblem weak_motors;
   weak_motors.limits.a_q_min_mps2 = 5.0;  // the launch needs a_q,T = 4.80 m/s^2
-  const ThrowPlan rejected = gs::planning::planThrow(weak_motors);
+  const ThrowPlan rejected = gs::planning::plan_throw(weak_motors);
   CHECK_FALSE(rejected.success);
   CHECK(rejected.status.find("rejected") != std::string::npos);
 
@@ -305,11 +306,11 @@ TEST_CASE("an ill-posed or infeasible throw is reported, not returned as a plan"
   too_short.duration_s = 0.4;  // 2 m up and 5.5 m/s in 0.4 s needs far more than 20 m/s^2
   gs::planning::ThrowSolverOptions options;
   options.max_iterations = 100;
-  const ThrowPlan failed = gs::planning::planThrow(too_short, options);
+  const ThrowPlan failed = gs::planning::plan_throw(too_short, options);
   CHECK_FALSE(failed.success);
   CHECK(failed.ipopt_status != 0);
 
   gs::planning::ThrowSolverOptions bad;
   bad.intervals = 0;
-  CHECK_FALSE(gs::planning::planThrow(ThrowProblem{}, bad).success);
+  CHECK_FALSE(gs::planning::plan_throw(ThrowProblem{}, bad).success);
 }

@@ -60,10 +60,10 @@ namespace bal = gs::control::balancing;
 namespace proto = pa::proto;
 using namespace plant_throw;
 
-constexpr double kFrame_s = 0.005;   // motion capture and ground-station commands, 200 Hz
-constexpr int kTicksPerFrame = 5;    // firmware ticks (1 ms) per frame
-constexpr int kHeartbeatTicks = 20;  // GS_HEARTBEAT at 50 Hz
-constexpr std::uint8_t kNode = 1;
+constexpr double kFrame_s = 0.005;                    // motion capture and ground-station commands, 200 Hz
+constexpr int kTicksPerFrame = 5;                     // firmware ticks (1 ms) per frame
+constexpr int kHeartbeatTicks = 20;                   // GS_HEARTBEAT at 50 Hz
+constexpr std::uint8_t kNode = pa::kVehicle1.node();  // on the wire
 constexpr std::uint16_t kSession = 0x7A11;
 constexpr double kSettle_s = 2.0;  // balancing hover before the throw
 // The throw before its terminal phase (the last 0.3 s, where the pitch rate swings fastest).
@@ -105,22 +105,22 @@ struct Flight {
   Heard heard;
 };
 
-Flight flyThrowThroughFirmware(double catch_height_m) {
+Flight fly_throw_through_firmware(double catch_height_m) {
   const gs::planning::ThrowProblem problem;
-  const gs::planning::ThrowPlan plan = gs::planning::planThrow(problem);
+  const gs::planning::ThrowPlan plan = gs::planning::plan_throw(problem);
   REQUIRE(plan.success);
   const gs::planning::ThrowTracker tracker(plan.trajectory);
   REQUIRE(tracker.valid());
   const double T = problem.duration_s;
-  const gs::control::LqrGain balancing = gs::control::balancingLqr();
+  const gs::control::LqrGain balancing = gs::control::balancing_lqr();
   REQUIRE(balancing.ok);
 
   hil::PlantConfig config;  // the documented defaults (hil/config/plant.yaml), as throw_on_plant
   hil::sil::Lockstep rig(config, 7);
   hil::Plant& plant = rig.plant();
   hil::sil::FirmwareVehicle& firmware =
-      rig.attach_firmware(0, hil::sil::firmware_config_for(config.vehicle, kNode));
-  placeForThrow(plant);
+      rig.attach_firmware(hil::sil::firmware_config_for(config.vehicle, pa::VehicleId(kNode)));
+  place_for_throw(plant);
   const double L = config.pole.half_length_m;
   // The paper's models leave the pole's weight off the vehicle (Section II); the plate carries
   // it, so the balancing hover adds it to the collective (m_p g / m_v, 0.48 m/s^2) instead of
@@ -139,7 +139,7 @@ Flight flyThrowThroughFirmware(double catch_height_m) {
     firmware.inject(f);
   };
   // One RATE_THRUST frame; returns what the frame carries (the vehicle flies the decoded values).
-  auto sendSetpoint = [&](double thrust_mps2, const hil::Vec3& rates_radps) {
+  auto send_setpoint = [&](double thrust_mps2, const hil::Vec3& rates_radps) {
     proto::RateThrust sp{{static_cast<float>(rates_radps.x()), static_cast<float>(rates_radps.y()),
                           static_cast<float>(rates_radps.z())},
                          static_cast<float>(thrust_mps2),
@@ -172,7 +172,7 @@ Flight flyThrowThroughFirmware(double catch_height_m) {
 
   // The arm sequence on the first tick: heartbeat, a zero-thrust setpoint, ARM.
   send(proto::GsHeartbeat{0, kSession, proto::GroundState::active, heartbeat_seq++}, proto::kBroadcastNode);
-  sendSetpoint(0.0, hil::Vec3::Zero());
+  send_setpoint(0.0, hil::Vec3::Zero());
   send(proto::Command{proto::CommandCode::arm, 0, kSession, 0}, kNode);
 
   const double t_end = kSettle_s + T + 1.6;
@@ -188,9 +188,9 @@ Flight flyThrowThroughFirmware(double catch_height_m) {
       command.omega_radps.setZero();
     } else if (tau < -1e-9) {
       // The settling hover: the balancing LQR (Section VII-A) about the plan's origin.
-      Eigen::VectorXd u = -balancing.K * balancingState(plant, L);
+      Eigen::VectorXd u = -balancing.K * balancing_state(plant, L);
       u(bal::kThrust) += config.gravity_mps2 + pole_weight_mps2;
-      command = gs::control::fromBalancingInput(u);
+      command = gs::control::from_balancing_input(u);
       command.a_q_mps2 =
           std::clamp(command.a_q_mps2, problem.limits.a_q_min_mps2, problem.limits.a_q_max_mps2);
       if (tau > -1.0 - 1e-9) {
@@ -200,17 +200,17 @@ Flight flyThrowThroughFirmware(double catch_height_m) {
     } else if (tau < T - 1e-9) {
       if (std::abs(tau) < 1e-9) {
         flight.throw_start_s = t;
-        flight.start_state = planarState(plant);
+        flight.start_state = planar_state(plant);
       }
-      const PlanarState<double> s = planarState(plant);
+      const PlanarState<double> s = planar_state(plant);
       // The ground station's 3D throw command (throw_command.hpp): the planar TV-LQR in the
       // throw's plane, the pole balanced across it. Without the second part, the IMU's noise and
       // biases, which break the plant's symmetry, grew into a sideways fall: b/L went from 1e-4
       // at the start to 0.26 at t = 2.0 s and 0.98 at 2.4 s, and the pole left the plate 84 ms
       // before T.
       command =
-          gs::planning::throwCommand(tracker, balancing, tau, s, balancingState(plant, L), problem.limits);
-      const PlanarState<double> ref = tracker.reference().stateAt(tau);
+          gs::planning::throw_command(tracker, balancing, tau, s, balancing_state(plant, L), problem.limits);
+      const PlanarState<double> ref = tracker.reference().state_at(tau);
       const double tilt_error_rad = std::abs(s(planar::kAlpha) - ref(planar::kAlpha));
       flight.max_tilt_error_rad = std::max(flight.max_tilt_error_rad, tilt_error_rad);
       if (tau < kTrackedUntil_s) {
@@ -231,13 +231,13 @@ Flight flyThrowThroughFirmware(double catch_height_m) {
       // The release, as on the stand-in: the thrust drops to its minimum and the plate pitches
       // back at the plan's launch rate (Omega_y,T > 0) for 0.1 s, the thrust stays low for 0.3 s
       // so that the plate keeps falling away, then the vehicle levels at hover thrust.
-      const hil::Mat3 r = plant.vehicle(0).body.rotation();
+      const hil::Mat3 r = plant.vehicle(pa::kVehicle1).body.rotation();
       command.a_q_mps2 = tau < T + 0.3 ? problem.limits.a_q_min_mps2 : config.gravity_mps2;
       command.omega_radps = tau < T + 0.1 ? hil::Vec3(0.0, problem.launch_pitch_rate_radps, 0.0)
                                           : hil::Vec3(0.0, -8.0 * std::atan2(r(0, 2), r(2, 2)), 0.0);
     }
     if (frame > 0) {
-      const proto::RateThrust sent = sendSetpoint(command.a_q_mps2, command.omega_radps);
+      const proto::RateThrust sent = send_setpoint(command.a_q_mps2, command.omega_radps);
       if (tau > -1e-9 && tau < T - 1e-9) {
         flight.max_rate_quantisation_radps =
             std::max(flight.max_rate_quantisation_radps,
@@ -249,7 +249,7 @@ Flight flyThrowThroughFirmware(double catch_height_m) {
       command.a_q_mps2 = sent.thrust_mps2;
       command.omega_radps = hil::Vec3(sent.rate_radps[0], sent.rate_radps[1], sent.rate_radps[2]);
     }
-    est.setCommand(1, t, command);
+    est.set_command(pa::kVehicle1, t, command);
 
     for (int k = 0; k < kTicksPerFrame; ++k, ++tick) {
       if (tick > 0 && tick % kHeartbeatTicks == 0) {
@@ -273,7 +273,7 @@ Flight flyThrowThroughFirmware(double catch_height_m) {
       for (const hil::PoleContactEvent& e : plant.take_contact_events()) {
         if (!flight.launch_t_s && !e.begins && e.surface == hil::Surface::plate1 && e.t_s - kSettle_s > 0.5) {
           flight.launch_t_s = e.t_s - kSettle_s;
-          flight.launch_state = planarState(plant);
+          flight.launch_state = planar_state(plant);
         }
       }
       catches.watch(plant, plan_t, L, flight.launch_t_s.has_value());
@@ -281,14 +281,14 @@ Flight flyThrowThroughFirmware(double catch_height_m) {
 
     hil::MocapFrame f;
     while (plant.pop_mocap(f)) {
-      est.update(toEstimatorFrame(f));
+      est.update(to_estimator_frame(f));
       if (flight.launch_t_s && est.mode() == gs::estimation::PoleMode::free) {
-        catches.predicted(f.capture_t_s - kSettle_s,
-                          gs::planning::predictCatchPoint(est.pole().state, catch_height_m, est.poleModel()));
+        catches.predicted(f.capture_t_s - kSettle_s, gs::planning::predict_catch_point(
+                                                         est.pole().state, catch_height_m, est.pole_model()));
       }
     }
   }
-  flight.switches = est.recentSwitches();
+  flight.switches = est.recent_switches();
   flight.missed_ticks = firmware.missed_ticks();
   flight.samples_fed = firmware.samples_fed();
   REQUIRE(flight.release_t_s);
@@ -302,12 +302,12 @@ Flight flyThrowThroughFirmware(double catch_height_m) {
 }
 
 // The flight, flown once (4.6 s of plant time with the firmware in the loop).
-const Flight& theFlight() {
-  static const Flight flight = flyThrowThroughFirmware(kStart_m.z() + 0.5);
+const Flight& the_flight() {
+  static const Flight flight = fly_throw_through_firmware(kStart_m.z() + 0.5);
   return flight;
 }
 
-void printFlight(const Flight& f) {
+void print_flight(const Flight& f) {
   const gs::planning::ThrowProblem problem;
   const double T = problem.duration_s;
   const PlanarState<double> target = problem.launch_state;
@@ -323,7 +323,7 @@ void printFlight(const Flight& f) {
               f.tracked_pitch_error_rad, f.max_tilt_error_rad, f.max_position_error_m, f.max_pitch_error_rad,
               f.diverged_t_s ? *f.diverged_t_s : -1.0, f.max_rate_quantisation_radps,
               f.max_thrust_quantisation_mps2);
-  const gs::planning::ThrowTracker tracker(gs::planning::planThrow(problem).trajectory);
+  const gs::planning::ThrowTracker tracker(gs::planning::plan_throw(problem).trajectory);
   std::printf("  TV-LQR pitch-rate gains (rad/s per rad of theta error, per rad of alpha error):");
   for (double t : {1.0, 2.0, 2.2, 2.3, 2.4, 2.45, 2.49}) {
     const Eigen::Matrix<double, 2, 7> K = tracker.gain(t);
@@ -341,9 +341,9 @@ void printFlight(const Flight& f) {
     const gs::estimation::ModeSwitch& s = f.switches[i];
     std::printf("  switch %s -> %s (%s): event at T %+.1f ms, decided at T %+.1f ms, %+.1f frames "
                 "from the plate force's end\n",
-                std::string(gs::estimation::poleModeName(s.from)).c_str(),
-                std::string(gs::estimation::poleModeName(s.to)).c_str(),
-                std::string(gs::estimation::switchReasonName(s.reason)).c_str(),
+                std::string(gs::estimation::pole_mode_name(s.from)).c_str(),
+                std::string(gs::estimation::pole_mode_name(s.to)).c_str(),
+                std::string(gs::estimation::switch_reason_name(s.reason)).c_str(),
                 1e3 * (s.event_t_s - kSettle_s - T), 1e3 * (s.detected_t_s - kSettle_s - T),
                 (s.detected_t_s - kSettle_s - *f.release_t_s) / kFrame_s);
   }
@@ -364,7 +364,7 @@ void printFlight(const Flight& f) {
 }
 
 // The switches after the initial one (the pole's first sighting) decided before the crossing.
-std::vector<gs::estimation::ModeSwitch> inFlightSwitches(const Flight& f) {
+std::vector<gs::estimation::ModeSwitch> in_flight_switches(const Flight& f) {
   std::vector<gs::estimation::ModeSwitch> out;
   for (std::size_t i = 1; i < f.switches.size(); ++i) {
     if (f.switches[i].detected_t_s - kSettle_s < *f.crossing_t_s) out.push_back(f.switches[i]);
@@ -377,8 +377,8 @@ std::vector<gs::estimation::ModeSwitch> inFlightSwitches(const Flight& f) {
 TEST_CASE("the throw through the real firmware: armed, balanced, tracked to T, released at T, "
           "no impact report",
           "[estimation][hil][sil][throw]") {
-  const Flight& f = theFlight();
-  printFlight(f);
+  const Flight& f = the_flight();
+  print_flight(f);
   const gs::planning::ThrowProblem problem;
   const double T = problem.duration_s;
 
@@ -443,7 +443,7 @@ TEST_CASE("the throw through the real firmware: armed, balanced, tracked to T, r
   // event placed at T + 10 ms, decided at T + 15 ms), before the soft release has quite ended,
   // and keeps it: no call back onto the plate (with the observers' first-order rate model it
   // called the launch at T + 2 ms, went back on the plate at T + 90 ms and launched again).
-  const std::vector<gs::estimation::ModeSwitch> in_flight = inFlightSwitches(f);
+  const std::vector<gs::estimation::ModeSwitch> in_flight = in_flight_switches(f);
   REQUIRE(in_flight.size() == 1);
   CHECK(in_flight.front().to == gs::estimation::PoleMode::free);
   CHECK(in_flight.front().reason == gs::estimation::SwitchReason::contact_force);

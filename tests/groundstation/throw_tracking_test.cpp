@@ -16,8 +16,8 @@ using gs::model::PlanarState;
 using gs::planning::ThrowProblem;
 namespace planar = gs::model::planar;
 
-const gs::planning::ThrowPlan& paperPlan() {
-  static const gs::planning::ThrowPlan plan = gs::planning::planThrow(ThrowProblem{});
+const gs::planning::ThrowPlan& paper_plan() {
+  static const gs::planning::ThrowPlan plan = gs::planning::plan_throw(ThrowProblem{});
   return plan;
 }
 
@@ -40,7 +40,7 @@ Flight fly(const PlanarState<double>& start, const ThrowProblem& problem, Contro
     const double t = k * h;
     if (k % 50 == 0) u = gs::planning::saturate(control(t, s), problem.limits);
     const auto f = [&](const PlanarState<double>& x) {
-      return gs::model::planarPoleVehicleDynamics<double>(x, u);
+      return gs::model::planar_pole_vehicle_dynamics<double>(x, u);
     };
     const PlanarState<double> k1 = f(s);
     const PlanarState<double> k2 = f(s + 0.5 * h * k1);
@@ -58,7 +58,7 @@ Flight fly(const PlanarState<double>& start, const ThrowProblem& problem, Contro
   return flight;
 }
 
-PlanarState<double> perturbedStart() {
+PlanarState<double> perturbed_start() {
   PlanarState<double> s = PlanarState<double>::Zero();
   s(planar::kX) = 0.05;
   s(planar::kZ) = -0.05;
@@ -69,12 +69,12 @@ PlanarState<double> perturbedStart() {
 }  // namespace
 
 TEST_CASE("the throw's TV-LQR gains end at R^-1 B^T Q_f", "[throw_tracking]") {
-  REQUIRE(paperPlan().success);
+  REQUIRE(paper_plan().success);
   const gs::planning::ThrowTrackingWeights weights;
-  const gs::planning::ThrowTracker tracker(paperPlan().trajectory, weights);
+  const gs::planning::ThrowTracker tracker(paper_plan().trajectory, weights);
   REQUIRE(tracker.valid());
   const ThrowProblem problem;
-  const auto lin = gs::model::linearisePlanarPoleVehicle(problem.launch_state, problem.launchInput());
+  const auto lin = gs::model::linearise_planar_pole_vehicle(problem.launch_state, problem.launch_input());
   const Eigen::MatrixXd expected = weights.R().inverse() * lin.B.transpose() * weights.Qfinal();
   CHECK((tracker.gain(problem.duration_s) - expected).cwiseAbs().maxCoeff() < 1e-9);
   // The gains are stored on the 5 ms grid over [0, T].
@@ -86,25 +86,25 @@ TEST_CASE("the throw's TV-LQR gains end at R^-1 B^T Q_f", "[throw_tracking]") {
 }
 
 TEST_CASE("on the nominal start the tracker reproduces the planned inputs", "[throw_tracking]") {
-  REQUIRE(paperPlan().success);
-  const gs::planning::ThrowTracker tracker(paperPlan().trajectory);
+  REQUIRE(paper_plan().success);
+  const gs::planning::ThrowTracker tracker(paper_plan().trajectory);
   REQUIRE(tracker.valid());
   const auto& ref = tracker.reference();
   for (double t : {0.0, 0.7, 1.3, 2.2, 2.5}) {
-    CHECK((tracker.command(t, ref.stateAt(t)) - ref.inputAt(t)).norm() < 1e-12);
+    CHECK((tracker.command(t, ref.state_at(t)) - ref.input_at(t)).norm() < 1e-12);
   }
 }
 
 TEST_CASE("the TV-LQR brings a perturbed throw to the launch state", "[throw_tracking]") {
   const ThrowProblem problem;
-  REQUIRE(paperPlan().success);
-  const gs::planning::ThrowTracker tracker(paperPlan().trajectory);
+  REQUIRE(paper_plan().success);
+  const gs::planning::ThrowTracker tracker(paper_plan().trajectory);
   REQUIRE(tracker.valid());
-  const PlanarState<double> start = perturbedStart();
+  const PlanarState<double> start = perturbed_start();
 
   // Open loop from the perturbed start the pole falls off: what the feedback is for.
   const Flight open = fly(
-      start, problem, [&](double t, const PlanarState<double>&) { return tracker.reference().inputAt(t); });
+      start, problem, [&](double t, const PlanarState<double>&) { return tracker.reference().input_at(t); });
   CHECK(std::abs(open.end(planar::kAlpha) - problem.launch_state(planar::kAlpha)) > 0.5);
 
   const Flight closed =

@@ -12,21 +12,21 @@
 namespace {
 
 using gs::control::LinearSystem;
-using gs::control::solveTvLqr;
+using gs::control::solve_tv_lqr;
 
 }  // namespace
 
 TEST_CASE("TV-LQR on a time-invariant system converges to the CARE solution") {
   // The balancing design (13 states, unstable open loop).
-  const LinearSystem sys = gs::control::balancingLinearisation();
-  const auto w = gs::control::balancingLqrWeights();
+  const LinearSystem sys = gs::control::balancing_linearisation();
+  const auto w = gs::control::balancing_lqr_weights();
   const Eigen::MatrixXd Q = w.state.asDiagonal();
   const Eigen::MatrixXd R = w.input.asDiagonal();
-  const auto care = gs::control::solveCare(sys.A, sys.B, Q, R);
+  const auto care = gs::control::solve_care(sys.A, sys.B, Q, R);
   REQUIRE(care.converged);
 
   const auto gains =
-      solveTvLqr([&](double) { return sys; }, Q, R, Eigen::MatrixXd::Zero(Q.rows(), Q.cols()), 0.0, 20.0);
+      solve_tv_lqr([&](double) { return sys; }, Q, R, Eigen::MatrixXd::Zero(Q.rows(), Q.cols()), 0.0, 20.0);
   REQUIRE_FALSE(gains.empty());
   CHECK(gains.times_s().front() == 0.0);
   CHECK(gains.times_s().back() == 20.0);
@@ -37,7 +37,7 @@ TEST_CASE("TV-LQR on a time-invariant system converges to the CARE solution") {
   CHECK(gains.gain(19.9).norm() < care.K.norm());
 
   // Starting at the stationary solution, P stays there.
-  const auto stationary = solveTvLqr([&](double) { return sys; }, Q, R, care.P, 0.0, 2.0);
+  const auto stationary = solve_tv_lqr([&](double) { return sys; }, Q, R, care.P, 0.0, 2.0);
   REQUIRE_FALSE(stationary.empty());
   for (double t : {0.0, 0.5, 1.234, 2.0}) {
     CHECK((stationary.cost(t) - care.P).norm() < 1e-9 * care.P.norm());
@@ -66,8 +66,8 @@ TEST_CASE("TV-LQR: time-varying scalar case against the closed-form Riccati solu
   auto lin = [](double t) {
     return LinearSystem{Eigen::MatrixXd::Constant(1, 1, std::sin(t)), Eigen::MatrixXd::Ones(1, 1)};
   };
-  const auto gains = solveTvLqr(lin, Eigen::MatrixXd::Zero(1, 1), Eigen::MatrixXd::Constant(1, 1, r),
-                                Eigen::MatrixXd::Constant(1, 1, pf), 0.0, tf, {0.01, 0.001});
+  const auto gains = solve_tv_lqr(lin, Eigen::MatrixXd::Zero(1, 1), Eigen::MatrixXd::Constant(1, 1, r),
+                                  Eigen::MatrixXd::Constant(1, 1, pf), 0.0, tf, {0.01, 0.001});
   REQUIRE_FALSE(gains.empty());
   for (double t : {0.0, 0.5, 1.0, 2.0, 3.0, 3.9, 4.0}) {
     CAPTURE(t);
@@ -84,26 +84,26 @@ TEST_CASE("TV-LQR: sampled linearisations are interpolated, bad input gives no g
       {Eigen::MatrixXd::Constant(1, 1, 0.0), Eigen::MatrixXd::Ones(1, 1)},
       {Eigen::MatrixXd::Constant(1, 1, 2.0), Eigen::MatrixXd::Ones(1, 1)},
       {Eigen::MatrixXd::Constant(1, 1, 1.0), Eigen::MatrixXd::Constant(1, 1, 3.0)}};
-  const auto fn = gs::control::interpolateLinearisation(times, samples);
+  const auto fn = gs::control::interpolate_linearisation(times, samples);
   REQUIRE(fn);
   CHECK(fn(0.5).A(0, 0) == Approx(1.0));
   CHECK(fn(1.5).A(0, 0) == Approx(1.5));
   CHECK(fn(1.5).B(0, 0) == Approx(2.0));
   CHECK(fn(-1.0).A(0, 0) == 0.0);
   CHECK(fn(9.0).B(0, 0) == 3.0);
-  CHECK_FALSE(gs::control::interpolateLinearisation({0.0, 0.0}, {samples[0], samples[1]}));
-  CHECK_FALSE(gs::control::interpolateLinearisation({0.0}, samples));
+  CHECK_FALSE(gs::control::interpolate_linearisation({0.0, 0.0}, {samples[0], samples[1]}));
+  CHECK_FALSE(gs::control::interpolate_linearisation({0.0}, samples));
 
-  const auto ok = solveTvLqr(fn, Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Ones(1, 1),
-                             Eigen::MatrixXd::Ones(1, 1), 0.0, 2.0);
+  const auto ok = solve_tv_lqr(fn, Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Ones(1, 1),
+                               Eigen::MatrixXd::Ones(1, 1), 0.0, 2.0);
   CHECK_FALSE(ok.empty());
-  CHECK(solveTvLqr(fn, Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Ones(1, 1),
-                   2.0, 0.0)
+  CHECK(solve_tv_lqr(fn, Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Ones(1, 1),
+                     Eigen::MatrixXd::Ones(1, 1), 2.0, 0.0)
             .empty());
-  CHECK(solveTvLqr(fn, Eigen::MatrixXd::Ones(1, 1), -Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Ones(1, 1),
-                   0.0, 2.0)
+  CHECK(solve_tv_lqr(fn, Eigen::MatrixXd::Ones(1, 1), -Eigen::MatrixXd::Ones(1, 1),
+                     Eigen::MatrixXd::Ones(1, 1), 0.0, 2.0)
             .empty());
-  CHECK(solveTvLqr(fn, Eigen::MatrixXd::Ones(2, 2), Eigen::MatrixXd::Ones(1, 1), Eigen::MatrixXd::Ones(2, 2),
-                   0.0, 2.0)
+  CHECK(solve_tv_lqr(fn, Eigen::MatrixXd::Ones(2, 2), Eigen::MatrixXd::Ones(1, 1),
+                     Eigen::MatrixXd::Ones(2, 2), 0.0, 2.0)
             .empty());
 }

@@ -18,8 +18,8 @@ using estimation_test::World;
 using estimation_test::WorldParams;
 using gs::estimation::MocapPose;
 using gs::estimation::VehicleObserver;
-using estimation_test::toInput;
-using estimation_test::toPose;
+using estimation_test::to_input;
+using estimation_test::to_pose;
 
 struct TrackingStats {
   double position_rms_m = 0.0;
@@ -36,9 +36,9 @@ TrackingStats track(bool commanded, unsigned seed, double duration_s = 6.0) {
   World w(WorldParams{}, seed);
   w.vehicle(0).p = Eigen::Vector3d(0.0, 0.0, 1.0);
   w.vehicle(1).p = Eigen::Vector3d(3.0, 0.0, 1.0);
-  w.placePoleFree(Eigen::Vector3d(0.0, 5.0, 10.0), Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(),
-                  Eigen::Vector3d::Zero());
-  VehicleObserver obs(estimation_test::observerFor());
+  w.place_pole_free(Eigen::Vector3d(0.0, 5.0, 10.0), Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(),
+                    Eigen::Vector3d::Zero());
+  VehicleObserver obs(estimation_test::observer_for());
   TrackingStats s;
   double nis_sum = 0.0;
   int nis_count = 0;
@@ -48,26 +48,26 @@ TrackingStats track(bool commanded, unsigned seed, double duration_s = 6.0) {
     const double t = w.time();
     const Eigen::Vector3d target(t > 1.0 ? 1.0 : 0.0, t > 2.5 ? -0.5 : 0.0, t > 4.0 ? 1.6 : 1.0);
     World::Vehicle& v = w.vehicle(0);
-    v.cmd = estimation_test::holdPosition(w, v, target);
-    w.vehicle(1).cmd = estimation_test::holdPosition(w, w.vehicle(1), Eigen::Vector3d(3, 0, 1));
+    v.cmd = estimation_test::hold_position(w, v, target);
+    w.vehicle(1).cmd = estimation_test::hold_position(w, w.vehicle(1), Eigen::Vector3d(3, 0, 1));
     const estimation_test::Frame f = w.frame();
-    const gs::estimation::VehicleUpdateResult r = obs.update(toPose(f.vehicle[0]));
+    const gs::estimation::VehicleUpdateResult r = obs.update(to_pose(f.vehicle[0]));
     if (k > 0 && r.accepted) {
       nis_sum += r.nis;
       ++nis_count;
     }
     if (t > 0.5) {
       const gs::estimation::VehicleEstimate e = obs.estimate();
-      const Eigen::Vector3d acc_true = w.vehicleAcceleration(v);
+      const Eigen::Vector3d acc_true = w.vehicle_acceleration(v);
       s.position_rms_m += (e.state.p_m - v.p).squaredNorm();
       s.velocity_rms_mps += (e.state.v_mps - v.v).squaredNorm();
       s.acceleration_rms_mps2 += (e.acceleration_mps2 - acc_true).squaredNorm();
       const Eigen::Matrix3d r_est =
-          gs::model::rotationInertialFromBody(e.state.phi_rad, e.state.theta_rad, e.state.psi_rad);
+          gs::model::rotation_inertial_from_body(e.state.phi_rad, e.state.theta_rad, e.state.psi_rad);
       s.attitude_rms_rad += std::pow(Eigen::AngleAxisd(r_est.transpose() * v.r).angle(), 2);
       ++s.samples;
     }
-    const gs::model::VehicleInput in = toInput(v.cmd);
+    const gs::model::VehicleInput in = to_input(v.cmd);
     for (int i = 0; i < steps; ++i) w.step();
     obs.predict(0.005, commanded ? &in : nullptr);
   }
@@ -89,15 +89,15 @@ TEST_CASE("Euler angles from a pose follow eq. (3)", "[estimation]") {
     const double phi = 3.0 * u(rng);
     const double theta = 1.5 * u(rng);
     const double psi = 3.1 * u(rng);
-    const Eigen::Matrix3d r = gs::model::rotationInertialFromBody(phi, theta, psi);
-    const gs::estimation::EulerZyx e = gs::estimation::eulerZyxFromQuaternion(Eigen::Quaterniond(r));
+    const Eigen::Matrix3d r = gs::model::rotation_inertial_from_body(phi, theta, psi);
+    const gs::estimation::EulerZyx e = gs::estimation::euler_zyx_from_quaternion(Eigen::Quaterniond(r));
     CHECK(e.phi_rad == Approx(phi).margin(1e-9));
     CHECK(e.theta_rad == Approx(theta).margin(1e-9));
     CHECK(e.psi_rad == Approx(psi).margin(1e-9));
   }
   // Pitch tilts the thrust axis towards +x (the planar model's (sin theta, cos theta)).
   const Eigen::Quaterniond q(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY()));
-  CHECK(gs::estimation::eulerZyxFromQuaternion(q).theta_rad == Approx(0.3));
+  CHECK(gs::estimation::euler_zyx_from_quaternion(q).theta_rad == Approx(0.3));
   CHECK((q * Eigen::Vector3d::UnitZ()).x() == Approx(std::sin(0.3)));
   CHECK(gs::estimation::wrapAngle_rad(3.5) == Approx(3.5 - 2.0 * M_PI));
   CHECK(gs::estimation::wrapAngle_rad(-3.5) == Approx(2.0 * M_PI - 3.5));
@@ -132,7 +132,7 @@ TEST_CASE("without commands the observer still tracks, less tightly", "[estimati
 }
 
 TEST_CASE("a glitch is rejected, a real jump re-initialises", "[estimation]") {
-  VehicleObserver obs(estimation_test::observerFor());
+  VehicleObserver obs(estimation_test::observer_for());
   MocapPose pose;
   pose.p_m = Eigen::Vector3d(1.0, 2.0, 1.5);
   obs.reset(pose);
@@ -167,15 +167,15 @@ TEST_CASE("a glitch is rejected, a real jump re-initialises", "[estimation]") {
 TEST_CASE("a dropout is coasted through on the model, the covariance growing", "[estimation]") {
   World w(WorldParams{}, 5);
   w.vehicle(0).p = Eigen::Vector3d(0.0, 0.0, 1.0);
-  w.placePoleFree(Eigen::Vector3d(0.0, 5.0, 10.0), Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(),
-                  Eigen::Vector3d::Zero());
-  VehicleObserver obs(estimation_test::observerFor());
+  w.place_pole_free(Eigen::Vector3d(0.0, 5.0, 10.0), Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(),
+                    Eigen::Vector3d::Zero());
+  VehicleObserver obs(estimation_test::observer_for());
   double sigma_before = 0.0;
   double error_after = 0.0;
   double sigma_after = 0.0;
   for (int k = 0; k < 400; ++k) {
     World::Vehicle& v = w.vehicle(0);
-    v.cmd = estimation_test::holdPosition(w, v, Eigen::Vector3d(k > 200 ? 0.8 : 0.0, 0.0, 1.0));
+    v.cmd = estimation_test::hold_position(w, v, Eigen::Vector3d(k > 200 ? 0.8 : 0.0, 0.0, 1.0));
     const estimation_test::Frame f = w.frame();
     const bool dropped = k >= 210 && k < 230;  // 100 ms without poses, while accelerating
     if (k == 210) sigma_before = obs.estimate().position_sigma_m.x();
@@ -184,9 +184,9 @@ TEST_CASE("a dropout is coasted through on the model, the covariance growing", "
         error_after = (obs.estimate().state.p_m - v.p).norm();
         sigma_after = obs.estimate().position_sigma_m.x();
       }
-      obs.update(toPose(f.vehicle[0]));
+      obs.update(to_pose(f.vehicle[0]));
     }
-    const gs::model::VehicleInput in = toInput(v.cmd);
+    const gs::model::VehicleInput in = to_input(v.cmd);
     for (int i = 0; i < w.params().steps_per_frame; ++i) w.step();
     obs.predict(0.005, &in);
   }
@@ -199,7 +199,7 @@ TEST_CASE("a dropout is coasted through on the model, the covariance growing", "
 }
 
 TEST_CASE("the plate is h above the centre of gravity along the thrust axis", "[estimation]") {
-  VehicleObserver obs(estimation_test::observerFor());
+  VehicleObserver obs(estimation_test::observer_for());
   MocapPose pose;
   pose.p_m = Eigen::Vector3d(0.5, 0.0, 1.0);
   pose.q = Eigen::Quaterniond(Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitY()));

@@ -19,24 +19,24 @@
 namespace Catch {
 template <>
 struct StringMaker<gs::mission::Task> {
-  static std::string convert(gs::mission::Task t) { return std::string(gs::mission::taskName(t)); }
+  static std::string convert(gs::mission::Task t) { return std::string(gs::mission::task_name(t)); }
 };
 template <>
 struct StringMaker<gs::mission::Reason> {
-  static std::string convert(gs::mission::Reason r) { return std::string(gs::mission::reasonName(r)); }
+  static std::string convert(gs::mission::Reason r) { return std::string(gs::mission::reason_name(r)); }
 };
 }  // namespace Catch
 
 namespace {
 
-using gs::mission::findTransition;
+using gs::mission::find_transition;
 using gs::mission::kAirborne;
 using gs::mission::kTaskCount;
 using gs::mission::kTransitions;
 using gs::mission::Reason;
 using gs::mission::Task;
 using gs::mission::TaskSet;
-using gs::mission::taskBit;
+using gs::mission::task_bit;
 using gs::mission::tasks;
 using gs::mission::Transition;
 using gs::mission::VehicleSequencer;
@@ -46,13 +46,13 @@ constexpr std::uint32_t kAllBits = (std::uint32_t{1} << c::kCount) - 1u;
 constexpr int kReasonCount = static_cast<int>(Reason::pole_down) + 1;
 constexpr int kRowCount = static_cast<int>(kTransitions.size());
 
-std::vector<Task> allTasks() {
+std::vector<Task> all_tasks() {
   std::vector<Task> out;
   for (int i = 0; i < kTaskCount; ++i) out.push_back(static_cast<Task>(i));
   return out;
 }
 
-bool in(TaskSet set, Task t) { return (set & taskBit(t)) != 0; }
+bool in(TaskSet set, Task t) { return (set & task_bit(t)) != 0; }
 bool airborne(Task t) { return in(kAirborne, t); }
 
 // "vehicle_lost|armed", or "0".
@@ -61,54 +61,54 @@ std::string bits(std::uint32_t word) {
   for (int b = 0; b < c::kCount; ++b) {
     if ((word & (std::uint32_t{1} << b)) == 0) continue;
     if (!out.empty()) out += '|';
-    out += gs::mission::conditionName(b);
+    out += gs::mission::condition_name(b);
   }
   return out.empty() ? "0" : out;
 }
 
-std::string taskList(TaskSet set) {
+std::string task_list(TaskSet set) {
   std::string out;
-  for (Task t : allTasks()) {
+  for (Task t : all_tasks()) {
     if (!in(set, t)) continue;
     if (!out.empty()) out += ',';
-    out += gs::mission::taskName(t);
+    out += gs::mission::task_name(t);
   }
   return "{" + out + "}";
 }
 
 // "row 13: {balance} [request_throw|settled / not pole_on_self] -> throwing (throw_requested)"
-std::string describeRow(int i) {
+std::string describe_row(int i) {
   if (i < 0) return "no row";
   const Transition& r = kTransitions[static_cast<std::size_t>(i)];
   std::ostringstream s;
-  s << "row " << i << ": " << taskList(r.from) << " [" << bits(r.all) << " / not " << bits(r.none) << "] -> "
-    << gs::mission::taskName(r.to) << " (" << gs::mission::reasonName(r.reason) << ")";
+  s << "row " << i << ": " << task_list(r.from) << " [" << bits(r.all) << " / not " << bits(r.none) << "] -> "
+    << gs::mission::task_name(r.to) << " (" << gs::mission::reason_name(r.reason) << ")";
   return s.str();
 }
 
-std::string describeWord(Task t, std::uint32_t word) {
-  return std::string(gs::mission::taskName(t)) + " under " + bits(word);
+std::string describe_word(Task t, std::uint32_t word) {
+  return std::string(gs::mission::task_name(t)) + " under " + bits(word);
 }
 
-// The rule read plainly and independently of findTransition: the first row, in table order,
+// The rule read plainly and independently of find_transition: the first row, in table order,
 // whose `from` holds the task, all of whose `all` bits hold and none of whose `none` bits do.
-int expectedRow(Task t, std::uint32_t word) {
+int expected_row(Task t, std::uint32_t word) {
   for (int i = 0; i < kRowCount; ++i) {
     const Transition& r = kTransitions[static_cast<std::size_t>(i)];
-    const bool fromOk = ((r.from >> static_cast<unsigned>(t)) & 1u) != 0;
-    const bool allOk = (~word & r.all) == 0;   // no required bit missing
-    const bool noneOk = (word & r.none) == 0;  // no forbidden bit present
-    if (fromOk && allOk && noneOk) return i;
+    const bool from_ok = ((r.from >> static_cast<unsigned>(t)) & 1u) != 0;
+    const bool all_ok = (~word & r.all) == 0;   // no required bit missing
+    const bool none_ok = (word & r.none) == 0;  // no forbidden bit present
+    if (from_ok && all_ok && none_ok) return i;
   }
   return -1;
 }
 
-int rowIndex(const Transition* row) {
+int row_index(const Transition* row) {
   return row == nullptr ? -1 : static_cast<int>(row - kTransitions.data());
 }
 
 // The bits any row leaving `t` looks at: the outcome from `t` depends on these alone.
-std::uint32_t relevantBits(Task t) {
+std::uint32_t relevant_bits(Task t) {
   std::uint32_t mask = 0;
   for (const Transition& r : kTransitions)
     if (in(r.from, t)) mask |= r.all | r.none;
@@ -120,9 +120,9 @@ std::uint32_t relevantBits(Task t) {
 // pseudo-random noise in the other bits, then `random` fully
 // pseudo-random words (half dense, half sparse). The seed is fixed.
 template <typename F>
-void forEachWord(Task t, F&& f, int random = 20000) {
+void for_each_word(Task t, F&& f, int random = 20000) {
   std::mt19937 rng(0x5e9u + static_cast<unsigned>(t));
-  const std::uint32_t mask = relevantBits(t);
+  const std::uint32_t mask = relevant_bits(t);
   for (int noisy = 0; noisy <= 3; ++noisy) {
     std::uint32_t s = 0;
     do {
@@ -144,16 +144,16 @@ struct Violations {
   std::string first;
   void add(Task t, std::uint32_t word, const std::string& what) {
     if (count++ < 3)
-      first += describeWord(t, word) + ": " + what + " [" + describeRow(expectedRow(t, word)) + "]\n";
+      first += describe_word(t, word) + ": " + what + " [" + describe_row(expected_row(t, word)) + "]\n";
   }
 };
 
 // Whether row i can fire from t at all (is the first match for some word), and one such word.
 std::pair<bool, std::uint32_t> witness(int i, Task t) {
-  const std::uint32_t mask = relevantBits(t);
+  const std::uint32_t mask = relevant_bits(t);
   std::uint32_t s = 0;
   do {
-    if (expectedRow(t, s) == i) return {true, s};
+    if (expected_row(t, s) == i) return {true, s};
     s = (s - mask) & mask;
   } while (s != 0);
   return {false, 0};
@@ -165,11 +165,11 @@ struct Outcome {
   Task task;
   Reason reason;
 };
-Outcome stepFrom(Task t, std::uint32_t word) {
+Outcome step_from(Task t, std::uint32_t word) {
   VehicleSequencer s;
   s.reset(t, 1.0);
   const bool changed = s.step(word, 2.0);
-  return {changed, s.task(), s.lastReason()};
+  return {changed, s.task(), s.last_reason()};
 }
 
 }  // namespace
@@ -179,27 +179,27 @@ Outcome stepFrom(Task t, std::uint32_t word) {
 // ---------------------------------------------------------------------------------------------
 
 TEST_CASE("task, reason and condition names are distinct and never '?'", "[sequencer]") {
-  std::set<std::string_view> taskNames, reasonNames, conditionNames;
-  for (Task t : allTasks()) {
+  std::set<std::string_view> task_names, reason_names, condition_names;
+  for (Task t : all_tasks()) {
     INFO("task " << static_cast<int>(t));
-    CHECK(gs::mission::taskName(t) != "?");
-    CHECK(taskNames.insert(gs::mission::taskName(t)).second);
+    CHECK(gs::mission::task_name(t) != "?");
+    CHECK(task_names.insert(gs::mission::task_name(t)).second);
   }
   for (int r = 0; r < kReasonCount; ++r) {
     INFO("reason " << r);
-    CHECK(gs::mission::reasonName(static_cast<Reason>(r)) != "?");
-    CHECK(reasonNames.insert(gs::mission::reasonName(static_cast<Reason>(r))).second);
+    CHECK(gs::mission::reason_name(static_cast<Reason>(r)) != "?");
+    CHECK(reason_names.insert(gs::mission::reason_name(static_cast<Reason>(r))).second);
   }
   for (int b = 0; b < c::kCount; ++b) {
     INFO("condition bit " << b);
-    CHECK(gs::mission::conditionName(b) != "?");
-    CHECK(conditionNames.insert(gs::mission::conditionName(b)).second);
+    CHECK(gs::mission::condition_name(b) != "?");
+    CHECK(condition_names.insert(gs::mission::condition_name(b)).second);
   }
   // Out of range: "?" (and a task or reason added after the last one here shows up as not "?").
-  CHECK(gs::mission::taskName(static_cast<Task>(kTaskCount)) == "?");
-  CHECK(gs::mission::reasonName(static_cast<Reason>(kReasonCount)) == "?");
-  CHECK(gs::mission::conditionName(-1) == "?");
-  CHECK(gs::mission::conditionName(c::kCount) == "?");
+  CHECK(gs::mission::task_name(static_cast<Task>(kTaskCount)) == "?");
+  CHECK(gs::mission::reason_name(static_cast<Reason>(kReasonCount)) == "?");
+  CHECK(gs::mission::condition_name(-1) == "?");
+  CHECK(gs::mission::condition_name(c::kCount) == "?");
 }
 
 TEST_CASE("condition names follow the bits they name", "[sequencer]") {
@@ -237,7 +237,7 @@ TEST_CASE("condition names follow the bits they name", "[sequencer]") {
     seen |= bit;
     int index = 0;
     while ((std::uint32_t{1} << index) != bit && index < 32) ++index;
-    CHECK(gs::mission::conditionName(index) == name);
+    CHECK(gs::mission::condition_name(index) == name);
   }
   CHECK(seen == kAllBits);
 }
@@ -256,7 +256,7 @@ TEST_CASE("every row is well formed", "[sequencer]") {
   constexpr TaskSet kAllTasks = (TaskSet{1} << kTaskCount) - 1u;
   for (int i = 0; i < kRowCount; ++i) {
     const Transition& r = kTransitions[static_cast<std::size_t>(i)];
-    INFO(describeRow(i));
+    INFO(describe_row(i));
     CHECK(r.from != 0);
     CHECK((r.from & ~kAllTasks) == 0);
     CHECK((r.all & ~kAllBits) == 0);
@@ -266,14 +266,14 @@ TEST_CASE("every row is well formed", "[sequencer]") {
     // A bit both required and forbidden would make the row dead.
     CHECK((r.all & r.none) == 0);
     // The row leads somewhere from at least one of its tasks ...
-    CHECK((r.from & ~taskBit(r.to)) != 0);
+    CHECK((r.from & ~task_bit(r.to)) != 0);
     // ... and in fact from all of them: a row that named its own target would fire on itself,
     // step() would ignore it, and it would hide every later row of that task under that word.
     CHECK_FALSE(in(r.from, r.to));
   }
 }
 
-TEST_CASE("findTransition is the first matching row in table order", "[sequencer]") {
+TEST_CASE("find_transition is the first matching row in table order", "[sequencer]") {
   std::mt19937 rng(20240611u);
   Violations v;
   int transitions = 0;
@@ -281,20 +281,20 @@ TEST_CASE("findTransition is the first matching row in table order", "[sequencer
     std::uint32_t w = static_cast<std::uint32_t>(rng()) & kAllBits;
     if (k % 3 == 1) w &= static_cast<std::uint32_t>(rng());
     if (k % 3 == 2) w &= static_cast<std::uint32_t>(rng()) & static_cast<std::uint32_t>(rng());
-    for (Task t : allTasks()) {
-      const int expected = expectedRow(t, w);
-      const int got = rowIndex(findTransition(t, w));
+    for (Task t : all_tasks()) {
+      const int expected = expected_row(t, w);
+      const int got = row_index(find_transition(t, w));
       if (expected >= 0) ++transitions;
-      if (got != expected) v.add(t, w, "findTransition gave " + describeRow(got));
+      if (got != expected) v.add(t, w, "find_transition gave " + describe_row(got));
     }
   }
   // And exhaustively over the bits each task looks at.
-  for (Task t : allTasks())
-    forEachWord(
+  for (Task t : all_tasks())
+    for_each_word(
         t,
         [&](std::uint32_t w) {
-          const int got = rowIndex(findTransition(t, w));
-          if (got != expectedRow(t, w)) v.add(t, w, "findTransition gave " + describeRow(got));
+          const int got = row_index(find_transition(t, w));
+          if (got != expected_row(t, w)) v.add(t, w, "find_transition gave " + describe_row(got));
         },
         0);
   INFO(v.first);
@@ -312,17 +312,17 @@ TEST_CASE(
   int shadowed = 0;
   for (int i = 0; i < kRowCount; ++i) {
     const Transition& r = kTransitions[static_cast<std::size_t>(i)];
-    for (Task t : allTasks()) {
+    for (Task t : all_tasks()) {
       if (!in(r.from, t)) continue;
-      const int expected = expectedRow(t, r.all);
-      INFO(describeRow(i) << ", from " << describeWord(t, r.all) << " -> " << describeRow(expected));
+      const int expected = expected_row(t, r.all);
+      INFO(describe_row(i) << ", from " << describe_word(t, r.all) << " -> " << describe_row(expected));
       // The row itself matches (its `all` and `none` do not overlap), so the first match is
       // this row or an earlier one.
       REQUIRE(expected >= 0);
       CHECK(expected <= i);
-      CHECK(rowIndex(findTransition(t, r.all)) == expected);
+      CHECK(row_index(find_transition(t, r.all)) == expected);
       const Transition& e = kTransitions[static_cast<std::size_t>(expected)];
-      const Outcome o = stepFrom(t, r.all);
+      const Outcome o = step_from(t, r.all);
       CHECK(o.changed);
       CHECK(o.task == e.to);
       CHECK(o.reason == e.reason);
@@ -332,7 +332,7 @@ TEST_CASE(
   // Only one (row, task) pair needs more than its `all` bits: balance throws only with the
   // pole on the plate, otherwise the earlier "pole lost" row takes it back to hover.
   CHECK(shadowed == 1);
-  const Outcome o = stepFrom(Task::balance, c::request_throw | c::settled);
+  const Outcome o = step_from(Task::balance, c::request_throw | c::settled);
   CHECK(o.task == Task::hover);
   CHECK(o.reason == Reason::pole_lost);
 }
@@ -340,19 +340,19 @@ TEST_CASE(
 TEST_CASE("each row can fire from each task in its `from` set", "[sequencer]") {
   for (int i = 0; i < kRowCount; ++i) {
     const Transition& r = kTransitions[static_cast<std::size_t>(i)];
-    for (Task t : allTasks()) {
+    for (Task t : all_tasks()) {
       if (!in(r.from, t)) continue;
       const auto [found, word] = witness(i, t);
-      INFO(describeRow(i) << ", from " << gs::mission::taskName(t));
+      INFO(describe_row(i) << ", from " << gs::mission::task_name(t));
       CHECK(found);
       if (!found) continue;
       INFO("word " << bits(word));
-      CHECK(rowIndex(findTransition(t, word)) == i);
+      CHECK(row_index(find_transition(t, word)) == i);
       VehicleSequencer s;
       s.reset(t, 3.0);
       CHECK(s.step(word, 3.5));
       CHECK(s.task() == r.to);
-      CHECK(s.lastReason() == r.reason);
+      CHECK(s.last_reason() == r.reason);
       CHECK(s.taskSince_s() == 3.5);
     }
   }
@@ -448,14 +448,14 @@ TEST_CASE("key transitions, written out", "[sequencer]") {
       {Task::failsafe, c::request_take_off | c::request_land, Task::failsafe, Reason::none},
   };
   for (const Case& k : cases) {
-    INFO(describeWord(k.from, k.word)
-         << " -> expected " << gs::mission::taskName(k.to) << " (" << gs::mission::reasonName(k.reason)
-         << "), table: " << describeRow(expectedRow(k.from, k.word)));
-    const Outcome o = stepFrom(k.from, k.word);
+    INFO(describe_word(k.from, k.word)
+         << " -> expected " << gs::mission::task_name(k.to) << " (" << gs::mission::reason_name(k.reason)
+         << "), table: " << describe_row(expected_row(k.from, k.word)));
+    const Outcome o = step_from(k.from, k.word);
     CHECK(o.task == k.to);
     CHECK(o.reason == k.reason);
     CHECK(o.changed == (k.to != k.from));
-    const Transition* row = findTransition(k.from, k.word);
+    const Transition* row = find_transition(k.from, k.word);
     if (k.to == k.from) {
       CHECK(row == nullptr);
     } else {
@@ -466,18 +466,18 @@ TEST_CASE("key transitions, written out", "[sequencer]") {
 }
 
 TEST_CASE("any airborne task, or landing, that loses the vehicle goes to failsafe", "[sequencer]") {
-  for (Task t : allTasks()) {
+  for (Task t : all_tasks()) {
     if (!airborne(t) && t != Task::landing) continue;
-    INFO(gs::mission::taskName(t));
+    INFO(gs::mission::task_name(t));
     for (std::uint32_t extra : {0u, c::request_land, c::request_abort | c::pole_on_self, c::estimate_lost,
                                 c::on_ground, kAllBits}) {
-      const Outcome o = stepFrom(t, c::vehicle_lost | extra);
+      const Outcome o = step_from(t, c::vehicle_lost | extra);
       INFO("with " << bits(extra));
       CHECK(o.task == Task::failsafe);
       CHECK(o.reason == Reason::vehicle_lost);
     }
     if (airborne(t)) {
-      const Outcome o = stepFrom(t, c::estimate_lost | c::request_land);
+      const Outcome o = step_from(t, c::estimate_lost | c::request_land);
       CHECK(o.task == Task::failsafe);
       CHECK(o.reason == Reason::estimate_lost);
     }
@@ -490,11 +490,11 @@ TEST_CASE("any airborne task, or landing, that loses the vehicle goes to failsaf
 
 TEST_CASE("vehicle_lost in any airborne task always leads to failsafe", "[sequencer]") {
   Violations v;
-  for (Task t : allTasks()) {
+  for (Task t : all_tasks()) {
     if (!airborne(t) && t != Task::landing) continue;
-    forEachWord(t, [&](std::uint32_t w) {
+    for_each_word(t, [&](std::uint32_t w) {
       w |= c::vehicle_lost;
-      const Transition* row = findTransition(t, w);
+      const Transition* row = find_transition(t, w);
       if (row == nullptr || row->to != Task::failsafe || row->reason != Reason::vehicle_lost)
         v.add(t, w, "not failsafe (vehicle_lost)");
     });
@@ -505,11 +505,11 @@ TEST_CASE("vehicle_lost in any airborne task always leads to failsafe", "[sequen
 
 TEST_CASE("estimate_lost in any airborne task (vehicle heard) always leads to failsafe", "[sequencer]") {
   Violations v;
-  for (Task t : allTasks()) {
+  for (Task t : all_tasks()) {
     if (!airborne(t)) continue;
-    forEachWord(t, [&](std::uint32_t w) {
+    for_each_word(t, [&](std::uint32_t w) {
       w = (w | c::estimate_lost) & ~c::vehicle_lost;
-      const Transition* row = findTransition(t, w);
+      const Transition* row = find_transition(t, w);
       if (row == nullptr || row->to != Task::failsafe || row->reason != Reason::estimate_lost)
         v.add(t, w, "not failsafe (estimate_lost)");
     });
@@ -521,11 +521,11 @@ TEST_CASE("estimate_lost in any airborne task (vehicle heard) always leads to fa
 TEST_CASE("request_land in an airborne task always leads to landing unless the vehicle or estimate is lost",
           "[sequencer]") {
   Violations v;
-  for (Task t : allTasks()) {
+  for (Task t : all_tasks()) {
     if (!airborne(t)) continue;
-    forEachWord(t, [&](std::uint32_t w) {
+    for_each_word(t, [&](std::uint32_t w) {
       w = (w | c::request_land) & ~(c::vehicle_lost | c::estimate_lost);
-      const Transition* row = findTransition(t, w);
+      const Transition* row = find_transition(t, w);
       if (row == nullptr || row->to != Task::landing || row->reason != Reason::land_requested)
         v.add(t, w, "not landing");
     });
@@ -542,7 +542,7 @@ TEST_CASE(
   for (int i = 0; i < kRowCount; ++i) {
     const Transition& r = kTransitions[static_cast<std::size_t>(i)];
     if (!in(r.from, Task::parked) || !airborne(r.to)) continue;
-    INFO(describeRow(i));
+    INFO(describe_row(i));
     CHECK(r.to == Task::hover);
     CHECK((r.all & c::armed) != 0);
     CHECK((r.none & c::on_ground) != 0);
@@ -551,15 +551,15 @@ TEST_CASE(
   }
   // The words.
   Violations v;
-  forEachWord(
+  for_each_word(
       Task::parked,
       [&](std::uint32_t w) {
-        const Transition* row = findTransition(Task::parked, w);
+        const Transition* row = find_transition(Task::parked, w);
         if (row == nullptr || row->to == Task::arming) return;
         const bool reattach = row->to == Task::hover && (w & c::armed) && !(w & c::on_ground) &&
                               !(w & (c::vehicle_lost | c::estimate_lost));
         if (!reattach)
-          v.add(Task::parked, w, std::string("parked -> ") + std::string(gs::mission::taskName(row->to)));
+          v.add(Task::parked, w, std::string("parked -> ") + std::string(gs::mission::task_name(row->to)));
       },
       300000);
   INFO(v.first);
@@ -570,14 +570,14 @@ TEST_CASE("failsafe is left only to parked, and only once down, disarmed and hea
   for (int i = 0; i < kRowCount; ++i) {
     const Transition& r = kTransitions[static_cast<std::size_t>(i)];
     if (!in(r.from, Task::failsafe)) continue;
-    INFO(describeRow(i));
+    INFO(describe_row(i));
     CHECK(r.to == Task::parked);
   }
   Violations v;
-  forEachWord(
+  for_each_word(
       Task::failsafe,
       [&](std::uint32_t w) {
-        const Transition* row = findTransition(Task::failsafe, w);
+        const Transition* row = find_transition(Task::failsafe, w);
         if (row == nullptr) return;
         if (row->to != Task::parked) v.add(Task::failsafe, w, "left failsafe, not to parked");
         if (!(w & c::on_ground) || (w & (c::armed | c::vehicle_lost)))
@@ -592,7 +592,7 @@ TEST_CASE("nothing but the operator's land leads into landing, and landing only 
           "[sequencer]") {
   for (int i = 0; i < kRowCount; ++i) {
     const Transition& r = kTransitions[static_cast<std::size_t>(i)];
-    INFO(describeRow(i));
+    INFO(describe_row(i));
     if (r.to == Task::landing) CHECK(r.reason == Reason::land_requested);
     if (in(r.from, Task::landing)) CHECK((r.to == Task::failsafe || r.to == Task::parked));
   }
@@ -605,13 +605,13 @@ TEST_CASE("no transition enters an airborne task while the vehicle or its estima
   // armed|estimate_lost), to be dropped into failsafe on the next step. Kept as CHECK so the
   // rest of the suite runs.
   Violations v;
-  for (Task t : allTasks()) {
-    forEachWord(t, [&](std::uint32_t word) {
+  for (Task t : all_tasks()) {
+    for_each_word(t, [&](std::uint32_t word) {
       for (std::uint32_t lost : {c::vehicle_lost, c::estimate_lost, c::vehicle_lost | c::estimate_lost}) {
         const std::uint32_t w = word | lost;
-        const Transition* row = findTransition(t, w);
+        const Transition* row = find_transition(t, w);
         if (row != nullptr && airborne(row->to))
-          v.add(t, w, std::string("entered ") + std::string(gs::mission::taskName(row->to)));
+          v.add(t, w, std::string("entered ") + std::string(gs::mission::task_name(row->to)));
       }
     });
   }
@@ -625,24 +625,24 @@ TEST_CASE("no transition enters an airborne task while the vehicle or its estima
 
 namespace {
 // Edges of the table that can actually fire (some word makes the row the first match).
-std::vector<std::pair<Task, Task>> liveEdges() {
+std::vector<std::pair<Task, Task>> live_edges() {
   std::vector<std::pair<Task, Task>> edges;
   for (int i = 0; i < kRowCount; ++i)
-    for (Task t : allTasks())
+    for (Task t : all_tasks())
       if (in(kTransitions[static_cast<std::size_t>(i)].from, t) && witness(i, t).first)
         edges.emplace_back(t, kTransitions[static_cast<std::size_t>(i)].to);
   return edges;
 }
 
-TaskSet reachableFrom(Task start, const std::vector<std::pair<Task, Task>>& edges) {
-  TaskSet seen = taskBit(start);
+TaskSet reachable_from(Task start, const std::vector<std::pair<Task, Task>>& edges) {
+  TaskSet seen = task_bit(start);
   std::vector<Task> queue{start};
   while (!queue.empty()) {
     const Task t = queue.back();
     queue.pop_back();
     for (const auto& [from, to] : edges)
       if (from == t && !in(seen, to)) {
-        seen |= taskBit(to);
+        seen |= task_bit(to);
         queue.push_back(to);
       }
   }
@@ -651,20 +651,20 @@ TaskSet reachableFrom(Task start, const std::vector<std::pair<Task, Task>>& edge
 }  // namespace
 
 TEST_CASE("every task is reachable from parked, and parked from every task", "[sequencer]") {
-  const auto edges = liveEdges();
-  const TaskSet fromParked = reachableFrom(Task::parked, edges);
-  for (Task t : allTasks()) {
-    INFO(gs::mission::taskName(t) << ", reachable from parked: " << taskList(fromParked));
-    CHECK(in(fromParked, t));
+  const auto edges = live_edges();
+  const TaskSet from_parked = reachable_from(Task::parked, edges);
+  for (Task t : all_tasks()) {
+    INFO(gs::mission::task_name(t) << ", reachable from parked: " << task_list(from_parked));
+    CHECK(in(from_parked, t));
     // Every task has a way back to the ground (through landing, failsafe or a refused ARM).
-    const TaskSet fromT = reachableFrom(t, edges);
-    INFO("reachable from " << gs::mission::taskName(t) << ": " << taskList(fromT));
-    CHECK(in(fromT, Task::parked));
+    const TaskSet from_t = reachable_from(t, edges);
+    INFO("reachable from " << gs::mission::task_name(t) << ": " << task_list(from_t));
+    CHECK(in(from_t, Task::parked));
   }
 }
 
 TEST_CASE("a mission's tasks are reached in the order the paper flies them", "[sequencer]") {
-  const auto edges = liveEdges();
+  const auto edges = live_edges();
   auto edge = [&](Task a, Task b) {
     for (const auto& e : edges)
       if (e.first == a && e.second == b) return true;
@@ -686,7 +686,7 @@ TEST_CASE("a mission's tasks are reached in the order the paper flies them", "[s
   CHECK(edge(Task::rebalance, Task::balance));
   // And no shortcut: the throw only starts from balance, the catch only from wait.
   for (const auto& [from, to] : edges) {
-    INFO(gs::mission::taskName(from) << " -> " << gs::mission::taskName(to));
+    INFO(gs::mission::task_name(from) << " -> " << gs::mission::task_name(to));
     if (to == Task::throwing) CHECK(from == Task::balance);
     if (to == Task::catching) CHECK(from == Task::wait);
     if (to == Task::take_off) CHECK(from == Task::arming);
@@ -702,31 +702,31 @@ TEST_CASE("a new sequencer is parked since 0 with no reason", "[sequencer]") {
   const VehicleSequencer s;
   CHECK(s.task() == Task::parked);
   CHECK(s.taskSince_s() == 0.0);
-  CHECK(s.lastReason() == Reason::none);
-  CHECK(s.lastConditions() == 0u);
+  CHECK(s.last_reason() == Reason::none);
+  CHECK(s.last_conditions() == 0u);
 }
 
 TEST_CASE("step takes at most one transition, the first matching row's", "[sequencer]") {
   Violations v;
   int chained = 0;  // words under which the new task would move on again
-  for (Task t : allTasks()) {
-    forEachWord(
+  for (Task t : all_tasks()) {
+    for_each_word(
         t,
         [&](std::uint32_t w) {
           VehicleSequencer s;
           s.reset(t, 10.0);
           const bool changed = s.step(w, 11.0);
-          const int expected = expectedRow(t, w);
-          if (s.lastConditions() != w) v.add(t, w, "lastConditions not the word");
+          const int expected = expected_row(t, w);
+          if (s.last_conditions() != w) v.add(t, w, "last_conditions not the word");
           if (expected < 0) {
-            if (changed || s.task() != t || s.taskSince_s() != 10.0 || s.lastReason() != Reason::none)
+            if (changed || s.task() != t || s.taskSince_s() != 10.0 || s.last_reason() != Reason::none)
               v.add(t, w, "changed without a row");
             return;
           }
           const Transition& r = kTransitions[static_cast<std::size_t>(expected)];
-          if (!changed || s.task() != r.to || s.taskSince_s() != 11.0 || s.lastReason() != r.reason)
-            v.add(t, w, std::string("ended in ") + std::string(gs::mission::taskName(s.task())));
-          if (findTransition(r.to, w) != nullptr) ++chained;
+          if (!changed || s.task() != r.to || s.taskSince_s() != 11.0 || s.last_reason() != r.reason)
+            v.add(t, w, std::string("ended in ") + std::string(gs::mission::task_name(s.task())));
+          if (find_transition(r.to, w) != nullptr) ++chained;
         },
         2000);
   }
@@ -743,41 +743,41 @@ TEST_CASE("step: one transition per call, since only on change, the reason kept"
   CHECK(s.step(w, 1.5));
   CHECK(s.task() == Task::take_off);
   CHECK(s.taskSince_s() == 1.5);
-  CHECK(s.lastReason() == Reason::armed);
-  CHECK(s.lastConditions() == w);
+  CHECK(s.last_reason() == Reason::armed);
+  CHECK(s.last_conditions() == w);
   CHECK(s.step(w, 1.6));
   CHECK(s.task() == Task::hover);
   CHECK(s.taskSince_s() == 1.6);
-  CHECK(s.lastReason() == Reason::airborne);
+  CHECK(s.last_reason() == Reason::airborne);
   // Nothing matches: the task, its start time and the last reason stay; the conditions update.
   CHECK_FALSE(s.step(c::armed, 2.0));
   CHECK_FALSE(s.step(c::armed | c::settled, 3.0));
   CHECK(s.task() == Task::hover);
   CHECK(s.taskSince_s() == 1.6);
-  CHECK(s.lastReason() == Reason::airborne);
-  CHECK(s.lastConditions() == (c::armed | c::settled));
+  CHECK(s.last_reason() == Reason::airborne);
+  CHECK(s.last_conditions() == (c::armed | c::settled));
 }
 
 TEST_CASE("reset forces a task, restarts its clock and clears the reason", "[sequencer]") {
   VehicleSequencer s;
   CHECK(s.step(c::request_take_off, 1.0));
   REQUIRE(s.task() == Task::arming);
-  REQUIRE(s.lastReason() == Reason::take_off_requested);
+  REQUIRE(s.last_reason() == Reason::take_off_requested);
 
   s.reset(Task::hover, 5.0);  // re-attaching to a vehicle that already flies
   CHECK(s.task() == Task::hover);
   CHECK(s.taskSince_s() == 5.0);
-  CHECK(s.lastReason() == Reason::none);
+  CHECK(s.last_reason() == Reason::none);
   // The table runs from the forced task.
   CHECK(s.step(c::armed | c::pole_on_self, 5.1));
   CHECK(s.task() == Task::balance);
-  CHECK(s.lastReason() == Reason::pole_placed);
+  CHECK(s.last_reason() == Reason::pole_placed);
 
   // Resetting to the same task still restarts its clock.
   s.reset(Task::balance, 9.0);
   CHECK(s.task() == Task::balance);
   CHECK(s.taskSince_s() == 9.0);
-  CHECK(s.lastReason() == Reason::none);
+  CHECK(s.last_reason() == Reason::none);
 }
 
 TEST_CASE("a throw and a catch, step by step", "[sequencer]") {
@@ -814,12 +814,12 @@ TEST_CASE("a throw and a catch, step by step", "[sequencer]") {
     Task previous = Task::parked;
     for (std::size_t i = 0; i < steps.size(); ++i) {
       t += 0.01;
-      INFO("step " << i << ": " << describeWord(previous, steps[i].word));
+      INFO("step " << i << ": " << describe_word(previous, steps[i].word));
       const bool changed = s.step(steps[i].word, t);
       CHECK(changed == (steps[i].task != previous));
       if (changed) since = t;
       CHECK(s.task() == steps[i].task);
-      CHECK(s.lastReason() == steps[i].reason);
+      CHECK(s.last_reason() == steps[i].reason);
       CHECK(s.taskSince_s() == since);
       previous = s.task();
     }
@@ -838,10 +838,10 @@ TEST_CASE("a throw and a catch, step by step", "[sequencer]") {
     };
     Task previous = Task::hover;
     for (std::size_t i = 0; i < steps.size(); ++i) {
-      INFO("step " << i << ": " << describeWord(previous, steps[i].word));
+      INFO("step " << i << ": " << describe_word(previous, steps[i].word));
       s.step(steps[i].word, 1.0 + static_cast<double>(i));
       CHECK(s.task() == steps[i].task);
-      CHECK(s.lastReason() == steps[i].reason);
+      CHECK(s.last_reason() == steps[i].reason);
       previous = s.task();
     }
   }
@@ -850,10 +850,10 @@ TEST_CASE("a throw and a catch, step by step", "[sequencer]") {
     s.reset(Task::catching, 0.0);
     CHECK(s.step(up | c::request_catch | c::pole_free | c::catch_missed, 1.0));
     CHECK(s.task() == Task::clear);
-    CHECK(s.lastReason() == Reason::missed);
+    CHECK(s.last_reason() == Reason::missed);
     CHECK_FALSE(s.step(up | c::pole_free | c::settled, 2.0));  // the pole still falling
     CHECK(s.step(up | c::pole_down, 3.0));
     CHECK(s.task() == Task::hover);
-    CHECK(s.lastReason() == Reason::pole_down);
+    CHECK(s.last_reason() == Reason::pole_down);
   }
 }

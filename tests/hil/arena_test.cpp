@@ -54,13 +54,13 @@ class Ground {
     if (steps_ % 20 == 0 &&
         encode(GsHeartbeat{static_cast<std::uint32_t>(steps_), kSession, GroundState::active, hb_seq_++}, to_,
                f))
-      arena_.sendFromGround(f);
+      arena_.send_from_ground(f);
     if (steps_ % 5 == 0 &&
         encode(RateThrust{rate_radps, thrust_mps2, static_cast<std::uint8_t>(sp_seq_++ & 0x0Fu)}, to_, f))
-      arena_.sendFromGround(f);
+      arena_.send_from_ground(f);
     ++steps_;
     arena_.step();
-    for (const Frame& g : arena_.takeGroundFrames()) {
+    for (const Frame& g : arena_.take_ground_frames()) {
       Arrival a{steps_, arena_.t_s(), g, {}};
       REQUIRE(decode(g, a.m) == DecodeStatus::ok);
       arrivals_.push_back(a);
@@ -75,7 +75,7 @@ class Ground {
     Frame f;
     const std::uint8_t seq = cmd_seq_++;
     REQUIRE(encode(Command{CommandCode::arm, seq, kSession, 0}, to_, f));
-    arena_.sendFromGround(f);
+    arena_.send_from_ground(f);
     return seq;
   }
 
@@ -108,26 +108,13 @@ bool same_frame(const Frame& a, const Frame& b) {
 
 }  // namespace
 
-TEST_CASE("arena: one mapping between nodes and plant vehicles") {
-  STATIC_REQUIRE(hil::sil::plantIndexOf(1) == 0);
-  STATIC_REQUIRE(hil::sil::plantIndexOf(2) == 1);
-  STATIC_REQUIRE(hil::sil::plantIndexOf(0) == -1);
-  STATIC_REQUIRE(hil::sil::plantIndexOf(3) == -1);
-  STATIC_REQUIRE(hil::sil::plantIndexOf(kBroadcastNode) == -1);
-  STATIC_REQUIRE(hil::sil::nodeOf(0) == 1);
-  STATIC_REQUIRE(hil::sil::nodeOf(1) == 2);
-  STATIC_REQUIRE(hil::sil::nodeOf(2) == kGroundNode);
-  for (std::uint8_t node : hil::sil::kArenaNodes)
-    CHECK(hil::sil::nodeOf(hil::sil::plantIndexOf(node)) == node);
-
+TEST_CASE("arena: vehicle 1 and vehicle 2, the firmware of each flying its own plant vehicle") {
   Arena arena(hil::PlantConfig{}, exact_radio(), 1);
-  CHECK(arena.vehicle(1).node() == 1);
-  CHECK(arena.vehicle(1).plant_vehicle() == 0);
-  CHECK(arena.vehicle(2).node() == 2);
-  CHECK(arena.vehicle(2).plant_vehicle() == 1);
-  CHECK_THROWS_AS(arena.vehicle(0), std::out_of_range);
-  CHECK_THROWS_AS(arena.vehicle(3), std::out_of_range);
-  CHECK_THROWS_AS(arena.radio(kBroadcastNode), std::out_of_range);
+  CHECK(arena.vehicle(pa::kVehicle1).vehicle() == pa::kVehicle1);
+  CHECK(arena.vehicle(pa::kVehicle2).vehicle() == pa::kVehicle2);
+  CHECK_THROWS_AS(arena.vehicle(pa::VehicleId(0)), std::out_of_range);
+  CHECK_THROWS_AS(arena.vehicle(pa::VehicleId(3)), std::out_of_range);
+  CHECK_THROWS_AS(arena.radio(pa::VehicleId(kBroadcastNode)), std::out_of_range);
   CHECK(arena.period_s() == Approx(0.001));
 
   hil::PlantConfig slow{};
@@ -142,20 +129,20 @@ TEST_CASE("arena: frames addressed to node 2 reach vehicle 2 only, after the rad
   Arena arena(hil::PlantConfig{}, exact_radio(), 3);
   Ground ground(arena, 2);
   ground.run(0.2);
-  CHECK(arena.vehicle(1).firmware().mode() == Mode::disarmed);
-  CHECK(arena.vehicle(2).firmware().mode() == Mode::disarmed);
+  CHECK(arena.vehicle(pa::kVehicle1).firmware().mode() == Mode::disarmed);
+  CHECK(arena.vehicle(pa::kVehicle2).firmware().mode() == Mode::disarmed);
 
   // ARM at t_c: read by the firmware at t_c + L, executed in its next tick (t_c + L + 1 ms).
   const double t_c = arena.t_s();
   const std::uint8_t seq = ground.send_arm();
   const long to_read = std::lround(kLatency_s / arena.period_s());
   for (long k = 0; k < to_read; ++k) ground.tick();
-  CHECK(arena.vehicle(2).firmware().mode() == Mode::disarmed);
+  CHECK(arena.vehicle(pa::kVehicle2).firmware().mode() == Mode::disarmed);
   ground.tick();
-  CHECK(arena.vehicle(2).firmware().mode() == Mode::armed);
+  CHECK(arena.vehicle(pa::kVehicle2).firmware().mode() == Mode::armed);
   ground.run(0.05);
-  CHECK(arena.vehicle(2).firmware().mode() == Mode::armed);
-  CHECK(arena.vehicle(1).firmware().mode() == Mode::disarmed);
+  CHECK(arena.vehicle(pa::kVehicle2).firmware().mode() == Mode::armed);
+  CHECK(arena.vehicle(pa::kVehicle1).firmware().mode() == Mode::disarmed);
 
   // The ACK crosses the radio back: on the ground bus at t_c + 2 L + 1 ms, no earlier.
   const std::optional<Arrival> ack = ground.ack(2, seq);
@@ -179,7 +166,7 @@ TEST_CASE("arena: frames addressed to node 2 reach vehicle 2 only, after the rad
   // Nothing went over node 1's radio; every frame sent to node 2 was delivered once the radio
   // had time to carry the last ones.
   for (int k = 0; k < 10; ++k) arena.step();
-  const hil::sil::RadioCounters r1 = arena.radio(1), r2 = arena.radio(2);
+  const hil::sil::RadioCounters r1 = arena.radio(pa::kVehicle1), r2 = arena.radio(pa::kVehicle2);
   CHECK(r1.uplink_offered == 0);
   CHECK(r1.uplink_delivered == 0);
   CHECK(r2.uplink_offered > 0);
@@ -192,12 +179,12 @@ TEST_CASE("arena: frames addressed to node 2 reach vehicle 2 only, after the rad
   // Frames for the ground's own node or a vehicle not in the arena are carried by no radio.
   Frame f;
   REQUIRE(encode(Command{CommandCode::disarm, 99, kSession, 0}, 3, f));
-  arena.sendFromGround(f);
+  arena.send_from_ground(f);
   REQUIRE(encode(Command{CommandCode::disarm, 99, kSession, 0}, kGroundNode, f));
-  arena.sendFromGround(f);
+  arena.send_from_ground(f);
   CHECK(arena.not_carried() == 2);
-  CHECK(arena.radio(1).uplink_offered == 0);
-  CHECK(arena.radio(2).uplink_offered == r2.uplink_offered);
+  CHECK(arena.radio(pa::kVehicle1).uplink_offered == 0);
+  CHECK(arena.radio(pa::kVehicle2).uplink_offered == r2.uplink_offered);
 }
 
 TEST_CASE("arena: broadcast frames reach both vehicles") {
@@ -207,19 +194,19 @@ TEST_CASE("arena: broadcast frames reach both vehicles") {
   const double t_c = arena.t_s();
   const std::uint8_t seq = ground.send_arm();
   ground.run(0.05);
-  CHECK(arena.vehicle(1).firmware().mode() == Mode::armed);
-  CHECK(arena.vehicle(2).firmware().mode() == Mode::armed);
-  for (std::uint8_t node : hil::sil::kArenaNodes) {
-    const std::optional<Arrival> ack = ground.ack(node, seq);
+  CHECK(arena.vehicle(pa::kVehicle1).firmware().mode() == Mode::armed);
+  CHECK(arena.vehicle(pa::kVehicle2).firmware().mode() == Mode::armed);
+  for (const pa::VehicleId vehicle : pa::kActVehicles) {
+    const std::optional<Arrival> ack = ground.ack(vehicle.node(), seq);
     REQUIRE(ack);
     CHECK(ack->m.command_ack.result == AckResult::accepted);
     CHECK(ack->t_s >= t_c + 2 * kLatency_s);
   }
   for (int k = 0; k < 10; ++k) arena.step();  // the last frames still in flight land
-  CHECK(arena.radio(1).uplink_offered > 0);
-  CHECK(arena.radio(1).uplink_offered == arena.radio(2).uplink_offered);
-  CHECK(arena.radio(1).uplink_delivered == arena.radio(1).uplink_offered);
-  CHECK(arena.radio(2).uplink_delivered == arena.radio(2).uplink_offered);
+  CHECK(arena.radio(pa::kVehicle1).uplink_offered > 0);
+  CHECK(arena.radio(pa::kVehicle1).uplink_offered == arena.radio(pa::kVehicle2).uplink_offered);
+  CHECK(arena.radio(pa::kVehicle1).uplink_delivered == arena.radio(pa::kVehicle1).uplink_offered);
+  CHECK(arena.radio(pa::kVehicle2).uplink_delivered == arena.radio(pa::kVehicle2).uplink_offered);
 }
 
 TEST_CASE("arena: with jitter, frames still arrive in order within latency + jitter + one step") {
@@ -236,7 +223,7 @@ TEST_CASE("arena: with jitter, frames still arrive in order within latency + jit
     const double sent_s = a.m.vehicle_heartbeat.uptime_ms * 1e-3;
     CHECK(a.t_s >= sent_s + kLatency_s - kEps_s);
     CHECK(a.t_s <= sent_s + kLatency_s + config.radio.jitter_s + 0.001 + kEps_s);
-    double& last = last_sent[static_cast<std::size_t>(hil::sil::plantIndexOf(a.m.node))];
+    double& last = last_sent[pa::act_slot(pa::VehicleId(a.m.node))];
     CHECK(sent_s > last);
     last = sent_s;
   }
@@ -250,10 +237,10 @@ TEST_CASE("arena: with loss 1 nothing arrives either way, and the radios count i
   ground.send_arm();
   ground.run(0.1);
   CHECK(ground.arrivals().empty());
-  CHECK(arena.vehicle(1).firmware().mode() == Mode::disarmed);
-  CHECK(arena.vehicle(2).firmware().mode() == Mode::disarmed);
-  for (std::uint8_t node : hil::sil::kArenaNodes) {
-    const hil::sil::RadioCounters r = arena.radio(node);
+  CHECK(arena.vehicle(pa::kVehicle1).firmware().mode() == Mode::disarmed);
+  CHECK(arena.vehicle(pa::kVehicle2).firmware().mode() == Mode::disarmed);
+  for (const pa::VehicleId vehicle : pa::kActVehicles) {
+    const hil::sil::RadioCounters r = arena.radio(vehicle);
     // 0.3 s of 50 Hz heartbeats and 200 Hz setpoints, and the ARM.
     CHECK(r.uplink_offered == 15 + 60 + 1);
     CHECK(r.uplink_lost == r.uplink_offered);
@@ -274,7 +261,7 @@ TEST_CASE("arena: motion capture at its rate and latency, with both vehicles and
   std::vector<std::pair<double, hil::MocapFrame>> got;
   for (int k = 0; k < 1000; ++k) {
     arena.step();
-    for (const hil::MocapFrame& m : arena.takeMocap()) got.emplace_back(arena.t_s(), m);
+    for (const hil::MocapFrame& m : arena.take_mocap()) got.emplace_back(arena.t_s(), m);
   }
   // Captured every 5 ms from t = 0; delivered 13 ms later: the last one by 1 s was captured at 985 ms.
   REQUIRE(got.size() == 198);
@@ -288,15 +275,15 @@ TEST_CASE("arena: motion capture at its rate and latency, with both vehicles and
     CHECK(arrived_s < m.delivery_t_s + 0.001 - kEps_s);
     // The vehicles stay parked and the pole on the floor: the poses are the truth within noise.
     for (int b = 0; b < 3; ++b) REQUIRE(m.pose[static_cast<std::size_t>(b)].seen);
-    CHECK((m.pose[0].position_m - p.vehicle(0).body.position_m).norm() < 0.01);
-    CHECK((m.pose[1].position_m - p.vehicle(1).body.position_m).norm() < 0.01);
+    CHECK((m.pose[0].position_m - p.vehicle(pa::kVehicle1).body.position_m).norm() < 0.01);
+    CHECK((m.pose[1].position_m - p.vehicle(pa::kVehicle2).body.position_m).norm() < 0.01);
     CHECK((m.pose[2].position_m - p.pole().body.position_m).norm() < 0.01);
   }
   // Which body is which: vehicle1 at x = -1, vehicle2 at +1, the pole between them.
   CHECK(got.back().second.pose[0].position_m.x() == Approx(-1.0).margin(0.01));
   CHECK(got.back().second.pose[1].position_m.x() == Approx(1.0).margin(0.01));
   CHECK(got.back().second.pose[2].position_m.x() == Approx(0.0).margin(0.01));
-  CHECK(arena.takeMocap().empty());
+  CHECK(arena.take_mocap().empty());
 }
 
 namespace {
@@ -329,15 +316,16 @@ Run fly(std::uint64_t seed) {
       ground.rate_radps = {0.1f, -0.1f, 0.0f};
     }
     ground.tick();
-    for (const hil::MocapFrame& m : arena.takeMocap()) run.mocap.push_back(m);
-    const hil::sil::RadioCounters r1 = arena.radio(1), r2 = arena.radio(2);
+    for (const hil::MocapFrame& m : arena.take_mocap()) run.mocap.push_back(m);
+    const hil::sil::RadioCounters r1 = arena.radio(pa::kVehicle1), r2 = arena.radio(pa::kVehicle2);
     run.lost1.push_back(r1.uplink_lost + r1.downlink_lost);
     run.lost2.push_back(r2.uplink_lost + r2.downlink_lost);
   }
   run.ground = ground.arrivals();
-  run.vehicles = {arena.plant().vehicle(0), arena.plant().vehicle(1)};
+  run.vehicles = {arena.plant().vehicle(pa::kVehicle1), arena.plant().vehicle(pa::kVehicle2)};
   run.pole = arena.plant().pole();
-  run.modes = {arena.vehicle(1).firmware().mode(), arena.vehicle(2).firmware().mode()};
+  run.modes = {arena.vehicle(pa::kVehicle1).firmware().mode(),
+               arena.vehicle(pa::kVehicle2).firmware().mode()};
   return run;
 }
 

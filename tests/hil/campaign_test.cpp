@@ -30,7 +30,7 @@ TEST_CASE("a worker's report decodes to the result it encodes", "[hil][campaign]
   r.vehicle_crashed = true;
   r.abort_reason = "out_of_reach";
   AttemptResult back;
-  REQUIRE(hil::sil::decodeResult(hil::sil::encodeResult(r), back));
+  REQUIRE(hil::sil::decode_result(hil::sil::encode_result(r), back));
   CHECK(back.outcome == r.outcome);
   CHECK(back.flight_s == r.flight_s);
   CHECK(back.catch_x_m == r.catch_x_m);
@@ -39,16 +39,16 @@ TEST_CASE("a worker's report decodes to the result it encodes", "[hil][campaign]
   CHECK_FALSE(back.impact);
   CHECK(back.abort_reason == r.abort_reason);
   r.abort_reason.clear();  // the last field empty
-  REQUIRE(hil::sil::decodeResult(hil::sil::encodeResult(r), back));
+  REQUIRE(hil::sil::decode_result(hil::sil::encode_result(r), back));
   CHECK(back.abort_reason.empty());
-  CHECK_FALSE(hil::sil::decodeResult("caught\t1.0\tnot a number", back));
-  CHECK_FALSE(hil::sil::decodeResult("", back));
+  CHECK_FALSE(hil::sil::decode_result("caught\t1.0\tnot a number", back));
+  CHECK_FALSE(hil::sil::decode_result("", back));
 }
 
 TEST_CASE("the drawn parameters are the plant configuration's keys", "[hil][campaign]") {
   const std::vector<std::string_view> keys = hil::plant_config_keys();
   const hil::PlantConfig drawn = hil::randomised(hil::PlantConfig{}, 3);
-  const auto parameters = hil::drawnParameters(drawn);
+  const auto parameters = hil::drawn_parameters(drawn);
   REQUIRE(parameters.size() == 22);
   for (const hil::DrawnParameter& p : parameters) {
     INFO(p.key);
@@ -66,16 +66,16 @@ TEST_CASE("a campaign is reproducible from its seed whatever the number of worke
   config.jobs = 1;
   int reports = 0;
   const auto one =
-      hil::sil::runCampaign(config, [&](const auto& done) { reports = static_cast<int>(done.size()); });
+      hil::sil::run_campaign(config, [&](const auto& done) { reports = static_cast<int>(done.size()); });
   CHECK(reports == 2);
   config.jobs = 2;
-  const auto two = hil::sil::runCampaign(config);
+  const auto two = hil::sil::run_campaign(config);
   REQUIRE(one.size() == 2);
   REQUIRE(two.size() == 2);
   for (std::size_t i = 0; i < 2; ++i) {
     INFO("attempt " << i + 1);
     CHECK(one[i].result.throw_number == static_cast<int>(i) + 1);
-    CHECK(one[i].seed == hil::sil::attemptSeed(4, static_cast<int>(i) + 1));
+    CHECK(one[i].seed == hil::sil::attempt_seed(4, static_cast<int>(i) + 1));
     CHECK(one[i].result.outcome == two[i].result.outcome);
     CHECK(one[i].result.flight_s == two[i].result.flight_s);
     CHECK(one[i].result.energy_error_J == two[i].result.energy_error_J);

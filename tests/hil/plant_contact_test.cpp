@@ -17,7 +17,7 @@ using hil::Vec3;
 
 namespace {
 
-PlantConfig quiet() { return plant_test::withoutDrag(plant_test::withoutImuErrors()); }
+PlantConfig quiet() { return plant_test::without_drag(plant_test::without_imu_errors()); }
 
 const MotorCommands kOff{};
 
@@ -32,7 +32,7 @@ MotorCommands scaled(const MotorCommands& m, double factor) {
 hil::PoleState pole_above_plate(const Plant& plant, const Vec3& offset_m, double height_m, double tilt_rad) {
   const double L = plant.config().pole.half_length_m;
   const Vec3 axis(std::sin(tilt_rad), 0.0, std::cos(tilt_rad));
-  const Vec3 end = plant.plate_centre_m(1) + offset_m + Vec3(0, 0, height_m);
+  const Vec3 end = plant.plate_centre_m(pa::kVehicle2) + offset_m + Vec3(0, 0, height_m);
   return Plant::make_pole(end + L * axis, axis, Vec3::Zero(), Vec3::Zero());
 }
 
@@ -40,10 +40,10 @@ hil::PoleState pole_above_plate(const Plant& plant, const Vec3& offset_m, double
 
 TEST_CASE("a pole dropped upright onto a hovering vehicle's plate stands for a moment, then falls") {
   Plant plant(quiet());
-  plant.set_vehicle(1, plant.hovering_vehicle(Vec3(0, 0, 3.0), 0.0));
+  plant.set_vehicle(pa::kVehicle2, plant.hovering_vehicle(Vec3(0, 0, 3.0), 0.0));
   plant.set_pole(pole_above_plate(plant, Vec3::Zero(), 0.02, 0.01));
   // The motors carry vehicle and pole; nothing balances the pole.
-  const MotorCommands thrust = scaled(plant.hover_commands(1), 1.0 + 0.03 / 0.52);
+  const MotorCommands thrust = scaled(plant.hover_commands(pa::kVehicle2), 1.0 + 0.03 / 0.52);
 
   double landed_t = -1.0;
   double left_t = -1.0;
@@ -61,7 +61,7 @@ TEST_CASE("a pole dropped upright onto a hovering vehicle's plate stands for a m
       // Standing: upright, on the plate, moving with the vehicle.
       CHECK(plant.pole_contact() == Contact::vehicle2);
       CHECK(plant.pole().axis().z() > 0.999);
-      CHECK((plant.pole().body.velocity_mps - plant.vehicle(1).body.velocity_mps).norm() < 0.05);
+      CHECK((plant.pole().body.velocity_mps - plant.vehicle(pa::kVehicle2).body.velocity_mps).norm() < 0.05);
     }
   }
   INFO("landed at " << landed_t << " s, left the plate at " << left_t << " s");
@@ -74,12 +74,12 @@ TEST_CASE("a pole dropped upright onto a hovering vehicle's plate stands for a m
 TEST_CASE("the plate is 0.12 m across: an end just inside its rim lands, one just outside falls past") {
   for (const double offset_m : {0.059, 0.061}) {
     Plant plant(quiet());
-    plant.set_vehicle(1, plant.hovering_vehicle(Vec3(0, 0, 1.0), 0.0));
+    plant.set_vehicle(pa::kVehicle2, plant.hovering_vehicle(Vec3(0, 0, 1.0), 0.0));
     plant.set_pole(pole_above_plate(plant, Vec3(0, offset_m, 0), 0.01, 0.01));
     bool touched_plate = false;
     double lowest_end_z = 10.0;
     for (int k = 0; k < 4000; ++k) {
-      plant.step(0.001, kOff, plant.hover_commands(1));
+      plant.step(0.001, kOff, plant.hover_commands(pa::kVehicle2));
       touched_plate = touched_plate || plant.pole_end_contact(0) == Contact::vehicle2;
       lowest_end_z = std::min(lowest_end_z, plant.pole().end_m(0, 0.665).z());
     }
@@ -88,8 +88,8 @@ TEST_CASE("the plate is 0.12 m across: an end just inside its rim lands, one jus
       CHECK(touched_plate);
     } else {
       CHECK_FALSE(touched_plate);
-      CHECK(lowest_end_z < plant.plate_centre_m(1).z() - 0.5);  // it fell past the plate
-      CHECK(plant.pole_contact() == Contact::floor);            // and lies on the floor
+      CHECK(lowest_end_z < plant.plate_centre_m(pa::kVehicle2).z() - 0.5);  // it fell past the plate
+      CHECK(plant.pole_contact() == Contact::floor);                        // and lies on the floor
       CHECK(std::abs(plant.pole().axis().z()) < 0.01);
     }
   }
@@ -99,10 +99,11 @@ TEST_CASE("an impact exchanges momentum: without gravity and thrust the total is
   PlantConfig c = quiet();
   c.gravity_mps2 = 0.0;
   Plant plant(c);
-  plant.set_vehicle(1, plant.hovering_vehicle(Vec3(0, 0, 1.0), 0.0));  // floating, motors off below
-  hil::VehicleState v = plant.vehicle(1);
+  plant.set_vehicle(pa::kVehicle2,
+                    plant.hovering_vehicle(Vec3(0, 0, 1.0), 0.0));  // floating, motors off below
+  hil::VehicleState v = plant.vehicle(pa::kVehicle2);
   v.motor_thrust_N.fill(0.0);
-  plant.set_vehicle(1, v);
+  plant.set_vehicle(pa::kVehicle2, v);
   // An off-centre, oblique, spinning arrival.
   hil::PoleState pole = pole_above_plate(plant, Vec3(0.02, 0.01, 0), 0.005, 0.2);
   pole.body.velocity_mps = Vec3(0.5, 0.0, -3.0);
@@ -110,42 +111,44 @@ TEST_CASE("an impact exchanges momentum: without gravity and thrust the total is
   plant.set_pole(pole);
 
   const Vec3 origin(0.3, -0.2, 0.5);
-  const Vec3 p0 = plant.pole_momentum_Ns() + plant.vehicle_momentum_Ns(1);
-  const Vec3 l0 = plant.pole_angular_momentum_Nms(origin) + plant.vehicle_angular_momentum_Nms(1, origin);
-  const double e0 = plant.pole_energy_J() + plant.vehicle_energy_J(1);
+  const Vec3 p0 = plant.pole_momentum_Ns() + plant.vehicle_momentum_Ns(pa::kVehicle2);
+  const Vec3 l0 =
+      plant.pole_angular_momentum_Nms(origin) + plant.vehicle_angular_momentum_Nms(pa::kVehicle2, origin);
+  const double e0 = plant.pole_energy_J() + plant.vehicle_energy_J(pa::kVehicle2);
   bool touched = false;
   double worst_p = 0.0;
   double worst_l = 0.0;
   for (int k = 0; k < 100; ++k) {
     plant.step(0.001, kOff, kOff);
     touched = touched || plant.pole_end_contact(0) == Contact::vehicle2;
-    const Vec3 p = plant.pole_momentum_Ns() + plant.vehicle_momentum_Ns(1);
-    const Vec3 l = plant.pole_angular_momentum_Nms(origin) + plant.vehicle_angular_momentum_Nms(1, origin);
+    const Vec3 p = plant.pole_momentum_Ns() + plant.vehicle_momentum_Ns(pa::kVehicle2);
+    const Vec3 l =
+        plant.pole_angular_momentum_Nms(origin) + plant.vehicle_angular_momentum_Nms(pa::kVehicle2, origin);
     worst_p = std::max(worst_p, (p - p0).norm());
     worst_l = std::max(worst_l, (l - l0).norm());
   }
   REQUIRE(touched);
-  const double exchanged = plant.vehicle_momentum_Ns(1).norm();
+  const double exchanged = plant.vehicle_momentum_Ns(pa::kVehicle2).norm();
   INFO("exchanged " << exchanged << " N s; momentum error " << worst_p << " N s, angular " << worst_l
                     << " N m s");
   CHECK(exchanged > 0.05);
   CHECK(worst_p < 1e-12);
   CHECK(worst_l < 1e-9 * l0.norm() + 1e-12);
   // The off-centre hit turns the vehicle, and the impact loses energy (nearly inelastic).
-  CHECK(plant.vehicle(1).body.rate_body_radps.norm() > 0.01);
-  CHECK(plant.pole_energy_J() + plant.vehicle_energy_J(1) < e0 - 0.05);
+  CHECK(plant.vehicle(pa::kVehicle2).body.rate_body_radps.norm() > 0.01);
+  CHECK(plant.pole_energy_J() + plant.vehicle_energy_J(pa::kVehicle2) < e0 - 0.05);
 }
 
 TEST_CASE("in a plate impact under gravity and hover thrust, momentum changes only by the pole's weight") {
   Plant plant(quiet());
-  plant.set_vehicle(1, plant.hovering_vehicle(Vec3(0, 0, 1.5), 0.0));
+  plant.set_vehicle(pa::kVehicle2, plant.hovering_vehicle(Vec3(0, 0, 1.5), 0.0));
   plant.set_pole(pole_above_plate(plant, Vec3::Zero(), 0.3, 0.0));
-  const MotorCommands hover = plant.hover_commands(1);
+  const MotorCommands hover = plant.hover_commands(pa::kVehicle2);
   // Until just before the impact: only the pole falls.
-  while (plant.pole().end_m(0, 0.665).z() > plant.plate_centre_m(1).z() + 0.005)
+  while (plant.pole().end_m(0, 0.665).z() > plant.plate_centre_m(pa::kVehicle2).z() + 0.005)
     plant.step(0.001, kOff, hover);
   const double t0 = plant.t_s();
-  const Vec3 p0 = plant.pole_momentum_Ns() + plant.vehicle_momentum_Ns(1);
+  const Vec3 p0 = plant.pole_momentum_Ns() + plant.vehicle_momentum_Ns(pa::kVehicle2);
   const Vec3 pole0 = plant.pole_momentum_Ns();
   double peak_force = 0.0;
   for (int k = 0; k < 60; ++k) {
@@ -153,7 +156,7 @@ TEST_CASE("in a plate impact under gravity and hover thrust, momentum changes on
     peak_force = std::max(peak_force, plant.pole_end_force_N(0, Surface::plate2).norm());
   }
   const double dt = plant.t_s() - t0;
-  const Vec3 p1 = plant.pole_momentum_Ns() + plant.vehicle_momentum_Ns(1);
+  const Vec3 p1 = plant.pole_momentum_Ns() + plant.vehicle_momentum_Ns(pa::kVehicle2);
   const Vec3 exchanged = plant.pole_momentum_Ns() - pole0;
   // The level vehicle's thrust balances its own weight exactly; the pole's weight is the only
   // external impulse.
@@ -167,9 +170,9 @@ TEST_CASE("in a plate impact under gravity and hover thrust, momentum changes on
 
 TEST_CASE("the IMU feels the impact as a drop of the body-z specific force") {
   Plant plant(quiet());
-  plant.set_vehicle(1, plant.hovering_vehicle(Vec3(0, 0, 1.5), 0.0));
+  plant.set_vehicle(pa::kVehicle2, plant.hovering_vehicle(Vec3(0, 0, 1.5), 0.0));
   plant.set_pole(pole_above_plate(plant, Vec3::Zero(), 0.3, 0.0));
-  const MotorCommands hover = plant.hover_commands(1);
+  const MotorCommands hover = plant.hover_commands(pa::kVehicle2);
   double before = 0.0;
   double lowest = 1e9;
   double landed_t = -1.0;
@@ -179,13 +182,13 @@ TEST_CASE("the IMU feels the impact as a drop of the body-z specific force") {
     for (const auto& e : plant.take_contact_events()) {
       if (e.begins && landed_t < 0.0) landed_t = e.t_s;
     }
-    while (plant.pop_imu(1, sample)) {
+    while (plant.pop_imu(pa::kVehicle2, sample)) {
       if (landed_t < 0.0) before = sample.accel_mps2.z();
       lowest = std::min(lowest, sample.accel_mps2.z());
     }
   }
   REQUIRE(landed_t > 0.0);
-  const double after = plant.latest_imu(1).accel_mps2.z();
+  const double after = plant.latest_imu(pa::kVehicle2).accel_mps2.z();
   INFO("specific force z: before " << before << ", lowest " << lowest << ", after " << after << " m/s^2");
   CHECK(before == Approx(9.81).epsilon(1e-9));
   CHECK(lowest < before - 10.0);
@@ -194,8 +197,8 @@ TEST_CASE("the IMU feels the impact as a drop of the body-z specific force") {
   // reads g m_vehicle / (m_vehicle + m_pole).
   CHECK(after == Approx(9.81 * 0.52 / 0.55).epsilon(1e-4));
   // A central, vertical impact turns nothing.
-  CHECK(plant.latest_imu(1).gyro_radps.norm() < 1e-9);
-  CHECK(plant.latest_imu(1).accel_mps2.head<2>().norm() < 1e-9);
+  CHECK(plant.latest_imu(pa::kVehicle2).gyro_radps.norm() < 1e-9);
+  CHECK(plant.latest_imu(pa::kVehicle2).accel_mps2.head<2>().norm() < 1e-9);
 }
 
 TEST_CASE("Coulomb friction: a pole sliding on the floor stops after v^2 / (2 mu g) and then stays") {
@@ -235,15 +238,15 @@ TEST_CASE("the floor stops a falling pole, which ends up lying on it") {
 
 TEST_CASE("a new plant starts at rest: vehicles parked, the pole asleep on the floor") {
   Plant plant(quiet());
-  CHECK(plant.vehicle_on_floor(0));
-  CHECK(plant.vehicle_on_floor(1));
+  CHECK(plant.vehicle_on_floor(pa::kVehicle1));
+  CHECK(plant.vehicle_on_floor(pa::kVehicle2));
   CHECK(plant.pole_asleep());
   CHECK(plant.pole_end_contact(0) == Contact::floor);
   CHECK(plant.pole_end_contact(1) == Contact::floor);
   const Vec3 p0 = plant.pole().body.position_m;
-  const Vec3 v0 = plant.vehicle(0).body.position_m;
+  const Vec3 v0 = plant.vehicle(pa::kVehicle1).body.position_m;
   for (int k = 0; k < 1000; ++k) plant.step(0.001, kOff, kOff);
   CHECK((plant.pole().body.position_m - p0).norm() < 1e-12);
-  CHECK((plant.vehicle(0).body.position_m - v0).norm() < 1e-9);
+  CHECK((plant.vehicle(pa::kVehicle1).body.position_m - v0).norm() < 1e-9);
   CHECK(plant.take_contact_events().empty());
 }

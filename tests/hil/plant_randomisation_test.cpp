@@ -21,13 +21,13 @@ struct Trace {
 
 Trace run(const PlantConfig& c, std::uint64_t seed) {
   hil::Plant plant(c, seed);
-  plant.set_vehicle(0, plant.hovering_vehicle(Vec3(0, 0, 1.0), 0.0));
+  plant.set_vehicle(pa::kVehicle1, plant.hovering_vehicle(Vec3(0, 0, 1.0), 0.0));
   plant.set_pole(hil::Plant::make_pole(Vec3(1, 0, 2), Vec3(0.3, 0, 1), Vec3(0, 0, 3), Vec3(0, 2, 0)));
   Trace t;
   for (int k = 0; k < 200; ++k) {
-    plant.step(0.001, plant.hover_commands(0), hil::MotorCommands{});
+    plant.step(0.001, plant.hover_commands(pa::kVehicle1), hil::MotorCommands{});
     hil::ImuSample s;
-    while (plant.pop_imu(0, s)) {
+    while (plant.pop_imu(pa::kVehicle1, s)) {
       for (int i = 0; i < 3; ++i) t.numbers.push_back(s.accel_mps2[i]);
     }
     hil::MocapFrame f;

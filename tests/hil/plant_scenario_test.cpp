@@ -148,7 +148,8 @@ TEST_CASE("balanced_hover: the pole stays balanced on vehicle 1, which holds its
   CHECK(lowest_nz > std::cos(0.08));
   double worst = 0.0;
   for (const hil::VehicleTruthRow& v : r.vehicle_truth) {
-    if (v.vehicle == 0) worst = std::max(worst, (v.state.body.position_m - s.vehicle[0].position_m).norm());
+    if (v.vehicle == pa::kVehicle1)
+      worst = std::max(worst, (v.state.body.position_m - s.vehicle[0].position_m).norm());
   }
   INFO("largest excursion of vehicle 1: " << worst << " m");
   CHECK(worst < 0.15);
@@ -200,15 +201,15 @@ TEST_CASE("the data generator's controller brings a displaced vehicle back to it
   hil::PlantConfig c;
   c.vehicle.motor_gain[0] = {1.04, 0.97, 1.0, 1.02};  // the controller does not know these
   hil::Plant plant(c);
-  plant.set_vehicle(0, plant.hovering_vehicle(Vec3(0.5, -0.4, 1.2), 0.5));
+  plant.set_vehicle(pa::kVehicle1, plant.hovering_vehicle(Vec3(0.5, -0.4, 1.2), 0.5));
   hil::VehicleController controller(hil::VehicleConfig{}, c.gravity_mps2);
   hil::VehicleSetpoint sp;
   sp.position_m = Vec3(0, 0, 1.5);
   sp.yaw_rad = 0.0;
   for (int k = 0; k < 8000; ++k) {
-    plant.step(0.001, controller.update(plant.vehicle(0), sp, 0.001), hil::MotorCommands{});
+    plant.step(0.001, controller.update(plant.vehicle(pa::kVehicle1), sp, 0.001), hil::MotorCommands{});
   }
-  const hil::RigidBodyState& b = plant.vehicle(0).body;
+  const hil::RigidBodyState& b = plant.vehicle(pa::kVehicle1).body;
   CHECK((b.position_m - sp.position_m).norm() < 0.02);
   CHECK(b.velocity_mps.norm() < 0.01);
   const Vec3 nose = b.attitude * Vec3::UnitX();

@@ -15,7 +15,7 @@ using hil::Vec3;
 
 namespace {
 
-PlantConfig noiseless() { return plant_test::withoutMocapNoise(plant_test::withoutImuErrors()); }
+PlantConfig noiseless() { return plant_test::without_mocap_noise(plant_test::without_imu_errors()); }
 
 const MotorCommands kOff{};
 
@@ -43,7 +43,7 @@ TEST_CASE("the IMU samples at its rate, on its ticks, every sample once") {
   for (int k = 0; k < 300; ++k) {
     plant.step(0.0007, kOff, kOff);
     hil::ImuSample s;
-    while (plant.pop_imu(0, s)) samples.push_back(s);
+    while (plant.pop_imu(pa::kVehicle1, s)) samples.push_back(s);
   }
   REQUIRE(samples.size() == 210);
   for (std::size_t i = 0; i < samples.size(); ++i) {
@@ -62,18 +62,18 @@ TEST_CASE("the IMU adds its per-run bias and white noise of the configured size"
   c.imu.accel_bias_sigma_mps2 = 0.1;
   c.imu.gyro_bias_sigma_radps = 0.005;
   Plant plant(c, 42);
-  plant.set_vehicle(0, plant.hovering_vehicle(Vec3(0, 0, 2), 0.0));
+  plant.set_vehicle(pa::kVehicle1, plant.hovering_vehicle(Vec3(0, 0, 2), 0.0));
   std::vector<double> az;
   std::vector<double> gx;
   for (int k = 0; k < 4000; ++k) {
-    plant.step(0.001, plant.hover_commands(0), kOff);
+    plant.step(0.001, plant.hover_commands(pa::kVehicle1), kOff);
     hil::ImuSample s;
-    while (plant.pop_imu(0, s)) {
+    while (plant.pop_imu(pa::kVehicle1, s)) {
       az.push_back(s.accel_mps2.z());
       gx.push_back(s.gyro_radps.x());
     }
   }
-  const hil::ImuModel& imu = plant.imu_model(0);
+  const hil::ImuModel& imu = plant.imu_model(pa::kVehicle1);
   // The biases are drawn from the seed; one draw is not zero.
   CHECK(imu.accel_bias_mps2().norm() > 1e-4);
   CHECK(mean(az) == Approx(9.81 + imu.accel_bias_mps2().z()).margin(0.005));
@@ -81,7 +81,7 @@ TEST_CASE("the IMU adds its per-run bias and white noise of the configured size"
   CHECK(stddev(az) == Approx(0.05).epsilon(0.05));
   CHECK(stddev(gx) == Approx(0.003).epsilon(0.05));
   // The two vehicles' IMUs are independent.
-  CHECK((plant.imu_model(1).accel_bias_mps2() - imu.accel_bias_mps2()).norm() > 1e-4);
+  CHECK((plant.imu_model(pa::kVehicle2).accel_bias_mps2() - imu.accel_bias_mps2()).norm() > 1e-4);
 }
 
 TEST_CASE("the IMU clips at its range") {
@@ -91,9 +91,9 @@ TEST_CASE("the IMU clips at its range") {
   Plant plant(c);
   hil::VehicleState v = plant.hovering_vehicle(Vec3(0, 0, 5), 0.0);
   v.body.rate_body_radps = Vec3(0, 0, 50.0);  // spinning fast about z
-  plant.set_vehicle(0, v);
-  plant.step(0.001, plant.hover_commands(0), kOff);
-  const hil::ImuSample& s = plant.latest_imu(0);
+  plant.set_vehicle(pa::kVehicle1, v);
+  plant.step(0.001, plant.hover_commands(pa::kVehicle1), kOff);
+  const hil::ImuSample& s = plant.latest_imu(pa::kVehicle1);
   CHECK(s.accel_mps2.z() == 5.0);
   CHECK(s.gyro_radps.z() == 34.9);
 }
@@ -102,14 +102,14 @@ TEST_CASE("motion capture: 200 Hz frames of the true poses, delivered after the 
   PlantConfig c = noiseless();
   c.mocap.latency_s = 0.0123;
   Plant plant(c);
-  plant.set_vehicle(0, plant.hovering_vehicle(Vec3(0.1, 0.2, 1.0), 0.3));
+  plant.set_vehicle(pa::kVehicle1, plant.hovering_vehicle(Vec3(0.1, 0.2, 1.0), 0.3));
   // A tumbling pole: the frame must hold its pose at the capture time, not at delivery.
   plant.set_pole(Plant::make_pole(Vec3(0, 0, 20), Vec3(0.2, 0.1, 1.0), Vec3(0.3, 0, 4), Vec3(1.0, 3.0, 0.5)));
   std::vector<hil::PoleState> truth{plant.pole()};  // at t = k ms
   std::vector<hil::MocapFrame> frames;
   std::vector<double> seen_at;
   for (int k = 0; k < 1000; ++k) {
-    plant.step(0.001, plant.hover_commands(0), kOff);
+    plant.step(0.001, plant.hover_commands(pa::kVehicle1), kOff);
     truth.push_back(plant.pole());
     hil::MocapFrame f;
     while (plant.pop_mocap(f)) {
@@ -143,8 +143,8 @@ TEST_CASE("motion capture noise has the configured size") {
   c.mocap.position_noise_m = 0.001;
   c.mocap.attitude_noise_rad = 0.002;
   Plant plant(c, 7);
-  plant.set_vehicle(0, plant.parked_vehicle(0.5, 0.5, 0.0));
-  const hil::RigidBodyState truth = plant.vehicle(0).body;
+  plant.set_vehicle(pa::kVehicle1, plant.parked_vehicle(0.5, 0.5, 0.0));
+  const hil::RigidBodyState truth = plant.vehicle(pa::kVehicle1).body;
   std::vector<double> dx;
   std::vector<double> angle2;
   for (int k = 0; k < 10000; ++k) {

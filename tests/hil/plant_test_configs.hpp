@@ -7,7 +7,7 @@
 namespace plant_test {
 
 // No IMU noise and no IMU bias.
-inline hil::PlantConfig withoutImuErrors(hil::PlantConfig c = {}) {
+inline hil::PlantConfig without_imu_errors(hil::PlantConfig c = {}) {
   c.imu.accel_noise_mps2 = 0.0;
   c.imu.gyro_noise_radps = 0.0;
   c.imu.accel_bias_sigma_mps2 = 0.0;
@@ -16,7 +16,7 @@ inline hil::PlantConfig withoutImuErrors(hil::PlantConfig c = {}) {
 }
 
 // No aerodynamic drag on the pole or the vehicles.
-inline hil::PlantConfig withoutDrag(hil::PlantConfig c = {}) {
+inline hil::PlantConfig without_drag(hil::PlantConfig c = {}) {
   c.pole.drag_axial_kgpm2 = 0.0;
   c.pole.drag_normal_kgpm2 = 0.0;
   c.pole.drag_rotational_kgpm2 = 0.0;
@@ -25,7 +25,7 @@ inline hil::PlantConfig withoutDrag(hil::PlantConfig c = {}) {
 }
 
 // No motion-capture noise.
-inline hil::PlantConfig withoutMocapNoise(hil::PlantConfig c = {}) {
+inline hil::PlantConfig without_mocap_noise(hil::PlantConfig c = {}) {
   c.mocap.position_noise_m = 0.0;
   c.mocap.attitude_noise_rad = 0.0;
   return c;

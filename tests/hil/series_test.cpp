@@ -27,7 +27,7 @@ struct Run {
   bool throw_started = false;
 };
 
-const Run& throwOnly() {
+const Run& throw_only() {
   static const Run run = [] {
     Run r;
     hil::sil::SeriesConfig config;
@@ -37,10 +37,10 @@ const Run& throwOnly() {
     config.log = [&r](const std::string& line) { r.log.push_back(line); };
     hil::sil::SeriesRunner runner(config);
     r.results = runner.run({hil::sil::AttemptPlan{false, Eigen::Vector2d::Zero(), 0.0}});
-    r.samples = runner.timeSeries().front();
-    for (std::uint8_t node : hil::sil::kArenaNodes)
-      r.firmware_missed_ticks += static_cast<int>(runner.arena().vehicle(node).missed_ticks());
-    r.link_undecodable = runner.groundStation().link().counters().undecodable();
+    r.samples = runner.time_series().front();
+    for (const pa::VehicleId vehicle : pa::kActVehicles)
+      r.firmware_missed_ticks += static_cast<int>(runner.arena().vehicle(vehicle).missed_ticks());
+    r.link_undecodable = runner.ground_station().link().counters().undecodable();
     for (const std::string& line : r.log)
       if (line.find("balance -> throwing") != std::string::npos) r.throw_started = true;
     return r;
@@ -66,7 +66,7 @@ bool logged(const Run& r, const std::string& text) {
 
 TEST_CASE("the ground station arms both vehicles over the radio and takes off on its estimate",
           "[hil][sil][runtime]") {
-  const Run& r = throwOnly();
+  const Run& r = throw_only();
   INFO(joined(r.log));
   // ARM through the link (heartbeat, zero-thrust setpoint, COMMAND, COMMAND_ACK) for both.
   CHECK(logged(r, "vehicle 1: parked -> arming (take_off_requested)"));
@@ -81,7 +81,7 @@ TEST_CASE("the ground station arms both vehicles over the radio and takes off on
 
 TEST_CASE("the pole put on vehicle 1 is balanced at the throw's origin, then the throw starts",
           "[hil][sil][runtime]") {
-  const Run& r = throwOnly();
+  const Run& r = throw_only();
   REQUIRE(logged(r, "vehicle 1: hover -> balance (pole_placed)"));
   REQUIRE(r.throw_started);
   // The last second before the throw: the truth pole within 3 degrees of upright and vehicle 1
@@ -109,14 +109,14 @@ TEST_CASE("the pole put on vehicle 1 is balanced at the throw's origin, then the
   }
 }
 
-TEST_CASE("hil::sil::paperSeries is the paper's nine throws", "[hil][sil][runtime]") {
-  const std::vector<hil::sil::AttemptPlan> plans = hil::sil::paperSeries();
+TEST_CASE("hil::sil::paper_series is the paper's nine throws", "[hil][sil][runtime]") {
+  const std::vector<hil::sil::AttemptPlan> plans = hil::sil::paper_series();
   REQUIRE(plans.size() == 9);
   CHECK_FALSE(plans[0].catch_it);
   for (int i = 1; i < 7; ++i) CHECK(plans[i].catch_offset_m.norm() == Approx(1.0));
   CHECK(plans[7].catch_offset_m.norm() == 0.0);
   CHECK(plans[8].catch_it);
-  const std::vector<hil::sil::AttemptPlan> catches = hil::sil::catchSeries(3);
+  const std::vector<hil::sil::AttemptPlan> catches = hil::sil::catch_series(3);
   REQUIRE(catches.size() == 3);
   CHECK_FALSE(catches[0].catch_it);
   CHECK(catches[2].catch_it);
@@ -141,8 +141,8 @@ Series fly(const std::vector<hil::sil::AttemptPlan>& plans, std::uint64_t seed) 
   return s;
 }
 
-const Series& paperSeries() {
-  static const Series s = fly(hil::sil::paperSeries(), 1);
+const Series& paper_series() {
+  static const Series s = fly(hil::sil::paper_series(), 1);
   return s;
 }
 
@@ -150,7 +150,7 @@ const Series& paperSeries() {
 
 TEST_CASE("the paper's series in the closed loop: throws 8 and 9 caught and balanced again",
           "[hil][sil][runtime][series]") {
-  const Series& s = paperSeries();
+  const Series& s = paper_series();
   REQUIRE(s.results.size() == 9);
   for (const auto& r : s.results) {
     INFO("throw " << r.throw_number << ": " << r.outcome << " " << r.abort_reason);
@@ -182,7 +182,7 @@ TEST_CASE("the paper's series in the closed loop: throws 8 and 9 caught and bala
 }
 
 TEST_CASE("a series is reproducible from its seed", "[hil][sil][runtime][series]") {
-  const std::vector<hil::sil::AttemptPlan> plans = hil::sil::catchSeries(2);
+  const std::vector<hil::sil::AttemptPlan> plans = hil::sil::catch_series(2);
   const Series a = fly(plans, 5);
   const Series b = fly(plans, 5);
   REQUIRE(a.results.size() == b.results.size());
@@ -200,7 +200,7 @@ TEST_CASE("a spoiled launch is aborted as out of reach and the mission goes on",
           "[hil][sil][runtime][series]") {
   // The thrower pushed 1.5 m sideways 0.3 s before the launch: the pole flies 1.5 m off the
   // waiting point, beyond the catch's reach (1 m).
-  std::vector<hil::sil::AttemptPlan> plans = hil::sil::catchSeries(3);
+  std::vector<hil::sil::AttemptPlan> plans = hil::sil::catch_series(3);
   plans[1].push_sideways_m = 1.5;
   const Series s = fly(plans, 1);
   INFO(joined(s.log));
@@ -225,9 +225,9 @@ TEST_CASE("the adaptation store keeps what a series learnt for the next run", "[
     config.seed = 2;
     config.ground_station.adaptation_store_path = path;
     hil::sil::SeriesRunner runner(config);
-    const auto results = runner.run(hil::sil::catchSeries(2));
+    const auto results = runner.run(hil::sil::catch_series(2));
     REQUIRE(results.size() == 2);
-    learnt = runner.groundStation().learnt();
+    learnt = runner.ground_station().learnt();
     CHECK(learnt.state.catch_point_samples == 2);
   }
   // A new ground station on the same store starts where the first stopped.
@@ -237,5 +237,5 @@ TEST_CASE("the adaptation store keeps what a series learnt for the next run", "[
   const gs::runtime::GroundStation restarted(bus, config);
   CHECK(restarted.adaptation() == learnt.state);
   CHECK(restarted.learnt().catch_instant_s == Approx(learnt.catch_instant_s));
-  CHECK(restarted.throwRecords().empty());
+  CHECK(restarted.throw_records().empty());
 }

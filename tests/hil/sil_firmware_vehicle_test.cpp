@@ -22,7 +22,7 @@ using hil::Vec3;
 
 namespace {
 
-constexpr std::uint8_t kNode = 1;
+constexpr std::uint8_t kNode = pa::kVehicle1.node();  // on the wire
 constexpr std::uint16_t kSession = 0x5A17;
 constexpr double kG = 9.81;
 constexpr std::uint64_t kSeed = 7;
@@ -47,12 +47,12 @@ class Ground {
  public:
   Ground()
       : rig_(shipped_plant(), kSeed),
-        vehicle_(
-            rig_.attach_firmware(0, hil::sil::firmware_config_for(rig_.plant().config().vehicle, kNode))) {}
+        vehicle_(rig_.attach_firmware(
+            hil::sil::firmware_config_for(rig_.plant().config().vehicle, pa::kVehicle1))) {}
 
   hil::sil::Lockstep& rig() { return rig_; }
   hil::sil::FirmwareVehicle& vehicle() { return vehicle_; }
-  const hil::VehicleState& truth() { return rig_.plant().vehicle(0); }
+  const hil::VehicleState& truth() { return rig_.plant().vehicle(pa::kVehicle1); }
 
   bool heartbeats = true;
   bool streaming = false;
@@ -131,7 +131,7 @@ class Ground {
     thrust_mps2 = static_cast<float>(kG);
     run(0.1);
     REQUIRE(vehicle_.firmware().mode() == Mode::flying);
-    REQUIRE_FALSE(rig_.plant().vehicle_on_floor(0));
+    REQUIRE_FALSE(rig_.plant().vehicle_on_floor(pa::kVehicle1));
   }
 
  private:
@@ -212,7 +212,7 @@ TEST_CASE("the firmware config describes the plant's nominal airframe, and the u
   plant.yaw_moment_per_thrust_m = 0.02;
   plant.motor_thrust_max_N = 4.0;
   plant.motor_time_constant_s = 0.025;
-  const fw::VehicleConfig c = hil::sil::firmware_config_for(plant, 3);
+  const fw::VehicleConfig c = hil::sil::firmware_config_for(plant, pa::VehicleId(3));
   CHECK(double(c.airframe.mass_kg) == Approx(0.61));
   CHECK(double(c.airframe.inertia_kgm2[0]) == Approx(2.1e-3));
   CHECK(double(c.airframe.inertia_kgm2[1]) == Approx(2.7e-3));
@@ -221,9 +221,9 @@ TEST_CASE("the firmware config describes the plant's nominal airframe, and the u
   CHECK(double(c.airframe.yaw_moment_per_thrust_m) == Approx(0.02));
   CHECK(double(c.airframe.motor_thrust_max_N) == Approx(4.0));
   CHECK(double(c.airframe.motor_time_constant_s) == Approx(0.025));
-  CHECK(c.link.node == 3);
+  CHECK(c.link.vehicle == pa::VehicleId(3));
   // The shipped plant and the firmware's defaults are the same airframe (both cite it).
-  const fw::VehicleConfig shipped = hil::sil::firmware_config_for(shipped_plant().vehicle, 1);
+  const fw::VehicleConfig shipped = hil::sil::firmware_config_for(shipped_plant().vehicle, pa::kVehicle1);
   const fw::AirframeConfig defaults{};
   CHECK(shipped.airframe.mass_kg == defaults.mass_kg);
   CHECK(shipped.airframe.motor_thrust_max_N == defaults.motor_thrust_max_N);
@@ -282,7 +282,7 @@ TEST_CASE(
   for (double f : ground.truth().motor_thrust_N) idle_N += f;
   std::printf("SIL arming: idle thrust %.3f N total (firmware idle 4 x 0.08 N)\n", idle_N);
   CHECK(idle_N == Approx(4 * 0.08).margin(0.03));
-  CHECK(ground.rig().plant().vehicle_on_floor(0));
+  CHECK(ground.rig().plant().vehicle_on_floor(pa::kVehicle1));
 
   // Flying at 0.8 g (above the take-off threshold, below hover): still on the floor.
   ground.thrust_mps2 = static_cast<float>(0.8 * kG);
@@ -290,11 +290,11 @@ TEST_CASE(
   for (int k = 0; k < 1000; ++k) {
     ground.tick();
     highest_m = std::max(highest_m, ground.truth().body.position_m.z());
-    if (!ground.rig().plant().vehicle_on_floor(0)) break;
+    if (!ground.rig().plant().vehicle_on_floor(pa::kVehicle1)) break;
   }
   std::printf("SIL arming: at 0.8 g for 1 s the CG rose %.2f mm\n", (highest_m - z0) * 1e3);
   CHECK(v.firmware().mode() == Mode::flying);
-  CHECK(ground.rig().plant().vehicle_on_floor(0));
+  CHECK(ground.rig().plant().vehicle_on_floor(pa::kVehicle1));
   CHECK(highest_m - z0 < 0.005);
 
   // 1.2 g: it lifts off, level.
@@ -303,7 +303,8 @@ TEST_CASE(
   const double t_cmd = ground.rig().t_s();
   for (int k = 0; k < 500; ++k) {
     ground.tick();
-    if (liftoff_s < 0.0 && !ground.rig().plant().vehicle_on_floor(0)) liftoff_s = ground.rig().t_s() - t_cmd;
+    if (liftoff_s < 0.0 && !ground.rig().plant().vehicle_on_floor(pa::kVehicle1))
+      liftoff_s = ground.rig().t_s() - t_cmd;
   }
   const double rise_m = ground.truth().body.position_m.z() - z0;
   std::printf("SIL arming: at 1.2 g off the floor after %.3f s, %.3f m up after 0.5 s, tilt %.2f deg\n",
@@ -338,7 +339,7 @@ TEST_CASE("SIL: at hover thrust with zero rates the true vehicle stays level") {
   CHECK(tilt_max < 2.0 * M_PI / 180.0);
   CHECK(rate_max < 0.05);
   CHECK(ground.vehicle().firmware().mode() == Mode::flying);
-  CHECK_FALSE(ground.rig().plant().vehicle_on_floor(0));
+  CHECK_FALSE(ground.rig().plant().vehicle_on_floor(pa::kVehicle1));
   CHECK(ground.vehicle().missed_ticks() == 0);
   CHECK(ground.undecodable() == 0);
 }
@@ -348,7 +349,8 @@ TEST_CASE("SIL: a body-rate step is tracked by the true vehicle as the rate loop
   ground.arm();
   ground.take_off();
 
-  const fw::VehicleConfig fwc = hil::sil::firmware_config_for(ground.rig().plant().config().vehicle, kNode);
+  const fw::VehicleConfig fwc =
+      hil::sil::firmware_config_for(ground.rig().plant().config().vehicle, pa::kVehicle1);
   const std::vector<double> model =
       rate_step_model(double(fwc.rate.kp_per_s[1]), double(fwc.rate.ki_per_s2[1]),
                       double(fwc.airframe.motor_time_constant_s), 0.001, 0.3, 0.5);
@@ -414,7 +416,7 @@ TEST_CASE(
   ground.take_off();
   ground.run(0.3);
   const double z_stop = ground.truth().body.position_m.z();
-  const Vec3 accel_bias = ground.rig().plant().imu_model(0).accel_bias_mps2();
+  const Vec3 accel_bias = ground.rig().plant().imu_model(pa::kVehicle1).accel_bias_mps2();
   std::printf("SIL failsafe: this seed's accelerometer bias (%.3f, %.3f, %.3f) m/s^2\n", accel_bias.x(),
               accel_bias.y(), accel_bias.z());
 
@@ -446,7 +448,7 @@ TEST_CASE(
       // its accelerometer since the failsafe began, from zero (it assumes a hover then) and
       // with no bias estimate, so the true speed is off by the speed at that moment and by
       // bias * time.
-      if (t > descent_s + 0.25 && !ground.rig().plant().vehicle_on_floor(0)) {
+      if (t > descent_s + 0.25 && !ground.rig().plant().vehicle_on_floor(pa::kVehicle1)) {
         const double rate = double(sup.descent_rate_mps);
         const double expected = -rate * (1.0 - std::exp(-4.0 * (t - descent_s))) + vz_at_failsafe -
                                 accel_bias.z() * (t - hover_s);
@@ -458,7 +460,7 @@ TEST_CASE(
     } else if (mode == Mode::landed || mode == Mode::killed) {
       landed_at = t;  // motors off (which of the two is checked below)
     }
-    const bool on_floor = ground.rig().plant().vehicle_on_floor(0);
+    const bool on_floor = ground.rig().plant().vehicle_on_floor(pa::kVehicle1);
     if (on_floor && !was_on_floor && touchdown_s < 0.0) {
       touchdown_vz = s.body.velocity_mps.z();
       touchdown_s = t;
@@ -491,7 +493,7 @@ TEST_CASE(
   CHECK(descent_vz < -0.2);
   CHECK(descent_model_error_max < 0.05);
   REQUIRE(landed_at > 0.0);
-  CHECK(ground.rig().plant().vehicle_on_floor(0));
+  CHECK(ground.rig().plant().vehicle_on_floor(pa::kVehicle1));
   CHECK(tilt_rad(ground.truth()) < 0.05);
   for (double c : ground.vehicle().motor_commands().command) CHECK(c == 0.0);
   CHECK(thrust_N < 0.01);

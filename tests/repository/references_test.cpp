@@ -60,23 +60,23 @@ constexpr std::array<std::string_view, 13> kTextExtensions = {
 constexpr std::array<std::string_view, 4> kOutsideDocuments = {"ARCHITECTURE.md", "NOTES.md", "STYLE.md",
                                                                "pole-acrobatics-paper.md"};
 
-bool endsWith(std::string_view s, std::string_view suffix) {
+bool ends_with(std::string_view s, std::string_view suffix) {
   return s.size() >= suffix.size() && s.substr(s.size() - suffix.size()) == suffix;
 }
-bool startsWith(std::string_view s, std::string_view prefix) { return s.substr(0, prefix.size()) == prefix; }
+bool starts_with(std::string_view s, std::string_view prefix) { return s.substr(0, prefix.size()) == prefix; }
 
-bool skippedFolder(const std::string& name) {
-  return name.empty() || name[0] == '.' || startsWith(name, "build");
+bool skipped_folder(const std::string& name) {
+  return name.empty() || name[0] == '.' || starts_with(name, "build");
 }
 
-bool isTextFile(const fs::path& p) {
+bool is_text_file(const fs::path& p) {
   const std::string name = p.filename().string();
   if (name == "Makefile") return true;
   return std::any_of(kTextExtensions.begin(), kTextExtensions.end(),
-                     [&](std::string_view ext) { return endsWith(name, ext); });
+                     [&](std::string_view ext) { return ends_with(name, ext); });
 }
 
-bool isTokenChar(char c) {
+bool is_token_char(char c) {
   const auto u = static_cast<unsigned char>(c);
   return (u >= 'a' && u <= 'z') || (u >= 'A' && u <= 'Z') || (u >= '0' && u <= '9') || c == '_' || c == '.' ||
          c == '+' || c == '-' || c == '/' || c == '*';
@@ -117,7 +117,7 @@ class ReferenceChecker {
   explicit ReferenceChecker(fs::path root) : root_(std::move(root)) {
     for (const fs::directory_entry& e : fs::directory_iterator(root_)) {
       const std::string name = e.path().filename().string();
-      if (e.is_directory() && skippedFolder(name)) continue;
+      if (e.is_directory() && skipped_folder(name)) continue;
       top_level_.insert(name);
       if (!e.is_directory()) top_level_files_.insert(name);
     }
@@ -130,20 +130,20 @@ class ReferenceChecker {
   }
 
   // The tokens of one line that the rule counts as references to repository files.
-  std::vector<std::string> referencesIn(std::string_view line) const {
+  std::vector<std::string> references_in(std::string_view line) const {
     std::vector<std::string> out;
     std::size_t i = 0;
     while (i < line.size()) {
-      if (!isTokenChar(line[i])) {
+      if (!is_token_char(line[i])) {
         ++i;
         continue;
       }
       std::size_t j = i;
-      while (j < line.size() && isTokenChar(line[j])) ++j;
+      while (j < line.size() && is_token_char(line[j])) ++j;
       std::string token(line.substr(i, j - i));
       i = j;
       while (!token.empty() && token.back() == '.') token.pop_back();
-      if (isReference(token)) out.push_back(token);
+      if (is_reference(token)) out.push_back(token);
     }
     return out;
   }
@@ -151,24 +151,24 @@ class ReferenceChecker {
   // Does `reference`, cited from the file `citing` (relative to the root), name something here?
   bool exists(const std::string& reference, const std::string& citing) const {
     const std::string citing_folder = fs::path(citing).parent_path().generic_string();
-    if (startsWith(reference, "../") || startsWith(reference, "./"))
-      return existsAt(joined(citing_folder, reference));
+    if (starts_with(reference, "../") || starts_with(reference, "./"))
+      return exists_at(joined(citing_folder, reference));
     const std::string path = reference.substr(reference.find_first_not_of('/'));
-    if (existsAt(joined(citing_folder, path))) return true;
+    if (exists_at(joined(citing_folder, path))) return true;
     return std::any_of(kIncludeRoots.begin(), kIncludeRoots.end(),
-                       [&](std::string_view include_root) { return existsAt(joined(include_root, path)); });
+                       [&](std::string_view include_root) { return exists_at(joined(include_root, path)); });
   }
 
   // The references in `text` (the contents of `citing`) that name nothing in the repository.
-  std::vector<Missing> missingIn(std::string_view text, const std::string& citing,
-                                 int* checked = nullptr) const {
+  std::vector<Missing> missing_in(std::string_view text, const std::string& citing,
+                                  int* checked = nullptr) const {
     std::vector<Missing> missing;
     int line_number = 0;
     std::size_t start = 0;
     while (start <= text.size()) {
       const std::size_t end = std::min(text.find('\n', start), text.size());
       ++line_number;
-      for (const std::string& reference : referencesIn(text.substr(start, end - start))) {
+      for (const std::string& reference : references_in(text.substr(start, end - start))) {
         if (checked) ++*checked;
         if (!exists(reference, citing)) missing.push_back({citing, line_number, reference});
       }
@@ -178,14 +178,14 @@ class ReferenceChecker {
   }
 
   // Every text file of the tree, relative to the root, in a stable order.
-  std::vector<std::string> textFiles(const std::string& except) const {
+  std::vector<std::string> text_files(const std::string& except) const {
     std::vector<std::string> files;
     for (auto it = fs::recursive_directory_iterator(root_); it != fs::recursive_directory_iterator(); ++it) {
       if (it->is_directory()) {
-        if (skippedFolder(it->path().filename().string())) it.disable_recursion_pending();
+        if (skipped_folder(it->path().filename().string())) it.disable_recursion_pending();
         continue;
       }
-      if (!it->is_regular_file() || !isTextFile(it->path())) continue;
+      if (!it->is_regular_file() || !is_text_file(it->path())) continue;
       const std::string relative = fs::relative(it->path(), root_).generic_string();
       if (relative != except) files.push_back(relative);
     }
@@ -196,10 +196,10 @@ class ReferenceChecker {
   const fs::path& root() const { return root_; }
 
  private:
-  bool isReference(const std::string& token) const {
+  bool is_reference(const std::string& token) const {
     if (token.find('*') != std::string::npos) return false;
     const bool has_extension = std::any_of(kReferenceExtensions.begin(), kReferenceExtensions.end(),
-                                           [&](std::string_view ext) { return endsWith(token, ext); });
+                                           [&](std::string_view ext) { return ends_with(token, ext); });
     if (!has_extension) return false;
     const std::size_t first = token.find_first_not_of('/');
     if (first == std::string::npos) return false;
@@ -208,13 +208,13 @@ class ReferenceChecker {
     if (last.empty() || last[0] == '.') return false;  // ".md" alone is an extension, not a file
     if (std::find(kOutsideDocuments.begin(), kOutsideDocuments.end(), last) != kOutsideDocuments.end())
       return true;
-    if (startsWith(token, "../") || startsWith(token, "./")) return true;
+    if (starts_with(token, "../") || starts_with(token, "./")) return true;
     const std::size_t slash = path.find('/');
-    if (slash == std::string::npos) return top_level_files_.count(path) > 0 || endsWith(path, ".md");
+    if (slash == std::string::npos) return top_level_files_.count(path) > 0 || ends_with(path, ".md");
     return prefixes_.count(path.substr(0, slash)) > 0;
   }
 
-  bool existsAt(const std::string& relative) const {
+  bool exists_at(const std::string& relative) const {
     const std::optional<std::string> inside = normalise(relative);
     if (!inside) return false;  // above the repository root: not in the repository
     std::error_code ec;
@@ -229,7 +229,7 @@ class ReferenceChecker {
 
 constexpr const char* kThisFile = "tests/repository/references_test.cpp";
 
-std::string readFile(const fs::path& path) {
+std::string read_file(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
   std::ostringstream text;
   text << in.rdbuf();
@@ -242,11 +242,11 @@ TEST_CASE("every file the repository's comments, tests and documents cite is in 
           "[repository]") {
   const ReferenceChecker checker(PA_SOURCE_DIR);
   REQUIRE(fs::exists(checker.root() / kThisFile));
-  const std::vector<std::string> files = checker.textFiles(kThisFile);
+  const std::vector<std::string> files = checker.text_files(kThisFile);
   int checked = 0;
   std::vector<Missing> missing;
   for (const std::string& file : files) {
-    const std::vector<Missing> here = checker.missingIn(readFile(checker.root() / file), file, &checked);
+    const std::vector<Missing> here = checker.missing_in(read_file(checker.root() / file), file, &checked);
     missing.insert(missing.end(), here.begin(), here.end());
   }
   std::ostringstream report;
@@ -267,7 +267,7 @@ TEST_CASE("a reference to a missing file is caught, wherever it points", "[repos
                            "#include \"groundstation/model/no_such_model.hpp\"\n"
                            "#include \"fw/no_such_module.hpp\"\n"
                            "// Format of hil/config/no_such.yaml; ../../../outside/the/repository.cpp.\n";
-  const std::vector<Missing> missing = checker.missingIn(text, citing);
+  const std::vector<Missing> missing = checker.missing_in(text, citing);
   std::vector<std::string> names;
   for (const Missing& m : missing) names.push_back(m.reference);
   CHECK(names == std::vector<std::string>{
@@ -293,7 +293,7 @@ TEST_CASE("references to files that are here pass, by any of the stated routes",
       "// ../plant.yaml\n";                                   // relative to the citing folder
   const std::string citing = "hil/config/scenarios/example.yaml";
   int checked = 0;
-  CHECK(checker.missingIn(text, citing, &checked).empty());
+  CHECK(checker.missing_in(text, citing, &checked).empty());
   CHECK(checked == 9);
 }
 
@@ -303,6 +303,6 @@ TEST_CASE("names a tool writes, globs and absolute paths are not references", "[
                            "file(GLOB s ${CMAKE_CURRENT_SOURCE_DIR}/model/*.cpp hil/plant/*.cpp)\n"
                            "// build/host/groundstation/plan.csv, e.g. a value 1.33 or a ratio 0.5.\n"
                            "// the extension .md alone, mocap.csv, throw.csv\n";
-  CHECK(checker.referencesIn(text.substr(0, text.find('\n'))).empty());
-  CHECK(checker.missingIn(text, "tests/CMakeLists.txt").empty());
+  CHECK(checker.references_in(text.substr(0, text.find('\n'))).empty());
+  CHECK(checker.missing_in(text, "tests/CMakeLists.txt").empty());
 }

@@ -7,7 +7,7 @@ namespace fw {
 using namespace pa::proto;
 
 CommandLink::CommandLink(const LinkConfig& link, const SupervisorConfig& supervisor)
-    : node_(link.node),
+    : node_(link.vehicle.node()),
       setpoint_timeout_us_(supervisor.setpoint_timeout_us),
       heartbeat_timeout_us_(supervisor.heartbeat_timeout_us) {}
 

@@ -14,7 +14,8 @@ namespace fw::posix {
 
 class HilVehicleNode {
  public:
-  explicit HilVehicleNode(const VehicleConfig& config) : vehicle_(config), node_(config.link.node) {}
+  explicit HilVehicleNode(const VehicleConfig& config)
+      : vehicle_(config), node_(config.link.vehicle.node()) {}
 
   // `send(const Frame&)` is called for every frame the vehicle answers with.
   template <class Send>

@@ -32,7 +32,7 @@ int main(int argc, char** argv) {
     app.add_option("--can", interface_name, "the vehicle's SocketCAN bus (for example vcan1)")
         ->type_name("IFACE")
         ->required()
-        ->check(pa::cli::nonEmpty("needs an interface name"));
+        ->check(pa::cli::non_empty("needs an interface name"));
     app.add_option("--node", node, "this vehicle's node id, 1..14")
         ->type_name("N")
         ->required()
@@ -47,7 +47,7 @@ int main(int argc, char** argv) {
   }
 
   fw::VehicleConfig config{};
-  config.link.node = static_cast<std::uint8_t>(node);
+  config.link.vehicle = pa::VehicleId(static_cast<std::uint8_t>(node));
   static fw::posix::HilVehicleNode vehicle(config);
 
   std::signal(SIGINT, on_signal);

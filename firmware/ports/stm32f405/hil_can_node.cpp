@@ -8,7 +8,9 @@ namespace stm32f405 {
 using namespace pa::proto;
 
 HilCanNode::HilCanNode(const fw::VehicleConfig& config, std::uint32_t cycles_per_us)
-    : vehicle_(config), node_(config.link.node), cycles_per_us_(cycles_per_us == 0 ? 1 : cycles_per_us) {}
+    : vehicle_(config),
+      node_(config.link.vehicle.node()),
+      cycles_per_us_(cycles_per_us == 0 ? 1 : cycles_per_us) {}
 
 void HilCanNode::send(const Frame& frame) {
   if (!Can1::send(frame)) ++stats_.tx_dropped;

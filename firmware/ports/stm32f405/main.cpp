@@ -17,6 +17,7 @@
 #ifndef PA_STM32F405_NODE
 #define PA_STM32F405_NODE 1
 #endif
+static_assert(pa::VehicleId(PA_STM32F405_NODE).valid(), "PA_STM32F405_NODE must be a vehicle node, 1..14");
 
 namespace {
 
@@ -35,7 +36,7 @@ struct BoardStatus {
 
 fw::VehicleConfig make_config() {
   fw::VehicleConfig config{};
-  config.link.node = PA_STM32F405_NODE;
+  config.link.vehicle = pa::VehicleId(PA_STM32F405_NODE);
   return config;
 }
 

@@ -91,7 +91,7 @@ void script_setpoint(std::uint32_t tick, const SyntheticVehicle& plant, Vec3& ra
 
 Result run(TickProbe* probe) {
   VehicleConfig config{};
-  config.link.node = kNode;
+  config.link.vehicle = pa::VehicleId(kNode);
   Vehicle vehicle(config);
   SyntheticVehicle plant(config.airframe);
   Ground ground;

@@ -29,7 +29,7 @@ void BM_CatchTrajectoryWithFeasibility(benchmark::State& state) {
     jitter = jitter > 0.01 ? 0.0 : jitter + 1e-4;
     p.target_xy_m.x() = 0.25 + jitter;
     const auto traj = CatchTrajectory::create(p);
-    const auto verdict = traj->checkFeasibility(limits);
+    const auto verdict = traj->check_feasibility(limits);
     const double t_now = traj->xyStartTime_s() + 0.1;
     double sum = 0.0;
     for (int k = 0; k < kTicks; ++k) {
@@ -46,7 +46,7 @@ BENCHMARK(BM_CatchTrajectoryWithFeasibility);
 void BM_CatchFeasibilityCheckFeasible(benchmark::State& state) {
   const auto traj = CatchTrajectory::create(fig7());
   const gs::planning::InputLimits limits;
-  for (auto _ : state) benchmark::DoNotOptimize(traj->checkFeasibility(limits));
+  for (auto _ : state) benchmark::DoNotOptimize(traj->check_feasibility(limits));
 }
 BENCHMARK(BM_CatchFeasibilityCheckFeasible);
 
@@ -58,7 +58,7 @@ void BM_CatchFeasibilityCheckInfeasible(benchmark::State& state) {
   p.t_xy_s = 0.35;  // rates too high
   const auto traj = CatchTrajectory::create(p);
   const gs::planning::InputLimits limits;
-  for (auto _ : state) benchmark::DoNotOptimize(traj->checkFeasibility(limits));
+  for (auto _ : state) benchmark::DoNotOptimize(traj->check_feasibility(limits));
 }
 BENCHMARK(BM_CatchFeasibilityCheckInfeasible);
 

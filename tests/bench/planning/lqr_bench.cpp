@@ -11,31 +11,31 @@ namespace {
 // The CARE solve of the balancing design (sign function + Newton-Kleinman refinement), from the
 // linearisation and weights to K and P.
 void BM_CareSolveBalancing(benchmark::State& state) {
-  const auto sys = gs::control::balancingLinearisation();
-  const auto w = gs::control::balancingLqrWeights();
+  const auto sys = gs::control::balancing_linearisation();
+  const auto w = gs::control::balancing_lqr_weights();
   const Eigen::MatrixXd Q = w.state.asDiagonal();
   const Eigen::MatrixXd R = w.input.asDiagonal();
-  for (auto _ : state) benchmark::DoNotOptimize(gs::control::solveCare(sys.A, sys.B, Q, R));
+  for (auto _ : state) benchmark::DoNotOptimize(gs::control::solve_care(sys.A, sys.B, Q, R));
 }
 BENCHMARK(BM_CareSolveBalancing)->Unit(benchmark::kMicrosecond);
 
 void BM_CareSolveHover(benchmark::State& state) {
-  const auto sys = gs::control::hoverLinearisation();
-  const auto w = gs::control::hoverLqrWeights();
+  const auto sys = gs::control::hover_linearisation();
+  const auto w = gs::control::hover_lqr_weights();
   const Eigen::MatrixXd Q = w.state.asDiagonal();
   const Eigen::MatrixXd R = w.input.asDiagonal();
-  for (auto _ : state) benchmark::DoNotOptimize(gs::control::solveCare(sys.A, sys.B, Q, R));
+  for (auto _ : state) benchmark::DoNotOptimize(gs::control::solve_care(sys.A, sys.B, Q, R));
 }
 BENCHMARK(BM_CareSolveHover)->Unit(benchmark::kMicrosecond);
 
 // The TV-LQR of the hover model over a 1.8 s catch-length horizon (RK4 at 1 ms, gains at 5 ms).
 void BM_TvLqrHover1800ms(benchmark::State& state) {
-  const auto sys = gs::control::hoverLinearisation();
-  const auto w = gs::control::hoverLqrWeights();
+  const auto sys = gs::control::hover_linearisation();
+  const auto w = gs::control::hover_lqr_weights();
   const Eigen::MatrixXd Q = w.state.asDiagonal();
   const Eigen::MatrixXd R = w.input.asDiagonal();
   for (auto _ : state) {
-    benchmark::DoNotOptimize(gs::control::solveTvLqr([&](double) { return sys; }, Q, R, Q, 0.0, 1.8));
+    benchmark::DoNotOptimize(gs::control::solve_tv_lqr([&](double) { return sys; }, Q, R, Q, 0.0, 1.8));
   }
 }
 BENCHMARK(BM_TvLqrHover1800ms)->Unit(benchmark::kMillisecond);

@@ -15,7 +15,7 @@ void BM_ThrowSolve100Intervals(benchmark::State& state) {
   options.print_level = 0;
   gs::planning::ThrowPlan plan;
   for (auto _ : state) {
-    plan = gs::planning::planThrow(problem, options);
+    plan = gs::planning::plan_throw(problem, options);
     // An int: this benchmark version's DoNotOptimize clobbers a double it is given (GCC 12).
     benchmark::DoNotOptimize(plan.iterations);
   }
@@ -26,7 +26,7 @@ void BM_ThrowSolve100Intervals(benchmark::State& state) {
 BENCHMARK(BM_ThrowSolve100Intervals)->Unit(benchmark::kMillisecond);
 
 void BM_ThrowTvLqrDesign(benchmark::State& state) {
-  const gs::planning::ThrowPlan plan = gs::planning::planThrow(gs::planning::ThrowProblem{});
+  const gs::planning::ThrowPlan plan = gs::planning::plan_throw(gs::planning::ThrowProblem{});
   if (!plan.success) {
     state.SkipWithError(plan.status.c_str());
     return;

@@ -1,4 +1,4 @@
-// The closed loop's cost: one whole ground-station frame (GroundStation::onMocap: estimator
+// The closed loop's cost: one whole ground-station frame (GroundStation::on_mocap: estimator
 // update, latency compensation, mission, controllers and catch re-planning, link, both vehicles;
 // the budget: a median of at most 50 us) and the whole arena (plant, two firmware cores, radios,
 // motion capture and the ground station) as a multiple of real time on one core, both measured
@@ -28,7 +28,7 @@ void BM_ClosedLoopThrowAndCatch(benchmark::State& state) {
     config.time_ground_station = true;
     const auto start = std::chrono::steady_clock::now();
     hil::sil::SeriesRunner runner(config);
-    const auto results = runner.run(hil::sil::catchSeries(2));
+    const auto results = runner.run(hil::sil::catch_series(2));
     wall_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     simulated_s += runner.simulatedTime_s();
     const auto& t = runner.groundStationFrameTimes_s();

@@ -7,6 +7,8 @@
 
 #include <cstdint>
 
+#include "pa/vehicle_id.hpp"
+
 namespace fw {
 
 struct AirframeConfig {
@@ -91,7 +93,7 @@ struct SupervisorConfig {
 };
 
 struct LinkConfig {
-  std::uint8_t node = 1;                      // this vehicle's node id, 1..14
+  pa::VehicleId vehicle = pa::kVehicle1;      // this vehicle: its node id on the bus, 1..14
   std::uint32_t heartbeat_period_us = 20000;  // VEHICLE_HEARTBEAT at 50 Hz
   std::uint32_t telemetry_rates_period_us = 5000;
   std::uint32_t telemetry_attitude_period_us = 10000;

@@ -32,19 +32,19 @@ std::optional<int> parse(CLI::App& app, const std::vector<std::string>& args, st
 
 // Value checks for add_option(...)->check(...). `need` continues the flag's name in the message:
 // "--catch-height" + " must be a number (m)" + ", got 'abc'".
-CLI::Validator finiteNumber(std::string need);                               // "1.5", "-2e-3"
-CLI::Validator numberIn(double lo, double hi, std::string need);             // and lo <= x <= hi
+CLI::Validator finite_number(std::string need);                              // "1.5", "-2e-3"
+CLI::Validator number_in(double lo, double hi, std::string need);            // and lo <= x <= hi
 CLI::Validator count(std::uint64_t lo, std::uint64_t hi, std::string need);  // decimal digits only
-CLI::Validator numberPair(std::string need);                                 // "A,B"
-CLI::Validator oneOf(std::vector<std::string> choices, std::string need);
-CLI::Validator nonEmpty(std::string need);
+CLI::Validator number_pair(std::string need);                                // "A,B"
+CLI::Validator one_of(std::vector<std::string> choices, std::string need);
+CLI::Validator non_empty(std::string need);
 
-// "A,B" as two numbers; call only on text that numberPair() accepted (otherwise {0, 0}).
+// "A,B" as two numbers; call only on text that number_pair() accepted (otherwise {0, 0}).
 struct NumberPair {
   double first = 0.0;
   double second = 0.0;
 };
-NumberPair toNumberPair(const std::string& text);
+NumberPair to_number_pair(const std::string& text);
 
 // `<program> <subcommand> [arguments]`, the dispatcher of groundstation and hil. Each subcommand
 // takes argv[0] = its own name and argv[1..] = its arguments and returns the process exit code
@@ -59,6 +59,6 @@ struct Subcommand {
 // stdout (exit 0); `help <subcommand>` runs `<subcommand> --help`; an unknown name is an error
 // with the list on stderr (exit 2). An exception escaping a subcommand is reported as an internal
 // error (exit 1): the process never dies on one.
-int runSubcommand(std::string_view program, std::span<const Subcommand> table, int argc, char** argv);
+int run_subcommand(std::string_view program, std::span<const Subcommand> table, int argc, char** argv);
 
 }  // namespace pa::cli
