@@ -212,7 +212,23 @@ def figure_catch(plt, figs, attempts, throws):
              "1 s after it ended (dotted line): its position and the commanded collective thrust and body rates.")
 
 
-def figure_heights(plt, figs, throws):
+def crossing(rows, height_m):
+    """Where the pole's lower end last came down through height_m (x, y), from an attempt's time series."""
+    if not rows or "end0_z" not in rows[0]:
+        return None
+    found = None
+    prev = None
+    for r in rows:
+        ends = [(number(r, f"end{i}_x"), number(r, f"end{i}_y"), number(r, f"end{i}_z")) for i in (0, 1)]
+        low = min(ends, key=lambda e: e[2])
+        if prev is not None and prev[2] > height_m >= low[2]:
+            f = (prev[2] - height_m) / (prev[2] - low[2])
+            found = (prev[0] + f * (low[0] - prev[0]), prev[1] + f * (low[1] - prev[1]))
+        prev = low
+    return found
+
+
+def figure_heights(plt, figs, throws, attempts):
     """Fig. 9: the optimal catching heights and the catch points."""
     rows = [r for r in throws if number(r, "catch_height_m", -1.0) > 0.0 or number(r, "planned_height_m", -1.0) > 0]
     if not rows:
@@ -241,6 +257,20 @@ def figure_heights(plt, figs, throws):
             for r in pts:
                 ax[1].annotate(r["throw"], (number(r, "catch_x_m"), number(r, "catch_y_m")), fontsize=8,
                                xytext=(3, 3), textcoords="offset points")
+    crossed = []
+    for r in rows:
+        n_ = int(r["throw"])
+        if number(r, "catch_height_m", -1.0) <= 0 and number(r, "planned_height_m", -1.0) > 0 and n_ in attempts:
+            xy = crossing(attempts[n_], number(r, "planned_height_m"))
+            if xy:
+                crossed.append((n_, xy))
+    if crossed:
+        ax[1].scatter([xy[0] for _, xy in crossed], [xy[1] for _, xy in crossed], s=30, facecolors="none",
+                      edgecolors="tab:blue", label="no impact: lower end through the catching height")
+        for n_, xy in crossed:
+            ax[1].annotate(str(n_), xy, fontsize=8, xytext=(3, 3), textcoords="offset points")
+    if not many:
+        ax[0].set_xticks(sorted({int(r["throw"]) for r in throws}))
     ax[1].set_xlabel("x [m]")
     ax[1].set_ylabel("y [m]")
     ax[1].set_title("catch points (top view)")
@@ -251,7 +281,8 @@ def figure_heights(plt, figs, throws):
     figs.add(fig, "heights", "Fig. 9 — catching heights and catch points",
              "Left: per throw, the height of the pole's lower end where it struck the catcher's plate (truth) and, "
              "where recorded, the catching height the ground station aimed for (its adapted optimum). Right: where "
-             "the impacts were, seen from above, by outcome (numbers: the throw).")
+             "the impacts were, seen from above, by outcome (numbers: the throw); for a throw without an impact "
+             "(throw-only, practice 1 m off) where its lower end came down through that catching height.")
 
 
 def figure_travel_energy(plt, figs, throws):
@@ -276,6 +307,8 @@ def figure_travel_energy(plt, figs, throws):
     ax[1].set_ylabel("|E − E*| [J]")
     ax[1].set_title("pole energy right after the impact (paper: 0.0102 J on average)")
     ax[1].set_xlabel("throw")
+    if not many:
+        ax[1].set_xticks(n)
     handles = [plt.Line2D([], [], marker="s", ls="", color=c, label=o) for o, c in OUTCOME_COLOURS.items()
                if any(r["outcome"] == o for r in throws)]
     ax[0].legend(handles=handles, fontsize=8, ncol=3)
@@ -615,7 +648,7 @@ def main(argv):
     figs = Figures(plt, out_dir)
     figure_throw(plt, figs, attempts, throws)
     figure_catch(plt, figs, attempts, throws)
-    figure_heights(plt, figs, throws)
+    figure_heights(plt, figs, throws, attempts)
     figure_travel_energy(plt, figs, throws)
     figure_rate(plt, figs, throws)
     causes = figure_failures(plt, figs, throws)
