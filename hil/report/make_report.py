@@ -486,6 +486,7 @@ PLAYER_JS = r"""
   const side = document.getElementById('anim-side').getContext('2d');
   const top = document.getElementById('anim-top').getContext('2d');
   const ARM = 0.17, PLATE = 0.06;  // m: drawing sizes (plant.yaml's arm and plate radius)
+  const TRAIL = 100;  // frames of the pole centre's path drawn: 2 s
   data.forEach((a, i) => { const o = document.createElement('option'); o.value = i;
     o.textContent = 'attempt ' + a.attempt + ' (' + a.outcome + ')'; sel.appendChild(o); });
   let cur = null, k = 0, playing = false, last = null, bounds = null;
@@ -500,7 +501,8 @@ PLAYER_JS = r"""
   function view(ctx, a, b) {  // a, b: the axes drawn (0 x, 1 y, 2 z)
     const w = ctx.canvas.width, h = ctx.canvas.height;
     const s = Math.min((w - 20) / (bounds.hi[a] - bounds.lo[a]), (h - 20) / (bounds.hi[b] - bounds.lo[b]));
-    return p => [10 + (p[a] - bounds.lo[a]) * s, h - 10 - (p[b] - bounds.lo[b]) * s];
+    const ox = (w - (bounds.hi[a] - bounds.lo[a]) * s) / 2, oy = (h - (bounds.hi[b] - bounds.lo[b]) * s) / 2;
+    return p => [ox + (p[a] - bounds.lo[a]) * s, h - oy - (p[b] - bounds.lo[b]) * s];
   }
   function line(ctx, m, p, q, colour, width) {
     const A = m(p), B = m(q); ctx.strokeStyle = colour; ctx.lineWidth = width;
@@ -515,10 +517,10 @@ PLAYER_JS = r"""
     const w = ctx.canvas.width, h = ctx.canvas.height, m = view(ctx, a, b);
     ctx.clearRect(0, 0, w, h); ctx.fillStyle = '#fafafa'; ctx.fillRect(0, 0, w, h);
     if (b === 2) line(ctx, m, [bounds.lo[0], bounds.lo[1], 0], [bounds.hi[0], bounds.hi[1], 0], '#888', 1);
-    ctx.strokeStyle = '#ccc'; ctx.lineWidth = 1; ctx.beginPath();  // the pole centre's path so far
-    for (let j = 0; j <= k; ++j) { const g = cur.frames[j];
+    ctx.strokeStyle = '#bbb'; ctx.lineWidth = 1; ctx.beginPath();  // the pole centre's last 2 s
+    for (let j = Math.max(0, k - TRAIL); j <= k; ++j) { const g = cur.frames[j];
       const P = m([(g[19] + g[22]) / 2, (g[20] + g[23]) / 2, (g[21] + g[24]) / 2]);
-      if (j === 0) ctx.moveTo(P[0], P[1]); else ctx.lineTo(P[0], P[1]); }
+      if (j === Math.max(0, k - TRAIL)) ctx.moveTo(P[0], P[1]); else ctx.lineTo(P[0], P[1]); }
     ctx.stroke();
     [[1, 4, 7, '#1f77b4'], [10, 13, 16, '#d62728']].forEach(([vi, pi, ni], idx) => {
       const colour = idx === 0 ? '#1f77b4' : '#d62728';
@@ -584,7 +586,7 @@ def page(title, summary_html, figs, extra_html, anim):
         blob = json.dumps(anim, separators=(",", ":")).replace("</", "<\\/")
         parts.append("<h2 id='animation'>Animation of each attempt</h2><p>From the recorded time series (50 Hz). "
                      "Blue: the thrower, red: the catcher (body across its arms, plate in black), green: the pole; "
-                     "grey: the pole centre's path so far.</p>"
+                     "grey: the pole centre's path over the last 2 s.</p>"
                      "<div class='controls'><select id='anim-attempt'></select> <button id='anim-play'>play</button> "
                      "speed <select id='anim-speed'><option value='0.25'>0.25×</option><option value='0.5'>0.5×</option>"
                      "<option value='1' selected>1×</option><option value='2'>2×</option></select> "
