@@ -4,7 +4,9 @@
         test-firmware bench flash clean help
 
 JOBS ?= $(shell nproc)
-STM32_IMAGE := build/stm32f405/firmware/ports/stm32f405/fw_stm32f405.elf
+# make flash: the HIL image; make flash BOARD=omnibusf4: the flight image (DShot600);
+# BOARD=omnibusf4-pwm: the flight image with PWM motor output (scripts/flash.sh).
+BOARD ?=
 
 all: host firmware
 
@@ -12,8 +14,9 @@ help:
 	@echo "make demo       install what is missing, build, fly the firmware self-test (host and Cortex-M4 in QEMU)"
 	@echo "make test       install what is missing, build every preset, run every test"
 	@echo "make bench      run the benchmarks (bench_firmware, bench_planning, ...)"
-	@echo "make firmware   build the Cortex-M4 images (mps2-an386 and stm32f405)"
-	@echo "make flash      program the STM32F405 image with openocd (see firmware/ports/stm32f405/README.md)"
+	@echo "make firmware   build the Cortex-M4 images (mps2-an386, the stm32f405 HIL and flight images)"
+	@echo "make flash      program the STM32F405 HIL image with openocd; BOARD=omnibusf4: the flight image with dfu-util"
+	@echo "                (see firmware/ports/stm32f405/README.md)"
 
 deps:
 	@scripts/install-deps.sh
@@ -56,7 +59,7 @@ bench: host
 	@for b in build/host/tests/bench/bench_*; do echo "== $$b"; $$b --benchmark_counters_tabular=true || exit 1; done
 
 flash: stm32f405
-	openocd -f interface/stlink.cfg -f target/stm32f4x.cfg -c "program $(STM32_IMAGE) verify reset exit"
+	@scripts/flash.sh "$(BOARD)"
 
 clean:
 	rm -rf build

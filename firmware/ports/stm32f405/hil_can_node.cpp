@@ -1,19 +1,22 @@
 #include "hil_can_node.hpp"
 
 #include "bxcan.hpp"
-#include "cycle_counter.hpp"
 
 namespace stm32f405 {
 
 using namespace pa::proto;
 
 HilCanNode::HilCanNode(const fw::VehicleConfig& config, std::uint32_t cycles_per_us)
-    : vehicle_(config),
-      node_(config.link.vehicle.node()),
-      cycles_per_us_(cycles_per_us == 0 ? 1 : cycles_per_us) {}
+    : node_(config, cycles_per_us, Io{this}), node_id_(config.link.vehicle.node()) {}
 
-void HilCanNode::send(const Frame& frame) {
-  if (!Can1::send(frame)) ++stats_.tx_dropped;
+void HilCanNode::Io::send(const Frame& frame) {
+  if (!Can1::send(frame)) ++self->stats_.tx_dropped;
+}
+
+void HilCanNode::Io::write_motors(const fw::TickOutput& out) {
+  Frame reply;
+  const HilMotors motors{out.motors_enabled ? out.motor_command : fw::Motors{}, self->imu_.tick()};
+  if (encode(motors, self->node_id_, reply)) send(reply);
 }
 
 void HilCanNode::on_frame(const Frame& frame) {
@@ -22,10 +25,10 @@ void HilCanNode::on_frame(const Frame& frame) {
   const bool hil_imu =
       status == DecodeStatus::ok && (m.type == Type::hil_imu_gyro || m.type == Type::hil_imu_accel);
   if (!hil_imu) {
-    vehicle_.on_frame(frame, now_us_);  // the core counts what it cannot use
+    node_.on_frame(frame, now_us_);  // the core counts what it cannot use
     return;
   }
-  if (m.node != node_) {
+  if (m.node != node_id_) {
     ++stats_.other_node_samples;
     return;
   }
@@ -33,18 +36,11 @@ void HilCanNode::on_frame(const Frame& frame) {
   if (!imu_.on_message(m, sample)) return;
   now_us_ = sample.t_us;
 
-  const std::uint32_t start = CycleCounter::now();
-  const fw::TickOutput out = vehicle_.tick(sample);
-  const std::uint32_t cycles = CycleCounter::now() - start;
-  vehicle_.note_tick_time_us((cycles + cycles_per_us_ - 1u) / cycles_per_us_);
-  ++stats_.ticks;
-  stats_.tick_cycles_last = cycles;
-  if (cycles > stats_.tick_cycles_max) stats_.tick_cycles_max = cycles;
-
-  Frame reply;
-  const HilMotors motors{out.motors_enabled ? out.motor_command : fw::Motors{}, imu_.tick()};
-  if (encode(motors, node_, reply)) send(reply);
-  while (vehicle_.pop_tx(reply)) send(reply);
+  node_.on_imu_sample(sample);
+  const TickStats& t = node_.stats();
+  stats_.ticks = t.ticks;
+  stats_.tick_cycles_last = t.tick_cycles_last;
+  stats_.tick_cycles_max = t.tick_cycles_max;
 }
 
 }  // namespace stm32f405

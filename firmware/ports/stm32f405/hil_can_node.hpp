@@ -1,9 +1,10 @@
 // The vehicle in hardware-in-the-loop mode over CAN: the plant on the vehicle bus sends each
-// 1 kHz IMU sample as HIL_IMU_GYRO + HIL_IMU_ACCEL; the complete sample runs Vehicle::tick,
-// whose motor outputs go back as HIL_MOTORS with the same tick, followed by whatever the core
-// has to send. As in the POSIX port (firmware/ports/posix/hil_vehicle_node.hpp) the vehicle's
-// clock is the plant's tick clock, so a HIL run on the board matches one on the host. Every
-// other frame goes to the core, which validates and counts it. No heap.
+// 1 kHz IMU sample as HIL_IMU_GYRO + HIL_IMU_ACCEL; the complete sample runs Vehicle::tick
+// (through VehicleNode, the step the flight image shares), whose motor outputs go back as
+// HIL_MOTORS with the same tick, followed by whatever the core has to send. As in the POSIX
+// port (firmware/ports/posix/hil_vehicle_node.hpp) the vehicle's clock is the plant's tick
+// clock, so a HIL run on the board matches one on the host. Every other frame goes to the
+// core, which validates and counts it. No heap.
 #pragma once
 
 #include <cstdint>
@@ -11,6 +12,7 @@
 #include "fw/hil_imu.hpp"
 #include "fw/vehicle.hpp"
 #include "pa/protocol.hpp"
+#include "vehicle_node.hpp"
 
 namespace stm32f405 {
 
@@ -29,16 +31,20 @@ class HilCanNode {
 
   void on_frame(const pa::proto::Frame& frame);
 
-  const fw::Vehicle& vehicle() const { return vehicle_; }
+  const fw::Vehicle& vehicle() const { return node_.vehicle(); }
   const HilCanStats& stats() const { return stats_; }
 
  private:
-  void send(const pa::proto::Frame& frame);
+  // The HIL image's side of the seam: motors and frames go onto CAN1.
+  struct Io {
+    HilCanNode* self;
+    void write_motors(const fw::TickOutput& out);
+    void send(const pa::proto::Frame& frame);
+  };
 
-  fw::Vehicle vehicle_;
+  VehicleNode<Io> node_;
   fw::HilImuAssembler imu_{};
-  std::uint8_t node_;
-  std::uint32_t cycles_per_us_;
+  std::uint8_t node_id_;
   std::uint32_t now_us_ = 0;  // the plant's clock: the time of the last complete sample
   HilCanStats stats_{};
 };

@@ -38,8 +38,12 @@ inline constexpr std::uint32_t cfgr_sws_mask = 3u << 2, cfgr_sws_pll = 2u << 2;
 inline constexpr std::uint32_t cfgr_hpre_mask = 0xFu << 4;  // AHB /1 when 0
 inline constexpr std::uint32_t cfgr_ppre1_mask = 7u << 10, cfgr_ppre1_div4 = 5u << 10;
 inline constexpr std::uint32_t cfgr_ppre2_mask = 7u << 13, cfgr_ppre2_div2 = 4u << 13;
-inline constexpr std::uint32_t ahb1_gpioa = 1u << 0, ahb1_gpiob = 1u << 1, ahb1_gpiod = 1u << 3;
-inline constexpr std::uint32_t apb1_tim2 = 1u << 0, apb1_can1 = 1u << 25, apb1_pwr = 1u << 28;
+inline constexpr std::uint32_t ahb1_gpioa = 1u << 0, ahb1_gpiob = 1u << 1, ahb1_gpioc = 1u << 2,
+                               ahb1_gpiod = 1u << 3, ahb1_dma1 = 1u << 21;
+inline constexpr std::uint32_t apb1_tim2 = 1u << 0, apb1_tim3 = 1u << 1, apb1_tim5 = 1u << 3,
+                               apb1_usart3 = 1u << 18, apb1_can1 = 1u << 25, apb1_pwr = 1u << 28;
+inline constexpr std::uint32_t apb2_usart1 = 1u << 4, apb2_adc1 = 1u << 8, apb2_spi1 = 1u << 12,
+                               apb2_syscfg = 1u << 14;
 }  // namespace rcc_bits
 
 // Embedded flash interface (RM0090 section 3.9)
@@ -68,16 +72,94 @@ struct Gpio {
   Reg MODER, OTYPER, OSPEEDR, PUPDR, IDR, ODR, BSRR, LCKR, AFRL, AFRH;
 };
 static_assert(offsetof(Gpio, AFRH) == 0x24);
+inline Gpio& gpioa() { return at<Gpio>(0x40020000u); }
 inline Gpio& gpiob() { return at<Gpio>(0x40020400u); }
+inline Gpio& gpioc() { return at<Gpio>(0x40020800u); }
+inline Gpio& gpio(char port) { return port == 'A' ? gpioa() : port == 'B' ? gpiob() : gpioc(); }
+inline constexpr std::uint32_t gpio_mode_output = 1u, gpio_mode_af = 2u, gpio_mode_analog = 3u;
 
 // ---------------------------------------------------------------------------------------
-// General-purpose timer TIM2, 32 bits (RM0090 section 18.4)
+// General-purpose timers TIM2..TIM5 (RM0090 section 18.4; TIM2 and TIM5 are 32 bits wide)
 // ---------------------------------------------------------------------------------------
 struct Tim {
-  Reg CR1, CR2, SMCR, DIER, SR, EGR, CCMR1, CCMR2, CCER, CNT, PSC, ARR;
+  Reg CR1, CR2, SMCR, DIER, SR, EGR, CCMR1, CCMR2, CCER, CNT, PSC, ARR, RCR, CCR1, CCR2, CCR3, CCR4, BDTR,
+      DCR, DMAR;
 };
-static_assert(offsetof(Tim, CNT) == 0x24 && offsetof(Tim, ARR) == 0x2C);
-inline Tim& tim2() { return at<Tim>(0x40000000u); }
+static_assert(offsetof(Tim, CNT) == 0x24 && offsetof(Tim, ARR) == 0x2C && offsetof(Tim, CCR3) == 0x3C &&
+              offsetof(Tim, DCR) == 0x48 && offsetof(Tim, DMAR) == 0x4C);
+inline constexpr std::uintptr_t kTim2Base = 0x40000000u, kTim3Base = 0x40000400u, kTim5Base = 0x40000C00u;
+inline Tim& tim2() { return at<Tim>(kTim2Base); }
+inline Tim& tim3() { return at<Tim>(kTim3Base); }
+inline Tim& tim5() { return at<Tim>(kTim5Base); }
+namespace tim_bits {
+inline constexpr std::uint32_t cr1_cen = 1u << 0, cr1_arpe = 1u << 7, dier_ude = 1u << 8, egr_ug = 1u << 0;
+inline constexpr std::uint32_t ccmr_pwm1 = 6u, ccmr_preload = 1u << 3;  // OCxM and OCxPE of one channel
+}  // namespace tim_bits
+
+// ---------------------------------------------------------------------------------------
+// DMA controller (RM0090 section 10.5)
+// ---------------------------------------------------------------------------------------
+struct DmaStream {
+  Reg CR, NDTR, PAR, M0AR, M1AR, FCR;
+};
+struct Dma {
+  Reg LISR, HISR, LIFCR, HIFCR;
+  DmaStream stream[8];
+};
+static_assert(offsetof(Dma, stream) == 0x10 && sizeof(DmaStream) == 0x18);
+inline Dma& dma1() { return at<Dma>(0x40026000u); }
+namespace dma_bits {
+inline constexpr std::uint32_t cr_en = 1u << 0, cr_dir_mem_to_periph = 1u << 6, cr_minc = 1u << 10,
+                               cr_psize_word = 2u << 11, cr_msize_word = 2u << 13, cr_pl_high = 2u << 16,
+                               cr_chsel_shift = 25;
+// A stream's five flags (FEIF, DMEIF, TEIF, HTIF, TCIF) in LISR/HISR and LIFCR/HIFCR: streams 0-3
+// (4-7) at bit offsets 0, 6, 16, 22.
+inline constexpr std::uint32_t kFlagOffset[4] = {0, 6, 16, 22};
+inline constexpr std::uint32_t flags_all = 0x3Du, flag_teif = 1u << 3, flag_tcif = 1u << 5;
+}  // namespace dma_bits
+
+// ---------------------------------------------------------------------------------------
+// SPI (RM0090 section 28.5), EXTI (12.3), SYSCFG (9.2), USART (30.6), ADC (13.13)
+// ---------------------------------------------------------------------------------------
+struct Spi {
+  Reg CR1, CR2, SR, DR;
+};
+inline Spi& spi1() { return at<Spi>(0x40013000u); }
+namespace spi_bits {
+inline constexpr std::uint32_t cr1_cpha = 1u << 0, cr1_cpol = 1u << 1, cr1_mstr = 1u << 2, cr1_br_shift = 3,
+                               cr1_spe = 1u << 6, cr1_ssi = 1u << 8, cr1_ssm = 1u << 9;
+inline constexpr std::uint32_t cr2_rxneie = 1u << 6;
+inline constexpr std::uint32_t sr_rxne = 1u << 0, sr_txe = 1u << 1, sr_bsy = 1u << 7;
+}  // namespace spi_bits
+
+struct Exti {
+  Reg IMR, EMR, RTSR, FTSR, SWIER, PR;
+};
+inline Exti& exti() { return at<Exti>(0x40013C00u); }
+struct Syscfg {
+  Reg MEMRMP, PMC, EXTICR[4];
+};
+inline Syscfg& syscfg() { return at<Syscfg>(0x40013800u); }
+
+struct Usart {
+  Reg SR, DR, BRR, CR1, CR2, CR3, GTPR;
+};
+inline constexpr std::uintptr_t kUsart1Base = 0x40011000u, kUsart3Base = 0x40004800u;
+namespace usart_bits {
+inline constexpr std::uint32_t sr_ore = 1u << 3, sr_rxne = 1u << 5, sr_txe = 1u << 7;
+inline constexpr std::uint32_t cr1_re = 1u << 2, cr1_te = 1u << 3, cr1_rxneie = 1u << 5, cr1_txeie = 1u << 7,
+                               cr1_ue = 1u << 13;
+}  // namespace usart_bits
+
+struct Adc {
+  Reg SR, CR1, CR2, SMPR1, SMPR2, JOFR[4], HTR, LTR, SQR1, SQR2, SQR3, JSQR, JDR[4], DR;
+};
+static_assert(offsetof(Adc, SQR3) == 0x34 && offsetof(Adc, DR) == 0x4C);
+inline Adc& adc1() { return at<Adc>(0x40012000u); }
+inline Reg& adc_common_ccr() { return at<Reg>(0x40012304u); }
+namespace adc_bits {
+inline constexpr std::uint32_t sr_eoc = 1u << 1, cr2_adon = 1u << 0, cr2_swstart = 1u << 30;
+}
 
 // ---------------------------------------------------------------------------------------
 // bxCAN (RM0090 section 32.9)
@@ -136,6 +218,13 @@ inline Reg& cpacr() { return at<Reg>(0xE000ED88u); }
 inline Reg& demcr() { return at<Reg>(0xE000EDFCu); }
 inline constexpr std::uint32_t demcr_trcena = 1u << 24;
 
+struct SysTick {
+  Reg CSR, RVR, CVR, CALIB;
+};
+inline SysTick& systick() { return at<SysTick>(0xE000E010u); }
+inline constexpr std::uint32_t systick_enable = 1u << 0, systick_tickint = 1u << 1,
+                               systick_cpu_clock = 1u << 2;
+
 struct Dwt {
   Reg CTRL, CYCCNT;
 };
@@ -160,7 +249,8 @@ inline volatile std::uint8_t& nvic_priority(unsigned irq) {
 
 // STM32F405 interrupt numbers (RM0090 table 61) used by this port.
 namespace irq {
-inline constexpr unsigned can1_tx = 19, can1_rx0 = 20, can1_rx1 = 21, can1_sce = 22;
+inline constexpr unsigned exti4 = 10, can1_tx = 19, can1_rx0 = 20, can1_rx1 = 21, can1_sce = 22, spi1 = 35,
+                          usart1 = 37, usart3 = 39;
 inline constexpr unsigned count = 82;  // WWDG (0) .. FPU (81)
 }  // namespace irq
 
