@@ -12,6 +12,7 @@ packages=(
   clang libclang-rt-14-dev
   gcc-arm-none-eabi binutils-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib
   qemu-system-arm
+  python3 python3-matplotlib
 )
 
 missing=()

@@ -3,7 +3,8 @@
 // the lockstep arena by the ground-station runtime on J worker processes (hil/sil/campaign.hpp).
 // Reproducible from S whatever J is. Prints a progress line while it runs and a summary (the
 // catch rate with its 95% confidence interval, the failures by cause); writes DIR/throws.csv:
-// the columns of `hil fly` and then the drawn parameters of each attempt.
+// the columns of `hil fly` and then the drawn parameters of each attempt, and DIR/report.html
+// (hil/apps/report.hpp; not with --no-report).
 #include <unistd.h>
 
 #include <algorithm>
@@ -18,6 +19,7 @@
 #include <vector>
 
 #include "hil/apps/commands.hpp"
+#include "hil/apps/report.hpp"
 #include "hil/plant/plant_config.hpp"
 #include "hil/plant/randomisation.hpp"
 #include "hil/sil/campaign.hpp"
@@ -27,7 +29,7 @@ namespace hil::apps {
 namespace {
 
 constexpr const char* kUsage =
-    "usage: hil campaign --attempts N --out DIR [--seed S] [--plant FILE] [--jobs J]";
+    "usage: hil campaign --attempts N --out DIR [--seed S] [--plant FILE] [--jobs J] [--no-report]";
 
 // Wilson's score interval for k successes in n trials at 95%: unlike the normal approximation
 // it stays inside [0, 1] and is honest near 100%, where a campaign's rate lies.
@@ -45,11 +47,12 @@ std::pair<double, double> wilson95(int k, int n) {
 int cmd_campaign(int argc, char** argv) {
   std::string plant_file, out_dir;
   std::uint64_t attempts = 0, seed = 1, jobs = 0;
+  bool no_report = false;
   CLI::App app("", "hil campaign");
   pa::cli::describe(app, kUsage,
                     "Flies N independent attempts to throw and catch, each on a plant drawn anew from its\n"
                     "ranges, on J worker processes; reproducible from the seed whatever J is. Writes\n"
-                    "DIR/throws.csv (the columns of hil fly and the drawn parameters).");
+                    "DIR/throws.csv (the columns of hil fly and the drawn parameters) and DIR/report.html.");
   app.add_option("--attempts", attempts, "number of attempts")
       ->type_name("N")
       ->required()
@@ -62,6 +65,7 @@ int cmd_campaign(int argc, char** argv) {
   app.add_option("--jobs", jobs, "worker processes (default: every core)")
       ->type_name("J")
       ->check(pa::cli::count(1, 256, "needs a count 1..256"));
+  app.add_flag("--no-report", no_report, "the CSV file only, no report.html");
   if (const std::optional<int> code = pa::cli::parse(app, argc, argv, std::cout, std::cerr)) return *code;
 
   sil::CampaignConfig config;
@@ -128,6 +132,7 @@ int cmd_campaign(int argc, char** argv) {
     }
     if (r.vehicle_crashed) ++crashed;
   }
+  csv.close();
   if (!csv) {
     std::cerr << "hil campaign: cannot write '" << out_dir << "/throws.csv'\n";
     return 1;
@@ -140,6 +145,8 @@ int cmd_campaign(int argc, char** argv) {
   std::printf("  vehicles crashed in %d attempts\n", crashed);
   std::printf("  seed %llu, %d worker processes, wall time %.1f s; %s/throws.csv\n",
               static_cast<unsigned long long>(config.seed), config.jobs, wall_s, out_dir.c_str());
+  std::fflush(stdout);
+  if (!no_report) make_report(out_dir, "hil campaign");
   return 0;
 }
 

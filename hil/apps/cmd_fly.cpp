@@ -1,7 +1,8 @@
 // `hil fly (--series paper | --throws N) [--seed S] [--plant FILE] [--randomise] [--out DIR]`:
 // a series of throws flown in the lockstep arena by the ground-station runtime (hil/sil/series.hpp),
 // judged on the plant's truth. Prints a table per throw and a summary beside the paper's figures;
-// with --out writes DIR/throws.csv (one row per attempt) and DIR/attempt_<n>.csv (its time series).
+// with --out writes DIR/throws.csv (one row per attempt), DIR/attempt_<n>.csv (its time series)
+// and DIR/report.html (hil/apps/report.hpp; not with --no-report). Columns: docs/report.md.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -14,6 +15,7 @@
 #include <vector>
 
 #include "hil/apps/commands.hpp"
+#include "hil/apps/report.hpp"
 #include "hil/plant/plant_config.hpp"
 #include "hil/plant/randomisation.hpp"
 #include "hil/sil/series.hpp"
@@ -23,7 +25,7 @@ namespace hil::apps {
 namespace {
 
 constexpr const char* kUsage =
-    "usage: hil fly (--series paper | --throws N) [--seed S] [--plant FILE] [--randomise] [--out DIR] [--store FILE] [--verbose]";
+    "usage: hil fly (--series paper | --throws N) [--seed S] [--plant FILE] [--randomise] [--out DIR [--no-report]] [--store FILE] [--verbose]";
 
 int usage(const std::string& message) {
   std::cerr << "hil fly: " << message << "\n" << kUsage << "\n";
@@ -32,10 +34,47 @@ int usage(const std::string& message) {
 
 void write_row(std::ostream& out, const sil::AttemptResult& r) {
   char line[512];
-  std::snprintf(line, sizeof line, "%d,%s,%.4f,%.4f,%.4f,%.4f,%.4f,%.5f,%s\n", r.throw_number,
+  std::snprintf(line, sizeof line, "%d,%s,%.4f,%.4f,%.4f,%.4f,%.4f,%.5f,%s,%.4f\n", r.throw_number,
                 r.outcome.c_str(), r.flight_s, r.catch_height_m, r.catch_x_m, r.catch_y_m, r.travel_m,
-                r.energy_error_J, r.abort_reason.c_str());
+                r.energy_error_J, r.abort_reason.c_str(), r.planned_height_m);
   out << line;
+}
+
+// One attempt's time series as DIR/attempt_<n>.csv (columns: docs/report.md).
+void write_time_series(const std::string& path, const std::vector<sil::TimeSample>& samples) {
+  std::ofstream ts(path);
+  ts << "t_s,v1_x,v1_y,v1_z,v2_x,v2_y,v2_z,pole_x,pole_y,pole_z,pole_nx,pole_ny,pole_nz,task1,task2";
+  for (const char* v : {"1", "2"}) {
+    for (const char* c : {"plate%s_x", "plate%s_y", "plate%s_z", "plate%s_nx", "plate%s_ny", "plate%s_nz"}) {
+      char name[32];
+      std::snprintf(name, sizeof name, c, v);
+      ts << "," << name;
+    }
+  }
+  ts << ",end0_x,end0_y,end0_z,end1_x,end1_y,end1_z";
+  ts << ",v1_thrust_mps2,v1_p_radps,v1_q_radps,v1_r_radps,v2_thrust_mps2,v2_p_radps,v2_q_radps,v2_r_radps\n";
+  for (const sil::TimeSample& s : samples) {
+    char line[1024];
+    int n = std::snprintf(
+        line, sizeof line, "%.3f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%s,%s", s.t_s,
+        s.vehicle1_m.x(), s.vehicle1_m.y(), s.vehicle1_m.z(), s.vehicle2_m.x(), s.vehicle2_m.y(),
+        s.vehicle2_m.z(), s.pole_m.x(), s.pole_m.y(), s.pole_m.z(), s.pole_axis.x(), s.pole_axis.y(),
+        s.pole_axis.z(), s.task1.c_str(), s.task2.c_str());
+    for (int i = 0; i < 2; ++i) {
+      n += std::snprintf(line + n, sizeof line - n, ",%.4f,%.4f,%.4f,%.4f,%.4f,%.4f", s.plate_m[i].x(),
+                         s.plate_m[i].y(), s.plate_m[i].z(), s.plate_normal[i].x(), s.plate_normal[i].y(),
+                         s.plate_normal[i].z());
+    }
+    for (int i = 0; i < 2; ++i) {
+      n += std::snprintf(line + n, sizeof line - n, ",%.4f,%.4f,%.4f", s.pole_end_m[i].x(),
+                         s.pole_end_m[i].y(), s.pole_end_m[i].z());
+    }
+    for (int i = 0; i < 2; ++i) {
+      n += std::snprintf(line + n, sizeof line - n, ",%.3f,%.3f,%.3f,%.3f", s.thrust_cmd_mps2[i],
+                         s.rate_cmd_radps[i].x(), s.rate_cmd_radps[i].y(), s.rate_cmd_radps[i].z());
+    }
+    ts << line << "\n";
+  }
 }
 
 }  // namespace
@@ -43,7 +82,7 @@ void write_row(std::ostream& out, const sil::AttemptResult& r) {
 int cmd_fly(int argc, char** argv) {
   std::string series, plant_file, out_dir, store_file;
   std::uint64_t throws = 0, seed = 1;
-  bool randomise = false, verbose = false;
+  bool randomise = false, verbose = false, no_report = false;
   CLI::App app("", "hil fly");
   pa::cli::describe(
       app, kUsage,
@@ -60,7 +99,9 @@ int cmd_fly(int argc, char** argv) {
       ->check(pa::cli::count(0, UINT64_MAX, "needs a non-negative integer"));
   app.add_option("--plant", plant_file, "plant configuration (default: the built-in one)")->type_name("FILE");
   app.add_flag("--randomise", randomise, "each attempt on a plant drawn anew from the seed");
-  app.add_option("--out", out_dir, "write DIR/throws.csv and DIR/attempt_<n>.csv")->type_name("DIR");
+  app.add_option("--out", out_dir, "write DIR/throws.csv, DIR/attempt_<n>.csv and DIR/report.html")
+      ->type_name("DIR");
+  app.add_flag("--no-report", no_report, "with --out: the CSV files only, no report.html");
   app.add_option("--store", store_file, "the ground station's adaptation store")->type_name("FILE");
   app.add_flag("--verbose", verbose, "print the mission log");
   if (const std::optional<int> code = pa::cli::parse(app, argc, argv, std::cout, std::cerr)) return *code;
@@ -105,19 +146,8 @@ int cmd_fly(int argc, char** argv) {
       sil::SeriesRunner runner(config);
       results = runner.run(plans, print);
       if (!out_dir.empty()) {
-        for (std::size_t i = 0; i < runner.time_series().size(); ++i) {
-          std::ofstream ts(out_dir + "/attempt_" + std::to_string(i + 1) + ".csv");
-          ts << "t_s,v1_x,v1_y,v1_z,v2_x,v2_y,v2_z,pole_x,pole_y,pole_z,pole_nx,pole_ny,pole_nz,task1,task2\n";
-          for (const sil::TimeSample& s : runner.time_series()[i]) {
-            char line[512];
-            std::snprintf(
-                line, sizeof line, "%.3f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%s,%s\n",
-                s.t_s, s.vehicle1_m.x(), s.vehicle1_m.y(), s.vehicle1_m.z(), s.vehicle2_m.x(),
-                s.vehicle2_m.y(), s.vehicle2_m.z(), s.pole_m.x(), s.pole_m.y(), s.pole_m.z(), s.pole_axis.x(),
-                s.pole_axis.y(), s.pole_axis.z(), s.task1.c_str(), s.task2.c_str());
-            ts << line;
-          }
-        }
+        for (std::size_t i = 0; i < runner.time_series().size(); ++i)
+          write_time_series(out_dir + "/attempt_" + std::to_string(i + 1) + ".csv", runner.time_series()[i]);
       }
     } else {
       // Each attempt on a plant drawn anew from its ranges: one series of one throw per draw,
@@ -130,11 +160,15 @@ int cmd_fly(int argc, char** argv) {
         config.seed = seed * 1000003ULL + i;
         config.ground_station.learnt = learnt;
         config.ground_station.adaptation_store_path = store_file;
+        config.record_time_series = !out_dir.empty();
         if (verbose) config.log = [](const std::string& line) { std::printf("%s\n", line.c_str()); };
         sil::SeriesRunner runner(config);
         std::vector<sil::AttemptPlan> one{plans[i]};
         sil::AttemptResult r = runner.run(one).front();
         learnt = runner.ground_station().learnt();
+        if (!out_dir.empty() && !runner.time_series().empty())
+          write_time_series(out_dir + "/attempt_" + std::to_string(i + 1) + ".csv",
+                            runner.time_series().front());
         if (verbose)
           std::printf(
               "  learnt: catching height %.3f, waiting (%.3f, %.3f), bias (%.3f, %.3f), catching instant %.3f s\n",
@@ -184,8 +218,11 @@ int cmd_fly(int argc, char** argv) {
                   : "NO");
   if (!out_dir.empty()) {
     std::ofstream csv(out_dir + "/throws.csv");
-    csv << "throw,outcome,flight_s,catch_height_m,catch_x_m,catch_y_m,travel_m,energy_error_J,abort_reason\n";
+    csv << "throw,outcome,flight_s,catch_height_m,catch_x_m,catch_y_m,travel_m,energy_error_J,abort_reason,"
+           "planned_height_m\n";
     for (const sil::AttemptResult& r : results) write_row(csv, r);
+    csv.close();
+    if (!no_report) make_report(out_dir, "hil fly");
   }
   return 0;
 }

@@ -99,13 +99,34 @@ void SeriesRunner::step() {
     firmware_modes_[i] = fw.mode();
   }
   if (config_.on_step) config_.on_step(arena_, gs_);
-  if (recording_ != nullptr && std::lround(now * 1000.0) % 10 == 0) {
-    const Plant& p = arena_.plant();
-    recording_->push_back(TimeSample{now, p.vehicle(pa::kVehicle1).body.position_m,
-                                     p.vehicle(pa::kVehicle2).body.position_m, p.pole().body.position_m,
-                                     p.pole().axis(), std::string(gs::mission::task_name(gs_.task(kThrower))),
-                                     std::string(gs::mission::task_name(gs_.task(kCatcher)))});
+  if (recording_ != nullptr && std::lround(now * 1000.0) % 10 == 0) recording_->push_back(time_sample(now));
+}
+
+TimeSample SeriesRunner::time_sample(double now) const {
+  const Plant& p = arena_.plant();
+  const double half_length_m = p.config().pole.half_length_m;
+  TimeSample s{now,
+               p.vehicle(pa::kVehicle1).body.position_m,
+               p.vehicle(pa::kVehicle2).body.position_m,
+               p.pole().body.position_m,
+               p.pole().axis(),
+               std::string(gs::mission::task_name(gs_.task(kThrower))),
+               std::string(gs::mission::task_name(gs_.task(kCatcher))),
+               {},
+               {},
+               {},
+               {},
+               {}};
+  for (const pa::VehicleId vehicle : pa::kActVehicles) {
+    const std::size_t i = pa::act_slot(vehicle);
+    s.plate_m[i] = p.plate_centre_m(vehicle);
+    s.plate_normal[i] = p.plate_normal(vehicle);
+    s.pole_end_m[i] = p.pole().end_m(static_cast<int>(i), half_length_m);
+    const pa::proto::RateThrust& cmd = arena_.vehicle(vehicle).firmware().link().setpoint();
+    s.thrust_cmd_mps2[i] = cmd.thrust_mps2;
+    s.rate_cmd_radps[i] = Vec3(cmd.rate_radps[0], cmd.rate_radps[1], cmd.rate_radps[2]);
   }
+  return s;
 }
 
 bool SeriesRunner::run_until(const std::function<bool()>& done, double timeout_s) {
@@ -332,6 +353,7 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
     r.outcome = "missed";
   }
   if (!r.impact) r.energy_error_J = 0.0;
+  if (report) r.planned_height_m = report->catch_height_m;
   if (report)
     r.travel_m =
         required_travel(report->waiting_xy_m, lower_end_m, report->catch_height_m, plan.catch_offset_m, r);

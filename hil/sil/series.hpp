@@ -54,15 +54,24 @@ struct AttemptResult {
   double travel_m = 0.0;        // from the catcher's waiting point to the catch point (series.cpp)
   double energy_error_J = 0.0;  // E - E* right after the impact (0 without one)
   bool impact = false;
-  std::string abort_reason;      // the ground station's, for an aborted catch
-  bool vehicle_crashed = false;  // a vehicle touched the floor at speed or was killed
+  std::string abort_reason;        // the ground station's, for an aborted catch
+  double planned_height_m = -1.0;  // the ground station's catching height for the throw (-1: none)
+  bool vehicle_crashed = false;    // a vehicle touched the floor at speed or was killed
 };
 
-// One row of an attempt's time series (every 10 ms).
+// One row of an attempt's time series (every 10 ms); the columns of attempt_<n>.csv are in
+// docs/report.md. Index 0 is vehicle 1 (the thrower), 1 is vehicle 2 (the catcher).
 struct TimeSample {
   double t_s;
   Vec3 vehicle1_m, vehicle2_m, pole_m, pole_axis;
   std::string task1, task2;
+  std::array<Vec3, 2> plate_m;       // the plates' centres (on their surfaces)
+  std::array<Vec3, 2> plate_normal;  // the plates' normals: each vehicle's body z
+  std::array<Vec3, 2> pole_end_m;    // the pole's two ends
+  // The inputs the ground station last commanded (RATE_THRUST as each firmware accepted it):
+  // the mass-normalised collective thrust and the body rates.
+  std::array<double, 2> thrust_cmd_mps2;
+  std::array<Vec3, 2> rate_cmd_radps;
 };
 
 struct SeriesConfig {
@@ -99,6 +108,7 @@ class SeriesRunner {
 
  private:
   void step();
+  TimeSample time_sample(double now) const;
   bool run_until(const std::function<bool()>& done, double timeout_s);
   AttemptResult fly(const AttemptPlan& plan, int number);
   void place_pole_on_thrower();
