@@ -17,7 +17,7 @@ AdaptationSettings nominal_adaptation_settings(const model::PoleParams& params) 
     settings.nominal_waiting_xy_m = nominal.catch_point_m;
   }
   settings.window = 0;
-  settings.target_energy_J = model::uprightEnergy_J(params);
+  settings.target_energy_J = model::upright_energy_J(params);
   return settings;
 }
 

@@ -9,14 +9,14 @@ bool head_is_lower(const model::PoleState& state) { return state.n.z() < 0.0; }
 
 // The end taken as the contact end: the tail p - L n, or the head if `head`.
 Eigen::Vector3d end_point(const model::PoleState& state, bool head, const model::PoleParams& params) {
-  return head ? model::poleHeadEnd_m(state, params) : model::poleTailEnd_m(state, params);
+  return head ? model::pole_head_end_m(state, params) : model::pole_tail_end_m(state, params);
 }
 
 // Eq. (42) (model/impact.hpp's form) with a fixed contact end: continuous in time for that end.
 double residual_with_end(const model::PoleState& state, bool head, const model::PoleParams& params) {
   model::PoleState based = state;
   if (head) based.n = -state.n;
-  return model::catchingConditionResidual_radps(model::planar_kinematics(based), params);
+  return model::catching_condition_residual_radps(model::planar_kinematics(based), params);
 }
 
 bool increasing(std::span<const TimedPoleState> flight) {
@@ -71,7 +71,7 @@ std::optional<CatchPoint> lower_end_crossing(std::span<const TimedPoleState> fli
   for (std::size_t i = 0; i + 1 < flight.size(); ++i) {
     const TimedPoleState& a = flight[i];
     const TimedPoleState& b = flight[i + 1];
-    if (!(model::poleLowerEnd_m(a.state, params).z() > height_m)) continue;
+    if (!(model::pole_lower_end_m(a.state, params).z() > height_m)) continue;
     // Follow the end that is the lower one at b through the step, so the interpolation stays on
     // one end even if the pole passes the horizontal in between.
     const bool head = head_is_lower(b.state);
@@ -87,11 +87,11 @@ std::optional<CatchPoint> lower_end_crossing(std::span<const TimedPoleState> fli
   return std::nullopt;
 }
 
-double postImpactEnergy_J(const model::PoleState& before, const Eigen::Vector3d& plate_velocity_mps,
-                          const model::PoleParams& params) {
+double post_impact_energy_J(const model::PoleState& before, const Eigen::Vector3d& plate_velocity_mps,
+                            const model::PoleParams& params) {
   const model::ImpactResult impact = model::impact_map(before, plate_velocity_mps, params);
   const double length = params.half_length_m;
-  const double pivot_inertia = params.mass_kg * length * length + model::poleInertia_kgm2(params);
+  const double pivot_inertia = params.mass_kg * length * length + model::pole_inertia_kgm2(params);
   return params.mass_kg * params.gravity_mps2 * length * impact.after.n.z() +
          0.5 * pivot_inertia * impact.after.omega_radps.squaredNorm();
 }

@@ -49,7 +49,7 @@ std::optional<CatchPoint> lower_end_crossing(std::span<const TimedPoleState> fli
 // The pole's energy relative to the contact point right after it hits a plate moving with
 // plate_velocity_mps: m_p g L n_z + (1/2)(m_p L^2 + Theta)|Omega+|^2 (41, in 3D), with Omega+ from
 // the impact map and the kinetic part measured relative to the plate.
-double postImpactEnergy_J(const model::PoleState& before, const Eigen::Vector3d& plate_velocity_mps,
-                          const model::PoleParams& params);
+double post_impact_energy_J(const model::PoleState& before, const Eigen::Vector3d& plate_velocity_mps,
+                            const model::PoleParams& params);
 
 }  // namespace gs::adaptation

@@ -97,8 +97,8 @@ int run(int argc, char** argv) {
               k.alpha_rad, k.alpha_dot_radps, k.x_dot_mps, k.z_dot_mps, ci.residual_radps);
   std::printf("after a catch at rest:    alpha_dot %.4f rad/s, energy %.5f J (E* = m_p g L = "
               "%.5f J)\n",
-              rate_after, gs::model::pivotedPoleEnergy_J(k.alpha_rad, rate_after, params),
-              gs::model::uprightEnergy_J(params));
+              rate_after, gs::model::pivoted_pole_energy_J(k.alpha_rad, rate_after, params),
+              gs::model::upright_energy_J(params));
   std::printf("paper (measured, mean of 9 throws): free flight %.3f s, catching height %.3f m\n",
               kPaperFreeFlight_s, kPaperCatchHeight_m);
   std::printf("this minus paper:         %+.3f s, %+.3f m\n", ci.t_s - kPaperFreeFlight_s,

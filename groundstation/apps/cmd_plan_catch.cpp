@@ -202,16 +202,16 @@ int run(int argc, char** argv) {
     for_each_sample(*flat_traj, [&](const planning::CatchReference& r) { flat_peaks.add(r); });
   }
 
-  const auto& t = traj->z_manoeuvre().phaseTimes_s();
+  const auto& t = traj->z_manoeuvre().phase_times_s();
   std::printf("catch manoeuvre (paper Section V)\n");
   std::printf("  xy: (%.3f, %.3f) m -> (%.3f, %.3f) m, minimum snap over T_xy = %.3f s (eq. 45)\n",
               params.start_xy_m.x(), params.start_xy_m.y(), params.target_xy_m.x(), params.target_xy_m.y(),
               params.t_xy_s);
   std::printf("  z:  %.3f m -> %.3f m, a_max = %.3f m/s^2, k_max = %.3f m/s^3, yaw %.3f rad\n",
-              traj->startHeight_m(), params.catch_height_m, params.a_max_mps2, params.k_max_mps3,
+              traj->start_height_m(), params.catch_height_m, params.a_max_mps2, params.k_max_mps3,
               params.yaw_rad);
   std::printf("  T_z = %.4f s (eq. 48), z0 = %.4f m (eq. 49), drop %.4f m\n", traj->duration_s(),
-              traj->startHeight_m(), traj->startHeight_m() - params.catch_height_m);
+              traj->start_height_m(), traj->start_height_m() - params.catch_height_m);
   std::printf("  phases t0..t5 = %.4f %.4f %.4f %.4f %.4f %.4f s (jerk -k, 0, +k, 0, -k);"
               " xy over [t3, t5]\n",
               t[0], t[1], t[2], t[3], t[4], t[5]);

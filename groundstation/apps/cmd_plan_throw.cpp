@@ -175,7 +175,7 @@ int run(int argc, char** argv) {
   }
   const double a_T = plan.launch_thrust_mps2;
   const model::PlanarState<double>& s_T = problem.launch_state;
-  const double fn_printed = model::planarNormalForcePerMass_mps2<double>(
+  const double fn_printed = model::planar_normal_force_per_mass_mps2<double>(
       s_T(planar::kTheta), s_T(planar::kAlpha), s_T(planar::kAlphaDot), kPrintedLaunchThrust_mps2,
       problem.params);
 

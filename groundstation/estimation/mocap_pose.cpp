@@ -28,7 +28,7 @@ bool is_usable_pose(const MocapPose& pose) {
   return norm >= 0.5 && norm <= 1.5;
 }
 
-double wrapAngle_rad(double angle_rad) {
+double wrap_angle_rad(double angle_rad) {
   constexpr double kTwoPi = 2.0 * std::numbers::pi;
   double a = std::fmod(angle_rad + std::numbers::pi, kTwoPi);
   if (a <= 0.0) a += kTwoPi;

@@ -38,7 +38,7 @@ Eigen::Vector3d pole_direction_from_quaternion(const Eigen::Quaterniond& inertia
 bool is_usable_pose(const MocapPose& pose);
 
 // The angle wrapped into (-pi, pi].
-double wrapAngle_rad(double angle_rad);
+double wrap_angle_rad(double angle_rad);
 
 // An orthonormal basis (two columns) of the plane normal to the unit vector n. Measurements of
 // a direction are taken in this plane (2 dof), which keeps |n| = 1 out of the filters.

@@ -69,7 +69,7 @@ PoleFreeFlightEkf::StateCovariance PoleFreeFlightEkf::jacobian() const {
   f.block<3, 3>(kN, kN) = cross_matrix(state_.omega_radps);  // d(Omega x n)/dn, (22)
   f.block<3, 3>(kN, kW) = -cross_matrix(state_.n);           // d(Omega x n)/dOmega
 
-  const double inertia = model::poleInertia_kgm2(params_.pole);
+  const double inertia = model::pole_inertia_kgm2(params_.pole);
   Eigen::Vector3d lin0;
   Eigen::Vector3d ang0;
   drag_accelerations(state_, params_.pole, inertia, lin0, ang0);

@@ -8,12 +8,12 @@
 
 namespace gs::estimation {
 
-double poleNormalForcePerMass_mps2(const model::PoleOnVehicleState& pole,
-                                   const Eigen::Vector3d& specific_force_mps2,
-                                   const Eigen::Vector3d& plate_normal, const model::PoleParams& params) {
+double pole_normal_force_per_mass_mps2(const model::PoleOnVehicleState& pole,
+                                       const Eigen::Vector3d& specific_force_mps2,
+                                       const Eigen::Vector3d& plate_normal, const model::PoleParams& params) {
   const double length = params.half_length_m;
   const Eigen::Vector3d r = length * model::pole_direction_on_vehicle(pole, params);
-  const Eigen::Vector3d r_dot = model::poleCentreVelocityRelativeToPivot_mps(pole, params);
+  const Eigen::Vector3d r_dot = model::pole_centre_velocity_relative_to_pivot_mps(pole, params);
   const double mu = (0.75 * specific_force_mps2.dot(r) - r_dot.squaredNorm()) / (length * length);
   return (0.25 * specific_force_mps2 + mu * r).dot(plate_normal);
 }
@@ -45,14 +45,14 @@ PoleOnVehicleEkf::StateCovariance PoleOnVehicleEkf::jacobian(
   f(kB, kBdot) = 1.0;
   const model::PoleOnVehicleState base = pole();
   const Eigen::Vector2d acc0 =
-      model::poleOnVehicleAcceleration_mps2(base, pivot_acceleration_mps2, params_.pole);
+      model::pole_on_vehicle_acceleration_mps2(base, pivot_acceleration_mps2, params_.pole);
   for (int j = 0; j < 4; ++j) {
     model::PoleOnVehicleState s = base;
     double* field = j == 0 ? &s.a_m : j == 1 ? &s.b_m : j == 2 ? &s.a_dot_mps : &s.b_dot_mps;
     const double eps = 1e-7 * std::max(1.0, std::abs(*field));
     *field += eps;
     const Eigen::Vector2d acc =
-        model::poleOnVehicleAcceleration_mps2(s, pivot_acceleration_mps2, params_.pole);
+        model::pole_on_vehicle_acceleration_mps2(s, pivot_acceleration_mps2, params_.pole);
     f.block<2, 1>(kAdot, j) = (acc - acc0) / eps;  // (28), (29)
   }
   return f;
@@ -177,7 +177,7 @@ NormalForceEstimate PoleOnVehicleEkf::normal_force(const PlateKinematics& plate)
   const Eigen::Vector3d t = plate.normal();
   const model::PoleOnVehicleState s = pole();
   NormalForceEstimate out;
-  out.value_mps2 = poleNormalForcePerMass_mps2(s, f, t, params_.pole);
+  out.value_mps2 = pole_normal_force_per_mass_mps2(s, f, t, params_.pole);
   // Variance: the state's (a, b, a', b') by forward differences, and the specific force's.
   Eigen::Matrix<double, 1, 4> j;
   for (int c = 0; c < 4; ++c) {
@@ -185,7 +185,7 @@ NormalForceEstimate PoleOnVehicleEkf::normal_force(const PlateKinematics& plate)
     double* field = c == 0 ? &q.a_m : c == 1 ? &q.b_m : c == 2 ? &q.a_dot_mps : &q.b_dot_mps;
     const double eps = 1e-7;
     *field += eps;
-    j(c) = (poleNormalForcePerMass_mps2(q, f, t, params_.pole) - out.value_mps2) / eps;
+    j(c) = (pole_normal_force_per_mass_mps2(q, f, t, params_.pole) - out.value_mps2) / eps;
   }
   const double length = params_.pole.half_length_m;
   const Eigen::Vector3d r = length * model::pole_direction_on_vehicle(s, params_.pole);

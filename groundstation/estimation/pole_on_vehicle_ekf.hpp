@@ -109,8 +109,8 @@ class PoleOnVehicleEkf {
 
 // The plate-normal force per pole mass for a pole state on a pivot with specific force f
 // (= pivot acceleration + g e_z) and plate normal t (see the header comment).
-double poleNormalForcePerMass_mps2(const model::PoleOnVehicleState& pole,
-                                   const Eigen::Vector3d& specific_force_mps2,
-                                   const Eigen::Vector3d& plate_normal, const model::PoleParams& params);
+double pole_normal_force_per_mass_mps2(const model::PoleOnVehicleState& pole,
+                                       const Eigen::Vector3d& specific_force_mps2,
+                                       const Eigen::Vector3d& plate_normal, const model::PoleParams& params);
 
 }  // namespace gs::estimation

@@ -55,7 +55,7 @@ Eigen::Vector3d VehicleObserver::model_acceleration(double a_q_mps2) const {
   s.phi_rad = eta(0);
   s.theta_rad = eta(1);
   s.psi_rad = eta(2);
-  return model::vehicleAcceleration_mps2(s, a_q_mps2, params_.gravity_mps2);
+  return model::vehicle_acceleration_mps2(s, a_q_mps2, params_.gravity_mps2);
 }
 
 void VehicleObserver::predict(double dt_s, const model::VehicleInput* command, Propagation propagation) {
@@ -173,7 +173,7 @@ double VehicleObserver::nis(const MocapPose& pose) const {
   double nis = 0.0;
   for (int i = 0; i < 3; ++i) {
     const double nu_p = pose.p_m(i) - trans_x_[i](0);
-    const double nu_a = wrapAngle_rad(eta[i] - att_x_[i](0));
+    const double nu_a = wrap_angle_rad(eta[i] - att_x_[i](0));
     nis += nu_p * nu_p / (trans_p_[i](0, 0) + rp) + nu_a * nu_a / (att_p_[i](0, 0) + ra);
   }
   return nis;
@@ -213,14 +213,14 @@ VehicleUpdateResult VehicleObserver::update(const MocapPose& pose) {
     {
       const double s = att_p_[i](0, 0) + ra;
       const Eigen::Vector2d k = att_p_[i].col(0) / s;
-      att_x_[i] += k * wrapAngle_rad(eta[i] - att_x_[i](0));
+      att_x_[i] += k * wrap_angle_rad(eta[i] - att_x_[i](0));
       att_p_[i] -= k * att_p_[i].row(0);
       att_p_[i] = 0.5 * (att_p_[i] + att_p_[i].transpose()).eval();
     }
   }
   // Keep yaw in (-pi, pi] (roll likewise); the innovation above is already wrapped.
-  att_x_[0](0) = wrapAngle_rad(att_x_[0](0));
-  att_x_[2](0) = wrapAngle_rad(att_x_[2](0));
+  att_x_[0](0) = wrap_angle_rad(att_x_[0](0));
+  att_x_[2](0) = wrap_angle_rad(att_x_[2](0));
   result.accepted = true;
   return result;
 }

@@ -175,7 +175,7 @@ const Transition* find_transition(Task task, std::uint32_t conditions);
 class VehicleSequencer {
  public:
   Task task() const { return task_; }
-  double taskSince_s() const { return since_s_; }
+  double task_since_s() const { return since_s_; }
   Reason last_reason() const { return reason_; }
   std::uint32_t last_conditions() const { return conditions_; }
 

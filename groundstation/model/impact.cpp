@@ -13,7 +13,7 @@ PoleState with_lower_end_as_base(const PoleState& state) {
 Eigen::Vector3d pole_angular_momentum_about(const PoleState& state, const Eigen::Vector3d& point_m,
                                             const PoleParams& params) {
   const Eigen::Vector3d omega_normal = state.omega_radps - state.omega_radps.dot(state.n) * state.n;
-  return poleInertia_kgm2(params) * omega_normal + params.mass_kg * (state.p_m - point_m).cross(state.v_mps);
+  return pole_inertia_kgm2(params) * omega_normal + params.mass_kg * (state.p_m - point_m).cross(state.v_mps);
 }
 
 ImpactResult impact_map(const PoleState& before, const Eigen::Vector3d& plate_velocity_mps,
@@ -39,35 +39,35 @@ PlanarPoleKinematics planar_kinematics_from_lower_end(const PoleState& state) {
   return planar_kinematics(with_lower_end_as_base(state));
 }
 
-double postImpactRate_radps(const PlanarPoleKinematics& before, const PoleParams& params) {
+double post_impact_rate_radps(const PlanarPoleKinematics& before, const PoleParams& params) {
   const double c = std::cos(before.alpha_rad);
   const double s = std::sin(before.alpha_rad);
   return 0.25 * before.alpha_dot_radps +
          (0.75 / params.half_length_m) * (before.x_dot_mps * c - before.z_dot_mps * s);  // (40)
 }
 
-double uprightEnergy_J(const PoleParams& params) {
+double upright_energy_J(const PoleParams& params) {
   return params.mass_kg * params.gravity_mps2 * params.half_length_m;
 }
 
-double pivotedPoleEnergy_J(double alpha_rad, double alpha_dot_radps, const PoleParams& params) {
+double pivoted_pole_energy_J(double alpha_rad, double alpha_dot_radps, const PoleParams& params) {
   const double length = params.half_length_m;
   const double tip_speed = length * alpha_dot_radps;
   return params.mass_kg * params.gravity_mps2 * length * std::cos(alpha_rad) +
          0.5 * params.mass_kg * tip_speed * tip_speed +
-         0.5 * poleInertia_kgm2(params) * alpha_dot_radps * alpha_dot_radps;  // (41)
+         0.5 * pole_inertia_kgm2(params) * alpha_dot_radps * alpha_dot_radps;  // (41)
 }
 
-double swingUpRate_radps(double alpha_rad, const PoleParams& params) {
+double swing_up_rate_radps(double alpha_rad, const PoleParams& params) {
   return -std::sqrt(3.0 * params.gravity_mps2 / params.half_length_m) * std::sin(0.5 * alpha_rad);
 }
 
-double catchingConditionResidual_radps(const PlanarPoleKinematics& before, const PoleParams& params) {
-  return 4.0 * (postImpactRate_radps(before, params) - swingUpRate_radps(before.alpha_rad, params));
+double catching_condition_residual_radps(const PlanarPoleKinematics& before, const PoleParams& params) {
+  return 4.0 * (post_impact_rate_radps(before, params) - swing_up_rate_radps(before.alpha_rad, params));
 }
 
-double catchingConditionResidual_radps(const PoleState& before, const PoleParams& params) {
-  return catchingConditionResidual_radps(planar_kinematics_from_lower_end(before), params);
+double catching_condition_residual_radps(const PoleState& before, const PoleParams& params) {
+  return catching_condition_residual_radps(planar_kinematics_from_lower_end(before), params);
 }
 
 }  // namespace gs::model

@@ -86,16 +86,16 @@ PlanarPoleKinematics planar_kinematics(const PoleState& state);
 PlanarPoleKinematics planar_kinematics_from_lower_end(const PoleState& state);
 
 // alpha'+ for a plate at rest, eq. (40).
-double postImpactRate_radps(const PlanarPoleKinematics& before, const PoleParams& params);
+double post_impact_rate_radps(const PlanarPoleKinematics& before, const PoleParams& params);
 // E* = m_p g L: the upright pole at rest on its pivot (left side of (41)).
-double uprightEnergy_J(const PoleParams& params);
+double upright_energy_J(const PoleParams& params);
 // The pole's energy on a pivot at rest, relative to the pivot (right side of (41)).
-double pivotedPoleEnergy_J(double alpha_rad, double alpha_dot_radps, const PoleParams& params);
+double pivoted_pole_energy_J(double alpha_rad, double alpha_dot_radps, const PoleParams& params);
 // The rate on the separatrix branch that ends at the upright: -sqrt(3 g / L) sin(alpha / 2).
-double swingUpRate_radps(double alpha_rad, const PoleParams& params);
+double swing_up_rate_radps(double alpha_rad, const PoleParams& params);
 // This file's eq. (42): C = 4 (alpha'+ - swing_up_rate). Zero at the optimal catching instant.
-double catchingConditionResidual_radps(const PlanarPoleKinematics& before, const PoleParams& params);
+double catching_condition_residual_radps(const PlanarPoleKinematics& before, const PoleParams& params);
 // The same for a free-flying pole, with its lower end as the contact end.
-double catchingConditionResidual_radps(const PoleState& before, const PoleParams& params);
+double catching_condition_residual_radps(const PoleState& before, const PoleParams& params);
 
 }  // namespace gs::model

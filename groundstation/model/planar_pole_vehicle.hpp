@@ -29,7 +29,7 @@
 // F_N / m_p is -0.159 m/s^2, and over every value that rounds to those digits it stays within
 // [-0.26, -0.06]: the printed numbers are not a launch state of this model. The printed eq. (33),
 // taken literally, gives +0.003 m/s^2 there, so the printed a_q,T appears to come from it. The
-// planner therefore solves F_N = 0 for a_q,T (planarLaunchThrust_mps2: 4.799 m/s^2).
+// planner therefore solves F_N = 0 for a_q,T (planar_launch_thrust_mps2: 4.799 m/s^2).
 #pragma once
 
 #include <Eigen/Core>
@@ -60,18 +60,18 @@ using PlanarInput = Eigen::Matrix<Scalar, planar::kInputSize, 1>;
 
 // alpha'' from (4/3) L alpha'' = a_q sin(alpha - theta); see the derivation above.
 template <typename Scalar>
-Scalar planarPoleAngularAcceleration_radps2(const Scalar& theta_rad, const Scalar& alpha_rad,
-                                            const Scalar& thrust_mps2,
-                                            const PlanarPoleVehicleParams& params = {}) {
+Scalar planar_pole_angular_acceleration_radps2(const Scalar& theta_rad, const Scalar& alpha_rad,
+                                               const Scalar& thrust_mps2,
+                                               const PlanarPoleVehicleParams& params = {}) {
   using std::sin;
   return thrust_mps2 * sin(alpha_rad - theta_rad) * (0.75 / params.pole_half_length_m);
 }
 
 // F_N / m_p, the plate-normal contact force per unit pole mass (m/s^2); replaces eq. (33).
 template <typename Scalar>
-Scalar planarNormalForcePerMass_mps2(const Scalar& theta_rad, const Scalar& alpha_rad,
-                                     const Scalar& alpha_dot_radps, const Scalar& thrust_mps2,
-                                     const PlanarPoleVehicleParams& params = {}) {
+Scalar planar_normal_force_per_mass_mps2(const Scalar& theta_rad, const Scalar& alpha_rad,
+                                         const Scalar& alpha_dot_radps, const Scalar& thrust_mps2,
+                                         const PlanarPoleVehicleParams& params = {}) {
   using std::cos;
   using std::sin;
   const Scalar delta = alpha_rad - theta_rad;
@@ -81,10 +81,10 @@ Scalar planarNormalForcePerMass_mps2(const Scalar& theta_rad, const Scalar& alph
 }
 
 template <typename Scalar>
-Scalar planarNormalForcePerMass_mps2(const PlanarState<Scalar>& s, const PlanarInput<Scalar>& u,
-                                     const PlanarPoleVehicleParams& params = {}) {
-  return planarNormalForcePerMass_mps2<Scalar>(s(planar::kTheta), s(planar::kAlpha), s(planar::kAlphaDot),
-                                               u(planar::kThrust), params);
+Scalar planar_normal_force_per_mass_mps2(const PlanarState<Scalar>& s, const PlanarInput<Scalar>& u,
+                                         const PlanarPoleVehicleParams& params = {}) {
+  return planar_normal_force_per_mass_mps2<Scalar>(s(planar::kTheta), s(planar::kAlpha), s(planar::kAlphaDot),
+                                                   u(planar::kThrust), params);
 }
 
 // s' = f(s, u): eq. (4) and (5) in the xz-plane (phi = psi = 0, so theta' = Omega_y) and the
@@ -104,7 +104,7 @@ PlanarState<Scalar> planar_pole_vehicle_dynamics(const PlanarState<Scalar>& s, c
   s_dot(planar::kTheta) = u(planar::kPitchRate);
   s_dot(planar::kAlpha) = s(planar::kAlphaDot);
   s_dot(planar::kAlphaDot) =
-      planarPoleAngularAcceleration_radps2<Scalar>(theta, s(planar::kAlpha), a_q, params);
+      planar_pole_angular_acceleration_radps2<Scalar>(theta, s(planar::kAlpha), a_q, params);
   return s_dot;
 }
 
@@ -120,8 +120,8 @@ PlanarLinearisation linearise_planar_pole_vehicle(const PlanarState<double>& s, 
 // The launch condition F_N = 0 (Section III-A) solved for the thrust: with delta = alpha - theta,
 // a_q (1 - (3/4) sin^2 delta) = L alpha'^2 cos delta. The bracket is at least 1/4, so the
 // solution always exists (it is negative when cos delta < 0: no positive thrust launches then).
-inline double planarLaunchThrust_mps2(double theta_rad, double alpha_rad, double alpha_dot_radps,
-                                      const PlanarPoleVehicleParams& params = {}) {
+inline double planar_launch_thrust_mps2(double theta_rad, double alpha_rad, double alpha_dot_radps,
+                                        const PlanarPoleVehicleParams& params = {}) {
   const double delta = alpha_rad - theta_rad;
   const double sin_delta = std::sin(delta);
   return params.pole_half_length_m * alpha_dot_radps * alpha_dot_radps * std::cos(delta) /
@@ -130,8 +130,8 @@ inline double planarLaunchThrust_mps2(double theta_rad, double alpha_rad, double
 
 // The launch condition solved for the pole rate alpha' >= 0 at a given thrust. Returns NaN when
 // no real rate exists (cos delta <= 0).
-inline double planarLaunchPoleRate_radps(double theta_rad, double alpha_rad, double thrust_mps2,
-                                         const PlanarPoleVehicleParams& params = {}) {
+inline double planar_launch_pole_rate_radps(double theta_rad, double alpha_rad, double thrust_mps2,
+                                            const PlanarPoleVehicleParams& params = {}) {
   const double delta = alpha_rad - theta_rad;
   const double sin_delta = std::sin(delta);
   const double cos_delta = std::cos(delta);

@@ -52,7 +52,7 @@ PoleParams without_drag(PoleParams params) {
   return params;
 }
 
-double poleInertia_kgm2(const PoleParams& params) {
+double pole_inertia_kgm2(const PoleParams& params) {
   return params.mass_kg * params.half_length_m * params.half_length_m / 3.0;
 }
 
@@ -141,9 +141,9 @@ PoleState pole_free_flight_derivative(const PoleState& state, const PoleParams& 
   PoleState rate;
   rate.p_m = state.v_mps;
   rate.v_mps = (drag.axial_force_N + drag.normal_force_N) / params.mass_kg -
-               Eigen::Vector3d(0.0, 0.0, params.gravity_mps2);   // (16)
-  rate.n = state.omega_radps.cross(state.n);                     // (22)
-  rate.omega_radps = drag.torque_Nm / poleInertia_kgm2(params);  // (19)
+               Eigen::Vector3d(0.0, 0.0, params.gravity_mps2);    // (16)
+  rate.n = state.omega_radps.cross(state.n);                      // (22)
+  rate.omega_radps = drag.torque_Nm / pole_inertia_kgm2(params);  // (19)
   return rate;
 }
 
@@ -172,23 +172,23 @@ PoleState propagate_pole(const PoleState& state, double duration_s, double max_s
   return s;
 }
 
-double poleEnergy_J(const PoleState& state, const PoleParams& params) {
+double pole_energy_J(const PoleState& state, const PoleParams& params) {
   const Eigen::Vector3d omega_normal = state.omega_radps - state.omega_radps.dot(state.n) * state.n;
   return 0.5 * params.mass_kg * state.v_mps.squaredNorm() +
-         0.5 * poleInertia_kgm2(params) * omega_normal.squaredNorm() +
+         0.5 * pole_inertia_kgm2(params) * omega_normal.squaredNorm() +
          params.mass_kg * params.gravity_mps2 * state.p_m.z();
 }
 
-Eigen::Vector3d poleTailEnd_m(const PoleState& state, const PoleParams& params) {
+Eigen::Vector3d pole_tail_end_m(const PoleState& state, const PoleParams& params) {
   return state.p_m - params.half_length_m * state.n;
 }
 
-Eigen::Vector3d poleHeadEnd_m(const PoleState& state, const PoleParams& params) {
+Eigen::Vector3d pole_head_end_m(const PoleState& state, const PoleParams& params) {
   return state.p_m + params.half_length_m * state.n;
 }
 
-Eigen::Vector3d poleLowerEnd_m(const PoleState& state, const PoleParams& params) {
-  return state.n.z() >= 0.0 ? poleTailEnd_m(state, params) : poleHeadEnd_m(state, params);
+Eigen::Vector3d pole_lower_end_m(const PoleState& state, const PoleParams& params) {
+  return state.n.z() >= 0.0 ? pole_tail_end_m(state, params) : pole_head_end_m(state, params);
 }
 
 }  // namespace gs::model

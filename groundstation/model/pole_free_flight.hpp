@@ -31,7 +31,7 @@ struct PoleParams {
 PoleParams without_drag(PoleParams params);
 
 // Theta = m_p L^2 / 3, the rod's inertia about a transverse axis through its centre, eq. (9).
-double poleInertia_kgm2(const PoleParams& params);
+double pole_inertia_kgm2(const PoleParams& params);
 
 // s_p = (p_p, p_p', n, Omega_p), eq. (21). The same struct carries the time derivative
 // f_p(s_p) of eq. (20), each field then holding the rate of that field.
@@ -74,12 +74,12 @@ PoleState propagate_pole(const PoleState& state, double duration_s, double max_s
                          const PoleParams& params);
 
 // Total mechanical energy: translational + rotational + potential (zero at z = 0), in J.
-double poleEnergy_J(const PoleState& state, const PoleParams& params);
+double pole_energy_J(const PoleState& state, const PoleParams& params);
 
 // The pole's end points p_p -/+ L n.
-Eigen::Vector3d poleTailEnd_m(const PoleState& state, const PoleParams& params);  // p - L n
-Eigen::Vector3d poleHeadEnd_m(const PoleState& state, const PoleParams& params);  // p + L n
+Eigen::Vector3d pole_tail_end_m(const PoleState& state, const PoleParams& params);  // p - L n
+Eigen::Vector3d pole_head_end_m(const PoleState& state, const PoleParams& params);  // p + L n
 // The lower of the two ends (the tail when n_z >= 0).
-Eigen::Vector3d poleLowerEnd_m(const PoleState& state, const PoleParams& params);
+Eigen::Vector3d pole_lower_end_m(const PoleState& state, const PoleParams& params);
 
 }  // namespace gs::model

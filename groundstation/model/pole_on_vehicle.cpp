@@ -5,7 +5,7 @@
 namespace gs::model {
 namespace {
 
-double poleHeight_m(const PoleOnVehicleState& pole, const PoleParams& params) {
+double pole_height_m(const PoleOnVehicleState& pole, const PoleParams& params) {
   const double length = params.half_length_m;
   return std::sqrt(length * length - pole.a_m * pole.a_m - pole.b_m * pole.b_m);  // c in (24)
 }
@@ -29,23 +29,23 @@ VehiclePoleState operator*(double scale, const VehiclePoleState& state) {
 }
 
 Eigen::Vector3d pole_direction_on_vehicle(const PoleOnVehicleState& pole, const PoleParams& params) {
-  return Eigen::Vector3d(pole.a_m, pole.b_m, poleHeight_m(pole, params)) / params.half_length_m;
+  return Eigen::Vector3d(pole.a_m, pole.b_m, pole_height_m(pole, params)) / params.half_length_m;
 }
 
-Eigen::Vector3d poleCentreVelocityRelativeToPivot_mps(const PoleOnVehicleState& pole,
-                                                      const PoleParams& params) {
-  const double c = poleHeight_m(pole, params);
+Eigen::Vector3d pole_centre_velocity_relative_to_pivot_mps(const PoleOnVehicleState& pole,
+                                                           const PoleParams& params) {
+  const double c = pole_height_m(pole, params);
   return {pole.a_dot_mps, pole.b_dot_mps,
           -(pole.a_m * pole.a_dot_mps + pole.b_m * pole.b_dot_mps) / c};  // (26)
 }
 
 // r'' = -(3/4) f + mu r with mu = ((3/4) f . r - |r'|^2) / L^2: (28), (29), derived in the header.
-Eigen::Vector2d poleOnVehicleAcceleration_mps2(const PoleOnVehicleState& pole,
-                                               const Eigen::Vector3d& pivot_acceleration_mps2,
-                                               const PoleParams& params) {
+Eigen::Vector2d pole_on_vehicle_acceleration_mps2(const PoleOnVehicleState& pole,
+                                                  const Eigen::Vector3d& pivot_acceleration_mps2,
+                                                  const PoleParams& params) {
   const double length = params.half_length_m;
-  const Eigen::Vector3d r(pole.a_m, pole.b_m, poleHeight_m(pole, params));
-  const Eigen::Vector3d r_dot = poleCentreVelocityRelativeToPivot_mps(pole, params);
+  const Eigen::Vector3d r(pole.a_m, pole.b_m, pole_height_m(pole, params));
+  const Eigen::Vector3d r_dot = pole_centre_velocity_relative_to_pivot_mps(pole, params);
   const Eigen::Vector3d specific_force =
       pivot_acceleration_mps2 + Eigen::Vector3d(0.0, 0.0, params.gravity_mps2);
   const double mu = (0.75 * specific_force.dot(r) - r_dot.squaredNorm()) / (length * length);
@@ -56,7 +56,7 @@ Eigen::Vector2d poleOnVehicleAcceleration_mps2(const PoleOnVehicleState& pole,
 PoleOnVehicleState pole_on_vehicle_derivative(const PoleOnVehicleState& pole,
                                               const Eigen::Vector3d& pivot_acceleration_mps2,
                                               const PoleParams& params) {
-  const Eigen::Vector2d acc = poleOnVehicleAcceleration_mps2(pole, pivot_acceleration_mps2, params);
+  const Eigen::Vector2d acc = pole_on_vehicle_acceleration_mps2(pole, pivot_acceleration_mps2, params);
   return {pole.a_dot_mps, pole.b_dot_mps, acc.x(), acc.y()};
 }
 
@@ -66,24 +66,24 @@ VehiclePoleState vehicle_pole_dynamics(const VehiclePoleState& state, const Vehi
   return {vehicle_rate, pole_on_vehicle_derivative(state.pole, vehicle_rate.v_mps, params)};
 }
 
-double poleOnVehicleLagrangian_J(const PoleOnVehicleState& pole, const Eigen::Vector3d& pivot_p_m,
-                                 const Eigen::Vector3d& pivot_v_mps, const PoleParams& params) {
+double pole_on_vehicle_lagrangian_J(const PoleOnVehicleState& pole, const Eigen::Vector3d& pivot_p_m,
+                                    const Eigen::Vector3d& pivot_v_mps, const PoleParams& params) {
   const Eigen::Vector3d n = pole_direction_on_vehicle(pole, params);
-  const Eigen::Vector3d r_dot = poleCentreVelocityRelativeToPivot_mps(pole, params);
+  const Eigen::Vector3d r_dot = pole_centre_velocity_relative_to_pivot_mps(pole, params);
   const Eigen::Vector3d p_p = pivot_p_m + params.half_length_m * n;     // (23)
   const Eigen::Vector3d v_p = pivot_v_mps + r_dot;                      // (26)
   const Eigen::Vector3d omega = n.cross(r_dot / params.half_length_m);  // (27)
-  return 0.5 * params.mass_kg * v_p.squaredNorm() + 0.5 * poleInertia_kgm2(params) * omega.squaredNorm() -
+  return 0.5 * params.mass_kg * v_p.squaredNorm() + 0.5 * pole_inertia_kgm2(params) * omega.squaredNorm() -
          params.mass_kg * params.gravity_mps2 * p_p.z();  // (25), g^T p_p with g = (0, 0, g)
 }
 
-double poleOnVehicleEnergy_J(const PoleOnVehicleState& pole, const Eigen::Vector3d& pivot_p_m,
-                             const Eigen::Vector3d& pivot_v_mps, const PoleParams& params) {
+double pole_on_vehicle_energy_J(const PoleOnVehicleState& pole, const Eigen::Vector3d& pivot_p_m,
+                                const Eigen::Vector3d& pivot_v_mps, const PoleParams& params) {
   const Eigen::Vector3d n = pole_direction_on_vehicle(pole, params);
-  const Eigen::Vector3d r_dot = poleCentreVelocityRelativeToPivot_mps(pole, params);
+  const Eigen::Vector3d r_dot = pole_centre_velocity_relative_to_pivot_mps(pole, params);
   const Eigen::Vector3d omega = n.cross(r_dot / params.half_length_m);
   return 0.5 * params.mass_kg * (pivot_v_mps + r_dot).squaredNorm() +
-         0.5 * poleInertia_kgm2(params) * omega.squaredNorm() +
+         0.5 * pole_inertia_kgm2(params) * omega.squaredNorm() +
          params.mass_kg * params.gravity_mps2 * (pivot_p_m.z() + params.half_length_m * n.z());
 }
 
@@ -92,7 +92,7 @@ PoleState free_flight_state_from_pole_on_vehicle(const PoleOnVehicleState& pole,
                                                  const Eigen::Vector3d& pivot_v_mps,
                                                  const PoleParams& params) {
   const Eigen::Vector3d n = pole_direction_on_vehicle(pole, params);
-  const Eigen::Vector3d r_dot = poleCentreVelocityRelativeToPivot_mps(pole, params);
+  const Eigen::Vector3d r_dot = pole_centre_velocity_relative_to_pivot_mps(pole, params);
   PoleState out;
   out.p_m = pivot_p_m + params.half_length_m * n;
   out.v_mps = pivot_v_mps + r_dot;

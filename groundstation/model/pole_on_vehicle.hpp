@@ -57,13 +57,13 @@ VehiclePoleState operator*(double scale, const VehiclePoleState& state);
 // n from (a, b), eq. (24). Requires a^2 + b^2 < L^2.
 Eigen::Vector3d pole_direction_on_vehicle(const PoleOnVehicleState& pole, const PoleParams& params);
 // r' = L n' = (a', b', c'), eq. (26) without the pivot velocity.
-Eigen::Vector3d poleCentreVelocityRelativeToPivot_mps(const PoleOnVehicleState& pole,
-                                                      const PoleParams& params);
+Eigen::Vector3d pole_centre_velocity_relative_to_pivot_mps(const PoleOnVehicleState& pole,
+                                                           const PoleParams& params);
 
 // (a'', b'') from eq. (28), (29), given the pivot's acceleration p_q'' (inertial, m/s^2).
-Eigen::Vector2d poleOnVehicleAcceleration_mps2(const PoleOnVehicleState& pole,
-                                               const Eigen::Vector3d& pivot_acceleration_mps2,
-                                               const PoleParams& params);
+Eigen::Vector2d pole_on_vehicle_acceleration_mps2(const PoleOnVehicleState& pole,
+                                                  const Eigen::Vector3d& pivot_acceleration_mps2,
+                                                  const PoleParams& params);
 
 // (a', b', a'', b'') for a pivot with the given acceleration.
 PoleOnVehicleState pole_on_vehicle_derivative(const PoleOnVehicleState& pole,
@@ -75,11 +75,11 @@ VehiclePoleState vehicle_pole_dynamics(const VehiclePoleState& state, const Vehi
                                        const PoleParams& params);
 
 // The Lagrangian (25)-(27) for a pivot at pivot_p_m moving with pivot_v_mps (J).
-double poleOnVehicleLagrangian_J(const PoleOnVehicleState& pole, const Eigen::Vector3d& pivot_p_m,
-                                 const Eigen::Vector3d& pivot_v_mps, const PoleParams& params);
+double pole_on_vehicle_lagrangian_J(const PoleOnVehicleState& pole, const Eigen::Vector3d& pivot_p_m,
+                                    const Eigen::Vector3d& pivot_v_mps, const PoleParams& params);
 // The pole's total energy T + V for the same pivot (J); potential zero at z = 0.
-double poleOnVehicleEnergy_J(const PoleOnVehicleState& pole, const Eigen::Vector3d& pivot_p_m,
-                             const Eigen::Vector3d& pivot_v_mps, const PoleParams& params);
+double pole_on_vehicle_energy_J(const PoleOnVehicleState& pole, const Eigen::Vector3d& pivot_p_m,
+                                const Eigen::Vector3d& pivot_v_mps, const PoleParams& params);
 
 // The free-flight state (21) of a pole on a pivot: p_p = p_q + L n (23), p_p' from (26),
 // Omega_p = n x n' (27) (normal to n, as PoleState requires).

@@ -75,7 +75,7 @@ Eigen::Vector3d euler_rates_from_body_rates(double phi_rad, double theta_rad,
 }
 
 // ^I_B R e_z is the third row of ^B_I R = R_x R_y R_z.
-Eigen::Vector3d vehicleAcceleration_mps2(const VehicleState& state, double a_q_mps2, double gravity_mps2) {
+Eigen::Vector3d vehicle_acceleration_mps2(const VehicleState& state, double a_q_mps2, double gravity_mps2) {
   const Eigen::Vector3d thrust_direction =
       rotation_body_from_inertial(state.phi_rad, state.theta_rad, state.psi_rad).row(2).transpose();
   return a_q_mps2 * thrust_direction - Eigen::Vector3d(0.0, 0.0, gravity_mps2);
@@ -84,7 +84,7 @@ Eigen::Vector3d vehicleAcceleration_mps2(const VehicleState& state, double a_q_m
 VehicleState vehicle_dynamics(const VehicleState& state, const VehicleInput& input, double gravity_mps2) {
   const Eigen::Vector3d euler_rates =
       euler_rates_from_body_rates(state.phi_rad, state.theta_rad, input.omega_radps);
-  return {state.v_mps, vehicleAcceleration_mps2(state, input.a_q_mps2, gravity_mps2), euler_rates.x(),
+  return {state.v_mps, vehicle_acceleration_mps2(state, input.a_q_mps2, gravity_mps2), euler_rates.x(),
           euler_rates.y(), euler_rates.z()};
 }
 

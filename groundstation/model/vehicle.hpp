@@ -52,8 +52,8 @@ Eigen::Vector3d euler_rates_from_body_rates(double phi_rad, double theta_rad,
                                             const Eigen::Vector3d& body_rates_radps);
 
 // p_q'' = ^I_B R (0, 0, a_q) + (0, 0, -g), eq. (4).
-Eigen::Vector3d vehicleAcceleration_mps2(const VehicleState& state, double a_q_mps2,
-                                         double gravity_mps2 = pa::kGravity_mps2);
+Eigen::Vector3d vehicle_acceleration_mps2(const VehicleState& state, double a_q_mps2,
+                                          double gravity_mps2 = pa::kGravity_mps2);
 
 // s_q' = f_q(s_q, u_q), eq. (8): (4) and (5).
 VehicleState vehicle_dynamics(const VehicleState& state, const VehicleInput& input,

@@ -91,7 +91,7 @@ CatchPointPrediction predict_catch_point(const model::PoleState& pole, double ca
       result.found = true;
       result.t_s = t0 + tau;
       result.state = s_tau;
-      const Eigen::Vector3d lower_end = model::poleLowerEnd_m(result.state, params);
+      const Eigen::Vector3d lower_end = model::pole_lower_end_m(result.state, params);
       result.x_m = lower_end.x();
       result.y_m = lower_end.y();
       return result;

@@ -220,7 +220,7 @@ CatchTrajectory::CatchTrajectory(const CatchTrajectoryParams& params)
 CatchReference CatchTrajectory::reference(double t_s) const {
   CatchReference ref;
   ref.t_s = t_s;
-  const double t_xy = t_s - xyStartTime_s();
+  const double t_xy = t_s - xy_start_time_s();
   const MinSnapSample sx = x_(t_xy);
   const MinSnapSample sy = y_(t_xy);
   const ZSample sz = z_(t_s);
@@ -248,7 +248,7 @@ CatchReference CatchTrajectory::reference(double t_s) const {
 // and Omega_x^2 + Omega_y^2 = (J / N^2)^2 = |d/dt (f/|f|)|^2.
 CatchTrajectory::PointInputs CatchTrajectory::xy_phase_inputs(double t_s) const {
   const double T = params_.t_xy_s;
-  const double tau = std::clamp((t_s - xyStartTime_s()) / T, 0.0, 1.0);
+  const double tau = std::clamp((t_s - xy_start_time_s()) / T, 0.0, 1.0);
   const double h = distance_m_ / (T * T) * min_snap_shape::d2(tau);
   const double h_dot = distance_m_ / (T * T * T) * min_snap_shape::d3(tau);
   const ZSample sz = z_(t_s);
@@ -282,9 +282,9 @@ FeasibilityVerdict CatchTrajectory::check_feasibility(const InputLimits& limits)
   FeasibilityVerdict verdict;
   const double g = params_.gravity_mps2;
   const double a_max = params_.a_max_mps2;
-  const auto& tz = z_.phaseTimes_s();
+  const auto& tz = z_.phase_times_s();
   const double T = params_.t_xy_s;
-  const double t3 = xyStartTime_s();
+  const double t3 = xy_start_time_s();
 
   // Phases [t0, t3], xy at rest: a_q = z'' + g in [g - a_max, g + a_max], no rates. The signed
   // value is used so that a_max > g (a thrust that would have to point down) reads as too low.
@@ -308,7 +308,7 @@ FeasibilityVerdict CatchTrajectory::check_feasibility(const InputLimits& limits)
   const std::array<Section, 2> phases = {Section{tz[3], tz[4]}, Section{tz[4], tz[5]}};
   double found_t = -1.0;  // where the bisection met an exact violation
   for (int phase = 0; phase < 2 && !(low || high || found_t >= 0.0); ++phase) {
-    const double w_dot = z_.phaseJerks_mps3()[3 + phase];
+    const double w_dot = z_.phase_jerks_mps3()[3 + phase];
     int top = 0;
     if (phases[phase].tb > phases[phase].ta) stack[top++] = phases[phase];
     while (top > 0 && found_t < 0.0) {

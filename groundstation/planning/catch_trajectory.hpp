@@ -97,12 +97,12 @@ class MinimaxZManoeuvre {
   // The phases on [0, T_z] (a boundary belongs to the later phase, T_z to the last); hover at z0
   // before, rest at zT after.
   ZSample operator()(double t_s) const;
-  double duration_s() const { return t_[5]; }     // T_z, eq. (48)
-  double startHeight_m() const { return z_[0]; }  // z0, eq. (49)
-  double endHeight_m() const { return z_end_; }
+  double duration_s() const { return t_[5]; }      // T_z, eq. (48)
+  double start_height_m() const { return z_[0]; }  // z0, eq. (49)
+  double end_height_m() const { return z_end_; }
   // Phase boundaries t0 = 0 .. t5 = T_z and the jerk of each of the five phases.
-  const std::array<double, 6>& phaseTimes_s() const { return t_; }
-  const std::array<double, 5>& phaseJerks_mps3() const { return jerk_; }
+  const std::array<double, 6>& phase_times_s() const { return t_; }
+  const std::array<double, 5>& phase_jerks_mps3() const { return jerk_; }
 
  private:
   std::array<double, 6> t_{};
@@ -180,9 +180,9 @@ class CatchTrajectory {
 
   const CatchTrajectoryParams& params() const { return params_; }
   const MinimaxZManoeuvre& z_manoeuvre() const { return z_; }
-  double duration_s() const { return z_.duration_s(); }                      // T_z (impact time)
-  double xyStartTime_s() const { return z_.duration_s() - params_.t_xy_s; }  // t3
-  double startHeight_m() const { return z_.startHeight_m(); }                // z0
+  double duration_s() const { return z_.duration_s(); }                        // T_z (impact time)
+  double xy_start_time_s() const { return z_.duration_s() - params_.t_xy_s; }  // t3
+  double start_height_m() const { return z_.start_height_m(); }                // z0
 
  private:
   explicit CatchTrajectory(const CatchTrajectoryParams& params);

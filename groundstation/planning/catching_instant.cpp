@@ -18,7 +18,7 @@ namespace {
 double residual_with_base(const model::PoleState& state, bool flip, const model::PoleParams& params) {
   model::PoleState based = state;
   if (flip) based.n = -state.n;
-  return model::catchingConditionResidual_radps(model::planar_kinematics(based), params);
+  return model::catching_condition_residual_radps(model::planar_kinematics(based), params);
 }
 
 bool head_is_lower(const model::PoleState& state) { return state.n.z() < 0.0; }
@@ -212,10 +212,10 @@ CatchingInstant find_catching_instant(const model::PoleState& launch, const mode
       result.found = true;
       result.t_s = t0 + root;
       result.pole = state_at(s0, root, params);
-      const Eigen::Vector3d lower_end = model::poleLowerEnd_m(result.pole, params);
+      const Eigen::Vector3d lower_end = model::pole_lower_end_m(result.pole, params);
       result.catch_height_m = lower_end.z();
       result.catch_point_m = lower_end.head<2>();
-      result.residual_radps = model::catchingConditionResidual_radps(result.pole, params);
+      result.residual_radps = model::catching_condition_residual_radps(result.pole, params);
       return result;
     }
     s0 = s1;

@@ -30,7 +30,7 @@ Eigen::Matrix<Scalar, kO, 1> point_outputs(const Eigen::Matrix<Scalar, kP, 1>& p
   Eigen::Matrix<Scalar, kO, 1> out;
   out.template head<kS>() = model::planar_pole_vehicle_dynamics<Scalar>(s, u, problem.params);
   out(ThrowCollocationNlp::kNormalForceOutput) =
-      model::planarNormalForcePerMass_mps2<Scalar>(s, u, problem.params);
+      model::planar_normal_force_per_mass_mps2<Scalar>(s, u, problem.params);
   const Scalar thrust_dev = u(planar::kThrust) - problem.params.gravity_mps2;
   out(ThrowCollocationNlp::kCostOutput) =
       problem.weights.alpha * s(planar::kAlpha) * s(planar::kAlpha) +
@@ -293,8 +293,8 @@ ThrowTrajectory ThrowCollocationNlp::trajectory_from(const Eigen::VectorXd& x) c
     traj.t_s.push_back(point_time(q));
     traj.state.push_back(p.head<kS>());
     traj.input.push_back(p.tail<planar::kInputSize>());
-    traj.normal_force_per_mass_mps2.push_back(
-        model::planarNormalForcePerMass_mps2<double>(traj.state.back(), traj.input.back(), problem_.params));
+    traj.normal_force_per_mass_mps2.push_back(model::planar_normal_force_per_mass_mps2<double>(
+        traj.state.back(), traj.input.back(), problem_.params));
   }
   return traj;
 }

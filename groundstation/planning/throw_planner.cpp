@@ -36,7 +36,7 @@ const char* status_text(Ipopt::ApplicationReturnStatus status) {
 
 ThrowPlan solve(const ThrowProblem& problem, const ThrowSolverOptions& options) {
   ThrowPlan plan;
-  plan.launch_thrust_mps2 = problem.launchThrust_mps2();
+  plan.launch_thrust_mps2 = problem.launch_thrust_mps2();
   if (const std::string why = problem.validate(); !why.empty()) {
     plan.status = "rejected: " + why;
     return plan;

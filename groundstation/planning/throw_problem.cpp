@@ -26,13 +26,13 @@ model::VehicleLimits ThrowProblem::default_limits() {
   return limits;
 }
 
-double ThrowProblem::launchThrust_mps2() const {
-  return model::planarLaunchThrust_mps2(launch_state(planar::kTheta), launch_state(planar::kAlpha),
-                                        launch_state(planar::kAlphaDot), params);
+double ThrowProblem::launch_thrust_mps2() const {
+  return model::planar_launch_thrust_mps2(launch_state(planar::kTheta), launch_state(planar::kAlpha),
+                                          launch_state(planar::kAlphaDot), params);
 }
 
 model::PlanarInput<double> ThrowProblem::launch_input() const {
-  return model::PlanarInput<double>(launchThrust_mps2(), launch_pitch_rate_radps);
+  return model::PlanarInput<double>(launch_thrust_mps2(), launch_pitch_rate_radps);
 }
 
 model::PlanarInput<double> ThrowProblem::hover_input() const {
@@ -57,7 +57,7 @@ std::string ThrowProblem::validate() const {
   };
   if (!in_box(hover_input())) return "the hover input (g, 0) is outside the input limits";
   if (!in_box(launch_input())) {
-    return "the launch input (a_q,T = " + std::to_string(launchThrust_mps2()) +
+    return "the launch input (a_q,T = " + std::to_string(launch_thrust_mps2()) +
            " m/s^2 from F_N = 0, Omega_T) is outside the input limits";
   }
   return {};

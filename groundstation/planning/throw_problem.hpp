@@ -23,7 +23,7 @@ struct ThrowCostWeights {
 struct ThrowProblem {
   double duration_s = 2.5;  // T of Fig. 5
   // The launch state s_qp,T of Fig. 5 and the pitch rate of u_q,T; the launch thrust is not a
-  // free design value: launchThrust_mps2() solves F_N(s_T, u_T) = 0 for it.
+  // free design value: launch_thrust_mps2() solves F_N(s_T, u_T) = 0 for it.
   model::PlanarState<double> launch_state = figure5_launch_state();
   double launch_pitch_rate_radps = 2.5;
   ThrowCostWeights weights;
@@ -47,7 +47,7 @@ struct ThrowProblem {
 
   // a_q,T with F_N(s_T, (a_q,T, Omega_T)) = 0 exactly (the printed figure says 4.48 m/s^2,
   // which leaves F_N = -0.16 m/s^2 in the derived model; see planar_pole_vehicle.hpp).
-  double launchThrust_mps2() const;
+  double launch_thrust_mps2() const;
   model::PlanarInput<double> launch_input() const;
   // Hover at the origin with the pole upright: s(0) = 0, u(0) = (g, 0).
   model::PlanarInput<double> hover_input() const;

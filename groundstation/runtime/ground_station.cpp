@@ -164,7 +164,7 @@ std::uint32_t GroundStation::conditions(const Vehicle& v, double now_s) const {
     w |= c::on_ground;
   if (v.command_failed) w |= c::command_failed;
   const Task task = v.sequencer.task();
-  const double in_task_s = now_s - v.sequencer.taskSince_s();
+  const double in_task_s = now_s - v.sequencer.task_since_s();
   if (estimated) {
     const estimation::VehicleEstimate e = estimator_.vehicle(v.id);
     if (e.state.p_m.z() >= v.target_m.z() - 0.1) w |= c::at_height;
@@ -418,7 +418,7 @@ std::optional<model::VehicleInput> GroundStation::control(Vehicle& v, double now
       return clamp_input(control::from_balancing_input(u));
     }
     case Task::throwing: {
-      const double tau = std::min(t_act - v.sequencer.taskSince_s(), problem_.duration_s);
+      const double tau = std::min(t_act - v.sequencer.task_since_s(), problem_.duration_s);
       const model::PlanarState<double> s =
           control::planar_throw_state(pivot_of(plate), e.state, pole.state, config_.throw_origin_m);
       const Eigen::VectorXd b =
@@ -426,7 +426,7 @@ std::optional<model::VehicleInput> GroundStation::control(Vehicle& v, double now
       return planning::throw_command(*tracker_, balancing_, tau, s, b, config_.limits);
     }
     case Task::release: {
-      const double since = t_act - v.sequencer.taskSince_s();
+      const double since = t_act - v.sequencer.task_since_s();
       model::VehicleInput u;
       u.a_q_mps2 = config_.limits.a_q_min_mps2;
       u.omega_radps = since < config_.release_pitch_s
@@ -464,7 +464,7 @@ Eigen::Vector3d GroundStation::waiting_target() const {
   const double z_T = catch_height() - pa::kPlateHeightAboveCg_m;
   const planning::MinimaxZManoeuvre z(z_T, config_.t_xy_s, config_.catch_a_max_mps2,
                                       config_.catch_k_max_mps3);
-  return Eigen::Vector3d(xy.x(), xy.y(), z.startHeight_m());
+  return Eigen::Vector3d(xy.x(), xy.y(), z.start_height_m());
 }
 
 void GroundStation::on_mocap(const estimation::MocapFrame& frame, double now_s) {
@@ -528,7 +528,7 @@ void GroundStation::update_attempt(double now_s) {
       if (catcher_ready && thrower_at_origin) thrower.requests |= c::request_throw;
       if (thrower.sequencer.task() == Task::throwing) {
         phase_ = AttemptPhase::throwing;
-        current_.throw_start_s = thrower.sequencer.taskSince_s();
+        current_.throw_start_s = thrower.sequencer.task_since_s();
         current_.waiting_xy_m = waiting_xy() + request_.catch_offset_m;
         current_.catch_height_m = catch_height();
         catch_target_xy_m_ = current_.waiting_xy_m;

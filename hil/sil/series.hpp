@@ -102,9 +102,9 @@ class SeriesRunner {
   const Arena& arena() const { return arena_; }
   // The time series of every attempt (when record_time_series), attempt by attempt.
   const std::vector<std::vector<TimeSample>>& time_series() const { return series_; }
-  double simulatedTime_s() const { return arena_.t_s(); }
+  double simulated_time_s() const { return arena_.t_s(); }
   // The measured on_mocap durations (time_ground_station), in seconds, in call order.
-  const std::vector<double>& groundStationFrameTimes_s() const { return frame_times_s_; }
+  const std::vector<double>& ground_station_frame_times_s() const { return frame_times_s_; }
 
  private:
   void step();

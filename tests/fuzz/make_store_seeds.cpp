@@ -19,7 +19,7 @@ AdaptationSettings seed_settings() {
   s.nominal_catch_height_m = 1.40;
   s.nominal_waiting_xy_m = {0.70, 0.05};
   s.window = 3;
-  s.target_energy_J = gs::model::uprightEnergy_J(gs::model::PoleParams{});
+  s.target_energy_J = gs::model::upright_energy_J(gs::model::PoleParams{});
   return s;
 }
 

@@ -45,7 +45,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   std::ostringstream diagnostics;
   gs::estimation::ReplayOptions options;
   options.catch_height_m = 1.3;
-  const gs::estimation::ReplaySummary summary = gs::estimation::replay_mocap_log(in, out, diagnostics, options);
+  const gs::estimation::ReplaySummary summary =
+      gs::estimation::replay_mocap_log(in, out, diagnostics, options);
   check(summary.rows <= summary.lines);
   check(summary.pole_frames <= summary.frames);
   check(summary.ok || !summary.fatal_error.empty());

@@ -71,7 +71,7 @@ bool drain_tx(fw::Vehicle& vehicle) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   fw::VehicleConfig config{};
-  config.link.node = kNode;
+  config.link.vehicle = pa::VehicleId(kNode);
   fw::Vehicle vehicle(config);  // a fresh vehicle per input: each input is one boot
 
   std::uint32_t now_us = 0;

@@ -49,7 +49,7 @@ AdaptationSettings settings() {
   AdaptationSettings s;
   s.nominal_catch_height_m = 1.40;
   s.nominal_waiting_xy_m = {0.70, 0.0};
-  s.target_energy_J = gs::model::uprightEnergy_J(gs::model::PoleParams{});
+  s.target_energy_J = gs::model::upright_energy_J(gs::model::PoleParams{});
   return s;
 }
 

@@ -28,7 +28,7 @@ AdaptationSettings test_settings(int window = 0) {
   s.nominal_catch_height_m = 1.40;
   s.nominal_waiting_xy_m = {0.70, 0.0};
   s.window = window;
-  s.target_energy_J = gs::model::uprightEnergy_J(PoleParams{});
+  s.target_energy_J = gs::model::upright_energy_J(PoleParams{});
   return s;
 }
 
@@ -297,23 +297,23 @@ TEST_CASE("the energy after a catch at the optimal instant is E* (41), for a mov
   const PoleState launch = gs::planning::pole_state_at_launch(gs::planning::fig5_launch_state(), params);
   const auto instant = gs::planning::find_catching_instant(launch, params);
   REQUIRE(instant.found);
-  const double e_star = gs::model::uprightEnergy_J(params);
-  CHECK(postImpactEnergy_J(instant.pole, Eigen::Vector3d::Zero(), params) == Approx(e_star).epsilon(1e-6));
+  const double e_star = gs::model::upright_energy_J(params);
+  CHECK(post_impact_energy_J(instant.pole, Eigen::Vector3d::Zero(), params) == Approx(e_star).epsilon(1e-6));
   // The planar formula (40), (41) for the same pole.
   const auto k = gs::model::planar_kinematics_from_lower_end(instant.pole);
-  CHECK(
-      postImpactEnergy_J(instant.pole, Eigen::Vector3d::Zero(), params) ==
-      Approx(gs::model::pivotedPoleEnergy_J(k.alpha_rad, gs::model::postImpactRate_radps(k, params), params))
-          .epsilon(1e-12));
+  CHECK(post_impact_energy_J(instant.pole, Eigen::Vector3d::Zero(), params) ==
+        Approx(gs::model::pivoted_pole_energy_J(k.alpha_rad, gs::model::post_impact_rate_radps(k, params),
+                                                params))
+            .epsilon(1e-12));
   // Only the velocity relative to the plate matters.
   const Eigen::Vector3d plate(0.3, -0.2, 0.4);
   PoleState moving = instant.pole;
   moving.v_mps += plate;
-  CHECK(postImpactEnergy_J(moving, plate, params) ==
-        Approx(postImpactEnergy_J(instant.pole, Eigen::Vector3d::Zero(), params)).epsilon(1e-12));
+  CHECK(post_impact_energy_J(moving, plate, params) ==
+        Approx(post_impact_energy_J(instant.pole, Eigen::Vector3d::Zero(), params)).epsilon(1e-12));
   // Caught 0.05 s early the pole has not yet the right energy.
   const PoleState early = gs::model::propagate_pole(launch, instant.t_s - 0.05, 0.001, params);
-  CHECK(std::abs(postImpactEnergy_J(early, Eigen::Vector3d::Zero(), params) - e_star) > 1e-3);
+  CHECK(std::abs(post_impact_energy_J(early, Eigen::Vector3d::Zero(), params) - e_star) > 1e-3);
 }
 
 TEST_CASE("a series like the paper's: adapted catch point = mean of the evaluated optimal points") {
@@ -374,7 +374,7 @@ TEST_CASE("a series like the paper's: adapted catch point = mean of the evaluate
     if (r.outcome == ThrowOutcome::kCaught) {
       // The pole state where it meets the plate at the height used.
       const PoleState at_impact = gs::model::propagate_pole(pole, actual->t_s, 0.001, params);
-      r.energy_after_impact_J = postImpactEnergy_J(at_impact, Eigen::Vector3d::Zero(), params);
+      r.energy_after_impact_J = post_impact_energy_J(at_impact, Eigen::Vector3d::Zero(), params);
       energy_error = std::abs(*r.energy_after_impact_J - settings.target_energy_J);
     }
     const double travel = (actual->xy_m - r.waiting_xy_m).norm();

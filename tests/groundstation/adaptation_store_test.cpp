@@ -35,7 +35,7 @@ AdaptationSettings test_settings(int window = 0) {
   s.nominal_catch_height_m = 1.40;
   s.nominal_waiting_xy_m = {0.70, 0.05};
   s.window = window;
-  s.target_energy_J = gs::model::uprightEnergy_J(gs::model::PoleParams{});
+  s.target_energy_J = gs::model::upright_energy_J(gs::model::PoleParams{});
   return s;
 }
 

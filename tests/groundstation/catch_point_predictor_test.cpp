@@ -31,10 +31,10 @@ Reference reference_crossing(const PoleState& start, double height, const PolePa
                              double horizon_s) {
   const double dt = 1e-4;
   PoleState s = gs::model::normalised_pole_state(start);
-  Eigen::Vector3d low = gs::model::poleLowerEnd_m(s, params);
+  Eigen::Vector3d low = gs::model::pole_lower_end_m(s, params);
   for (int i = 0; i * dt < horizon_s; ++i) {
     const PoleState next = gs::model::pole_free_flight_step(s, dt, params);
-    const Eigen::Vector3d next_low = gs::model::poleLowerEnd_m(next, params);
+    const Eigen::Vector3d next_low = gs::model::pole_lower_end_m(next, params);
     if (low.z() > height && next_low.z() <= height) {
       const double f = (low.z() - height) / (low.z() - next_low.z());
       return {true, (i + f) * dt, low + f * (next_low - low)};
@@ -73,7 +73,7 @@ TEST_CASE("the predictor agrees with a fine-step reference within 1 mm", "[predi
     CHECK(xy < 1e-3);
     CHECK(std::abs(p.t_s - ref.t_s) < 1e-3);
     // The returned state is the pole at the crossing.
-    const Eigen::Vector3d low = gs::model::poleLowerEnd_m(p.state, params);
+    const Eigen::Vector3d low = gs::model::pole_lower_end_m(p.state, params);
     CHECK(low.z() == Approx(height).margin(1e-6));
     CHECK(low.x() == p.x_m);
     CHECK(low.y() == p.y_m);
@@ -125,7 +125,7 @@ TEST_CASE("free fall without drag matches the closed form", "[predictor]") {
     const double angle = s.omega_radps.norm() * tt;
     const Eigen::Vector3d k = s.omega_radps.normalized();
     x.n = s.n * std::cos(angle) + k.cross(s.n) * std::sin(angle) + k * k.dot(s.n) * (1.0 - std::cos(angle));
-    return gs::model::poleLowerEnd_m(x, params);
+    return gs::model::pole_lower_end_m(x, params);
   };
   double lo = 0.0;
   while (!(at(lo).z() > height && at(lo + 1e-3).z() <= height)) lo += 1e-3;

@@ -46,7 +46,7 @@ Scan brute_force(const CatchTrajectory& traj, double step_s) {
   for (double t = 0.0; t <= traj.duration_s() + 1e-12; t += step_s) {
     const auto r = traj.reference(t);
     // Phases before the xy motion: the signed vertical specific force (the check's convention).
-    const double thrust = (t < traj.xyStartTime_s()) ? r.acceleration_mps2.z() + kG : r.thrust_mps2;
+    const double thrust = (t < traj.xy_start_time_s()) ? r.acceleration_mps2.z() + kG : r.thrust_mps2;
     s.thrust_max = std::max(s.thrust_max, thrust);
     s.thrust_min = std::min(s.thrust_min, thrust);
     s.rate_max = std::max(s.rate_max, r.body_rates_radps.cwiseAbs().maxCoeff());
@@ -170,9 +170,9 @@ TEST_CASE("the z manoeuvre satisfies (48) and (49) and has the phase structure o
     CAPTURE(c.zT, c.txy, c.amax, c.kmax);
     CHECK(z.duration_s() == Approx(2.0 * (c.amax / c.kmax + c.txy)).epsilon(1e-14));  // (48)
     const double z0_eq49 = c.zT + (c.amax * c.amax * c.txy + c.amax * c.kmax * c.txy * c.txy) / c.kmax;
-    CHECK(z.startHeight_m() == Approx(z0_eq49).epsilon(1e-14));
-    const auto& t = z.phaseTimes_s();
-    const auto& j = z.phaseJerks_mps3();
+    CHECK(z.start_height_m() == Approx(z0_eq49).epsilon(1e-14));
+    const auto& t = z.phase_times_s();
+    const auto& j = z.phase_jerks_mps3();
     // Jerk -k, 0, +k, 0, -k; the high-thrust phase [t3, t5] lasts T_xy.
     CHECK(j[0] == -c.kmax);
     CHECK(j[1] == 0.0);
@@ -208,7 +208,7 @@ TEST_CASE("the z manoeuvre satisfies (48) and (49) and has the phase structure o
     CHECK(std::abs(v) < 1e-9);               // ...at rest (48)
     CHECK(std::abs(a) < 1e-9);
     // The closed form itself ends exactly there, and is continuous in z, z', z''.
-    CHECK(z.endHeight_m() == Approx(c.zT).margin(1e-12));
+    CHECK(z.end_height_m() == Approx(c.zT).margin(1e-12));
     for (int i = 1; i <= 5; ++i) {
       const auto before = z(t[i] - 1e-9);
       const auto after = z(t[i] + 1e-9);
@@ -223,7 +223,7 @@ TEST_CASE("the catch trajectory starts hovering, moves xy during [t3, t5] and en
   const auto traj = CatchTrajectory::create(fig7_params());
   REQUIRE(traj);
   const auto start = traj->reference(0.0);
-  CHECK(start.position_m.isApprox(Eigen::Vector3d(0.0, 0.0, traj->startHeight_m())));
+  CHECK(start.position_m.isApprox(Eigen::Vector3d(0.0, 0.0, traj->start_height_m())));
   CHECK(start.velocity_mps.norm() == 0.0);
   CHECK(start.thrust_mps2 == Approx(kG));
   const auto end = traj->reference(traj->duration_s());
@@ -232,12 +232,12 @@ TEST_CASE("the catch trajectory starts hovering, moves xy during [t3, t5] and en
   CHECK(end.acceleration_mps2.norm() < 1e-9);
   CHECK(end.thrust_mps2 == Approx(kG).margin(1e-9));
   // No xy motion before t3; xy motion under high thrust (z'' >= 0) after.
-  CHECK(traj->reference(traj->xyStartTime_s() - 1e-3).position_m.x() == 0.0);
-  CHECK(traj->reference(traj->xyStartTime_s() + 0.1).position_m.x() > 0.0);
-  for (double t = traj->xyStartTime_s(); t < traj->duration_s(); t += 0.01) {
+  CHECK(traj->reference(traj->xy_start_time_s() - 1e-3).position_m.x() == 0.0);
+  CHECK(traj->reference(traj->xy_start_time_s() + 0.1).position_m.x() > 0.0);
+  for (double t = traj->xy_start_time_s(); t < traj->duration_s(); t += 0.01) {
     CHECK(traj->reference(t).acceleration_mps2.z() >= -1e-12);
   }
-  CHECK(traj->xyStartTime_s() == Approx(traj->z_manoeuvre().phaseTimes_s()[3]));
+  CHECK(traj->xy_start_time_s() == Approx(traj->z_manoeuvre().phase_times_s()[3]));
 
   CatchTrajectoryParams bad = fig7_params();
   bad.t_xy_s = 0.2;  // < a_max / k_max = 0.233 s
@@ -286,7 +286,7 @@ TEST_CASE("the nominal inputs fly the trajectory through the vehicle model (4), 
   s(8) = p.yaw_rad;
   double max_pos_err = 0.0, max_att_err = 0.0, max_rate = 0.0;
   // The body rates jump where the z jerk does (phase boundaries): RK4 steps end on them.
-  const auto& phases = traj->z_manoeuvre().phaseTimes_s();
+  const auto& phases = traj->z_manoeuvre().phase_times_s();
   for (int ph = 0; ph < 5; ++ph) {
     const int n = std::max(1, static_cast<int>(std::ceil((phases[ph + 1] - phases[ph]) / 1e-4)));
     const double h = (phases[ph + 1] - phases[ph]) / n;
@@ -379,7 +379,7 @@ TEST_CASE("feasibility: rates alone too high") {
   CHECK_FALSE(v.thrust_low.violated);
   CHECK(v.rates.axis == 1);  // a move along x with zero yaw pitches: Omega_y
   CHECK(v.rates.value > 10.0);
-  CHECK(v.rates.t_s >= traj->xyStartTime_s());
+  CHECK(v.rates.t_s >= traj->xy_start_time_s());
   const Scan scan = brute_force(*traj, 1e-4);
   CHECK(scan.rate_max > 10.0);
   CHECK(scan.thrust_max < 20.0);
@@ -393,7 +393,7 @@ TEST_CASE("feasibility: a_max too large makes the thrust too high") {
   const auto v = traj->check_feasibility(InputLimits{0.5, 15.0, 10.0});
   CHECK(v.reason == Feasibility::kThrustTooHigh);
   CHECK(v.thrust_high.value >= kG + 7.0 - 1e-9);
-  CHECK(v.thrust_high.t_s >= traj->z_manoeuvre().phaseTimes_s()[3]);
+  CHECK(v.thrust_high.t_s >= traj->z_manoeuvre().phase_times_s()[3]);
   CHECK_FALSE(v.thrust_low.violated);
   // With the default limits an a_max above 20 - g breaks both thrust limits; the reason names
   // the upper one first and the lower one is reported too.
@@ -410,11 +410,11 @@ TEST_CASE("feasibility: a very deep drop needs too little thrust") {
   p.t_xy_s = 1.5;
   const auto traj = CatchTrajectory::create(p);
   REQUIRE(traj);
-  CHECK(traj->startHeight_m() - p.catch_height_m > 25.0);
+  CHECK(traj->start_height_m() - p.catch_height_m > 25.0);
   const auto v = traj->check_feasibility(InputLimits{});
   CHECK(v.reason == Feasibility::kThrustTooLow);
   CHECK(v.thrust_low.value == Approx(kG - 9.0));
-  const auto& t = traj->z_manoeuvre().phaseTimes_s();
+  const auto& t = traj->z_manoeuvre().phase_times_s();
   CHECK(v.thrust_low.t_s >= t[1] - 1e-12);
   CHECK(v.thrust_low.t_s <= t[2] + 1e-12);
   CHECK(traj->reference(v.thrust_low.t_s).thrust_mps2 == Approx(kG - 9.0));

@@ -80,7 +80,7 @@ TEST_CASE("launch state: eq. (23), (26), (27) from the planar throw end", "[catc
   CHECK((s.n - expected.n).norm() < 1e-14);
   CHECK((s.omega_radps - expected.omega_radps).norm() < 1e-14);
   // The tail (lower) end is the throwing vehicle's centre.
-  CHECK((gs::model::poleTailEnd_m(s, params) - Eigen::Vector3d(1.5, 0.0, 2.0)).norm() < 1e-14);
+  CHECK((gs::model::pole_tail_end_m(s, params) - Eigen::Vector3d(1.5, 0.0, 2.0)).norm() < 1e-14);
 }
 
 TEST_CASE("Fig. 5 launch: the first instant satisfying (42)", "[catching_instant]") {
@@ -93,10 +93,10 @@ TEST_CASE("Fig. 5 launch: the first instant satisfying (42)", "[catching_instant
               ci.t_s, ci.catch_height_m, ci.catch_point_m.x(), ci.catch_point_m.y());
   CHECK(ci.t_s > 0.0);
   CHECK(std::abs(ci.residual_radps) < 1e-6);
-  CHECK(std::abs(gs::model::catchingConditionResidual_radps(ci.pole, params)) < 1e-6);
+  CHECK(std::abs(gs::model::catching_condition_residual_radps(ci.pole, params)) < 1e-6);
   // Consistent with an independent integration to t*.
   const PoleState at = gs::model::propagate_pole(launch, ci.t_s, 1e-3, params);
-  const Eigen::Vector3d lower = gs::model::poleLowerEnd_m(at, params);
+  const Eigen::Vector3d lower = gs::model::pole_lower_end_m(at, params);
   CHECK(lower.z() == Approx(ci.catch_height_m).margin(1e-6));
   CHECK(lower.x() == Approx(ci.catch_point_m.x()).margin(1e-6));
   CHECK(std::abs(lower.y()) < 1e-12);
@@ -104,14 +104,14 @@ TEST_CASE("Fig. 5 launch: the first instant satisfying (42)", "[catching_instant
   // The first: on a 1 ms grid, no sign change of (42) before t* except where the lower end
   // switches (alpha jumps by pi there; not a root).
   PoleState s = launch;
-  double previous = gs::model::catchingConditionResidual_radps(s, params);
+  double previous = gs::model::catching_condition_residual_radps(s, params);
   bool previous_head = s.n.z() < 0.0;
   int genuine_sign_changes = 0;
   int end_switches = 0;
   const int samples = static_cast<int>(std::floor(ci.t_s / 1e-3)) - 1;
   for (int i = 0; i < samples; ++i) {
     s = gs::model::pole_free_flight_step(s, 1e-3, params);
-    const double r = gs::model::catchingConditionResidual_radps(s, params);
+    const double r = gs::model::catching_condition_residual_radps(s, params);
     const bool head = s.n.z() < 0.0;
     if (head != previous_head) {
       ++end_switches;
@@ -124,9 +124,9 @@ TEST_CASE("Fig. 5 launch: the first instant satisfying (42)", "[catching_instant
   CHECK(genuine_sign_changes == 0);
   CHECK(end_switches == 1);  // the Fig. 5 pole turns over once: the catch is on its other end
   // And just after t*, the residual has changed sign.
-  const double before = gs::model::catchingConditionResidual_radps(
+  const double before = gs::model::catching_condition_residual_radps(
       gs::model::propagate_pole(launch, ci.t_s - 2e-3, 1e-3, params), params);
-  const double after = gs::model::catchingConditionResidual_radps(
+  const double after = gs::model::catching_condition_residual_radps(
       gs::model::propagate_pole(launch, ci.t_s + 2e-3, 1e-3, params), params);
   CHECK(before * after < 0.0);
 }
@@ -142,7 +142,7 @@ TEST_CASE("without drag the catching instant matches the ballistic closed form",
   CHECK((ci.pole.n - exact.n).norm() < 1e-9);
   // An independent root of (42) on the closed-form flight, after the pole has turned over.
   const auto residual = [&](double t) {
-    return gs::model::catchingConditionResidual_radps(ballistic(launch, t), params);
+    return gs::model::catching_condition_residual_radps(ballistic(launch, t), params);
   };
   double t = 0.0;
   while (ballistic(launch, t).n.z() > 0.0) t += 1e-3;  // past the horizontal
@@ -155,7 +155,7 @@ TEST_CASE("without drag the catching instant matches the ballistic closed form",
     ((residual(mid) > 0) == (residual(lo) > 0) ? lo : hi) = mid;
   }
   CHECK(ci.t_s == Approx(0.5 * (lo + hi)).margin(1e-8));
-  const Eigen::Vector3d lower = gs::model::poleLowerEnd_m(exact, params);
+  const Eigen::Vector3d lower = gs::model::pole_lower_end_m(exact, params);
   CHECK(ci.catch_height_m == Approx(lower.z()).margin(1e-8));
   CHECK(ci.catch_point_m.x() == Approx(lower.x()).margin(1e-8));
   std::printf("catching instant (Fig. 5 launch, no drag): t = %.4f s, height %.4f m, x %.4f m\n", ci.t_s,

@@ -117,7 +117,7 @@ std::vector<YamlReader> yaml_readers() {
   const std::string root = PA_SOURCE_DIR;
   return {
       {"plant", root + "/hil/config/plant.yaml", "pole_mass_kg", "plant.yaml", load_plant},
-      // In a folder of its own, beside a copy of the plant file it names (../plant.yaml).
+      // In a folder of its own, beside a copy of the plant file it names (in its parent folder).
       {"scenario", root + "/hil/config/scenarios/free_flight_catch.yaml", "duration_s",
        "scenarios/free_flight_catch.yaml", load_scenario_file},
       {"vehicle limits", root + "/groundstation/config/vehicle_limits.yaml", "a_q_max_mps2",
@@ -291,7 +291,7 @@ gs::adaptation::AdaptationSettings store_settings() {
   s.nominal_catch_height_m = 1.40;
   s.nominal_waiting_xy_m = {0.70, 0.05};
   s.window = 3;
-  s.target_energy_J = gs::model::uprightEnergy_J(gs::model::PoleParams{});
+  s.target_energy_J = gs::model::upright_energy_J(gs::model::PoleParams{});
   return s;
 }
 

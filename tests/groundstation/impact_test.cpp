@@ -57,7 +57,7 @@ TEST_CASE("3D impact: angular momentum about the contact point is conserved", "[
     const gs::model::ImpactResult r = gs::model::impact_map(before, plate_v, params);
     INFO("sample " << i);
     // The contact point is the lower end.
-    CHECK((r.contact_point_m - gs::model::poleLowerEnd_m(before, params)).norm() < 1e-14);
+    CHECK((r.contact_point_m - gs::model::pole_lower_end_m(before, params)).norm() < 1e-14);
     CHECK(r.after.n.z() >= 0.0);
     const Eigen::Vector3d h_before =
         gs::model::pole_angular_momentum_about(before, r.contact_point_m, params);
@@ -71,7 +71,7 @@ TEST_CASE("3D impact: angular momentum about the contact point is conserved", "[
     // (35), (36): the impulse is the momentum change; (37): it turns the pole about its centre.
     CHECK((r.impulse_Ns - params.mass_kg * (r.after.v_mps - before.v_mps)).norm() < 1e-15);
     const Eigen::Vector3d spin_change =
-        gs::model::poleInertia_kgm2(params) * (r.after.omega_radps - before.omega_radps);
+        gs::model::pole_inertia_kgm2(params) * (r.after.omega_radps - before.omega_radps);
     CHECK((spin_change - (r.contact_point_m - before.p_m).cross(r.impulse_Ns)).norm() < 1e-15);
     // The position does not jump, and the pole-on-vehicle state describes the same motion.
     CHECK((r.after.p_m - before.p_m).norm() < 1e-15);
@@ -85,7 +85,8 @@ TEST_CASE("3D impact: angular momentum about the contact point is conserved", "[
     PoleState rel_after = r.after;
     rel_before.v_mps -= plate_v;
     rel_after.v_mps -= plate_v;
-    CHECK(gs::model::poleEnergy_J(rel_after, params) <= gs::model::poleEnergy_J(rel_before, params) + 1e-15);
+    CHECK(gs::model::pole_energy_J(rel_after, params) <=
+          gs::model::pole_energy_J(rel_before, params) + 1e-15);
   }
 }
 
@@ -107,7 +108,7 @@ TEST_CASE("planar impact on a plate at rest is eq. (40)", "[impact]") {
     CHECK(r.after.v_mps.z() == Approx(-expected * kL * std::sin(alpha)).margin(1e-12));
     const auto k = gs::model::planar_kinematics_from_lower_end(before);
     CHECK(k.alpha_rad == Approx(alpha));
-    CHECK(gs::model::postImpactRate_radps(k, params) == Approx(expected).margin(1e-12));
+    CHECK(gs::model::post_impact_rate_radps(k, params) == Approx(expected).margin(1e-12));
   }
 }
 
@@ -129,19 +130,19 @@ TEST_CASE("the lower end is the contact end whichever way n points", "[impact]")
 
 TEST_CASE("eq. (41): the pivoted pole's energy and the swing-up separatrix", "[impact]") {
   const PoleParams params;
-  CHECK(gs::model::uprightEnergy_J(params) == Approx(params.mass_kg * kG * kL));
+  CHECK(gs::model::upright_energy_J(params) == Approx(params.mass_kg * kG * kL));
   for (double alpha : {-1.2, -0.5, -0.1, 0.2, 0.9}) {
-    const double rate = gs::model::swingUpRate_radps(alpha, params);
+    const double rate = gs::model::swing_up_rate_radps(alpha, params);
     // On the separatrix the energy is E* and the pole turns towards the upright.
-    CHECK(gs::model::pivotedPoleEnergy_J(alpha, rate, params) ==
-          Approx(gs::model::uprightEnergy_J(params)).epsilon(1e-14));
+    CHECK(gs::model::pivoted_pole_energy_J(alpha, rate, params) ==
+          Approx(gs::model::upright_energy_J(params)).epsilon(1e-14));
     CHECK(rate * alpha < 0.0);
     // (41) is the pole-on-vehicle energy for a pivot at rest at z = 0.
     const gs::model::PoleOnVehicleState s{kL * std::sin(alpha), 0.0, kL * std::cos(alpha) * 0.7, 0.0};
-    CHECK(
-        gs::model::pivotedPoleEnergy_J(alpha, 0.7, params) ==
-        Approx(gs::model::poleOnVehicleEnergy_J(s, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), params))
-            .epsilon(1e-14));
+    CHECK(gs::model::pivoted_pole_energy_J(alpha, 0.7, params) ==
+          Approx(gs::model::pole_on_vehicle_energy_J(s, Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(),
+                                                     params))
+              .epsilon(1e-14));
   }
 }
 
@@ -155,11 +156,11 @@ TEST_CASE("eq. (42): zero residual <=> post-impact energy E* turning upright", "
     const double alpha_dot = 3 * u(rng), x_dot = 2 * u(rng);
     const double z_dot = z_dot_on_condition(alpha, alpha_dot, x_dot);
     const PoleState on = planar_pole(alpha, alpha_dot, x_dot, z_dot);
-    CHECK(gs::model::catchingConditionResidual_radps(on, params) == Approx(0.0).margin(1e-10));
+    CHECK(gs::model::catching_condition_residual_radps(on, params) == Approx(0.0).margin(1e-10));
     const auto r = gs::model::impact_map(on, Eigen::Vector3d::Zero(), params);
     const double rate = r.after.omega_radps.y();
-    CHECK(gs::model::pivotedPoleEnergy_J(alpha, rate, params) ==
-          Approx(gs::model::uprightEnergy_J(params)).epsilon(1e-10));
+    CHECK(gs::model::pivoted_pole_energy_J(alpha, rate, params) ==
+          Approx(gs::model::upright_energy_J(params)).epsilon(1e-10));
     CHECK(rate * alpha < 0.0);
     // Its sgn(alpha) multiple is the printed form with the middle term's sign following alpha;
     // for alpha < 0 that is the printed (42) exactly.
@@ -168,7 +169,7 @@ TEST_CASE("eq. (42): zero residual <=> post-impact energy E* turning upright", "
     const double sgn = alpha > 0 ? 1.0 : -1.0;
     const double bracket = k.x_dot_mps * std::cos(alpha) - k.z_dot_mps * std::sin(alpha);
     const double root = std::sqrt(24.0 * kG * (1.0 - std::cos(alpha)) / kL);
-    const double residual = gs::model::catchingConditionResidual_radps(off, params);
+    const double residual = gs::model::catching_condition_residual_radps(off, params);
     CHECK(sgn * residual == Approx(k.alpha_dot_radps * sgn + sgn * 3.0 / kL * bracket + root).margin(1e-10));
     if (alpha < 0.0) {
       const double printed = k.alpha_dot_radps * sgn - 3.0 / kL * bracket + root;

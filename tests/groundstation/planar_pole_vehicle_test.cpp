@@ -208,7 +208,7 @@ TEST_CASE("F_N equals the plate-normal contact force of an independent Newton-Eu
       const double fn_newton =
           sol.constraint_force_N.dot(Eigen::Vector2d(std::sin(theta), std::cos(theta))) / rod.mass_kg;
       const double fn_model =
-          gs::model::planarNormalForcePerMass_mps2<double>(theta, y(9), y(10), thrust_profile(t));
+          gs::model::planar_normal_force_per_mass_mps2<double>(theta, y(9), y(10), thrust_profile(t));
       max_force_error = std::max(max_force_error, std::abs(fn_newton - fn_model));
       max_alpha_error = std::max(max_alpha_error, std::abs(y(9) - s(planar::kAlpha)));
       min_fn = std::min(min_fn, fn_model);
@@ -237,13 +237,13 @@ TEST_CASE("the AutoDiff instantiation matches finite differences of the double o
     else u(i - 7) = v;
   }
   const PlanarState<Ad> f = gs::model::planar_pole_vehicle_dynamics<Ad>(s, u);
-  const Ad fn = gs::model::planarNormalForcePerMass_mps2<Ad>(s, u);
+  const Ad fn = gs::model::planar_normal_force_per_mass_mps2<Ad>(s, u);
   const auto eval = [](const Vec<9>& x) {
     Vec<8> out;
     const PlanarState<double> ss = x.head<7>();
     const PlanarInput<double> uu = x.tail<2>();
     out.head<7>() = gs::model::planar_pole_vehicle_dynamics<double>(ss, uu);
-    out(7) = gs::model::planarNormalForcePerMass_mps2<double>(ss, uu);
+    out(7) = gs::model::planar_normal_force_per_mass_mps2<double>(ss, uu);
     return out;
   };
   const double eps = 1e-6;
@@ -258,7 +258,7 @@ TEST_CASE("the AutoDiff instantiation matches finite differences of the double o
 // The Fig. 5 end state as printed: alpha = 0.48, theta = -0.48, alpha' = 2.5, a_q = 4.48.
 TEST_CASE("at the printed Fig. 5 launch state F_N is zero within one unit of the printed alpha'",
           "[planar_pole_vehicle]") {
-  const double fn = gs::model::planarNormalForcePerMass_mps2<double>(-0.48, 0.48, 2.5, 4.48);
+  const double fn = gs::model::planar_normal_force_per_mass_mps2<double>(-0.48, 0.48, 2.5, 4.48);
   CHECK(fn == Approx(-0.1585).margin(5e-4));  // docs/paper-notes.md: about -0.16 m/s^2
 
   // "Zero within the rounding of the printed numbers" (docs/paper-notes.md): F_N is the small remainder of
@@ -266,7 +266,7 @@ TEST_CASE("at the printed Fig. 5 launch state F_N is zero within one unit of the
   // digit of alpha' (0.1 rad/s) changes: alpha' = 2.4154 (printed "2.4" at that precision, 0.085
   // below 2.5) makes it exactly zero (next test case).
   const double unit_of_alpha_dot =
-      fn - gs::model::planarNormalForcePerMass_mps2<double>(-0.48, 0.48, 2.4, 4.48);
+      fn - gs::model::planar_normal_force_per_mass_mps2<double>(-0.48, 0.48, 2.4, 4.48);
   CHECK(std::abs(fn) < std::abs(unit_of_alpha_dot));
   CHECK(std::abs(fn) < 0.04 * 4.48);
 
@@ -283,7 +283,7 @@ TEST_CASE("at the printed Fig. 5 launch state F_N is zero within one unit of the
           const double alpha = 0.475 + 0.01 * j / (n - 1);
           const double alpha_dot = 2.45 + 0.1 * k / (n - 1);
           const double a_q = 4.475 + 0.01 * l / (n - 1);
-          const double v = gs::model::planarNormalForcePerMass_mps2<double>(theta, alpha, alpha_dot, a_q);
+          const double v = gs::model::planar_normal_force_per_mass_mps2<double>(theta, alpha, alpha_dot, a_q);
           lo = std::min(lo, v);
           hi = std::max(hi, v);
         }
@@ -302,22 +302,22 @@ TEST_CASE("at the printed Fig. 5 launch state F_N is zero within one unit of the
 }
 
 TEST_CASE("the launch condition F_N = 0 solved for a_q,T or for alpha'_T", "[planar_pole_vehicle]") {
-  const double a_qT = gs::model::planarLaunchThrust_mps2(-0.48, 0.48, 2.5);
-  CHECK(gs::model::planarNormalForcePerMass_mps2<double>(-0.48, 0.48, 2.5, a_qT) ==
+  const double a_qT = gs::model::planar_launch_thrust_mps2(-0.48, 0.48, 2.5);
+  CHECK(gs::model::planar_normal_force_per_mass_mps2<double>(-0.48, 0.48, 2.5, a_qT) ==
         Approx(0.0).margin(1e-12));
   CHECK(a_qT == Approx(4.7991).margin(1e-4));  // 0.319 m/s^2 (7 %) above the printed 4.48
   CHECK(a_qT - 4.48 == Approx(0.3191).margin(1e-4));
 
-  const double alpha_dot_T = gs::model::planarLaunchPoleRate_radps(-0.48, 0.48, 4.48);
-  CHECK(gs::model::planarNormalForcePerMass_mps2<double>(-0.48, 0.48, alpha_dot_T, 4.48) ==
+  const double alpha_dot_T = gs::model::planar_launch_pole_rate_radps(-0.48, 0.48, 4.48);
+  CHECK(gs::model::planar_normal_force_per_mass_mps2<double>(-0.48, 0.48, alpha_dot_T, 4.48) ==
         Approx(0.0).margin(1e-12));
   CHECK(alpha_dot_T == Approx(2.4154).margin(1e-4));  // 0.085 rad/s below the printed 2.5
 
   // F_N grows with thrust and falls with pole rate: more thrust keeps the pole on the plate.
-  CHECK(gs::model::planarNormalForcePerMass_mps2<double>(-0.48, 0.48, 2.5, a_qT + 0.01) > 0.0);
-  CHECK(gs::model::planarNormalForcePerMass_mps2<double>(-0.48, 0.48, 2.5 + 0.01, a_qT) < 0.0);
+  CHECK(gs::model::planar_normal_force_per_mass_mps2<double>(-0.48, 0.48, 2.5, a_qT + 0.01) > 0.0);
+  CHECK(gs::model::planar_normal_force_per_mass_mps2<double>(-0.48, 0.48, 2.5 + 0.01, a_qT) < 0.0);
   // No real launch rate when the pole points below the plate's tangent.
-  CHECK(std::isnan(gs::model::planarLaunchPoleRate_radps(0.0, 2.0, 5.0)));
+  CHECK(std::isnan(gs::model::planar_launch_pole_rate_radps(0.0, 2.0, 5.0)));
 }
 
 TEST_CASE("the linearisation A = df/ds, B = df/du matches central differences", "[planar_pole_vehicle]") {

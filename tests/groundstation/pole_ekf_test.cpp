@@ -211,12 +211,12 @@ TEST_CASE("the plate's normal force is the planar formula of docs/paper-notes.md
     const double d = alpha - theta;
     const double expected =
         a_q - 0.75 * a_q * std::sin(d) * std::sin(d) - l * alpha_dot * alpha_dot * std::cos(d);
-    CHECK(gs::estimation::poleNormalForcePerMass_mps2(pole, a_q * t, t, params) ==
+    CHECK(gs::estimation::pole_normal_force_per_mass_mps2(pole, a_q * t, t, params) ==
           Approx(expected).margin(1e-9));
   }
   // Hovering upright: the pole's whole weight.
-  CHECK(gs::estimation::poleNormalForcePerMass_mps2({}, Eigen::Vector3d(0, 0, 9.81), Eigen::Vector3d::UnitZ(),
-                                                    params) == Approx(9.81));
+  CHECK(gs::estimation::pole_normal_force_per_mass_mps2({}, Eigen::Vector3d(0, 0, 9.81),
+                                                        Eigen::Vector3d::UnitZ(), params) == Approx(9.81));
 }
 
 TEST_CASE("the on-vehicle EKF follows a pole balanced on the world's vehicle", "[estimation]") {

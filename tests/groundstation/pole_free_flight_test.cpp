@@ -70,7 +70,7 @@ PoleState random_pole_state(std::mt19937& rng, int kind) {
 }
 
 double rotational_energy(const PoleState& s, const PoleParams& p) {
-  return 0.5 * gs::model::poleInertia_kgm2(p) * s.omega_radps.squaredNorm();
+  return 0.5 * gs::model::pole_inertia_kgm2(p) * s.omega_radps.squaredNorm();
 }
 
 }  // namespace
@@ -151,7 +151,7 @@ TEST_CASE("without drag the centre flies ballistically and Omega is constant", "
   const Eigen::Vector3d n_expected =
       s0.n * std::cos(angle) + k.cross(s0.n) * std::sin(angle) + k * k.dot(s0.n) * (1.0 - std::cos(angle));
   CHECK((s.n - n_expected).norm() < 1e-9);
-  CHECK(gs::model::poleEnergy_J(s, params) == Approx(gs::model::poleEnergy_J(s0, params)).epsilon(1e-12));
+  CHECK(gs::model::pole_energy_J(s, params) == Approx(gs::model::pole_energy_J(s0, params)).epsilon(1e-12));
 }
 
 TEST_CASE("with drag the total energy falls monotonically", "[pole]") {
@@ -160,12 +160,12 @@ TEST_CASE("with drag the total energy falls monotonically", "[pole]") {
   for (int kind = 0; kind < 5; ++kind) {
     PoleState s = gs::model::normalised_pole_state(random_pole_state(rng, kind));
     s.p_m = Eigen::Vector3d(0.0, 0.0, 3.0);
-    const double e0 = gs::model::poleEnergy_J(s, params);
+    const double e0 = gs::model::pole_energy_J(s, params);
     double previous = e0;
     bool monotonic = true;
     for (int i = 0; i < 400; ++i) {  // 2 s
       s = gs::model::pole_free_flight_step(s, 0.005, params);
-      const double e = gs::model::poleEnergy_J(s, params);
+      const double e = gs::model::pole_energy_J(s, params);
       if (!(e < previous)) monotonic = false;
       previous = e;
     }
@@ -215,9 +215,9 @@ TEST_CASE("end points and the lower end", "[pole]") {
   PoleState s;
   s.p_m = Eigen::Vector3d(1.0, 2.0, 3.0);
   s.n = Eigen::Vector3d(0.6, 0.0, 0.8);
-  CHECK((gs::model::poleTailEnd_m(s, params) - (s.p_m - kL * s.n)).norm() < 1e-15);
-  CHECK((gs::model::poleHeadEnd_m(s, params) - (s.p_m + kL * s.n)).norm() < 1e-15);
-  CHECK(gs::model::poleLowerEnd_m(s, params) == gs::model::poleTailEnd_m(s, params));
+  CHECK((gs::model::pole_tail_end_m(s, params) - (s.p_m - kL * s.n)).norm() < 1e-15);
+  CHECK((gs::model::pole_head_end_m(s, params) - (s.p_m + kL * s.n)).norm() < 1e-15);
+  CHECK(gs::model::pole_lower_end_m(s, params) == gs::model::pole_tail_end_m(s, params));
   s.n = -s.n;
-  CHECK(gs::model::poleLowerEnd_m(s, params) == gs::model::poleHeadEnd_m(s, params));
+  CHECK(gs::model::pole_lower_end_m(s, params) == gs::model::pole_head_end_m(s, params));
 }

@@ -29,8 +29,8 @@ struct Pivot {
 // Lag(q, q', t) for q = (a, b) through the model's Lagrangian (25)-(27).
 double lagrangian(const Eigen::Vector2d& q, const Eigen::Vector2d& q_dot, double t, const Pivot& pivot,
                   const PoleParams& params) {
-  return gs::model::poleOnVehicleLagrangian_J({q.x(), q.y(), q_dot.x(), q_dot.y()}, pivot.p(t), pivot.v(t),
-                                              params);
+  return gs::model::pole_on_vehicle_lagrangian_J({q.x(), q.y(), q_dot.x(), q_dot.y()}, pivot.p(t), pivot.v(t),
+                                                 params);
 }
 
 // q'' from d/dt dLag/dq' - dLag/dq = 0 with every derivative by central differences:
@@ -78,7 +78,7 @@ TEST_CASE("eq. (28), (29) agree with Euler-Lagrange on the Lagrangian (25)-(27)"
     const Pivot pivot{Eigen::Vector3d(u(rng), u(rng), 1.0 + u(rng)),
                       Eigen::Vector3d(2 * u(rng), 2 * u(rng), 2 * u(rng)),
                       Eigen::Vector3d(8 * u(rng), 8 * u(rng), 8 * u(rng))};
-    const Eigen::Vector2d model = gs::model::poleOnVehicleAcceleration_mps2(s, pivot.acc, params);
+    const Eigen::Vector2d model = gs::model::pole_on_vehicle_acceleration_mps2(s, pivot.acc, params);
     const Eigen::Vector2d reference =
         euler_lagrange_acceleration({s.a_m, s.b_m}, {s.a_dot_mps, s.b_dot_mps}, pivot, params);
     const double error = (model - reference).norm() / std::max(1.0, reference.norm());
@@ -102,7 +102,7 @@ TEST_CASE("planar case b = 0: (4/3) L alpha'' = a_q sin(alpha - theta)", "[pole_
     const Eigen::Vector3d pivot_acc =
         a_q * Eigen::Vector3d(std::sin(theta), 0.0, std::cos(theta)) - Eigen::Vector3d(0, 0, kG);
     const PoleOnVehicleState s{kL * std::sin(alpha), 0.0, kL * std::cos(alpha) * alpha_dot, 0.0};
-    const Eigen::Vector2d acc = gs::model::poleOnVehicleAcceleration_mps2(s, pivot_acc, params);
+    const Eigen::Vector2d acc = gs::model::pole_on_vehicle_acceleration_mps2(s, pivot_acc, params);
     // a = L sin alpha  =>  a'' = L cos(alpha) alpha'' - L sin(alpha) alpha'^2.
     const double alpha_ddot =
         (acc.x() + kL * std::sin(alpha) * alpha_dot * alpha_dot) / (kL * std::cos(alpha));
@@ -110,7 +110,7 @@ TEST_CASE("planar case b = 0: (4/3) L alpha'' = a_q sin(alpha - theta)", "[pole_
     CHECK(alpha_ddot == Approx(a_q * std::sin(alpha - theta) / (4.0 / 3.0 * kL)).epsilon(1e-10));
     // The throw planner's planar model (planar_pole_vehicle.hpp) agrees.
     CHECK(alpha_ddot ==
-          Approx(gs::model::planarPoleAngularAcceleration_radps2(theta, alpha, a_q)).epsilon(1e-10));
+          Approx(gs::model::planar_pole_angular_acceleration_radps2(theta, alpha, a_q)).epsilon(1e-10));
   }
 }
 
@@ -121,7 +121,7 @@ TEST_CASE("pivot at rest: a falling pole conserves its energy", "[pole_on_vehicl
   const Eigen::Vector3d p0(0.5, -0.5, 1.0);
   const Eigen::Vector3d v0 = Eigen::Vector3d::Zero();
   const Eigen::Vector3d still = Eigen::Vector3d::Zero();
-  const double e0 = gs::model::poleOnVehicleEnergy_J(s, p0, v0, params);
+  const double e0 = gs::model::pole_on_vehicle_energy_J(s, p0, v0, params);
   const auto f = [&](const PoleOnVehicleState& x) {
     return gs::model::pole_on_vehicle_derivative(x, still, params);
   };
@@ -130,7 +130,7 @@ TEST_CASE("pivot at rest: a falling pole conserves its energy", "[pole_on_vehicl
   while (tilt_from_vertical(s) < 80.0 * M_PI / 180.0 && steps < 100000) {
     s = gs::model::rk4_step(f, s, 1e-3);
     ++steps;
-    worst = std::max(worst, std::abs(gs::model::poleOnVehicleEnergy_J(s, p0, v0, params) - e0));
+    worst = std::max(worst, std::abs(gs::model::pole_on_vehicle_energy_J(s, p0, v0, params) - e0));
   }
   CHECK(steps < 100000);
   CHECK(worst < 1e-7);  // RK4 error; a wrong equation of motion errs by ~1e-2 J
@@ -144,7 +144,7 @@ TEST_CASE("pivot at rest, gravity reversed: a long spherical swing conserves ene
   PoleOnVehicleState s{0.25, 0.0, 0.0, 0.9};
   const Eigen::Vector3d p0 = Eigen::Vector3d::Zero();
   const Eigen::Vector3d still = Eigen::Vector3d::Zero();
-  const double e0 = gs::model::poleOnVehicleEnergy_J(s, p0, still, params);
+  const double e0 = gs::model::pole_on_vehicle_energy_J(s, p0, still, params);
   const auto f = [&](const PoleOnVehicleState& x) {
     return gs::model::pole_on_vehicle_derivative(x, still, params);
   };
@@ -154,7 +154,7 @@ TEST_CASE("pivot at rest, gravity reversed: a long spherical swing conserves ene
   double worst_lz = 0.0;
   for (int i = 0; i < 30000; ++i) {  // 30 s
     s = gs::model::rk4_step(f, s, 1e-3);
-    worst = std::max(worst, std::abs(gs::model::poleOnVehicleEnergy_J(s, p0, still, params) - e0));
+    worst = std::max(worst, std::abs(gs::model::pole_on_vehicle_energy_J(s, p0, still, params) - e0));
     worst_lz = std::max(worst_lz, std::abs(s.a_m * s.b_dot_mps - s.b_m * s.a_dot_mps - lz0));
     max_tilt = std::max(max_tilt, tilt_from_vertical(s));
   }
@@ -176,7 +176,8 @@ TEST_CASE("eq. (30): f_qp drives the pole with the vehicle's acceleration", "[po
   const gs::model::VehicleState vehicle_rate = gs::model::vehicle_dynamics(s.vehicle, input);
   CHECK((rate.vehicle.v_mps - vehicle_rate.v_mps).norm() < 1e-15);
   CHECK(rate.vehicle.theta_rad == vehicle_rate.theta_rad);
-  const Eigen::Vector2d acc = gs::model::poleOnVehicleAcceleration_mps2(s.pole, vehicle_rate.v_mps, params);
+  const Eigen::Vector2d acc =
+      gs::model::pole_on_vehicle_acceleration_mps2(s.pole, vehicle_rate.v_mps, params);
   CHECK(rate.pole.a_m == s.pole.a_dot_mps);
   CHECK(rate.pole.b_m == s.pole.b_dot_mps);
   CHECK(rate.pole.a_dot_mps == acc.x());
@@ -194,8 +195,8 @@ TEST_CASE("eq. (23)-(27): on-vehicle and free-flight states convert both ways", 
   CHECK(std::abs(free.omega_radps.dot(free.n)) < 1e-15);
   // The same rigid-body motion: the centre's velocity is the pivot's plus Omega x L n.
   CHECK((free.v_mps - (v + free.omega_radps.cross(kL * free.n))).norm() < 1e-14);
-  CHECK(gs::model::poleEnergy_J(free, params) ==
-        Approx(gs::model::poleOnVehicleEnergy_J(s, p, v, params)).epsilon(1e-14));
+  CHECK(gs::model::pole_energy_J(free, params) ==
+        Approx(gs::model::pole_on_vehicle_energy_J(s, p, v, params)).epsilon(1e-14));
   const PoleOnVehicleState back = gs::model::pole_on_vehicle_state_from_free_flight(free, params);
   CHECK(back.a_m == Approx(s.a_m));
   CHECK(back.b_m == Approx(s.b_m));

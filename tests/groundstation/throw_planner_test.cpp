@@ -146,7 +146,7 @@ TEST_CASE("the launch input makes F_N vanish exactly at the end state", "[throw_
   CHECK(problem.validate().empty());
   const PlanarInput<double> u_T = problem.launch_input();
   CHECK(u_T(planar::kPitchRate) == 2.5);
-  CHECK(gs::model::planarNormalForcePerMass_mps2<double>(problem.launch_state, u_T) ==
+  CHECK(gs::model::planar_normal_force_per_mass_mps2<double>(problem.launch_state, u_T) ==
         Approx(0.0).margin(1e-12));
   CHECK(u_T(planar::kThrust) - 4.48 == Approx(0.319).margin(1e-3));
 }
@@ -187,7 +187,7 @@ TEST_CASE("the planned throw meets every constraint of (34)", "[throw_planner]")
     CHECK(a_q >= lim.a_q_min_mps2 - 1e-6);
     CHECK(a_q <= lim.a_q_max_mps2 + 1e-6);
     CHECK(std::abs(omega) <= lim.omega_max_radps + 1e-6);
-    const double fn = gs::model::planarNormalForcePerMass_mps2<double>(traj.state[j], traj.input[j]);
+    const double fn = gs::model::planar_normal_force_per_mass_mps2<double>(traj.state[j], traj.input[j]);
     CHECK(fn == Approx(traj.normal_force_per_mass_mps2[j]).margin(1e-12));
     min_fn = std::min(min_fn, fn);
   }
@@ -201,7 +201,7 @@ TEST_CASE("the planned throw meets every constraint of (34)", "[throw_planner]")
   CHECK(traj.input.front()(planar::kPitchRate) == Approx(0.0).margin(1e-9));
   CHECK((traj.state.back() - problem.launch_state).cwiseAbs().maxCoeff() <= 1e-9);
   CHECK(plan.end_state_error <= 1e-9);
-  CHECK(traj.input.back()(planar::kThrust) == Approx(problem.launchThrust_mps2()).margin(1e-9));
+  CHECK(traj.input.back()(planar::kThrust) == Approx(problem.launch_thrust_mps2()).margin(1e-9));
   CHECK(traj.input.back()(planar::kPitchRate) == Approx(2.5).margin(1e-9));
   CHECK(traj.normal_force_per_mass_mps2.back() == Approx(0.0).margin(1e-9));
 
@@ -258,7 +258,7 @@ TEST_CASE("flown open loop on the planar model, the pole stays on the plate unti
   for (int k = 0; k < steps; ++k) {
     s = rk4_step(s, k * h, h, traj);
     const double t = (k + 1) * h;
-    const double fn = gs::model::planarNormalForcePerMass_mps2<double>(s, traj.input_at(t), traj.params);
+    const double fn = gs::model::planar_normal_force_per_mass_mps2<double>(s, traj.input_at(t), traj.params);
     min_fn_all = std::min(min_fn_all, fn);
     if (t <= problem.duration_s - 0.1) min_fn_early = std::min(min_fn_early, fn);
   }
@@ -275,7 +275,7 @@ TEST_CASE("flown open loop on the planar model, the pole stays on the plate unti
   CHECK(std::abs(err(planar::kAlpha)) < 1e-3);
   CHECK(std::abs(err(planar::kAlphaDot)) < 5e-3);
   const double fn_T =
-      gs::model::planarNormalForcePerMass_mps2<double>(s, problem.launch_input(), traj.params);
+      gs::model::planar_normal_force_per_mass_mps2<double>(s, problem.launch_input(), traj.params);
   CHECK(std::abs(fn_T) < 1e-2);
 
   // Holding the launch input past T the normal force turns negative at once: the pole leaves.
@@ -292,7 +292,7 @@ TEST_CASE("flown open loop on the planar model, the pole stays on the plate unti
     const PlanarState<double> k4 = f(after + hh * k3);
     after += hh / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
   }
-  CHECK(gs::model::planarNormalForcePerMass_mps2<double>(after, u_T) < -0.05);
+  CHECK(gs::model::planar_normal_force_per_mass_mps2<double>(after, u_T) < -0.05);
 }
 
 TEST_CASE("an ill-posed or infeasible throw is reported, not returned as a plan", "[throw_planner]") {

@@ -47,7 +47,7 @@ Flight fly(const PlanarState<double>& start, const ThrowProblem& problem, Contro
     const PlanarState<double> k3 = f(s + 0.5 * h * k2);
     const PlanarState<double> k4 = f(s + h * k3);
     s += h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
-    const double fn = gs::model::planarNormalForcePerMass_mps2<double>(s, u);
+    const double fn = gs::model::planar_normal_force_per_mass_mps2<double>(s, u);
     if (t + h <= problem.duration_s - 0.1) {
       flight.min_normal_force_mps2 = std::min(flight.min_normal_force_mps2, fn);
     } else if (t + h <= problem.duration_s - 0.005) {

@@ -99,8 +99,8 @@ TEST_CASE("Euler angles from a pose follow eq. (3)", "[estimation]") {
   const Eigen::Quaterniond q(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY()));
   CHECK(gs::estimation::euler_zyx_from_quaternion(q).theta_rad == Approx(0.3));
   CHECK((q * Eigen::Vector3d::UnitZ()).x() == Approx(std::sin(0.3)));
-  CHECK(gs::estimation::wrapAngle_rad(3.5) == Approx(3.5 - 2.0 * M_PI));
-  CHECK(gs::estimation::wrapAngle_rad(-3.5) == Approx(2.0 * M_PI - 3.5));
+  CHECK(gs::estimation::wrap_angle_rad(3.5) == Approx(3.5 - 2.0 * M_PI));
+  CHECK(gs::estimation::wrap_angle_rad(-3.5) == Approx(2.0 * M_PI - 3.5));
 }
 
 TEST_CASE("the observer driven by the commands tracks a manoeuvring vehicle", "[estimation]") {

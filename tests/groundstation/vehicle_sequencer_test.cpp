@@ -353,7 +353,7 @@ TEST_CASE("each row can fire from each task in its `from` set", "[sequencer]") {
       CHECK(s.step(word, 3.5));
       CHECK(s.task() == r.to);
       CHECK(s.last_reason() == r.reason);
-      CHECK(s.taskSince_s() == 3.5);
+      CHECK(s.task_since_s() == 3.5);
     }
   }
 }
@@ -701,7 +701,7 @@ TEST_CASE("a mission's tasks are reached in the order the paper flies them", "[s
 TEST_CASE("a new sequencer is parked since 0 with no reason", "[sequencer]") {
   const VehicleSequencer s;
   CHECK(s.task() == Task::parked);
-  CHECK(s.taskSince_s() == 0.0);
+  CHECK(s.task_since_s() == 0.0);
   CHECK(s.last_reason() == Reason::none);
   CHECK(s.last_conditions() == 0u);
 }
@@ -719,12 +719,12 @@ TEST_CASE("step takes at most one transition, the first matching row's", "[seque
           const int expected = expected_row(t, w);
           if (s.last_conditions() != w) v.add(t, w, "last_conditions not the word");
           if (expected < 0) {
-            if (changed || s.task() != t || s.taskSince_s() != 10.0 || s.last_reason() != Reason::none)
+            if (changed || s.task() != t || s.task_since_s() != 10.0 || s.last_reason() != Reason::none)
               v.add(t, w, "changed without a row");
             return;
           }
           const Transition& r = kTransitions[static_cast<std::size_t>(expected)];
-          if (!changed || s.task() != r.to || s.taskSince_s() != 11.0 || s.last_reason() != r.reason)
+          if (!changed || s.task() != r.to || s.task_since_s() != 11.0 || s.last_reason() != r.reason)
             v.add(t, w, std::string("ended in ") + std::string(gs::mission::task_name(s.task())));
           if (find_transition(r.to, w) != nullptr) ++chained;
         },
@@ -742,18 +742,18 @@ TEST_CASE("step: one transition per call, since only on change, the reason kept"
   const std::uint32_t w = c::armed | c::at_height;
   CHECK(s.step(w, 1.5));
   CHECK(s.task() == Task::take_off);
-  CHECK(s.taskSince_s() == 1.5);
+  CHECK(s.task_since_s() == 1.5);
   CHECK(s.last_reason() == Reason::armed);
   CHECK(s.last_conditions() == w);
   CHECK(s.step(w, 1.6));
   CHECK(s.task() == Task::hover);
-  CHECK(s.taskSince_s() == 1.6);
+  CHECK(s.task_since_s() == 1.6);
   CHECK(s.last_reason() == Reason::airborne);
   // Nothing matches: the task, its start time and the last reason stay; the conditions update.
   CHECK_FALSE(s.step(c::armed, 2.0));
   CHECK_FALSE(s.step(c::armed | c::settled, 3.0));
   CHECK(s.task() == Task::hover);
-  CHECK(s.taskSince_s() == 1.6);
+  CHECK(s.task_since_s() == 1.6);
   CHECK(s.last_reason() == Reason::airborne);
   CHECK(s.last_conditions() == (c::armed | c::settled));
 }
@@ -766,7 +766,7 @@ TEST_CASE("reset forces a task, restarts its clock and clears the reason", "[seq
 
   s.reset(Task::hover, 5.0);  // re-attaching to a vehicle that already flies
   CHECK(s.task() == Task::hover);
-  CHECK(s.taskSince_s() == 5.0);
+  CHECK(s.task_since_s() == 5.0);
   CHECK(s.last_reason() == Reason::none);
   // The table runs from the forced task.
   CHECK(s.step(c::armed | c::pole_on_self, 5.1));
@@ -776,7 +776,7 @@ TEST_CASE("reset forces a task, restarts its clock and clears the reason", "[seq
   // Resetting to the same task still restarts its clock.
   s.reset(Task::balance, 9.0);
   CHECK(s.task() == Task::balance);
-  CHECK(s.taskSince_s() == 9.0);
+  CHECK(s.task_since_s() == 9.0);
   CHECK(s.last_reason() == Reason::none);
 }
 
@@ -820,7 +820,7 @@ TEST_CASE("a throw and a catch, step by step", "[sequencer]") {
       if (changed) since = t;
       CHECK(s.task() == steps[i].task);
       CHECK(s.last_reason() == steps[i].reason);
-      CHECK(s.taskSince_s() == since);
+      CHECK(s.task_since_s() == since);
       previous = s.task();
     }
   }

@@ -69,10 +69,10 @@ TEST_CASE("eq. (3): the passive rotations follow the zyx Euler sequence", "[vehi
 
 TEST_CASE("eq. (4): hover, tilted thrust and free fall", "[vehicle]") {
   VehicleState s;
-  CHECK(gs::model::vehicleAcceleration_mps2(s, kG).norm() < 1e-15);
-  CHECK((gs::model::vehicleAcceleration_mps2(s, 0.0) - Eigen::Vector3d(0, 0, -kG)).norm() < 1e-15);
+  CHECK(gs::model::vehicle_acceleration_mps2(s, kG).norm() < 1e-15);
+  CHECK((gs::model::vehicle_acceleration_mps2(s, 0.0) - Eigen::Vector3d(0, 0, -kG)).norm() < 1e-15);
   s.theta_rad = -0.48;
-  const Eigen::Vector3d acc = gs::model::vehicleAcceleration_mps2(s, 4.48);
+  const Eigen::Vector3d acc = gs::model::vehicle_acceleration_mps2(s, 4.48);
   CHECK(acc.x() == Approx(4.48 * std::sin(-0.48)));
   CHECK(acc.y() == Approx(0.0).margin(1e-15));
   CHECK(acc.z() == Approx(4.48 * std::cos(-0.48) - kG));
@@ -124,7 +124,7 @@ TEST_CASE("eq. (8): constant attitude and thrust give uniform acceleration", "[v
   const VehicleState s0 = s;
   VehicleInput input;
   input.a_q_mps2 = 12.0;
-  const Eigen::Vector3d acc = gs::model::vehicleAcceleration_mps2(s0, input.a_q_mps2);
+  const Eigen::Vector3d acc = gs::model::vehicle_acceleration_mps2(s0, input.a_q_mps2);
   const double dt = 0.01;
   for (int i = 0; i < 150; ++i) {
     s = gs::model::rk4_step([&](const VehicleState& x) { return gs::model::vehicle_dynamics(x, input); }, s,

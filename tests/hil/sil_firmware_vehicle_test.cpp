@@ -452,7 +452,8 @@ TEST_CASE(
       // its accelerometer since the failsafe began, from zero (it assumes a hover then) and
       // less the bias it learnt on the floor, so the true speed is off by the speed at that
       // moment and by what is left of the bias times the time.
-      if (t > descent_s + 0.25 && !ground.rig().plant().vehicle_on_floor(pa::kVehicle1)) {
+      if (t > descent_s + 0.25 && touchdown_s < 0.0 &&
+          !ground.rig().plant().vehicle_on_floor(pa::kVehicle1)) {
         const double rate = double(sup.descent_rate_mps);
         const double expected = -rate * (1.0 - std::exp(-4.0 * (t - descent_s))) + vz_at_failsafe -
                                 (accel_bias.z() - learnt_bias) * (t - hover_s);

@@ -30,7 +30,7 @@ void BM_CatchTrajectoryWithFeasibility(benchmark::State& state) {
     p.target_xy_m.x() = 0.25 + jitter;
     const auto traj = CatchTrajectory::create(p);
     const auto verdict = traj->check_feasibility(limits);
-    const double t_now = traj->xyStartTime_s() + 0.1;
+    const double t_now = traj->xy_start_time_s() + 0.1;
     double sum = 0.0;
     for (int k = 0; k < kTicks; ++k) {
       const auto ref = traj->reference(t_now + k * kTick_s);

@@ -30,8 +30,8 @@ void BM_ClosedLoopThrowAndCatch(benchmark::State& state) {
     hil::sil::SeriesRunner runner(config);
     const auto results = runner.run(hil::sil::catch_series(2));
     wall_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    simulated_s += runner.simulatedTime_s();
-    const auto& t = runner.groundStationFrameTimes_s();
+    simulated_s += runner.simulated_time_s();
+    const auto& t = runner.ground_station_frame_times_s();
     frames.insert(frames.end(), t.begin(), t.end());
     benchmark::DoNotOptimize(results);
   }
