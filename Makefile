@@ -5,7 +5,8 @@
 
 JOBS ?= $(shell nproc)
 # make flash: the HIL image; make flash BOARD=omnibusf4: the flight image (DShot600);
-# BOARD=omnibusf4-pwm: the flight image with PWM motor output (scripts/flash.sh).
+# BOARD=omnibusf4-pwm: the flight image with PWM motor output (scripts/flash.sh). KEY=FILE: the
+# vehicle's link key (docs/security.md), required.
 BOARD ?=
 FUZZ_SECONDS ?= 600
 
@@ -17,7 +18,7 @@ help:
 	@echo "make bench      run the benchmarks (bench_firmware, bench_planning, ...)"
 	@echo "make fuzz       run every libFuzzer target FUZZ_SECONDS (default 600) on its corpus (tests/fuzz)"
 	@echo "make firmware   build the Cortex-M4 images (mps2-an386, the stm32f405 HIL and flight images)"
-	@echo "make flash      program the STM32F405 HIL image with openocd; BOARD=omnibusf4: the flight image with dfu-util"
+	@echo "make flash      KEY=FILE: program the STM32F405 HIL image with openocd, keyed; BOARD=omnibusf4: the flight image with dfu-util"
 	@echo "                (see firmware/ports/stm32f405/README.md)"
 
 deps:
@@ -73,7 +74,7 @@ bench: host
 	@for b in build/host/tests/bench/bench_*; do echo "== $$b"; $$b --benchmark_counters_tabular=true || exit 1; done
 
 flash: stm32f405
-	@scripts/flash.sh "$(BOARD)"
+	@KEY="$(KEY)" scripts/flash.sh "$(BOARD)"
 
 clean:
 	rm -rf build

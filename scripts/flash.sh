@@ -5,7 +5,10 @@
 #   BOARD=omnibusf4-pwm  the same with standard PWM motor output instead of DShot600
 # Neither tool is in scripts/install-deps.sh: flashing needs a board, which nothing here has,
 # so a missing tool is reported with the command that installs it.
-# Usage: scripts/flash.sh [BOARD] [BUILD_DIR]   (BUILD_DIR defaults to build/stm32f405)
+# KEY=FILE (required): the vehicle's link key, 32 hex digits in a file outside the repository
+# (docs/security.md). It is written into the image's .link_key section of a copy of the image;
+# images as built carry none, and a vehicle without a key accepts no ground frame.
+# Usage: KEY=FILE scripts/flash.sh [BOARD] [BUILD_DIR]   (BUILD_DIR defaults to build/stm32f405)
 set -euo pipefail
 
 board="${1:-}"
@@ -29,13 +32,24 @@ if [ ! -f "$image" ]; then
   exit 1
 fi
 
+key="${KEY:-}"
+if [ -z "$key" ]; then
+  echo "flash: KEY=FILE is required: the vehicle's link key, 32 hex digits (make one: od -An -tx1 -N16 /dev/urandom | tr -d ' \n' > vehicle1.key)" >&2
+  exit 2
+fi
+# The keyed copy of the image, in a private temporary directory removed on exit.
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+"$(dirname "$0")/key-image.sh" "${image%.bin}.elf" "$key" "$work/keyed.elf"
+
 case "$tool" in
   openocd)
-    exec openocd -f interface/stlink.cfg -f target/stm32f4x.cfg -c "program $image verify reset exit"
+    openocd -f interface/stlink.cfg -f target/stm32f4x.cfg -c "program $work/keyed.elf verify reset exit"
     ;;
   dfu-util)
+    arm-none-eabi-objcopy -O binary "$work/keyed.elf" "$work/keyed.bin"
     echo "flash: the board must be in its ROM bootloader: hold the BOOT button while plugging in USB"
     # 0483:df11 is ST's DFU bootloader; :leave starts the new image when done.
-    exec dfu-util -d 0483:df11 -a 0 -s 0x08000000:leave -D "$image"
+    dfu-util -d 0483:df11 -a 0 -s 0x08000000:leave -D "$work/keyed.bin"
     ;;
 esac

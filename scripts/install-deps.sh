@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   catch2 libbenchmark-dev libeigen3-dev
-  cyclonedds-dev cyclonedds-tools coinor-libipopt-dev libsqlite3-dev
+  cyclonedds-dev cyclonedds-tools coinor-libipopt-dev libsqlite3-dev libsodium-dev
   libcli11-dev libyaml-cpp-dev clang-format
   # the fuzz preset: clang and libFuzzer's runtime (only recommended by clang, so named here)
   clang libclang-rt-14-dev

@@ -2,9 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <limits>
 #include <stdexcept>
 #include <string>
+
+#include <sodium.h>
 
 #include "pa/sequence.hpp"
 
@@ -13,6 +16,16 @@ namespace gs::link {
 using namespace pa::proto;
 
 namespace {
+
+// The MAC from libsodium (SipHash-2-4, 64-bit output, little-endian): the vehicle computes the
+// same with pa::auth::siphash24, which tests/shared/link_auth_test checks against this.
+std::uint64_t sodium_siphash24(const pa::auth::Key& key, const std::uint8_t* message, std::size_t length) {
+  unsigned char out[crypto_shorthash_siphash24_BYTES];
+  crypto_shorthash_siphash24(out, message, length, key.data());
+  std::uint64_t v = 0;
+  for (int i = 0; i < 8; ++i) v |= static_cast<std::uint64_t>(out[i]) << (8 * i);
+  return v;
+}
 
 // A heartbeat whose vehicle clock advanced by more than this beyond (or behind) the ground time
 // since the previous one means the vehicle's clock jumped: it rebooted. Radio jitter is a few
@@ -70,8 +83,16 @@ GroundLink::GroundLink(FrameBus& bus, std::vector<pa::VehicleId> vehicles, const
       static_cast<double>(kHeartbeatHistory))
     throw std::invalid_argument("GroundLink: link_quality_window_s spans more heartbeats than are kept");
 
+  if (sodium_init() < 0) throw std::runtime_error("GroundLink: libsodium failed to initialise");
   vehicles_.resize(ids_.size());
-  for (std::size_t i = 0; i < ids_.size(); ++i) vehicles_[i].status.vehicle = ids_[i];
+  for (std::size_t i = 0; i < ids_.size(); ++i) {
+    vehicles_[i].status.vehicle = ids_[i];
+    const auto key = std::find_if(config_.keys.begin(), config_.keys.end(),
+                                  [&](const VehicleKey& k) { return k.vehicle == ids_[i]; });
+    if (key == config_.keys.end() || !pa::auth::provisioned(key->key))
+      throw std::invalid_argument("GroundLink: no key for vehicle " + std::to_string(ids_[i].node()));
+    vehicles_[i].signer = pa::auth::Signer(key->key, sodium_siphash24);
+  }
 }
 
 int GroundLink::index_of(std::uint8_t node) const { return node < index_.size() ? index_[node] : -1; }
@@ -89,13 +110,30 @@ GroundLink::Vehicle& GroundLink::vehicle(pa::VehicleId id) {
 
 const VehicleLinkStatus& GroundLink::status(pa::VehicleId id) const { return vehicle(id).status; }
 
-bool GroundLink::send(const Frame& frame) {
-  if (bus_.send(frame)) {
-    ++counters_.frames_sent;
-    return true;
+bool GroundLink::send(Vehicle& v, const Frame& frame) {
+  Frame auth;
+  if (!v.signer.sign(frame, auth)) {
+    ++counters_.unsigned_dropped;
+    return false;
   }
-  ++counters_.send_refused;
-  return false;
+  for (const Frame* f : std::initializer_list<const Frame*>{&frame, &auth}) {
+    if (!bus_.send(*f)) {
+      ++counters_.send_refused;
+      return false;
+    }
+    ++counters_.frames_sent;
+  }
+  return true;
+}
+
+void GroundLink::on_link_session(Vehicle& v, const LinkSession& session) {
+  // A new nonce is a new boot of the vehicle; the same one with a counter at or past ours means
+  // this link started after the vehicle had accepted frames (a ground-station restart).
+  if (v.signer.active() && session.nonce == v.signer.nonce() &&
+      session.last_counter < v.signer.next_counter())
+    return;
+  v.signer.start_session(session.nonce, session.last_counter);
+  ++counters_.sessions_started;
 }
 
 bool GroundLink::due(bool& started, double& next_s, double period_s, double now_s) {
@@ -144,6 +182,7 @@ void GroundLink::on_frame(const Frame& frame, double now_s) {
     case Type::telemetry_attitude: v.status.attitude = {true, now_s, m.telemetry_attitude}; break;
     case Type::telemetry_motors: v.status.motors = {true, now_s, m.telemetry_motors}; break;
     case Type::telemetry_status: v.status.vehicle_status = {true, now_s, m.telemetry_status}; break;
+    case Type::link_session: on_link_session(v, m.link_session); break;
     default: used = false; break;  // no other vehicle-to-ground type exists
   }
   if (used) ++counters_.accepted;
@@ -306,13 +345,14 @@ void GroundLink::update_link_quality(Vehicle& v, double now_s) const {
 void GroundLink::tick(double now_s) {
   require_finite(now_s, "tick");
   if (due(heartbeat_started_, next_heartbeat_s_, config_.heartbeat_period_s, now_s)) {
-    Frame f;
-    encode(GsHeartbeat{ground_time_ms(now_s), config_.session, ground_state_, heartbeat_seq_}, kBroadcastNode,
-           f);
+    for (Vehicle& v : vehicles_) {
+      Frame f;
+      encode(GsHeartbeat{ground_time_ms(now_s), config_.session, ground_state_, heartbeat_seq_},
+             v.status.vehicle.node(), f);
+      send(v, f);
+    }
     heartbeat_seq_ = static_cast<std::uint8_t>(pa::HeartbeatSeq::next(heartbeat_seq_));
-    send(f);
   }
-  bool all_killed = true;
   for (Vehicle& v : vehicles_) {
     // Only a vehicle heard from: its reply's clock is unwrapped near the heartbeat's uptime.
     if (v.status.heard && due(v.timesync_started, v.next_timesync_s, config_.timesync_period_s, now_s)) {
@@ -321,15 +361,13 @@ void GroundLink::tick(double now_s) {
       r = OutstandingRequest{true, ground_time_us(now_s), now_s};
       Frame f;
       encode(TimesyncRequest{r.ground_time_us, v.timesync_seq++}, v.status.vehicle.node(), f);
-      send(f);
+      send(v, f);
     }
     tick_commands(v, now_s);
-    tick_kill(v.kill, now_s, kill_confirmed(v, v.heartbeats_at_kill));
-    all_killed = all_killed && kill_confirmed(v, v.heartbeats_at_broadcast_kill);
+    tick_kill(v, now_s);
     v.status.lost = !v.status.heard || now_s - v.status.last_heard_s > config_.vehicle_timeout_s;
     update_link_quality(v, now_s);
   }
-  tick_kill(broadcast_kill_, now_s, all_killed);
 }
 
 void GroundLink::tick_commands(Vehicle& v, double now_s) {
@@ -339,7 +377,7 @@ void GroundLink::tick_commands(Vehicle& v, double now_s) {
       r.outcome.state = CommandState::timed_out;
       continue;
     }
-    send(r.frame);  // the same sequence: the vehicle's ack names the command either way
+    send(v, r.frame);  // the same sequence: the vehicle's ack names the command either way
     ++r.outcome.attempts;
     r.next_send_s = now_s + config_.command_retry_s;
   }
@@ -349,9 +387,10 @@ bool GroundLink::kill_confirmed(const Vehicle& v, std::uint64_t heartbeats_at_ki
   return v.status.heartbeats_received > heartbeats_at_kill && v.status.mode == Mode::killed;
 }
 
-void GroundLink::tick_kill(KillRepeat& kill, double now_s, bool done) {
+void GroundLink::tick_kill(Vehicle& v, double now_s) {
+  KillRepeat& kill = v.kill;
   if (!kill.active) return;
-  if (done || kill.sends_left <= 0) {
+  if (kill_confirmed(v, v.heartbeats_at_kill) || kill.sends_left <= 0) {
     kill.active = false;
     return;
   }
@@ -361,7 +400,7 @@ void GroundLink::tick_kill(KillRepeat& kill, double now_s, bool done) {
     return;
   }
   if (!reached(now_s, kill.next_s)) return;
-  send(kill.frame);
+  send(v, kill.frame);
   --kill.sends_left;
   kill.next_s = now_s + config_.command_retry_s;
 }
@@ -379,7 +418,7 @@ gs::model::VehicleInput GroundLink::send_setpoint(pa::VehicleId id, const gs::mo
   encode(sp, id.node(), f);  // finite values and a vehicle node: always encodes
   v.setpoint_seq = seq;
   v.status.setpoint_seq_sent = seq;
-  send(f);  // a refused frame is counted; the next one is still newer for the vehicle
+  send(v, f);  // a refused frame is counted; the next one is still newer for the vehicle
 
   // What the vehicle will decode, exactly.
   Message m;
@@ -432,9 +471,8 @@ CommandHandle GroundLink::send_command(pa::VehicleId id, CommandCode code, std::
   if (code == CommandCode::disarm) {
     // DISARM is how the operator clears a KILL: the repeats must not kill the vehicle again.
     v.kill.active = false;
-    broadcast_kill_.active = false;
   }
-  send(r.frame);
+  send(v, r.frame);
   return CommandHandle{id, seq, r.serial};
 }
 
@@ -448,21 +486,16 @@ CommandOutcome GroundLink::command_outcome(const CommandHandle& handle) const {
 
 void GroundLink::send_kill(pa::VehicleId id, KillReason reason) {
   Vehicle& v = vehicle(id);
+  Frame f;
+  if (!encode(Kill{config_.session, reason}, id.node(), f))
+    throw std::invalid_argument("GroundLink::send_kill: unknown reason");
   v.heartbeats_at_kill = v.status.heartbeats_received;
-  send_kill(v.kill, id.node(), reason);
+  v.kill = KillRepeat{config_.command_attempts > 1, f, config_.command_attempts - 1, false, 0.0};
+  send(v, f);
 }
 
 void GroundLink::send_kill_all(KillReason reason) {
-  for (Vehicle& v : vehicles_) v.heartbeats_at_broadcast_kill = v.status.heartbeats_received;
-  send_kill(broadcast_kill_, kBroadcastNode, reason);
-}
-
-void GroundLink::send_kill(KillRepeat& kill, std::uint8_t node, KillReason reason) {
-  Frame f;
-  if (!encode(Kill{config_.session, reason}, node, f))
-    throw std::invalid_argument("GroundLink::send_kill: unknown reason");
-  kill = KillRepeat{config_.command_attempts > 1, f, config_.command_attempts - 1, false, 0.0};
-  send(f);
+  for (const pa::VehicleId id : ids_) send_kill(id, reason);
 }
 
 }  // namespace gs::link

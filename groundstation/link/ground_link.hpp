@@ -14,6 +14,11 @@
 // queue. A flood of frames costs counters, not memory; on_frame() does not allocate.
 //
 // What the vehicle requires (firmware/core: fw::CommandLink, fw::Supervisor, fw::Vehicle):
+// - Authentication (pa/link_auth.hpp, docs/security.md): every frame to a vehicle is followed
+//   by its AUTH frame, signed with the vehicle's key (GroundLinkConfig::keys) in the session the
+//   vehicle announced in its latest LINK_SESSION. Until one has been heard (within 100 ms of the
+//   vehicle's boot or of this link's start) nothing can be sent to it and frames are counted as
+//   unsigned. There are no broadcasts: the heartbeat and KILL-all go to each vehicle.
 // - Session: the vehicle adopts the session token of the GS_HEARTBEATs it hears while disarmed
 //   and refuses a COMMAND with any other token (bad_session_token). So at least one heartbeat
 //   must have reached it before the first command: call tick() first and give it the radio's
@@ -55,15 +60,23 @@
 
 #include "groundstation/link/frame_bus.hpp"
 #include "groundstation/model/vehicle.hpp"
+#include "pa/link_auth.hpp"
 #include "pa/protocol.hpp"
 #include "pa/vehicle_id.hpp"
 
 namespace gs::link {
 
+// A vehicle's link key, as provisioned on it (docs/security.md).
+struct VehicleKey {
+  pa::VehicleId vehicle{pa::proto::kGroundNode};
+  pa::auth::Key key{};
+};
+
 struct GroundLinkConfig {
   // session token in GS_HEARTBEAT / COMMAND / KILL (pick it at random per run)
   std::uint16_t session = 1;
-  double heartbeat_period_s = 0.02;    // GS_HEARTBEAT at 50 Hz (broadcast)
+  std::vector<VehicleKey> keys;        // one per vehicle of the link
+  double heartbeat_period_s = 0.02;    // GS_HEARTBEAT at 50 Hz (to each vehicle)
   double timesync_period_s = 0.1;      // TIMESYNC request per vehicle, 10 Hz
   double command_retry_s = 0.05;       // resend an unacknowledged COMMAND (and a KILL) after this
   int command_attempts = 5;            // sends of one COMMAND; then it has timed out (KILL: sends at most)
@@ -164,6 +177,8 @@ struct GroundLinkCounters {
   std::uint64_t stale = 0;
   std::uint64_t impacts_dropped = 0;   // the impact queue was full: the oldest went
   std::uint64_t commands_evicted = 0;  // too many pending commands for one vehicle: the oldest timed out
+  std::uint64_t unsigned_dropped = 0;  // not sent: no session with the vehicle yet (no LINK_SESSION heard)
+  std::uint64_t sessions_started = 0;  // LINK_SESSIONs that (re)started signing for a vehicle
 
   std::uint64_t undecodable() const { return unknown_type + wrong_length + out_of_range; }
 };
@@ -177,8 +192,9 @@ class GroundLink {
   static constexpr std::size_t kHeartbeatHistory = 256;   // per vehicle: arrival times for link_quality
   static constexpr std::size_t kImpactQueue = 64;
 
-  // `vehicle_nodes`: the CAN nodes (1..14, distinct, at least one) of the vehicles this link
-  // talks to. Throws std::invalid_argument for a bad node list or configuration.
+  // `vehicles`: the vehicles (nodes 1..14, distinct, at least one) this link talks to, each with
+  // its key in config.keys. Throws std::invalid_argument for a bad list, a missing or
+  // unprovisioned key, or a bad configuration.
   GroundLink(FrameBus& bus, std::vector<pa::VehicleId> vehicles, const GroundLinkConfig& config = {});
 
   // Decode one frame read from the ground bus at ground time now_s.
@@ -203,15 +219,14 @@ class GroundLink {
   CommandState command_state(const CommandHandle& handle) const { return command_outcome(handle).state; }
   CommandOutcome command_outcome(const CommandHandle& handle) const;
 
-  // KILL (motors off at once, latched until DISARM) to one vehicle, or to every vehicle on the
-  // bus (broadcast). Never gated. Sent now, then repeated by tick() every command_retry_s, at
-  // most command_attempts sends in all, until a heartbeat received after the KILL reports the
-  // vehicle killed (for broadcast: every vehicle of this link). send_kill throws
-  // std::out_of_range for a vehicle that is not ours.
+  // KILL (motors off at once, latched until DISARM) to one vehicle, or to each vehicle of this
+  // link. Never gated. Sent now, then repeated by tick() every command_retry_s, at most
+  // command_attempts sends in all, until a heartbeat received after the KILL reports the
+  // vehicle killed. send_kill throws std::out_of_range for a vehicle that is not ours.
   void send_kill(pa::VehicleId vehicle, pa::proto::KillReason reason);
   void send_kill_all(pa::proto::KillReason reason);
 
-  // The ground state broadcast in GS_HEARTBEAT (idle until set).
+  // The ground state sent in GS_HEARTBEAT (idle until set).
   void set_ground_state(pa::proto::GroundState state) { ground_state_ = state; }
 
   // std::out_of_range for a vehicle that is not ours.
@@ -278,16 +293,16 @@ class GroundLink {
     std::size_t heartbeat_count = 0;
     std::size_t next_heartbeat_slot = 0;
     KillRepeat kill;
-    // status.heartbeats_received when the KILL to it, and the broadcast KILL, were sent.
-    std::uint64_t heartbeats_at_kill = 0;
-    std::uint64_t heartbeats_at_broadcast_kill = 0;
+    std::uint64_t heartbeats_at_kill = 0;  // status.heartbeats_received when the KILL was sent
+    pa::auth::Signer signer{pa::auth::Key{}};
   };
 
   int index_of(std::uint8_t node) const;  // -1: not one of ours
   Vehicle& vehicle(pa::VehicleId id);     // std::out_of_range when not ours
   const Vehicle& vehicle(pa::VehicleId id) const;
-  void send_kill(KillRepeat& kill, std::uint8_t node, pa::proto::KillReason reason);
-  bool send(const pa::proto::Frame& frame);
+  // The frame, then its AUTH; false (counted) when the bus refused either or there is no session.
+  bool send(Vehicle& v, const pa::proto::Frame& frame);
+  void on_link_session(Vehicle& v, const pa::proto::LinkSession& session);
   // Each answers whether the frame was news (false: counted stale).
   bool on_heartbeat(Vehicle& v, const pa::proto::VehicleHeartbeat& hb, double now_s);
   bool on_timesync_reply(Vehicle& v, const pa::proto::TimesyncReply& reply, double now_s);
@@ -298,7 +313,7 @@ class GroundLink {
   // True when periodic work is due at now_s, and schedules its next time.
   static bool due(bool& started, double& next_s, double period_s, double now_s);
   void tick_commands(Vehicle& v, double now_s);
-  void tick_kill(KillRepeat& kill, double now_s, bool done);
+  void tick_kill(Vehicle& v, double now_s);
   static bool kill_confirmed(const Vehicle& v, std::uint64_t heartbeats_at_kill);
   std::int64_t unwrap_vehicle_time(const Vehicle& v, std::uint32_t vehicle_time_us) const;
 
@@ -313,7 +328,6 @@ class GroundLink {
   double next_heartbeat_s_ = 0.0;
   std::uint8_t heartbeat_seq_ = 0;
   std::uint32_t command_serial_ = 0;
-  KillRepeat broadcast_kill_;
 
   std::array<ImpactReport, kImpactQueue> impacts_{};
   std::size_t impact_head_ = 0;

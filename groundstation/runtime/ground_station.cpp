@@ -155,7 +155,9 @@ void GroundStation::tick(double now_s) {
 std::uint32_t GroundStation::conditions(const Vehicle& v, double now_s) const {
   std::uint32_t w = v.requests;
   const link::VehicleLinkStatus& status = link_.status(v.id);
-  if (status.lost) w |= c::vehicle_lost;
+  // The link is up when it works both ways: we hear the vehicle, and it hears our (signed)
+  // heartbeats, which it needs before it accepts an ARM.
+  if (status.lost || (status.flags & pa::proto::kFlagGroundHeartbeatOk) == 0) w |= c::vehicle_lost;
   const bool estimated = estimator_.vehicle_initialised(v.id);
   if (!estimated || now_s - v.last_pose_s > config_.lost_estimate_s) w |= c::estimate_lost;
   if (status.armed) w |= c::armed;

@@ -70,8 +70,9 @@ struct GroundStationConfig {
   }();
   model::VehicleLimits limits{1.0, 20.0, 10.0};
   // The time from a setpoint's computation to its use on board: the radio's latency and jitter
-  // (8 + 1 ms on average in the default arena) and up to one firmware tick.
-  double command_lead_s = 0.010;
+  // (8 + 1 ms on average in the default arena), up to one firmware tick until the vehicle's link
+  // guard starts checking it, and the two more ticks its check takes (docs/security.md).
+  double command_lead_s = 0.012;
   // The throw's origin: where the thrower's plate centre hovers before the throw. The plan dips
   // 1.1 m below it, and the vehicle's feet hang 0.2 m below its centre; from 1.5 m the feet
   // touched the floor at the bottom of the dip (measured), so 2 m.

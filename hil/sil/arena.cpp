@@ -35,7 +35,9 @@ Arena::Arena(const PlantConfig& plant, const ArenaConfig& config, std::uint64_t 
   links_.reserve(2);
   for (const pa::VehicleId v : pa::kActVehicles) {
     links_.emplace_back(radio_for(config.radio, seed, v.node()));
-    vehicles_[pa::act_slot(v)] = &lockstep_.attach_firmware(firmware_config_for(plant.vehicle, v));
+    fw::VehicleConfig firmware = firmware_config_for(plant.vehicle, v);
+    firmware.link.session_nonce = static_cast<std::uint32_t>(mix(seed ^ (0x200u + v.node())) >> 32);
+    vehicles_[pa::act_slot(v)] = &lockstep_.attach_firmware(firmware);
   }
 }
 

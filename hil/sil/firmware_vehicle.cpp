@@ -26,7 +26,16 @@ fw::VehicleConfig firmware_config_for(const VehicleConfig& plant_vehicle, pa::Ve
   a.motor_thrust_max_N = static_cast<float>(plant_vehicle.motor_thrust_max_N);
   a.motor_time_constant_s = static_cast<float>(plant_vehicle.motor_time_constant_s);
   c.link.vehicle = vehicle;
+  c.link.key = simulation_key(vehicle);
+  c.link.session_nonce = 1;
   return c;
+}
+
+pa::auth::Key simulation_key(pa::VehicleId vehicle) {
+  pa::auth::Key key{};
+  for (std::size_t i = 0; i < key.size(); ++i)
+    key[i] = static_cast<std::uint8_t>(0xA5u ^ (vehicle.node() * 16u + i));
+  return key;
 }
 
 FirmwareVehicle::FirmwareVehicle(const fw::VehicleConfig& config)

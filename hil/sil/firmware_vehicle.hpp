@@ -41,7 +41,12 @@ namespace hil::sil {
 // linearly from zero.
 // The plant's per-motor gains, drag and randomised parameters are deliberately not passed on:
 // they are what the firmware has to cope with (randomise the plant after building this).
+// It carries the vehicle's simulation_key() and a session nonce of 1.
 fw::VehicleConfig firmware_config_for(const VehicleConfig& plant_vehicle, pa::VehicleId vehicle);
+
+// A vehicle's link key in simulation (pa/link_auth.hpp): fixed and public, so a simulated ground
+// station and its simulated vehicles agree. Real vehicles get theirs at flashing time.
+pa::auth::Key simulation_key(pa::VehicleId vehicle);
 
 // One plant vehicle flown by one firmware core.
 class FirmwareVehicle {

@@ -36,8 +36,19 @@ std::vector<AttemptPlan> catch_series(int n) {
   return plans;
 }
 
+namespace {
+// The ground station holds the keys the arena's firmware was built with.
+gs::runtime::GroundStationConfig with_simulation_keys(gs::runtime::GroundStationConfig c) {
+  c.link.keys.clear();
+  for (const pa::VehicleId v : pa::kActVehicles) c.link.keys.push_back({v, simulation_key(v)});
+  return c;
+}
+}  // namespace
+
 SeriesRunner::SeriesRunner(const SeriesConfig& config)
-    : config_(config), arena_(config.plant, config.arena, config.seed), gs_(bus_, config.ground_station) {}
+    : config_(config),
+      arena_(config.plant, config.arena, config.seed),
+      gs_(bus_, with_simulation_keys(config.ground_station)) {}
 
 void SeriesRunner::step() {
   arena_.step();

@@ -41,7 +41,11 @@ TEST_CASE("a vehicle on the in-memory bus answers every IMU sample with its moto
   static fw::posix::InMemoryBus<3, 512> bus;
   fw::VehicleConfig config{};
   config.link.vehicle = pa::kVehicle1;
+  config.link.key = pa::auth::Key{9, 8, 7, 6, 5, 4, 3, 2, 1, 0, 1, 2, 3, 4, 5, 6};
+  config.link.session_nonce = 99;
   static fw::posix::HilVehicleNode node(config);
+  static pa::auth::Signer ground(config.link.key);
+  ground.start_session(config.link.session_nonce, 0);
 
   const long before = g_allocations.load();
   int motor_frames = 0, undecodable = 0, motors_on = 0;
@@ -52,9 +56,13 @@ TEST_CASE("a vehicle on the in-memory bus answers every IMU sample with its moto
     bus.send(kPlant, f);
     encode(HilImuAccel{{0, 0, 9.81f}, tick}, 1, f);
     bus.send(kPlant, f);
+    Frame auth;
     if (tick % 20 == 0 &&
-        encode(GsHeartbeat{tick, 7, GroundState::active, static_cast<std::uint8_t>(tick / 20)}, 15, f))
+        encode(GsHeartbeat{tick, 7, GroundState::active, static_cast<std::uint8_t>(tick / 20)}, 1, f) &&
+        ground.sign(f, auth)) {
       bus.send(kGround, f);
+      bus.send(kGround, auth);
+    }
     while (bus.receive(kVehicle, f)) node.on_frame(f, [&](const Frame& out) { bus.send(kVehicle, out); });
     while (bus.receive(kPlant, f)) {
       Message m;

@@ -3,7 +3,9 @@
 // step (a violation traps, which libFuzzer reports as a crash).
 //
 // Input: 12-byte records (a shorter tail is ignored).
-//   frame: [op, op & 0x80 == 0] [id lo] [id hi] [len] [data 0..7]  (len > 8 is clamped to 8)
+//   frame: [op, op & 0x80 == 0] [id lo] [id hi] [len] [data 0..7]  (len > 8 is clamped to 8);
+//          op bit 0x40: the harness, holding the vehicle's key, sends the frame's AUTH after it
+//          (a ground station's frame); without it the frame comes alone (anyone's)
 //   tick:  [op, op & 0x80 != 0] [dt] [gx gy gz ax ay az as int8] [pad x 4]
 //          the clock advances dt * 250 us; gyro = int8 * 0.02 rad/s, accel = int8 * 0.2 m/s^2
 //          with +9.81 on z; op bit 0x40 makes gyro x NaN, bit 0x20 makes accel z 1e6
@@ -12,10 +14,12 @@
 //
 // Invariants:
 // - frames never change the mode: only tick() acts on them;
-// - the motors never start (a motors-off mode to a motors-on one) without a valid ARM command
-//   for this node received since the last tick and its accepted COMMAND_ACK sent in that tick;
-// - KILL is always honoured: after a valid KILL for this node (or broadcast) the next tick's
-//   motors are off, and the vehicle is killed (or disarmed, when a DISARM followed it);
+// - the motors never start (a motors-off mode to a motors-on one) without a signed ARM command
+//   for this node received since they last started and its accepted COMMAND_ACK sent in that
+//   tick: nobody without the key starts them;
+// - KILL is always honoured: after a signed KILL for this node that found the link's queue
+//   empty, the next tick's motors are off, and the vehicle is killed (or disarmed, when a
+//   DISARM followed it);
 // - the motor commands are finite, within 0..1, and all zero when the motors are off.
 #include <cmath>
 #include <cstddef>
@@ -30,6 +34,9 @@ using namespace pa::proto;
 
 constexpr std::size_t kRecord = 12;
 constexpr std::uint8_t kNode = 1;
+constexpr pa::auth::Key kKey{0xF0, 0x22, 0x10, 0x01, 0x5A, 0xA5, 0x3C, 0xC3,
+                             0x96, 0x69, 0x0F, 0xF0, 0x11, 0x22, 0x33, 0x44};
+constexpr std::uint32_t kNonce = 0xF022;
 
 void check(bool condition) {
   if (!condition) __builtin_trap();
@@ -37,17 +44,17 @@ void check(bool condition) {
 
 bool motors_on(Mode mode) { return fw::action_for(mode) != fw::Action::motors_off; }
 
-// What arrived for this vehicle since the last tick.
+// What signed frames arrived for this vehicle: a KILL since the last tick (that will be verified
+// in the next one), an ARM since the motors last started.
 struct Received {
   bool kill = false;
   bool arm = false;
 };
 
-void note_frame(const Frame& f, Received& received) {
+void note_signed_frame(const Frame& f, bool queue_empty, Received& received) {
   Message m;
-  if (decode(f, m) != DecodeStatus::ok) return;
-  if (m.node != kNode && m.node != kBroadcastNode) return;
-  if (m.type == Type::kill) received.kill = true;
+  if (decode(f, m) != DecodeStatus::ok || m.node != kNode) return;
+  if (m.type == Type::kill && queue_empty) received.kill = true;
   if (m.type == Type::command && m.command.code == CommandCode::arm) received.arm = true;
 }
 
@@ -72,7 +79,11 @@ bool drain_tx(fw::Vehicle& vehicle) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   fw::VehicleConfig config{};
   config.link.vehicle = pa::VehicleId(kNode);
+  config.link.key = kKey;
+  config.link.session_nonce = kNonce;
   fw::Vehicle vehicle(config);  // a fresh vehicle per input: each input is one boot
+  pa::auth::Signer ground(kKey);
+  ground.start_session(kNonce, 0);
 
   std::uint32_t now_us = 0;
   Received received;
@@ -84,8 +95,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       f.id = static_cast<std::uint16_t>(r[1] | (r[2] << 8));
       f.len = r[3] > kMaxPayload ? kMaxPayload : r[3];
       std::memcpy(f.data.data(), r + 4, kMaxPayload);
-      note_frame(f, received);
+      Frame auth;
+      const bool signed_frame = (r[0] & 0x40u) != 0 && ground.sign(f, auth);
+      if (signed_frame) note_signed_frame(f, vehicle.guard().queued() == 0, received);
       vehicle.on_frame(f, now_us);
+      if (signed_frame) vehicle.on_frame(auth, now_us);
       check(vehicle.mode() == before);
       continue;
     }
@@ -105,7 +119,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const Mode after = vehicle.mode();
     const bool arm_accepted = drain_tx(vehicle);
 
-    if (!motors_on(before) && motors_on(after)) check(received.arm && arm_accepted);
+    if (!motors_on(before) && motors_on(after)) {
+      check(received.arm && arm_accepted);
+      received.arm = false;
+    }
     if (received.kill) {
       check(!out.motors_enabled);
       check(after == Mode::killed || after == Mode::disarmed);
@@ -115,7 +132,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       check(std::isfinite(m) && m >= 0.0f && m <= 1.0f);
       if (!out.motors_enabled) check(m == 0.0f);
     }
-    received = Received{};
+    received.kill = false;
   }
   return 0;
 }

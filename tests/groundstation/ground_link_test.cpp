@@ -76,6 +76,18 @@ Frame encoded(const M& m, std::uint8_t node) {
   return f;
 }
 
+// Each vehicle's link key, as provisioned on it and given to the link.
+pa::auth::Key test_key(std::uint8_t node) {
+  pa::auth::Key k;
+  for (std::size_t i = 0; i < k.size(); ++i) k[i] = static_cast<std::uint8_t>(node * 31 + i + 1);
+  return k;
+}
+
+GroundLinkConfig keyed(GroundLinkConfig config, const std::vector<std::uint8_t>& nodes) {
+  for (std::uint8_t n : nodes) config.keys.push_back({pa::VehicleId(n), test_key(n)});
+  return config;
+}
+
 // One firmware vehicle resting level on the floor, behind its radio.
 struct SimVehicle {
   fw::VehicleConfig config;
@@ -91,6 +103,8 @@ struct SimVehicle {
   SimVehicle(std::uint8_t node, double offset_s, const hil::RadioConfig& radio_config)
       : radio(radio_config), clock_offset_s(offset_s) {
     config.link.vehicle = pa::VehicleId(node);
+    config.link.key = test_key(node);
+    config.link.session_nonce = 1000u + node;
     firmware = std::make_unique<fw::Vehicle>(config);
   }
   std::uint8_t node() const { return config.link.vehicle.node(); }
@@ -98,8 +112,9 @@ struct SimVehicle {
     return static_cast<std::uint32_t>(
         static_cast<std::uint64_t>(std::llround((ground_s - clock_offset_s) * 1e6)));
   }
-  // The vehicle restarts: a new firmware whose clock starts at zero now.
+  // The vehicle restarts: a new firmware whose clock starts at zero now, in a new link session.
   void reboot(double ground_s) {
+    ++config.link.session_nonce;
     firmware = std::make_unique<fw::Vehicle>(config);
     clock_offset_s = ground_s;
   }
@@ -125,7 +140,7 @@ struct Rig {
 
   explicit Rig(std::vector<std::uint8_t> nodes, const hil::RadioConfig& radio = {0.0, 0.0, 0.0, 1},
                std::vector<double> clock_offsets_s = {}, const GroundLinkConfig& config = {})
-      : link(bus, ids_of(nodes), config) {
+      : link(bus, ids_of(nodes), keyed(config, nodes)) {
     for (std::size_t i = 0; i < nodes.size(); ++i) {
       hil::RadioConfig r = radio;
       r.seed = radio.seed + static_cast<std::uint32_t>(i);
@@ -202,22 +217,27 @@ bool is_command_ack(const Message& m) { return m.type == Type::command_ack; }
 
 TEST_CASE("the link is built for a list of distinct vehicle nodes 1..14 and a sane configuration") {
   InMemoryFrameBus bus;
-  CHECK_NOTHROW(GroundLink(bus, ids_of({1, 2, 14})));
-  CHECK_THROWS_AS(GroundLink(bus, ids_of({})), std::invalid_argument);
-  CHECK_THROWS_AS(GroundLink(bus, ids_of({0})), std::invalid_argument);
-  CHECK_THROWS_AS(GroundLink(bus, ids_of({15})), std::invalid_argument);
-  CHECK_THROWS_AS(GroundLink(bus, ids_of({3, 4, 3})), std::invalid_argument);
-  GroundLinkConfig bad;
+  CHECK_NOTHROW(GroundLink(bus, ids_of({1, 2, 14}), keyed({}, {1, 2, 14})));
+  CHECK_THROWS_AS(GroundLink(bus, ids_of({}), keyed({}, {})), std::invalid_argument);
+  CHECK_THROWS_AS(GroundLink(bus, ids_of({0}), keyed({}, {0})), std::invalid_argument);
+  CHECK_THROWS_AS(GroundLink(bus, ids_of({15}), keyed({}, {15})), std::invalid_argument);
+  CHECK_THROWS_AS(GroundLink(bus, ids_of({3, 4, 3}), keyed({}, {3, 4})), std::invalid_argument);
+  // Every vehicle needs its key, and a key that is all zeros (or erased flash) is none.
+  CHECK_THROWS_AS(GroundLink(bus, ids_of({1, 2}), keyed({}, {1})), std::invalid_argument);
+  GroundLinkConfig unkeyed;
+  unkeyed.keys.push_back({pa::VehicleId(1), pa::auth::Key{}});
+  CHECK_THROWS_AS(GroundLink(bus, ids_of({1}), unkeyed), std::invalid_argument);
+  GroundLinkConfig bad = keyed({}, {1});
   bad.command_attempts = 0;
   CHECK_THROWS_AS(GroundLink(bus, ids_of({1}), bad), std::invalid_argument);
-  bad = {};
+  bad = keyed({}, {1});
   bad.heartbeat_period_s = 0.0;
   CHECK_THROWS_AS(GroundLink(bus, ids_of({1}), bad), std::invalid_argument);
-  bad = {};
+  bad = keyed({}, {1});
   bad.link_quality_window_s = 60.0;  // more heartbeats than the link keeps
   CHECK_THROWS_AS(GroundLink(bus, ids_of({1}), bad), std::invalid_argument);
 
-  GroundLink link(bus, ids_of({2, 5}));
+  GroundLink link(bus, ids_of({2, 5}), keyed({}, {2, 5}));
   CHECK(link.status(pa::VehicleId(5)).vehicle == pa::VehicleId(5));
   CHECK(link.status(pa::VehicleId(5)).lost);
   CHECK_FALSE(link.status(pa::VehicleId(5)).heard);
@@ -236,13 +256,17 @@ TEST_CASE(
   Rig rig({1}, {0.0, 0.0, 0.0, 1}, {}, config);
   rig.run(1.0);
 
+  // The first heartbeat, and the first TIMESYNC request (once the vehicle's heartbeat is heard),
+  // go before its LINK_SESSION (6 ms after its boot) is heard: unsigned, they are not sent.
   const std::vector<Sent> hb = rig.sent_of_type(Type::gs_heartbeat);
-  REQUIRE(hb.size() == 50);
+  REQUIRE(hb.size() == 49);
+  CHECK(rig.link.counters().unsigned_dropped == 2);
+  CHECK(rig.link.counters().sessions_started == 1);
   for (std::size_t i = 0; i < hb.size(); ++i) {
     const Message m = decoded(hb[i].frame);
-    CHECK(m.node == kBroadcastNode);
+    CHECK(m.node == 1);
     CHECK(m.gs_heartbeat.session_token == 0x5A17);
-    CHECK(m.gs_heartbeat.seq == static_cast<std::uint8_t>(i));
+    CHECK(m.gs_heartbeat.seq == static_cast<std::uint8_t>(i + 1));
     CHECK(m.gs_heartbeat.ground_time_ms == GroundLink::ground_time_ms(hb[i].t_s));
     if (i > 0) CHECK(hb[i].t_s - hb[i - 1].t_s == Approx(0.02).margin(1e-9));
   }
@@ -251,6 +275,8 @@ TEST_CASE(
   CHECK(vehicle.link().session_token() == 0x5A17);
   CHECK(vehicle.link().heartbeat_live(rig.vehicle().clock_us(rig.t())));
   CHECK(vehicle.link().counters().stale_sequence == 0);
+  CHECK(vehicle.rx_rejected() == 0);  // every frame came with its valid AUTH
+  CHECK(vehicle.guard().last_counter() > 49);
   // ... and says so in its own heartbeat.
   const auto& status = rig.link.status(pa::VehicleId(1));
   CHECK(status.heard);
@@ -362,7 +388,7 @@ TEST_CASE("a COMMAND that never gets through times out after its attempts, its o
 
 TEST_CASE("pending commands are bounded per vehicle; a handle the link does not know is unknown") {
   InMemoryFrameBus bus;
-  GroundLink link(bus, ids_of({1}));
+  GroundLink link(bus, ids_of({1}), keyed({}, {1}));
   std::vector<CommandHandle> handles;
   for (std::size_t i = 0; i <= GroundLink::kMaxPendingCommands; ++i)
     handles.push_back(link.send_command(pa::VehicleId(1), CommandCode::disarm, 0, 0.0));
@@ -384,7 +410,13 @@ TEST_CASE(
   std::vector<std::uint8_t> seqs;
   for (int i = 0; i < 40; ++i) {
     const auto u = rig.link.send_setpoint(pa::VehicleId(1), input(0.0, Eigen::Vector3d(0.01 * i, -0.3, 0.0)));
-    rig.step();  // the vehicle reads it in this millisecond's tick
+    // The vehicle reads it in this millisecond and acts on it once its AUTH has been checked: two
+    // ticks later, or a few more when a heartbeat or time-sync request is queued before it.
+    const std::uint8_t sent_seq = rig.link.status(pa::VehicleId(1)).setpoint_seq_sent;
+    const auto acted_on = [&] { return rig.vehicle().firmware->link().setpoint().seq == sent_seq; };
+    const double t_sent = rig.t();
+    REQUIRE(rig.run_until(acted_on, 0.01));
+    CHECK(rig.t() - t_sent <= 0.01);
     const fw::Vehicle& fw = *rig.vehicle().firmware;
     const RateThrust& held = fw.link().setpoint();
     CHECK(fw.link().setpoint_fresh(rig.vehicle().clock_us(rig.t() - 1e-3)));
@@ -393,7 +425,7 @@ TEST_CASE(
     CHECK(u.omega_radps.y() == static_cast<double>(held.rate_radps[1]));
     CHECK(u.a_q_mps2 == static_cast<double>(held.thrust_mps2));
     seqs.push_back(held.seq);
-    rig.run(0.004);  // 200 Hz
+    rig.run(0.002);
   }
   CHECK(rig.vehicle().firmware->link().counters().stale_sequence == 0);
   for (std::size_t i = 1; i < seqs.size(); ++i) CHECK(seqs[i] == ((seqs[i - 1] + 1) & 0x0F));
@@ -405,7 +437,8 @@ TEST_CASE(
 
 TEST_CASE("a setpoint comes back as the frame carries it: quantised and clamped") {
   InMemoryFrameBus bus;
-  GroundLink link(bus, ids_of({4}));
+  GroundLink link(bus, ids_of({4}), keyed({}, {4}));
+  link.on_frame(encoded(LinkSession{1, 0}, 4), 0.0);
   auto u = link.send_setpoint(pa::VehicleId(4), input(9.8149, Eigen::Vector3d(1.0011, -0.0029, 70.0)));
   CHECK(u.a_q_mps2 == Approx(9.81).margin(1e-5));
   CHECK(u.omega_radps.x() == Approx(1.002).margin(1e-5));
@@ -419,14 +452,14 @@ TEST_CASE("a setpoint comes back as the frame carries it: quantised and clamped"
                          input(1e300, Eigen::Vector3d(-1e300, 0, 0)));  // finite but far out
   CHECK(u.a_q_mps2 == Approx(kThrustMax_mps2));
   CHECK(u.omega_radps.x() == Approx(-65.534).margin(1e-3));
-  CHECK(bus.pending() == 4);
+  CHECK(bus.pending() == 8);  // each with its AUTH
 
   CHECK_THROWS_AS(link.send_setpoint(pa::VehicleId(4), input(std::nan(""))), std::invalid_argument);
   CHECK_THROWS_AS(
       link.send_setpoint(pa::VehicleId(4),
                          input(5.0, Eigen::Vector3d(0, std::numeric_limits<double>::infinity(), 0))),
       std::invalid_argument);
-  CHECK(bus.pending() == 4);  // nothing sent for them
+  CHECK(bus.pending() == 8);  // nothing sent for them
 }
 
 TEST_CASE(
@@ -440,7 +473,10 @@ TEST_CASE(
   CHECK(std::isnan(rig.link.ground_time(pa::VehicleId(1), 0)));
   rig.run(1.0);
 
-  CHECK(rig.sent_of_type(Type::timesync_request).size() == 20);  // 10 Hz to each vehicle
+  // 10 Hz to each vehicle, from when its session is known (its LINK_SESSION comes 6 ms after
+  // its boot and 8-10 ms after its heartbeat has started the requests).
+  CHECK(rig.sent_of_type(Type::timesync_request).size() == 18);
+  CHECK(rig.link.counters().unsigned_dropped == 2 + 2);  // and the first two heartbeats
   for (std::uint8_t node : kBothNodes) {
     const auto& s = rig.link.status(pa::VehicleId(node));
     const double truth = node == 1 ? offset_s : kT0 - 12.5;
@@ -563,7 +599,7 @@ TEST_CASE("an IMPACT is reported on the ground clock, both its reports sharing t
 
 TEST_CASE("IMPACT reports are kept in a bounded queue: the oldest go, counted") {
   InMemoryFrameBus bus;
-  GroundLink link(bus, ids_of({1}));
+  GroundLink link(bus, ids_of({1}), keyed({}, {1}));
   for (int i = 0; i < 100; ++i)
     link.on_frame(encoded(Impact{static_cast<std::uint32_t>(i) * 1000u, 12.0f, ImpactClass::catch_impact,
                                  false, static_cast<std::uint8_t>(i)},
@@ -601,8 +637,8 @@ TEST_CASE("KILL: never gated, repeated until the vehicle reports killed, to one 
   rig.link.send_kill_all(KillReason::estimator);
   rig.run(0.3);
   CHECK(rig.vehicle(1).firmware->mode() == Mode::killed);
-  CHECK(rig.sent_of_type(Type::kill).size() == 3);  // both vehicles confirmed after the first
-  CHECK(decoded(rig.sent_of_type(Type::kill).back().frame).node == kBroadcastNode);
+  CHECK(rig.sent_of_type(Type::kill).size() == 4);  // one to each, both confirmed after it
+  CHECK(decoded(rig.sent_of_type(Type::kill).back().frame).node == 2);
 
   // DISARM clears the latch (and stops any repeat).
   REQUIRE(rig.wait_for(rig.link.send_command(pa::VehicleId(1), CommandCode::disarm, 0, rig.t())) ==
@@ -624,7 +660,7 @@ TEST_CASE("a KILL nobody confirms is sent command_attempts times, then given up"
 
 TEST_CASE("malformed, unknown, foreign and wrong-direction frames are counted and dropped") {
   InMemoryFrameBus bus;
-  GroundLink link(bus, ids_of({1, 2}));
+  GroundLink link(bus, ids_of({1, 2}), keyed({}, {1, 2}));
   const VehicleHeartbeat hb{1234, Mode::flying, kFlagArmed, 3, FailsafeReason::none, 0};
 
   Frame wrong_length = encoded(hb, 1);
@@ -682,21 +718,62 @@ TEST_CASE("malformed, unknown, foreign and wrong-direction frames are counted an
 }
 
 TEST_CASE("the bus refusing a frame is counted") {
-  InMemoryFrameBus bus(1);
-  GroundLink link(bus, ids_of({1}));
-  link.tick(0.0);  // the first heartbeat fills it
-  CHECK(link.counters().frames_sent == 1);
-  link.send_setpoint(pa::VehicleId(1), input(0.0));
-  CHECK(link.counters().send_refused == 1);
-  CHECK(bus.take().size() == 1);
-  link.send_setpoint(pa::VehicleId(1), input(0.0));
+  InMemoryFrameBus bus(2);
+  GroundLink link(bus, ids_of({1}), keyed({}, {1}));
+  link.on_frame(encoded(LinkSession{7, 0}, 1), 0.0);
+  link.tick(0.0);  // the first heartbeat and its AUTH fill it
   CHECK(link.counters().frames_sent == 2);
+  link.send_setpoint(pa::VehicleId(1), input(0.0));
   CHECK(link.counters().send_refused == 1);
+  CHECK(bus.take().size() == 2);
+  link.send_setpoint(pa::VehicleId(1), input(0.0));
+  CHECK(link.counters().frames_sent == 4);
+  CHECK(link.counters().send_refused == 1);
+}
+
+TEST_CASE("frames go out only in a session the vehicle announced, each followed by its AUTH") {
+  InMemoryFrameBus bus;
+  GroundLink link(bus, ids_of({1}), keyed({}, {1}));
+  link.send_setpoint(pa::VehicleId(1), input(0.0));
+  CHECK(bus.take().empty());
+  CHECK(link.counters().unsigned_dropped == 1);
+
+  link.on_frame(encoded(LinkSession{0xABCD, 41}, 1), 0.0);
+  link.send_setpoint(pa::VehicleId(1), input(2.0));
+  const std::vector<Frame> frames = bus.take();
+  REQUIRE(frames.size() == 2);
+  const Message auth = decoded(frames[1]);
+  REQUIRE(auth.type == Type::auth);
+  CHECK(auth.node == 1);
+  CHECK(auth.auth.counter_low == 42);  // above the vehicle's last accepted counter
+  // The vehicle with this key and nonce accepts it.
+  fw::LinkConfig vehicle;
+  vehicle.key = test_key(1);
+  vehicle.session_nonce = 0xABCD;
+  fw::LinkGuard guard(vehicle);
+  guard.on_frame(frames[0], decoded(frames[0]));
+  guard.on_auth(frames[1]);
+  Message out;
+  bool verified = false;
+  for (int step = 0; step < pa::auth::TagCheck::kSteps; ++step) verified = guard.verify_next(out);
+  CHECK(verified);
+  CHECK(out.type == Type::rate_thrust);
+  CHECK(guard.last_counter() == 42);
+
+  // A ground station restarted while the vehicle flies: the vehicle's counter is far ahead.
+  link.on_frame(encoded(LinkSession{0xABCD, 5000}, 1), 0.1);
+  link.send_setpoint(pa::VehicleId(1), input(2.0));
+  CHECK(decoded(bus.take()[1]).auth.counter_low == 5001);
+  // A vehicle reboot: a new nonce, counting from the start.
+  link.on_frame(encoded(LinkSession{0x1234, 0}, 1), 0.2);
+  link.send_setpoint(pa::VehicleId(1), input(2.0));
+  CHECK(decoded(bus.take()[1]).auth.counter_low == 1);
+  CHECK(link.counters().sessions_started == 3);
 }
 
 TEST_CASE("a flood of 100k random frames neither crashes the link nor makes it allocate") {
   InMemoryFrameBus bus;
-  GroundLink link(bus, ids_of({1, 2}));
+  GroundLink link(bus, ids_of({1, 2}), keyed({}, {1, 2}));
   std::mt19937 rng(20240611);
   std::uniform_int_distribution<int> byte(0, 255);
   std::uniform_int_distribution<int> node(0, 15);

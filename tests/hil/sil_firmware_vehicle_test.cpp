@@ -48,7 +48,9 @@ class Ground {
   explicit Ground(const hil::PlantConfig& plant = shipped_plant(), std::uint64_t seed = kSeed)
       : rig_(plant, seed),
         vehicle_(rig_.attach_firmware(
-            hil::sil::firmware_config_for(rig_.plant().config().vehicle, pa::kVehicle1))) {}
+            hil::sil::firmware_config_for(rig_.plant().config().vehicle, pa::kVehicle1))) {
+    signer_.start_session(vehicle_.firmware().guard().nonce(), 0);
+  }
 
   hil::sil::Lockstep& rig() { return rig_; }
   hil::sil::FirmwareVehicle& vehicle() { return vehicle_; }
@@ -64,8 +66,8 @@ class Ground {
     if (heartbeats && ticks_ % 20 == 0) {
       Frame f;
       if (encode(GsHeartbeat{static_cast<std::uint32_t>(ticks_), kSession, GroundState::active, hb_seq_++},
-                 kBroadcastNode, f))
-        vehicle_.inject(f);
+                 kNode, f))
+        send(f);
     }
     if (streaming && ticks_ % 5 == 0) send_setpoint();
     ++ticks_;
@@ -80,14 +82,21 @@ class Ground {
   void send_setpoint() {
     Frame f;
     if (encode(RateThrust{rate_radps, thrust_mps2, static_cast<std::uint8_t>(sp_seq_++ & 0x0Fu)}, kNode, f))
-      vehicle_.inject(f);
+      send(f);
+  }
+  // A ground frame as the ground station sends it: followed by its AUTH (docs/security.md).
+  void send(const Frame& f) {
+    Frame auth;
+    REQUIRE(signer_.sign(f, auth));
+    vehicle_.inject(f);
+    vehicle_.inject(auth);
   }
   // Sends the command and runs until its COMMAND_ACK is back (the firmware answers on the next tick).
   CommandAck command(CommandCode code) {
     const std::uint8_t seq = cmd_seq_++;
     Frame f;
     REQUIRE(encode(Command{code, seq, kSession, 0}, kNode, f));
-    vehicle_.inject(f);
+    send(f);
     for (int k = 0; k < 10; ++k) {
       tick();
       if (have_ack_ && last_ack_.seq == seq) return last_ack_;
@@ -155,6 +164,7 @@ class Ground {
 
   hil::sil::Lockstep rig_;
   hil::sil::FirmwareVehicle& vehicle_;
+  pa::auth::Signer signer_{hil::sil::simulation_key(pa::kVehicle1)};
   long ticks_ = 0;
   std::uint8_t hb_seq_ = 0;
   unsigned sp_seq_ = 0;

@@ -328,6 +328,8 @@ TEST_CASE("random frames never crash the decoder, and what it accepts re-encodes
       case Type::hil_imu_gyro: ok = encode(m.hil_imu_gyro, m.node, again); break;
       case Type::hil_imu_accel: ok = encode(m.hil_imu_accel, m.node, again); break;
       case Type::hil_motors: ok = encode(m.hil_motors, m.node, again); break;
+      case Type::auth: ok = encode(m.auth, m.node, again); break;
+      case Type::link_session: ok = encode(m.link_session, m.node, again); break;
       case Type::impact: ok = encode(m.impact, m.node, again); break;
       case Type::command_ack: ok = encode(m.command_ack, m.node, again); break;
       case Type::gs_heartbeat: ok = encode(m.gs_heartbeat, m.node, again); break;

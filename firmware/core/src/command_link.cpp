@@ -18,6 +18,10 @@ void CommandLink::on_frame(const Frame& frame, std::uint32_t now_us) {
     counters_.count(status);
     return;
   }
+  on_message(m, now_us);
+}
+
+void CommandLink::on_message(const Message& m, std::uint32_t now_us) {
   // Frames for other nodes share the bus; they are neither ours nor errors.
   if (m.node != node_ && m.node != kBroadcastNode) return;
   apply(m, now_us);

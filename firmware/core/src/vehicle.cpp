@@ -40,6 +40,7 @@ std::uint8_t saturate_u8(std::uint32_t v) { return v > 0xFFu ? 0xFFu : static_ca
 Vehicle::Vehicle(const VehicleConfig& config)
     : config_(config),
       link_(config.link, config.supervisor),
+      guard_(config.link),
       attitude_(kAttitudeGroundGain_per_s),
       impacts_(config.impact, config.airframe),
       supervisor_(config.supervisor),
@@ -53,6 +54,7 @@ Vehicle::Vehicle(const VehicleConfig& config)
           task(&Vehicle::send_telemetry_attitude, ticks_for(config.link.telemetry_attitude_period_us), 2),
           task(&Vehicle::send_telemetry_motors, ticks_for(config.link.telemetry_motors_period_us), 3),
           task(&Vehicle::send_telemetry_status, ticks_for(config.link.telemetry_status_period_us), 4),
+          task(&Vehicle::send_link_session, ticks_for(config.link.link_session_period_us), 6),
       }} {}
 
 // A task runs on the ticks whose count (1 on the first tick) is `phase` modulo `period`; the
@@ -63,10 +65,29 @@ Vehicle::PeriodicTask Vehicle::task(void (Vehicle::*run)(std::uint32_t), std::ui
   return PeriodicTask{run, period_ticks, first == 0 ? period_ticks : first};
 }
 
-void Vehicle::on_frame(const Frame& frame, std::uint32_t now_us) { link_.on_frame(frame, now_us); }
+void Vehicle::on_frame(const Frame& frame, std::uint32_t now_us) {
+  // Ground frames wait for their AUTH in the guard, decoded (here, between ticks); the link
+  // counts whatever is malformed or never meant for a vehicle.
+  Message m;
+  const DecodeStatus status = decode(frame, m);
+  const TypeInfo* info = find_type(id_type(frame.id));
+  if (status != DecodeStatus::ok || info->direction != Direction::ground_to_vehicle) {
+    link_.on_frame(frame, now_us);
+    return;
+  }
+  if (m.node == kBroadcastNode) guard_.on_unsigned();  // no AUTH can vouch for every vehicle
+  if (m.node != link_.node()) return;                 // another vehicle's
+  if (m.type == Type::auth) guard_.on_auth(frame);
+  else guard_.on_frame(frame, m);
+}
+
+std::uint32_t Vehicle::rx_rejected() const {
+  const std::uint64_t sum = std::uint64_t{link_.counters().rejected()} + guard_.rejected();
+  return sum > 0xFFFFFFFFu ? 0xFFFFFFFFu : static_cast<std::uint32_t>(sum);
+}
 
 // The 1 kHz loop, top to bottom (docs/architecture.md, "One tick of the system"):
-// sample -> attitude -> link -> impact detector -> supervisor -> setpoint -> rate controller
+// sample -> link guard -> attitude -> link -> impact detector -> supervisor -> setpoint -> rate controller
 // -> mixer -> motors, then the periodic tasks.
 // Its steps below are called from here only and forced inline (even at -Os), so the loop pays
 // no call overhead for being written as readable steps.
@@ -82,6 +103,7 @@ TickOutput Vehicle::tick(const ImuSample& imu) {
   ++ticks_;
 
   accept_sample(imu);
+  check_ground_frame(now_us);
   // The link's watchdogs and the sensors' health, once per tick: no frame arrives during it.
   update_inputs(now_us);
   const Mode mode_before = supervisor_.mode();
@@ -324,12 +346,26 @@ void Vehicle::acknowledge(const Command& command, AckResult result, RefuseReason
 }
 
 [[gnu::always_inline]] inline void Vehicle::run_periodic_tasks(std::uint32_t now_us) {
-#pragma GCC unroll 8  // five countdowns, straight-line: a loop would cost as much as its bodies
+#pragma GCC unroll 8  // six countdowns, straight-line: a loop would cost as much as its bodies
   for (PeriodicTask& task : tasks_) {
     if (--task.countdown_ticks != 0) continue;
     task.countdown_ticks = task.period_ticks;
     (this->*task.run)(now_us);
   }
+}
+
+// One step of the link guard's check of a ground frame (fw/link_guard.hpp), so its cost is
+// bounded per tick; a frame that passes is acted on in this tick. In a failsafe (whose own law
+// makes the heaviest ticks) a tick that will also send telemetry leaves its step to the next.
+[[gnu::always_inline]] inline void Vehicle::check_ground_frame(std::uint32_t now_us) {
+  const Action action = supervisor_.action();
+  if (action == Action::level_hover || action == Action::descend) {
+    bool telemetry_due = false;
+    for (const PeriodicTask& task : tasks_) telemetry_due = telemetry_due || task.countdown_ticks == 1;
+    if (telemetry_due) return;
+  }
+  Message verified;
+  if (guard_.verify_next(verified)) link_.on_message(verified, now_us);
 }
 
 void Vehicle::note_tick_time_us(std::uint32_t us) {
@@ -352,7 +388,7 @@ void Vehicle::send_heartbeat(std::uint32_t now_us) {
                             flags,
                             static_cast<std::uint8_t>(link_.setpoint().seq & 0x0Fu),
                             supervisor_.reason(),
-                            saturate_u8(link_.counters().rejected())};
+                            saturate_u8(rx_rejected())};
   link_.send_message(hb);
 }
 
@@ -373,11 +409,14 @@ void Vehicle::send_telemetry_attitude(std::uint32_t) {
 void Vehicle::send_telemetry_motors(std::uint32_t) { link_.send_message(TelemetryMotors{motor_command_}); }
 
 void Vehicle::send_telemetry_status(std::uint32_t) {
-  const TelemetryStatus status{saturate_u16(tick_time_max_us_), battery_mv_,
-                               saturate_u16(link_.counters().rejected()), saturate_u8(overruns_),
-                               impacts_.count()};
+  const TelemetryStatus status{saturate_u16(tick_time_max_us_), battery_mv_, saturate_u16(rx_rejected()),
+                               saturate_u8(overruns_), impacts_.count()};
   tick_time_max_us_ = 0;  // the longest tick of each report period
   link_.send_message(status);
+}
+
+void Vehicle::send_link_session(std::uint32_t) {
+  link_.send_message(LinkSession{guard_.nonce(), guard_.last_counter()});
 }
 
 }  // namespace fw

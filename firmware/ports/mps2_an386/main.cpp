@@ -10,6 +10,7 @@
 #include "fw/drivers/mpu6000.hpp"
 #include "fw/drivers/omnibus_f4.hpp"
 #include "fw/drivers/serial_frame.hpp"
+#include "fw/link_guard.hpp"
 #include "fw/selftest.hpp"
 #include "instruction_counter.hpp"
 
@@ -115,6 +116,35 @@ __attribute__((noinline)) void step() {
 }
 }  // namespace flight_drivers
 
+// The authenticated link's work for one received ground frame in the ticks (fw/link_guard.hpp):
+// the check's three steps, one per tick. The AUTH's counter is always fresh and its tag wrong,
+// so every frame runs the whole check (a valid one costs the same, then a copy); the self-test
+// flight's ticks include this for every frame. Queueing the pair happens between ticks.
+namespace link_auth {
+fw::LinkConfig config() {
+  fw::LinkConfig c;
+  for (std::size_t i = 0; i < c.key.size(); ++i) c.key[i] = static_cast<std::uint8_t>(0x40 + i);
+  c.session_nonce = 0x12345678u;
+  return c;
+}
+fw::LinkGuard g_guard(config());
+pa::proto::Frame g_frame{0x031, 8, {0x10, 0x00, 0xF0, 0xFF, 0x00, 0x00, 0xD5, 0x13}};
+pa::proto::Frame g_auth{0x071, 8, {0x01, 0x00, 0xA1, 0xB2, 0xC3, 0xD4, 0xE5, 0xF6}};
+
+void queue_pair() {
+  asm volatile("" ::"r"(&g_frame), "r"(&g_auth) : "memory");
+  pa::proto::Message m;
+  (void)pa::proto::decode(g_frame, m);
+  g_guard.on_frame(g_frame, m);
+  g_guard.on_auth(g_auth);
+}
+__attribute__((noinline)) void step() {
+  pa::proto::Message out;
+  (void)g_guard.verify_next(out);
+  asm volatile("" ::"r"(&out) : "memory");
+}
+}  // namespace link_auth
+
 bool within(float measured, float expected, float tolerance) {
   return measured > expected * (1.0f - tolerance) && measured < expected * (1.0f + tolerance);
 }
@@ -179,6 +209,11 @@ int main() {
   const float drivers = instructions_beyond_empty_call(flight_drivers::step);
   print_figure("flight_driver_instructions", drivers, 0);
   print_figure("flight_tick_instructions_max", net_instructions(probe.max_counts(), overhead) + drivers, 0);
+  // Already inside the ticks above: one step of one frame's check per tick at most.
+  link_auth::queue_pair();
+  print_figure("link_auth_step1_instructions", instructions_beyond_empty_call(link_auth::step), 0);
+  print_figure("link_auth_step2_instructions", instructions_beyond_empty_call(link_auth::step), 0);
+  print_figure("link_auth_step3_instructions", instructions_beyond_empty_call(link_auth::step), 0);
 
   // The start-up code painted the stack; a high-water mark at the very end of it means the
   // stack may have run into .bss and nothing above can be trusted.

@@ -15,6 +15,7 @@
 #include "fw/drivers/omnibus_f4.hpp"
 #include "fw/drivers/serial_frame.hpp"
 #include "imu_spi.hpp"
+#include "link_identity.hpp"
 #include "microsecond_clock.hpp"
 #include "motor_output.hpp"
 #include "pins.hpp"
@@ -49,6 +50,7 @@ constexpr std::uint8_t kPriorityLink = 1, kPriorityConsole = 3;
 struct FlightStatus {
   ClockReport clock{};
   mpu::InitResult imu{};
+  bool link_keyed = false;    // a key in the slot and a nonce from the RNG (link_identity.hpp)
   bool motors_ready = false;  // the motor output has a timing for this clock
   bool motors_enabled = false;
   std::uint16_t battery_mv = 0;
@@ -168,6 +170,7 @@ void report(const char* what) {
   for (std::size_t i = 0; i < 4; ++i) line.u32(m.last_values[i]).text(i < 3 ? "," : "");
   line.text(" ").text(MotorOutput::name()).text("_frames=").u32(m.frames).text(" vbat_mv=").u32(s.battery_mv);
   line.text(" link_in=").u32(s.link_frames_in).text(" link_out=").u32(s.link_frames_out);
+  line.text(" link_key=").text(s.link_keyed ? "yes" : "none");
   line.text(" stack=").u32(s.stack_used_bytes);
   line.emit();
 }
@@ -212,9 +215,10 @@ void start_millisecond_beat(std::uint32_t sysclk_hz) {
   systick().CSR = systick_enable | systick_tickint | systick_cpu_clock;
 }
 
-fw::VehicleConfig make_config() {
+fw::VehicleConfig make_config(FlightStatus& s) {
   fw::VehicleConfig config{};
   config.link.vehicle = pa::VehicleId(PA_STM32F405_NODE);
+  s.link_keyed = load_link_identity(config.link, s.clock.sysclk_hz) && pa::auth::provisioned(config.link.key);
   return config;
 }
 
@@ -244,7 +248,7 @@ int main() {
   report(fault ? "boot FAULT: motors held stopped" : "boot ok");
 
   // The composition root: the one vehicle, built once the clocks are known.
-  static VehicleNode<FlightIo> node(make_config(), s.clock.sysclk_hz / 1000000u, FlightIo{});
+  static VehicleNode<FlightIo> node(make_config(s), s.clock.sysclk_hz / 1000000u, FlightIo{});
   fw::drivers::serial_frame::Decoder decoder;
   start_millisecond_beat(s.clock.sysclk_hz);
 

@@ -10,6 +10,7 @@
 #include "cycle_counter.hpp"
 #include "fw/config.hpp"
 #include "hil_can_node.hpp"
+#include "link_identity.hpp"
 #include "microsecond_clock.hpp"
 #include "pa/sequence.hpp"
 #include "registers.hpp"
@@ -27,6 +28,7 @@ using namespace stm32f405;
 // running, how CAN came up, the busiest tick and the longest silence of the HIL stream.
 struct BoardStatus {
   ClockReport clock{};
+  bool link_keyed = false;  // a key in the slot and a nonce from the RNG (link_identity.hpp)
   CanInitResult can_init = CanInitResult::no_init_mode;
   CanStats can{};
   HilCanStats hil{};
@@ -34,9 +36,11 @@ struct BoardStatus {
   std::uint32_t stack_used_bytes = 0;       // high-water mark of the 4 KiB main stack
 };
 
-fw::VehicleConfig make_config() {
+fw::VehicleConfig make_config(BoardStatus& status) {
   fw::VehicleConfig config{};
   config.link.vehicle = pa::VehicleId(PA_STM32F405_NODE);
+  status.link_keyed =
+      load_link_identity(config.link, status.clock.sysclk_hz) && pa::auth::provisioned(config.link.key);
   return config;
 }
 
@@ -54,7 +58,7 @@ int main() {
   g_board_status.can_init = Can1::init(g_board_status.clock.apb1_hz, g_board_status.clock.sysclk_hz);
 
   // The composition root: the one vehicle, built once the clocks are known.
-  static HilCanNode node(make_config(), g_board_status.clock.sysclk_hz / 1000000u);
+  static HilCanNode node(make_config(g_board_status), g_board_status.clock.sysclk_hz / 1000000u);
 
   std::uint32_t last_tick_us = MicrosecondClock::now_us();
   std::uint32_t ticks_seen = 0;

@@ -17,6 +17,10 @@ using namespace pa::proto;
 constexpr float kGravity_mps2 = 9.81f;
 constexpr std::uint16_t kSession = 0x5A17;
 constexpr std::uint8_t kNode = 1;
+// The self-test's own link key and nonce: a test vehicle's, never a flying one's.
+constexpr pa::auth::Key kLinkKey{0x53, 0x45, 0x4C, 0x46, 0x54, 0x45, 0x53, 0x54,
+                                 0x2D, 0x4B, 0x45, 0x59, 0x2D, 0x30, 0x30, 0x31};
+constexpr std::uint32_t kNonce = 0x5E1F7E57u;
 
 // The script, in ticks (ms).
 constexpr std::uint32_t kArmAt = 200;
@@ -37,16 +41,25 @@ constexpr std::uint32_t kSetpointPeriod = 5;    // 200 Hz
 constexpr std::uint32_t kHeartbeatPeriod = 20;  // 50 Hz
 
 struct Ground {
+  pa::auth::Signer signer{kLinkKey};
   std::uint8_t setpoint_seq = 0;
   std::uint8_t heartbeat_seq = 0;
   std::uint8_t command_seq = 0;
   std::uint32_t last_fresh_setpoint_tick = 0;
 
-  void send(Vehicle& v, const Frame& f, std::uint32_t now_us) { v.on_frame(f, now_us); }
+  Ground() { signer.start_session(kNonce, 0); }
+
+  // The frame and its AUTH, as the ground station sends them.
+  void send(Vehicle& v, const Frame& f, std::uint32_t now_us) {
+    Frame auth;
+    if (!signer.sign(f, auth)) return;
+    v.on_frame(f, now_us);
+    v.on_frame(auth, now_us);
+  }
 
   void heartbeat(Vehicle& v, std::uint32_t tick) {
     Frame f;
-    if (encode(GsHeartbeat{tick, kSession, GroundState::active, heartbeat_seq++}, kBroadcastNode, f))
+    if (encode(GsHeartbeat{tick, kSession, GroundState::active, heartbeat_seq++}, kNode, f))
       send(v, f, tick * 1000u);
   }
   void setpoint(Vehicle& v, std::uint32_t tick, const Vec3& rate, float thrust, bool fresh) {
@@ -92,6 +105,8 @@ void script_setpoint(std::uint32_t tick, const SyntheticVehicle& plant, Vec3& ra
 Result run(TickProbe* probe) {
   VehicleConfig config{};
   config.link.vehicle = pa::VehicleId(kNode);
+  config.link.key = kLinkKey;
+  config.link.session_nonce = kNonce;
   Vehicle vehicle(config);
   SyntheticVehicle plant(config.airframe);
   Ground ground;

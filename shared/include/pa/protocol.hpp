@@ -41,12 +41,14 @@ enum class Type : std::uint8_t {
   hil_imu_gyro = 0x04,
   hil_imu_accel = 0x05,
   hil_motors = 0x06,
+  auth = 0x07,
   impact = 0x08,
   command_ack = 0x09,
   gs_heartbeat = 0x0A,
   vehicle_heartbeat = 0x0B,
   timesync_request = 0x0C,
   timesync_reply = 0x0D,
+  link_session = 0x0E,
   telemetry_rates = 0x10,
   telemetry_attitude = 0x11,
   telemetry_motors = 0x12,
@@ -68,19 +70,21 @@ struct TypeInfo {
 };
 
 // The catalogue. docs/protocol.md lists the same rows (checked by tests/shared/protocol_doc_test).
-inline constexpr std::array<TypeInfo, 16> kCatalogue{{
+inline constexpr std::array<TypeInfo, 18> kCatalogue{{
     {Type::kill, "KILL", 3, Direction::ground_to_vehicle},
     {Type::command, "COMMAND", 8, Direction::ground_to_vehicle},
     {Type::rate_thrust, "RATE_THRUST", 8, Direction::ground_to_vehicle},
     {Type::hil_imu_gyro, "HIL_IMU_GYRO", 8, Direction::plant_to_vehicle},
     {Type::hil_imu_accel, "HIL_IMU_ACCEL", 8, Direction::plant_to_vehicle},
     {Type::hil_motors, "HIL_MOTORS", 8, Direction::vehicle_to_plant},
+    {Type::auth, "AUTH", 8, Direction::ground_to_vehicle},
     {Type::impact, "IMPACT", 8, Direction::vehicle_to_ground},
     {Type::command_ack, "COMMAND_ACK", 5, Direction::vehicle_to_ground},
     {Type::gs_heartbeat, "GS_HEARTBEAT", 8, Direction::ground_to_vehicle},
     {Type::vehicle_heartbeat, "VEHICLE_HEARTBEAT", 8, Direction::vehicle_to_ground},
     {Type::timesync_request, "TIMESYNC_REQUEST", 5, Direction::ground_to_vehicle},
     {Type::timesync_reply, "TIMESYNC_REPLY", 8, Direction::vehicle_to_ground},
+    {Type::link_session, "LINK_SESSION", 8, Direction::vehicle_to_ground},
     {Type::telemetry_rates, "TELEMETRY_RATES", 8, Direction::vehicle_to_ground},
     {Type::telemetry_attitude, "TELEMETRY_ATTITUDE", 8, Direction::vehicle_to_ground},
     {Type::telemetry_motors, "TELEMETRY_MOTORS", 8, Direction::vehicle_to_ground},
@@ -263,6 +267,16 @@ struct VehicleHeartbeat {
   FailsafeReason failsafe;         // 4 bits
   std::uint8_t rx_errors;          // saturating count of rejected frames
 };
+// The tag of the ground frame sent just before it (pa/link_auth.hpp).
+struct Auth {
+  std::uint16_t counter_low;  // the low 16 bits of the frame's counter
+  std::uint64_t tag;          // 48-bit truncated MAC
+};
+// The vehicle's link session: the nonce drawn at boot and the last counter it accepted.
+struct LinkSession {
+  std::uint32_t nonce;
+  std::uint32_t last_counter;
+};
 struct TimesyncRequest {
   std::uint32_t ground_time_us;
   std::uint8_t seq;
@@ -301,12 +315,14 @@ struct Message {
     HilImuGyro hil_imu_gyro;
     HilImuAccel hil_imu_accel;
     HilMotors hil_motors;
+    Auth auth;
     Impact impact;
     CommandAck command_ack;
     GsHeartbeat gs_heartbeat;
     VehicleHeartbeat vehicle_heartbeat;
     TimesyncRequest timesync_request;
     TimesyncReply timesync_reply;
+    LinkSession link_session;
     TelemetryRates telemetry_rates;
     TelemetryAttitude telemetry_attitude;
     TelemetryMotors telemetry_motors;
@@ -429,6 +445,25 @@ inline bool encode(const HilMotors& m, std::uint8_t node, Frame& out) {
   }
   for (int i = 0; i < 6; ++i) f.data[i] = static_cast<std::uint8_t>(bits >> (8 * i));
   detail::put_u16(&f.data[6], m.tick);
+  out = f;
+  return true;
+}
+
+inline bool encode(const Auth& m, std::uint8_t node, Frame& out) {
+  if (!valid_node(node) || m.tag > 0xFFFFFFFFFFFFull) return false;
+  Frame f = detail::start(Type::auth, node);
+  detail::put_u16(&f.data[0], m.counter_low);
+  detail::put_u32(&f.data[2], static_cast<std::uint32_t>(m.tag));
+  detail::put_u16(&f.data[6], static_cast<std::uint16_t>(m.tag >> 32));
+  out = f;
+  return true;
+}
+
+inline bool encode(const LinkSession& m, std::uint8_t node, Frame& out) {
+  if (!valid_node(node)) return false;
+  Frame f = detail::start(Type::link_session, node);
+  detail::put_u32(&f.data[0], m.nonce);
+  detail::put_u32(&f.data[4], m.last_counter);
   out = f;
   return true;
 }
@@ -606,6 +641,11 @@ inline DecodeStatus decode(const Frame& f, Message& out) {
       m.hil_motors = h;
       break;
     }
+    case Type::auth:
+      m.auth = Auth{get_u16(d), static_cast<std::uint64_t>(get_u32(d + 2)) |
+                                    (static_cast<std::uint64_t>(get_u16(d + 6)) << 32)};
+      break;
+    case Type::link_session: m.link_session = LinkSession{get_u32(d), get_u32(d + 4)}; break;
     case Type::impact: {
       const std::uint8_t cls = d[6] & static_cast<std::uint8_t>(~kImpactFinalBit);
       if (cls < kImpactClassMin || cls > kImpactClassMax) return DecodeStatus::out_of_range;
@@ -681,10 +721,12 @@ struct RxCounters {
   std::uint32_t wrong_direction = 0;  // a frame this side never receives (e.g. its own kind)
   std::uint32_t foreign_session = 0;  // a ground station other than the bound session
   std::uint32_t queue_full = 0;       // valid, but no room to keep it (the sender retries)
+  std::uint32_t forged = 0;           // AUTH tag wrong, or a frame without its AUTH
+  std::uint32_t replayed = 0;         // AUTH counter not above the last accepted one
 
   std::uint32_t rejected() const {
     return unknown_type + wrong_length + out_of_range + stale_sequence + wrong_direction + foreign_session +
-           queue_full;
+           queue_full + forged + replayed;
   }
   void count(DecodeStatus s) {
     switch (s) {

@@ -61,6 +61,8 @@ class CommandLink {
 
   // Decode and apply one received frame; `now_us` is the vehicle clock when it was read.
   void on_frame(const pa::proto::Frame& frame, std::uint32_t now_us);
+  // Apply one decoded frame (the vehicle's link guard has verified it).
+  void on_message(const pa::proto::Message& message, std::uint32_t now_us);
 
   // A setpoint with a new sequence number arrived within the stale timeout. A stream that
   // repeats an old sequence does not refresh this, however often it arrives.

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 
+#include "pa/link_auth.hpp"
 #include "pa/vehicle_id.hpp"
 
 namespace fw {
@@ -93,8 +94,14 @@ struct SupervisorConfig {
 };
 
 struct LinkConfig {
-  pa::VehicleId vehicle = pa::kVehicle1;      // this vehicle: its node id on the bus, 1..14
-  std::uint32_t heartbeat_period_us = 20000;  // VEHICLE_HEARTBEAT at 50 Hz
+  pa::VehicleId vehicle = pa::kVehicle1;  // this vehicle: its node id on the bus, 1..14
+  // The authenticated link (pa/link_auth.hpp): the vehicle's key, provisioned at flashing time
+  // (all zeros: none, and no ground frame is accepted), and this boot's session nonce, drawn
+  // by the port from its entropy source.
+  pa::auth::Key key{};
+  std::uint32_t session_nonce = 0;
+  std::uint32_t link_session_period_us = 100000;  // LINK_SESSION at 10 Hz
+  std::uint32_t heartbeat_period_us = 20000;      // VEHICLE_HEARTBEAT at 50 Hz
   std::uint32_t telemetry_rates_period_us = 5000;
   std::uint32_t telemetry_attitude_period_us = 10000;
   std::uint32_t telemetry_motors_period_us = 10000;

@@ -12,6 +12,7 @@
 #include "fw/command_link.hpp"
 #include "fw/config.hpp"
 #include "fw/impact_detector.hpp"
+#include "fw/link_guard.hpp"
 #include "fw/mixer.hpp"
 #include "fw/rate_controller.hpp"
 #include "fw/supervisor.hpp"
@@ -29,7 +30,8 @@ class Vehicle {
  public:
   explicit Vehicle(const VehicleConfig& config);
 
-  // Any frame read from the vehicle bus, on the same clock as the IMU samples.
+  // Any frame read from the vehicle bus, on the same clock as the IMU samples. Ground frames
+  // wait for their AUTH and are verified in the next tick (fw/link_guard.hpp).
   void on_frame(const pa::proto::Frame& frame, std::uint32_t now_us);
   // The 1 kHz loop, run by each IMU sample.
   TickOutput tick(const ImuSample& imu);
@@ -42,6 +44,9 @@ class Vehicle {
   pa::proto::Mode mode() const { return supervisor_.mode(); }
   pa::proto::FailsafeReason failsafe_reason() const { return supervisor_.reason(); }
   const CommandLink& link() const { return link_; }
+  const LinkGuard& guard() const { return guard_; }
+  // Every frame refused since boot, by the link and by its guard (saturating).
+  std::uint32_t rx_rejected() const;
   const AttitudeEstimator& attitude() const { return attitude_; }
   std::uint8_t saturation() const { return saturation_; }
   bool catch_reaction_active() const { return reaction_active_; }
@@ -63,6 +68,7 @@ class Vehicle {
 
   // The steps of tick(), in order.
   void accept_sample(const ImuSample& imu);
+  void check_ground_frame(std::uint32_t now_us);
   void handle_link(std::uint32_t now_us);
   bool detect_impact(std::uint32_t now_us);  // true when the impact was a crash
   void learn_accel_bias();
@@ -83,16 +89,18 @@ class Vehicle {
   void send_telemetry_attitude(std::uint32_t now_us);
   void send_telemetry_motors(std::uint32_t now_us);
   void send_telemetry_status(std::uint32_t now_us);
+  void send_link_session(std::uint32_t now_us);
 
   VehicleConfig config_;
   CommandLink link_;
+  LinkGuard guard_;
   AttitudeEstimator attitude_;
   ImpactDetector impacts_;
   Supervisor supervisor_;
   float ground_contact_us_;  // config_.supervisor.ground_contact_us, as the float it is compared in
   RateController rate_controller_;
   Mixer mixer_;
-  std::array<PeriodicTask, 5> tasks_;
+  std::array<PeriodicTask, 6> tasks_;
 
   bool started_ = false;
   std::uint32_t last_imu_us_ = 0;
