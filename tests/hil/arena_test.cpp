@@ -75,11 +75,12 @@ class Ground {
   void tick() {
     Frame f;
     if (steps_ % 20 == 0 &&
-        encode(GsHeartbeat{static_cast<std::uint32_t>(steps_), kSession, GroundState::active, hb_seq_++}, address(),
-               f))
+        encode(GsHeartbeat{static_cast<std::uint32_t>(steps_), kSession, GroundState::active, hb_seq_++},
+               address(), f))
       send(f);
     if (steps_ % 5 == 0 &&
-        encode(RateThrust{rate_radps, thrust_mps2, static_cast<std::uint8_t>(sp_seq_++ & 0x0Fu)}, address(), f))
+        encode(RateThrust{rate_radps, thrust_mps2, static_cast<std::uint8_t>(sp_seq_++ & 0x0Fu)}, address(),
+               f))
       send(f);
     ++steps_;
     arena_.step();

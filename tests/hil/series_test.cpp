@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "hil/sil/firmware_vehicle.hpp"
 #include "hil/sil/series.hpp"
 
 namespace {
@@ -234,6 +235,7 @@ TEST_CASE("the adaptation store keeps what a series learnt for the next run", "[
   gs::link::InMemoryFrameBus bus;
   gs::runtime::GroundStationConfig config;
   config.adaptation_store_path = path;
+  for (const pa::VehicleId v : pa::kActVehicles) config.link.keys.push_back({v, hil::sil::simulation_key(v)});
   const gs::runtime::GroundStation restarted(bus, config);
   CHECK(restarted.adaptation() == learnt.state);
   CHECK(restarted.learnt().catch_instant_s == Approx(learnt.catch_instant_s));

@@ -76,7 +76,7 @@ void Vehicle::on_frame(const Frame& frame, std::uint32_t now_us) {
     return;
   }
   if (m.node == kBroadcastNode) guard_.on_unsigned();  // no AUTH can vouch for every vehicle
-  if (m.node != link_.node()) return;                 // another vehicle's
+  if (m.node != link_.node()) return;                  // another vehicle's
   if (m.type == Type::auth) guard_.on_auth(frame);
   else guard_.on_frame(frame, m);
 }
