@@ -21,6 +21,7 @@ namespace {
 gs::runtime::Learnt warm_up(const CampaignConfig& config) {
   SeriesConfig series;
   series.plant = config.plant;
+  series.arena.radio.loss = config.plant.radio_loss_probability;
   series.seed = config.seed;
   SeriesRunner runner(series);
   runner.run({AttemptPlan{false}});
@@ -33,6 +34,7 @@ CampaignAttempt fly(const CampaignConfig& config, const gs::runtime::Learnt& lea
   a.plant = randomised(config.plant, a.seed);
   SeriesConfig series;
   series.plant = a.plant;
+  series.arena.radio.loss = a.plant.radio_loss_probability;
   series.seed = a.seed;
   series.ground_station.learnt = learnt;
   SeriesRunner runner(series);

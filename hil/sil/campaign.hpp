@@ -5,8 +5,8 @@
 // Independent attempts. First a warm-up flies one throw (adapt only) on the nominal plant; what
 // the ground station learnt there is where every attempt's ground station starts, as a real one
 // would start from its store after calibration flights. Attempt i (1..N) then takes off on the
-// plant randomised(plant, attempt_seed(seed, i)) with that seed for its noise, and throws once to
-// catch. Nothing else is shared, so the results depend on the seed alone, whatever the number of
+// plant randomised(plant, attempt_seed(seed, i)) with that seed for its noise, and its radios
+// losing frames at the plant's drawn radio_loss_probability, and throws once to catch. Nothing else is shared, so the results depend on the seed alone, whatever the number of
 // workers.
 //
 // Workers are processes (fork), not threads: the throw's optimiser (IPOPT with MUMPS) keeps
