@@ -122,7 +122,7 @@ int cmd_cuts(int argc, char** argv) {
   std::map<std::string, int> causes;
   std::map<std::string, std::pair<int, int>> phases;  // cuts, cuts with a failure
   std::vector<double> speeds, failsafe_s, levelled_s;
-  int failed_cuts = 0, vehicles_failed = 0, levelled_in_limit = 0, crashed = 0;
+  int failed_cuts = 0, vehicles_failed = 0, levelled_in_limit = 0, crashed = 0, killed = 0;
   for (const sil::CutResult& r : results) {
     bool failed = false;
     for (const pa::VehicleId v : pa::kActVehicles) {
@@ -144,6 +144,7 @@ int cmd_cuts(int argc, char** argv) {
       if (c.levelled_after_s >= 0.0 && c.levelled_after_s <= lim.failsafe_within_s + 1e-9)
         ++levelled_in_limit;
       if (c.crashed) ++crashed;
+      if (c.final_mode == "killed") ++killed;
       if (!c.failure.empty()) {
         failed = true;
         ++vehicles_failed;
@@ -172,6 +173,10 @@ int cmd_cuts(int argc, char** argv) {
       1e3 * lim.failsafe_within_s, kDeg * lim.level_tilt_rad, lim.level_rate_radps, lim.land_within_s,
       lim.crash_speed_mps, kDeg * lim.crash_tilt_rad);
   for (const auto& [cause, n] : causes) std::printf("  %6d vehicles  %s\n", n, cause.c_str());
+  std::printf(
+      "  firmware ended in killed (motors off; its impact detector classed the touchdown or an impact\n"
+      "  as a crash) for %d vehicles; judged on truth above\n",
+      killed);
   std::printf("  by phase (cuts, cuts with a failure):");
   for (int p = 0; p < sil::kCutPhaseCount; ++p) {
     const std::string name(sil::cut_phase_name(static_cast<sil::CutPhase>(p)));

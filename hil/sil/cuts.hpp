@@ -57,10 +57,12 @@ struct VehicleCut {
   double touchdown_tilt_rad = 0.0;    // truth, at the touchdown
   double drift_m = 0.0;               // truth, horizontal, from the cut to the touchdown
   std::string final_mode;             // the firmware's mode at the end
-  bool landed = false;                // the firmware in landed and the vehicle on the floor (truth)
-  bool motors_off = false;            // every motor command zero at the end
-  bool crashed = false;               // truth: touchdown speed or tilt above the limits
-  std::string failure;                // empty: passed; else the causes joined by '+'
+  // On the floor (truth) with every motor command zero, whatever the firmware's mode: a touchdown
+  // its impact detector classes as a crash ends in killed, motors off too (final_mode says).
+  bool landed = false;
+  bool motors_off = false;  // every motor command zero at the end
+  bool crashed = false;     // truth: touchdown speed or tilt above the limits
+  std::string failure;      // empty: passed; else the causes joined by '+'
 };
 
 struct CutResult {

@@ -56,6 +56,7 @@ TEST_CASE("cut in every phase, both vehicles level within 25 ms and land with th
       CHECK(c.failsafe_after_s <= config.limits.failsafe_within_s);
       CHECK(c.levelled_after_s >= c.failsafe_after_s);
       CHECK(c.landed);
+      CHECK(c.final_mode == "landed");
       CHECK(c.motors_off);
       CHECK_FALSE(c.crashed);
       CHECK(c.touchdown_speed_mps > 0.0);
