@@ -57,11 +57,6 @@ int run(int argc, char** argv) {
   app.add_flag("--fixed-drag", fixed_drag, "do not estimate the drag online");
   if (const std::optional<int> code = pa::cli::parse(app, argc, argv, std::cout, std::cerr)) return *code;
 
-  std::ifstream in(mocap_path);
-  if (!in) {
-    std::fprintf(stderr, "groundstation estimate: cannot read '%s'\n", mocap_path.c_str());
-    return 1;
-  }
   estimation::ReplayOptions options;
   options.catch_height_m = catch_height;
   for (model::PoleParams* p : {&options.config.free_flight.pole, &options.config.on_vehicle.pole}) {
@@ -74,8 +69,13 @@ int run(int argc, char** argv) {
   // The estimate goes to memory first, so that a failed run leaves no half-written file.
   std::ostringstream estimate;
   std::ostringstream diagnostics;
-  const estimation::ReplaySummary summary = estimation::replay_mocap_log(in, estimate, diagnostics, options);
+  const estimation::ReplaySummary summary =
+      estimation::replay_mocap_log_file(mocap_path, estimate, diagnostics, options);
   std::fputs(diagnostics.str().c_str(), stderr);
+  if (!summary.ok && summary.lines == 0 && summary.fatal_error.rfind("cannot read", 0) == 0) {
+    std::fprintf(stderr, "groundstation estimate: %s\n", summary.fatal_error.c_str());
+    return 1;
+  }
   if (!summary.ok) {
     std::fprintf(stderr, "groundstation estimate: %s in '%s': nothing to estimate\n",
                  summary.fatal_error.c_str(), mocap_path.c_str());

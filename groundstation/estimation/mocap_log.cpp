@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <istream>
 #include <ostream>
 
@@ -129,9 +130,12 @@ ReplaySummary replay_mocap_log(std::istream& in, std::ostream& out, std::ostream
                                const ReplayOptions& options) {
   ReplaySummary summary;
   std::size_t reported = 0;
+  const auto where = [&](std::size_t line_number) {
+    return (options.source.empty() ? "line " : options.source + ":") + std::to_string(line_number);
+  };
   const auto report = [&](std::size_t line_number, const std::string& what) {
     if (++reported <= options.max_reported_errors) {
-      diagnostics << "line " << line_number << ": " << what << '\n';
+      diagnostics << where(line_number) << ": " << what << '\n';
     } else if (reported == options.max_reported_errors + 1) {
       diagnostics << "(further problems are counted but not shown)\n";
     }
@@ -154,7 +158,7 @@ ReplaySummary replay_mocap_log(std::istream& in, std::ostream& out, std::ostream
     if (!header_seen) {
       header_seen = true;
       if (is_mocap_header(line)) continue;
-      diagnostics << "line " << line_number << ": no header row (expected '" << kMocapLogHeader
+      diagnostics << where(line_number) << ": no header row (expected '" << kMocapLogHeader
                   << "'); reading it as data\n";
     } else if (is_mocap_header(line)) {
       ++summary.malformed;
@@ -247,6 +251,18 @@ ReplaySummary replay_mocap_log(std::istream& in, std::ostream& out, std::ostream
   }
   summary.ok = true;
   return summary;
+}
+
+ReplaySummary replay_mocap_log_file(const std::string& path, std::ostream& out, std::ostream& diagnostics,
+                                    ReplayOptions options) {
+  std::ifstream in(path);
+  if (!in) {
+    ReplaySummary summary;
+    summary.fatal_error = "cannot read '" + path + "'";
+    return summary;
+  }
+  options.source = path;
+  return replay_mocap_log(in, out, diagnostics, options);
 }
 
 }  // namespace gs::estimation

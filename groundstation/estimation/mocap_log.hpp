@@ -57,6 +57,8 @@ struct ReplayOptions {
   double catch_height_m = 0.0;
   StateEstimatorConfig config;
   std::size_t max_reported_errors = 20;  // further problems are only counted
+  // The file the stream reads: problems are then reported as "FILE:N: ..." (empty: "line N: ...").
+  std::string source;
 };
 
 struct ReplaySummary {
@@ -74,8 +76,12 @@ struct ReplaySummary {
 };
 
 // Replays `in` into `out` (the estimate CSV, header first); problems go to `diagnostics`, one
-// line each ("line N: ..."). Never throws on bad input.
+// line each ("line N: ...", or "FILE:N: ..." with options.source). Never throws on bad input.
 ReplaySummary replay_mocap_log(std::istream& in, std::ostream& out, std::ostream& diagnostics,
                                const ReplayOptions& options);
+// Replays the file at `path` (options.source becomes `path`); a file that cannot be opened is a
+// fatal error ("cannot read 'PATH'").
+ReplaySummary replay_mocap_log_file(const std::string& path, std::ostream& out, std::ostream& diagnostics,
+                                    ReplayOptions options);
 
 }  // namespace gs::estimation

@@ -5,19 +5,17 @@
 // catch rate with its 95% confidence interval, the failures by cause); writes DIR/throws.csv:
 // the columns of `hil fly` and then the drawn parameters of each attempt, and DIR/report.html
 // (hil/apps/report.hpp; not with --no-report).
-#include <unistd.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <map>
 #include <string>
 #include <vector>
 
+#include "hil/apps/batch_options.hpp"
 #include "hil/apps/commands.hpp"
 #include "hil/apps/report.hpp"
 #include "hil/plant/plant_config.hpp"
@@ -45,8 +43,7 @@ std::pair<double, double> wilson95(int k, int n) {
 }  // namespace
 
 int cmd_campaign(int argc, char** argv) {
-  std::string plant_file, out_dir;
-  std::uint64_t attempts = 0, seed = 1, jobs = 0;
+  std::uint64_t attempts = 0;
   bool no_report = false;
   CLI::App app("", "hil campaign");
   pa::cli::describe(app, kUsage,
@@ -57,35 +54,17 @@ int cmd_campaign(int argc, char** argv) {
       ->type_name("N")
       ->required()
       ->check(pa::cli::count(1, 1000000, "needs a count 1..1000000"));
-  app.add_option("--out", out_dir, "write DIR/throws.csv")->type_name("DIR")->required();
-  app.add_option("--seed", seed, "seed of the draws and the noise (default 1)")
-      ->type_name("S")
-      ->check(pa::cli::count(0, UINT64_MAX, "needs a non-negative integer"));
-  app.add_option("--plant", plant_file, "plant configuration (default: the built-in one)")->type_name("FILE");
-  app.add_option("--jobs", jobs, "worker processes (default: every core)")
-      ->type_name("J")
-      ->check(pa::cli::count(1, 256, "needs a count 1..256"));
+  BatchOptions batch;
+  add_batch_options(app, batch, "throws.csv", "the draws and the noise");
   app.add_flag("--no-report", no_report, "the CSV file only, no report.html");
   if (const std::optional<int> code = pa::cli::parse(app, argc, argv, std::cout, std::cerr)) return *code;
 
   sil::CampaignConfig config;
-  if (!plant_file.empty()) {
-    std::string error;
-    if (!load_plant_config(plant_file, config.plant, error)) {
-      std::cerr << "hil campaign: " << error << "\n";
-      return 2;
-    }
-  }
-  std::error_code ec;
-  std::filesystem::create_directories(out_dir, ec);
-  if (ec) {
-    std::cerr << "hil campaign: cannot create '" << out_dir << "': " << ec.message() << "\n";
-    return 1;
-  }
-  config.seed = seed;
+  if (const std::optional<int> code = prepare_batch("hil campaign", batch, config.plant, config.jobs))
+    return *code;
+  const std::string& out_dir = batch.out_dir;
+  config.seed = batch.seed;
   config.attempts = static_cast<int>(attempts);
-  const long cores = ::sysconf(_SC_NPROCESSORS_ONLN);
-  config.jobs = jobs > 0 ? static_cast<int>(jobs) : static_cast<int>(std::max(1L, cores));
 
   const auto start = std::chrono::steady_clock::now();
   std::vector<sil::CampaignAttempt> results;

@@ -10,5 +10,6 @@ int cmd_record(int argc, char** argv);
 int cmd_config(int argc, char** argv);
 int cmd_fly(int argc, char** argv);
 int cmd_campaign(int argc, char** argv);
+int cmd_cuts(int argc, char** argv);
 
 }  // namespace hil::apps

@@ -12,6 +12,8 @@ constexpr pa::cli::Subcommand kSubcommands[] = {
      hil::apps::cmd_fly},
     {"campaign", "fly many independent attempts on randomised plants, in parallel, with a summary",
      hil::apps::cmd_campaign},
+    {"cuts", "cut the setpoint stream at drawn instants of the mission and judge the failsafe landings",
+     hil::apps::cmd_cuts},
     {"config", "print the plant parameters (optionally randomised from a seed)", hil::apps::cmd_config},
 };
 

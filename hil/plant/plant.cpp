@@ -43,6 +43,11 @@ Plant::Plant(const PlantConfig& config, std::uint64_t seed)
   contact_step_ns_ = std::max<std::int64_t>(1, to_ns(config.integration.step_contact_s));
   imu_period_ns_ = std::max<std::int64_t>(1, to_ns(1.0 / config.imu.rate_Hz));
   mocap_period_ns_ = std::max<std::int64_t>(1, to_ns(1.0 / config.mocap.rate_Hz));
+  for (int f = 0; f < 4; ++f)
+    foot_body_m_[f] = motor_position_body_m(config.vehicle, f) - Vec3(0.0, 0.0, config.vehicle.foot_depth_m);
+  const PairGeometry none{};
+  worst_rate_floor_per_s_ = contact_rate_per_s(static_cast<int>(Surface::floor), none, Vec3::UnitZ(), true);
+  worst_rate_plate_per_s_ = contact_rate_per_s(static_cast<int>(Surface::plate1), none, Vec3::UnitZ(), true);
   for (int v = 0; v < 2; ++v) {
     imu_sum_force_[v].setZero();
     imu_sum_rate_[v].setZero();
@@ -119,6 +124,7 @@ bool finite(const RigidBodyState& b) {
 void Plant::set_vehicle(pa::VehicleId vehicle, const VehicleState& state) {
   if (!finite(state.body)) throw std::invalid_argument("Plant::set_vehicle: the state is not finite");
   VehicleState& v = vehicles_[slot(vehicle)];
+  kinematics_valid_ = false;
   v = state;
   v.body.attitude.normalize();
   for (double& f : v.motor_thrust_N) f = std::isfinite(f) ? std::max(0.0, f) : 0.0;
@@ -127,6 +133,7 @@ void Plant::set_vehicle(pa::VehicleId vehicle, const VehicleState& state) {
 
 void Plant::set_pole(const PoleState& state) {
   if (!finite(state.body)) throw std::invalid_argument("Plant::set_pole: the state is not finite");
+  kinematics_valid_ = false;
   pole_ = state;
   pole_.body.attitude.normalize();
   pole_asleep_ = false;
@@ -159,11 +166,8 @@ void Plant::reset_pair(int pair) {
   }
 }
 
-std::size_t Plant::slot(pa::VehicleId vehicle) {
-  if (!pa::is_act_vehicle(vehicle)) {
-    throw std::invalid_argument("Plant: no vehicle with node " + std::to_string(vehicle.node()));
-  }
-  return pa::act_slot(vehicle);
+void Plant::throw_no_vehicle(pa::VehicleId vehicle) {
+  throw std::invalid_argument("Plant: no vehicle with node " + std::to_string(vehicle.node()));
 }
 
 void Plant::reset_pairs_of_pole() {
@@ -206,7 +210,7 @@ Plant::Kinematics Plant::kinematics(const Bodies& b) const {
     k.vehicle_rate[v] = k.vehicle_rotation[v] * body.rate_body_radps;
     k.plate_centre[v] = body.position_m + vc.plate_height_m * k.vehicle_rotation[v].col(2);
     for (int f = 0; f < 4; ++f) {
-      const Vec3 r = k.vehicle_rotation[v] * (motor_position_body_m(vc, f) - Vec3(0.0, 0.0, vc.foot_depth_m));
+      const Vec3 r = k.vehicle_rotation[v] * foot_body_m_[f];
       k.point[2 + 4 * v + f] = body.position_m + r;
       k.point_velocity[2 + 4 * v + f] = body.velocity_mps + k.vehicle_rate[v].cross(r);
     }
@@ -251,10 +255,12 @@ Plant::PairGeometry Plant::geometry(const Bodies& b, const Kinematics& k, int pa
 // --- dynamics --------------------------------------------------------------------------------
 
 std::array<double, 4> Plant::thrust_at(std::size_t v, double elapsed_s) const {
+  // motor_thrust_after_N() for each motor, with the lag's decay (one exp) shared by all four.
+  const double tau_s = config_.vehicle.motor_time_constant_s;
+  const double decay = tau_s > 0.0 ? std::exp(-elapsed_s / tau_s) : 0.0;
   std::array<double, 4> f{};
   for (int i = 0; i < 4; ++i) {
-    f[i] = motor_thrust_after_N(vehicles_[v].motor_thrust_N[i], target_thrust_N_[v][i],
-                                config_.vehicle.motor_time_constant_s, elapsed_s);
+    f[i] = target_thrust_N_[v][i] + (vehicles_[v].motor_thrust_N[i] - target_thrust_N_[v][i]) * decay;
   }
   return f;
 }
@@ -276,9 +282,13 @@ Plant::Evaluation Plant::evaluate(const Bodies& b, double elapsed_s) const {
   }
 
   const RigidBodyState& pole = b.pole;
-  const Wrench drag = pole_drag(config_.pole, pole.velocity_mps, k.pole_rate, k.pole_rotation.col(2));
-  Vec3 pole_force = drag.force_N;
-  Vec3 pole_torque = drag.torque_Nm;  // inertial
+  Vec3 pole_force = Vec3::Zero();
+  Vec3 pole_torque = Vec3::Zero();  // inertial
+  if (!pole_asleep_) {              // (asleep, it is still: no drag)
+    const Wrench drag = pole_drag(config_.pole, pole.velocity_mps, k.pole_rate, k.pole_rotation.col(2));
+    pole_force = drag.force_N;
+    pole_torque = drag.torque_Nm;
+  }
 
   for (int p = 0; p < kPairs; ++p) {
     const PairMemory& m = pairs_[p];
@@ -364,20 +374,68 @@ void Plant::store(const Bodies& b) {
   pole_.body = b.pole;
 }
 
-std::int64_t Plant::choose_step_ns(std::int64_t limit_ns) const {
+namespace {
+// The larger magnitude of the roots of s^2 + (c/m) s + k/m: how fast a spring-damper on mass m
+// moves (the step must resolve it).
+double fastest_root_per_s(double stiffness_Npm, double damping_Nspm, double inverse_mass_per_kg) {
+  const double b = damping_Nspm * inverse_mass_per_kg;
+  const double k = stiffness_Npm * inverse_mass_per_kg;
+  const double discriminant = b * b - 4.0 * k;
+  return discriminant > 0.0 ? 0.5 * (b + std::sqrt(discriminant)) : std::sqrt(k);
+}
+}  // namespace
+
+double Plant::contact_rate_per_s(int pair, const PairGeometry& g, const Vec3& pole_axis,
+                                 bool worst_case) const {
+  const PoleConfig& pc = config_.pole;
+  const double inertia = pole_transverse_inertia_kgm2();
+  // A pole end at L n pushed along d: 1/m_eff = 1/m + |L n x d|^2 / I (the axial inertia plays
+  // no part: the lever is along the axis). Across the pole this is largest (m_eff about m/4).
+  const double across_inverse = 1.0 / pc.mass_kg + pc.half_length_m * pc.half_length_m / inertia;
+  double normal_inverse = across_inverse;
+  double tangential_inverse = across_inverse;
+  const Surface surface = pair_surface(pair);
+  if (!worst_case) {
+    normal_inverse =
+        1.0 / pc.mass_kg + (pc.half_length_m * pole_axis).cross(g.normal).squaredNorm() / inertia;
+    if (surface != Surface::floor) {  // the plate's vehicle moves too
+      const VehicleConfig& vc = config_.vehicle;
+      const double vehicle_inertia = std::min({vc.inertia_xx_kgm2, vc.inertia_yy_kgm2, vc.inertia_zz_kgm2});
+      normal_inverse += 1.0 / vc.mass_kg + g.lever_vehicle_m.cross(g.normal).squaredNorm() / vehicle_inertia;
+      tangential_inverse += 1.0 / vc.mass_kg + g.lever_vehicle_m.squaredNorm() / vehicle_inertia;
+    }
+  }
+  const ContactLaw l = law(surface);
+  // The sinking-in damper's slope is at most c (tanh); the rebound damper is linear.
+  const double damping = std::max(l.damping_Nspm, l.rebound_damping_Nspm);
+  return std::max(
+      fastest_root_per_s(l.stiffness_Npm, damping, normal_inverse),
+      fastest_root_per_s(l.tangential_stiffness_Npm, l.tangential_damping_Nspm, tangential_inverse));
+}
+
+std::int64_t Plant::choose_step_ns(std::int64_t limit_ns, const Bodies& b, const Kinematics& k) const {
   const double free_s = static_cast<double>(free_step_ns_) * 1e-9;
-  const Bodies b = bodies();
-  const Kinematics k = kinematics(b);
   // Only the pole's ends need the short step: the plate's damper and the floor on the small
   // effective mass of a rod's end are stiff at 1 ms, while a vehicle on its feet (four times a
   // quarter of its mass) is not.
+  const bool by_mass = config_.integration.contact_step_by_mass != 0;
+  const double contact_s = static_cast<double>(contact_step_ns_) * 1e-9;
   bool near = false;
-  for (int p = 0; p < kPolePairs && !near && !pole_asleep_; ++p) {
-    if (pairs_[p].engaged) {
-      near = true;
-      break;
-    }
+  double step_s = free_s;
+  auto shorten = [&](int p, const PairGeometry& g) {
+    near = true;
+    if (!by_mass) return;
+    const double worst =
+        pair_surface(p) == Surface::floor ? worst_rate_floor_per_s_ : worst_rate_plate_per_s_;
+    const double rate = contact_rate_per_s(p, g, k.pole_rotation.col(2), false);
+    step_s = std::min(step_s, std::max(contact_s, contact_s * worst / rate));
+  };
+  for (int p = 0; p < kPolePairs && !(near && !by_mass) && !pole_asleep_; ++p) {
     const PairGeometry g = geometry(b, k, p);
+    if (pairs_[p].engaged) {
+      shorten(p, g);
+      continue;
+    }
     if (g.gap_m < -kPlacementTolerance_m) continue;  // inside without contact: cannot engage
     const double closing_mps = std::max(0.0, -g.relative_velocity_mps.dot(g.normal));
     if (g.gap_m > kNearMargin_m + 2.0 * free_s * closing_mps) continue;
@@ -388,15 +446,20 @@ std::int64_t Plant::choose_step_ns(std::int64_t limit_ns) const {
           (g.relative_velocity_mps - g.relative_velocity_mps.dot(g.normal) * g.normal).norm();
       if (radial_m > config_.vehicle.plate_radius_m + kNearMargin_m + 2.0 * free_s * sliding_mps) continue;
     }
+    // Arriving: the reference step, so that the impact begins where it does with it.
     near = true;
+    step_s = std::min(step_s, contact_s);
   }
-  return std::min(limit_ns, near ? contact_step_ns_ : free_step_ns_);
+  if (!near) return std::min(limit_ns, free_step_ns_);
+  if (!by_mass) return std::min(limit_ns, contact_step_ns_);
+  // Equal steps up to the next sample, none longer than step_s.
+  const std::int64_t h_ns = std::clamp<std::int64_t>(to_ns(step_s), contact_step_ns_, free_step_ns_);
+  const std::int64_t count = (limit_ns + h_ns - 1) / h_ns;
+  return (limit_ns + count - 1) / count;
 }
 
-void Plant::substep(std::int64_t h_ns) {
+void Plant::substep(std::int64_t h_ns, const Bodies& b0, const Kinematics& k0) {
   const double h = static_cast<double>(h_ns) * 1e-9;
-  const Bodies b0 = bodies();
-  const Kinematics k0 = kinematics(b0);
   for (int p = 0; p < kPairs; ++p)
     pairs_[p].above_at_start = geometry(b0, k0, p).gap_m >= -kPlacementTolerance_m;
 
@@ -445,7 +508,8 @@ void Plant::substep(std::int64_t h_ns) {
 
 void Plant::update_contacts() {
   const Bodies b = bodies();
-  const Kinematics k = kinematics(b);
+  const Kinematics& k = kinematics_ = kinematics(b);
+  kinematics_valid_ = true;
   for (int p = 0; p < kPairs; ++p) {
     PairMemory& m = pairs_[p];
     const PairGeometry g = geometry(b, k, p);
@@ -488,6 +552,7 @@ void Plant::update_pole_rest(double h_s) {
                        tumble_radps.norm() < kRestRate_radps;
   pole_rest_s_ = resting ? pole_rest_s_ + h_s : 0.0;
   if (pole_rest_s_ >= kRestTime_s) {
+    kinematics_valid_ = false;
     pole_asleep_ = true;
     pole_.body.velocity_mps.setZero();
     pole_.body.rate_body_radps.setZero();
@@ -509,7 +574,11 @@ void Plant::step(double dt_s, const MotorCommands& vehicle1, const MotorCommands
     const std::int64_t next_imu_ns = static_cast<std::int64_t>(imu_tick_ + 1) * imu_period_ns_;
     const std::int64_t next_mocap_ns = static_cast<std::int64_t>(mocap_index_) * mocap_period_ns_;
     const std::int64_t limit_ns = std::min({end_ns, next_imu_ns, next_mocap_ns}) - t_ns_;
-    substep(choose_step_ns(limit_ns));
+    const Bodies b = bodies();
+    if (!kinematics_valid_) kinematics_ = kinematics(b);
+    // (update_contacts() leaves the kinematics of the state it ends in for the next substep.)
+    const Kinematics k = kinematics_;
+    substep(choose_step_ns(limit_ns, b, k), b, k);
     if (t_ns_ == next_imu_ns) sample_imu();
     if (t_ns_ == next_mocap_ns) capture_mocap();
   }

@@ -17,10 +17,15 @@
 //  - an IMU per vehicle (imu.hpp) and the motion capture (mocap.hpp).
 //
 // Time is the plant's own: step() advances it; nothing reads a clock. The integration is RK4
-// with a step of integration_step_free_s, shortened to integration_step_contact_s while a pole
-// end touches something or is about to (a vehicle's feet on the floor are not stiff at the
-// free step), and cut at every sensor sample so that samples fall on their exact times. A run
-// is fully determined by the configuration and the seed.
+// with a step of integration_step_free_s, shortened while a pole end touches something or is
+// about to (a vehicle's feet on the floor are not stiff at the free step), and cut at every
+// sensor sample so that samples fall on their exact times. The short step is
+// integration_step_contact_s for the stiffest contact, an end pushed across the pole (effective
+// mass about m/4), and for every end arriving at a surface; with
+// integration_contact_step_by_mass, an end in a contact that is slower (an upright pole on a
+// plate: effective mass about m) gets a step longer by the ratio of the two contact rates, so that step times rate stays at the reference's, never longer than the free
+// step; the steps within a sample period are made equal. A run is fully determined by the
+// configuration and the seed.
 #pragma once
 
 #include <array>
@@ -187,8 +192,13 @@ class Plant {
   };
 
   // The vehicle's slot in the per-vehicle arrays; std::invalid_argument for a vehicle the act
-  // does not fly.
-  static std::size_t slot(pa::VehicleId vehicle);
+  // does not fly. Inline: every accessor on the arena's per-step path goes through it.
+  static std::size_t slot(pa::VehicleId vehicle) {
+    if (!pa::is_act_vehicle(vehicle)) [[unlikely]]
+      throw_no_vehicle(vehicle);
+    return pa::act_slot(vehicle);
+  }
+  [[noreturn]] static void throw_no_vehicle(pa::VehicleId vehicle);
   Kinematics kinematics(const Bodies& b) const;
   ContactLaw law(Surface surface) const;
   Surface pair_surface(int pair) const;
@@ -196,8 +206,13 @@ class Plant {
   Evaluation evaluate(const Bodies& b, double elapsed_s) const;
   static Bodies advance(const Bodies& b, const Evaluation& rate, double h_s);
   std::array<double, 4> thrust_at(std::size_t v, double elapsed_s) const;
-  std::int64_t choose_step_ns(std::int64_t limit_ns) const;
-  void substep(std::int64_t h_ns);
+  std::int64_t choose_step_ns(std::int64_t limit_ns, const Bodies& b, const Kinematics& k) const;
+  // The fastest rate (1/s) of pole pair `pair`'s contact at geometry `g`: the larger root of its
+  // spring-damper on the pole end's effective mass (with the plate's vehicle), along the normal
+  // and across it. With `worst_case`, the rate for the smallest effective mass of a pole end
+  // alone, the case integration_step_contact_s is sized for.
+  double contact_rate_per_s(int pair, const PairGeometry& g, const Vec3& pole_axis, bool worst_case) const;
+  void substep(std::int64_t h_ns, const Bodies& b0, const Kinematics& k0);
   void update_contacts();
   void update_pole_rest(double h_s);
   void reset_pair(int pair);
@@ -214,6 +229,11 @@ class Plant {
   std::int64_t contact_step_ns_;
   std::int64_t imu_period_ns_;
   std::int64_t mocap_period_ns_;
+  // Each foot relative to the CG, body frame (fixed by the configuration).
+  std::array<Vec3, 4> foot_body_m_;
+  // contact_rate_per_s(worst case) of a pole end on the floor and on a plate.
+  double worst_rate_floor_per_s_ = 0.0;
+  double worst_rate_plate_per_s_ = 0.0;
   std::uint64_t imu_tick_ = 0;     // samples taken so far; the next is due at (tick + 1) periods
   std::uint64_t mocap_index_ = 0;  // frames captured so far; the next is due at index periods
 
@@ -224,6 +244,10 @@ class Plant {
   std::vector<PoleContactEvent> events_;
   bool pole_asleep_ = false;
   double pole_rest_s_ = 0.0;
+  // The kinematics of the current state, while kinematics_valid_ (anything that moves a body
+  // clears it).
+  Kinematics kinematics_{};
+  bool kinematics_valid_ = false;
   static constexpr double kRestSpeed_mps = 1e-3;
   static constexpr double kRestRate_radps = 1e-2;
   static constexpr double kRestTime_s = 0.2;

@@ -96,6 +96,7 @@ const Parameter kParameters[] = {
     PA_REAL("mocap_dropout_probability", mocap.dropout_probability, 0.0, 1.0, false),
     PA_REAL("integration_step_free_s", integration.step_free_s, 0.0, 0.01, true),
     PA_REAL("integration_step_contact_s", integration.step_contact_s, 0.0, 0.01, true),
+    PA_INT("integration_contact_step_by_mass", integration.contact_step_by_mass, 0, 1),
     PA_REAL("random_drag_fraction", randomisation.drag_fraction, 0.0, 0.99, false),
     PA_REAL("random_motor_gain_fraction", randomisation.motor_gain_fraction, 0.0, 0.99, false),
     PA_REAL("random_motor_time_constant_fraction", randomisation.motor_time_constant_fraction, 0.0, 0.99,
@@ -105,6 +106,11 @@ const Parameter kParameters[] = {
     PA_REAL("random_latency_min_s", randomisation.latency_min_s, 0.0, 10.0, false),
     PA_REAL("random_latency_max_s", randomisation.latency_max_s, 0.0, 10.0, false),
     PA_REAL("random_noise_fraction", randomisation.noise_fraction, 0.0, 0.99, false),
+    PA_REAL("random_pole_mass_fraction", randomisation.pole_mass_fraction, 0.0, 0.5, false),
+    PA_REAL("random_pole_length_fraction", randomisation.pole_length_fraction, 0.0, 0.5, false),
+    PA_REAL("random_radio_loss_min", randomisation.radio_loss_min, 0.0, 1.0, false),
+    PA_REAL("random_radio_loss_max", randomisation.radio_loss_max, 0.0, 1.0, false),
+    PA_REAL("radio_loss_probability", radio_loss_probability, 0.0, 1.0, false),
 };
 
 #undef PA_REAL
@@ -182,6 +188,8 @@ std::string check_plant_config(const PlantConfig& c) {
     return "integration_step_contact_s must not exceed integration_step_free_s";
   if (c.randomisation.latency_min_s > c.randomisation.latency_max_s)
     return "random_latency_min_s must not exceed random_latency_max_s";
+  if (c.randomisation.radio_loss_min > c.randomisation.radio_loss_max)
+    return "random_radio_loss_min must not exceed random_radio_loss_max";
   if (c.vehicle.plate_height_m < -c.vehicle.foot_depth_m)
     return "the plate must not lie below the vehicle's feet";
   return {};

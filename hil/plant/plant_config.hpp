@@ -88,7 +88,10 @@ struct MocapConfig {
 
 struct IntegrationConfig {
   double step_free_s = 0.001;      // RK4 step with no contact near
-  double step_contact_s = 0.0001;  // during and just before contact
+  double step_contact_s = 0.0001;  // during and just before contact, for the stiffest case
+  // 1: a pole end's contact step grows with the end's effective mass (plant.hpp); 0: always
+  // step_contact_s (the reference the longer steps are tested against).
+  int contact_step_by_mass = 1;
 };
 
 // The spreads of the uncertain parameters, used by randomised() (randomisation.hpp).
@@ -100,7 +103,11 @@ struct RandomisationConfig {
   double friction_fraction = 0.2;
   double latency_min_s = 0.005;  // motion-capture latency drawn from U(min, max)
   double latency_max_s = 0.020;
-  double noise_fraction = 0.5;  // every noise sigma scaled by U(1 -+ f)
+  double noise_fraction = 0.5;         // every noise sigma scaled by U(1 -+ f)
+  double pole_mass_fraction = 0.03;    // the pole's mass scaled by U(1 -+ f)
+  double pole_length_fraction = 0.03;  // the pole's length scaled by U(1 -+ f)
+  double radio_loss_min = 0.0;         // radio_loss_probability drawn from U(min, max)
+  double radio_loss_max = 0.02;
 };
 
 struct PlantConfig {
@@ -112,6 +119,9 @@ struct PlantConfig {
   MocapConfig mocap{};
   IntegrationConfig integration{};
   RandomisationConfig randomisation{};
+  // The probability that an arena radio loses a frame, each direction (RadioConfig::loss; a
+  // campaign's arena takes it from its drawn plant).
+  double radio_loss_probability = 0.0;
 };
 
 // Names of all keys, in the order of the table (for documentation checks).

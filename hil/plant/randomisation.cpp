@@ -28,6 +28,10 @@ PlantConfig randomised(const PlantConfig& nominal, std::uint64_t seed) {
   scale(c.imu.gyro_noise_radps, r.noise_fraction);
   scale(c.imu.accel_bias_sigma_mps2, r.noise_fraction);
   scale(c.imu.gyro_bias_sigma_radps, r.noise_fraction);
+  // Drawn after the others, so that adding them kept every earlier draw.
+  scale(c.pole.mass_kg, r.pole_mass_fraction);
+  scale(c.pole.half_length_m, r.pole_length_fraction);
+  c.radio_loss_probability = rng.uniform(r.radio_loss_min, r.radio_loss_max);
   return c;
 }
 
@@ -55,6 +59,9 @@ std::vector<DrawnParameter> drawn_parameters(const PlantConfig& c) {
                             {"imu_gyro_noise_radps", c.imu.gyro_noise_radps},
                             {"imu_accel_bias_sigma_mps2", c.imu.accel_bias_sigma_mps2},
                             {"imu_gyro_bias_sigma_radps", c.imu.gyro_bias_sigma_radps},
+                            {"pole_mass_kg", c.pole.mass_kg},
+                            {"pole_half_length_m", c.pole.half_length_m},
+                            {"radio_loss_probability", c.radio_loss_probability},
                         });
   return out;
 }

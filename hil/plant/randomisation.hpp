@@ -1,6 +1,7 @@
 // Per-run draws of the plant's uncertain parameters: the pole's drag coefficients, each motor's
 // thrust gain and time constant, the vehicles' drag, the contact friction, the motion-capture
-// latency and every noise level. The spreads are in PlantConfig::randomisation; the draws come
+// latency, every noise level, the pole's mass and length (a few percent off the model the
+// ground station flies with) and the radios' frame loss. The spreads are in PlantConfig::randomisation; the draws come
 // from their own random stream, so a seed gives the same world on every run and platform, and
 // different seeds give different worlds.
 #pragma once
@@ -15,7 +16,8 @@ namespace hil {
 
 // `nominal` with the uncertain parameters drawn around their nominal values: a value x with
 // spread fraction f becomes x * U(1 - f, 1 + f); the latency is drawn from
-// U(latency_min_s, latency_max_s). Everything else is copied unchanged.
+// U(latency_min_s, latency_max_s), the radio loss from U(radio_loss_min, radio_loss_max).
+// Everything else is copied unchanged.
 PlantConfig randomised(const PlantConfig& nominal, std::uint64_t seed);
 
 // The parameters randomised() draws, by their configuration keys (plant_config.hpp), in the

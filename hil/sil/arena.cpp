@@ -41,6 +41,16 @@ Arena::Arena(const PlantConfig& plant, const ArenaConfig& config, std::uint64_t 
   }
 }
 
+Arena::Arena(const Arena& other)
+    : lockstep_(other.lockstep_),
+      links_(other.links_),
+      ground_(other.ground_),
+      mocap_(other.mocap_),
+      not_carried_(other.not_carried_),
+      uplink_silent_(other.uplink_silent_) {
+  for (const pa::VehicleId v : pa::kActVehicles) vehicles_[pa::act_slot(v)] = lockstep_.firmware(v);
+}
+
 std::size_t Arena::slot(pa::VehicleId vehicle) {
   if (!pa::is_act_vehicle(vehicle))
     throw std::out_of_range("no arena vehicle has node " + std::to_string(vehicle.node()) + " (1 or 2)");
@@ -67,6 +77,7 @@ void Arena::step() {
   Frame f;
   for (std::size_t v = 0; v < 2; ++v) {
     while (links_[v].bridge.deliver(Side::vehicle, start, f)) {
+      if (uplink_silent_) continue;
       vehicles_[v]->inject(f);
       ++links_[v].uplink_delivered;
     }

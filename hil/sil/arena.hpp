@@ -71,8 +71,11 @@ class Arena {
   // std::invalid_argument for a plant whose IMU is not the firmware's 1 kHz, a radio
   // configuration out of range, or whatever the Plant constructor throws.
   Arena(const PlantConfig& plant, const ArenaConfig& config, std::uint64_t seed);
-  // Not copied or moved: it points into its own Lockstep.
-  Arena(const Arena&) = delete;
+  // A copy carries on from the same state (plant, firmwares, radios, what waits for the ground)
+  // and evolves exactly as the original would under the same ground calls: a mission flown once
+  // can be forked at any step (hil/sil/cuts.hpp). Not assigned or moved: it points into its own
+  // Lockstep.
+  Arena(const Arena& other);
   Arena& operator=(const Arena&) = delete;
 
   Plant& plant() { return lockstep_.plant(); }
@@ -91,6 +94,10 @@ class Arena {
   // addressed to any other node (the ground's own 0, vehicles not in the arena) is carried by
   // no radio and counted in not_carried().
   void send_from_ground(const pa::proto::Frame& frame);
+
+  // The radio goes silent towards the vehicles from now on: frames in flight and frames sent
+  // later never reach them (counted as neither lost nor delivered). The downlink carries on.
+  void silence_uplink() { uplink_silent_ = true; }
 
   // One IMU period, t_k -> t_(k+1): the radios put on each vehicle bus what is due by t_k, the
   // plant and both firmwares step (Lockstep::step()), the frames the firmwares sent are offered
@@ -124,6 +131,7 @@ class Arena {
   std::vector<pa::proto::Frame> ground_;
   std::vector<MocapFrame> mocap_;
   std::uint64_t not_carried_ = 0;
+  bool uplink_silent_ = false;
 };
 
 }  // namespace hil::sil

@@ -5,13 +5,11 @@
 // Independent attempts. First a warm-up flies one throw (adapt only) on the nominal plant; what
 // the ground station learnt there is where every attempt's ground station starts, as a real one
 // would start from its store after calibration flights. Attempt i (1..N) then takes off on the
-// plant randomised(plant, attempt_seed(seed, i)) with that seed for its noise, and throws once to
-// catch. Nothing else is shared, so the results depend on the seed alone, whatever the number of
+// plant randomised(plant, attempt_seed(seed, i)) with that seed for its noise, and its radios
+// losing frames at the plant's drawn radio_loss_probability, and throws once to catch. Nothing else is shared, so the results depend on the seed alone, whatever the number of
 // workers.
 //
-// Workers are processes (fork), not threads: the throw's optimiser (IPOPT with MUMPS) keeps
-// global state and is not safe to run in two threads of one process. Each worker flies the
-// attempts i = k, k + J, ... and reports each result on its pipe; the parent collects them in
+// The attempts run on worker processes (worker_pool.hpp); the parent collects the results in
 // order of completion (for the progress line) and returns them in attempt order.
 #pragma once
 
@@ -37,6 +35,10 @@ struct CampaignAttempt {
   std::uint64_t seed = 0;  // the attempt's draw and noise
   PlantConfig plant;       // the plant it flew on
 };
+
+// What the ground station learns from one throw (adapt only) on `plant`, flown with `seed`:
+// where a campaign's ground stations start.
+gs::runtime::Learnt warm_up(const PlantConfig& plant, std::uint64_t seed);
 
 // The seed of attempt i (1..N) of a campaign seeded with `seed`.
 std::uint64_t attempt_seed(std::uint64_t seed, int attempt);

@@ -169,6 +169,7 @@ void SeriesRunner::place_pole_on_thrower() {
 std::vector<AttemptResult> SeriesRunner::run(const std::vector<AttemptPlan>& plans,
                                              const std::function<void(const AttemptResult&)>& on_result) {
   std::vector<AttemptResult> results;
+  run_until([] { return false; }, config_.rest_before_take_off_s);
   gs_.request_take_off();
   const bool airborne =
       run_until([&] { return gs_.task(kThrower) == Task::hover && gs_.task(kCatcher) == Task::hover; }, 10.0);

@@ -80,6 +80,9 @@ struct SeriesConfig {
   gs::runtime::GroundStationConfig ground_station;
   std::uint64_t seed = 1;
   double attempt_timeout_s = 40.0;  // from the request to the end of the attempt
+  // The vehicles rest on the floor this long before the take-off is requested, as before a real
+  // flight: the firmware learns its IMU biases at rest, which its failsafe relies on.
+  double rest_before_take_off_s = 0.0;
   bool record_time_series = false;
   // Called with a line for every mission event and pole mode switch (a log for people).
   std::function<void(const std::string&)> log;

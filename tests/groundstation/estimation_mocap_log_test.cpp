@@ -146,6 +146,27 @@ TEST_CASE("a log without a header or without pole rows is handled", "[estimation
   }
 }
 
+TEST_CASE("a log read from a file reports its problems as FILE:LINE", "[estimation]") {
+  const std::string path = "estimation_mocap_log_test_bad.csv";  // in the test's working directory
+  {
+    std::FILE* f = std::fopen(path.c_str(), "w");
+    REQUIRE(f != nullptr);
+    std::fputs("t,body,x,y,z,qw,qx,qy,qz\n0,pole,0,0,2,1,0,0,0\n0.005,dog,0,0,2,1,0,0,0\n", f);
+    std::fclose(f);
+  }
+  std::ostringstream out;
+  std::ostringstream diag;
+  const auto s = gs::estimation::replay_mocap_log_file(path, out, diag, {});
+  std::remove(path.c_str());
+  CHECK(s.ok);
+  CHECK(s.malformed == 1);
+  CHECK(diag.str().rfind(path + ":3: unknown body 'dog'", 0) == 0);
+
+  const auto missing = gs::estimation::replay_mocap_log_file("/nonexistent/mocap.csv", out, diag, {});
+  CHECK_FALSE(missing.ok);
+  CHECK(missing.fatal_error == "cannot read '/nonexistent/mocap.csv'");
+}
+
 TEST_CASE("a recorded throw replays into modes and catch predictions", "[estimation]") {
   const estimation_test::Recording rec = estimation_test::record_throw(estimation_test::WorldParams{}, 3);
   REQUIRE(rec.launch_t);

@@ -49,13 +49,13 @@ TEST_CASE("the drawn parameters are the plant configuration's keys", "[hil][camp
   const std::vector<std::string_view> keys = hil::plant_config_keys();
   const hil::PlantConfig drawn = hil::randomised(hil::PlantConfig{}, 3);
   const auto parameters = hil::drawn_parameters(drawn);
-  REQUIRE(parameters.size() == 22);
+  REQUIRE(parameters.size() == 25);
   for (const hil::DrawnParameter& p : parameters) {
     INFO(p.key);
     CHECK(std::find(keys.begin(), keys.end(), p.key) != keys.end());
   }
   CHECK(parameters.front().value == drawn.pole.drag_axial_kgpm2);
-  CHECK(parameters.back().value == drawn.imu.gyro_bias_sigma_radps);
+  CHECK(parameters.back().value == drawn.radio_loss_probability);
 }
 
 TEST_CASE("a campaign is reproducible from its seed whatever the number of workers",

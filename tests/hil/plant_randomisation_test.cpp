@@ -54,7 +54,7 @@ TEST_CASE("randomisation is reproducible for a seed and differs between seeds") 
   CHECK(a.mocap.latency_s != c.mocap.latency_s);
   CHECK(a.vehicle.motor_gain[0][0] != c.vehicle.motor_gain[0][0]);
   // Not touched: what is not uncertain.
-  CHECK(a.pole.mass_kg == nominal.pole.mass_kg);
+  CHECK(a.pole.radius_m == nominal.pole.radius_m);
   CHECK(a.vehicle.plate_radius_m == nominal.vehicle.plate_radius_m);
   CHECK(a.mocap.rate_Hz == nominal.mocap.rate_Hz);
 }
@@ -63,6 +63,7 @@ TEST_CASE("randomised parameters stay within their spreads and cover them") {
   const PlantConfig n;
   const hil::RandomisationConfig& r = n.randomisation;
   double drag_lo = 1e9, drag_hi = 0.0, latency_lo = 1e9, latency_hi = 0.0, gain_lo = 1e9, gain_hi = 0.0;
+  double mass_lo = 1e9, mass_hi = 0.0, length_lo = 1e9, length_hi = 0.0, loss_lo = 1e9, loss_hi = 0.0;
   for (std::uint64_t seed = 0; seed < 400; ++seed) {
     const PlantConfig c = hil::randomised(n, seed);
     INFO("seed " << seed);
@@ -83,6 +84,16 @@ TEST_CASE("randomised parameters stay within their spreads and cover them") {
     CHECK(within(c.mocap.position_noise_m, n.mocap.position_noise_m, r.noise_fraction));
     CHECK(c.mocap.latency_s >= r.latency_min_s);
     CHECK(c.mocap.latency_s <= r.latency_max_s);
+    CHECK(within(c.pole.mass_kg, n.pole.mass_kg, r.pole_mass_fraction));
+    CHECK(within(c.pole.half_length_m, n.pole.half_length_m, r.pole_length_fraction));
+    CHECK(c.radio_loss_probability >= r.radio_loss_min);
+    CHECK(c.radio_loss_probability <= r.radio_loss_max);
+    mass_lo = std::min(mass_lo, c.pole.mass_kg / n.pole.mass_kg);
+    mass_hi = std::max(mass_hi, c.pole.mass_kg / n.pole.mass_kg);
+    length_lo = std::min(length_lo, c.pole.half_length_m / n.pole.half_length_m);
+    length_hi = std::max(length_hi, c.pole.half_length_m / n.pole.half_length_m);
+    loss_lo = std::min(loss_lo, c.radio_loss_probability);
+    loss_hi = std::max(loss_hi, c.radio_loss_probability);
     CHECK(hil::check_plant_config(c).empty());
     drag_lo = std::min(drag_lo, c.pole.drag_normal_kgpm2);
     drag_hi = std::max(drag_hi, c.pole.drag_normal_kgpm2);
@@ -96,6 +107,12 @@ TEST_CASE("randomised parameters stay within their spreads and cover them") {
   CHECK(latency_hi > 0.018);
   CHECK(gain_lo < 0.955);
   CHECK(gain_hi > 1.045);
+  CHECK(mass_lo < 0.975);
+  CHECK(mass_hi > 1.025);
+  CHECK(length_lo < 0.975);
+  CHECK(length_hi > 1.025);
+  CHECK(loss_lo < 0.002);
+  CHECK(loss_hi > 0.018);
 }
 
 TEST_CASE("a run is reproducible for a seed, and its sensor noise differs between seeds") {

@@ -21,7 +21,11 @@ constexpr float kVerticalGain_per_s = 4.0f;  // failsafe vertical-velocity loop
 constexpr float kBiasStillRate2_radps2 = 0.1f * 0.1f;
 constexpr float kBiasMax_mps2 = 0.5f;
 constexpr float kBiasWindow = 2000.0f;
-constexpr float kMinTiltCos = 0.5f;  // thrust compensation for tilt stops at 60 degrees
+constexpr float kMinTiltCos = 0.5f;
+// The vertical speed integrated in flight forgets with this time constant: it bounds the drift
+// from the accelerometer's residual bias over a long flight (the ground station holds the
+// vehicle still on average), and costs climb / constant (0.06 m/s after a 3.5 m climb).
+constexpr float kFlightVzLeak_s = 60.0f;  // thrust compensation for tilt stops at 60 degrees
 constexpr std::int32_t kExpectCatchMax_ms = 10000;
 // A quadrocopter's accelerometer reads gravity only while the vehicle rests; in flight it
 // reads the thrust direction, which would pull the estimate towards "level" whatever the
@@ -111,8 +115,16 @@ TickOutput Vehicle::tick(const ImuSample& imu) {
       mode_before == Mode::disarmed || mode_before == Mode::armed || mode_before == Mode::landed;
   if (resting) attitude_.set_accel_gain(kAttitudeGroundGain_per_s);
   else attitude_.set_accel_gain(0.0f);
-  if (imu_ok_) attitude_.update(gyro_radps_, accel_mps2_, dt_s);
+  if (imu_ok_) {
+    // Gyro-only in flight, so an uncorrected bias tilts the estimate by bias * flight time.
+    const Vec3 rate{gyro_radps_[0] - gyro_bias_radps_[0], gyro_radps_[1] - gyro_bias_radps_[1],
+                    gyro_radps_[2] - gyro_bias_radps_[2]};
+    attitude_.update(rate, accel_mps2_, dt_s);
+  }
   if (resting && imu_ok_) learn_accel_bias();
+  if (mode_before == Mode::flying) track_flight_vz(dt_s);
+  else if (resting) flight_vz_mps_ = 0;
+  else flight_vz_mps_ = failsafe_vz_mps_;  // a failsafe the ground station ends goes on from there
   handle_link(now_us);
   const bool crash = detect_impact(now_us);
   supervise(crash);
@@ -250,6 +262,21 @@ void Vehicle::acknowledge(const Command& command, AckResult result, RefuseReason
   if (std::fabs(excess_mps2) > kBiasMax_mps2) return;
   if (bias_samples_ < kBiasWindow) bias_samples_ += 1.0f;
   accel_bias_up_mps2_ += (excess_mps2 - accel_bias_up_mps2_) / bias_samples_;
+  // At rest the gyro reads its bias (the Earth's rate, 7e-5 rad/s, is below its noise).
+  for (int i = 0; i < 3; ++i) gyro_bias_radps_[i] += (gyro_radps_[i] - gyro_bias_radps_[i]) / bias_samples_;
+}
+
+// The specific force along the estimated up, less the bias learnt at rest.
+[[gnu::always_inline]] inline float Vehicle::up_accel_mps2() const {
+  return dot(accel_mps2_, attitude_.up_in_body()) - accel_bias_up_mps2_;
+}
+
+// A cut stream can find the vehicle moving (a catch manoeuvre descends, a throw climbs): the
+// failsafe starts from the vertical speed integrated in flight rather than from rest.
+[[gnu::always_inline]] inline void Vehicle::track_flight_vz(float dt_s) {
+  if (!imu_ok_) return;
+  const float h = dt_s < 0 ? 0 : (dt_s > 0.005f ? 0.005f : dt_s);
+  flight_vz_mps_ += (up_accel_mps2() - kGravity_mps2 - flight_vz_mps_ / kFlightVzLeak_s) * h;
 }
 
 [[gnu::always_inline]] inline void Vehicle::supervise(bool crash) {
@@ -259,9 +286,9 @@ void Vehicle::acknowledge(const Command& command, AckResult result, RefuseReason
   const bool failsafe = mode == Mode::failsafe_hover || mode == Mode::failsafe_descent;
   const bool was_failsafe = last_mode_ == Mode::failsafe_hover || last_mode_ == Mode::failsafe_descent;
   if (failsafe && !was_failsafe) {
-    // Motion capture is out of reach: integrate vertical velocity from here on, assuming the
-    // vehicle was near hover when the stream stopped.
-    failsafe_vz_mps_ = 0;
+    // Motion capture is out of reach: integrate vertical velocity from here on, from the
+    // speed estimated in flight.
+    failsafe_vz_mps_ = flight_vz_mps_;
     ground_contact_s_ = 0;
   }
   if (mode != Mode::failsafe_descent) ground_contact_s_ = 0;
@@ -301,10 +328,10 @@ void Vehicle::acknowledge(const Command& command, AckResult result, RefuseReason
   // The failsafes: level, hold (or sink at) the vertical speed integrated on board.
   const Vec3 up = attitude_.up_in_body();
   const float tilt_cos = up[2] < kMinTiltCos ? kMinTiltCos : up[2];
-  const float up_accel_mps2 = dot(accel_mps2_, up) - accel_bias_up_mps2_;  // specific force along up
+  const float specific_up_mps2 = up_accel_mps2();
   if (imu_ok_) {
     const float clamped_dt = dt_s < 0 ? 0 : (dt_s > 0.005f ? 0.005f : dt_s);
-    failsafe_vz_mps_ += (up_accel_mps2 - kGravity_mps2) * clamped_dt;
+    failsafe_vz_mps_ += (specific_up_mps2 - kGravity_mps2) * clamped_dt;
   }
   rate_radps = levelling_rates(up);
   if (action == Action::level_hover) {
@@ -315,7 +342,7 @@ void Vehicle::acknowledge(const Command& command, AckResult result, RefuseReason
   thrust_mps2 = (kGravity_mps2 + kVerticalGain_per_s * (target - failsafe_vz_mps_)) / tilt_cos;
   if (thrust_mps2 < 0) thrust_mps2 = 0;
   // Ground contact: the floor holds the vehicle up although the thrust asks it to sink.
-  const float support = up_accel_mps2 - thrust_applied_mps2_;
+  const float support = specific_up_mps2 - thrust_applied_mps2_;
   if (support > config_.supervisor.ground_contact_mps2) ground_contact_s_ += dt_s > 0 ? dt_s : 0;
   else ground_contact_s_ = 0;
 }

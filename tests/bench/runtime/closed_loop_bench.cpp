@@ -3,10 +3,18 @@
 // the budget: a median of at most 50 us) and the whole arena (plant, two firmware cores, radios,
 // motion capture and the ground station) as a multiple of real time on one core, both measured
 // while flying a throw that adapts only and a catch (hil/sil/series.hpp).
+//
+// Printed, per core (processor time, whatever else the machine runs): realtime_multiple, (b)
+// the arena with the ground station; arena_realtime_multiple, (a) the arena alone (plant, both
+// firmware cores, radios, motion capture) in the same flight: the processor time less the
+// ground-station frames (on_mocap). Those are timed by the wall clock (series.cpp); under load
+// that overstates them, so they are scaled by the run's processor over wall time. The ground
+// station's on_frame() and tick() are not timed and stay in (a), which understates it.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <vector>
 
 #include "hil/sil/series.hpp"
@@ -21,24 +29,33 @@ double percentile(std::vector<double> v, double p) {
 
 void BM_ClosedLoopThrowAndCatch(benchmark::State& state) {
   std::vector<double> frames;
-  double simulated_s = 0.0, wall_s = 0.0;
+  double simulated_s = 0.0, cpu_s = 0.0, ground_station_s = 0.0;
   for (auto _ : state) {
     hil::sil::SeriesConfig config;
     config.seed = 1;
     config.time_ground_station = true;
-    const auto start = std::chrono::steady_clock::now();
+    const std::clock_t start = std::clock();
+    const auto wall_start = std::chrono::steady_clock::now();
     hil::sil::SeriesRunner runner(config);
     const auto results = runner.run(hil::sil::catch_series(2));
-    wall_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    // Processor time: the multiple per core, whatever else the machine runs.
+    const double run_cpu_s = static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC;
+    const double run_wall_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+    cpu_s += run_cpu_s;
     simulated_s += runner.simulated_time_s();
     const auto& t = runner.ground_station_frame_times_s();
     frames.insert(frames.end(), t.begin(), t.end());
+    double run_ground_station_s = 0.0;
+    for (const double s : t) run_ground_station_s += s;
+    ground_station_s += run_ground_station_s * std::min(1.0, run_cpu_s / run_wall_s);
     benchmark::DoNotOptimize(results);
   }
   state.counters["gs_frame_median_us"] = 1e6 * percentile(frames, 0.5);
   state.counters["gs_frame_p99_us"] = 1e6 * percentile(frames, 0.99);
   state.counters["gs_frames"] = static_cast<double>(frames.size());
-  state.counters["realtime_multiple"] = simulated_s / wall_s;
+  state.counters["realtime_multiple"] = simulated_s / cpu_s;
+  state.counters["arena_realtime_multiple"] = simulated_s / (cpu_s - ground_station_s);
   state.counters["simulated_s"] = simulated_s;
 }
 BENCHMARK(BM_ClosedLoopThrowAndCatch)->Unit(benchmark::kMillisecond)->Iterations(3);

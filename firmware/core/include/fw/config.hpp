@@ -83,7 +83,7 @@ struct SupervisorConfig {
   std::uint32_t heartbeat_timeout_us = 100000;  // lost ground heartbeat -> failsafe
   std::uint32_t imu_timeout_us = 5000;          // IMU unhealthy this long -> IMU lost (motors off in the air)
   std::uint32_t hover_before_descent_us = 500000;  // failsafe hover lasts 0.5 s, then descent
-  std::uint32_t descent_max_us = 15000000;         // give up waiting for ground contact after this
+  std::uint32_t descent_max_us = 30000000;         // give up waiting for ground contact (from 6 m: 12 s)
   float takeoff_thrust_mps2 = 2.0f;                // a fresh setpoint above this means flying
   float arming_thrust_max_mps2 = 0.0f;             // arming requires the setpoint at or below this
   float descent_rate_mps = 0.5f;                   // controlled descent speed

@@ -52,6 +52,8 @@ class Vehicle {
   bool catch_reaction_active() const { return reaction_active_; }
   // The accelerometer's bias along up, learnt at rest on the floor; the failsafe removes it.
   float accel_bias_up_mps2() const { return accel_bias_up_mps2_; }
+  const Vec3& gyro_bias_radps() const { return gyro_bias_radps_; }  // learnt at rest
+  float flight_vz_mps() const { return flight_vz_mps_; }            // the failsafe's starting speed
   std::uint8_t impact_count() const { return impacts_.count(); }
   std::uint32_t ticks() const { return ticks_; }
 
@@ -72,6 +74,8 @@ class Vehicle {
   void handle_link(std::uint32_t now_us);
   bool detect_impact(std::uint32_t now_us);  // true when the impact was a crash
   void learn_accel_bias();
+  float up_accel_mps2() const;
+  void track_flight_vz(float dt_s);
   void supervise(bool crash);
   void choose_setpoint(float dt_s, Vec3& rate_radps, float& thrust_mps2);
   TickOutput control_and_mix(float dt_s, const Vec3& rate_radps, float thrust_mps2);
@@ -122,11 +126,14 @@ class Vehicle {
   std::uint32_t reaction_started_us_ = 0;
 
   // Failsafe vertical channel: velocity integrated from the accelerometer since the failsafe
-  // began (motion capture is out of reach then), and the ground-contact detector.
+  // began (motion capture is out of reach then), and the ground-contact detector. It starts
+  // from flight_vz_mps_, the same integral kept in flight with a leak (track_flight_vz).
   float failsafe_vz_mps_ = 0;
+  float flight_vz_mps_ = 0;
   float ground_contact_s_ = 0;
   float accel_bias_up_mps2_ = 0;  // learnt at rest (learn_accel_bias)
   float bias_samples_ = 0;
+  Vec3 gyro_bias_radps_{};  // learnt at rest with the accelerometer's, for the attitude estimate
   pa::proto::Mode last_mode_ = pa::proto::Mode::disarmed;
 
   std::uint32_t tick_time_max_us_ = 0;

@@ -1,0 +1,342 @@
+#include "hil/sil/cuts.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <optional>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+
+#include "hil/plant/randomisation.hpp"
+#include "hil/sil/campaign.hpp"
+#include "hil/sil/series.hpp"
+#include "hil/sil/worker_pool.hpp"
+
+namespace hil::sil {
+namespace {
+
+using gs::mission::Task;
+using pa::proto::Mode;
+
+constexpr pa::VehicleId kThrower = pa::kVehicle1;
+constexpr pa::VehicleId kCatcher = pa::kVehicle2;
+constexpr int kVehicleFields = 15;
+// A pre-flight rest as long as the firmware's bias window (2000 IMU samples): the mission's
+// ground station takes off at once otherwise, after 45 ms on the floor.
+constexpr double kRestBeforeTakeOff_s = 2.0;
+constexpr int kCutFields = 7 + 2 * kVehicleFields;
+
+std::string mode_name(Mode mode) {
+  switch (mode) {
+    case Mode::disarmed: return "disarmed";
+    case Mode::armed: return "armed";
+    case Mode::flying: return "flying";
+    case Mode::failsafe_hover: return "failsafe_hover";
+    case Mode::failsafe_descent: return "failsafe_descent";
+    case Mode::landed: return "landed";
+    case Mode::killed: return "killed";
+  }
+  return "unknown";
+}
+
+double tilt_of(const RigidBodyState& body) { return std::acos(std::clamp(body.rotation()(2, 2), -1.0, 1.0)); }
+
+// The mission's phase from the ground station's tasks, in the order a mission flies them; a
+// phase once left is not re-entered (the throw, then the catch manoeuvre, then after it).
+class PhaseTracker {
+ public:
+  std::optional<CutPhase> update(Task thrower, Task catcher) {
+    if (thrower == Task::throwing || thrower == Task::release) thrown_ = true;
+    if (thrown_ && catcher == Task::catching) catching_ = true;
+    if (catching_ && catcher != Task::catching) caught_ = true;
+    if (caught_) return CutPhase::after_catch;
+    if (catching_) return CutPhase::catching;
+    if (thrown_) return CutPhase::throwing;
+    const bool catcher_up = catcher == Task::hover || catcher == Task::wait;
+    if (thrower == Task::balance && catcher_up) return CutPhase::balance;
+    if (thrower == Task::hover && catcher_up) return CutPhase::hover;
+    return std::nullopt;  // on the ground, arming, taking off
+  }
+
+ private:
+  bool thrown_ = false, catching_ = false, caught_ = false;
+};
+
+long step_index(double t_s) { return std::lround(t_s * 1000.0); }
+
+// Flies mission `mission` with `on_step(step, phase, arena)` after every step.
+void fly_mission(const CutsConfig& config, const gs::runtime::Learnt& learnt, std::uint64_t seed,
+                 const std::function<void(long, std::optional<CutPhase>, const Arena&)>& on_step) {
+  SeriesConfig series;
+  series.plant = randomised(config.plant, seed);
+  series.seed = seed;
+  series.ground_station.learnt = learnt;
+  series.rest_before_take_off_s = kRestBeforeTakeOff_s;
+  PhaseTracker phases;
+  series.on_step = [&](const Arena& arena, const gs::runtime::GroundStation& gs) {
+    on_step(step_index(arena.t_s()), phases.update(gs.task(kThrower), gs.task(kCatcher)), arena);
+  };
+  SeriesRunner runner(series);
+  runner.run({AttemptPlan{}});
+}
+
+std::vector<CutResult> fly_group(const CutsConfig& config, const gs::runtime::Learnt& learnt, int mission) {
+  const std::uint64_t seed = attempt_seed(config.seed, mission);
+  // Where each phase begins and ends (steps), from a first flight.
+  std::array<long, kCutPhaseCount> first{}, last{};
+  first.fill(-1);
+  fly_mission(config, learnt, seed, [&](long k, std::optional<CutPhase> phase, const Arena&) {
+    if (!phase) return;
+    const auto p = static_cast<std::size_t>(*phase);
+    if (first[p] < 0) first[p] = k;
+    last[p] = k;
+  });
+
+  const int begin = (mission - 1) * config.cuts_per_mission + 1;
+  const int end = std::min(config.cuts, mission * config.cuts_per_mission);
+  std::mt19937_64 rng(seed ^ 0xC0FFEE5EEDull);
+  std::vector<std::pair<long, int>> plan;  // (step, cut)
+  for (int c = begin; c <= end; ++c) {
+    int p = (c - 1) % kCutPhaseCount;
+    for (int i = 0; i < kCutPhaseCount && first[static_cast<std::size_t>(p)] < 0; ++i)
+      p = (p + 1) % kCutPhaseCount;
+    const auto sp = static_cast<std::size_t>(p);
+    const double u = static_cast<double>(rng() >> 11) * 0x1.0p-53;  // [0, 1), the same everywhere
+    const long span = first[sp] < 0 ? 1 : last[sp] - first[sp] + 1;
+    plan.emplace_back(std::max(0L, first[sp]) + static_cast<long>(u * static_cast<double>(span)), c);
+  }
+  std::sort(plan.begin(), plan.end());
+
+  std::vector<CutResult> results;
+  std::size_t next = 0;
+  fly_mission(config, learnt, seed, [&](long k, std::optional<CutPhase> phase, const Arena& arena) {
+    for (; next < plan.size() && plan[next].first <= k; ++next) {
+      CutResult r = fly_cut(arena, config.limits);
+      r.cut = plan[next].second;
+      r.mission = mission;
+      r.mission_seed = seed;
+      r.phase = phase.value_or(CutPhase::hover);
+      results.push_back(r);
+    }
+  });
+  // A mission that ended before a planned step (it should not: the same seed flies the same
+  // mission) leaves those cuts to its last state.
+  if (next < plan.size()) throw std::runtime_error("mission " + std::to_string(mission) + " ended early");
+  std::sort(results.begin(), results.end(),
+            [](const CutResult& a, const CutResult& b) { return a.cut < b.cut; });
+  return results;
+}
+
+std::vector<std::string> split(const std::string& text, char separator) {
+  std::vector<std::string> fields;
+  std::stringstream in(text);
+  std::string field;
+  while (std::getline(in, field, separator)) fields.push_back(field);
+  if (!text.empty() && text.back() == separator) fields.emplace_back();
+  return fields;
+}
+
+}  // namespace
+
+std::string_view cut_phase_name(CutPhase phase) {
+  switch (phase) {
+    case CutPhase::hover: return "hover";
+    case CutPhase::balance: return "balance";
+    case CutPhase::throwing: return "throw";
+    case CutPhase::catching: return "catch";
+    case CutPhase::after_catch: return "after_catch";
+  }
+  return "unknown";
+}
+
+CutResult fly_cut(const Arena& at_cut, const CutLimits& limits) {
+  Arena arena(at_cut);
+  arena.silence_uplink();
+  arena.take_ground_frames();
+  arena.take_mocap();
+  const double t_cut = arena.t_s();
+  CutResult r;
+  r.t_cut_s = t_cut;
+
+  struct Watch {
+    double last_setpoint_s = 0.0;
+    Vec3 at_cut_m;
+    bool levelled = false;
+    bool done = false;
+  };
+  std::array<Watch, 2> watch;
+  const Plant& plant = arena.plant();
+  for (const pa::VehicleId v : pa::kActVehicles) {
+    const std::size_t i = pa::act_slot(v);
+    const fw::Vehicle& fw = arena.vehicle(v).firmware();
+    const RigidBodyState& body = plant.vehicle(v).body;
+    // The firmware's clock is its last IMU sample's, the arena's time (firmware_vehicle.hpp).
+    const auto now_us = static_cast<std::uint32_t>(std::llround(t_cut * 1e6));
+    const std::uint32_t age_us = fw.link().setpoint_age_us(now_us);
+    watch[i].last_setpoint_s = age_us == 0xFFFFFFFFu ? t_cut : t_cut - 1e-6 * age_us;
+    watch[i].at_cut_m = body.position_m;
+    VehicleCut& c = r.vehicles[i];
+    c.mode_at_cut = mode_name(fw.mode());
+    c.height_m = body.position_m.z();
+    c.tilt_at_cut_rad = c.max_tilt_rad = tilt_of(body);
+  }
+  r.min_separation_m =
+      (plant.vehicle(pa::kVehicle1).body.position_m - plant.vehicle(pa::kVehicle2).body.position_m).norm();
+
+  const double deadline = t_cut + limits.land_within_s;
+  while (arena.t_s() < deadline && !(watch[0].done && watch[1].done)) {
+    std::array<double, 2> vz_before{};
+    std::array<bool, 2> floor_before{};
+    for (const pa::VehicleId v : pa::kActVehicles) {
+      vz_before[pa::act_slot(v)] = plant.vehicle(v).body.velocity_mps.z();
+      floor_before[pa::act_slot(v)] = plant.vehicle_on_floor(v);
+    }
+    arena.step();
+    arena.take_ground_frames();  // nobody listens
+    arena.take_mocap();
+    const double t = arena.t_s();
+    r.min_separation_m = std::min(
+        r.min_separation_m,
+        (plant.vehicle(pa::kVehicle1).body.position_m - plant.vehicle(pa::kVehicle2).body.position_m).norm());
+    for (const pa::VehicleId v : pa::kActVehicles) {
+      const std::size_t i = pa::act_slot(v);
+      Watch& w = watch[i];
+      if (w.done) continue;
+      VehicleCut& c = r.vehicles[i];
+      const fw::Vehicle& fw = arena.vehicle(v).firmware();
+      const RigidBodyState& body = plant.vehicle(v).body;
+      const double tilt = tilt_of(body);
+      const double since = t - w.last_setpoint_s;
+      if (c.failsafe_after_s < 0.0 && fw.mode() == Mode::failsafe_hover) c.failsafe_after_s = since;
+      if (!w.levelled) c.max_tilt_rad = std::max(c.max_tilt_rad, tilt);
+      if (!w.levelled && c.failsafe_after_s >= 0.0 && tilt < limits.level_tilt_rad &&
+          body.rate_body_radps.cwiseAbs().maxCoeff() < limits.level_rate_radps) {
+        w.levelled = true;
+        c.levelled_after_s = since;
+      }
+      const bool on_floor = plant.vehicle_on_floor(v);
+      if (c.touchdown_after_s < 0.0 && on_floor && !floor_before[i]) {
+        c.touchdown_after_s = since;
+        c.touchdown_speed_mps = -vz_before[i];
+        c.touchdown_tilt_rad = tilt;
+        c.drift_m = (body.position_m - w.at_cut_m).head<2>().norm();
+      }
+      const MotorCommands& motors = arena.vehicle(v).motor_commands();
+      c.motors_off =
+          std::all_of(motors.command.begin(), motors.command.end(), [](double m) { return m == 0.0; });
+      c.final_mode = mode_name(fw.mode());
+      c.landed = c.motors_off && on_floor;  // the firmware may say landed or killed
+      // Over once the motors are off on the floor (landed, or killed and fallen).
+      if (c.motors_off && on_floor && c.touchdown_after_s >= 0.0) {
+        w.done = true;
+        c.crashed = c.touchdown_speed_mps > limits.crash_speed_mps ||
+                    c.touchdown_tilt_rad > limits.crash_tilt_rad || tilt > limits.crash_tilt_rad;
+      }
+    }
+  }
+  r.run_s = arena.t_s() - t_cut;
+
+  for (VehicleCut& c : r.vehicles) {
+    std::vector<std::string> causes;
+    if (c.failsafe_after_s < 0.0) causes.emplace_back("no_failsafe_hover");
+    else if (c.failsafe_after_s > limits.failsafe_within_s + 1e-9) causes.emplace_back("failsafe_late");
+    if (c.levelled_after_s < 0.0) causes.emplace_back("never_levelled");
+    if (c.crashed) causes.emplace_back("crashed");
+    if (!c.landed) causes.emplace_back("not_landed");
+    if (!c.motors_off) causes.emplace_back("motors_on");
+    for (const std::string& cause : causes) c.failure += (c.failure.empty() ? "" : "+") + cause;
+  }
+  return r;
+}
+
+std::string encode_cuts(const std::vector<CutResult>& cuts) {
+  std::string out;
+  char buffer[512];
+  for (const CutResult& r : cuts) {
+    if (!out.empty()) out += '|';
+    std::snprintf(buffer, sizeof buffer, "%d\t%d\t%llu\t%d\t%.17g\t%.17g\t%.17g", r.cut, r.mission,
+                  static_cast<unsigned long long>(r.mission_seed), static_cast<int>(r.phase), r.t_cut_s,
+                  r.min_separation_m, r.run_s);
+    out += buffer;
+    for (const VehicleCut& c : r.vehicles) {
+      std::snprintf(buffer, sizeof buffer,
+                    "\t%s\t%.17g\t%.17g\t%.17g\t%.17g\t%.17g\t%.17g\t%.17g\t%.17g\t%.17g\t%s\t%d\t%d\t%d\t%s",
+                    c.mode_at_cut.c_str(), c.height_m, c.tilt_at_cut_rad, c.failsafe_after_s,
+                    c.levelled_after_s, c.max_tilt_rad, c.touchdown_after_s, c.touchdown_speed_mps,
+                    c.touchdown_tilt_rad, c.drift_m, c.final_mode.c_str(), c.landed ? 1 : 0,
+                    c.motors_off ? 1 : 0, c.crashed ? 1 : 0, c.failure.c_str());
+      out += buffer;
+    }
+  }
+  return out;
+}
+
+bool decode_cuts(const std::string& line, std::vector<CutResult>& cuts) {
+  cuts.clear();
+  if (line.empty()) return true;
+  try {
+    for (const std::string& record : split(line, '|')) {
+      const std::vector<std::string> f = split(record, '\t');
+      if (f.size() != static_cast<std::size_t>(kCutFields)) return false;
+      CutResult r;
+      r.cut = std::stoi(f[0]);
+      r.mission = std::stoi(f[1]);
+      r.mission_seed = std::stoull(f[2]);
+      const int phase = std::stoi(f[3]);
+      if (phase < 0 || phase >= kCutPhaseCount) return false;
+      r.phase = static_cast<CutPhase>(phase);
+      r.t_cut_s = std::stod(f[4]);
+      r.min_separation_m = std::stod(f[5]);
+      r.run_s = std::stod(f[6]);
+      for (std::size_t i = 0; i < 2; ++i) {
+        const std::size_t o = 7 + i * kVehicleFields;
+        VehicleCut& c = r.vehicles[i];
+        c.mode_at_cut = f[o];
+        c.height_m = std::stod(f[o + 1]);
+        c.tilt_at_cut_rad = std::stod(f[o + 2]);
+        c.failsafe_after_s = std::stod(f[o + 3]);
+        c.levelled_after_s = std::stod(f[o + 4]);
+        c.max_tilt_rad = std::stod(f[o + 5]);
+        c.touchdown_after_s = std::stod(f[o + 6]);
+        c.touchdown_speed_mps = std::stod(f[o + 7]);
+        c.touchdown_tilt_rad = std::stod(f[o + 8]);
+        c.drift_m = std::stod(f[o + 9]);
+        c.final_mode = f[o + 10];
+        c.landed = f[o + 11] == "1";
+        c.motors_off = f[o + 12] == "1";
+        c.crashed = f[o + 13] == "1";
+        c.failure = f[o + 14];
+      }
+      cuts.push_back(r);
+    }
+  } catch (const std::exception&) {
+    return false;
+  }
+  return true;
+}
+
+std::vector<CutResult> run_cuts(const CutsConfig& config, const std::function<void(int)>& progress) {
+  if (config.cuts < 1 || config.jobs < 1 || config.cuts_per_mission < 1)
+    throw std::runtime_error("cuts need cuts, jobs and cuts per mission >= 1");
+  const gs::runtime::Learnt learnt = warm_up(config.plant, config.seed);
+  const int missions = (config.cuts + config.cuts_per_mission - 1) / config.cuts_per_mission;
+  std::vector<CutResult> all(static_cast<std::size_t>(config.cuts));
+  int done = 0;
+  run_on_workers(
+      missions, config.jobs, [&](int m) { return encode_cuts(fly_group(config, learnt, m)); },
+      [&](int m, const std::string& report) {
+        std::vector<CutResult> cuts;
+        if (!decode_cuts(report, cuts))
+          throw std::runtime_error("mission " + std::to_string(m) + " reported unreadable cuts");
+        for (const CutResult& r : cuts) {
+          if (r.cut < 1 || r.cut > config.cuts) throw std::runtime_error("a cut out of range");
+          all[static_cast<std::size_t>(r.cut - 1)] = r;
+        }
+        done += static_cast<int>(cuts.size());
+        if (progress) progress(done);
+      },
+      "mission");
+  return all;
+}
+
+}  // namespace hil::sil

@@ -1,0 +1,79 @@
+// Setpoint-stream cuts (hil/sil/cuts.hpp): cut at drawn instants of every phase of the mission,
+// both vehicles reach the firmware's levelled hover within 25 ms of their last setpoint, level
+// on truth, and land with the motors off without crashing; the cuts depend on the seed alone,
+// whatever the number of workers; the workers' reports survive the pipe.
+#include "hil/sil/cuts.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <string>
+#include <vector>
+
+TEST_CASE("a worker's cut report decodes to the cuts it encodes", "[hil][cuts]") {
+  hil::sil::CutResult r;
+  r.cut = 12;
+  r.mission = 3;
+  r.mission_seed = 1000007;
+  r.phase = hil::sil::CutPhase::catching;
+  r.t_cut_s = 13.0123456789012345;
+  r.vehicles[1].failsafe_after_s = 0.021;
+  r.vehicles[1].touchdown_speed_mps = 0.4321;
+  r.vehicles[1].final_mode = "landed";
+  r.vehicles[1].landed = true;
+  r.vehicles[1].failure = "crashed+killed";
+  std::vector<hil::sil::CutResult> back;
+  REQUIRE(hil::sil::decode_cuts(hil::sil::encode_cuts({r, r}), back));
+  REQUIRE(back.size() == 2);
+  CHECK(back[1].cut == 12);
+  CHECK(back[1].mission_seed == r.mission_seed);
+  CHECK(back[1].phase == r.phase);
+  CHECK(back[1].t_cut_s == r.t_cut_s);
+  CHECK(back[1].vehicles[1].touchdown_speed_mps == r.vehicles[1].touchdown_speed_mps);
+  CHECK(back[1].vehicles[1].landed);
+  CHECK_FALSE(back[1].vehicles[0].landed);
+  CHECK(back[1].vehicles[1].failure == "crashed+killed");
+  CHECK(back[1].vehicles[0].failure.empty());
+  CHECK_FALSE(hil::sil::decode_cuts("1\t2\tnot a number", back));
+}
+
+TEST_CASE("cut in every phase, both vehicles level within 25 ms and land with the motors off",
+          "[hil][cuts]") {
+  hil::sil::CutsConfig config;
+  config.seed = 3;
+  config.cuts = 20;
+  config.cuts_per_mission = 10;
+  config.jobs = 2;
+  const std::vector<hil::sil::CutResult> cuts = hil::sil::run_cuts(config);
+  REQUIRE(cuts.size() == 20);
+  std::vector<int> per_phase(hil::sil::kCutPhaseCount, 0);
+  for (const hil::sil::CutResult& r : cuts) {
+    ++per_phase[static_cast<std::size_t>(r.phase)];
+    for (const hil::sil::VehicleCut& c : r.vehicles) {
+      INFO("cut " << r.cut << " at " << r.t_cut_s << " s in " << hil::sil::cut_phase_name(r.phase) << ": "
+                  << c.failure);
+      CHECK(c.mode_at_cut == "flying");
+      CHECK(c.failsafe_after_s >= 0.0);
+      CHECK(c.failsafe_after_s <= config.limits.failsafe_within_s);
+      CHECK(c.levelled_after_s >= c.failsafe_after_s);
+      CHECK(c.landed);
+      CHECK(c.final_mode == "landed");
+      CHECK(c.motors_off);
+      CHECK_FALSE(c.crashed);
+      CHECK(c.touchdown_speed_mps > 0.0);
+      CHECK(c.touchdown_speed_mps < config.limits.crash_speed_mps);
+      CHECK(c.failure.empty());
+    }
+  }
+  for (int n : per_phase) CHECK(n == 4);  // the mission flew every phase
+
+  // The same cuts on one worker.
+  config.jobs = 1;
+  const std::vector<hil::sil::CutResult> again = hil::sil::run_cuts(config);
+  REQUIRE(again.size() == cuts.size());
+  for (std::size_t i = 0; i < cuts.size(); ++i) {
+    CHECK(again[i].t_cut_s == cuts[i].t_cut_s);
+    CHECK(again[i].phase == cuts[i].phase);
+    CHECK(again[i].vehicles[0].touchdown_speed_mps == cuts[i].vehicles[0].touchdown_speed_mps);
+    CHECK(again[i].vehicles[1].touchdown_after_s == cuts[i].vehicles[1].touchdown_after_s);
+  }
+}
