@@ -105,7 +105,7 @@ struct RandomisationConfig {
   double latency_max_s = 0.020;
   double noise_fraction = 0.5;         // every noise sigma scaled by U(1 -+ f)
   double pole_mass_fraction = 0.03;    // the pole's mass scaled by U(1 -+ f)
-  double pole_length_fraction = 0.03;  // the pole's length scaled by U(1 -+ f)
+  double pole_length_fraction = 0.02;  // the pole's length scaled by U(1 -+ f)
   double radio_loss_min = 0.0;         // radio_loss_probability drawn from U(min, max)
   double radio_loss_max = 0.02;
 };

@@ -206,6 +206,14 @@ CutResult fly_cut(const Arena& at_cut, const CutLimits& limits) {
       const fw::Vehicle& fw = arena.vehicle(v).firmware();
       const RigidBodyState& body = plant.vehicle(v).body;
       const double tilt = tilt_of(body);
+      // A setpoint that reached the vehicle before the cut may still be under its link guard's
+      // check (docs/security.md) and be acted on just after: the last setpoint is the last one
+      // received, as the firmware stamps it.
+      if (c.failsafe_after_s < 0.0) {
+        const auto now_us = static_cast<std::uint32_t>(std::llround(t * 1e6));
+        const std::uint32_t age_us = fw.link().setpoint_age_us(now_us);
+        if (age_us != 0xFFFFFFFFu) w.last_setpoint_s = std::max(w.last_setpoint_s, t - 1e-6 * age_us);
+      }
       const double since = t - w.last_setpoint_s;
       if (c.failsafe_after_s < 0.0 && fw.mode() == Mode::failsafe_hover) c.failsafe_after_s = since;
       if (!w.levelled) c.max_tilt_rad = std::max(c.max_tilt_rad, tilt);

@@ -58,13 +58,14 @@ void hand(fw::LinkGuard& guard, const Frame& f) {
   Message m;
   REQUIRE(decode(f, m) == DecodeStatus::ok);
   if (m.type == Type::auth) guard.on_auth(f);
-  else guard.on_frame(f, m);
+  else guard.on_frame(f, m, 0);
 }
 
 // The guard's ticks for one frame: the check's steps run in consecutive ticks.
 bool verify(fw::LinkGuard& guard, Message& out) {
+  std::uint32_t received_us = 0;
   for (int step = 0; step < pa::auth::TagCheck::kSteps; ++step)
-    if (guard.verify_next(out)) return true;
+    if (guard.verify_next(out, received_us)) return true;
   return false;
 }
 
@@ -145,9 +146,10 @@ TEST_CASE("frames signed by the ground (libsodium) pass the vehicle's guard, in 
     hand(guard, s.frame);
     hand(guard, s.auth);
     Message out;
-    CHECK_FALSE(guard.verify_next(out));  // the check's first two steps
-    CHECK_FALSE(guard.verify_next(out));
-    REQUIRE(guard.verify_next(out));
+    std::uint32_t received_us = 0;
+    CHECK_FALSE(guard.verify_next(out, received_us));  // the check's first two steps
+    CHECK_FALSE(guard.verify_next(out, received_us));
+    REQUIRE(guard.verify_next(out, received_us));
     CHECK(out.type == Type::rate_thrust);
     CHECK(out.rate_thrust.seq == (i & 0x0F));
   }
@@ -194,7 +196,7 @@ TEST_CASE("2^24 forged frames: none accepted, every one counted") {
     const std::uint64_t r = rng();
     Frame auth;
     encode(Auth{static_cast<std::uint16_t>(r >> 48), r & pa::auth::kTagMask}, 1, auth);
-    guard.on_frame(frames[i % frames.size()], decoded[i % frames.size()]);
+    guard.on_frame(frames[i % frames.size()], decoded[i % frames.size()], 0);
     guard.on_auth(auth);
     Message out;
     if (verify(guard, out)) ++accepted;
@@ -274,6 +276,29 @@ TEST_CASE("the latest KILL is verified first and supersedes the frames queued be
   REQUIRE(verify(guard, out));
   CHECK(out.type == Type::rate_thrust);
   CHECK(out.rate_thrust.seq == 3);
+}
+
+TEST_CASE("a full queue drops the newest frame, but never a KILL") {
+  fw::LinkGuard guard(link_config());
+  pa::auth::Signer ground(kKey);
+  ground.start_session(kNonce, 0);
+  for (std::uint8_t i = 0; i < fw::LinkGuard::kQueue + 2; ++i) {
+    const Signed s = sign(ground, setpoint(i));
+    hand(guard, s.frame);
+    hand(guard, s.auth);
+  }
+  CHECK(guard.queued() == fw::LinkGuard::kQueue);
+  CHECK(guard.queue_full() == 2);
+  Frame kill;
+  REQUIRE(encode(Kill{0, KillReason::operator_request}, 1, kill));
+  const Signed k = sign(ground, kill);
+  hand(guard, k.frame);
+  hand(guard, k.auth);
+  CHECK(guard.queued() == fw::LinkGuard::kQueue);
+  CHECK(guard.queue_full() == 3);  // the newest setpoint made way
+  Message out;
+  REQUIRE(verify(guard, out));
+  CHECK(out.type == Type::kill);
 }
 
 TEST_CASE("counters: replays are behind, gaps up to 32,768 ahead, and a spent session ends") {

@@ -26,6 +26,8 @@ bool re_encode(const Message& m, Frame& out) {
     case Type::hil_imu_gyro: return encode(m.hil_imu_gyro, m.node, out);
     case Type::hil_imu_accel: return encode(m.hil_imu_accel, m.node, out);
     case Type::hil_motors: return encode(m.hil_motors, m.node, out);
+    case Type::auth: return encode(m.auth, m.node, out);
+    case Type::link_session: return encode(m.link_session, m.node, out);
     case Type::impact: return encode(m.impact, m.node, out);
     case Type::command_ack: return encode(m.command_ack, m.node, out);
     case Type::gs_heartbeat: return encode(m.gs_heartbeat, m.node, out);

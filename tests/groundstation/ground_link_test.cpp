@@ -751,11 +751,13 @@ TEST_CASE("frames go out only in a session the vehicle announced, each followed 
   vehicle.key = test_key(1);
   vehicle.session_nonce = 0xABCD;
   fw::LinkGuard guard(vehicle);
-  guard.on_frame(frames[0], decoded(frames[0]));
+  guard.on_frame(frames[0], decoded(frames[0]), 0);
   guard.on_auth(frames[1]);
   Message out;
   bool verified = false;
-  for (int step = 0; step < pa::auth::TagCheck::kSteps; ++step) verified = guard.verify_next(out);
+  std::uint32_t received_us = 0;
+  for (int step = 0; step < pa::auth::TagCheck::kSteps; ++step)
+    verified = guard.verify_next(out, received_us);
   CHECK(verified);
   CHECK(out.type == Type::rate_thrust);
   CHECK(guard.last_counter() == 42);

@@ -9,9 +9,10 @@ LinkGuard::LinkGuard(const LinkConfig& link)
   if (provisioned_) check_ = pa::auth::TagCheck(pa::auth::session_key(link.key, nonce_));
 }
 
-void LinkGuard::on_frame(const Frame& frame, const Message& decoded) {
+void LinkGuard::on_frame(const Frame& frame, const Message& decoded, std::uint32_t received_us) {
   if (holding_) bump(forged_);  // its AUTH never came
   held_.message = decoded;
+  held_.received_us = received_us;
   held_.words = pa::auth::TagCheck::words(frame);
   holding_ = true;
 }
@@ -24,7 +25,11 @@ void LinkGuard::on_auth(const Frame& frame) {
   holding_ = false;
   if (size_ == kQueue) {
     bump(queue_full_);
-    return;
+    // A KILL is never the one dropped: it takes the newest entry's place (the head, which may
+    // be under check, is never the newest of a full queue), so a flood cannot keep it out.
+    if (held_.message.type != Type::kill) return;
+    --size_;
+    latest_kill_ = latest_kill_ > size_ ? 0 : latest_kill_;
   }
   // AUTH: u16 counter low bits, then the 48-bit tag (the caller checked type and length).
   const std::uint64_t auth = pa::auth::detail::load_u64(frame.data.data());
@@ -35,13 +40,13 @@ void LinkGuard::on_auth(const Frame& frame) {
   if (held_.message.type == Type::kill) latest_kill_ = size_;
 }
 
-bool LinkGuard::verify_next(Message& out) {
+bool LinkGuard::verify_next(Message& out, std::uint32_t& received_us) {
   switch (step_) {
     case 1:
       check_.advance();
       step_ = 2;
       return false;
-    case 2: return finish_check(out);
+    case 2: return finish_check(out, received_us);
     default:
       // Start the next check. Replays cost no MAC, so they are skipped here (at most the queue).
       while (size_ > 0 && step_ == 0) start_check();
@@ -86,7 +91,7 @@ void LinkGuard::drop(std::size_t n) {
   latest_kill_ = latest_kill_ > n ? latest_kill_ - n : 0;
 }
 
-bool LinkGuard::finish_check(Message& out) {
+bool LinkGuard::finish_check(Message& out, std::uint32_t& received_us) {
   step_ = 0;
   const bool ok = check_.finish();
   if (!ok) {
@@ -94,6 +99,7 @@ bool LinkGuard::finish_check(Message& out) {
   } else {
     last_counter_ = counter_;
     out = queue_[head_].message;
+    received_us = queue_[head_].received_us;
   }
   drop(ok ? 1 + superseded_ : 1);
   superseded_ = 0;

@@ -21,11 +21,12 @@ constexpr float kVerticalGain_per_s = 4.0f;  // failsafe vertical-velocity loop
 constexpr float kBiasStillRate2_radps2 = 0.1f * 0.1f;
 constexpr float kBiasMax_mps2 = 0.5f;
 constexpr float kBiasWindow = 2000.0f;
-constexpr float kMinTiltCos = 0.5f;
+constexpr float kMinTiltCos = 0.5f;  // thrust compensation for tilt stops at 60 degrees
 // The vertical speed integrated in flight forgets with this time constant: it bounds the drift
 // from the accelerometer's residual bias over a long flight (the ground station holds the
 // vehicle still on average), and costs climb / constant (0.06 m/s after a 3.5 m climb).
-constexpr float kFlightVzLeak_s = 60.0f;  // thrust compensation for tilt stops at 60 degrees
+constexpr float kFlightVzLeak_s = 60.0f;
+constexpr std::uint32_t kFlightVzPeriod_ticks = 5;
 constexpr std::int32_t kExpectCatchMax_ms = 10000;
 // A quadrocopter's accelerometer reads gravity only while the vehicle rests; in flight it
 // reads the thrust direction, which would pull the estimate towards "level" whatever the
@@ -59,6 +60,8 @@ Vehicle::Vehicle(const VehicleConfig& config)
           task(&Vehicle::send_telemetry_motors, ticks_for(config.link.telemetry_motors_period_us), 3),
           task(&Vehicle::send_telemetry_status, ticks_for(config.link.telemetry_status_period_us), 4),
           task(&Vehicle::send_link_session, ticks_for(config.link.link_session_period_us), 6),
+          // Not telemetry: the failsafe's starting speed, at 200 Hz on the ticks that send none.
+          task(&Vehicle::track_flight_vz, kFlightVzPeriod_ticks, 4),
       }} {}
 
 // A task runs on the ticks whose count (1 on the first tick) is `phase` modulo `period`; the
@@ -82,7 +85,7 @@ void Vehicle::on_frame(const Frame& frame, std::uint32_t now_us) {
   if (m.node == kBroadcastNode) guard_.on_unsigned();  // no AUTH can vouch for every vehicle
   if (m.node != link_.node()) return;                  // another vehicle's
   if (m.type == Type::auth) guard_.on_auth(frame);
-  else guard_.on_frame(frame, m);
+  else guard_.on_frame(frame, m, now_us);
 }
 
 std::uint32_t Vehicle::rx_rejected() const {
@@ -122,9 +125,6 @@ TickOutput Vehicle::tick(const ImuSample& imu) {
     attitude_.update(rate, accel_mps2_, dt_s);
   }
   if (resting && imu_ok_) learn_accel_bias();
-  if (mode_before == Mode::flying) track_flight_vz(dt_s);
-  else if (resting) flight_vz_mps_ = 0;
-  else flight_vz_mps_ = failsafe_vz_mps_;  // a failsafe the ground station ends goes on from there
   handle_link(now_us);
   const bool crash = detect_impact(now_us);
   supervise(crash);
@@ -273,9 +273,21 @@ void Vehicle::acknowledge(const Command& command, AckResult result, RefuseReason
 
 // A cut stream can find the vehicle moving (a catch manoeuvre descends, a throw climbs): the
 // failsafe starts from the vertical speed integrated in flight rather than from rest.
-[[gnu::always_inline]] inline void Vehicle::track_flight_vz(float dt_s) {
+// A periodic task (every kFlightVzPeriod_ticks): the acceleration is sampled at 200 Hz, plenty
+// for a speed that only seeds the failsafe, and the task table keeps it off the ticks that send
+// telemetry, which with the link guard's step are the longest.
+void Vehicle::track_flight_vz(std::uint32_t) {
+  const Mode mode = supervisor_.mode();
+  if (mode == Mode::disarmed || mode == Mode::armed || mode == Mode::landed || mode == Mode::killed) {
+    flight_vz_mps_ = 0;
+    return;
+  }
+  if (mode != Mode::flying) {
+    flight_vz_mps_ = failsafe_vz_mps_;  // a failsafe the ground station ends goes on from there
+    return;
+  }
   if (!imu_ok_) return;
-  const float h = dt_s < 0 ? 0 : (dt_s > 0.005f ? 0.005f : dt_s);
+  constexpr float h = kFlightVzPeriod_ticks * kNominalDt_s;
   flight_vz_mps_ += (up_accel_mps2() - kGravity_mps2 - flight_vz_mps_ / kFlightVzLeak_s) * h;
 }
 
@@ -373,7 +385,7 @@ void Vehicle::acknowledge(const Command& command, AckResult result, RefuseReason
 }
 
 [[gnu::always_inline]] inline void Vehicle::run_periodic_tasks(std::uint32_t now_us) {
-#pragma GCC unroll 8  // six countdowns, straight-line: a loop would cost as much as its bodies
+#pragma GCC unroll 8  // seven countdowns, straight-line: a loop would cost as much as its bodies
   for (PeriodicTask& task : tasks_) {
     if (--task.countdown_ticks != 0) continue;
     task.countdown_ticks = task.period_ticks;
@@ -388,11 +400,13 @@ void Vehicle::acknowledge(const Command& command, AckResult result, RefuseReason
   const Action action = supervisor_.action();
   if (action == Action::level_hover || action == Action::descend) {
     bool telemetry_due = false;
-    for (const PeriodicTask& task : tasks_) telemetry_due = telemetry_due || task.countdown_ticks == 1;
+    for (std::size_t i = 0; i < kTelemetryTasks; ++i)
+      telemetry_due = telemetry_due || tasks_[i].countdown_ticks == 1;
     if (telemetry_due) return;
   }
   Message verified;
-  if (guard_.verify_next(verified)) link_.on_message(verified, now_us);
+  std::uint32_t received_us = 0;
+  if (guard_.verify_next(verified, received_us)) link_.on_message(verified, received_us);
 }
 
 void Vehicle::note_tick_time_us(std::uint32_t us) {

@@ -135,12 +135,13 @@ void queue_pair() {
   asm volatile("" ::"r"(&g_frame), "r"(&g_auth) : "memory");
   pa::proto::Message m;
   (void)pa::proto::decode(g_frame, m);
-  g_guard.on_frame(g_frame, m);
+  g_guard.on_frame(g_frame, m, 0);
   g_guard.on_auth(g_auth);
 }
 __attribute__((noinline)) void step() {
   pa::proto::Message out;
-  (void)g_guard.verify_next(out);
+  std::uint32_t received_us = 0;
+  (void)g_guard.verify_next(out, received_us);
   asm volatile("" ::"r"(&out) : "memory");
 }
 }  // namespace link_auth

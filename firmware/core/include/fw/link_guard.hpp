@@ -27,14 +27,15 @@ class LinkGuard {
   explicit LinkGuard(const LinkConfig& link);
 
   // A decoded ground-to-vehicle frame addressed to this vehicle, then its AUTH (the caller routes).
-  void on_frame(const pa::proto::Frame& frame, const pa::proto::Message& decoded);
+  void on_frame(const pa::proto::Frame& frame, const pa::proto::Message& decoded, std::uint32_t received_us);
   void on_auth(const pa::proto::Frame& auth);
   // A ground frame no AUTH can vouch for (a broadcast): counted as forged.
   void on_unsigned() { bump(forged_); }
   // Once per tick: the next step of the check of one queued frame (the oldest, or the latest
   // KILL, which supersedes what came before it); true, with the decoded frame in `out`, when a
-  // check completes and holds.
-  bool verify_next(pa::proto::Message& out);
+  // check completes and holds, and when it was received in `received_us` (a setpoint is fresh
+  // from its arrival, not from the end of its check).
+  bool verify_next(pa::proto::Message& out, std::uint32_t& received_us);
 
   std::size_t queued() const { return size_; }  // frames with their AUTH, not yet verified
   std::uint32_t nonce() const { return nonce_; }
@@ -51,12 +52,13 @@ class LinkGuard {
     pa::proto::Message message;
     pa::auth::TagCheck::Words words;
     std::uint64_t tag;
+    std::uint32_t received_us;
     std::uint16_t counter_low;
   };
   void start_check();  // of the head (a KILL moved there first): the counter, the first step
   void drop_head();
   void drop(std::size_t n);  // the first n queued frames
-  bool finish_check(pa::proto::Message& out);
+  bool finish_check(pa::proto::Message& out, std::uint32_t& received_us);
   static void bump(std::uint32_t& c) {
     if (c != 0xFFFFFFFFu) ++c;
   }

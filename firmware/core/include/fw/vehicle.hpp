@@ -75,7 +75,6 @@ class Vehicle {
   bool detect_impact(std::uint32_t now_us);  // true when the impact was a crash
   void learn_accel_bias();
   float up_accel_mps2() const;
-  void track_flight_vz(float dt_s);
   void supervise(bool crash);
   void choose_setpoint(float dt_s, Vec3& rate_radps, float& thrust_mps2);
   TickOutput control_and_mix(float dt_s, const Vec3& rate_radps, float thrust_mps2);
@@ -94,6 +93,7 @@ class Vehicle {
   void send_telemetry_motors(std::uint32_t now_us);
   void send_telemetry_status(std::uint32_t now_us);
   void send_link_session(std::uint32_t now_us);
+  void track_flight_vz(std::uint32_t now_us);
 
   VehicleConfig config_;
   CommandLink link_;
@@ -104,7 +104,8 @@ class Vehicle {
   float ground_contact_us_;  // config_.supervisor.ground_contact_us, as the float it is compared in
   RateController rate_controller_;
   Mixer mixer_;
-  std::array<PeriodicTask, 6> tasks_;
+  static constexpr std::size_t kTelemetryTasks = 6;  // the first six send frames
+  std::array<PeriodicTask, kTelemetryTasks + 1> tasks_;
 
   bool started_ = false;
   std::uint32_t last_imu_us_ = 0;
