@@ -232,3 +232,33 @@ TEST_CASE("attitude estimator: gains that make no sense fall back to gyro integr
     CHECK(est.tilt_cos() == Approx(1.0f).margin(1e-6));
   }
 }
+
+TEST_CASE("attitude estimator: a tilt error known from elsewhere is removed in the inertial frame") {
+  // At rest the estimate aligns with an accelerometer biased along body x: it leans by b / g.
+  const float bias_mps2 = 0.4f;
+  AttitudeEstimator est;
+  run(est, {}, {bias_mps2, 0.0f, kG}, 5.0);
+  const double lean = std::atan2(bias_mps2, kG);
+  REQUIRE(angle(est.up_in_body(), {0.0f, 0.0f, 1.0f}) == Approx(lean).epsilon(1e-3));
+  // Then in flight (gyro only) the vehicle turns a quarter about up: the lean stays fixed in the
+  // estimated inertial frame, not in the body.
+  est.set_accel_gain(0.0f);
+  const fw::Quaternion rest = est.quaternion();
+  run(est, {0.0f, 0.0f, float(M_PI / 2.0)}, {0.0f, 0.0f, kG}, 1.0);
+  // The correction computed from the rest attitude and the bias puts up back on body z.
+  const Vec3 lean_inertial = AttitudeEstimator::rotate_to_inertial(rest, {bias_mps2 / kG, 0.0f, 0.0f});
+  est.correct_tilt({-lean_inertial[0], -lean_inertial[1], 1.0f});
+  CHECK(angle(est.up_in_body(), {0.0f, 0.0f, 1.0f}) < 2e-3 * lean);
+  CHECK(quat_norm(est.quaternion()) == Approx(1.0).margin(1e-6));
+  SECTION("the yaw is kept") {
+    const Vec3 forward = est.to_inertial({1.0f, 0.0f, 0.0f});
+    CHECK(std::atan2(forward[1], forward[0]) == Approx(M_PI / 2.0).margin(5e-3));
+  }
+  SECTION("a vector that is not finite or points down changes nothing") {
+    const fw::Quaternion before = est.quaternion();
+    est.correct_tilt({0.1f, 0.0f, -1.0f});
+    est.correct_tilt({std::numeric_limits<float>::quiet_NaN(), 0.0f, 1.0f});
+    est.correct_tilt({0.0f, 0.0f, 0.0f});
+    CHECK(est.quaternion() == before);
+  }
+}

@@ -33,7 +33,8 @@ struct Bench {
   std::uint32_t now_us = 0;
   std::uint8_t sp_seq = 0, hb_seq = 0, cmd_seq = 0;
   std::vector<Message> sent;
-  fw::Vec3 gyro_radps{};  // what the gyro reads at rest (a bias)
+  fw::Vec3 gyro_radps{};       // what the gyro reads at rest (a bias)
+  fw::Vec3 accel_bias_mps2{};  // what the accelerometer reads more than the specific force
 
   Bench() : vehicle(config) { signer.start_session(kNonce, 0); }
 
@@ -71,7 +72,7 @@ struct Bench {
     if (thrust >= 0 && now_us % 5000 == 0) setpoint(thrust);
     fw::ImuSample s;
     s.t_us = now_us;
-    s.accel_mps2 = {0, 0, accel_z};
+    s.accel_mps2 = {accel_bias_mps2[0], accel_bias_mps2[1], accel_z + accel_bias_mps2[2]};
     s.gyro_radps = gyro_radps;
     const fw::TickOutput out = vehicle.tick(s);
     Frame f;
@@ -287,6 +288,23 @@ TEST_CASE("a crash in flight stops the motors") {
   CHECK(b.vehicle.mode() == Mode::killed);
   CHECK(b.vehicle.failsafe_reason() == FailsafeReason::crash);
   CHECK_FALSE(b.tick(true, kG).motors_enabled);
+}
+
+TEST_CASE("the failsafe removes the tilt the accelerometer's bias gave the estimate at rest") {
+  // A level vehicle whose accelerometer reads 0.4 m/s^2 too much along body x: at rest its
+  // estimate leans by 2.3 degrees, which a levelled failsafe would fly.
+  Bench b;
+  b.accel_bias_mps2 = {0.4f, 0.0f, 0.0f};
+  b.settle(3000);
+  const double lean = std::atan2(0.4, kG);
+  const auto tilt = [&] { return std::acos(std::min(1.0f, b.vehicle.attitude().up_in_body()[2])); };
+  CHECK(tilt() == Approx(lean).epsilon(0.05));
+  take_off(b);
+  b.settle(6000, kG);  // held in place by the ground station: the bias is the mean body x reading
+  CHECK(tilt() == Approx(lean).epsilon(0.05));
+  for (int i = 0; i < 100; ++i) b.tick(true, -1);  // the setpoint stream stops
+  REQUIRE(b.vehicle.mode() == Mode::failsafe_hover);
+  CHECK(tilt() < 0.05 * lean);
 }
 
 TEST_CASE("the vehicle reports itself: heartbeats, telemetry and time-sync replies") {

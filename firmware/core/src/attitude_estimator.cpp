@@ -33,6 +33,19 @@ void AttitudeEstimator::reset_level() {
   aligned_ = false;
 }
 
+void AttitudeEstimator::correct_tilt(const Vec3& true_up) {
+  const float n2 = true_up[0] * true_up[0] + true_up[1] * true_up[1] + true_up[2] * true_up[2];
+  if (!(n2 > 0.0f) || !(true_up[2] > 0.0f) || !std::isfinite(n2)) return;
+  const float inv = 1.0f / std::sqrt(n2);
+  // The shortest rotation taking u onto +z, (1 + u.z, u x z), applied on the inertial side.
+  Quaternion d{1.0f + true_up[2] * inv, true_up[1] * inv, -true_up[0] * inv, 0.0f};
+  if (!normalise(d)) return;
+  const float w = q_[0], x = q_[1], y = q_[2], z = q_[3];
+  Quaternion q{d[0] * w - d[1] * x - d[2] * y, d[0] * x + d[1] * w + d[2] * z, d[0] * y - d[1] * z + d[2] * w,
+               d[0] * z + d[1] * y - d[2] * x};
+  if (normalise(q)) q_ = q;
+}
+
 void AttitudeEstimator::update(const Vec3& gyro_radps, const Vec3& accel_mps2, float dt_s) {
   if (!(nonfinite_marker(gyro_radps) + nonfinite_marker(dt_s) == 0.0f)) return;
   const float dt_clamped_s = clampf(dt_s, 0.0f, kDtMax_s);

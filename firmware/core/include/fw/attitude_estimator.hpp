@@ -46,6 +46,12 @@ class AttitudeEstimator {
   // Back to level, and align again to the next usable accelerometer sample.
   void reset_level();
 
+  // Removes a tilt error known from elsewhere: `true_up` is where inertial up truly lies,
+  // expressed in the estimated inertial frame (near +z); the estimated frame is turned so that
+  // it becomes +z, yaw unchanged to first order. A vector that is not finite or points down
+  // changes nothing.
+  void correct_tilt(const Vec3& true_up);
+
   // One IMU sample. gyro_radps: body rates; accel_mps2: specific force in the body frame.
   // The first sample with a finite accelerometer inside the gate aligns the tilt to it (zero
   // yaw) instead of integrating; until then the gyro is integrated from level.
@@ -64,6 +70,16 @@ class AttitudeEstimator {
 
   // Cosine of the tilt: the body z-axis' component along inertial up (1 level, -1 inverted).
   float tilt_cos() const { return 1.0f - 2.0f * (q_[1] * q_[1] + q_[2] * q_[2]); }
+
+  // A body vector in the estimated inertial frame.
+  Vec3 to_inertial(const Vec3& v) const { return rotate_to_inertial(q_, v); }
+  static Vec3 rotate_to_inertial(const Quaternion& q, const Vec3& v) {
+    const float w = q[0], x = q[1], y = q[2], z = q[3];
+    // v + 2 w (r x v) + 2 r x (r x v), r = (x, y, z)
+    const float cx = y * v[2] - z * v[1], cy = z * v[0] - x * v[2], cz = x * v[1] - y * v[0];
+    return {v[0] + 2.0f * (w * cx + y * cz - z * cy), v[1] + 2.0f * (w * cy + z * cx - x * cz),
+            v[2] + 2.0f * (w * cz + x * cy - y * cx)};
+  }
 
   // True once aligned to an accelerometer sample.
   bool aligned() const { return aligned_; }

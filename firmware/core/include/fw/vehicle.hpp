@@ -93,7 +93,8 @@ class Vehicle {
   void send_telemetry_motors(std::uint32_t now_us);
   void send_telemetry_status(std::uint32_t now_us);
   void send_link_session(std::uint32_t now_us);
-  void track_flight_vz(std::uint32_t now_us);
+  void track_flight(std::uint32_t now_us);
+  void correct_rest_tilt();
 
   VehicleConfig config_;
   CommandLink link_;
@@ -128,13 +129,21 @@ class Vehicle {
 
   // Failsafe vertical channel: velocity integrated from the accelerometer since the failsafe
   // began (motion capture is out of reach then), and the ground-contact detector. It starts
-  // from flight_vz_mps_, the same integral kept in flight with a leak (track_flight_vz).
+  // from flight_vz_mps_, the same integral kept in flight with a leak (track_flight).
   float failsafe_vz_mps_ = 0;
   float flight_vz_mps_ = 0;
   float ground_contact_s_ = 0;
   float accel_bias_up_mps2_ = 0;  // learnt at rest (learn_accel_bias)
   float bias_samples_ = 0;
   Vec3 gyro_bias_radps_{};  // learnt at rest with the accelerometer's, for the attitude estimate
+  // The tilt the attitude estimate took at rest from the accelerometer's x/y bias, removed when
+  // a failsafe begins (correct_rest_tilt): the attitude at rest's last periodic sample, the
+  // bias as the mean body x/y reading in flight, and whether it has been removed since rest.
+  Quaternion rest_attitude_{1.0f, 0.0f, 0.0f, 0.0f};
+  float flight_accel_x_mps2_ = 0;
+  float flight_accel_y_mps2_ = 0;
+  bool rest_tilt_corrected_ = false;
+  bool crash_kills_ = true;  // whether an impact classed a crash stops the motors (track_flight)
   pa::proto::Mode last_mode_ = pa::proto::Mode::disarmed;
 
   std::uint32_t tick_time_max_us_ = 0;
