@@ -122,7 +122,7 @@ int cmd_cuts(int argc, char** argv) {
   std::map<std::string, int> causes;
   std::map<std::string, std::pair<int, int>> phases;  // cuts, cuts with a failure
   std::vector<double> speeds, failsafe_s, levelled_s;
-  int failed_cuts = 0, vehicles_failed = 0, levelled_in_limit = 0, crashed = 0, killed = 0;
+  int failed_cuts = 0, vehicles_failed = 0, levelled_in_limit = 0, crashed = 0, killed = 0, lost_before = 0;
   for (const sil::CutResult& r : results) {
     bool failed = false;
     for (const pa::VehicleId v : pa::kActVehicles) {
@@ -149,6 +149,7 @@ int cmd_cuts(int argc, char** argv) {
         failed = true;
         ++vehicles_failed;
         ++causes[c.failure];
+        if (c.failure.rfind(sil::kLostBeforeCut, 0) == 0) ++lost_before;
       }
     }
     auto& p = phases[std::string(sil::cut_phase_name(r.phase))];
@@ -164,8 +165,11 @@ int cmd_cuts(int argc, char** argv) {
     return 1;
   }
   const int vehicles = 2 * config.cuts;
-  std::printf("cuts: %d cuts, %d vehicles: %d vehicles failed (in %d cuts), %d crashed\n", config.cuts,
-              vehicles, vehicles_failed, failed_cuts, crashed);
+  std::printf(
+      "cuts: %d cuts, %d vehicles: %d vehicles failed (in %d cuts), %d crashed; %d of the failed had been\n"
+      "  lost by the mission flown uncut before their cut (%s: tilted past 60 deg)\n",
+      config.cuts, vehicles, vehicles_failed, failed_cuts, crashed, lost_before,
+      std::string(sil::kLostBeforeCut).c_str());
   std::printf(
       "  pass: firmware in failsafe_hover within %.0f ms of its last setpoint, then levelled on truth\n"
       "  (tilt < %.0f deg, body rates < %.2f rad/s), landed with the motors off within %.0f s, no\n"

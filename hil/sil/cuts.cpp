@@ -25,6 +25,7 @@ constexpr int kVehicleFields = 15;
 // ground station takes off at once otherwise, after 45 ms on the floor.
 constexpr double kRestBeforeTakeOff_s = 2.0;
 constexpr int kCutFields = 7 + 2 * kVehicleFields;
+constexpr double kLostTilt_rad = 60.0 * M_PI / 180.0;
 
 std::string mode_name(Mode mode) {
   switch (mode) {
@@ -83,9 +84,16 @@ void fly_mission(const CutsConfig& config, const gs::runtime::Learnt& learnt, st
 std::vector<CutResult> fly_group(const CutsConfig& config, const gs::runtime::Learnt& learnt, int mission) {
   const std::uint64_t seed = attempt_seed(config.seed, mission);
   // Where each phase begins and ends (steps), from a first flight.
+  // And when the mission itself lost each vehicle (tilted past kLostTilt_rad), if it did: a
+  // vehicle tumbling before its cut is the mission's failure, not the failsafe's.
   std::array<long, kCutPhaseCount> first{}, last{};
   first.fill(-1);
-  fly_mission(config, learnt, seed, [&](long k, std::optional<CutPhase> phase, const Arena&) {
+  std::array<long, 2> lost{-1, -1};
+  fly_mission(config, learnt, seed, [&](long k, std::optional<CutPhase> phase, const Arena& arena) {
+    for (const pa::VehicleId v : pa::kActVehicles) {
+      long& at = lost[pa::act_slot(v)];
+      if (at < 0 && tilt_of(arena.plant().vehicle(v).body) > kLostTilt_rad) at = k;
+    }
     if (!phase) return;
     const auto p = static_cast<std::size_t>(*phase);
     if (first[p] < 0) first[p] = k;
@@ -116,6 +124,11 @@ std::vector<CutResult> fly_group(const CutsConfig& config, const gs::runtime::Le
       r.mission = mission;
       r.mission_seed = seed;
       r.phase = phase.value_or(CutPhase::hover);
+      for (std::size_t i = 0; i < r.vehicles.size(); ++i) {
+        std::string& failure = r.vehicles[i].failure;
+        if (!failure.empty() && lost[i] >= 0 && plan[next].first >= lost[i])
+          failure = std::string(kLostBeforeCut) + "+" + failure;
+      }
       results.push_back(r);
     }
   });

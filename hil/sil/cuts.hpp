@@ -30,6 +30,8 @@
 
 namespace hil::sil {
 
+inline constexpr std::string_view kLostBeforeCut = "lost_before_cut";
+
 enum class CutPhase : std::uint8_t { hover, balance, throwing, catching, after_catch };
 inline constexpr int kCutPhaseCount = 5;
 std::string_view cut_phase_name(CutPhase phase);
@@ -62,7 +64,10 @@ struct VehicleCut {
   bool landed = false;
   bool motors_off = false;  // every motor command zero at the end
   bool crashed = false;     // truth: touchdown speed or tilt above the limits
-  std::string failure;      // empty: passed; else the causes joined by '+'
+  // Empty: passed; else the causes joined by '+', led by kLostBeforeCut when the mission flown
+  // uncut had tilted this vehicle past 60 degrees before the cut's instant (lost by the closed
+  // loop, not by the failsafe).
+  std::string failure;
 };
 
 struct CutResult {

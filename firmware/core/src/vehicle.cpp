@@ -429,7 +429,7 @@ void Vehicle::correct_rest_tilt() {
 // One step of the link guard's check of a ground frame (fw/link_guard.hpp), so its cost is
 // bounded per tick; a frame that passes is acted on in this tick. In a failsafe (whose own law
 // makes the heaviest ticks) a tick that will also send telemetry leaves its step to the next.
-[[gnu::always_inline]] inline void Vehicle::check_ground_frame(std::uint32_t now_us) {
+[[gnu::always_inline]] inline void Vehicle::check_ground_frame(std::uint32_t) {
   const Action action = supervisor_.action();
   if (action == Action::level_hover || action == Action::descend) {
     bool telemetry_due = false;
