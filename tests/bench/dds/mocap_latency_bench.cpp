@@ -7,16 +7,31 @@
 //
 // One frame in flight at a time (the next is written once the reader has taken the previous),
 // as at 200 Hz, where 5 ms separate frames. Printed: latency_median_us, latency_p99_us.
+//
+// BM_MocapDeliveryLatencyAcrossProcesses: the same frame's trip from another process, the
+// miniature bridge dds_loopback_peer (tests/dds/loopback_peer.cpp), over UDP on 127.0.0.1 with
+// the loopback configuration: serialisation, the socket, Cyclone's receive thread, the reader's
+// wake-up. The peer stamps each frame with CLOCK_MONOTONIC, which both processes share, and
+// publishes one every millisecond; this benchmark takes one per iteration (its body is one rigid
+// body, named with the run's tag, so that another run on the host is told apart).
 #include <benchmark/benchmark.h>
+
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <string>
 #include <thread>
 #include <vector>
 
 #include "groundstation/dds/dds.hpp"
 #include "groundstation/dds/mocap_conversion.hpp"
+
+extern char** environ;
 
 namespace {
 
@@ -91,5 +106,82 @@ void BM_MocapDeliveryLatency(benchmark::State& state) {
   state.counters["frames"] = static_cast<double>(latency_us.size());
 }
 BENCHMARK(BM_MocapDeliveryLatency)->Unit(benchmark::kMicrosecond)->Iterations(20000)->UseRealTime();
+
+// Waits up to 10 s for the peer to exit, then kills it.
+void end_peer(pid_t peer) {
+  const auto end = std::chrono::steady_clock::now() + 10s;
+  int status = 0;
+  while (waitpid(peer, &status, WNOHANG) == 0) {
+    if (std::chrono::steady_clock::now() > end) {
+      kill(peer, SIGKILL);
+      waitpid(peer, &status, 0);
+      return;
+    }
+    std::this_thread::sleep_for(10ms);
+  }
+}
+
+void BM_MocapDeliveryLatencyAcrossProcesses(benchmark::State& state) {
+  gs::dds::Domain domain(121, gs::dds::loopback_config());
+  gs::dds::Participant participant(domain);
+  gs::dds::Reader<pa_arena_MocapFrame> reader(participant);
+  gs::dds::Writer<pa_arena_OperatorCommand> commands(participant);
+
+  const std::string tag = "bench" + std::to_string(getpid());
+  const std::string domain_arg = "121", sequence_arg = std::to_string(getpid()), period_arg = "1000";
+  char* const argv[] = {const_cast<char*>(PA_DDS_LOOPBACK_PEER),
+                        const_cast<char*>(domain_arg.c_str()),
+                        const_cast<char*>(tag.c_str()),
+                        const_cast<char*>(sequence_arg.c_str()),
+                        const_cast<char*>(period_arg.c_str()),
+                        const_cast<char*>("STAMP"),
+                        nullptr};
+  pid_t peer = 0;
+  if (posix_spawn(&peer, PA_DDS_LOOPBACK_PEER, nullptr, nullptr, argv, environ) != 0) {
+    state.SkipWithError("cannot start dds_loopback_peer");
+    return;
+  }
+  // Takes the run's next frame; nullptr when none came within 5 s (the first: discovery).
+  const auto next = [&]() -> const pa_arena_MocapFrame* {
+    const auto end = std::chrono::steady_clock::now() + 5s;
+    while (std::chrono::steady_clock::now() < end) {
+      const pa_arena_MocapFrame* frame = reader.wait_take(100ms);
+      if (frame != nullptr && frame->bodies._length == 1 && tag == frame->bodies._buffer[0].name)
+        return frame;
+    }
+    return nullptr;
+  };
+
+  std::vector<double> latency_us;
+  latency_us.reserve(static_cast<std::size_t>(state.max_iterations));
+  bool lost = next() == nullptr;
+  if (!lost) {
+    for (auto _ : state) {
+      const pa_arena_MocapFrame* frame = next();
+      if (frame == nullptr) {
+        lost = true;
+        break;
+      }
+      latency_us.push_back(1e-3 * static_cast<double>(steady_ns() - frame->capture_time_ns));
+    }
+  }
+  pa_arena_OperatorCommand stop{};
+  stop.kind = pa_arena_command_kill;
+  stop.sequence_number = static_cast<std::uint32_t>(getpid());
+  commands.wait_for_readers(1, 2s);
+  commands.write(stop);
+  end_peer(peer);
+  if (lost) {
+    state.SkipWithError("the peer's frames did not arrive");
+    return;
+  }
+  state.counters["latency_median_us"] = percentile(latency_us, 0.5);
+  state.counters["latency_p99_us"] = percentile(latency_us, 0.99);
+  state.counters["frames"] = static_cast<double>(latency_us.size());
+}
+BENCHMARK(BM_MocapDeliveryLatencyAcrossProcesses)
+    ->Unit(benchmark::kMicrosecond)
+    ->Iterations(3000)
+    ->UseRealTime();
 
 }  // namespace
