@@ -3,40 +3,18 @@
 // discovery on 127.0.0.1 without multicast, and samples cross in both directions: the peer's
 // best-effort mocap frames to here, a reliable operator command back. Another run on this host
 // may share the domain; this run's samples are told apart by a tag made of its process id.
-#include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <string>
-#include <thread>
 
 #include "groundstation/dds/dds.hpp"
-
-extern char** environ;
+#include "peer_process.hpp"
 
 using namespace std::chrono_literals;
 
 namespace {
 
 constexpr dds_domainid_t kDomain = 112;
-
-// Waits up to `timeout` for the child; kills it when it has not exited by then.
-int wait_exit(pid_t child, std::chrono::seconds timeout) {
-  const auto end = std::chrono::steady_clock::now() + timeout;
-  int status = 0;
-  while (waitpid(child, &status, WNOHANG) == 0) {
-    if (std::chrono::steady_clock::now() > end) {
-      kill(child, SIGKILL);
-      waitpid(child, &status, 0);
-      return -1;
-    }
-    std::this_thread::sleep_for(10ms);
-  }
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
 
 }  // namespace
 
@@ -49,12 +27,8 @@ TEST_CASE("A mocap bridge in another process is heard on loopback and hears a co
   gs::dds::Reader<pa_arena_MocapFrame> mocap(participant);
   gs::dds::Writer<pa_arena_OperatorCommand> commands(participant);
 
-  const std::string domain_arg = std::to_string(kDomain);
-  const std::string sequence_arg = std::to_string(sequence);
-  char* const argv[] = {const_cast<char*>(PA_DDS_LOOPBACK_PEER), const_cast<char*>(domain_arg.c_str()),
-                        const_cast<char*>(tag.c_str()), const_cast<char*>(sequence_arg.c_str()), nullptr};
-  pid_t child = 0;
-  REQUIRE(posix_spawn(&child, PA_DDS_LOOPBACK_PEER, nullptr, nullptr, argv, environ) == 0);
+  const pid_t child = dds_test::start_peer({std::to_string(kDomain), tag, std::to_string(sequence)});
+  REQUIRE(child > 0);
 
   // Discovery takes a few of Cyclone's SPDP rounds; the peer writes every 10 ms.
   bool heard = false;
@@ -82,5 +56,5 @@ TEST_CASE("A mocap bridge in another process is heard on loopback and hears a co
     commands.wait_for_readers(1, 5s);
     commands.write(command);
   }
-  CHECK(wait_exit(child, 25s) == 0);
+  CHECK(dds_test::wait_exit(child, 25s) == 0);
 }

@@ -32,6 +32,17 @@ struct Arena {
   Participant subscriber;
 };
 
+// A writer and a reader of T's topic in a domain of their own, matched.
+template <class T>
+struct Link {
+  explicit Link(dds_domainid_t id) : arena(id), writer(arena.publisher), reader(arena.subscriber) {
+    REQUIRE(writer.wait_for_readers(1, kWait));
+  }
+  Arena arena;
+  Writer<T> writer;
+  Reader<T> reader;
+};
+
 pa_arena_Estimate estimate(double base) {
   pa_arena_Estimate e{};
   e.position_m = {base, base + 1, base + 2};
@@ -68,10 +79,9 @@ pa_arena_Event event(std::int64_t time_ns, pa_arena_EventKind kind, std::uint8_t
 }  // namespace
 
 TEST_CASE("A mocap frame of three bodies arrives whole", "[dds]") {
-  Arena arena(101);
-  Writer<pa_arena_MocapFrame> writer(arena.publisher);
-  Reader<pa_arena_MocapFrame> reader(arena.subscriber);
-  REQUIRE(writer.wait_for_readers(1, kWait));
+  Link<pa_arena_MocapFrame> link(101);
+  auto& writer = link.writer;
+  auto& reader = link.reader;
 
   gs::estimation::MocapFrame frame;
   frame.t_s = 3.25;
@@ -100,10 +110,9 @@ TEST_CASE("A mocap frame of three bodies arrives whole", "[dds]") {
 }
 
 TEST_CASE("Vehicle telemetry arrives whole", "[dds]") {
-  Arena arena(102);
-  Writer<pa_arena_VehicleTelemetry> writer(arena.publisher);
-  Reader<pa_arena_VehicleTelemetry> reader(arena.subscriber);
-  REQUIRE(writer.wait_for_readers(1, kWait));
+  Link<pa_arena_VehicleTelemetry> link(102);
+  auto& writer = link.writer;
+  auto& reader = link.reader;
 
   pa_arena_VehicleTelemetry sent{};
   sent.vehicle = pa::kVehicle2.node();
@@ -127,10 +136,9 @@ TEST_CASE("Vehicle telemetry arrives whole", "[dds]") {
 }
 
 TEST_CASE("Pole telemetry arrives whole", "[dds]") {
-  Arena arena(103);
-  Writer<pa_arena_PoleTelemetry> writer(arena.publisher);
-  Reader<pa_arena_PoleTelemetry> reader(arena.subscriber);
-  REQUIRE(writer.wait_for_readers(1, kWait));
+  Link<pa_arena_PoleTelemetry> link(103);
+  auto& writer = link.writer;
+  auto& reader = link.reader;
 
   pa_arena_PoleTelemetry sent{};
   sent.time_ns = 5'000'000'000;
@@ -155,10 +163,9 @@ TEST_CASE("Pole telemetry arrives whole", "[dds]") {
 }
 
 TEST_CASE("An event arrives whole", "[dds]") {
-  Arena arena(104);
-  Writer<pa_arena_Event> writer(arena.publisher);
-  Reader<pa_arena_Event> reader(arena.subscriber);
-  REQUIRE(writer.wait_for_readers(1, kWait));
+  Link<pa_arena_Event> link(104);
+  auto& writer = link.writer;
+  auto& reader = link.reader;
 
   writer.write(event(42, pa_arena_event_catch_success, pa::kVehicle2.node(), "caught at 1.31 m"));
   const auto* got = reader.wait_take(kWait);
@@ -170,10 +177,9 @@ TEST_CASE("An event arrives whole", "[dds]") {
 }
 
 TEST_CASE("An operator command arrives whole", "[dds]") {
-  Arena arena(105);
-  Writer<pa_arena_OperatorCommand> writer(arena.publisher);
-  Reader<pa_arena_OperatorCommand> reader(arena.subscriber);
-  REQUIRE(writer.wait_for_readers(1, kWait));
+  Link<pa_arena_OperatorCommand> link(105);
+  auto& writer = link.writer;
+  auto& reader = link.reader;
 
   pa_arena_OperatorCommand sent{};
   sent.kind = pa_arena_command_kill;
@@ -188,10 +194,9 @@ TEST_CASE("An operator command arrives whole", "[dds]") {
 }
 
 TEST_CASE("A mocap reader keeps only the latest frame", "[dds]") {
-  Arena arena(106);
-  Writer<pa_arena_MocapFrame> writer(arena.publisher);
-  Reader<pa_arena_MocapFrame> reader(arena.subscriber);
-  REQUIRE(writer.wait_for_readers(1, kWait));
+  Link<pa_arena_MocapFrame> link(106);
+  auto& writer = link.writer;
+  auto& reader = link.reader;
 
   gs::dds::MocapMessage message;
   for (std::uint64_t n = 1; n <= 5; ++n) {
@@ -216,10 +221,9 @@ TEST_CASE("A mocap reader keeps only the latest frame", "[dds]") {
 }
 
 TEST_CASE("Vehicle telemetry keeps the latest sample of each vehicle", "[dds]") {
-  Arena arena(107);
-  Writer<pa_arena_VehicleTelemetry> writer(arena.publisher);
-  Reader<pa_arena_VehicleTelemetry> reader(arena.subscriber);
-  REQUIRE(writer.wait_for_readers(1, kWait));
+  Link<pa_arena_VehicleTelemetry> link(107);
+  auto& writer = link.writer;
+  auto& reader = link.reader;
 
   pa_arena_VehicleTelemetry t{};
   t.vehicle = pa::kVehicle1.node();

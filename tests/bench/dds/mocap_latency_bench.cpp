@@ -16,11 +16,6 @@
 // body, named with the run's tag, so that another run on the host is told apart).
 #include <benchmark/benchmark.h>
 
-#include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -28,10 +23,9 @@
 #include <thread>
 #include <vector>
 
+#include "../../dds/peer_process.hpp"
 #include "groundstation/dds/dds.hpp"
 #include "groundstation/dds/mocap_conversion.hpp"
-
-extern char** environ;
 
 namespace {
 
@@ -47,6 +41,12 @@ double percentile(std::vector<double> v, double p) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
   return v[static_cast<std::size_t>(p * static_cast<double>(v.size() - 1))];
+}
+
+void report(benchmark::State& state, const std::vector<double>& latency_us) {
+  state.counters["latency_median_us"] = percentile(latency_us, 0.5);
+  state.counters["latency_p99_us"] = percentile(latency_us, 0.99);
+  state.counters["frames"] = static_cast<double>(latency_us.size());
 }
 
 void BM_MocapDeliveryLatency(benchmark::State& state) {
@@ -101,25 +101,9 @@ void BM_MocapDeliveryLatency(benchmark::State& state) {
     state.SkipWithError("a frame did not arrive within 1 s");
     return;
   }
-  state.counters["latency_median_us"] = percentile(latency_us, 0.5);
-  state.counters["latency_p99_us"] = percentile(latency_us, 0.99);
-  state.counters["frames"] = static_cast<double>(latency_us.size());
+  report(state, latency_us);
 }
 BENCHMARK(BM_MocapDeliveryLatency)->Unit(benchmark::kMicrosecond)->Iterations(20000)->UseRealTime();
-
-// Waits up to 10 s for the peer to exit, then kills it.
-void end_peer(pid_t peer) {
-  const auto end = std::chrono::steady_clock::now() + 10s;
-  int status = 0;
-  while (waitpid(peer, &status, WNOHANG) == 0) {
-    if (std::chrono::steady_clock::now() > end) {
-      kill(peer, SIGKILL);
-      waitpid(peer, &status, 0);
-      return;
-    }
-    std::this_thread::sleep_for(10ms);
-  }
-}
 
 void BM_MocapDeliveryLatencyAcrossProcesses(benchmark::State& state) {
   gs::dds::Domain domain(121, gs::dds::loopback_config());
@@ -128,16 +112,8 @@ void BM_MocapDeliveryLatencyAcrossProcesses(benchmark::State& state) {
   gs::dds::Writer<pa_arena_OperatorCommand> commands(participant);
 
   const std::string tag = "bench" + std::to_string(getpid());
-  const std::string domain_arg = "121", sequence_arg = std::to_string(getpid()), period_arg = "1000";
-  char* const argv[] = {const_cast<char*>(PA_DDS_LOOPBACK_PEER),
-                        const_cast<char*>(domain_arg.c_str()),
-                        const_cast<char*>(tag.c_str()),
-                        const_cast<char*>(sequence_arg.c_str()),
-                        const_cast<char*>(period_arg.c_str()),
-                        const_cast<char*>("STAMP"),
-                        nullptr};
-  pid_t peer = 0;
-  if (posix_spawn(&peer, PA_DDS_LOOPBACK_PEER, nullptr, nullptr, argv, environ) != 0) {
+  const pid_t peer = dds_test::start_peer({"121", tag, std::to_string(getpid()), "1000", "STAMP"});
+  if (peer <= 0) {
     state.SkipWithError("cannot start dds_loopback_peer");
     return;
   }
@@ -170,14 +146,12 @@ void BM_MocapDeliveryLatencyAcrossProcesses(benchmark::State& state) {
   stop.sequence_number = static_cast<std::uint32_t>(getpid());
   commands.wait_for_readers(1, 2s);
   commands.write(stop);
-  end_peer(peer);
+  dds_test::wait_exit(peer, 10s);
   if (lost) {
     state.SkipWithError("the peer's frames did not arrive");
     return;
   }
-  state.counters["latency_median_us"] = percentile(latency_us, 0.5);
-  state.counters["latency_p99_us"] = percentile(latency_us, 0.99);
-  state.counters["frames"] = static_cast<double>(latency_us.size());
+  report(state, latency_us);
 }
 BENCHMARK(BM_MocapDeliveryLatencyAcrossProcesses)
     ->Unit(benchmark::kMicrosecond)
