@@ -144,7 +144,10 @@ TEST_CASE("Pole telemetry arrives whole", "[dds]") {
   sent.time_ns = 5'000'000'000;
   sent.estimate_valid = true;
   sent.mode = pa_arena_pole_free;
-  sent.estimate = estimate(-2.0);
+  sent.estimate.position_m = {0.1, 0.2, 2.5};
+  sent.estimate.velocity_mps = {1.0, 0.0, 3.0};
+  sent.estimate.direction = {0.0, 0.6, 0.8};
+  sent.estimate.rate_radps = {0.5, -2.0, 1.5};
   sent.catch_predicted = true;
   sent.catch_time_ns = 5'600'000'000;
   sent.catch_point_m = {1.0, 0.1, 1.3};
@@ -155,7 +158,10 @@ TEST_CASE("Pole telemetry arrives whole", "[dds]") {
   REQUIRE(got != nullptr);
   CHECK(got->time_ns == sent.time_ns);
   CHECK(got->mode == pa_arena_pole_free);
-  check_equal(got->estimate, sent.estimate);
+  check_equal(got->estimate.position_m, sent.estimate.position_m);
+  check_equal(got->estimate.velocity_mps, sent.estimate.velocity_mps);
+  check_equal(got->estimate.direction, sent.estimate.direction);
+  check_equal(got->estimate.rate_radps, sent.estimate.rate_radps);
   CHECK(got->catch_predicted);
   CHECK(got->catch_time_ns == sent.catch_time_ns);
   check_equal(got->catch_point_m, sent.catch_point_m);
