@@ -13,8 +13,8 @@
 //   pa_operator_commands  reliable, keep last 16, volatile: a command must arrive, but a ground
 //                         station that (re)starts must never act on a command sent before it ran.
 //
-// Threads and clocks stay here, at the edge: the ground station's libraries see converted values
-// (mocap_conversion.hpp). Reading allocates nothing per sample once a reader's sample holds the
+// Sockets and waits stay here, at the edge: the ground station's libraries see converted values
+// (mocap_conversion.hpp, telemetry_conversion.hpp). Reading allocates nothing per sample once a reader's sample holds the
 // largest sequence it has seen; writing allocates only what Cyclone does to serialise.
 #pragma once
 

@@ -226,6 +226,26 @@ TEST_CASE("A mocap reader keeps only the latest frame", "[dds]") {
   CHECK(taken == 1);
 }
 
+TEST_CASE("A mocap reader takes into the same sequence buffer frame after frame", "[dds]") {
+  // No heap churn per frame: Cyclone allocates the reader's sequence on the first frame and
+  // reuses it for frames of no more bodies.
+  Link<pa_arena_MocapFrame> link(113);
+  gs::dds::MocapMessage message;
+  gs::dds::mocap_frame_to_dds(gs::estimation::MocapFrame{}, 1, message);
+  link.writer.write(message.message());
+  const pa_arena_MocapFrame* first = link.reader.wait_take(kWait);
+  REQUIRE(first != nullptr);
+  const pa_arena_RigidBody* buffer = first->bodies._buffer;
+  for (std::uint64_t n = 2; n <= 4; ++n) {
+    gs::dds::mocap_frame_to_dds(gs::estimation::MocapFrame{}, n, message);
+    link.writer.write(message.message());
+    const pa_arena_MocapFrame* got = link.reader.wait_take(kWait);
+    REQUIRE(got != nullptr);
+    CHECK(got->frame_number == n);
+    CHECK(got->bodies._buffer == buffer);
+  }
+}
+
 TEST_CASE("Vehicle telemetry keeps the latest sample of each vehicle", "[dds]") {
   Link<pa_arena_VehicleTelemetry> link(107);
   auto& writer = link.writer;
