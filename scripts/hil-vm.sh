@@ -201,10 +201,13 @@ awk -v dir="$work/out" '
   /^PA-FILE-BEGIN /{name=$2; file=dir "/" name ".gz.b64"; printf "" > file; next}
   /^PA-FILE-END/{close(file); file=""; next}
   file != ""{print >> file}' "$console"
+brought=()
 for b in "$work/out"/*.gz.b64; do
   [ -e "$b" ] || continue
   base64 -d "$b" | gunzip >"${b%.gz.b64}" && rm "$b"
+  brought+=("$(basename "${b%.gz.b64}")")
 done
+echo "hil-vm: brought back: ${brought[*]:-nothing}"
 
 result=$(grep -oE '^PA-HIL-RESULT exit=[0-9]+' "$console" | tail -n1 | cut -d= -f2 || true)
 if [ -z "$result" ]; then
