@@ -3,8 +3,10 @@
 # fw_vehicle on SocketCAN bus vcan1, driven and checked by hil_can_probe (clean, flooded with
 # malformed frames, clean again), the bus recorded by candump in its log format (replayable with
 # canplayer). Then fw_vehicle must still be running, stop cleanly on SIGTERM and report the
-# malformed frames it rejected. Needs in $PA_FILES: fw_vehicle, hil_can_probe, test_link.key,
-# candump. Writes to $PA_OUT: candump.log, fw_vehicle.txt, probe.txt.
+# malformed frames it rejected. Beside the probe, cansend puts frames outside the protocol on the
+# bus (extended identifiers, remote requests), which only a real SocketCAN bus carries and the
+# port must skip. Needs in $PA_FILES: fw_vehicle, hil_can_probe, test_link.key, candump, cansend.
+# Writes to $PA_OUT: candump.log, fw_vehicle.txt, probe.txt.
 set -u
 bus=vcan1
 files=$PA_FILES
@@ -26,9 +28,25 @@ until grep -q "waiting for HIL_IMU" "$out/fw_vehicle.txt" 2>/dev/null; do
   sleep 0.1
 done
 
+others=200
+(
+  i=0
+  while [ $i -lt $others ]; do
+    "$files/cansend" "$bus" "$(printf '1%07X' $i)#DEADBEEF"   # 29-bit identifier
+    "$files/cansend" "$bus" "$(printf '%03X' $((i * 11 % 2048)))#R"  # remote request
+    i=$((i + 1))
+  done
+) &
+sender=$!
 "$files/hil_can_probe" --can "$bus" --node 1 "$@" >"$out/probe.txt" 2>&1
 probe=$?
 cat "$out/probe.txt"
+if wait $sender; then
+  echo "scenario: cansend put $others extended-identifier and $others remote-request frames on $bus"
+else
+  echo "scenario: FAIL: cansend failed"
+  probe=1
+fi
 
 rc=0
 [ $probe -eq 0 ] || rc=1
