@@ -62,7 +62,12 @@ if [ "$native" -eq 1 ]; then
       ip link add dev "vcan$n" type vcan ||
         { echo "hil-vm: error: cannot create vcan$n: this kernel has no vcan (leave out --native to run in QEMU)" >&2; exit 1; }
     fi
-    [ "$(id -u)" -ne 0 ] || ip link set up "vcan$n"
+    if [ "$(id -u)" -eq 0 ]; then
+      ip link set up "vcan$n"
+    elif ! ip -o link show "vcan$n" | grep -q '[<,]UP[,>]'; then
+      echo "hil-vm: error: bus vcan$n is down; raise it as root: sudo ip link set up vcan$n" >&2
+      exit 1
+    fi
   done
   rm -rf "$work/files"
   mkdir -p "$work/files"
@@ -86,9 +91,9 @@ skip() {
 qemu=$(command -v qemu-system-x86_64) || skip "qemu-system-x86_64 not found (Debian: qemu-system-x86)"
 kernel=
 for k in /boot/vmlinuz-*; do
-  [ -r "$k" ] && [ -d "/lib/modules/${k#/boot/vmlinuz-}/kernel/net/can" ] && kernel=$k
+  [ -r "$k" ] && [ -f "/lib/modules/${k#/boot/vmlinuz-}/modules.dep" ] && kernel=$k
 done
-[ -n "$kernel" ] || skip "no readable /boot/vmlinuz-* with CAN modules in /lib/modules (Debian: linux-image-amd64)"
+[ -n "$kernel" ] || skip "no readable /boot/vmlinuz-* with its modules in /lib/modules (Debian: linux-image-amd64)"
 version=${kernel#/boot/vmlinuz-}
 modules=/lib/modules/$version
 busybox=$(command -v busybox) || skip "busybox not found (Debian: busybox-static)"
@@ -110,10 +115,14 @@ done
 module_order=()
 add_module() {
   local name=$1 line path dep i m
-  line=$(grep -E "(^|/)$name\.ko(\.xz|\.zst|\.gz)?:" "$modules/modules.dep") ||
-    { echo "hil-vm: error: module $name not in $modules/modules.dep" >&2; exit 1; }
+  if ! line=$(grep -E "(^|/)$name\.ko(\.xz|\.zst|\.gz)?:" "$modules/modules.dep"); then
+    grep -qE "(^|/)$name\.ko\$" "$modules/modules.builtin" 2>/dev/null && return 0  # built into the kernel
+    echo "hil-vm: error: module $name not in $modules/modules.dep" >&2
+    exit 1
+  fi
   path=${line%%:*}
-  local deps=(${line#*:})
+  local deps
+  read -r -a deps <<<"${line#*:}"
   for ((i = ${#deps[@]} - 1; i >= 0; --i)); do
     dep=$(basename "${deps[$i]}")
     add_module "${dep%%.ko*}"

@@ -23,6 +23,7 @@ until grep -q "waiting for HIL_IMU" "$out/fw_vehicle.txt" 2>/dev/null; do
   if [ $n -gt 100 ] || ! kill -0 $vehicle 2>/dev/null; then
     echo "scenario: FAIL: fw_vehicle did not start:"
     cat "$out/fw_vehicle.txt"
+    kill $dump $vehicle 2>/dev/null  # on a laptop's buses, leave nothing running
     exit 1
   fi
   sleep 0.1
