@@ -1,7 +1,7 @@
 # The front door (as PX4 does): wraps the CMake presets for people who just want to build,
 # try and test. `make demo` and `make test` install what is missing on Debian 12 first.
 .PHONY: all deps host host-sanitize firmware cortex-m4 stm32f405 demo test test-host test-sanitize \
-        test-firmware test-fuzz fuzz-build fuzz bench flash clean help
+        test-firmware test-fuzz fuzz-build fuzz hil bench flash clean help
 
 JOBS ?= $(shell nproc)
 # make flash: the HIL image; make flash BOARD=omnibusf4: the flight image (DShot600);
@@ -15,6 +15,7 @@ all: host firmware
 help:
 	@echo "make demo       install what is missing, build, fly the firmware self-test (host and Cortex-M4 in QEMU)"
 	@echo "make test       install what is missing, build every preset, run every test"
+	@echo "make hil        run the HIL tests on virtual CAN (fw_vehicle on SocketCAN, in a QEMU guest; docs/hil.md)"
 	@echo "make bench      run the benchmarks (bench_firmware, bench_planning, ...)"
 	@echo "make fuzz       run every libFuzzer target FUZZ_SECONDS (default 600) on its corpus (tests/fuzz)"
 	@echo "make firmware   build the Cortex-M4 images (mps2-an386, the stm32f405 HIL and flight images)"
@@ -52,6 +53,11 @@ demo: host firmware
 
 test-host: host
 	ctest --preset host
+
+# The HIL tests on virtual CAN (label hil; make test-host runs them too): the real fw_vehicle on
+# SocketCAN, in a QEMU guest with Debian's kernel (scripts/hil-vm.sh, docs/hil.md).
+hil: host
+	ctest --preset host -L hil
 
 test-sanitize: host-sanitize
 	ctest --preset host-sanitize
