@@ -68,6 +68,8 @@ class PoleFreeFlightEkf {
   PoleCovariance pole_covariance() const { return p_.topLeftCorner<12, 12>(); }
   double last_nis() const { return last_nis_; }
   const PoleFreeFlightEkfParams& params() const { return params_; }
+  // The pole's half length L learnt from motion capture (pole_length.hpp).
+  void set_pole_half_length(double half_length_m) { params_.pole.half_length_m = half_length_m; }
   // The model with the drag coefficients scaled by the current k (for predictions elsewhere).
   model::PoleParams scaled_model() const;
 

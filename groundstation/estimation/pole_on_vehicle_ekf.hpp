@@ -77,6 +77,8 @@ class PoleOnVehicleEkf {
   double direction_sign() const { return sign_; }
   double last_nis() const { return last_nis_; }
   const PoleOnVehicleEkfParams& params() const { return params_; }
+  // The pole's half length L learnt from motion capture (pole_length.hpp).
+  void set_pole_half_length(double half_length_m) { params_.pole.half_length_m = half_length_m; }
 
   model::PoleOnVehicleState pole() const { return {x_(kA), x_(kB), x_(kAdot), x_(kBdot)}; }
   Eigen::Vector2d offset_m() const { return x_.segment<2>(kOx); }

@@ -27,6 +27,11 @@ int slot_of_mode(PoleMode mode) {
   return v ? static_cast<int>(pa::act_slot(*v)) : -1;
 }
 
+PoleLengthParams with_nominal(PoleLengthParams params, double nominal_m) {
+  params.nominal_m = nominal_m;
+  return params;
+}
+
 }  // namespace
 
 std::string_view switch_reason_name(SwitchReason reason) {
@@ -49,6 +54,7 @@ StateEstimator::StateEstimator(const StateEstimatorConfig& config)
       free_(config.free_flight),
       on_{PoleOnVehicleEkf(config.on_vehicle), PoleOnVehicleEkf(config.on_vehicle)},
       selector_(config.selector),
+      pole_length_(with_nominal(config.pole_length, config.on_vehicle.pole.half_length_m)),
       vehicle_health_{BodyHealthTracker(kVehicleNisGate), BodyHealthTracker(kVehicleNisGate)},
       pole_health_(kPoleNisGate) {}
 
@@ -320,6 +326,22 @@ void StateEstimator::update(const MocapFrame& frame) {
   } else {
     update_pole(m);
   }
+  if (config_.learn_pole_length) learn_pole_length(frame);
+}
+
+void StateEstimator::learn_pole_length(const MocapFrame& frame) {
+  const int i = slot_of_mode(selector_.active());
+  if (i < 0 || !frame.vehicle[i]) return;
+  const std::optional<double> sample = pole_half_length_sample(
+      *frame.vehicle[i], *frame.pole, config_.vehicle.plate_height_m, config_.pole_length);
+  if (!sample || !pole_length_.add(*sample)) return;
+  const std::optional<double> learnt = pole_length_.learnt();
+  // A tenth of a millimetre changes nothing the filters could tell; skip the copies.
+  if (!learnt || std::abs(*learnt - config_.on_vehicle.pole.half_length_m) < 1e-4) return;
+  config_.on_vehicle.pole.half_length_m = *learnt;
+  config_.free_flight.pole.half_length_m = *learnt;
+  free_.set_pole_half_length(*learnt);
+  for (PoleOnVehicleEkf& filter : on_) filter.set_pole_half_length(*learnt);
 }
 
 void StateEstimator::initialise_pole(const PoleMeasurement& m, SwitchReason reason) {

@@ -42,6 +42,7 @@
 #include "groundstation/estimation/mocap_pose.hpp"
 #include "groundstation/estimation/mode_selector.hpp"
 #include "groundstation/estimation/pole_free_flight_ekf.hpp"
+#include "groundstation/estimation/pole_length.hpp"
 #include "groundstation/estimation/pole_mode.hpp"
 #include "groundstation/estimation/pole_mode_conversion.hpp"
 #include "groundstation/estimation/pole_on_vehicle_ekf.hpp"
@@ -55,6 +56,11 @@ struct StateEstimatorConfig {
   PoleOnVehicleEkfParams on_vehicle;
   ModeSelectorParams selector;
   PlateContactGate candidate_gate;  // where an on-vehicle candidate is seeded at all
+  // The pole's half length learnt while it rests on a plate (pole_length.hpp), in force in the
+  // filters from the moment it is learnt; false: the configured L throughout. The learner's
+  // nominal is the configured L.
+  bool learn_pole_length = true;
+  PoleLengthParams pole_length;
   // After a switch the innovations do not switch again for this long: a freshly seeded filter's
   // innovations are unreliable while it converges (e.g. through a compliant plate's first
   // tens of milliseconds after an impact). Physical evidence still switches at once.
@@ -174,6 +180,7 @@ class StateEstimator {
     return on_[pa::act_slot(vehicle)];
   }
   const ModeSelector& selector() const { return selector_; }
+  const PoleLengthLearner& pole_length() const { return pole_length_; }
   const StateEstimatorConfig& config() const { return config_; }
 
  private:
@@ -199,6 +206,7 @@ class StateEstimator {
   void reseed_candidates();
   void initialise_pole(const PoleMeasurement& m, SwitchReason reason);
   void update_pole(const PoleMeasurement& m);
+  void learn_pole_length(const MocapFrame& frame);
   bool impact_report_pending(int index) const;
 
   StateEstimatorConfig config_;
@@ -213,6 +221,7 @@ class StateEstimator {
   std::array<PoleOnVehicleEkf, 2> on_;
   std::array<bool, 2> on_candidate_valid_{};
   ModeSelector selector_;
+  PoleLengthLearner pole_length_;
   double drag_scale_ = 1.0;  // seed of k at the next launch
   double mode_since_s_ = 0.0;
   double last_switch_detected_s_ = -1e300;

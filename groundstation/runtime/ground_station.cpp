@@ -186,7 +186,7 @@ std::uint32_t GroundStation::conditions(const Vehicle& v, double now_s) const {
   if (holding && last_pole_pose_ && estimated) {
     const estimation::PlateKinematics plate = estimator_.plate(v.id);
     const Eigen::Vector3d n = last_pole_pose_->q * Eigen::Vector3d::UnitZ();
-    const double L = config_.estimator.free_flight.pole.half_length_m;
+    const double L = estimator_.pole_model().half_length_m;
     const Eigen::Vector3d a = last_pole_pose_->p_m + L * n, b = last_pole_pose_->p_m - L * n;
     pole_at_plate = std::min((a - plate.p_m).norm(), (b - plate.p_m).norm()) < 0.08;
   }
@@ -386,7 +386,7 @@ std::optional<model::VehicleInput> GroundStation::control(Vehicle& v, double now
   const estimation::VehicleEstimate e = ahead_->vehicle(v.id);
   const estimation::PoleEstimate pole = ahead_->pole();
   const estimation::PlateKinematics plate = ahead_->plate(v.id);
-  const double L = config_.estimator.free_flight.pole.half_length_m;
+  const double L = ahead_->pole_model().half_length_m;
   const Eigen::Vector3d plate_offset = pa::kPlateHeightAboveCg_m * Eigen::Vector3d::UnitZ();
 
   switch (task) {
@@ -626,7 +626,7 @@ void GroundStation::update_catch_target(double now_s) {
   const Task task = catcher.sequencer.task();
   if (task != Task::wait && task != Task::catching) return;
   const estimation::PoleEstimate pole = estimator_.pole();
-  const double L = config_.estimator.free_flight.pole.half_length_m;
+  const double L = estimator_.pole_model().half_length_m;
   const Eigen::Vector2d start_xy = current_.waiting_xy_m;
   const bool flying = pole.valid && pole.mode == estimation::PoleMode::free && current_.launch_s;
   const double height = current_.catch_height_m;

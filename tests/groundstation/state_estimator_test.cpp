@@ -212,6 +212,39 @@ TEST_CASE("no mode switch during a balanced hover", "[estimation]") {
   CHECK(max_error < 0.005);
 }
 
+TEST_CASE("the pole's half length is learnt while it is balanced, and used by the filters", "[estimation]") {
+  WorldParams world;
+  world.pole_half_length_m = pa::kPoleHalfLength_m - 0.013;  // 2 % short of the configured L
+  const Recording rec = estimation_test::record_balanced_hover(world, 11, 3.0);
+  REQUIRE_FALSE(rec.launch_t);
+  StateEstimatorConfig config = estimator_for(world);
+  REQUIRE(config.on_vehicle.pole.half_length_m == pa::kPoleHalfLength_m);
+  StateEstimator learning(config);
+  run(rec, learning);
+  config.learn_pole_length = false;
+  StateEstimator fixed(config);
+  run(rec, fixed);
+  const double learnt = learning.pole_model().half_length_m;
+  std::printf(
+      "pole length learnt in a 3 s balanced hover: L %.2f mm (true %.2f, configured %.2f), %d samples\n",
+      1e3 * learnt, 1e3 * world.pole_half_length_m, 1e3 * pa::kPoleHalfLength_m,
+      learning.pole_length().samples());
+  CHECK(learnt == Approx(world.pole_half_length_m).margin(0.001));
+  CHECK(learning.on_vehicle_filter(pa::kVehicle1).params().pole.half_length_m == learnt);
+  CHECK(learning.mode() == PoleMode::on_vehicle1);
+  // Switches once L is learnt (within the first second; before, on a wrong L, the on-vehicle
+  // filter's innovations call a free pole every few frames).
+  const auto late_switches = [](const StateEstimator& e) {
+    int n = 0;
+    for (const gs::estimation::ModeSwitch& s : e.recent_switches()) n += s.detected_t_s > 1.0 ? 1 : 0;
+    return n;
+  };
+  std::printf("mode switches after 1 s: %d learning, %d on the configured L\n", late_switches(learning),
+              late_switches(fixed));
+  CHECK(late_switches(learning) == 0);
+  CHECK(fixed.pole_model().half_length_m == pa::kPoleHalfLength_m);
+}
+
 TEST_CASE("the catch point is within 2 cm 0.1 s after launch (true drag)", "[estimation]") {
   double worst = 0.0;
   for (unsigned seed = 1; seed <= 5; ++seed) {
