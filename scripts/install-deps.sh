@@ -16,6 +16,8 @@ packages=(
   # Debian's kernel and its CAN modules, a static busybox for the initramfs, candump
   qemu-system-x86 linux-image-amd64 busybox-static can-utils
   python3 python3-matplotlib
+  # the report's check in a browser (tests/report/check_report.py --chromium)
+  chromium
 )
 
 missing=()

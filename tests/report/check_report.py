@@ -1,12 +1,14 @@
 #!/usr/bin/env python3
 """Checks a report written by hil/report/make_report.py (docs/report.md), as the ctests hil_*_report do.
 
-usage: check_report.py [--figures a,b,...] [--animation N] [--copy FILE...] DIR [-- COMMAND...]
+usage: check_report.py [--figures a,b,...] [--animation N] [--chromium PNG] [--copy FILE...] DIR [-- COMMAND...]
 
 With `-- COMMAND...` empties DIR, copies each --copy FILE into it and runs the command (it must exit 0 and say where it wrote the report). Then checks that
 DIR/report.html exists, holds each named figure as an inline PNG that decodes (signature, IHDR, IEND) and is the
 same as DIR/fig_<name>.png, and, with --animation N, that the animation data parses as JSON with N attempts whose
-frames carry both vehicles, both plates and both pole ends as finite numbers. Prints 'N passed, M failed'.
+frames carry both vehicles, both plates and both pole ends as finite numbers. With --chromium PNG, opens the page in
+headless Chromium (Debian's chromium): its screenshot, saved to PNG, is not blank, and with --animation the player ran
+in the browser (its label shows a frame's time). Prints 'N passed, M failed'.
 """
 
 import argparse
@@ -19,6 +21,7 @@ import shutil
 import struct
 import subprocess
 import sys
+import tempfile
 import zlib
 
 passed, failed = 0, 0
@@ -53,6 +56,46 @@ def png_ok(data):
     return bool(chunks) and chunks[0] == b"IHDR" and chunks[-1] == b"IEND" and b"IDAT" in chunks
 
 
+def chromium_command():
+    for name in (os.environ.get("PA_CHROMIUM", ""), "chromium", "chromium-browser"):
+        if name and shutil.which(name):
+            return [shutil.which(name), "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
+                    "--virtual-time-budget=3000"]
+    return None
+
+
+def check_in_chromium(page, screenshot, animation):
+    """The page as a person sees it: Chromium's screenshot of the whole report is not blank, and the player ran."""
+    command = chromium_command()
+    if not check(command is not None, "Chromium is installed (Debian package chromium; scripts/install-deps.sh)"):
+        return
+    url = "file://" + os.path.abspath(page)
+    # A profile of its own: two checks at once (ctest -j) must not share Chromium's profile lock.
+    with tempfile.TemporaryDirectory() as profile:
+        command.append("--user-data-dir=" + profile)
+        shot = subprocess.run(command + ["--window-size=1280,8000", "--screenshot=" + screenshot, url],
+                              stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, timeout=120)
+        dom = subprocess.run(command + ["--dump-dom", url], stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
+                             text=True, timeout=120)
+    if not check(shot.returncode == 0 and os.path.isfile(screenshot), f"Chromium took a screenshot ({shot.stderr[-500:]})"):
+        return
+    data = open(screenshot, "rb").read()
+    check(png_ok(data), f"{screenshot} is a valid PNG")
+    try:
+        from PIL import Image
+    except ImportError:
+        check(False, "python3-pil (a dependency of python3-matplotlib) reads the screenshot")
+        return
+    image = Image.open(screenshot).convert("RGB")
+    colours = image.getcolors(maxcolors=1 << 24)
+    drawn = sum(n for n, c in colours if c != (255, 255, 255)) / (image.width * image.height)
+    check(len(colours) > 100 and drawn > 0.02,
+          f"the screenshot is not blank ({len(colours)} colours, {100 * drawn:.1f}% of it not white)")
+    if animation:
+        check(dom.returncode == 0 and re.search(r"id=\"anim-label\">t = [0-9.]+ s", dom.stdout) is not None,
+              "the animation player ran in Chromium (its label shows a frame's time)")
+
+
 def main():
     argv = sys.argv[1:]
     command = []
@@ -64,6 +107,7 @@ def main():
     p.add_argument("--figures", default="")
     p.add_argument("--animation", type=int, default=0)
     p.add_argument("--copy", action="append", default=[])
+    p.add_argument("--chromium", metavar="PNG", default="")
     a = p.parse_args(argv)
     if command:
         shutil.rmtree(a.dir, ignore_errors=True)
@@ -110,6 +154,8 @@ def main():
                 check(at["tasks"] and all(len(t) == 3 for t in at["tasks"]), f"attempt {at['attempt']}: the tasks")
         check("anim-side" in text and "anim-top" in text and "requestAnimationFrame" in text,
               "the player draws side and top views")
+    if a.chromium:
+        check_in_chromium(path, a.chromium, a.animation)
     print(f"{passed} passed, {failed} failed")
     return 1 if failed else 0
 
