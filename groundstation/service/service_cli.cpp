@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <iostream>
@@ -128,7 +129,8 @@ int cmd_run(int argc, char** argv) {
     pa::proto::Frame frame;
     while (g_stop == 0) {
       const double wait_s = next_step_s - monotonic_s();
-      const int timeout_ms = wait_s > 0.0 ? static_cast<int>(wait_s * 1000.0) : 0;
+      // Rounded up: a wait cut to 0 ms would spin on the socket until the step is due.
+      const int timeout_ms = wait_s > 0.0 ? static_cast<int>(std::ceil(wait_s * 1000.0)) : 0;
       if (bus.read(frame, timeout_ms)) {
         process.on_frame(frame, monotonic_s());
         continue;  // drain the socket before stepping
