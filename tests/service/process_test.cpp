@@ -1,7 +1,7 @@
 // The ground station's process core (groundstation/service/process.hpp) with an in-memory CAN
 // bus and real Cyclone DDS kept inside this process: operator commands and their answers, KILL on
-// the bus, motion capture in, telemetry out. Each test case has its own domain id (122-126); every
-// wait is bounded.
+// the bus, motion capture in, telemetry and events out. Each test case has its own domain id
+// (122-126, 129); every wait is bounded.
 #include "groundstation/service/process.hpp"
 
 #include <catch2/catch.hpp>
@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "groundstation/dds/mocap_conversion.hpp"
+#include "groundstation/service/status_view.hpp"
 
 using namespace std::chrono_literals;
 using gs::service::Process;
@@ -239,6 +240,27 @@ TEST_CASE("Telemetry is published at its rate, for both vehicles and the pole") 
   REQUIRE(p != nullptr);
   CHECK_FALSE(p->estimate_valid);
   CHECK_FALSE(p->catch_predicted);
+}
+
+TEST_CASE("A vehicle heard, then silent, is announced back and then lost; its failsafe is announced") {
+  Rig rig(129);
+  gs::dds::Reader<pa_arena_Event> events(rig.console_side);
+  REQUIRE(events.wait_for_writers(1, kWait));
+  pa::proto::Frame heartbeat;
+  REQUIRE(pa::proto::encode(pa::proto::VehicleHeartbeat{500, pa::proto::Mode::failsafe_hover, 0, 0,
+                                                        pa::proto::FailsafeReason::heartbeat_lost, 0},
+                            2, heartbeat));
+  rig.process.on_frame(heartbeat, rig.now_s);
+  rig.process.step(rig.now_s);
+  rig.process.step(rig.now_s + 1.0);  // past the link's vehicle timeout (0.2 s)
+
+  std::vector<std::string> lines;
+  for (const pa_arena_Event* e = events.wait_take(kWait); e != nullptr; e = events.wait_take(100ms))
+    if (e->vehicle == 2) lines.push_back(gs::service::event_kind_name(e->kind) + ": " + e->detail);
+  REQUIRE(lines.size() == 3);
+  CHECK(lines[0] == "vehicle back: first heartbeat");
+  CHECK(lines[1].rfind("failsafe: the vehicle reports failsafe reason", 0) == 0);
+  CHECK(lines[2] == "vehicle lost: no heartbeat");
 }
 
 TEST_CASE("Operator command names round-trip, and the answer prefix is what op looks for") {
