@@ -131,11 +131,11 @@ int cmd_run(int argc, char** argv) {
       const double wait_s = next_step_s - monotonic_s();
       // Rounded up: a wait cut to 0 ms would spin on the socket until the step is due.
       const int timeout_ms = wait_s > 0.0 ? static_cast<int>(std::ceil(wait_s * 1000.0)) : 0;
+      // One frame per turn, then the step if it is due: a busy bus delays a step by one frame's
+      // handling at most, never starves it.
       if (bus.read(frame, timeout_ms)) {
         process.on_frame(frame, monotonic_s());
-        continue;  // drain the socket before stepping
-      }
-      if (bus.failed()) {
+      } else if (bus.failed()) {
         std::fprintf(stderr, "groundstation run: error: %s\n", bus.message());
         std::fputs(process.summary().c_str(), stdout);
         return 1;
