@@ -27,6 +27,7 @@ struct StatusView {
   std::deque<EventLine> events;  // oldest first
 
   bool has_telemetry() const { return pole || vehicles[0] || vehicles[1]; }
+  bool has_all_telemetry() const { return pole && vehicles[0] && vehicles[1]; }
   void add(const pa_arena_VehicleTelemetry& telemetry);  // other vehicles than the act's are ignored
   void add(const pa_arena_Event& event);
 };

@@ -46,6 +46,7 @@ bool contains(const std::string& text, const std::string& part) {
 TEST_CASE("Nothing heard: each vehicle and the pole say so") {
   const StatusView view;
   CHECK_FALSE(view.has_telemetry());
+  CHECK_FALSE(view.has_all_telemetry());
   const std::string text = render_status(view);
   CHECK(contains(text, "vehicle 1  no telemetry"));
   CHECK(contains(text, "vehicle 2  no telemetry"));
@@ -73,6 +74,7 @@ TEST_CASE("Vehicles, the pole in flight with its catch prediction, and the lates
   view.add(event(9'000'000'000, pa_arena_event_command_accepted, 0, "command 3: throw: attempt 1"));
 
   REQUIRE(view.has_telemetry());
+  CHECK(view.has_all_telemetry());
   const std::string text = render_status(view);
   CHECK(contains(text, "vehicle 1  link up"));
   CHECK(contains(text, "vehicle 2  link LOST"));
@@ -95,6 +97,8 @@ TEST_CASE("Values out of range are shown as numbers, not indexed past a table") 
   t.vehicle_mode = 99;
   t.estimate_valid = false;
   view.add(t);
+  CHECK(view.has_telemetry());
+  CHECK_FALSE(view.has_all_telemetry());  // vehicle 2 and the pole not heard
   view.add(event(0, static_cast<pa_arena_EventKind>(50), 0, "?"));
   const std::string text = render_status(view);
   CHECK(contains(text, "task 200"));
