@@ -3,7 +3,7 @@
 // real-time loop does, apart from reading the clock and the socket, is here, so that a test runs
 // it with an in-memory bus, in-process DDS and a time of its choosing:
 //   on_frame(frame, now)  a frame read from the ground CAN bus;
-//   step(now)             operator commands (KILL first, and never refused), the newest
+//   step(now)             operator commands (KILL first, never gated by the mission), the newest
 //                         motion-capture frame, the runtime's tick, telemetry when due (fixed
 //                         rate), and events for what changed since the last step.
 // `now` is the ground clock, the one the motion capture stamps its frames with (on one host,
@@ -13,7 +13,8 @@
 // 0); throw starts an attempt with the target (default vehicle 1) as the thrower; kill goes to
 // the target or to both. Each command is answered with one event, command_accepted or
 // command_refused, whose detail begins "command <sequence number>:". A sequence number is acted
-// on once (a repeat is refused), except KILL, which is always sent again.
+// on once (a repeat is refused), except KILL, which is always sent again. Only a target that is
+// no vehicle of the act is refused to a KILL.
 #pragma once
 
 #include <array>
