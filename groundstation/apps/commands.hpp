@@ -12,5 +12,9 @@ int cmd_estimate(int argc, char** argv);
 int cmd_history(int argc, char** argv);
 int cmd_plan_catch(int argc, char** argv);
 int cmd_plan_throw(int argc, char** argv);
+// groundstation/service/service_cli.cpp, built with Cyclone DDS only (PA_GROUNDSTATION_SERVICE).
+int cmd_run(int argc, char** argv);
+int cmd_op(int argc, char** argv);
+int cmd_watch(int argc, char** argv);
 
 }  // namespace gs::apps

@@ -112,6 +112,13 @@ void GroundStation::request_land() {
 void GroundStation::request_abort() {
   for (Vehicle& v : vehicles_) v.requests |= c::request_abort;
 }
+void GroundStation::request_kill(std::optional<pa::VehicleId> vehicle, pa::proto::KillReason reason) {
+  if (vehicle) {
+    link_.send_kill(vehicle_of(*vehicle).id, reason);
+  } else {
+    link_.send_kill_all(reason);
+  }
+}
 
 bool GroundStation::request_attempt(const AttemptRequest& request) {
   if (phase_ != AttemptPhase::idle) return false;

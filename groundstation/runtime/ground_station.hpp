@@ -203,6 +203,9 @@ class GroundStation {
   void request_take_off();
   void request_land();
   void request_abort();
+  // KILL (motors off at once, latched on board) to one vehicle of the act, or to both (nullopt),
+  // whatever the mission is doing: never gated. std::out_of_range for a vehicle not of the act.
+  void request_kill(std::optional<pa::VehicleId> vehicle, pa::proto::KillReason reason);
   // Starts an attempt; false (and nothing changes) while one is running.
   bool request_attempt(const AttemptRequest& request);
 

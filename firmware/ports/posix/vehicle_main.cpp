@@ -12,7 +12,7 @@
 #include "hil_vehicle_node.hpp"
 #include "pa/command_line.hpp"
 #include "pa/link_key_file.hpp"
-#include "socketcan.hpp"
+#include "pa/socketcan.hpp"
 
 namespace {
 
@@ -63,8 +63,8 @@ int main(int argc, char** argv) {
     return 1;
   }
 
-  static fw::posix::SocketCan can;
-  if (can.open(interface_name.c_str()) != fw::posix::SocketCan::Status::ok) {
+  static pa::can::SocketCan can;
+  if (can.open(interface_name.c_str()) != pa::can::SocketCan::Status::ok) {
     std::fprintf(stderr, "fw_vehicle: error: %s\n", can.message());
     return 1;
   }
@@ -80,7 +80,7 @@ int main(int argc, char** argv) {
   pa::proto::Frame frame;
   while (g_stop == 0) {
     if (!can.read(frame, 200)) {
-      if (can.status() == fw::posix::SocketCan::Status::io_error) {
+      if (can.status() == pa::can::SocketCan::Status::io_error) {
         std::fprintf(stderr, "fw_vehicle: error: %s\n", can.message());
         return 1;
       }

@@ -1,12 +1,13 @@
-// A SocketCAN raw socket on a named interface (vcan0, can0, ...). Opening reports precisely
-// why it failed: a kernel without CAN sockets, or an interface that does not exist.
+// A SocketCAN raw socket on a named interface (vcan0, can0, ...), for the host processes on a CAN
+// bus (fw_vehicle, the ground station). Opening reports precisely why it failed: a kernel without
+// CAN sockets, or an interface that does not exist.
 #pragma once
 
 #include <cstdint>
 
 #include "pa/protocol.hpp"
 
-namespace fw::posix {
+namespace pa::can {
 
 class SocketCan {
  public:
@@ -35,4 +36,4 @@ class SocketCan {
   char message_[256] = "not opened";
 };
 
-}  // namespace fw::posix
+}  // namespace pa::can

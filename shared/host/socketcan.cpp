@@ -1,4 +1,4 @@
-#include "socketcan.hpp"
+#include "pa/socketcan.hpp"
 
 #include <linux/can.h>
 #include <linux/can/raw.h>
@@ -12,7 +12,7 @@
 #include <cstdio>
 #include <cstring>
 
-namespace fw::posix {
+namespace pa::can {
 
 SocketCan::~SocketCan() {
   if (fd_ >= 0) ::close(fd_);
@@ -97,4 +97,4 @@ bool SocketCan::write(const pa::proto::Frame& frame) {
   return ::write(fd_, &raw, sizeof raw) == static_cast<ssize_t>(sizeof raw);
 }
 
-}  // namespace fw::posix
+}  // namespace pa::can

@@ -1,0 +1,279 @@
+#include "groundstation/service/process.hpp"
+
+#include <cstdio>
+#include <string_view>
+
+#include "groundstation/dds/mocap_conversion.hpp"
+#include "groundstation/dds/telemetry_conversion.hpp"
+
+namespace gs::service {
+namespace {
+
+using mission::Reason;
+
+struct CommandName {
+  pa_arena_CommandKind kind;
+  const char* name;
+};
+constexpr CommandName kCommandNames[] = {
+    {pa_arena_command_take_off, "take-off"}, {pa_arena_command_throw, "throw"},
+    {pa_arena_command_abort, "abort"},       {pa_arena_command_land, "land"},
+    {pa_arena_command_kill, "kill"},
+};
+
+std::string str(std::string_view s) { return std::string(s); }
+
+// A mission's reasons that end a throw or a catch early.
+bool is_abort(Reason reason) {
+  return reason == Reason::abort_requested || reason == Reason::out_of_reach ||
+         reason == Reason::infeasible || reason == Reason::pole_left_early;
+}
+
+}  // namespace
+
+std::string command_name(pa_arena_CommandKind kind) {
+  for (const CommandName& c : kCommandNames)
+    if (c.kind == kind) return c.name;
+  return "unknown command " + std::to_string(static_cast<int>(kind));
+}
+
+std::optional<pa_arena_CommandKind> command_from_name(const std::string& name) {
+  for (const CommandName& c : kCommandNames)
+    if (name == c.name) return c.kind;
+  return std::nullopt;
+}
+
+std::string answer_prefix(std::uint32_t sequence_number) {
+  return "command " + std::to_string(sequence_number) + ":";
+}
+
+Process::Process(link::FrameBus& bus, const dds::Participant& participant,
+                 const runtime::GroundStationConfig& config, const ProcessConfig& process)
+    : station_(bus, config),
+      config_(process),
+      mocap_(participant),
+      commands_(participant),
+      vehicle_telemetry_(participant),
+      pole_telemetry_(participant),
+      events_(participant) {}
+
+void Process::on_frame(const pa::proto::Frame& frame, double now_s) {
+  ++counters_.can_frames;
+  station_.on_frame(frame, now_s);
+}
+
+void Process::step(double now_s) {
+  // Commands first: a KILL must not wait behind an estimator update.
+  take_commands(now_s);
+  take_mocap(now_s);
+  station_.tick(now_s);
+  if (!next_telemetry_s_ || now_s >= *next_telemetry_s_) {
+    publish_telemetry(now_s);
+    // Fixed rate; after a stall it starts again from now rather than catching up in a burst.
+    next_telemetry_s_ = next_telemetry_s_ && now_s - *next_telemetry_s_ < config_.telemetry_period_s
+                            ? *next_telemetry_s_ + config_.telemetry_period_s
+                            : now_s + config_.telemetry_period_s;
+  }
+  publish_changes(now_s);
+}
+
+void Process::take_commands(double now_s) {
+  // The topic keeps up to 16: KILLs among them are acted on before the rest.
+  std::array<pa_arena_OperatorCommand, 16> taken{};
+  std::size_t count = 0;
+  while (count < taken.size()) {
+    const pa_arena_OperatorCommand* c = commands_.take();
+    if (c == nullptr) break;
+    taken[count++] = *c;
+  }
+  for (std::size_t i = 0; i < count; ++i)
+    if (taken[i].kind == pa_arena_command_kill) act_on(taken[i], now_s);
+  for (std::size_t i = 0; i < count; ++i)
+    if (taken[i].kind != pa_arena_command_kill) act_on(taken[i], now_s);
+}
+
+bool Process::seen_before(std::uint32_t sequence_number) {
+  for (std::size_t i = 0; i < recent_count_; ++i)
+    if (recent_[i] == sequence_number) return true;
+  recent_[recent_next_] = sequence_number;
+  recent_next_ = (recent_next_ + 1) % recent_.size();
+  if (recent_count_ < recent_.size()) ++recent_count_;
+  return false;
+}
+
+void Process::act_on(const pa_arena_OperatorCommand& command, double now_s) {
+  const std::string name = command_name(command.kind);
+  const bool all = command.target == 0;
+  const pa::VehicleId target(command.target);
+  if (!all && !pa::is_act_vehicle(target)) {
+    answer(command, false, name + " refused: no vehicle " + std::to_string(command.target) + " in the act",
+           now_s);
+    return;
+  }
+  if (command.kind == pa_arena_command_kill) {
+    seen_before(command.sequence_number);
+    station_.request_kill(all ? std::nullopt : std::optional<pa::VehicleId>(target),
+                          pa::proto::KillReason::operator_request);
+    ++counters_.kills;
+    answer(command, true,
+           all ? "kill sent to every vehicle" : "kill sent to vehicle " + std::to_string(command.target),
+           now_s);
+    return;
+  }
+  if (seen_before(command.sequence_number)) {
+    answer(command, false, name + " refused: this sequence number was acted on already", now_s);
+    return;
+  }
+  switch (command.kind) {
+    case pa_arena_command_take_off:
+    case pa_arena_command_land:
+    case pa_arena_command_abort:
+      if (!all) {
+        answer(command, false, name + " refused: it acts on both vehicles (target 0)", now_s);
+        return;
+      }
+      if (command.kind == pa_arena_command_take_off) station_.request_take_off();
+      if (command.kind == pa_arena_command_land) station_.request_land();
+      if (command.kind == pa_arena_command_abort) station_.request_abort();
+      answer(command, true, name + " requested", now_s);
+      return;
+    case pa_arena_command_throw: {
+      runtime::AttemptRequest request;
+      if (!all) request.thrower = target;
+      if (!station_.request_attempt(request)) {
+        answer(command, false, "throw refused: an attempt is running", now_s);
+        return;
+      }
+      thrower_ = request.thrower;
+      answer(command, true,
+             "throw: attempt " + std::to_string(station_.current_attempt().number) + " with vehicle " +
+                 std::to_string(request.thrower.node()) + " throwing",
+             now_s);
+      return;
+    }
+    default: answer(command, false, name + " refused: unknown kind", now_s); return;
+  }
+}
+
+void Process::answer(const pa_arena_OperatorCommand& command, bool accepted, const std::string& detail,
+                     double now_s) {
+  ++(accepted ? counters_.commands_accepted : counters_.commands_refused);
+  const pa::VehicleId target(command.target);
+  publish(accepted ? pa_arena_event_command_accepted : pa_arena_event_command_refused,
+          pa::is_act_vehicle(target) ? std::optional<pa::VehicleId>(target) : std::nullopt,
+          answer_prefix(command.sequence_number) + " " + detail, now_s);
+}
+
+void Process::take_mocap(double now_s) {
+  // The topic keeps the newest frame only: at most one is waiting.
+  while (const pa_arena_MocapFrame* m = mocap_.take()) {
+    const dds::MocapFrameIn in = dds::mocap_frame_from_dds(*m);
+    counters_.mocap_unknown_bodies += in.unknown_bodies;
+    ++counters_.mocap_frames;
+    station_.on_mocap(in.frame, now_s);
+  }
+}
+
+void Process::publish_telemetry(double now_s) {
+  const estimation::StateEstimator& estimator = station_.estimator();
+  for (const pa::VehicleId v : pa::kActVehicles) {
+    std::optional<estimation::VehicleEstimate> estimate;
+    if (estimator.vehicle_initialised(v)) estimate = estimator.vehicle(v);
+    vehicle_telemetry_.write(
+        dds::vehicle_telemetry_to_dds(v, now_s, station_.link().status(v), station_.task(v), estimate));
+    ++counters_.telemetry_published;
+  }
+  std::optional<dds::CatchForecast> forecast;
+  const runtime::AttemptReport& attempt = station_.current_attempt();
+  if (station_.attempt_phase() == runtime::AttemptPhase::flight && attempt.predicted && attempt.launch_s) {
+    dds::CatchForecast f;
+    f.t_s = *attempt.launch_s + attempt.predicted->t_s;
+    f.point_m =
+        Eigen::Vector3d(attempt.predicted->xy_m.x(), attempt.predicted->xy_m.y(), station_.catch_height());
+    f.catcher = pa::other_vehicle(thrower_);
+    forecast = f;
+  }
+  pole_telemetry_.write(dds::pole_telemetry_to_dds(estimator.pole(), now_s, forecast));
+  ++counters_.telemetry_published;
+}
+
+void Process::publish_changes(double now_s) {
+  for (const runtime::MissionEvent& e : station_.take_events()) {
+    const std::string detail = str(mission::task_name(e.from)) + " -> " + str(mission::task_name(e.to)) +
+                               " (" + str(mission::reason_name(e.reason)) + ")";
+    publish(pa_arena_event_task_change, e.vehicle, detail, now_s);
+    if (is_abort(e.reason))
+      publish(pa_arena_event_abort, e.vehicle, str(mission::reason_name(e.reason)), now_s);
+    if (e.to == mission::Task::failsafe && e.from != mission::Task::failsafe)
+      publish(pa_arena_event_failsafe, e.vehicle,
+              "mission failsafe (" + str(mission::reason_name(e.reason)) + ")", now_s);
+  }
+  for (const link::ImpactReport& i : station_.take_impacts()) {
+    if (!i.final) continue;  // the final report of each impact, with its settled class
+    char detail[96];
+    std::snprintf(detail, sizeof detail, "class %d, peak %.1f m/s^2", static_cast<int>(i.classification),
+                  static_cast<double>(i.peak_mps2));
+    publish(pa_arena_event_impact, i.vehicle, detail, now_s);
+  }
+  const runtime::AttemptReport& current = station_.current_attempt();
+  if (current.launch_s && current.number != launch_published_) {
+    launch_published_ = current.number;
+    publish(pa_arena_event_launch, std::nullopt, "attempt " + std::to_string(current.number), now_s);
+  }
+  const std::vector<runtime::AttemptReport>& done = station_.attempts();
+  for (; attempts_published_ < done.size(); ++attempts_published_) {
+    const runtime::AttemptReport& r = done[attempts_published_];
+    const std::string detail = "attempt " + std::to_string(r.number) + ": catcher " +
+                               str(mission::reason_name(r.catcher_end)) + ", thrower " +
+                               str(mission::reason_name(r.thrower_end));
+    publish(r.caught ? pa_arena_event_catch_success : pa_arena_event_catch_miss, std::nullopt, detail, now_s);
+  }
+  for (const pa::VehicleId v : pa::kActVehicles) {
+    const link::VehicleLinkStatus& s = station_.link().status(v);
+    VehicleSeen& seen = seen_[pa::act_slot(v)];
+    if (s.heard && s.lost && !seen.lost) publish(pa_arena_event_vehicle_lost, v, "no heartbeat", now_s);
+    if (s.heard && !s.lost && seen.lost)
+      publish(pa_arena_event_vehicle_back, v, seen.heard ? "heartbeats again" : "first heartbeat", now_s);
+    if (s.failsafe != seen.failsafe && s.failsafe != pa::proto::FailsafeReason::none)
+      publish(pa_arena_event_failsafe, v,
+              "the vehicle reports failsafe reason " + std::to_string(static_cast<int>(s.failsafe)), now_s);
+    seen.heard = s.heard;
+    seen.lost = s.lost;
+    seen.failsafe = s.failsafe;
+  }
+}
+
+void Process::publish(pa_arena_EventKind kind, std::optional<pa::VehicleId> vehicle,
+                      const std::string& detail, double now_s) {
+  pa_arena_Event e{};
+  e.time_ns = dds::to_nanoseconds(now_s);
+  e.kind = kind;
+  e.vehicle = vehicle ? vehicle->node() : 0;
+  // The IDL bounds the detail (a fixed array in C): a longer one is cut.
+  std::snprintf(e.detail, sizeof e.detail, "%s", detail.c_str());
+  events_.write(e);
+  ++counters_.events_published;
+}
+
+std::string Process::summary() const {
+  const link::GroundLinkCounters& l = station_.link().counters();
+  char text[512];
+  std::snprintf(
+      text, sizeof text,
+      "CAN frames received %llu, sent %llu (refused by the bus %llu, unsigned dropped %llu)\n"
+      "motion-capture frames %llu (unknown bodies %llu)\n"
+      "operator commands accepted %llu, refused %llu, kills %llu\n"
+      "attempts completed %zu, telemetry samples %llu, events %llu\n",
+      static_cast<unsigned long long>(counters_.can_frames), static_cast<unsigned long long>(l.frames_sent),
+      static_cast<unsigned long long>(l.send_refused), static_cast<unsigned long long>(l.unsigned_dropped),
+      static_cast<unsigned long long>(counters_.mocap_frames),
+      static_cast<unsigned long long>(counters_.mocap_unknown_bodies),
+      static_cast<unsigned long long>(counters_.commands_accepted),
+      static_cast<unsigned long long>(counters_.commands_refused),
+      static_cast<unsigned long long>(counters_.kills), station_.attempts().size(),
+      static_cast<unsigned long long>(counters_.telemetry_published),
+      static_cast<unsigned long long>(counters_.events_published));
+  return text;
+}
+
+}  // namespace gs::service

@@ -1,0 +1,295 @@
+// `groundstation run`, `op` and `watch` (docs/groundstation.md): the ground station as a
+// real-time process between the ground CAN bus and the arena's DDS topics, an operator's one-shot
+// command, and a live status view. The loop's work is in Process (process.hpp); this file holds
+// only what a test cannot drive: the clock, the socket, signals and the terminal.
+#include <sys/random.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <iostream>
+#include <optional>
+#include <string>
+
+#include "groundstation/apps/commands.hpp"
+#include "groundstation/service/process.hpp"
+#include "groundstation/service/socketcan_bus.hpp"
+#include "groundstation/service/status_view.hpp"
+#include "pa/command_line.hpp"
+#include "pa/link_key_file.hpp"
+
+namespace gs::apps {
+namespace {
+
+using namespace std::chrono_literals;
+
+// Exit codes of op and watch beyond the tools' 0 and 2.
+constexpr int kExitRefused = 1;
+constexpr int kExitNoAnswer = 3;
+
+// The loop's period between steps. The motion capture arrives every 5 ms; a step every 1 ms acts
+// on a frame at most 1 ms after it arrived, and KILL as soon.
+constexpr int kStepPeriodMs = 1;
+
+volatile std::sig_atomic_t g_stop = 0;
+void on_signal(int) { g_stop = 1; }
+
+double monotonic_s() {
+  timespec t{};
+  clock_gettime(CLOCK_MONOTONIC, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+void add_domain_option(CLI::App& app, unsigned& domain) {
+  app.add_option("--domain", domain, "the DDS domain id of the arena, 0..230")
+      ->type_name("D")
+      ->required()
+      ->check(pa::cli::count(0, 230, "needs a domain id 0..230"));
+}
+
+// A sequence number no earlier `op` is likely to have used: the ground station acts on each once.
+std::uint32_t fresh_sequence_number() {
+  std::uint32_t n = 0;
+  if (getrandom(&n, sizeof n, 0) != static_cast<ssize_t>(sizeof n))
+    n = static_cast<std::uint32_t>(std::chrono::steady_clock::now().time_since_epoch().count());
+  return n;
+}
+
+}  // namespace
+
+int cmd_run(int argc, char** argv) {
+  std::string interface_name;
+  unsigned domain = 0;
+  std::string key_paths[2];
+  std::string store_path;
+  double telemetry_hz = 50.0;
+  CLI::App app("", "groundstation run");
+  pa::cli::describe(
+      app, "usage: groundstation run --can IFACE --domain D --key1 FILE --key2 FILE [--store FILE]",
+      "Runs the ground station: the vehicles on the ground CAN bus, the motion capture, operator\n"
+      "commands, telemetry and events on the arena's DDS domain (docs/groundstation.md).\n"
+      "Ctrl-C ends it with a summary.",
+      "Exit codes: 0 ended by a signal, 1 failed (no CAN socket, a DDS error), 2 bad arguments.");
+  app.add_option("--can", interface_name, "the ground SocketCAN bus (for example can0, vcan0)")
+      ->type_name("IFACE")
+      ->required()
+      ->check(pa::cli::non_empty("needs an interface name"));
+  add_domain_option(app, domain);
+  app.add_option("--key1", key_paths[0], "vehicle 1's link key: a file of 32 hex digits")
+      ->type_name("FILE")
+      ->required()
+      ->check(pa::cli::non_empty("needs a file name"));
+  app.add_option("--key2", key_paths[1], "vehicle 2's link key: a file of 32 hex digits")
+      ->type_name("FILE")
+      ->required()
+      ->check(pa::cli::non_empty("needs a file name"));
+  app.add_option("--store", store_path, "the adaptation store (SQLite); without it, learning is not kept")
+      ->type_name("FILE");
+  app.add_option("--telemetry-hz", telemetry_hz, "telemetry rate (default 50)")
+      ->type_name("HZ")
+      ->check(pa::cli::number_in(1.0, 200.0, "needs a rate 1..200 Hz"));
+  if (const std::optional<int> code = pa::cli::parse(app, argc, argv, std::cout, std::cerr)) return *code;
+
+  runtime::GroundStationConfig config;
+  config.adaptation_store_path = store_path;
+  for (const pa::VehicleId v : pa::kActVehicles) {
+    link::VehicleKey key{v, {}};
+    std::string error;
+    if (!pa::auth::read_key_file(key_paths[pa::act_slot(v)], key.key, error)) {
+      std::fprintf(stderr, "groundstation run: error: %s\n", error.c_str());
+      return 2;
+    }
+    config.link.keys.push_back(key);
+  }
+  // Every run its own session token, so that a vehicle never takes an earlier run's frames.
+  if (getrandom(&config.link.session, sizeof config.link.session, 0) !=
+      static_cast<ssize_t>(sizeof config.link.session)) {
+    std::fprintf(stderr, "groundstation run: error: no entropy for the link session (getrandom failed)\n");
+    return 1;
+  }
+
+  try {
+    // The bus first: without it there is nothing to fly, and its message says how to get one.
+    service::SocketCanBus bus(interface_name);
+    const dds::Domain dds_domain(static_cast<dds_domainid_t>(domain));
+    const dds::Participant participant(dds_domain);
+    service::ProcessConfig process_config;
+    process_config.telemetry_period_s = 1.0 / telemetry_hz;
+    service::Process process(bus, participant, config, process_config);
+
+    std::signal(SIGINT, on_signal);
+    std::signal(SIGTERM, on_signal);
+    std::printf("groundstation run: on %s, DDS domain %u\n", interface_name.c_str(), domain);
+    std::fflush(stdout);
+
+    double next_step_s = monotonic_s();
+    pa::proto::Frame frame;
+    while (g_stop == 0) {
+      const double wait_s = next_step_s - monotonic_s();
+      // Rounded up: a wait cut to 0 ms would spin on the socket until the step is due.
+      const int timeout_ms = wait_s > 0.0 ? static_cast<int>(std::ceil(wait_s * 1000.0)) : 0;
+      // One frame per turn, then the step if it is due: a busy bus delays a step by one frame's
+      // handling at most, never starves it.
+      if (bus.read(frame, timeout_ms)) {
+        process.on_frame(frame, monotonic_s());
+      } else if (bus.failed()) {
+        std::fprintf(stderr, "groundstation run: error: %s\n", bus.message());
+        std::fputs(process.summary().c_str(), stdout);
+        return 1;
+      }
+      const double now_s = monotonic_s();
+      if (now_s < next_step_s) continue;
+      process.step(now_s);
+      next_step_s += kStepPeriodMs * 1e-3;
+      if (next_step_s < now_s) next_step_s = now_s;  // after a stall, no burst of steps
+    }
+    std::printf("groundstation run: stopped\n");
+    std::fputs(process.summary().c_str(), stdout);
+    return 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "groundstation run: error: %s\n", e.what());
+    return 1;
+  }
+}
+
+int cmd_op(int argc, char** argv) {
+  std::string command;
+  unsigned vehicle = 0;
+  unsigned domain = 0;
+  double timeout_s = 2.0;
+  CLI::App app("", "groundstation op");
+  pa::cli::describe(
+      app, "usage: groundstation op <take-off|land|abort|throw|kill> [--vehicle N] --domain D",
+      "Sends one operator command to the ground station on DDS domain D and prints its answer.\n"
+      "take-off, land and abort act on both vehicles; throw starts an attempt with vehicle N\n"
+      "(default 1) throwing; kill stops the motors of vehicle N, or of both without --vehicle.",
+      "Exit codes: 0 accepted, 1 refused, 2 bad arguments, 3 no answer (no ground station on the\n"
+      "domain, or none within the timeout).");
+  app.add_option("command", command, "the command")
+      ->required()
+      ->check(pa::cli::one_of({"take-off", "land", "abort", "throw", "kill"},
+                              "must be take-off, land, abort, throw or kill"));
+  app.add_option("--vehicle", vehicle, "the vehicle, 1 or 2")
+      ->type_name("N")
+      ->check(pa::cli::count(1, 2, "must be 1 or 2"));
+  add_domain_option(app, domain);
+  app.add_option("--timeout", timeout_s, "seconds to wait for the answer (default 2)")
+      ->type_name("S")
+      ->check(pa::cli::number_in(0.1, 60.0, "needs 0.1..60 s"));
+  if (const std::optional<int> code = pa::cli::parse(app, argc, argv, std::cout, std::cerr)) return *code;
+
+  try {
+    const dds::Domain dds_domain(static_cast<dds_domainid_t>(domain));
+    const dds::Participant participant(dds_domain);
+    dds::Writer<pa_arena_OperatorCommand> commands(participant);
+    dds::Reader<pa_arena_Event> events(participant);
+    const auto timeout =
+        std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(timeout_s));
+    const auto end = std::chrono::steady_clock::now() + timeout;
+    // The commands topic is volatile: a command written before the ground station's reader has
+    // matched would be lost.
+    if (!commands.wait_for_readers(1, timeout)) {
+      std::fprintf(stderr,
+                   "groundstation op: no ground station on DDS domain %u (nothing reads %s within %.1f s)\n",
+                   domain, dds::Topic<pa_arena_OperatorCommand>::kName, timeout_s);
+      return kExitNoAnswer;
+    }
+    pa_arena_OperatorCommand c{};
+    c.kind = *service::command_from_name(command);
+    c.target = static_cast<std::uint8_t>(vehicle);
+    c.sequence_number = fresh_sequence_number();
+    commands.write(c);
+
+    const std::string prefix = service::answer_prefix(c.sequence_number);
+    for (;;) {
+      const auto left = end - std::chrono::steady_clock::now();
+      if (left <= 0ns) break;
+      const pa_arena_Event* e = events.wait_take(left);
+      if (e == nullptr) break;
+      const bool answer =
+          e->kind == pa_arena_event_command_accepted || e->kind == pa_arena_event_command_refused;
+      if (!answer || std::string(e->detail).rfind(prefix, 0) != 0) continue;
+      const bool accepted = e->kind == pa_arena_event_command_accepted;
+      std::printf("%s %s\n", accepted ? "accepted:" : "refused:", e->detail);
+      return accepted ? 0 : kExitRefused;
+    }
+    std::fprintf(stderr, "groundstation op: no answer to %s (sequence number %u) within %.1f s\n",
+                 command.c_str(), c.sequence_number, timeout_s);
+    return kExitNoAnswer;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "groundstation op: error: %s\n", e.what());
+    return 1;
+  }
+}
+
+int cmd_watch(int argc, char** argv) {
+  unsigned domain = 0;
+  bool once = false;
+  double seconds = 0.0;
+  CLI::App app("", "groundstation watch");
+  pa::cli::describe(
+      app, "usage: groundstation watch --domain D [--once | --seconds S]",
+      "Shows the ground station's view of the act on DDS domain D: each vehicle's link, task,\n"
+      "mode and estimate, the pole's mode, estimate and catch prediction, and the latest events.\n"
+      "Refreshed twice a second until Ctrl-C (or S seconds); --once prints one view and ends.",
+      "Exit codes: 0 done, 2 bad arguments, 3 no telemetry (--once: none within 2 s).");
+  add_domain_option(app, domain);
+  CLI::Option* once_option = app.add_flag(
+      "--once", once, "print one view as soon as both vehicles' and the pole's telemetry arrived");
+  app.add_option("--seconds", seconds, "watch for this long, then end")
+      ->type_name("S")
+      ->check(pa::cli::number_in(0.1, 86400.0, "needs 0.1..86400 s"))
+      ->excludes(once_option);
+  if (const std::optional<int> code = pa::cli::parse(app, argc, argv, std::cout, std::cerr)) return *code;
+
+  try {
+    const dds::Domain dds_domain(static_cast<dds_domainid_t>(domain));
+    const dds::Participant participant(dds_domain);
+    service::StatusWatch watch(participant);
+    if (once) {
+      // Until both vehicles and the pole have been heard: each topic's reader matches the ground
+      // station's writer in its own time, and a best-effort sample before that is not delivered.
+      const auto end = std::chrono::steady_clock::now() + 2s;
+      while (!watch.view().has_all_telemetry() && std::chrono::steady_clock::now() < end)
+        watch.wait_and_take(100ms);
+      if (!watch.view().has_telemetry()) {
+        std::fprintf(stderr,
+                     "groundstation watch: no telemetry on DDS domain %u within 2 s (is `groundstation run` "
+                     "running there?)\n",
+                     domain);
+        return kExitNoAnswer;
+      }
+      std::fputs(service::render_status(watch.view()).c_str(), stdout);
+      return 0;
+    }
+
+    std::signal(SIGINT, on_signal);
+    std::signal(SIGTERM, on_signal);
+    const bool terminal = isatty(STDOUT_FILENO) != 0;
+    const auto end = std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                                            std::chrono::duration<double>(seconds));
+    auto next_draw = std::chrono::steady_clock::now();
+    while (g_stop == 0 && (seconds <= 0.0 || std::chrono::steady_clock::now() < end)) {
+      watch.wait_and_take(50ms);
+      if (std::chrono::steady_clock::now() < next_draw) continue;
+      next_draw += 500ms;
+      // On a terminal the view redraws in place; into a file or a pipe it is appended.
+      if (terminal) std::fputs("\x1b[H\x1b[2J", stdout);
+      std::printf("DDS domain %u\n", domain);
+      std::fputs(watch.view().has_telemetry() ? service::render_status(watch.view()).c_str()
+                                              : "no telemetry yet (is `groundstation run` running?)\n",
+                 stdout);
+      if (!terminal) std::fputs("\n", stdout);
+      std::fflush(stdout);
+    }
+    return watch.view().has_telemetry() ? 0 : kExitNoAnswer;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "groundstation watch: error: %s\n", e.what());
+    return 1;
+  }
+}
+
+}  // namespace gs::apps

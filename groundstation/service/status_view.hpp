@@ -1,0 +1,56 @@
+// What `groundstation watch` shows: the latest telemetry of each vehicle and of the pole, and the
+// latest events, read from the ground station's DDS topics and rendered as a few lines of text.
+#pragma once
+
+#include <array>
+#include <chrono>
+#include <cstddef>
+#include <deque>
+#include <optional>
+#include <string>
+
+#include "groundstation/dds/dds.hpp"
+
+namespace gs::service {
+
+struct EventLine {
+  std::int64_t time_ns = 0;
+  pa_arena_EventKind kind = pa_arena_event_task_change;
+  std::uint8_t vehicle = 0;
+  std::string detail;
+};
+
+struct StatusView {
+  static constexpr std::size_t kEvents = 6;                          // the latest events shown
+  std::array<std::optional<pa_arena_VehicleTelemetry>, 2> vehicles;  // by pa::act_slot()
+  std::optional<pa_arena_PoleTelemetry> pole;
+  std::deque<EventLine> events;  // oldest first
+
+  bool has_telemetry() const { return pole || vehicles[0] || vehicles[1]; }
+  bool has_all_telemetry() const { return pole && vehicles[0] && vehicles[1]; }
+  void add(const pa_arena_VehicleTelemetry& telemetry);  // other vehicles than the act's are ignored
+  void add(const pa_arena_Event& event);
+};
+
+std::string event_kind_name(pa_arena_EventKind kind);
+// One line per vehicle, one for the pole, then the latest events. Vehicles never heard of say so.
+std::string render_status(const StatusView& view);
+
+// The readers behind a StatusView.
+class StatusWatch {
+ public:
+  explicit StatusWatch(const dds::Participant& participant);
+  // Waits up to `timeout` for a vehicle telemetry sample, then takes everything that arrived.
+  void wait_and_take(std::chrono::nanoseconds timeout);
+  const StatusView& view() const { return view_; }
+
+ private:
+  void take_all();
+
+  dds::Reader<pa_arena_VehicleTelemetry> vehicles_;
+  dds::Reader<pa_arena_PoleTelemetry> pole_;
+  dds::Reader<pa_arena_Event> events_;
+  StatusView view_;
+};
+
+}  // namespace gs::service

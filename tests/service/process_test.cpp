@@ -1,0 +1,274 @@
+// The ground station's process core (groundstation/service/process.hpp) with an in-memory CAN
+// bus and real Cyclone DDS kept inside this process: operator commands and their answers, KILL on
+// the bus, motion capture in, telemetry and events out. Each test case has its own domain id
+// (122-126, 129); every wait is bounded.
+#include "groundstation/service/process.hpp"
+
+#include <catch2/catch.hpp>
+#include <chrono>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "groundstation/dds/mocap_conversion.hpp"
+#include "groundstation/service/status_view.hpp"
+
+using namespace std::chrono_literals;
+using gs::service::Process;
+
+namespace {
+
+constexpr auto kWait = 5s;
+
+gs::runtime::GroundStationConfig keyed_config() {
+  gs::runtime::GroundStationConfig c;
+  for (const pa::VehicleId v : pa::kActVehicles) {
+    gs::link::VehicleKey key{v, {}};
+    key.key.fill(static_cast<std::uint8_t>(0x30 + v.node()));
+    c.link.keys.push_back(key);
+  }
+  return c;
+}
+
+// The ground station's process and an operator's console on one domain.
+struct Rig {
+  explicit Rig(dds_domainid_t id, const gs::service::ProcessConfig& process = {})
+      : domain(id, gs::dds::in_process_config()),
+        station_side(domain),
+        console_side(domain),
+        process(bus, station_side, keyed_config(), process),
+        commands(console_side),
+        events(console_side) {
+    REQUIRE(commands.wait_for_readers(1, kWait));
+    REQUIRE(events.wait_for_writers(1, kWait));
+  }
+
+  void send(pa_arena_CommandKind kind, std::uint8_t target, std::uint32_t sequence_number) {
+    pa_arena_OperatorCommand c{};
+    c.kind = kind;
+    c.target = target;
+    c.sequence_number = sequence_number;
+    commands.write(c);
+  }
+
+  // The vehicles' LINK_SESSION frames, as after their boot: the link signs frames to them from then on.
+  void hear_vehicles() {
+    for (const pa::VehicleId v : pa::kActVehicles) {
+      pa::proto::Frame f;
+      REQUIRE(pa::proto::encode(pa::proto::LinkSession{0x1000u + v.node(), 0}, v.node(), f));
+      process.on_frame(f, now_s);
+    }
+  }
+
+  // Steps until an answer to `sequence_number` arrives (or the wait ends), then a few more steps
+  // in which a second answer would show up; every answer to it seen so far.
+  std::vector<pa_arena_Event> answers_to(std::uint32_t sequence_number) {
+    const auto end = std::chrono::steady_clock::now() + kWait;
+    int more_steps = 5;
+    while (more_steps > 0 && std::chrono::steady_clock::now() < end) {
+      process.step(now_s);
+      now_s += 0.005;
+      collect(10ms);
+      if (!of(sequence_number).empty()) --more_steps;
+    }
+    return of(sequence_number);
+  }
+
+  void collect(std::chrono::nanoseconds wait) {
+    for (const pa_arena_Event* e = events.wait_take(wait); e != nullptr; e = events.take())
+      if (e->kind == pa_arena_event_command_accepted || e->kind == pa_arena_event_command_refused)
+        answers.push_back(*e);
+  }
+
+  std::vector<pa_arena_Event> of(std::uint32_t sequence_number) const {
+    const std::string prefix = gs::service::answer_prefix(sequence_number) + " ";
+    std::vector<pa_arena_Event> found;
+    for (const pa_arena_Event& e : answers)
+      if (std::strncmp(e.detail, prefix.c_str(), prefix.size()) == 0) found.push_back(e);
+    return found;
+  }
+
+  std::vector<pa::proto::Message> sent_of_type(pa::proto::Type type) {
+    std::vector<pa::proto::Message> out;
+    for (const pa::proto::Frame& f : bus.take()) {
+      pa::proto::Message m;
+      if (pa::proto::decode(f, m) == pa::proto::DecodeStatus::ok && m.type == type) out.push_back(m);
+    }
+    return out;
+  }
+
+  gs::link::InMemoryFrameBus bus;
+  gs::dds::Domain domain;
+  gs::dds::Participant station_side;
+  gs::dds::Participant console_side;
+  Process process;
+  gs::dds::Writer<pa_arena_OperatorCommand> commands;
+  gs::dds::Reader<pa_arena_Event> events;
+  double now_s = 10.0;
+  std::vector<pa_arena_Event> answers;  // every answer seen, oldest first
+};
+
+}  // namespace
+
+TEST_CASE("An operator command gets exactly one answer naming its sequence number; a repeat is refused") {
+  Rig rig(122);
+  rig.send(pa_arena_command_take_off, 0, 17);
+  const std::vector<pa_arena_Event> first = rig.answers_to(17);
+  REQUIRE(first.size() == 1);
+  CHECK(first[0].kind == pa_arena_event_command_accepted);
+  CHECK(std::string(first[0].detail) == "command 17: take-off requested");
+
+  rig.send(pa_arena_command_land, 0, 17);
+  const std::vector<pa_arena_Event> both = rig.answers_to(17);
+  REQUIRE(both.size() == 2);
+  CHECK(both[1].kind == pa_arena_event_command_refused);
+  CHECK(std::string(both[1].detail).find("acted on already") != std::string::npos);
+
+  rig.send(pa_arena_command_land, 0, 18);
+  const std::vector<pa_arena_Event> next = rig.answers_to(18);
+  REQUIRE(next.size() == 1);
+  CHECK(next[0].kind == pa_arena_event_command_accepted);
+  CHECK(rig.process.counters().commands_accepted == 2);
+  CHECK(rig.process.counters().commands_refused == 1);
+}
+
+TEST_CASE(
+    "KILL reaches the bus as KILL frames, to one vehicle or both, even with a repeated sequence number") {
+  Rig rig(123);
+  rig.hear_vehicles();
+  rig.bus.take();
+  rig.send(pa_arena_command_kill, 2, 5);
+  REQUIRE(rig.answers_to(5).size() == 1);
+  std::vector<pa::proto::Message> kills = rig.sent_of_type(pa::proto::Type::kill);
+  REQUIRE_FALSE(kills.empty());
+  for (const pa::proto::Message& m : kills) {
+    CHECK(m.node == 2);
+    CHECK(m.kill.reason == pa::proto::KillReason::operator_request);
+  }
+
+  // The same sequence number again: a KILL is never refused as a repeat.
+  rig.send(pa_arena_command_kill, 0, 5);
+  const std::vector<pa_arena_Event> both = rig.answers_to(5);
+  REQUIRE(both.size() == 2);
+  CHECK(both[1].kind == pa_arena_event_command_accepted);
+  kills = rig.sent_of_type(pa::proto::Type::kill);
+  bool to_vehicle[2] = {false, false};
+  for (const pa::proto::Message& m : kills) {
+    REQUIRE(pa::is_act_vehicle(pa::VehicleId(m.node)));
+    to_vehicle[pa::act_slot(pa::VehicleId(m.node))] = true;
+  }
+  CHECK(to_vehicle[0]);
+  CHECK(to_vehicle[1]);
+  CHECK(rig.process.counters().kills == 2);
+}
+
+TEST_CASE("Unknown commands and malformed targets are refused with a reason, never acted on") {
+  Rig rig(124);
+  rig.hear_vehicles();  // so that a KILL acted on would reach the bus
+  rig.bus.take();
+  rig.send(static_cast<pa_arena_CommandKind>(99), 0, 1);
+  rig.send(pa_arena_command_throw, 9, 2);
+  rig.send(pa_arena_command_take_off, 1, 3);  // take-off acts on both vehicles only
+  rig.send(pa_arena_command_kill, 200, 4);
+  const std::vector<pa_arena_Event> unknown = rig.answers_to(1);
+  REQUIRE(unknown.size() == 1);
+  CHECK(unknown[0].kind == pa_arena_event_command_refused);
+  CHECK(std::string(unknown[0].detail).find("unknown") != std::string::npos);
+  for (std::uint32_t n = 2; n <= 4; ++n) {
+    const std::vector<pa_arena_Event> a = rig.answers_to(n);
+    REQUIRE(a.size() == 1);
+    CHECK(a[0].kind == pa_arena_event_command_refused);
+  }
+  CHECK(rig.process.counters().commands_refused == 4);
+  CHECK(rig.process.counters().kills == 0);
+  CHECK(rig.sent_of_type(pa::proto::Type::kill).empty());
+}
+
+TEST_CASE("Motion-capture frames published on DDS reach the runtime's estimator") {
+  Rig rig(125);
+  gs::dds::Writer<pa_arena_MocapFrame> mocap(rig.console_side);
+  REQUIRE(mocap.wait_for_readers(1, kWait));
+
+  gs::estimation::MocapFrame frame;
+  frame.t_s = rig.now_s;
+  gs::estimation::MocapPose pose;
+  pose.p_m = Eigen::Vector3d(-1.0, 0.0, 0.1);
+  frame.vehicle[0] = pose;
+  pose.p_m = Eigen::Vector3d(1.0, 0.0, 0.1);
+  frame.vehicle[1] = pose;
+  gs::dds::MocapMessage message;
+  gs::dds::mocap_frame_to_dds(frame, 1, message);
+  REQUIRE(message.add("wand", pose));
+  mocap.write(message.message());
+
+  const auto end = std::chrono::steady_clock::now() + kWait;
+  while (rig.process.counters().mocap_frames == 0 && std::chrono::steady_clock::now() < end) {
+    rig.process.step(rig.now_s);
+    rig.now_s += 0.005;
+  }
+  CHECK(rig.process.counters().mocap_frames == 1);
+  CHECK(rig.process.counters().mocap_unknown_bodies == 1);
+  CHECK(rig.process.ground_station().estimator().vehicle_initialised(pa::kVehicle1));
+  CHECK(rig.process.ground_station().estimator().vehicle_initialised(pa::kVehicle2));
+}
+
+TEST_CASE("Telemetry is published at its rate, for both vehicles and the pole") {
+  gs::service::ProcessConfig config;
+  config.telemetry_period_s = 1.0 / 32.0;  // exact in binary: the steps below land on it
+  Rig rig(126, config);
+  gs::dds::Reader<pa_arena_VehicleTelemetry> vehicles(rig.console_side);
+  gs::dds::Reader<pa_arena_PoleTelemetry> pole(rig.console_side);
+  REQUIRE(vehicles.wait_for_writers(1, kWait));
+  REQUIRE(pole.wait_for_writers(1, kWait));
+
+  // 64 steps of 1/256 s: telemetry at steps 0, 8, ..., 56.
+  for (int i = 0; i < 64; ++i) rig.process.step(10.0 + i / 256.0);
+  CHECK(rig.process.counters().telemetry_published == 8 * 3);
+
+  bool seen[2] = {false, false};
+  for (int i = 0; i < 2; ++i) {
+    const pa_arena_VehicleTelemetry* t = vehicles.wait_take(kWait);
+    REQUIRE(t != nullptr);
+    REQUIRE(pa::is_act_vehicle(pa::VehicleId(t->vehicle)));
+    seen[pa::act_slot(pa::VehicleId(t->vehicle))] = true;
+    CHECK(t->link == pa_arena_link_unheard);  // no vehicle on the bus
+    CHECK(t->time_ns == gs::dds::to_nanoseconds(10.0 + 56 / 256.0));
+  }
+  CHECK(seen[0]);
+  CHECK(seen[1]);
+  const pa_arena_PoleTelemetry* p = pole.wait_take(kWait);
+  REQUIRE(p != nullptr);
+  CHECK_FALSE(p->estimate_valid);
+  CHECK_FALSE(p->catch_predicted);
+}
+
+TEST_CASE("A vehicle heard, then silent, is announced back and then lost; its failsafe is announced") {
+  Rig rig(129);
+  gs::dds::Reader<pa_arena_Event> events(rig.console_side);
+  REQUIRE(events.wait_for_writers(1, kWait));
+  pa::proto::Frame heartbeat;
+  REQUIRE(pa::proto::encode(pa::proto::VehicleHeartbeat{500, pa::proto::Mode::failsafe_hover, 0, 0,
+                                                        pa::proto::FailsafeReason::heartbeat_lost, 0},
+                            2, heartbeat));
+  rig.process.on_frame(heartbeat, rig.now_s);
+  rig.process.step(rig.now_s);
+  rig.process.step(rig.now_s + 1.0);  // past the link's vehicle timeout (0.2 s)
+
+  std::vector<std::string> lines;
+  for (const pa_arena_Event* e = events.wait_take(kWait); e != nullptr; e = events.wait_take(100ms))
+    if (e->vehicle == 2) lines.push_back(gs::service::event_kind_name(e->kind) + ": " + e->detail);
+  REQUIRE(lines.size() == 3);
+  CHECK(lines[0] == "vehicle back: first heartbeat");
+  CHECK(lines[1].rfind("failsafe: the vehicle reports failsafe reason", 0) == 0);
+  CHECK(lines[2] == "vehicle lost: no heartbeat");
+}
+
+TEST_CASE("Operator command names round-trip, and the answer prefix is what op looks for") {
+  for (const char* name : {"take-off", "land", "abort", "throw", "kill"}) {
+    const std::optional<pa_arena_CommandKind> kind = gs::service::command_from_name(name);
+    REQUIRE(kind);
+    CHECK(gs::service::command_name(*kind) == name);
+  }
+  CHECK_FALSE(gs::service::command_from_name("takeoff"));
+  CHECK(gs::service::answer_prefix(42) == "command 42:");
+}

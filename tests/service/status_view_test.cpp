@@ -1,0 +1,108 @@
+// What `groundstation watch` prints (groundstation/service/status_view.hpp), from canned telemetry
+// and events: each vehicle's link, task, mode and estimate, the pole and its catch prediction,
+// the latest events, and what is said when something was never heard.
+#include "groundstation/service/status_view.hpp"
+
+#include <catch2/catch.hpp>
+#include <cstring>
+#include <string>
+
+#include "groundstation/mission/vehicle_sequencer.hpp"
+
+using gs::service::render_status;
+using gs::service::StatusView;
+
+namespace {
+
+pa_arena_VehicleTelemetry vehicle(std::uint8_t id, pa_arena_LinkState link, double x) {
+  pa_arena_VehicleTelemetry t{};
+  t.vehicle = id;
+  t.time_ns = 1'000'000'000;
+  t.link = link;
+  t.mode = static_cast<std::uint8_t>(gs::mission::Task::hover);
+  t.vehicle_mode = 2;  // flying
+  t.estimate_valid = true;
+  t.estimate.position_m = {x, 0.5, 1.25};
+  t.estimate.velocity_mps = {3.0, 4.0, 0.0};
+  t.estimate.attitude = {1.0, 0.0, 0.0, 0.0};
+  return t;
+}
+
+pa_arena_Event event(std::int64_t time_ns, pa_arena_EventKind kind, std::uint8_t id, const char* detail) {
+  pa_arena_Event e{};
+  e.time_ns = time_ns;
+  e.kind = kind;
+  e.vehicle = id;
+  std::strncpy(e.detail, detail, sizeof e.detail - 1);
+  return e;
+}
+
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+}  // namespace
+
+TEST_CASE("Nothing heard: each vehicle and the pole say so") {
+  const StatusView view;
+  CHECK_FALSE(view.has_telemetry());
+  CHECK_FALSE(view.has_all_telemetry());
+  const std::string text = render_status(view);
+  CHECK(contains(text, "vehicle 1  no telemetry"));
+  CHECK(contains(text, "vehicle 2  no telemetry"));
+  CHECK(contains(text, "pole       no telemetry"));
+  CHECK(contains(text, "events     none yet"));
+}
+
+TEST_CASE("Vehicles, the pole in flight with its catch prediction, and the latest events") {
+  StatusView view;
+  view.add(vehicle(1, pa_arena_link_up, -1.0));
+  view.add(vehicle(2, pa_arena_link_lost, 1.0));
+  view.add(vehicle(7, pa_arena_link_up, 9.0));  // not of the act: ignored
+  pa_arena_PoleTelemetry pole{};
+  pole.time_ns = 2'000'000'000;
+  pole.estimate_valid = true;
+  pole.mode = pa_arena_pole_free;
+  pole.estimate.position_m = {0.25, 0.0, 3.5};
+  pole.catch_predicted = true;
+  pole.catch_time_ns = 2'500'000'000;
+  pole.catch_point_m = {0.75, -0.25, 2.0};
+  pole.catch_vehicle = 2;
+  view.pole = pole;
+  for (int i = 0; i < 8; ++i)
+    view.add(event(i * 1'000'000'000LL, pa_arena_event_task_change, 1, "take_off -> hover"));
+  view.add(event(9'000'000'000, pa_arena_event_command_accepted, 0, "command 3: throw: attempt 1"));
+
+  REQUIRE(view.has_telemetry());
+  CHECK(view.has_all_telemetry());
+  const std::string text = render_status(view);
+  CHECK(contains(text, "vehicle 1  link up"));
+  CHECK(contains(text, "vehicle 2  link LOST"));
+  CHECK_FALSE(contains(text, "vehicle 7"));
+  CHECK(contains(text, "task hover"));
+  CHECK(contains(text, "vehicle flying"));
+  CHECK(contains(text, "at  -1.00   0.50   1.25 m  speed  5.00 m/s"));
+  CHECK(contains(text, "catch by vehicle 2 in 0.50 s at 0.75 -0.25 2.00 m"));
+  CHECK(contains(text, "accepted"));
+  CHECK(contains(text, "command 3: throw: attempt 1"));
+  REQUIRE(view.events.size() == StatusView::kEvents);  // only the latest kept
+  CHECK(view.events.back().kind == pa_arena_event_command_accepted);
+  CHECK(view.events.front().time_ns == 3'000'000'000);  // events at 3..7 s and 9 s
+}
+
+TEST_CASE("Values out of range are shown as numbers, not indexed past a table") {
+  StatusView view;
+  pa_arena_VehicleTelemetry t = vehicle(1, pa_arena_link_up, 0.0);
+  t.mode = 200;
+  t.vehicle_mode = 99;
+  t.estimate_valid = false;
+  view.add(t);
+  CHECK(view.has_telemetry());
+  CHECK_FALSE(view.has_all_telemetry());  // vehicle 2 and the pole not heard
+  view.add(event(0, static_cast<pa_arena_EventKind>(50), 0, "?"));
+  const std::string text = render_status(view);
+  CHECK(contains(text, "task 200"));
+  CHECK(contains(text, "mode 99"));
+  CHECK(contains(text, "no estimate"));
+  CHECK(contains(text, "event 50"));
+}
