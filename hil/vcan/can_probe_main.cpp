@@ -16,7 +16,7 @@
 #include "pa/command_line.hpp"
 #include "pa/constants.hpp"
 #include "pa/protocol.hpp"
-#include "socketcan.hpp"
+#include "pa/socketcan.hpp"
 
 namespace {
 
@@ -44,7 +44,7 @@ double now_s() {
 
 class Probe {
  public:
-  Probe(fw::posix::SocketCan& can, std::uint8_t node, std::uint32_t seed)
+  Probe(pa::can::SocketCan& can, std::uint8_t node, std::uint32_t seed)
       : can_(can), node_(node), random_(seed) {}
 
   // `ticks` samples paced at the IMU rate (lockstep: never faster than the vehicle answers),
@@ -131,7 +131,7 @@ class Probe {
     }
   }
 
-  fw::posix::SocketCan& can_;
+  pa::can::SocketCan& can_;
   std::uint8_t node_;
   std::mt19937 random_;
   std::uint16_t tick_ = 0;
@@ -197,8 +197,8 @@ int main(int argc, char** argv) {
     if (const std::optional<int> code = pa::cli::parse(app, argc, argv, std::cout, std::cerr)) return *code;
   }
 
-  static fw::posix::SocketCan can;
-  if (can.open(interface_name.c_str()) != fw::posix::SocketCan::Status::ok) {
+  static pa::can::SocketCan can;
+  if (can.open(interface_name.c_str()) != pa::can::SocketCan::Status::ok) {
     std::fprintf(stderr, "hil_can_probe: error: %s\n", can.message());
     return 1;
   }
