@@ -54,6 +54,8 @@ GroundStation::GroundStation(link::FrameBus& bus, const GroundStationConfig& con
   if (!plan_.success) throw std::runtime_error("the throw could not be planned: " + plan_.status);
   tracker_.emplace(plan_.trajectory, config_.throw_tracking);
   if (!tracker_->valid()) throw std::runtime_error("the throw's TV-LQR could not be designed");
+  throw_inverse_sensitivity_ =
+      adaptation::damped_inverse(adaptation::throw_sensitivity(*tracker_), config_.throw_learning.damping);
   hover_ = control::hover_lqr();
   balancing_ = control::balancing_lqr();
   if (!hover_.ok || !balancing_.ok) throw std::runtime_error("the LQR design failed");
@@ -68,6 +70,7 @@ GroundStation::GroundStation(link::FrameBus& bus, const GroundStationConfig& con
     adaptation_ = config_.learnt->state;
     catch_instant_s_ = config_.learnt->catch_instant_s;
     catch_instant_samples_ = config_.learnt->catch_instant_samples;
+    throw_correction_ = config_.learnt->throw_correction;
   }
   if (!config_.adaptation_store_path.empty()) {
     store_.emplace(
@@ -76,7 +79,14 @@ GroundStation::GroundStation(link::FrameBus& bus, const GroundStationConfig& con
     adaptation_ = snapshot.state;
     catch_instant_samples_ = 0;
     for (const adaptation::StoredThrow& t : store_->history()) {
-      if (t.id < snapshot.epoch_first_id || !t.record.optimal) continue;
+      if (t.id < snapshot.epoch_first_id) continue;
+      // The throw's correction is the sum of the epoch's launch errors (throw_learning.hpp); a
+      // throw without a launch keeps the zero state (no vehicle launches from the origin at rest).
+      if (config_.throw_learning.gain > 0.0 &&
+          adaptation::launch_vector(t.record.launch) != adaptation::LaunchVector::Zero())
+        throw_correction_ = adaptation::learn_from_throw(throw_correction_, t.record.launch, planned_launch(),
+                                                         config_.throw_learning, throw_inverse_sensitivity_);
+      if (!t.record.optimal) continue;
       ++catch_instant_samples_;
       catch_instant_s_ += (t.record.optimal->t_s - catch_instant_s_) / catch_instant_samples_;
     }
@@ -127,6 +137,8 @@ bool GroundStation::request_attempt(const AttemptRequest& request) {
   phase_ = AttemptPhase::preparing;
   current_ = AttemptReport{};
   current_.number = ++attempt_count_;
+  current_.throw_correction = throw_correction_.end_shift;
+  throw_end_.reset();
   flight_.clear();
   catch_.reset();
   catch_unreachable_ = catch_infeasible_ = catch_missed_ = false;
@@ -432,7 +444,12 @@ std::optional<model::VehicleInput> GroundStation::control(Vehicle& v, double now
           control::planar_throw_state(pivot_of(plate), e.state, pole.state, config_.throw_origin_m);
       const Eigen::VectorXd b =
           control::balancing_state(pivot_of(plate), e.state, pole.state, L, config_.throw_origin_m);
-      return planning::throw_command(*tracker_, balancing_, tau, s, b, config_.limits);
+      if (tau >= problem_.duration_s - config_.launch_state_window_s) throw_end_ = ThrowEnd{tau, s};
+      // The learnt throw: the plan's reference shifted by the correction (throw_learning.hpp),
+      // i.e. the state fed to the TV-LQR shifted the other way.
+      const model::PlanarState<double> shifted =
+          s - adaptation::reference_shift(throw_correction_, tau, problem_.duration_s);
+      return planning::throw_command(*tracker_, balancing_, tau, shifted, b, config_.limits);
     }
     case Task::release: {
       const double since = t_act - v.sequencer.task_since_s();
@@ -506,7 +523,13 @@ void GroundStation::on_mocap(const estimation::MocapFrame& frame, double now_s) 
   }
 }
 
-Learnt GroundStation::learnt() const { return {adaptation_, catch_instant_s_, catch_instant_samples_}; }
+Learnt GroundStation::learnt() const {
+  return {adaptation_, catch_instant_s_, catch_instant_samples_, throw_correction_};
+}
+
+planning::PlanarLaunchState GroundStation::planned_launch() const {
+  return adaptation::launch_state_of(plan_.trajectory.state_at(problem_.duration_s));
+}
 
 std::vector<link::ImpactReport> GroundStation::take_impacts() {
   std::vector<link::ImpactReport> out;
@@ -705,6 +728,19 @@ void GroundStation::end_attempt(double now_s) {
   // the catching height and the waiting point; a catch flown to its end moves the offset bias.
   adaptation::ThrowRecord record;
   record.time_s = current_.launch_s.value_or(now_s);
+  if (current_.launch_s && throw_end_) {
+    // The state tracked last, carried to T along the plan (a few milliseconds of it).
+    const planning::ThrowTrajectory& plan = plan_.trajectory;
+    const model::PlanarState<double> at_t =
+        throw_end_->state + plan.state_at(problem_.duration_s) - plan.state_at(throw_end_->tau_s);
+    current_.launch_flown = adaptation::launch_state_of(at_t);
+    current_.launch_error =
+        adaptation::launch_vector(*current_.launch_flown) - adaptation::launch_vector(planned_launch());
+    record.launch = *current_.launch_flown;
+    if (config_.throw_learning.gain > 0.0)
+      throw_correction_ = adaptation::learn_from_throw(throw_correction_, record.launch, planned_launch(),
+                                                       config_.throw_learning, throw_inverse_sensitivity_);
+  }
   if (!request_.catch_it) {
     record.outcome = adaptation::ThrowOutcome::kThrowOnly;
   } else if (current_.caught) {

@@ -38,6 +38,7 @@
 #include "groundstation/adaptation/adaptation_law.hpp"
 #include "groundstation/adaptation/adaptation_store.hpp"
 #include "groundstation/adaptation/throw_evaluation.hpp"
+#include "groundstation/adaptation/throw_learning.hpp"
 #include "groundstation/control/lqr.hpp"
 #include "groundstation/estimation/state_estimator.hpp"
 #include "groundstation/link/ground_link.hpp"
@@ -55,6 +56,7 @@ struct Learnt {
   adaptation::AdaptationState state;
   double catch_instant_s = 0.8;  // after the launch
   int catch_instant_samples = 0;
+  adaptation::ThrowCorrection throw_correction;  // the throw learnt from past trials
 };
 
 struct GroundStationConfig {
@@ -138,6 +140,11 @@ struct GroundStationConfig {
   // adaptation_outlier_repeats-th such throw in a row.
   double adaptation_outlier_m = 0.5;
   int adaptation_outlier_repeats = 3;
+  // The throw learnt from past trials (adaptation/throw_learning.hpp); gain 0: not learnt.
+  adaptation::ThrowLearningSettings throw_learning;
+  // The launch state is taken from a throw command at most this long before T (commands come
+  // with the motion capture, every 5 ms).
+  double launch_state_window_s = 0.012;
   // Start from what an earlier run learnt instead of the nominal throw's values.
   std::optional<Learnt> learnt;
   // The durable adaptation store (adaptation/adaptation_store.hpp): every throw is recorded there
@@ -175,7 +182,13 @@ struct AttemptReport {
   double catch_height_m = 0.0;  // lower pole end, arena frame
   double travel_m = 0.0;        // the catcher's estimated path from its waiting point
   std::optional<adaptation::OptimalCatchEvaluation> optimal;  // (42) evaluated after the throw
-  bool caught = false;                                        // balanced on the catcher
+  // The thrower's launch state as the last command of the throw estimated it (at tau within
+  // launch_state_window_s of T), carried to T along the plan; and its error from the plan's.
+  std::optional<planning::PlanarLaunchState> launch_flown;
+  std::optional<adaptation::LaunchVector> launch_error;
+  // The correction of the throw's end state this throw was flown with.
+  adaptation::LaunchVector throw_correction = adaptation::LaunchVector::Zero();
+  bool caught = false;  // balanced on the catcher
 };
 
 // A task change of one vehicle, for telemetry and logs.
@@ -226,6 +239,8 @@ class GroundStation {
   const link::GroundLink& link() const { return link_; }
   const adaptation::AdaptationState& adaptation() const { return adaptation_; }
   Learnt learnt() const;
+  // The throw's planned end state (Fig. 5), relative to the throw's origin.
+  planning::PlanarLaunchState planned_launch() const;
   const GroundStationConfig& config() const { return config_; }
   const planning::ThrowPlan& throw_plan() const { return plan_; }
   // The catch point (lower end, x y) and height expected for the next throw, arena frame.
@@ -289,6 +304,14 @@ class GroundStation {
   std::vector<link::ImpactReport> impacts_;
   // The optimal catching instant after the launch: nominal, then the mean of the evaluated ones.
   double catch_instant_s_ = 0.8;
+  adaptation::ThrowCorrection throw_correction_;  // the throw learnt from past trials
+  adaptation::LaunchMatrix throw_inverse_sensitivity_ = adaptation::LaunchMatrix::Identity();  // G^-1
+  // The throw's last tracked state near its end (tau within launch_state_window_s of T).
+  struct ThrowEnd {
+    double tau_s = 0.0;
+    model::PlanarState<double> state;
+  };
+  std::optional<ThrowEnd> throw_end_;
   int catch_instant_samples_ = 0;
   int odd_throws_ = 0;  // consecutive throws far from the adapted values
   // The estimator predicted to when this frame's commands act (latency compensation).

@@ -1,0 +1,80 @@
+// The throw learnt from past trials (the paper's outlook, Section VIII: "improving the throw
+// itself from past trials"): iterative learning control on the throw's end state.
+//
+// The throw is flown by the TV-LQR about the planned trajectory (throw_tracking.hpp). A plant
+// that differs from the planar model in a way that repeats from throw to throw (motors weaker
+// than their map, more drag than the coefficients say) leaves the same error at the launch every
+// time: the feedback only reacts to it. After throw k, with the launch-state error
+//     e_k = s_flown(T) - s_planned(T)        (x, z, x', z', alpha, alpha' of the Fig. 5 state)
+// the next throw tracks the plan shifted by a correction c, blended in over the throw (zero at
+// its start, where the plan starts from hover, and c at T):
+//     s_ref(tau) = s_planned(tau) + sigma(tau / T) c,   sigma(u) = 3u^2 - 2u^3,
+// and c moves against the error:
+//     c_{k+1} = c_k - gain (G^T G + lambda I)^-1 G^T e_k.
+// G is the sensitivity of the flown end state to c: the tracking loop follows a shifted
+// reference only in part, and a shift of one component moves others (a higher velocity
+// reference also moves the position). It comes from the closed loop linearised along the plan,
+//     ds' = (A - B K) ds + B K sigma c,   G c = ds(T),
+// with the TV-LQR's K (throw_sensitivity). G is far from diagonal (an alpha shift moves x most)
+// and its plain inverse has entries near 20, which amplify the difference between the model's G
+// and the plant's (its rate loop, latencies, the drag): in the closed loop with motors 5 % weak
+// and 30 % more drag (tests/hil/throw_learning_test.cpp) the plain inverse and lambda 0.01
+// diverged, lambda 0.1 to 1 oscillated, and lambda 3 brought the error down steadily, to 0.4 to
+// 0.5 of the first throw's from the 8th throw on; with G the identity the position overshot (a
+// velocity correction moved x as much as the x correction did). Each correction component is
+// bounded, and a throw whose error exceeds a bound is not learnt from (a launch far from the plan
+// is a failed or spoiled throw, not a model error that repeats).
+//
+// The correction is a function of the launch errors alone, so the adaptation store's history
+// (each throw's launch state, throw_record.hpp) is its durable form: replaying the errors of the
+// current epoch rebuilds it.
+#pragma once
+
+#include "groundstation/model/planar_pole_vehicle.hpp"
+#include "groundstation/planning/catching_instant.hpp"
+#include "groundstation/planning/throw_tracking.hpp"
+
+namespace gs::adaptation {
+
+struct ThrowLearningSettings {
+  double gain = 0.5;     // 0: the throw is not learnt
+  double damping = 3.0;  // lambda of the damped least-squares inverse of G
+  // Bounds of each component of the correction, and of an error that is learnt from.
+  double max_position_m = 0.2;
+  double max_speed_mps = 1.0;
+  double max_angle_rad = 0.2;
+  double max_rate_radps = 2.0;
+};
+
+// The six components of a launch state as a vector (x, z, x', z', alpha, alpha').
+using LaunchVector = Eigen::Matrix<double, 6, 1>;
+using LaunchMatrix = Eigen::Matrix<double, 6, 6>;
+LaunchVector launch_vector(const planning::PlanarLaunchState& s);
+planning::PlanarLaunchState launch_state(const LaunchVector& v);
+// The launch components of a planar state (theta and its absence aside).
+planning::PlanarLaunchState launch_state_of(const model::PlanarState<double>& s);
+
+struct ThrowCorrection {
+  LaunchVector end_shift = LaunchVector::Zero();  // c
+  int throws = 0;                                 // errors learnt from
+};
+
+// G for the tracker's plan and gains (see above), by integrating the linearised closed loop in
+// steps of step_s.
+LaunchMatrix throw_sensitivity(const planning::ThrowTracker& tracker, double step_s = 0.001);
+
+// (G^T G + lambda I)^-1 G^T.
+LaunchMatrix damped_inverse(const LaunchMatrix& g, double lambda);
+
+// c_{k+1} from c_k and one throw's flown and planned launch states, with damped_inverse(G).
+ThrowCorrection learn_from_throw(const ThrowCorrection& correction, const planning::PlanarLaunchState& flown,
+                                 const planning::PlanarLaunchState& planned,
+                                 const ThrowLearningSettings& settings,
+                                 const LaunchMatrix& inverse_sensitivity);
+
+// The shift of the reference at tau into a throw of duration T: sigma(tau / T) c in the planar
+// state's layout (theta unshifted).
+model::PlanarState<double> reference_shift(const ThrowCorrection& correction, double tau_s,
+                                           double duration_s);
+
+}  // namespace gs::adaptation
