@@ -1,5 +1,5 @@
-// The throw learnt from past trials (the paper's outlook, Section VIII: "improving the throw
-// itself from past trials"): iterative learning control on the throw's end state.
+// The throw learnt from past trials (the paper's outlook, Section VIII: "methods for improving
+// the throw maneuver based on past trials"): iterative learning control on its end state.
 //
 // The throw is flown by the TV-LQR about the planned trajectory (throw_tracking.hpp). A plant
 // that differs from the planar model in a way that repeats from throw to throw (motors weaker
