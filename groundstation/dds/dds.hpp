@@ -20,6 +20,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -27,6 +28,17 @@
 #include "dds/dds.h"
 
 namespace gs::dds {
+
+// An enum field of a sample from the wire, as its integer. A peer (or a corrupt sample) can put
+// any 32-bit value there, and reading a value no enumerator has through the enum type is
+// undefined behaviour in C++ (UBSan: "not a valid value for type"): check the integer first.
+template <class Enum>
+std::int32_t raw_enum(const Enum& field) {
+  static_assert(sizeof(Enum) == sizeof(std::int32_t), "IDL enums are 32-bit");
+  std::int32_t value;
+  std::memcpy(&value, &field, sizeof value);
+  return value;
+}
 
 // A DDS call failed (the message names the call and Cyclone's return code).
 class DdsError : public std::runtime_error {

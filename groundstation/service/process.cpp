@@ -87,9 +87,9 @@ void Process::take_commands(double now_s) {
     taken[count++] = *c;
   }
   for (std::size_t i = 0; i < count; ++i)
-    if (taken[i].kind == pa_arena_command_kill) act_on(taken[i], now_s);
+    if (dds::raw_enum(taken[i].kind) == pa_arena_command_kill) act_on(taken[i], now_s);
   for (std::size_t i = 0; i < count; ++i)
-    if (taken[i].kind != pa_arena_command_kill) act_on(taken[i], now_s);
+    if (dds::raw_enum(taken[i].kind) != pa_arena_command_kill) act_on(taken[i], now_s);
 }
 
 bool Process::seen_before(std::uint32_t sequence_number) {
@@ -102,6 +102,11 @@ bool Process::seen_before(std::uint32_t sequence_number) {
 }
 
 void Process::act_on(const pa_arena_OperatorCommand& command, double now_s) {
+  const std::int32_t kind = dds::raw_enum(command.kind);
+  if (kind < pa_arena_command_take_off || kind > pa_arena_command_kill) {
+    answer(command, false, "command kind " + std::to_string(kind) + " refused: unknown", now_s);
+    return;
+  }
   const std::string name = command_name(command.kind);
   const bool all = command.target == 0;
   const pa::VehicleId target(command.target);

@@ -209,10 +209,10 @@ int cmd_op(int argc, char** argv) {
       if (left <= 0ns) break;
       const pa_arena_Event* e = events.wait_take(left);
       if (e == nullptr) break;
-      const bool answer =
-          e->kind == pa_arena_event_command_accepted || e->kind == pa_arena_event_command_refused;
+      const bool answer = dds::raw_enum(e->kind) == pa_arena_event_command_accepted ||
+                          dds::raw_enum(e->kind) == pa_arena_event_command_refused;
       if (!answer || std::string(e->detail).rfind(prefix, 0) != 0) continue;
-      const bool accepted = e->kind == pa_arena_event_command_accepted;
+      const bool accepted = dds::raw_enum(e->kind) == pa_arena_event_command_accepted;
       std::printf("%s %s\n", accepted ? "accepted:" : "refused:", e->detail);
       return accepted ? 0 : kExitRefused;
     }

@@ -29,7 +29,7 @@ std::string vehicle_mode_text(std::uint8_t mode) {
   return kVehicleModes[mode];
 }
 
-const char* link_text(pa_arena_LinkState link) {
+const char* link_text(std::int32_t link) {
   switch (link) {
     case pa_arena_link_up: return "up";
     case pa_arena_link_lost: return "LOST";
@@ -38,18 +38,19 @@ const char* link_text(pa_arena_LinkState link) {
   return "unheard";
 }
 
-std::string pole_mode_text(pa_arena_PoleMode mode) {
+std::string pole_mode_text(std::int32_t mode) {
   if (mode != pa_arena_pole_free && mode != pa_arena_pole_on_vehicle1 && mode != pa_arena_pole_on_vehicle2)
-    return "mode " + std::to_string(static_cast<int>(mode));
-  return std::string(estimation::pole_mode_name(dds::pole_mode_from_dds(mode)));
+    return "mode " + std::to_string(mode);
+  return std::string(
+      estimation::pole_mode_name(dds::pole_mode_from_dds(static_cast<pa_arena_PoleMode>(mode))));
 }
 
 }  // namespace
 
-std::string event_kind_name(pa_arena_EventKind kind) {
-  const auto i = static_cast<std::size_t>(kind);
-  if (i >= std::size(kEventNames)) return "event " + std::to_string(i);
-  return kEventNames[i];
+std::string event_kind_name(std::int32_t kind) {
+  if (kind < 0 || static_cast<std::size_t>(kind) >= std::size(kEventNames))
+    return "event " + std::to_string(kind);
+  return kEventNames[kind];
 }
 
 void StatusView::add(const pa_arena_VehicleTelemetry& telemetry) {
@@ -58,7 +59,7 @@ void StatusView::add(const pa_arena_VehicleTelemetry& telemetry) {
 }
 
 void StatusView::add(const pa_arena_Event& event) {
-  events.push_back(EventLine{event.time_ns, event.kind, event.vehicle, event.detail});
+  events.push_back(EventLine{event.time_ns, dds::raw_enum(event.kind), event.vehicle, event.detail});
   while (events.size() > kEvents) events.pop_front();
 }
 
@@ -73,7 +74,8 @@ std::string render_status(const StatusView& view) {
       continue;
     }
     std::snprintf(line, sizeof line, "vehicle %d  link %-7s  task %-9s  vehicle %-16s", int(v.node()),
-                  link_text(t->link), task_text(t->mode).c_str(), vehicle_mode_text(t->vehicle_mode).c_str());
+                  link_text(dds::raw_enum(t->link)), task_text(t->mode).c_str(),
+                  vehicle_mode_text(t->vehicle_mode).c_str());
     out += line;
     if (t->estimate_valid) {
       const pa_arena_Estimate& e = t->estimate;
@@ -93,8 +95,8 @@ std::string render_status(const StatusView& view) {
   } else {
     const pa_arena_PoleTelemetry& p = *view.pole;
     std::snprintf(line, sizeof line, "pole       %-11s  centre %6.2f %6.2f %6.2f m",
-                  pole_mode_text(p.mode).c_str(), p.estimate.position_m.x, p.estimate.position_m.y,
-                  p.estimate.position_m.z);
+                  pole_mode_text(dds::raw_enum(p.mode)).c_str(), p.estimate.position_m.x,
+                  p.estimate.position_m.y, p.estimate.position_m.z);
     out += line;
     if (p.catch_predicted) {
       std::snprintf(line, sizeof line, "  catch by vehicle %d in %.2f s at %.2f %.2f %.2f m\n",

@@ -15,7 +15,7 @@ namespace gs::service {
 
 struct EventLine {
   std::int64_t time_ns = 0;
-  pa_arena_EventKind kind = pa_arena_event_task_change;
+  std::int32_t kind = pa_arena_event_task_change;  // as on the wire: any value
   std::uint8_t vehicle = 0;
   std::string detail;
 };
@@ -32,7 +32,7 @@ struct StatusView {
   void add(const pa_arena_Event& event);
 };
 
-std::string event_kind_name(pa_arena_EventKind kind);
+std::string event_kind_name(std::int32_t kind);
 // One line per vehicle, one for the pole, then the latest events. Vehicles never heard of say so.
 std::string render_status(const StatusView& view);
 

@@ -43,9 +43,11 @@ struct Rig {
     REQUIRE(events.wait_for_writers(1, kWait));
   }
 
-  void send(pa_arena_CommandKind kind, std::uint8_t target, std::uint32_t sequence_number) {
+  // `kind` as an integer: a peer can send any value (written through memcpy, as an enum
+  // variable may not hold a value no enumerator has).
+  void send(std::int32_t kind, std::uint8_t target, std::uint32_t sequence_number) {
     pa_arena_OperatorCommand c{};
-    c.kind = kind;
+    std::memcpy(&c.kind, &kind, sizeof kind);
     c.target = target;
     c.sequence_number = sequence_number;
     commands.write(c);
@@ -166,7 +168,7 @@ TEST_CASE("Unknown commands and malformed targets are refused with a reason, nev
   Rig rig(124);
   rig.hear_vehicles();  // so that a KILL acted on would reach the bus
   rig.bus.take();
-  rig.send(static_cast<pa_arena_CommandKind>(99), 0, 1);
+  rig.send(99, 0, 1);
   rig.send(pa_arena_command_throw, 9, 2);
   rig.send(pa_arena_command_take_off, 1, 3);  // take-off acts on both vehicles only
   rig.send(pa_arena_command_kill, 200, 4);
