@@ -67,13 +67,23 @@ TEST_CASE("the collocation mesh is graded towards both ends", "[throw_planner]")
 }
 
 TEST_CASE("the NLP's gradient, Jacobian and Hessian match finite differences", "[throw_planner]") {
-  const ThrowProblem problem;
+  // The fixed launch state of (34), and the free one of a throw to a target (target_throw.hpp).
+  const bool to_target = GENERATE(false, true);
+  ThrowProblem problem;
+  if (to_target) {
+    gs::planning::ThrowCatchTarget target;
+    target.distance_m = 3.2;
+    target.height_m = -0.4;
+    problem.catch_target = target;
+  }
   ThrowCollocationNlp nlp(problem, gs::planning::throw_collocation_mesh(problem.duration_s, 4, 0.5));
   Ipopt::Index n = 0, m = 0, nnz_jac = 0, nnz_h = 0;
   Ipopt::TNLP::IndexStyleEnum style;
   REQUIRE(nlp.get_nlp_info(n, m, nnz_jac, nnz_h, style));
-  REQUIRE(n == 13 * 5);      // the knots, each with its slacks
-  REQUIRE(m == 10 * 4 + 3);  // per interval Simpson, F_N and slew rows; F_N at inner knots
+  // The knots, each with its slacks, and the catching instant of a target throw.
+  REQUIRE(n == 13 * 5 + (to_target ? 1 : 0));
+  // Per interval Simpson, F_N and slew rows; F_N at inner knots; F_N at T and the catch rows.
+  REQUIRE(m == 10 * 4 + 3 + (to_target ? 4 : 0));
 
   // A generic point: the straight line with a deterministic wiggle in every variable.
   Eigen::VectorXd x = nlp.initial_guess();
