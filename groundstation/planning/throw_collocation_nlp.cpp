@@ -308,8 +308,9 @@ void ThrowCollocationNlp::fixed_bounds(Eigen::VectorXd& lower, Eigen::VectorXd& 
   lower.head<kP>() = start;
   upper.head<kP>() = start;
   if (has_target()) {
-    // The end knot is free (its inputs in the box); the catching instant within the flight a
-    // catch-point prediction covers (catch_point_predictor.hpp's horizon).
+    // The end knot is free (its inputs in the box); the catching instant no earlier than the
+    // catcher needs (ThrowCatchTarget::min_catch_time_s) and within the flight a catch-point
+    // prediction covers (catch_point_predictor.hpp's 3 s horizon).
     lower(catch_time_variable()) = std::max(kMinCatchTime_s, problem_.catch_target->min_catch_time_s);
     upper(catch_time_variable()) = kMaxCatchTime_s;
     return;
