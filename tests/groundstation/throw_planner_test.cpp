@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "groundstation/planning/throw_collocation_nlp.hpp"
+#include "throw_plan_checks.hpp"
 
 namespace {
 
@@ -174,20 +175,7 @@ TEST_CASE("the planned throw meets every constraint of (34)", "[throw_planner]")
   REQUIRE(traj.state.size() == 201);
 
   // Recompute everything from the returned points, independently of the NLP class.
-  double max_defect = 0.0;
-  for (int k = 0; k < traj.intervals(); ++k) {
-    const int a = 2 * k, m = 2 * k + 1, b = 2 * k + 2;
-    const double h = traj.t_s[b] - traj.t_s[a];
-    CHECK(traj.t_s[m] == Approx(0.5 * (traj.t_s[a] + traj.t_s[b])));
-    const auto f = [&](int j) {
-      return gs::model::planar_pole_vehicle_dynamics<double>(traj.state[j], traj.input[j]);
-    };
-    const PlanarState<double> simpson = traj.state[b] - traj.state[a] - h / 6.0 * (f(a) + 4.0 * f(m) + f(b));
-    const PlanarState<double> hermite =
-        traj.state[m] - 0.5 * (traj.state[a] + traj.state[b]) - h / 8.0 * (f(a) - f(b));
-    max_defect = std::max({max_defect, simpson.cwiseAbs().maxCoeff(), hermite.cwiseAbs().maxCoeff()});
-  }
-  CHECK(max_defect < 1e-6);
+  CHECK(throw_checks::max_collocation_defect(traj) < 1e-6);
 
   const gs::model::VehicleLimits& lim = problem.limits;
   double min_fn = 1e9;
