@@ -138,12 +138,13 @@ class CatchCheck {
     if (!crossing_t_s_) return std::nullopt;
     return Errors{*crossing_t_s_, error_at(release_t_s + 0.1), error_at(*crossing_t_s_ - 0.15)};
   }
-  // The horizontal miss of the first prediction made at or after t_s (1e9 when there is none or
-  // it found no crossing).
-  double error_at(double t_s) const {
+  // The horizontal miss of the first prediction made at or after t_s from `point` (by default the
+  // true crossing; 1e9 when there is none or it found no crossing).
+  double error_at(double t_s) const { return error_at(t_s, crossing_m_); }
+  double error_at(double t_s, const hil::Vec3& point_m) const {
     for (const auto& [tp, p] : predictions_) {
       if (tp < t_s - 1e-9) continue;
-      return p.found ? std::hypot(p.x_m - crossing_m_.x(), p.y_m - crossing_m_.y()) : 1e9;
+      return p.found ? std::hypot(p.x_m - point_m.x(), p.y_m - point_m.y()) : 1e9;
     }
     return 1e9;
   }
