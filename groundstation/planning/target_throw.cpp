@@ -66,8 +66,9 @@ TargetThrowPlanner::TargetThrowPlanner(const ThrowProblem& base, const TargetThr
   seed_catch_point_ = Eigen::Vector2d(seed_catch_.catch_point_m.x(), seed_catch_.catch_height_m);
   // The lower end's tilt at the catch against the tilt the planar flight carries on continuously
   // from the release: a multiple of pi (see ThrowCatchTarget::base_offset_rad).
-  const model::PlanarFlightState<double> flown = model::planar_pole_flight<double>(
-      model::planar_pole_at_launch<double>(end, pole_), seed_catch_.t_s, 16, pole_);
+  const model::PlanarFlightState<double> flown =
+      model::planar_pole_flight<double>(model::planar_pole_at_launch<double>(end, pole_), seed_catch_.t_s,
+                                        ThrowCatchTarget{}.flight_steps, pole_);
   const Eigen::Vector3d up = model::with_lower_end_as_base(seed_catch_.pole).n;
   const double pi = std::acos(-1.0);
   seed_base_offset_rad_ =
@@ -76,7 +77,7 @@ TargetThrowPlanner::TargetThrowPlanner(const ThrowProblem& base, const TargetThr
   reference_point_ = seed_catch_point_;
   reference_ =
       solve(Eigen::Vector3d::Zero(), Eigen::Vector3d(reference_point_.x(), 0.0, reference_point_.y()),
-            {seed_.trajectory, std::max(seed_catch_.t_s, 0.0)});
+            {seed_.trajectory, seed_catch_.t_s});
 }
 
 TargetThrowPlan TargetThrowPlanner::plan(const Eigen::Vector3d& hover_m,

@@ -53,8 +53,8 @@ struct TargetThrowPlan {
   double yaw_rad = 0.0;  // the plane's +x in the world: (cos, sin, 0)
   Eigen::Vector3d origin_m = Eigen::Vector3d::Zero();  // the hover point the throw starts from
   Eigen::Vector3d target_m = Eigen::Vector3d::Zero();
-  int solves = 0;                    // IPOPT solves (1 + corrections)
-  double planning_iterations = 0.0;  // IPOPT iterations over all solves
+  int solves = 0;               // IPOPT solves (1 + corrections)
+  int planning_iterations = 0;  // IPOPT iterations over all solves
   // From the planned launch state, in the world: the pole just after the release, its optimal
   // catching instant (3D model), and the catch-point prediction at the target's height.
   model::PoleState pole_at_launch;

@@ -84,7 +84,7 @@ TEST_CASE("throws to 20 targets all round land the catch point on the target", "
     worst_instant = std::max(worst_instant, plan.catching_instant_error_m);
     const gs::model::PlanarState<double>& end = traj.state.back();
     std::printf(
-        "target %2d: %.2f m at %5.1f deg: %d solve(s), %3.0f iterations, cost %.2f, launch (x %.2f z %.2f vx %.2f vz "
+        "target %2d: %.2f m at %5.1f deg: %d solve(s), %3d iterations, cost %.2f, launch (x %.2f z %.2f vx %.2f vz "
         "%.2f theta %.2f alpha %.2f alpha' %.2f a_q %.2f), t_c %.3f s, prediction error %.4f m, instant error "
         "%.4f m\n",
         i, (goal - kHover).head<2>().norm(), plan.yaw_rad * 180.0 / std::acos(-1.0), plan.solves,
@@ -124,6 +124,6 @@ TEST_CASE("a miss of the 3D catching instant moves the planar target and plans a
   REQUIRE(corrected.success);
   CHECK(corrected.solves >= 2);
   CHECK(corrected.catching_instant_error_m <= 2e-4);
-  std::printf("target 4 with a 0.2 mm tolerance: %d solves, %.0f iterations, catching instant %.3f mm off\n",
+  std::printf("target 4 with a 0.2 mm tolerance: %d solves, %d iterations, catching instant %.3f mm off\n",
               corrected.solves, corrected.planning_iterations, 1e3 * corrected.catching_instant_error_m);
 }
