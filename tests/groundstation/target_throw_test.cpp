@@ -85,16 +85,16 @@ TEST_CASE("throws to 20 targets all round land the catch point on the target", "
     const gs::model::PlanarState<double>& end = traj.state.back();
     std::printf(
         "target %2d: %.2f m at %5.1f deg: %d solve(s), %3d iterations, cost %.2f, launch (x %.2f z %.2f vx %.2f vz "
-        "%.2f theta %.2f alpha %.2f alpha' %.2f a_q %.2f), t_c %.3f s, prediction error %.4f m, instant error "
-        "%.4f m\n",
+        "%.2f theta %.2f alpha %.2f alpha' %.2f a_q %.2f), t_c %.3f s, prediction error %.4f mm, instant error "
+        "%.3f mm\n",
         i, (goal - kHover).head<2>().norm(), plan.yaw_rad * 180.0 / std::acos(-1.0), plan.solves,
         plan.planning_iterations, plan.plan.cost, end(planar::kX), end(planar::kZ), end(planar::kVx),
         end(planar::kVz), end(planar::kTheta), end(planar::kAlpha), end(planar::kAlphaDot),
-        traj.input.back()(planar::kThrust), plan.catching_instant.t_s, prediction_error,
-        plan.catching_instant_error_m);
+        traj.input.back()(planar::kThrust), plan.catching_instant.t_s, 1e3 * prediction_error,
+        1e3 * plan.catching_instant_error_m);
   }
-  std::printf("worst catch-point error over the 20 targets: prediction %.4f m, catching instant %.4f m\n",
-              worst_prediction, worst_instant);
+  std::printf("worst catch-point error over the 20 targets: prediction %.4f mm, catching instant %.3f mm\n",
+              1e3 * worst_prediction, 1e3 * worst_instant);
 }
 
 TEST_CASE("a target out of the throw's reach is refused, not planned", "[target_throw]") {
