@@ -93,7 +93,8 @@ class ThrowCollocationNlp final : public Ipopt::TNLP {
   // The trajectory a variable vector describes (with F_N at every point).
   ThrowTrajectory trajectory_from(const Eigen::VectorXd& x) const;
   // The largest violation of any constraint or bound at x (dynamics defects, F_N >= 0, input
-  // box, fixed end points): the figure to hold against the 1e-6 requirement.
+  // box, fixed end points; for a target throw F_N = 0 at T, the catch rows and t_c's bounds): the
+  // figure to hold against the 1e-6 requirement.
   double max_violation(const Eigen::VectorXd& x) const;
 
   // What IPOPT handed back in finalize_solution.
