@@ -80,6 +80,8 @@ TEST_CASE("throws to 20 targets all round land the catch point on the target", "
         std::hypot(plan.prediction.x_m - goal.x(), plan.prediction.y_m - goal.y());
     CHECK(prediction_error <= 0.05);
     CHECK(plan.catching_instant_error_m <= 0.05);
+    // The catcher's time: the 3D model's first catching instant no earlier than the planner's bound.
+    CHECK(plan.catching_instant.t_s >= gs::planning::ThrowCatchTarget{}.min_catch_time_s - 0.005);
     worst_prediction = std::max(worst_prediction, prediction_error);
     worst_instant = std::max(worst_instant, plan.catching_instant_error_m);
     const gs::model::PlanarState<double>& end = traj.state.back();
