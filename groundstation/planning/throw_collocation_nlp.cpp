@@ -20,6 +20,7 @@ constexpr int kSlack = ThrowCollocationNlp::kPointSize;  // a knot's first slack
 // interval k's thrust and pitch-rate slews.
 constexpr int kKnotForceSlack = kSlack, kMidForceSlack = kSlack + 1, kSlewSlack = kSlack + 2;
 constexpr double kInfinity = 2e19;  // IPOPT's default nlp_upper_bound_inf is 1e19
+constexpr double kMinCatchTime_s = 0.1, kMaxCatchTime_s = 3.0;
 
 // g(p) = (f(s, u), F_N(s, u) / m_p, running cost of (34)) for one collocation point.
 template <typename Scalar>
@@ -39,17 +40,18 @@ Eigen::Matrix<Scalar, kO, 1> point_outputs(const Eigen::Matrix<Scalar, kP, 1>& p
   return out;
 }
 
-using Ad = Eigen::AutoDiffScalar<Eigen::Matrix<double, kP, 1>>;
-
-void point_jacobian(const Eigen::Matrix<double, kP, 1>& p, const ThrowProblem& problem,
-                    Eigen::Matrix<double, kO, 1>& value, Eigen::Matrix<double, kO, kP>& jacobian) {
-  Eigen::Matrix<Ad, kP, 1> p_ad;
-  for (int i = 0; i < kP; ++i) p_ad(i) = Ad(p(i), kP, i);
-  const Eigen::Matrix<Ad, kO, 1> out = point_outputs<Ad>(p_ad, problem);
-  for (int o = 0; o < kO; ++o) {
+// The value and Jacobian of outputs(v) (a generic callable, v in R^N) by one forward AD pass.
+template <int N, int O, typename Outputs>
+void forward_jacobian(const Outputs& outputs, const Eigen::Matrix<double, N, 1>& v,
+                      Eigen::Matrix<double, O, 1>& value, Eigen::Matrix<double, O, N>& jacobian) {
+  using Ad = Eigen::AutoDiffScalar<Eigen::Matrix<double, N, 1>>;
+  Eigen::Matrix<Ad, N, 1> v_ad;
+  for (int i = 0; i < N; ++i) v_ad(i) = Ad(v(i), N, i);
+  const Eigen::Matrix<Ad, O, 1> out = outputs(v_ad);
+  for (int o = 0; o < O; ++o) {
     value(o) = out(o).value();
     // A term that does not depend on any variable (a constant output) has empty derivatives.
-    if (out(o).derivatives().size() == kP) {
+    if (out(o).derivatives().size() == N) {
       jacobian.row(o) = out(o).derivatives().transpose();
     } else {
       jacobian.row(o).setZero();
@@ -57,27 +59,27 @@ void point_jacobian(const Eigen::Matrix<double, kP, 1>& p, const ThrowProblem& p
   }
 }
 
-// The Hessian of weights . g(p) over the point variables `vars` (the others held constant), by
+// The Hessian of weights . outputs(v) over the variables `vars` (the others held constant), by
 // forward-over-forward AD.
-template <int D>
-Eigen::Matrix<double, D, D> weighted_hessian(const Eigen::Matrix<double, kP, 1>& p,
-                                             const Eigen::Matrix<double, kO, 1>& weights,
-                                             const ThrowProblem& problem, const std::array<int, D>& vars) {
+template <int D, int N, int O, typename Outputs>
+Eigen::Matrix<double, D, D> weighted_hessian_of(const Outputs& outputs, const Eigen::Matrix<double, N, 1>& v,
+                                                const Eigen::Matrix<double, O, 1>& weights,
+                                                const std::array<int, D>& vars) {
   using Inner = Eigen::AutoDiffScalar<Eigen::Matrix<double, D, 1>>;
   using Outer = Eigen::AutoDiffScalar<Eigen::Matrix<Inner, D, 1>>;
   const Inner zero(0.0, Eigen::Matrix<double, D, 1>::Zero());
-  Eigen::Matrix<Outer, kP, 1> p_ad;
-  for (int i = 0; i < kP; ++i) {
-    p_ad(i).value() = Inner(p(i), Eigen::Matrix<double, D, 1>::Zero());
-    p_ad(i).derivatives().setConstant(zero);
+  Eigen::Matrix<Outer, N, 1> v_ad;
+  for (int i = 0; i < N; ++i) {
+    v_ad(i).value() = Inner(v(i), Eigen::Matrix<double, D, 1>::Zero());
+    v_ad(i).derivatives().setConstant(zero);
   }
   for (int a = 0; a < D; ++a) {
-    p_ad(vars[a]).value() = Inner(p(vars[a]), D, a);
-    p_ad(vars[a]).derivatives()(a) = Inner(1.0, Eigen::Matrix<double, D, 1>::Zero());
+    v_ad(vars[a]).value() = Inner(v(vars[a]), D, a);
+    v_ad(vars[a]).derivatives()(a) = Inner(1.0, Eigen::Matrix<double, D, 1>::Zero());
   }
-  const Eigen::Matrix<Outer, kO, 1> out = point_outputs<Outer>(p_ad, problem);
+  const Eigen::Matrix<Outer, O, 1> out = outputs(v_ad);
   Eigen::Matrix<double, D, D> hessian = Eigen::Matrix<double, D, D>::Zero();
-  for (int o = 0; o < kO; ++o) {
+  for (int o = 0; o < O; ++o) {
     if (weights(o) == 0.0 || out(o).derivatives().size() != D) continue;
     for (int r = 0; r < D; ++r) {
       const Inner& d = out(o).derivatives()(r);
@@ -86,6 +88,32 @@ Eigen::Matrix<double, D, D> weighted_hessian(const Eigen::Matrix<double, kP, 1>&
   }
   return hessian;
 }
+
+void point_jacobian(const Eigen::Matrix<double, kP, 1>& p, const ThrowProblem& problem,
+                    Eigen::Matrix<double, kO, 1>& value, Eigen::Matrix<double, kO, kP>& jacobian) {
+  forward_jacobian<kP, kO>([&problem](const auto& v) { return point_outputs(v, problem); }, p, value,
+                           jacobian);
+}
+
+template <int D>
+Eigen::Matrix<double, D, D> weighted_hessian(const Eigen::Matrix<double, kP, 1>& p,
+                                             const Eigen::Matrix<double, kO, 1>& weights,
+                                             const ThrowProblem& problem, const std::array<int, D>& vars) {
+  return weighted_hessian_of<D, kP, kO>([&problem](const auto& v) { return point_outputs(v, problem); }, p,
+                                        weights, vars);
+}
+
+// The catch rows of a target throw as a function of q = (p_N, t_c).
+constexpr int kQ = kP + 1;
+template <typename Scalar>
+Eigen::Matrix<Scalar, 3, 1> catch_outputs(const Eigen::Matrix<Scalar, kQ, 1>& q,
+                                          const ThrowCatchTarget& target) {
+  const model::PlanarState<Scalar> s = q.template head<kS>();
+  return catch_target_residuals<Scalar>(s, q(kP), target);
+}
+// The catch rows are curved in the pole's launch velocity and tilt and in t_c; x and z only
+// shift the flight.
+constexpr std::array<int, 5> kCatchCurved = {planar::kVx, planar::kVz, planar::kAlpha, planar::kAlphaDot, kP};
 
 // The variables the model is curved in: x, z and the velocities enter f, F_N and the cost only
 // linearly, so the point Hessians live in this 5 x 5 block (25 second derivatives instead of 81
@@ -157,6 +185,15 @@ ThrowCollocationNlp::ThrowCollocationNlp(const ThrowProblem& problem, std::vecto
     for (int i = 0; i < kIntervalRows; ++i) add_jac(kIntervalRows * k + i, k, kV + kP);
   }
   for (int j = 1; j < intervals_; ++j) add_jac(knot_row(j), j, kV);
+  if (has_target()) {
+    // F_N(p_N), then the catch rows on (p_N, t_c).
+    add_jac(knot_row(intervals_), intervals_, kP);
+    for (int i = 1; i < kTerminalRows; ++i) {
+      add_jac(knot_row(intervals_) + i, intervals_, kP);
+      jac_rows_.push_back(knot_row(intervals_) + i);
+      jac_cols_.push_back(catch_time_variable());
+    }
+  }
   for (int j = 0; j < knot_count(); ++j) {
     for (int r = 0; r < kP; ++r) {
       for (int c = 0; c <= r; ++c) {
@@ -172,6 +209,14 @@ ThrowCollocationNlp::ThrowCollocationNlp(const ThrowProblem& problem, std::vecto
         hess_cols_.push_back(var(k, c));
       }
     }
+  }
+  if (has_target()) {
+    for (int c = 0; c < kP; ++c) {
+      hess_rows_.push_back(catch_time_variable());
+      hess_cols_.push_back(var(intervals_, c));
+    }
+    hess_rows_.push_back(catch_time_variable());
+    hess_cols_.push_back(catch_time_variable());
   }
 }
 
@@ -202,6 +247,17 @@ void ThrowCollocationNlp::evaluate(const double* x, Evaluation& e) const {
     point_jacobian(p_m, problem_, e.mid_value[k], e.mid_jacobian[k]);
     e.mid_total[k] = e.mid_jacobian[k].lazyProduct(map);
   }
+  if (has_target()) {
+    const ThrowCatchTarget& target = *problem_.catch_target;
+    forward_jacobian<kQ, 3>([&target](const auto& q) { return catch_outputs(q, target); }, terminal_vector(x),
+                            e.catch_value, e.catch_jacobian);
+  }
+}
+
+ThrowCollocationNlp::TerminalVector ThrowCollocationNlp::terminal_vector(const double* x) const {
+  TerminalVector q;
+  q << Eigen::Map<const PointVector>(x + kV * intervals_), x[catch_time_variable()];
+  return q;
 }
 
 void ThrowCollocationNlp::evaluate_cached(const double* x) {
@@ -251,24 +307,47 @@ void ThrowCollocationNlp::fixed_bounds(Eigen::VectorXd& lower, Eigen::VectorXd& 
   end << problem_.launch_state, problem_.launch_input();
   lower.head<kP>() = start;
   upper.head<kP>() = start;
+  if (has_target()) {
+    // The end knot is free (its inputs in the box); the catching instant no earlier than the
+    // catcher needs (ThrowCatchTarget::min_catch_time_s) and within the flight a catch-point
+    // prediction covers (catch_point_predictor.hpp's 3 s horizon).
+    lower(catch_time_variable()) = std::max(kMinCatchTime_s, problem_.catch_target->min_catch_time_s);
+    upper(catch_time_variable()) = kMaxCatchTime_s;
+    return;
+  }
   lower.segment<kP>(kV * intervals_) = end;
   upper.segment<kP>(kV * intervals_) = end;
 }
 
-Eigen::VectorXd ThrowCollocationNlp::initial_guess() const {
-  PointVector start, end;
-  start << model::PlanarState<double>::Zero(), problem_.hover_input();
-  end << problem_.launch_state, problem_.launch_input();
-  Eigen::VectorXd x = Eigen::VectorXd::Zero(variable_count());
+void ThrowCollocationNlp::set_warm_start(const ThrowTrajectory& trajectory, double catch_time_s) {
+  warm_start_ = Eigen::VectorXd::Zero(variable_count());
   for (int j = 0; j <= intervals_; ++j) {
-    const double w = static_cast<double>(j) / intervals_;
-    x.segment<kP>(kV * j) = (1.0 - w) * start + w * end;
+    warm_start_.segment<kS>(kV * j) = trajectory.state_at(knots_s_[j]);
+    warm_start_.segment<planar::kInputSize>(kV * j + kS) = trajectory.input_at(knots_s_[j]);
   }
-  // The slacks at the values of their rows, moved into their bounds.
-  Evaluation e;
-  evaluate(x.data(), e);
+  if (has_target()) warm_start_(catch_time_variable()) = catch_time_s;
+}
+
+Eigen::VectorXd ThrowCollocationNlp::initial_guess() const {
+  Eigen::VectorXd x = warm_start_;
+  if (x.size() != variable_count()) {
+    PointVector start, end;
+    start << model::PlanarState<double>::Zero(), problem_.hover_input();
+    end << problem_.launch_state, problem_.launch_input();
+    x = Eigen::VectorXd::Zero(variable_count());
+    for (int j = 0; j <= intervals_; ++j) {
+      const double w = static_cast<double>(j) / intervals_;
+      x.segment<kP>(kV * j) = (1.0 - w) * start + w * end;
+    }
+    if (has_target()) x(catch_time_variable()) = problem_.catch_target->catch_time_guess_s;
+  }
+  // The variables moved into their bounds, then the slacks at the values of their rows, moved
+  // into theirs.
   Eigen::VectorXd lower, upper;
   fixed_bounds(lower, upper);
+  x = x.cwiseMax(lower).cwiseMin(upper);
+  Evaluation e;
+  evaluate(x.data(), e);
   for (int j = 0; j <= intervals_; ++j) {
     x(kV * j + kKnotForceSlack) = e.knot_value[j](kNormalForceOutput);
     if (j < intervals_) {
@@ -316,7 +395,14 @@ double ThrowCollocationNlp::max_violation(const Eigen::VectorXd& x) const {
   }
   // F_N >= 0 at every knot, the fixed end knots included.
   for (const OutputVector& v : e.knot_value) worst = std::max(worst, -v(kNormalForceOutput));
+  if (has_target()) {
+    worst = std::max(worst, g.tail<kTerminalRows>().cwiseAbs().maxCoeff());
+  }
   fixed_bounds(lower, upper);
+  if (has_target()) {
+    const int t = catch_time_variable();
+    worst = std::max({worst, lower(t) - x(t), x(t) - upper(t)});
+  }
   for (int j = 0; j <= intervals_; ++j) {
     for (int d = 0; d < kP; ++d) {
       const int i = kV * j + d;
@@ -407,6 +493,10 @@ bool ThrowCollocationNlp::constraints_from(const double* x, const Evaluation& e,
   for (int j = 1; j < intervals_; ++j) {
     g[knot_row(j)] = e.knot_value[j](kNormalForceOutput) - x[kV * j + kKnotForceSlack];
   }
+  if (has_target()) {
+    g[knot_row(intervals_)] = e.knot_value[intervals_](kNormalForceOutput);
+    for (int i = 0; i < 3; ++i) g[knot_row(intervals_) + 1 + i] = e.catch_value(i);
+  }
   for (int r = 0; r < constraint_count(); ++r) {
     if (!std::isfinite(g[r])) return false;
   }
@@ -456,6 +546,10 @@ bool ThrowCollocationNlp::eval_jac_g(Ipopt::Index, const Ipopt::Number* x, bool,
     knot_row(kKnotForceSlack) = -1.0;
     put(knot_row);
   }
+  if (has_target()) {
+    put(cache_.knot_jacobian[intervals_].row(kNormalForceOutput));
+    for (int i = 0; i < 3; ++i) put(cache_.catch_jacobian.row(i));
+  }
   return out - values == nele_jac;
 }
 
@@ -480,6 +574,19 @@ bool ThrowCollocationNlp::eval_h(Ipopt::Index, const Ipopt::Number* x, bool, Ipo
   }
   evaluate_cached(x);
   hessian_blocks(x, cache_, obj_factor, lambda, hess_diagonal_, hess_coupling_);
+  if (has_target()) {
+    // The catch rows' curvature in (p_N, t_c); its p_N block joins knot N's.
+    const ThrowCatchTarget& target = *problem_.catch_target;
+    const Eigen::Vector3d weights = Eigen::Map<const Eigen::Vector3d>(lambda + knot_row(intervals_) + 1);
+    const Eigen::Matrix<double, 5, 5> curved =
+        weighted_hessian_of<5, kQ, 3>([&target](const auto& q) { return catch_outputs(q, target); },
+                                      terminal_vector(x), weights, kCatchCurved);
+    hess_terminal_.setZero();
+    for (int r = 0; r < 5; ++r) {
+      for (int c = 0; c < 5; ++c) hess_terminal_(kCatchCurved[r], kCatchCurved[c]) = curved(r, c);
+    }
+    hess_diagonal_[intervals_] += hess_terminal_.topLeftCorner<kP, kP>();
+  }
   double* out = values;
   for (int j = 0; j < knot_count(); ++j) {
     for (int r = 0; r < kP; ++r) {
@@ -494,6 +601,9 @@ bool ThrowCollocationNlp::eval_h(Ipopt::Index, const Ipopt::Number* x, bool, Ipo
         *out++ = hess_coupling_[k](r, c);
       }
     }
+  }
+  if (has_target()) {
+    for (int c = 0; c <= kP; ++c) *out++ = hess_terminal_(kP, c);
   }
   return out - values == nele_hess;
 }
@@ -534,6 +644,7 @@ void ThrowCollocationNlp::hessian_blocks(const double* x, const Evaluation& e, d
   for (int j = 1; j < intervals_; ++j) {
     knot_weight[j](kNormalForceOutput) = lambda[knot_row(j)];
   }
+  if (has_target()) knot_weight[intervals_](kNormalForceOutput) = lambda[knot_row(intervals_)];
   for (int j = 0; j < knot_count(); ++j) {
     diagonal[j] += point_hessian(Eigen::Map<const PointVector>(x + kV * j), knot_weight[j], problem_);
   }

@@ -30,6 +30,15 @@
 // fixed-size forward AD pass per point (Eigen::AutoDiffScalar<Matrix<double, 9, 1>>) and the
 // chain rule through p_m; the exact Hessian of the Lagrangian from per-point Hessians of weighted
 // sums w . g(p) (nested forward AD) assembled the same way.
+//
+// A throw to a target (ThrowProblem::catch_target) frees the end knot (its inputs stay in the
+// box) and appends one variable, the catching instant t_c after the release, and four rows:
+//   F_N(p_N) = 0                                   the pole leaves the plate at T (Section III-A)
+//   catch_target_residuals(s_N, t_c) = 0           the lower end on the target at the instant
+//                                                  where (42) holds (throw_problem.hpp)
+// F_N's curvature joins knot N's point Hessian; the catch rows' Hessian, from nested forward AD
+// through the pole's RK4 flight, is dense in (v_x, v_z, alpha, alpha', t_c), and the structure
+// gains t_c's row: its coupling to knot N's point and its diagonal.
 #pragma once
 
 #include <Eigen/Core>
@@ -55,6 +64,7 @@ class ThrowCollocationNlp final : public Ipopt::TNLP {
   static constexpr int kOutputs = model::planar::kStateSize + 2;  // f, F_N, running cost
   static constexpr int kNormalForceOutput = model::planar::kStateSize;
   static constexpr int kCostOutput = model::planar::kStateSize + 1;
+  static constexpr int kTerminalRows = 4;  // F_N(p_N) and the three catch residuals
 
   // Precondition: problem.validate() is empty; knots_s strictly increasing from 0 to T, at least
   // two of them (throw_collocation_mesh). Throws std::logic_error if the model has become curved
@@ -65,18 +75,26 @@ class ThrowCollocationNlp final : public Ipopt::TNLP {
   int knot_count() const { return intervals_ + 1; }
   // Collocation points of the trajectory: the knots and the interval midpoints, in time order.
   int point_count() const { return 2 * intervals_ + 1; }
-  int variable_count() const { return kKnotSize * knot_count(); }
-  int constraint_count() const { return knot_row(intervals_); }
+  bool has_target() const { return problem_.catch_target.has_value(); }
+  int variable_count() const { return kKnotSize * knot_count() + (has_target() ? 1 : 0); }
+  int constraint_count() const { return knot_row(intervals_) + (has_target() ? kTerminalRows : 0); }
+  // The index of t_c among the variables (target throws only).
+  int catch_time_variable() const { return kKnotSize * knot_count(); }
   int jacobian_nonzeros() const { return static_cast<int>(jac_rows_.size()); }
   int hessian_nonzeros() const { return static_cast<int>(hess_rows_.size()); }
 
-  // The straight line from hover to the launch state, states and inputs alike, with each slack
-  // at its row's value moved into its bounds: the starting point given to IPOPT.
+  // The starting point given to IPOPT: the warm start if one is set, else the straight line from
+  // hover to the launch state, states and inputs alike (t_c from catch_time_guess_s); each slack
+  // at its row's value moved into its bounds.
   Eigen::VectorXd initial_guess() const;
+  // Start from `trajectory` (interpolated at the knots; any mesh over the same duration) with
+  // catching instant catch_time_s (ignored without a target).
+  void set_warm_start(const ThrowTrajectory& trajectory, double catch_time_s);
   // The trajectory a variable vector describes (with F_N at every point).
   ThrowTrajectory trajectory_from(const Eigen::VectorXd& x) const;
   // The largest violation of any constraint or bound at x (dynamics defects, F_N >= 0, input
-  // box, fixed end points): the figure to hold against the 1e-6 requirement.
+  // box, fixed end points; for a target throw F_N = 0 at T, the catch rows and t_c's bounds): the
+  // figure to hold against the 1e-6 requirement.
   double max_violation(const Eigen::VectorXd& x) const;
 
   // What IPOPT handed back in finalize_solution.
@@ -113,6 +131,9 @@ class ThrowCollocationNlp final : public Ipopt::TNLP {
   using PairJacobian = Eigen::Matrix<double, kOutputs, 2 * kPointSize>;
   using SimpsonJacobian = Eigen::Matrix<double, model::planar::kStateSize, 2 * kPointSize>;
   using Block = Eigen::Matrix<double, kPointSize, kPointSize>;
+  // The terminal variables q = (p_N, t_c) and the catch rows' derivatives in them.
+  using TerminalVector = Eigen::Matrix<double, kPointSize + 1, 1>;
+  using CatchJacobian = Eigen::Matrix<double, 3, kPointSize + 1>;
 
   // The point function at every knot and midpoint of x, with its derivatives.
   struct Evaluation {
@@ -121,9 +142,13 @@ class ThrowCollocationNlp final : public Ipopt::TNLP {
     std::vector<PointVector> mid_point;                      // p_m
     std::vector<MidpointMap> mid_map;                        // d p_m / d(p_a, p_b)
     std::vector<PairJacobian> mid_total;                     // d g(p_m) / d(p_a, p_b)
+    Eigen::Vector3d catch_value = Eigen::Vector3d::Zero();   // target throws: the catch rows
+    CatchJacobian catch_jacobian = CatchJacobian::Zero();    // and d / d(p_N, t_c)
   };
   void evaluate(const double* x, Evaluation& e) const;
-  void evaluate_cached(const double* x);  // into cache_, unless x is the cached point
+  void evaluate_cached(const double* x);
+  TerminalVector terminal_vector(
+      const double* x) const;  // (p_N, t_c)  // into cache_, unless x is the cached point
   bool constraints_from(const double* x, const Evaluation& e, double* g) const;
   SimpsonJacobian simpson_jacobian(int k, const Evaluation& e) const;  // interval k's 7 rows
   // The Lagrangian's Hessian as blocks: per knot, and between knots k + 1 (rows) and k.
@@ -141,7 +166,10 @@ class ThrowCollocationNlp final : public Ipopt::TNLP {
 
   std::vector<int> jac_rows_, jac_cols_;  // in the order eval_jac_g writes the values
   std::vector<int> hess_rows_, hess_cols_;
-  std::vector<Block> hess_diagonal_, hess_coupling_;  // eval_h's workspace
+  std::vector<Block> hess_diagonal_, hess_coupling_;                     // eval_h's workspace
+  Eigen::Matrix<double, kPointSize + 1, kPointSize + 1> hess_terminal_;  // catch rows, in (p_N, t_c)
+
+  Eigen::VectorXd warm_start_;  // empty: the straight line
 
   Eigen::VectorXd cached_x_;
   bool cache_valid_ = false;

@@ -2,6 +2,7 @@
 
 #include <IpIpoptApplication.hpp>
 #include <IpSolveStatistics.hpp>  // IPOPT 3.11 does not include it from the application header
+#include <cmath>
 #include <exception>
 
 #include "groundstation/planning/throw_collocation_nlp.hpp"
@@ -34,7 +35,8 @@ const char* status_text(Ipopt::ApplicationReturnStatus status) {
   return "unknown IPOPT status";
 }
 
-ThrowPlan solve(const ThrowProblem& problem, const ThrowSolverOptions& options) {
+ThrowPlan solve(const ThrowProblem& problem, const ThrowSolverOptions& options,
+                const ThrowWarmStart* warm_start) {
   ThrowPlan plan;
   plan.launch_thrust_mps2 = problem.launch_thrust_mps2();
   if (const std::string why = problem.validate(); !why.empty()) {
@@ -50,6 +52,14 @@ ThrowPlan solve(const ThrowProblem& problem, const ThrowSolverOptions& options) 
 
   Ipopt::SmartPtr<ThrowCollocationNlp> nlp = new ThrowCollocationNlp(
       problem, throw_collocation_mesh(problem.duration_s, options.intervals, options.end_refinement));
+  if (warm_start != nullptr) {
+    if (warm_start->trajectory.intervals() < 1 ||
+        std::abs(warm_start->trajectory.duration_s() - problem.duration_s) > 1e-9) {
+      plan.status = "rejected: the warm start does not span the throw's duration";
+      return plan;
+    }
+    nlp->set_warm_start(warm_start->trajectory, warm_start->catch_time_s);
+  }
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   Ipopt::OptionsList& opts = *app->Options();
   opts.SetIntegerValue("print_level", options.print_level);
@@ -91,7 +101,12 @@ ThrowPlan solve(const ThrowProblem& problem, const ThrowSolverOptions& options) 
   plan.cost = nlp->solution_objective();
   plan.trajectory = nlp->trajectory_from(x);
   plan.max_violation = nlp->max_violation(x);
-  plan.end_state_error = (plan.trajectory.state.back() - problem.launch_state).cwiseAbs().maxCoeff();
+  if (nlp->has_target()) {
+    plan.launch_thrust_mps2 = plan.trajectory.input.back()(model::planar::kThrust);
+    plan.catch_time_s = x(nlp->catch_time_variable());
+  } else {
+    plan.end_state_error = (plan.trajectory.state.back() - problem.launch_state).cwiseAbs().maxCoeff();
+  }
   const bool converged = status == Ipopt::Solve_Succeeded || status == Ipopt::Solved_To_Acceptable_Level;
   // The 1e-6 promise of the planner, checked on the returned point rather than trusted.
   plan.success = converged && plan.max_violation <= 1e-6;
@@ -101,9 +116,10 @@ ThrowPlan solve(const ThrowProblem& problem, const ThrowSolverOptions& options) 
 
 }  // namespace
 
-ThrowPlan plan_throw(const ThrowProblem& problem, const ThrowSolverOptions& options) {
+ThrowPlan plan_throw(const ThrowProblem& problem, const ThrowSolverOptions& options,
+                     const ThrowWarmStart* warm_start) {
   try {
-    return solve(problem, options);
+    return solve(problem, options, warm_start);
   } catch (const std::exception& e) {
     ThrowPlan plan;
     plan.status = std::string("solver error: ") + e.what();

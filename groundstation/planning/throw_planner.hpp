@@ -29,12 +29,22 @@ struct ThrowPlan {
   double cost = 0.0;     // J of (34)
   int iterations = 0;
   double max_violation = 0.0;       // worst constraint or bound violation of the result
-  double end_state_error = 0.0;     // max |s(T) - s_T| over the state components
+  double end_state_error = 0.0;     // max |s(T) - s_T| over the state components (fixed end)
   double launch_thrust_mps2 = 0.0;  // a_q,T from F_N = 0
+  double catch_time_s = 0.0;        // target throws: the catching instant t_c after the release
   ThrowTrajectory trajectory;       // empty unless IPOPT returned a point
 };
 
-// Never throws; a rejected problem or a solver failure comes back with success = false.
-ThrowPlan plan_throw(const ThrowProblem& problem, const ThrowSolverOptions& options = {});
+// A starting point for the solver: a trajectory over the same duration (any mesh) and, for a
+// target throw, its catching instant.
+struct ThrowWarmStart {
+  ThrowTrajectory trajectory;
+  double catch_time_s = 0.0;
+};
+
+// Never throws; a rejected problem or a solver failure comes back with success = false. Without
+// a warm start the solver starts from the straight line between hover and problem.launch_state.
+ThrowPlan plan_throw(const ThrowProblem& problem, const ThrowSolverOptions& options = {},
+                     const ThrowWarmStart* warm_start = nullptr);
 
 }  // namespace gs::planning

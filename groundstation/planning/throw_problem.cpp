@@ -56,6 +56,16 @@ std::string ThrowProblem::validate() const {
            std::abs(u(planar::kPitchRate)) <= limits.omega_max_radps;
   };
   if (!in_box(hover_input())) return "the hover input (g, 0) is outside the input limits";
+  if (catch_target) {
+    const ThrowCatchTarget& t = *catch_target;
+    if (!std::isfinite(t.distance_m) || !std::isfinite(t.height_m) || !std::isfinite(t.base_offset_rad) ||
+        !(t.catch_time_guess_s > 0.0) || t.flight_steps < 1 || !(t.min_catch_time_s >= 0.0) ||
+        !(t.min_catch_time_s < 3.0)) {
+      return "the catch target is not finite, its catching-instant guess or flight steps not positive, or its "
+             "shortest flight outside [0, 3) s";
+    }
+    return {};  // the launch input is a variable, kept in the box by the planner
+  }
   if (!in_box(launch_input())) {
     return "the launch input (a_q,T = " + std::to_string(launch_thrust_mps2()) +
            " m/s^2 from F_N = 0, Omega_T) is outside the input limits";

@@ -40,6 +40,7 @@
 #include "groundstation/adaptation/throw_evaluation.hpp"
 #include "groundstation/adaptation/throw_learning.hpp"
 #include "groundstation/control/lqr.hpp"
+#include "groundstation/control/throw_frame.hpp"
 #include "groundstation/estimation/state_estimator.hpp"
 #include "groundstation/link/ground_link.hpp"
 #include "groundstation/mission/vehicle_sequencer.hpp"
@@ -79,6 +80,11 @@ struct GroundStationConfig {
   // 1.1 m below it, and the vehicle's feet hang 0.2 m below its centre; from 1.5 m the feet
   // touched the floor at the bottom of the dip (measured), so 2 m.
   Eigen::Vector3d throw_origin_m{0.0, 0.0, 2.0};
+  // The direction vehicle 1 throws in, from +x towards +y (control/throw_frame.hpp). Vehicle 2
+  // throws back: from where vehicle 1's throws come down (the adapted catch point, at the
+  // origin's height), in the opposite direction, so that its throws come down where vehicle 1
+  // throws from and passes go back and forth between two points.
+  double throw_yaw_rad = 0.0;
   // Where each vehicle stands on the floor before take-off (x, y), and the take-off height.
   std::array<Eigen::Vector2d, 2> home_xy_m{Eigen::Vector2d(-1.0, 0.0), Eigen::Vector2d(1.0, 0.0)};
   double take_off_height_m = 1.0;
@@ -155,8 +161,8 @@ struct GroundStationConfig {
 
 // What the mission script (an operator, `hil fly`) asks for one attempt.
 struct AttemptRequest {
-  pa::VehicleId thrower = pa::kVehicle1;
-  bool catch_it = true;                                      // the other vehicle flies the catch
+  pa::VehicleId thrower = pa::kVehicle1;  // throws from its own throw frame (throw_frame())
+  bool catch_it = true;                   // the other vehicle flies the catch
   Eigen::Vector2d catch_offset_m = Eigen::Vector2d::Zero();  // practice: catch this far off
 };
 
@@ -241,9 +247,12 @@ class GroundStation {
   Learnt learnt() const;
   // The throw's planned end state (Fig. 5), relative to the throw's origin.
   planning::PlanarLaunchState planned_launch() const;
+  // Where and in which direction a vehicle throws (see GroundStationConfig::throw_yaw_rad).
+  control::ThrowFrame throw_frame(pa::VehicleId thrower) const;
   const GroundStationConfig& config() const { return config_; }
   const planning::ThrowPlan& throw_plan() const { return plan_; }
-  // The catch point (lower end, x y) and height expected for the next throw, arena frame.
+  // The catch point (lower end, x y) and height expected for the next throw (from the current
+  // attempt's thrower, or the last one's), arena frame.
   Eigen::Vector2d waiting_xy() const;
   double catch_height() const;
   // The catch manoeuvre flown in the current attempt (nullopt before it starts).
@@ -318,6 +327,7 @@ class GroundStation {
   std::optional<estimation::StateEstimator> ahead_;
 
   // The attempt.
+  control::ThrowFrame frame_;  // its thrower's throw frame (the last attempt's when idle)
   AttemptPhase phase_ = AttemptPhase::idle;
   AttemptRequest request_;
   AttemptReport current_;

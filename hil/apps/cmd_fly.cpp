@@ -1,4 +1,4 @@
-// `hil fly (--series paper | --throws N) [--seed S] [--plant FILE] [--randomise] [--out DIR]`:
+// `hil fly (--series paper | --throws N | --passes N) [--seed S] [--plant FILE] [--randomise] [--out DIR]`:
 // a series of throws flown in the lockstep arena by the ground-station runtime (hil/sil/series.hpp),
 // judged on the plant's truth. Prints a table per throw and a summary beside the paper's figures;
 // with --out writes DIR/throws.csv (one row per attempt), DIR/attempt_<n>.csv (its time series)
@@ -25,7 +25,7 @@ namespace hil::apps {
 namespace {
 
 constexpr const char* kUsage =
-    "usage: hil fly (--series paper | --throws N) [--seed S] [--plant FILE] [--randomise] [--out DIR [--no-report]] [--store FILE] [--verbose]";
+    "usage: hil fly (--series paper | --throws N | --passes N) [--seed S] [--plant FILE] [--randomise] [--out DIR [--no-report]] [--store FILE] [--verbose]";
 
 int usage(const std::string& message) {
   std::cerr << "hil fly: " << message << "\n" << kUsage << "\n";
@@ -81,7 +81,7 @@ void write_time_series(const std::string& path, const std::vector<sil::TimeSampl
 
 int cmd_fly(int argc, char** argv) {
   std::string series, plant_file, out_dir, store_file;
-  std::uint64_t throws = 0, seed = 1;
+  std::uint64_t throws = 0, passes = 0, seed = 1;
   bool randomise = false, verbose = false, no_report = false;
   CLI::App app("", "hil fly");
   pa::cli::describe(
@@ -94,18 +94,24 @@ int cmd_fly(int argc, char** argv) {
   app.add_option("--throws", throws, "N throws to catch instead")
       ->type_name("N")
       ->check(pa::cli::count(1, 100000, "needs a count 1..100000"));
+  app.add_option("--passes", passes,
+                 "N passes back and forth: vehicle 1 throws to vehicle 2, which catches and throws back")
+      ->type_name("N")
+      ->check(pa::cli::count(1, 100000, "needs a count 1..100000"));
   app.add_option("--seed", seed, "seed of the noise and of --randomise (default 1)")
       ->type_name("S")
       ->check(pa::cli::count(0, UINT64_MAX, "needs a non-negative integer"));
   app.add_option("--plant", plant_file, "plant configuration (default: the built-in one)")->type_name("FILE");
-  app.add_flag("--randomise", randomise, "each attempt on a plant drawn anew from the seed");
+  app.add_flag("--randomise", randomise,
+               "each attempt on a plant drawn anew from the seed (--passes: all on one plant drawn from it)");
   app.add_option("--out", out_dir, "write DIR/throws.csv, DIR/attempt_<n>.csv and DIR/report.html")
       ->type_name("DIR");
   app.add_flag("--no-report", no_report, "with --out: the CSV files only, no report.html");
   app.add_option("--store", store_file, "the ground station's adaptation store")->type_name("FILE");
   app.add_flag("--verbose", verbose, "print the mission log");
   if (const std::optional<int> code = pa::cli::parse(app, argc, argv, std::cout, std::cerr)) return *code;
-  if (series.empty() == (throws == 0)) return usage("give exactly one of --series paper and --throws N");
+  if (int(!series.empty()) + int(throws > 0) + int(passes > 0) != 1)
+    return usage("give exactly one of --series paper, --throws N and --passes N");
 
   PlantConfig plant;
   if (!plant_file.empty()) {
@@ -115,8 +121,9 @@ int cmd_fly(int argc, char** argv) {
       return 2;
     }
   }
-  const std::vector<sil::AttemptPlan> plans =
-      series == "paper" ? sil::paper_series() : sil::catch_series(static_cast<int>(throws));
+  const std::vector<sil::AttemptPlan> plans = series == "paper" ? sil::paper_series()
+                                              : passes > 0      ? sil::pass_series(static_cast<int>(passes))
+                                                                : sil::catch_series(static_cast<int>(throws));
   if (!out_dir.empty()) {
     std::error_code ec;
     std::filesystem::create_directories(out_dir, ec);
@@ -136,9 +143,10 @@ int cmd_fly(int argc, char** argv) {
                   r.energy_error_J, r.abort_reason.c_str(), r.vehicle_crashed ? " (vehicle crashed)" : "");
       std::fflush(stdout);
     };
-    if (!randomise) {
+    if (!randomise || passes > 0) {
+      // Passes fly one series on one plant: randomised, drawn once from the seed.
       sil::SeriesConfig config;
-      config.plant = plant;
+      config.plant = randomise ? randomised(plant, seed) : plant;
       config.seed = seed;
       config.record_time_series = !out_dir.empty();
       config.ground_station.adaptation_store_path = store_file;
@@ -210,6 +218,14 @@ int cmd_fly(int argc, char** argv) {
     std::printf("         pole energy right after the impact within %.4f J of E* on average (the paper: "
                 "0.0102 J); free flight to the impact %.3f s on average (the paper: 0.812 s)\n",
                 energy_sum / impacts, flight_sum / impacts);
+  }
+  if (passes > 0) {
+    // After the throw that adapts only.
+    const auto first_miss = std::find_if(results.begin() + 1, results.end(),
+                                         [](const sil::AttemptResult& r) { return r.outcome != "caught"; });
+    std::printf("         passes: %d consecutive passes caught without a drop (of %llu, after the throw that "
+                "adapts; vehicle 1 throws the odd passes, vehicle 2 the even ones)\n",
+                static_cast<int>(first_miss - results.begin() - 1), static_cast<unsigned long long>(passes));
   }
   std::printf("         no vehicle crashed: %s\n",
               std::none_of(results.begin(), results.end(),

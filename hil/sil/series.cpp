@@ -10,12 +10,14 @@ namespace {
 
 using gs::mission::Task;
 
-constexpr pa::VehicleId kThrower = pa::kVehicle1;
-constexpr pa::VehicleId kCatcher = pa::kVehicle2;
 constexpr double kUpright_rad = 5.0 * M_PI / 180.0;  // the acceptance's "within 5 degrees"
 constexpr double kBalancedFor_s = 3.0;
 
 double tilt_of(const PoleState& pole) { return std::acos(std::min(1.0, std::abs(pole.axis().z()))); }
+
+Surface plate_of(pa::VehicleId vehicle) {
+  return vehicle == pa::kVehicle1 ? Surface::plate1 : Surface::plate2;
+}
 
 }  // namespace
 
@@ -25,6 +27,19 @@ std::vector<AttemptPlan> paper_series() {
   for (int i = 0; i < 6; ++i) plans.push_back(AttemptPlan{true, Eigen::Vector2d(1.0, 0.0), 0.0});
   plans.push_back(AttemptPlan{});
   plans.push_back(AttemptPlan{});
+  return plans;
+}
+
+std::vector<AttemptPlan> pass_series(int n) {
+  std::vector<AttemptPlan> plans;
+  if (n <= 0) return plans;
+  plans.push_back(AttemptPlan{false, Eigen::Vector2d::Zero(), 0.0});  // adapts only
+  for (int i = 0; i < n; ++i) {
+    AttemptPlan p;
+    p.thrower = i % 2 == 0 ? pa::kVehicle1 : pa::kVehicle2;
+    p.place_pole = i == 0;
+    plans.push_back(p);
+  }
   return plans;
 }
 
@@ -121,8 +136,8 @@ TimeSample SeriesRunner::time_sample(double now) const {
                p.vehicle(pa::kVehicle2).body.position_m,
                p.pole().body.position_m,
                p.pole().axis(),
-               std::string(gs::mission::task_name(gs_.task(kThrower))),
-               std::string(gs::mission::task_name(gs_.task(kCatcher))),
+               std::string(gs::mission::task_name(gs_.task(pa::kVehicle1))),
+               std::string(gs::mission::task_name(gs_.task(pa::kVehicle2))),
                {},
                {},
                {},
@@ -149,20 +164,20 @@ bool SeriesRunner::run_until(const std::function<bool()>& done, double timeout_s
   return false;
 }
 
-bool SeriesRunner::thrower_at_origin() const {
+bool SeriesRunner::at_throw_origin(pa::VehicleId thrower) const {
   const Plant& p = arena_.plant();
-  const VehicleState& v = p.vehicle(kThrower);
-  const Vec3 origin = config_.ground_station.throw_origin_m;
-  const Task task = gs_.task(kThrower);
+  const VehicleState& v = p.vehicle(thrower);
+  const Vec3 origin = gs_.throw_frame(thrower).origin_m;
+  const Task task = gs_.task(thrower);
   return (task == Task::hover || task == Task::balance) &&
-         (p.plate_centre_m(kThrower) - origin).norm() < 0.1 && v.body.velocity_mps.norm() < 0.2;
+         (p.plate_centre_m(thrower) - origin).norm() < 0.1 && v.body.velocity_mps.norm() < 0.2;
 }
 
-void SeriesRunner::place_pole_on_thrower() {
+void SeriesRunner::place_pole_on(pa::VehicleId thrower) {
   Plant& p = arena_.plant();
   const double L = p.config().pole.half_length_m;
-  const Vec3 plate = p.plate_centre_m(kThrower);
-  p.set_pole(Plant::make_pole(plate + L * Vec3::UnitZ(), Vec3::UnitZ(), p.vehicle(kThrower).body.velocity_mps,
+  const Vec3 plate = p.plate_centre_m(thrower);
+  p.set_pole(Plant::make_pole(plate + L * Vec3::UnitZ(), Vec3::UnitZ(), p.vehicle(thrower).body.velocity_mps,
                               Vec3::Zero()));
 }
 
@@ -171,8 +186,8 @@ std::vector<AttemptResult> SeriesRunner::run(const std::vector<AttemptPlan>& pla
   std::vector<AttemptResult> results;
   run_until([] { return false; }, config_.rest_before_take_off_s);
   gs_.request_take_off();
-  const bool airborne =
-      run_until([&] { return gs_.task(kThrower) == Task::hover && gs_.task(kCatcher) == Task::hover; }, 10.0);
+  const bool airborne = run_until(
+      [&] { return gs_.task(pa::kVehicle1) == Task::hover && gs_.task(pa::kVehicle2) == Task::hover; }, 10.0);
   for (std::size_t i = 0; i < plans.size(); ++i) {
     AttemptResult r;
     if (airborne) {
@@ -230,8 +245,17 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
   const double e_star = m * pc.gravity_mps2 * L;
   plant.take_contact_events();
 
+  const pa::VehicleId thrower = plan.thrower;
+  const pa::VehicleId catcher = pa::other_vehicle(thrower);
+  // A pass needs the pole balanced on the thrower, where the last attempt left it.
+  if (!plan.place_pole && plant.pole_contact() != contact_of(plate_of(thrower))) {
+    r.outcome = "aborted";
+    r.abort_reason = "pole_not_on_thrower";
+    recording_ = nullptr;
+    return r;
+  }
   gs::runtime::AttemptRequest request;
-  request.thrower = kThrower;
+  request.thrower = thrower;
   request.catch_it = plan.catch_it;
   request.catch_offset_m = plan.catch_offset_m;
   const std::size_t reports_before = gs_.attempts().size();
@@ -241,7 +265,7 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
     return r;
   }
 
-  bool placed = false, pushed = false;
+  bool placed = !plan.place_pole, pushed = false;
   std::optional<double> throw_start_s, launch_s, impact_s, floor_s;
   double upright_since_s = -1.0;  // < 0: not upright on the catcher
   std::vector<Vec3> lower_end_m;  // the pole's lower end from the launch to where it stopped
@@ -255,26 +279,26 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
     step();
     const double t = arena_.t_s();
     // The person: the pole onto the thrower hovering at the throw's origin.
-    if (!placed && thrower_at_origin() && gs_.attempt_phase() == gs::runtime::AttemptPhase::preparing) {
-      place_pole_on_thrower();
+    if (!placed && at_throw_origin(thrower) && gs_.attempt_phase() == gs::runtime::AttemptPhase::preparing) {
+      place_pole_on(thrower);
       placed = true;
     }
-    if (!throw_start_s && gs_.task(kThrower) == Task::throwing) throw_start_s = t;
+    if (!throw_start_s && gs_.task(thrower) == Task::throwing) throw_start_s = t;
     if (plan.push_sideways_m != 0.0 && !pushed && throw_start_s && t - *throw_start_s >= 2.2) {
       // The spoiled launch: thrower and pole moved sideways together, as by a gust.
-      VehicleState v = plant.vehicle(kThrower);
+      VehicleState v = plant.vehicle(thrower);
       PoleState pole = plant.pole();
       v.body.position_m.y() += plan.push_sideways_m;
       pole.body.position_m.y() += plan.push_sideways_m;
-      plant.set_vehicle(kThrower, v);
+      plant.set_vehicle(thrower, v);
       plant.set_pole(pole);
       pushed = true;
     }
     for (const PoleContactEvent& e : plant.take_contact_events()) {
       if (!throw_start_s) continue;
-      if (!launch_s && !e.begins && e.surface == Surface::plate1 && e.t_s - *throw_start_s > 1.0)
+      if (!launch_s && !e.begins && e.surface == plate_of(thrower) && e.t_s - *throw_start_s > 1.0)
         launch_s = e.t_s;
-      if (launch_s && !impact_s && e.begins && e.surface == Surface::plate2) {
+      if (launch_s && !impact_s && e.begins && e.surface == plate_of(catcher)) {
         impact_s = e.t_s;
         const Vec3 end = plant.pole().end_m(e.end, L);
         r.impact = true;
@@ -302,7 +326,8 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
       r.energy_error_J = e - e_star;
     }
     // Caught: on the catcher's plate within 5 degrees of upright for 3 s.
-    if (impact_s && plant.pole_contact() == Contact::vehicle2 && tilt_of(plant.pole()) < kUpright_rad) {
+    if (impact_s && plant.pole_contact() == contact_of(plate_of(catcher)) &&
+        tilt_of(plant.pole()) < kUpright_rad) {
       if (upright_since_s < 0.0) upright_since_s = t;
       if (t - upright_since_s >= kBalancedFor_s) caught = true;
     } else {

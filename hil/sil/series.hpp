@@ -35,7 +35,11 @@ namespace hil::sil {
 struct AttemptPlan {
   bool catch_it = true;                                      // false: throw only (adapt)
   Eigen::Vector2d catch_offset_m = Eigen::Vector2d::Zero();  // practice: catch this far off
-  double push_sideways_m = 0.0;  // the person pushes the thrower this far in y during the throw
+  double push_sideways_m = 0.0;           // the person pushes the thrower this far in y during the throw
+  pa::VehicleId thrower = pa::kVehicle1;  // the other vehicle catches
+  // The person puts the pole on the thrower if it is not there (a pass: it must be there already,
+  // caught and balanced in the attempt before; if it is not, the attempt is not flown).
+  bool place_pole = true;
 };
 
 // The paper's series (Section VII-B): throw 1 adapts only, throws 2-7 practise with the catch
@@ -43,6 +47,11 @@ struct AttemptPlan {
 std::vector<AttemptPlan> paper_series();
 // One throw that adapts only, then n - 1 catches.
 std::vector<AttemptPlan> catch_series(int n);
+// Passes back and forth: one throw by vehicle 1 that adapts only (as catch_series), then n
+// passes: vehicle 1 throws to vehicle 2, which catches, balances and throws back from its own
+// throw frame (GroundStation::throw_frame), and so on; the pole is put on vehicle 1 before the
+// first pass and never again.
+std::vector<AttemptPlan> pass_series(int n);
 
 // The referee's account of one attempt, the columns of throws.csv.
 struct AttemptResult {
@@ -60,7 +69,7 @@ struct AttemptResult {
 };
 
 // One row of an attempt's time series (every 10 ms); the columns of attempt_<n>.csv are in
-// docs/report.md. Index 0 is vehicle 1 (the thrower), 1 is vehicle 2 (the catcher).
+// docs/report.md. Index 0 is vehicle 1, 1 is vehicle 2 (thrower and catcher in the paper's series).
 struct TimeSample {
   double t_s;
   Vec3 vehicle1_m, vehicle2_m, pole_m, pole_axis;
@@ -114,8 +123,8 @@ class SeriesRunner {
   TimeSample time_sample(double now) const;
   bool run_until(const std::function<bool()>& done, double timeout_s);
   AttemptResult fly(const AttemptPlan& plan, int number);
-  void place_pole_on_thrower();
-  bool thrower_at_origin() const;
+  void place_pole_on(pa::VehicleId thrower);
+  bool at_throw_origin(pa::VehicleId thrower) const;
 
   SeriesConfig config_;
   Arena arena_;

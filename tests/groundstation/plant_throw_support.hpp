@@ -5,6 +5,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <optional>
@@ -23,12 +24,19 @@ namespace plant_throw {
 // The plan's origin (hover) in the arena: the throw dips 0.95 m below it.
 inline const hil::Vec3 kStart_m(0.0, 0.0, 1.5);
 
-// The throw's start on the plant: vehicle 1 hovering with the plate at the plan's origin and
-// carrying the pole's weight, the pole upright and still on the plate, vehicle 2 parked aside.
-inline void place_for_throw(hil::Plant& plant) {
+// The throw's plane faces yaw_rad (a target throw, target_throw.hpp; 0 for +x): the helpers
+// below read the truth in the frame turned by it, where the plan's planar model holds.
+inline hil::Mat3 to_throw_frame(double yaw_rad) {
+  return Eigen::AngleAxisd(-yaw_rad, hil::Vec3::UnitZ()).toRotationMatrix();
+}
+
+// The throw's start on the plant: vehicle 1 hovering with the plate at the plan's origin, facing
+// the throw's plane and carrying the pole's weight, the pole upright and still on the plate,
+// vehicle 2 parked aside.
+inline void place_for_throw(hil::Plant& plant, double yaw_rad = 0.0) {
   const hil::PlantConfig& config = plant.config();
   hil::VehicleState thrower =
-      plant.hovering_vehicle(kStart_m - hil::Vec3(0, 0, config.vehicle.plate_height_m), 0.0);
+      plant.hovering_vehicle(kStart_m - hil::Vec3(0, 0, config.vehicle.plate_height_m), yaw_rad);
   for (double& f : thrower.motor_thrust_N) f += config.pole.mass_kg * config.gravity_mps2 / 4.0;
   plant.set_vehicle(pa::kVehicle1, thrower);
   plant.set_vehicle(pa::kVehicle2, plant.parked_vehicle(-2.0, 2.0, 0.0));
@@ -43,23 +51,25 @@ struct Pivot {
   hil::Vec3 p_m;
   hil::Vec3 v_mps;
 };
-inline Pivot pivot_of(const hil::Plant& plant) {
+inline Pivot pivot_of(const hil::Plant& plant, double yaw_rad = 0.0) {
   const hil::VehicleState& v = plant.vehicle(pa::kVehicle1);
   const hil::Vec3 lever = plant.plate_centre_m(pa::kVehicle1) - v.body.position_m;
-  return {plant.plate_centre_m(pa::kVehicle1) - kStart_m,
-          v.body.velocity_mps + v.body.rate_inertial_radps().cross(lever)};
+  const hil::Mat3 turn = to_throw_frame(yaw_rad);
+  return {turn * (plant.plate_centre_m(pa::kVehicle1) - kStart_m),
+          turn * (v.body.velocity_mps + v.body.rate_inertial_radps().cross(lever))};
 }
 
 // The planar state (planar_pole_vehicle.hpp) of the plant's vehicle 1 and pole, from the truth:
 // the pivot is the plate's centre (where the pole's lower end rests), theta the pitch of the
 // thrust axis, alpha the pole's tilt from the vertical towards +x.
-inline gs::model::PlanarState<double> planar_state(const hil::Plant& plant) {
-  const hil::Mat3 r = plant.vehicle(pa::kVehicle1).body.rotation();
-  const Pivot pivot = pivot_of(plant);
-  const hil::Vec3 n = plant.pole().axis();
+inline gs::model::PlanarState<double> planar_state(const hil::Plant& plant, double yaw_rad = 0.0) {
+  const hil::Mat3 turn = to_throw_frame(yaw_rad);
+  const hil::Mat3 r = turn * plant.vehicle(pa::kVehicle1).body.rotation();
+  const Pivot pivot = pivot_of(plant, yaw_rad);
+  const hil::Vec3 n = turn * plant.pole().axis();
   gs::model::PlanarState<double> s;
   s << pivot.p_m.x(), pivot.p_m.z(), pivot.v_mps.x(), pivot.v_mps.z(), std::atan2(r(0, 2), r(2, 2)),
-      std::atan2(n.x(), n.z()), plant.pole().body.rate_inertial_radps().y();
+      std::atan2(n.x(), n.z()), (turn * plant.pole().body.rate_inertial_radps()).y();
   return s;
 }
 
@@ -67,12 +77,13 @@ inline gs::model::PlanarState<double> planar_state(const hil::Plant& plant) {
 // pivot (plate centre) and its velocity, Z-Y-X Euler angles of eq. (3) (the thrust axis is
 // (cos phi sin theta, -sin phi, cos phi cos theta) at psi = 0), and the pole's deflection
 // L n = (a, b, c) (eq. (24)) with its rate L (omega x n).
-inline Eigen::VectorXd balancing_state(const hil::Plant& plant, double half_length_m) {
+inline Eigen::VectorXd balancing_state(const hil::Plant& plant, double half_length_m, double yaw_rad = 0.0) {
   namespace bal = gs::control::balancing;
-  const hil::Mat3 r = plant.vehicle(pa::kVehicle1).body.rotation();
-  const Pivot pivot = pivot_of(plant);
-  const hil::Vec3 n = plant.pole().axis();
-  const hil::Vec3 n_dot = plant.pole().body.rate_inertial_radps().cross(n);
+  const hil::Mat3 turn = to_throw_frame(yaw_rad);
+  const hil::Mat3 r = turn * plant.vehicle(pa::kVehicle1).body.rotation();
+  const Pivot pivot = pivot_of(plant, yaw_rad);
+  const hil::Vec3 n = turn * plant.pole().axis();
+  const hil::Vec3 n_dot = (turn * plant.pole().body.rate_inertial_radps()).cross(n);
   Eigen::VectorXd x = Eigen::VectorXd::Zero(bal::kStateSize);
   x.segment<3>(bal::kX) = pivot.p_m;
   x.segment<3>(bal::kVx) = pivot.v_mps;
@@ -115,6 +126,7 @@ class CatchCheck {
   }
 
   const std::optional<double>& crossing_t_s() const { return crossing_t_s_; }
+  const hil::Vec3& crossing_m() const { return crossing_m_; }  // valid once crossing_t_s() is set
   // The figures both plant-throw tests bound: the miss of the prediction 0.1 s after the release
   // and 0.15 s before the crossing. Empty when the pole never came down through the height.
   struct Errors {
@@ -126,12 +138,13 @@ class CatchCheck {
     if (!crossing_t_s_) return std::nullopt;
     return Errors{*crossing_t_s_, error_at(release_t_s + 0.1), error_at(*crossing_t_s_ - 0.15)};
   }
-  // The horizontal miss of the first prediction made at or after t_s (1e9 when there is none or
-  // it found no crossing).
-  double error_at(double t_s) const {
+  // The horizontal miss of the first prediction made at or after t_s from `point` (by default the
+  // true crossing; 1e9 when there is none or it found no crossing).
+  double error_at(double t_s) const { return error_at(t_s, crossing_m_); }
+  double error_at(double t_s, const hil::Vec3& point_m) const {
     for (const auto& [tp, p] : predictions_) {
       if (tp < t_s - 1e-9) continue;
-      return p.found ? std::hypot(p.x_m - crossing_m_.x(), p.y_m - crossing_m_.y()) : 1e9;
+      return p.found ? std::hypot(p.x_m - point_m.x(), p.y_m - point_m.y()) : 1e9;
     }
     return 1e9;
   }

@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "groundstation/planning/throw_collocation_nlp.hpp"
+#include "throw_plan_checks.hpp"
 
 namespace {
 
@@ -67,13 +68,23 @@ TEST_CASE("the collocation mesh is graded towards both ends", "[throw_planner]")
 }
 
 TEST_CASE("the NLP's gradient, Jacobian and Hessian match finite differences", "[throw_planner]") {
-  const ThrowProblem problem;
+  // The fixed launch state of (34), and the free one of a throw to a target (target_throw.hpp).
+  const bool to_target = GENERATE(false, true);
+  ThrowProblem problem;
+  if (to_target) {
+    gs::planning::ThrowCatchTarget target;
+    target.distance_m = 3.2;
+    target.height_m = -0.4;
+    problem.catch_target = target;
+  }
   ThrowCollocationNlp nlp(problem, gs::planning::throw_collocation_mesh(problem.duration_s, 4, 0.5));
   Ipopt::Index n = 0, m = 0, nnz_jac = 0, nnz_h = 0;
   Ipopt::TNLP::IndexStyleEnum style;
   REQUIRE(nlp.get_nlp_info(n, m, nnz_jac, nnz_h, style));
-  REQUIRE(n == 13 * 5);      // the knots, each with its slacks
-  REQUIRE(m == 10 * 4 + 3);  // per interval Simpson, F_N and slew rows; F_N at inner knots
+  // The knots, each with its slacks, and the catching instant of a target throw.
+  REQUIRE(n == 13 * 5 + (to_target ? 1 : 0));
+  // Per interval Simpson, F_N and slew rows; F_N at inner knots; F_N at T and the catch rows.
+  REQUIRE(m == 10 * 4 + 3 + (to_target ? 4 : 0));
 
   // A generic point: the straight line with a deterministic wiggle in every variable.
   Eigen::VectorXd x = nlp.initial_guess();
@@ -164,20 +175,7 @@ TEST_CASE("the planned throw meets every constraint of (34)", "[throw_planner]")
   REQUIRE(traj.state.size() == 201);
 
   // Recompute everything from the returned points, independently of the NLP class.
-  double max_defect = 0.0;
-  for (int k = 0; k < traj.intervals(); ++k) {
-    const int a = 2 * k, m = 2 * k + 1, b = 2 * k + 2;
-    const double h = traj.t_s[b] - traj.t_s[a];
-    CHECK(traj.t_s[m] == Approx(0.5 * (traj.t_s[a] + traj.t_s[b])));
-    const auto f = [&](int j) {
-      return gs::model::planar_pole_vehicle_dynamics<double>(traj.state[j], traj.input[j]);
-    };
-    const PlanarState<double> simpson = traj.state[b] - traj.state[a] - h / 6.0 * (f(a) + 4.0 * f(m) + f(b));
-    const PlanarState<double> hermite =
-        traj.state[m] - 0.5 * (traj.state[a] + traj.state[b]) - h / 8.0 * (f(a) - f(b));
-    max_defect = std::max({max_defect, simpson.cwiseAbs().maxCoeff(), hermite.cwiseAbs().maxCoeff()});
-  }
-  CHECK(max_defect < 1e-6);
+  CHECK(throw_checks::max_collocation_defect(traj) < 1e-6);
 
   const gs::model::VehicleLimits& lim = problem.limits;
   double min_fn = 1e9;

@@ -241,3 +241,36 @@ TEST_CASE("the adaptation store keeps what a series learnt for the next run", "[
   CHECK(restarted.learnt().catch_instant_s == Approx(learnt.catch_instant_s));
   CHECK(restarted.throw_records().empty());
 }
+
+TEST_CASE("passes back and forth: vehicle 2 catches, balances and throws back to vehicle 1",
+          "[hil][sil][runtime][series]") {
+  const std::vector<hil::sil::AttemptPlan> plans = hil::sil::pass_series(4);
+  REQUIRE(plans.size() == 5);
+  CHECK_FALSE(plans[0].catch_it);  // the throw that adapts
+  CHECK(plans[1].place_pole);
+  CHECK_FALSE(plans[2].place_pole);
+  CHECK(plans[2].thrower == pa::kVehicle2);
+  const Series s = fly(plans, 1);
+  INFO(joined(s.log));
+  REQUIRE(s.results.size() == 5);
+  for (std::size_t i = 1; i < s.results.size(); ++i) CHECK(s.results[i].outcome == "caught");
+  CHECK_FALSE(s.crashed);
+  // Vehicle 1's throws come down on vehicle 2 some 3.6 m along +x; vehicle 2's come back to
+  // where vehicle 1 throws from (x = 0), without a person putting the pole back.
+  CHECK(s.results[1].catch_x_m > 3.0);
+  CHECK(s.results[3].catch_x_m > 3.0);
+  CHECK(std::abs(s.results[2].catch_x_m) < 0.3);
+  CHECK(std::abs(s.results[4].catch_x_m) < 0.3);
+}
+
+TEST_CASE("a pass whose pole is not on its thrower is not flown", "[hil][sil][runtime][series]") {
+  // The first pass does not place the pole: nobody put it back on vehicle 1 after the throw
+  // that adapts.
+  std::vector<hil::sil::AttemptPlan> plans = hil::sil::pass_series(2);
+  plans[1].place_pole = false;
+  const Series s = fly(plans, 1);
+  REQUIRE(s.results.size() == 3);
+  CHECK(s.results[1].outcome == "aborted");
+  CHECK(s.results[1].abort_reason == "pole_not_on_thrower");
+  CHECK(s.results[2].abort_reason == "pole_not_on_thrower");
+}
