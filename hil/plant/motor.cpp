@@ -31,9 +31,12 @@ double motor_yaw_sign(int motor) { return motor < 2 ? -1.0 : 1.0; }
 BodyWrench rotor_wrench(const VehicleConfig& vehicle, const std::array<double, 4>& thrust_N) {
   BodyWrench w;
   for (int i = 0; i < 4; ++i) {
-    const Vec3 f(0.0, 0.0, thrust_N[i]);
-    w.force_N += f;
-    w.torque_Nm += motor_position_body_m(vehicle, i).cross(f);
+    // r x (0, 0, T) = (r_y T, -r_x T, 0): the thrust along body z, written out (this runs three
+    // times per integration step and vehicle).
+    const Vec3 r = motor_position_body_m(vehicle, i);
+    w.force_N.z() += thrust_N[i];
+    w.torque_Nm.x() += r.y() * thrust_N[i];
+    w.torque_Nm.y() -= r.x() * thrust_N[i];
     w.torque_Nm.z() += motor_yaw_sign(i) * vehicle.yaw_moment_per_thrust_m * thrust_N[i];
   }
   return w;

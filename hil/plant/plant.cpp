@@ -24,10 +24,25 @@ constexpr double kNearMargin_m = 0.002;
 
 std::int64_t to_ns(double s) { return static_cast<std::int64_t>(std::llround(s * 1e9)); }
 
-Eigen::Vector4d quaternion_rate(const Quat& q, const Vec3& rate_body_radps) {
-  // q' = q (0, omega) / 2 with omega in the body frame.
-  const Quat omega(0.0, rate_body_radps.x(), rate_body_radps.y(), rate_body_radps.z());
-  return 0.5 * (q * omega).coeffs();
+// R v, R^T v and the quaternion rate written out on scalars: GCC leaves Eigen's fixed-size
+// products as calls at -O2, and these are on every evaluation's path.
+inline Vec3 times(const Mat3& r, const Vec3& v) {
+  return Vec3(r(0, 0) * v.x() + r(0, 1) * v.y() + r(0, 2) * v.z(),
+              r(1, 0) * v.x() + r(1, 1) * v.y() + r(1, 2) * v.z(),
+              r(2, 0) * v.x() + r(2, 1) * v.y() + r(2, 2) * v.z());
+}
+inline Vec3 transpose_times(const Mat3& r, const Vec3& v) {
+  return Vec3(r(0, 0) * v.x() + r(1, 0) * v.y() + r(2, 0) * v.z(),
+              r(0, 1) * v.x() + r(1, 1) * v.y() + r(2, 1) * v.z(),
+              r(0, 2) * v.x() + r(1, 2) * v.y() + r(2, 2) * v.z());
+}
+
+inline Eigen::Vector4d quaternion_rate(const Quat& q, const Vec3& rate_body_radps) {
+  // q' = q (0, omega) / 2 with omega in the body frame (coefficients x, y, z, w).
+  const double wx = rate_body_radps.x(), wy = rate_body_radps.y(), wz = rate_body_radps.z();
+  return Eigen::Vector4d(
+      0.5 * (q.w() * wx + q.y() * wz - q.z() * wy), 0.5 * (q.w() * wy + q.z() * wx - q.x() * wz),
+      0.5 * (q.w() * wz + q.x() * wy - q.y() * wx), -0.5 * (q.x() * wx + q.y() * wy + q.z() * wz));
 }
 
 }  // namespace
@@ -45,6 +60,25 @@ Plant::Plant(const PlantConfig& config, std::uint64_t seed)
   mocap_period_ns_ = std::max<std::int64_t>(1, to_ns(1.0 / config.mocap.rate_Hz));
   for (int f = 0; f < 4; ++f)
     foot_body_m_[f] = motor_position_body_m(config.vehicle, f) - Vec3(0.0, 0.0, config.vehicle.foot_depth_m);
+  for (const Vec3& foot : foot_body_m_) foot_reach_m_ = std::max(foot_reach_m_, foot.norm());
+  foot_reach_m_ = foot_reach_m_ * (1.0 + 1e-9) + 1e-9;
+  vehicle_inertia_kgm2_ =
+      Vec3(config.vehicle.inertia_xx_kgm2, config.vehicle.inertia_yy_kgm2, config.vehicle.inertia_zz_kgm2);
+  pole_inertia_kgm2_ =
+      Vec3(pole_transverse_inertia_kgm2(), pole_transverse_inertia_kgm2(), pole_axial_inertia_kgm2());
+  vehicle_inverse_inertia_ = vehicle_inertia_kgm2_.cwiseInverse();
+  pole_inverse_inertia_ = pole_inertia_kgm2_.cwiseInverse();
+  vehicle_inverse_mass_per_kg_ = 1.0 / config.vehicle.mass_kg;
+  pole_inverse_mass_per_kg_ = 1.0 / config.pole.mass_kg;
+  const ContactConfig& c = config.contact;
+  floor_law_ =
+      ContactLaw{c.floor_stiffness_Npm,          c.floor_damping_Nspm, c.floor_damping_force_max_N,
+                 c.floor_rebound_damping_Nspm,   c.floor_friction,     c.floor_tangential_stiffness_Npm,
+                 c.floor_tangential_damping_Nspm};
+  plate_law_ =
+      ContactLaw{c.plate_stiffness_Npm,          c.plate_damping_Nspm, c.plate_damping_force_max_N,
+                 c.plate_rebound_damping_Nspm,   c.plate_friction,     c.plate_tangential_stiffness_Npm,
+                 c.plate_tangential_damping_Nspm};
   const PairGeometry none{};
   worst_rate_floor_per_s_ = contact_rate_per_s(static_cast<int>(Surface::floor), none, Vec3::UnitZ(), true);
   worst_rate_plate_per_s_ = contact_rate_per_s(static_cast<int>(Surface::plate1), none, Vec3::UnitZ(), true);
@@ -185,58 +219,75 @@ void Plant::reset_pairs_of_vehicle(pa::VehicleId vehicle) {
 
 // --- contacts --------------------------------------------------------------------------------
 
-Surface Plant::pair_surface(int pair) const {
-  return pair < kPolePairs ? static_cast<Surface>(pair % 3) : Surface::floor;
-}
-
-ContactLaw Plant::law(Surface surface) const {
-  const ContactConfig& c = config_.contact;
-  if (surface == Surface::floor) {
-    return ContactLaw{c.floor_stiffness_Npm,          c.floor_damping_Nspm, c.floor_damping_force_max_N,
-                      c.floor_rebound_damping_Nspm,   c.floor_friction,     c.floor_tangential_stiffness_Npm,
-                      c.floor_tangential_damping_Nspm};
-  }
-  return ContactLaw{c.plate_stiffness_Npm,          c.plate_damping_Nspm, c.plate_damping_force_max_N,
-                    c.plate_rebound_damping_Nspm,   c.plate_friction,     c.plate_tangential_stiffness_Npm,
-                    c.plate_tangential_damping_Nspm};
-}
-
 Plant::Kinematics Plant::kinematics(const Bodies& b) const {
   Kinematics k;
   const VehicleConfig& vc = config_.vehicle;
   for (int v = 0; v < 2; ++v) {
     const RigidBodyState& body = b.vehicle[v];
     k.vehicle_rotation[v] = body.attitude.toRotationMatrix();
-    k.vehicle_rate[v] = k.vehicle_rotation[v] * body.rate_body_radps;
+    k.vehicle_rate[v] = times(k.vehicle_rotation[v], body.rate_body_radps);
     k.plate_centre[v] = body.position_m + vc.plate_height_m * k.vehicle_rotation[v].col(2);
+    k.feet_clearance_m[v] = body.position_m.z() - foot_reach_m_ - config_.contact.floor_height_m;
+    k.feet_clear[v] = k.feet_clearance_m[v] > 0.0;
+    if (k.feet_clear[v]) continue;
     for (int f = 0; f < 4; ++f) {
-      const Vec3 r = k.vehicle_rotation[v] * foot_body_m_[f];
+      const Vec3 r = times(k.vehicle_rotation[v], foot_body_m_[f]);
       k.point[2 + 4 * v + f] = body.position_m + r;
-      k.point_velocity[2 + 4 * v + f] = body.velocity_mps + k.vehicle_rate[v].cross(r);
+      k.lever[2 + 4 * v + f] = r;
     }
   }
   const RigidBodyState& pole = b.pole;
   k.pole_rotation = pole.attitude.toRotationMatrix();
-  k.pole_rate = k.pole_rotation * pole.rate_body_radps;
+  k.pole_rate = times(k.pole_rotation, pole.rate_body_radps);
   for (int e = 0; e < 2; ++e) {
     const Vec3 r =
         (e == 0 ? -config_.pole.half_length_m : config_.pole.half_length_m) * k.pole_rotation.col(2);
     k.point[e] = pole.position_m + r;
-    k.point_velocity[e] = pole.velocity_mps + k.pole_rate.cross(r);
+    k.lever[e] = r;
   }
   return k;
 }
 
+void Plant::point_and_lever(const Bodies& b, const Kinematics& k, int point, Vec3& point_m,
+                            Vec3& lever_m) const {
+  if (point >= 2 && k.feet_clear[(point - 2) / 4]) {
+    const int v = (point - 2) / 4;
+    lever_m = times(k.vehicle_rotation[v], foot_body_m_[(point - 2) % 4]);
+    point_m = b.vehicle[v].position_m + lever_m;
+    return;
+  }
+  point_m = k.point[point];
+  lever_m = k.lever[point];
+}
+
+inline double Plant::gap_m(const Kinematics& k, int pair) const {
+  if (pair >= kPolePairs) {
+    const int v = (pair - kPolePairs) / 4;
+    // (The foot's height is the CG's less at most the reach.)
+    if (k.feet_clear[v]) return k.feet_clearance_m[v];
+  }
+  const Vec3& point = k.point[pair_point(pair)];
+  const Surface surface = pair_surface(pair);
+  if (surface == Surface::floor) return point.z() - config_.contact.floor_height_m;
+  const int v = surface == Surface::plate1 ? 0 : 1;
+  return (point - k.plate_centre[v]).dot(k.vehicle_rotation[v].col(2));
+}
+
 Plant::PairGeometry Plant::geometry(const Bodies& b, const Kinematics& k, int pair) const {
   PairGeometry g;
-  const int point = pair < kPolePairs ? pair / 3 : 2 + (pair - kPolePairs);
-  g.point_m = k.point[point];
+  const int point = pair_point(pair);
+  Vec3 lever;
+  point_and_lever(b, k, point, g.point_m, lever);
+  const Vec3 point_velocity =
+      point < 2
+          ? Vec3(b.pole.velocity_mps + k.pole_rate.cross(lever))
+          : Vec3(b.vehicle[(point - 2) / 4].velocity_mps + k.vehicle_rate[(point - 2) / 4].cross(lever));
   const Surface surface = pair_surface(pair);
   if (surface == Surface::floor) {
     g.normal = Vec3::UnitZ();
     g.gap_m = g.point_m.z() - config_.contact.floor_height_m;
     g.within_rim = true;
-    g.relative_velocity_mps = k.point_velocity[point];
+    g.relative_velocity_mps = point_velocity;
     g.lever_vehicle_m = Vec3::Zero();
   } else {
     const int v = surface == Surface::plate1 ? 0 : 1;
@@ -247,17 +298,15 @@ Plant::PairGeometry Plant::geometry(const Bodies& b, const Kinematics& k, int pa
                    config_.vehicle.plate_radius_m * config_.vehicle.plate_radius_m;
     g.lever_vehicle_m = g.point_m - b.vehicle[v].position_m;
     g.relative_velocity_mps =
-        k.point_velocity[point] - (b.vehicle[v].velocity_mps + k.vehicle_rate[v].cross(g.lever_vehicle_m));
+        point_velocity - (b.vehicle[v].velocity_mps + k.vehicle_rate[v].cross(g.lever_vehicle_m));
   }
   return g;
 }
 
 // --- dynamics --------------------------------------------------------------------------------
 
-std::array<double, 4> Plant::thrust_at(std::size_t v, double elapsed_s) const {
-  // motor_thrust_after_N() for each motor, with the lag's decay (one exp) shared by all four.
-  const double tau_s = config_.vehicle.motor_time_constant_s;
-  const double decay = tau_s > 0.0 ? std::exp(-elapsed_s / tau_s) : 0.0;
+std::array<double, 4> Plant::thrust_at(std::size_t v, double decay) const {
+  // motor_thrust_after_N() for each motor, with the lag's decay (one exp) shared by all.
   std::array<double, 4> f{};
   for (int i = 0; i < 4; ++i) {
     f[i] = target_thrust_N_[v][i] + (vehicles_[v].motor_thrust_N[i] - target_thrust_N_[v][i]) * decay;
@@ -265,20 +314,18 @@ std::array<double, 4> Plant::thrust_at(std::size_t v, double elapsed_s) const {
   return f;
 }
 
-Plant::Evaluation Plant::evaluate(const Bodies& b, double elapsed_s) const {
+Plant::Evaluation Plant::evaluate(const Bodies& b, const Kinematics& k, const RotorWrenches& rotors) const {
   Evaluation e;
   const Vec3 gravity(0.0, 0.0, -config_.gravity_mps2);
   const VehicleConfig& vc = config_.vehicle;
-  const Vec3 vehicle_inertia(vc.inertia_xx_kgm2, vc.inertia_yy_kgm2, vc.inertia_zz_kgm2);
+  const Vec3& vehicle_inertia = vehicle_inertia_kgm2_;
 
-  const Kinematics k = kinematics(b);
   std::array<Vec3, 2> vehicle_force;        // non-gravitational, inertial
   std::array<Vec3, 2> vehicle_torque_body;  // about the CG
   for (int v = 0; v < 2; ++v) {
     const RigidBodyState& body = b.vehicle[v];
-    const BodyWrench rotors = rotor_wrench(vc, thrust_at(static_cast<std::size_t>(v), elapsed_s));
-    vehicle_force[v] = k.vehicle_rotation[v] * rotors.force_N - vc.drag_Nspm * body.velocity_mps;
-    vehicle_torque_body[v] = rotors.torque_Nm;
+    vehicle_force[v] = times(k.vehicle_rotation[v], rotors[v].force_N) - vc.drag_Nspm * body.velocity_mps;
+    vehicle_torque_body[v] = rotors[v].torque_Nm;
   }
 
   const RigidBodyState& pole = b.pole;
@@ -290,18 +337,20 @@ Plant::Evaluation Plant::evaluate(const Bodies& b, double elapsed_s) const {
     pole_torque = drag.torque_Nm;
   }
 
-  for (int p = 0; p < kPairs; ++p) {
+  for (int i = 0; i < candidate_count_; ++i) {
+    const int p = candidates_[i];
     const PairMemory& m = pairs_[p];
-    if (!m.engaged && !m.above_at_start) continue;
+    e.pair_force[p].setZero();
+    if (!(gap_m(k, p) < 0.0)) continue;
     const PairGeometry g = geometry(b, k, p);
-    if (!(g.gap_m < 0.0 && g.within_rim)) continue;
+    if (!g.within_rim) continue;
     const Surface surface = pair_surface(p);
     Vec3 offset = Vec3::Zero();
     if (m.anchored) {
       const int v = surface == Surface::plate1 ? 0 : 1;
       const Vec3 anchor = surface == Surface::floor
                               ? m.anchor
-                              : Vec3(b.vehicle[v].position_m + k.vehicle_rotation[v] * m.anchor);
+                              : Vec3(b.vehicle[v].position_m + times(k.vehicle_rotation[v], m.anchor));
       offset = g.point_m - anchor;
     }
     const Vec3 f = contact_force_N(law(surface), g.normal, -g.gap_m, g.relative_velocity_mps, offset);
@@ -314,12 +363,12 @@ Plant::Evaluation Plant::evaluate(const Bodies& b, double elapsed_s) const {
       const int v = (p - kPolePairs) / 4;
       vehicle_force[v] += f;
       vehicle_torque_body[v] +=
-          k.vehicle_rotation[v].transpose() * (g.point_m - b.vehicle[v].position_m).cross(f);
+          transpose_times(k.vehicle_rotation[v], (g.point_m - b.vehicle[v].position_m).cross(f));
     }
     if (surface != Surface::floor) {
       const int v = surface == Surface::plate1 ? 0 : 1;
       vehicle_force[v] -= f;
-      vehicle_torque_body[v] -= k.vehicle_rotation[v].transpose() * g.lever_vehicle_m.cross(f);
+      vehicle_torque_body[v] -= transpose_times(k.vehicle_rotation[v], g.lever_vehicle_m.cross(f));
     }
   }
 
@@ -327,23 +376,29 @@ Plant::Evaluation Plant::evaluate(const Bodies& b, double elapsed_s) const {
     const RigidBodyState& body = b.vehicle[v];
     BodyRate& r = e.vehicle[v];
     r.dp = body.velocity_mps;
-    r.dv = vehicle_force[v] / vc.mass_kg + gravity;
+    const Vec3 specific_force = vehicle_force[v] * vehicle_inverse_mass_per_kg_;
+    r.dv = specific_force + gravity;
     r.dq = quaternion_rate(body.attitude, body.rate_body_radps);
     const Vec3 w = body.rate_body_radps;
-    r.dw = (vehicle_torque_body[v] - w.cross(vehicle_inertia.cwiseProduct(w))).cwiseQuotient(vehicle_inertia);
-    e.specific_force_body[v] = k.vehicle_rotation[v].transpose() * (vehicle_force[v] / vc.mass_kg);
+    r.dw = (vehicle_torque_body[v] - w.cross(vehicle_inertia.cwiseProduct(w)))
+               .cwiseProduct(vehicle_inverse_inertia_);
+    e.specific_force_body[v] = transpose_times(k.vehicle_rotation[v], specific_force);
   }
-  if (!pole_asleep_) {  // (asleep, the pole keeps its place: all rates stay zero)
-    const Vec3 inertia(pole_transverse_inertia_kgm2(), pole_transverse_inertia_kgm2(),
-                       pole_axial_inertia_kgm2());
-    BodyRate& r = e.pole;
-    r.dp = pole.velocity_mps;
-    r.dv = pole_force / config_.pole.mass_kg + gravity;
-    r.dq = quaternion_rate(pole.attitude, pole.rate_body_radps);
-    const Vec3 w = pole.rate_body_radps;
-    const Vec3 torque_body = k.pole_rotation.transpose() * pole_torque;
-    r.dw = (torque_body - w.cross(inertia.cwiseProduct(w))).cwiseQuotient(inertia);
+  BodyRate& r = e.pole;
+  if (pole_asleep_) {  // (asleep, the pole keeps its place: all rates stay zero)
+    r.dp.setZero();
+    r.dv.setZero();
+    r.dq.setZero();
+    r.dw.setZero();
+    return e;
   }
+  const Vec3& inertia = pole_inertia_kgm2_;
+  r.dp = pole.velocity_mps;
+  r.dv = pole_force * pole_inverse_mass_per_kg_ + gravity;
+  r.dq = quaternion_rate(pole.attitude, pole.rate_body_radps);
+  const Vec3 w = pole.rate_body_radps;
+  const Vec3 torque_body = transpose_times(k.pole_rotation, pole_torque);
+  r.dw = (torque_body - w.cross(inertia.cwiseProduct(w))).cwiseProduct(pole_inverse_inertia_);
   return e;
 }
 
@@ -352,7 +407,7 @@ Plant::Bodies Plant::advance(const Bodies& b, const Evaluation& rate, double h_s
     s.position_m += h_s * r.dp;
     s.velocity_mps += h_s * r.dv;
     s.attitude.coeffs() += h_s * r.dq;
-    s.attitude.normalize();
+    s.attitude.coeffs() *= 1.0 / s.attitude.coeffs().norm();
     s.rate_body_radps += h_s * r.dw;
     return s;
   };
@@ -405,7 +460,7 @@ double Plant::contact_rate_per_s(int pair, const PairGeometry& g, const Vec3& po
       tangential_inverse += 1.0 / vc.mass_kg + g.lever_vehicle_m.squaredNorm() / vehicle_inertia;
     }
   }
-  const ContactLaw l = law(surface);
+  const ContactLaw& l = law(surface);
   // The sinking-in damper's slope is at most c (tanh); the rebound damper is linear.
   const double damping = std::max(l.damping_Nspm, l.rebound_damping_Nspm);
   return std::max(
@@ -431,12 +486,12 @@ std::int64_t Plant::choose_step_ns(std::int64_t limit_ns, const Bodies& b, const
     step_s = std::min(step_s, std::max(contact_s, contact_s * worst / rate));
   };
   for (int p = 0; p < kPolePairs && !(near && !by_mass) && !pole_asleep_; ++p) {
-    const PairGeometry g = geometry(b, k, p);
     if (pairs_[p].engaged) {
-      shorten(p, g);
+      shorten(p, geometry(b, k, p));
       continue;
     }
-    if (g.gap_m < -kPlacementTolerance_m) continue;  // inside without contact: cannot engage
+    if (gap_m(k, p) < -kPlacementTolerance_m) continue;  // inside without contact: cannot engage
+    const PairGeometry g = geometry(b, k, p);
     const double closing_mps = std::max(0.0, -g.relative_velocity_mps.dot(g.normal));
     if (g.gap_m > kNearMargin_m + 2.0 * free_s * closing_mps) continue;
     if (pair_surface(p) != Surface::floor) {
@@ -460,21 +515,37 @@ std::int64_t Plant::choose_step_ns(std::int64_t limit_ns, const Bodies& b, const
 
 void Plant::substep(std::int64_t h_ns, const Bodies& b0, const Kinematics& k0) {
   const double h = static_cast<double>(h_ns) * 1e-9;
-  for (int p = 0; p < kPairs; ++p)
-    pairs_[p].above_at_start = geometry(b0, k0, p).gap_m >= -kPlacementTolerance_m;
+  candidate_count_ = 0;
+  for (int p = 0; p < kPairs; ++p) {
+    PairMemory& m = pairs_[p];
+    m.above_at_start = gap_m(k0, p) >= -kPlacementTolerance_m;
+    if (m.engaged || m.above_at_start) candidates_[candidate_count_++] = static_cast<std::uint8_t>(p);
+  }
+  // The motors' lags in closed form: the thrusts at the step's start, middle and end.
+  const double tau_s = config_.vehicle.motor_time_constant_s;
+  const double decay_middle = tau_s > 0.0 ? std::exp(-(0.5 * h) / tau_s) : 0.0;
+  const double decay_end = tau_s > 0.0 ? std::exp(-h / tau_s) : 0.0;
+  std::array<std::array<double, 4>, 2> thrust_end_N;
+  RotorWrenches rotors_start, rotors_middle, rotors_end;
+  for (std::size_t v = 0; v < 2; ++v) {
+    rotors_start[v] = rotor_wrench(config_.vehicle, thrust_at(v, 1.0));
+    rotors_middle[v] = rotor_wrench(config_.vehicle, thrust_at(v, decay_middle));
+    thrust_end_N[v] = thrust_at(v, decay_end);
+    rotors_end[v] = rotor_wrench(config_.vehicle, thrust_end_N[v]);
+  }
 
   // Classic RK4; the contact memory (engagement, anchors) is held over the step.
-  const Evaluation e1 = evaluate(b0, 0.0);
+  const Evaluation e1 = evaluate(b0, k0, rotors_start);
   const Bodies b2 = advance(b0, e1, 0.5 * h);
-  const Evaluation e2 = evaluate(b2, 0.5 * h);
+  const Evaluation e2 = evaluate(b2, kinematics(b2), rotors_middle);
   const Bodies b3 = advance(b0, e2, 0.5 * h);
-  const Evaluation e3 = evaluate(b3, 0.5 * h);
+  const Evaluation e3 = evaluate(b3, kinematics(b3), rotors_middle);
   const Bodies b4 = advance(b0, e3, h);
-  const Evaluation e4 = evaluate(b4, h);
+  const Evaluation e4 = evaluate(b4, kinematics(b4), rotors_end);
 
   Evaluation mean;
   auto average = [](const auto& x1, const auto& x2, const auto& x3, const auto& x4) {
-    return (x1 + 2.0 * x2 + 2.0 * x3 + x4) / 6.0;
+    return (x1 + 2.0 * x2 + 2.0 * x3 + x4) * (1.0 / 6.0);
   };
   for (int v = 0; v < 2; ++v) {
     BodyRate& r = mean.vehicle[v];
@@ -494,13 +565,15 @@ void Plant::substep(std::int64_t h_ns, const Bodies& b0, const Kinematics& k0) {
   mean.pole.dv = average(e1.pole.dv, e2.pole.dv, e3.pole.dv, e4.pole.dv);
   mean.pole.dq = average(e1.pole.dq, e2.pole.dq, e3.pole.dq, e4.pole.dq);
   mean.pole.dw = average(e1.pole.dw, e2.pole.dw, e3.pole.dw, e4.pole.dw);
-  for (int p = 0; p < kPairs; ++p) {
+  for (PairMemory& m : pairs_) m.force_N.setZero();
+  for (int i = 0; i < candidate_count_; ++i) {
+    const int p = candidates_[i];
     pairs_[p].force_N = average(e1.pair_force[p], e2.pair_force[p], e3.pair_force[p], e4.pair_force[p]);
   }
   imu_sum_time_s_ += h;
 
   store(advance(b0, mean, h));
-  for (int v = 0; v < 2; ++v) vehicles_[v].motor_thrust_N = thrust_at(static_cast<std::size_t>(v), h);
+  for (int v = 0; v < 2; ++v) vehicles_[v].motor_thrust_N = thrust_end_N[v];
   t_ns_ += h_ns;
   update_contacts();
   update_pole_rest(h);
@@ -512,30 +585,33 @@ void Plant::update_contacts() {
   kinematics_valid_ = true;
   for (int p = 0; p < kPairs; ++p) {
     PairMemory& m = pairs_[p];
-    const PairGeometry g = geometry(b, k, p);
     const bool was = m.engaged;
-    m.engaged = (m.engaged || m.above_at_start) && g.gap_m < 0.0 && g.within_rim;
     const Surface surface = pair_surface(p);
-    if (m.engaged) {
-      const RigidBodyState* plate_body =
-          surface == Surface::floor ? nullptr : &b.vehicle[surface == Surface::plate1 ? 0 : 1];
-      const Vec3 on_surface = g.point_m - g.gap_m * g.normal;  // the point projected onto the surface
-      Vec3 anchor_world = on_surface;
-      if (m.anchored) {
-        const Vec3 old_anchor =
-            plate_body ? Vec3(plate_body->position_m + plate_body->attitude * m.anchor) : m.anchor;
-        const Vec3 offset = on_surface - old_anchor;
-        const Vec3 tangential = offset - offset.dot(g.normal) * g.normal;
-        const ContactLaw l = law(surface);
-        const double f_n = contact_normal_force_N(l, -g.gap_m, g.relative_velocity_mps.dot(g.normal));
-        anchor_world = on_surface - slipped_anchor_offset_m(l, f_n, tangential);
+    bool engaged = false;
+    if ((m.engaged || m.above_at_start) && gap_m(k, p) < 0.0) {
+      const PairGeometry g = geometry(b, k, p);
+      engaged = g.within_rim;
+      if (engaged) {
+        const RigidBodyState* plate_body =
+            surface == Surface::floor ? nullptr : &b.vehicle[surface == Surface::plate1 ? 0 : 1];
+        const Vec3 on_surface = g.point_m - g.gap_m * g.normal;  // the point projected onto the surface
+        Vec3 anchor_world = on_surface;
+        if (m.anchored) {
+          const Vec3 old_anchor =
+              plate_body ? Vec3(plate_body->position_m + plate_body->attitude * m.anchor) : m.anchor;
+          const Vec3 offset = on_surface - old_anchor;
+          const Vec3 tangential = offset - offset.dot(g.normal) * g.normal;
+          const ContactLaw& l = law(surface);
+          const double f_n = contact_normal_force_N(l, -g.gap_m, g.relative_velocity_mps.dot(g.normal));
+          anchor_world = on_surface - slipped_anchor_offset_m(l, f_n, tangential);
+        }
+        m.anchor = plate_body
+                       ? Vec3(plate_body->attitude.conjugate() * (anchor_world - plate_body->position_m))
+                       : anchor_world;
       }
-      m.anchor = plate_body ? Vec3(plate_body->attitude.conjugate() * (anchor_world - plate_body->position_m))
-                            : anchor_world;
-      m.anchored = true;
-    } else {
-      m.anchored = false;
     }
+    m.engaged = engaged;
+    m.anchored = engaged;
     if (p < kPolePairs && was != m.engaged)
       events_.push_back(PoleContactEvent{t_s(), p / 3, surface, m.engaged});
   }

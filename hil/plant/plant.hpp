@@ -36,6 +36,7 @@
 #include "hil/plant/contact_law.hpp"
 #include "hil/plant/imu.hpp"
 #include "hil/plant/mocap.hpp"
+#include "hil/plant/motor.hpp"
 #include "hil/plant/plant_config.hpp"
 #include "hil/plant/types.hpp"
 #include "pa/vehicle_id.hpp"
@@ -152,22 +153,20 @@ class Plant {
     std::array<RigidBodyState, 2> vehicle;
     RigidBodyState pole;
   };
+  // (Not zeroed by construction, as Eigen's vectors are not: evaluate() sets every member.)
   struct BodyRate {
-    Vec3 dp = Vec3::Zero();
-    Vec3 dv = Vec3::Zero();
-    Eigen::Vector4d dq = Eigen::Vector4d::Zero();
-    Vec3 dw = Vec3::Zero();
+    Vec3 dp;
+    Vec3 dv;
+    Eigen::Vector4d dq;
+    Vec3 dw;
   };
   struct Evaluation {
-    // (Eigen vectors are not zeroed by default construction, not even inside `{}`.)
-    Evaluation() {
-      for (Vec3& f : specific_force_body) f.setZero();
-      for (Vec3& f : pair_force) f.setZero();
-    }
     std::array<BodyRate, 2> vehicle;
     BodyRate pole;
-    std::array<Vec3, 2> specific_force_body;  // vehicles, body frame
-    std::array<Vec3, kPairs> pair_force;      // on the point, inertial
+    std::array<Vec3, 2> specific_force_body;  // vehicles, body frame; always set by evaluate()
+    // On the point, inertial; set by evaluate() for the step's candidate pairs only (Eigen
+    // vectors are not zeroed by default construction).
+    std::array<Vec3, kPairs> pair_force;
   };
   struct PairGeometry {
     Vec3 point_m;
@@ -180,16 +179,26 @@ class Plant {
 
   // What every contact needs, computed once per evaluation: rotations, inertial rates, plate
   // centres, and the contact points (pole ends 0 and 1, then vehicle v's foot f at 2 + 4 v + f)
-  // with their velocities.
+  // with their levers from their body's centre (inertial). A point's velocity is computed only
+  // where it touches or may (geometry()).
   struct Kinematics {
     std::array<Mat3, 2> vehicle_rotation;
     std::array<Vec3, 2> vehicle_rate;
     std::array<Vec3, 2> plate_centre;
     std::array<Vec3, 10> point;
-    std::array<Vec3, 10> point_velocity;
+    std::array<Vec3, 10> lever;
     Mat3 pole_rotation;
     Vec3 pole_rate;
+    // How far each vehicle's centre is above the floor beyond the reach of its feet: a lower
+    // bound of its feet's gaps. Where it is positive (feet_clear) no foot can touch the floor,
+    // and their points and levers are not computed here (gap_m() gives the bound).
+    std::array<double, 2> feet_clearance_m;
+    std::array<bool, 2> feet_clear;
   };
+  // The rotors' wrench on each vehicle at the three times an RK4 step evaluates (its start, its
+  // middle and its end: the thrusts follow their lags in closed form, so they are computed once
+  // per step, not per evaluation).
+  using RotorWrenches = std::array<BodyWrench, 2>;
 
   // The vehicle's slot in the per-vehicle arrays; std::invalid_argument for a vehicle the act
   // does not fly. Inline: every accessor on the arena's per-step path goes through it.
@@ -200,12 +209,21 @@ class Plant {
   }
   [[noreturn]] static void throw_no_vehicle(pa::VehicleId vehicle);
   Kinematics kinematics(const Bodies& b) const;
-  ContactLaw law(Surface surface) const;
-  Surface pair_surface(int pair) const;
+  const ContactLaw& law(Surface surface) const { return surface == Surface::floor ? floor_law_ : plate_law_; }
+  static Surface pair_surface(int pair) {
+    return pair < kPolePairs ? static_cast<Surface>(pair % 3) : Surface::floor;
+  }
+  static int pair_point(int pair) { return pair < kPolePairs ? pair / 3 : 2 + (pair - kPolePairs); }
+  // Contact point `point` (numbered as in Kinematics) and its lever from its body's centre.
+  void point_and_lever(const Bodies& b, const Kinematics& k, int point, Vec3& point_m, Vec3& lever_m) const;
+  // The signed distance of pair `pair`'s point from its surface along the normal (> 0 outside):
+  // the first question about every pair, and most need no other (geometry() has it too).
+  inline double gap_m(const Kinematics& k, int pair) const;  // (plant.cpp, the only user)
   PairGeometry geometry(const Bodies& b, const Kinematics& k, int pair) const;
-  Evaluation evaluate(const Bodies& b, double elapsed_s) const;
+  Evaluation evaluate(const Bodies& b, const Kinematics& k, const RotorWrenches& rotors) const;
   static Bodies advance(const Bodies& b, const Evaluation& rate, double h_s);
-  std::array<double, 4> thrust_at(std::size_t v, double elapsed_s) const;
+  // The thrusts of vehicle v's motors after a step whose lag decay factor exp(-t / tau) is `decay`.
+  std::array<double, 4> thrust_at(std::size_t v, double decay) const;
   std::int64_t choose_step_ns(std::int64_t limit_ns, const Bodies& b, const Kinematics& k) const;
   // The fastest rate (1/s) of pole pair `pair`'s contact at geometry `g`: the larger root of its
   // spring-damper on the pole end's effective mass (with the plate's vehicle), along the normal
@@ -229,8 +247,24 @@ class Plant {
   std::int64_t contact_step_ns_;
   std::int64_t imu_period_ns_;
   std::int64_t mocap_period_ns_;
-  // Each foot relative to the CG, body frame (fixed by the configuration).
+  // Each foot relative to the CG, body frame (fixed by the configuration), and how far the
+  // farthest is from the CG, with a margin for rounding.
   std::array<Vec3, 4> foot_body_m_;
+  double foot_reach_m_ = 0.0;
+  // The pairs the current step evaluates: those engaged or with their point outside the surface
+  // when the step began (no other pair can touch during it), in order.
+  std::array<std::uint8_t, kPairs> candidates_{};
+  int candidate_count_ = 0;
+  // The principal moments of inertia (body frame) of a vehicle and of the pole.
+  Vec3 vehicle_inertia_kgm2_;
+  Vec3 pole_inertia_kgm2_;
+  // Their inverses and those of the masses: the rates multiply rather than divide.
+  Vec3 vehicle_inverse_inertia_;
+  Vec3 pole_inverse_inertia_;
+  double vehicle_inverse_mass_per_kg_ = 0.0;
+  double pole_inverse_mass_per_kg_ = 0.0;
+  ContactLaw floor_law_;
+  ContactLaw plate_law_;
   // contact_rate_per_s(worst case) of a pole end on the floor and on a plate.
   double worst_rate_floor_per_s_ = 0.0;
   double worst_rate_plate_per_s_ = 0.0;

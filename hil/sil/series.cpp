@@ -66,7 +66,13 @@ SeriesRunner::SeriesRunner(const SeriesConfig& config)
       gs_(bus_, with_simulation_keys(config.ground_station)) {}
 
 void SeriesRunner::step() {
-  arena_.step();
+  if (config_.time_arena) {
+    const auto start = std::chrono::steady_clock::now();
+    arena_.step();
+    arena_time_s_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  } else {
+    arena_.step();
+  }
   const double now = arena_.t_s();
   for (const pa::proto::Frame& f : arena_.take_ground_frames()) gs_.on_frame(f, now);
   for (const MocapFrame& m : arena_.take_mocap()) {

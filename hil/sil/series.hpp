@@ -98,6 +98,9 @@ struct SeriesConfig {
   // Measure the wall time of every GroundStation::on_mocap call (one whole ground-station frame:
   // estimator update, latency compensation, mission, controllers, catch re-planning, link).
   bool time_ground_station = false;
+  // Measure the wall time of every Arena::step (the plant, both firmware cores, the radios and
+  // the motion capture: the arena alone, without the ground station or this runner's own work).
+  bool time_arena = false;
   // Called after every 1 ms step (diagnostics, tests that watch the truth).
   std::function<void(const Arena&, const gs::runtime::GroundStation&)> on_step;
 };
@@ -117,6 +120,8 @@ class SeriesRunner {
   double simulated_time_s() const { return arena_.t_s(); }
   // The measured on_mocap durations (time_ground_station), in seconds, in call order.
   const std::vector<double>& ground_station_frame_times_s() const { return frame_times_s_; }
+  // The summed wall time of the Arena::step calls (time_arena), in seconds.
+  double arena_time_s() const { return arena_time_s_; }
 
  private:
   void step();
@@ -135,6 +140,7 @@ class SeriesRunner {
   bool crashed_ = false;
   std::uint64_t switches_logged_ = 0;
   std::vector<double> frame_times_s_;
+  double arena_time_s_ = 0.0;
   std::array<pa::proto::Mode, 2> firmware_modes_{pa::proto::Mode::disarmed, pa::proto::Mode::disarmed};
 };
 

@@ -2,6 +2,7 @@
 // sense of each motor's torque, and the floor.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 #include "hil/plant/motor.hpp"
@@ -151,6 +152,41 @@ TEST_CASE("the floor stops a falling vehicle, which comes to rest on its feet") 
   CHECK(std::abs(b.position_m.x()) < 1e-6);
   // Standing on the floor, a perfect IMU reads +g.
   CHECK(plant.true_specific_force_mps2(pa::kVehicle1).z() == Approx(9.81).epsilon(1e-6));
+}
+
+// The plant skips a vehicle's feet while its centre is higher than they reach (plant.hpp,
+// Kinematics::feet_clear): whatever the attitude, the lowest foot must still meet the floor.
+TEST_CASE("a vehicle falling tilted meets the floor with its lowest foot, whatever its attitude") {
+  const PlantConfig c = quiet();
+  for (const double roll_rad : {0.0, 0.4, 0.9, 1.4}) {
+    Plant plant(c);
+    hil::VehicleState v = plant.hovering_vehicle(Vec3(0, 0, 0.4), 0.0);
+    v.body.attitude = hil::Quat(Eigen::AngleAxisd(roll_rad, Vec3(1.0, 1.0, 0.0).normalized()));
+    v.motor_thrust_N.fill(0.0);
+    plant.set_vehicle(pa::kVehicle1, v);
+    auto lowest_foot_m = [&plant, &c] {
+      const hil::RigidBodyState& b = plant.vehicle(pa::kVehicle1).body;
+      double lowest = 1e9;
+      for (int f = 0; f < 4; ++f) {
+        const Vec3 foot = hil::motor_position_body_m(c.vehicle, f) - Vec3(0, 0, c.vehicle.foot_depth_m);
+        lowest = std::min(lowest, (b.position_m + b.attitude * foot).z());
+      }
+      return lowest;
+    };
+    double before_m = lowest_foot_m();
+    int k = 0;
+    for (; k < 2000 && !plant.vehicle_on_floor(pa::kVehicle1); ++k) {
+      before_m = lowest_foot_m();
+      plant.step(0.001, kOff, kOff);
+    }
+    INFO("roll " << roll_rad << " rad: touched after " << k << " ms, lowest foot " << before_m
+                 << " m before, " << lowest_foot_m() << " m after");
+    REQUIRE(plant.vehicle_on_floor(pa::kVehicle1));
+    // Touched in the step in which the lowest foot went below the floor (falling ~3 m/s).
+    CHECK(before_m >= 0.0);
+    CHECK(lowest_foot_m() < 0.0);
+    CHECK(lowest_foot_m() > -0.005);
+  }
 }
 
 TEST_CASE("the plant refuses a non-finite state and keeps the one it had") {
