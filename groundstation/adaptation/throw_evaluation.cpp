@@ -12,10 +12,12 @@ Eigen::Vector3d end_point(const model::PoleState& state, bool head, const model:
   return head ? model::pole_head_end_m(state, params) : model::pole_tail_end_m(state, params);
 }
 
-// Eq. (42) (model/impact.hpp's form) with a fixed contact end: continuous in time for that end.
-double residual_with_end(const model::PoleState& state, bool head, const model::PoleParams& params) {
-  model::PoleState based = state;
-  if (head) based.n = -state.n;
+// Eq. (42) (model/impact.hpp's form) in the flight's plane with a fixed contact end: continuous in
+// time for that end.
+double residual_with_end(const model::PoleState& state, bool head, double plane_yaw_rad,
+                         const model::PoleParams& params) {
+  model::PoleState based = model::turned_by_yaw(state, plane_yaw_rad);
+  if (head) based.n = -based.n;
   return model::catching_condition_residual_radps(model::planar_kinematics(based), params);
 }
 
@@ -32,6 +34,7 @@ std::optional<OptimalCatchEvaluation> evaluate_optimal_catch(
     std::span<const TimedPoleState> flight, double launch_t_s, const model::PoleParams& params,
     const planning::CatchingInstantOptions& continuation) {
   if (flight.empty() || !increasing(flight)) return std::nullopt;
+  const double yaw = model::flight_plane_yaw_rad(flight.front().state);
   for (std::size_t i = 0; i + 1 < flight.size(); ++i) {
     const TimedPoleState& a = flight[i];
     const TimedPoleState& b = flight[i + 1];
@@ -39,8 +42,8 @@ std::optional<OptimalCatchEvaluation> evaluate_optimal_catch(
     // Across the pole's passing the horizontal the contact end changes and (42) jumps; a catch of
     // a horizontal pole is not a root of it (planning/catching_instant.hpp skips it likewise).
     if (head_is_lower(b.state) != head) continue;
-    const double r_a = residual_with_end(a.state, head, params);
-    const double r_b = residual_with_end(b.state, head, params);
+    const double r_a = residual_with_end(a.state, head, yaw, params);
+    const double r_b = residual_with_end(b.state, head, yaw, params);
     const bool root_at_a = (i == 0 && r_a == 0.0);
     if (!root_at_a && !((r_a > 0.0 && r_b <= 0.0) || (r_a < 0.0 && r_b >= 0.0))) continue;
     const double fraction = root_at_a ? 0.0 : r_a / (r_a - r_b);
@@ -55,7 +58,9 @@ std::optional<OptimalCatchEvaluation> evaluate_optimal_catch(
   }
   // Not met while observed: continue the last observed state with the free-flight model.
   const TimedPoleState& last = flight.back();
-  const planning::CatchingInstant instant = planning::find_catching_instant(last.state, params, continuation);
+  planning::CatchingInstantOptions same_plane = continuation;
+  same_plane.plane_yaw_rad = yaw;
+  const planning::CatchingInstant instant = planning::find_catching_instant(last.state, params, same_plane);
   if (!instant.found) return std::nullopt;
   OptimalCatchEvaluation result;
   result.point.t_s = last.t_s + instant.t_s - launch_t_s;

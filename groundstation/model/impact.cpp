@@ -1,5 +1,6 @@
 #include "groundstation/model/impact.hpp"
 
+#include <Eigen/Geometry>
 #include <cmath>
 
 namespace gs::model {
@@ -68,6 +69,21 @@ double catching_condition_residual_radps(const PlanarPoleKinematics& before, con
 
 double catching_condition_residual_radps(const PoleState& before, const PoleParams& params) {
   return catching_condition_residual_radps(planar_kinematics_from_lower_end(before), params);
+}
+
+double flight_plane_yaw_rad(const PoleState& state) {
+  constexpr double kTurning_radps = 1e-3, kMoving_mps = 1e-3;
+  const Eigen::Vector2d axis = state.omega_radps.head<2>();
+  if (axis.norm() > kTurning_radps)
+    return std::atan2(-axis.x(), axis.y());  // +y turned by the yaw is the axis
+  const Eigen::Vector2d velocity = state.v_mps.head<2>();
+  if (velocity.norm() > kMoving_mps) return std::atan2(velocity.y(), velocity.x());
+  return 0.0;
+}
+
+PoleState turned_by_yaw(const PoleState& state, double yaw_rad) {
+  const Eigen::Matrix3d to_plane = Eigen::AngleAxisd(-yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  return {to_plane * state.p_m, to_plane * state.v_mps, to_plane * state.n, to_plane * state.omega_radps};
 }
 
 }  // namespace gs::model

@@ -98,4 +98,15 @@ double catching_condition_residual_radps(const PlanarPoleKinematics& before, con
 // The same for a free-flying pole, with its lower end as the contact end.
 double catching_condition_residual_radps(const PoleState& before, const PoleParams& params);
 
+// (42) is planar. A pole flying in another vertical plane is judged in its own plane, turned onto
+// the xz-plane: without the turn a throw along y has alpha ~ 0 and Omega_y ~ 0 in the xz-plane,
+// and its "catching instant" is nonsense (measured: predicted 3.3 m below the floor, the catch
+// retimed 0.5 m low and the pole dropped). The plane's yaw is that of its +x, the way the pole
+// tips with Omega along +y: from the horizontal part of Omega, or, for a pole that hardly turns,
+// from its centre's horizontal velocity (0 when neither says). Take it once per flight, from its
+// first state, so that (42) stays continuous along the flight.
+double flight_plane_yaw_rad(const PoleState& state);
+// The state seen from a frame turned by yaw_rad about the vertical through the origin.
+PoleState turned_by_yaw(const PoleState& state, double yaw_rad);
+
 }  // namespace gs::model

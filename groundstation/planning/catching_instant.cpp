@@ -13,11 +13,12 @@
 namespace gs::planning {
 namespace {
 
-// Eq. (42) with a fixed choice of contact end (tail if !flip, head if flip): continuous in time
-// for that choice.
-double residual_with_base(const model::PoleState& state, bool flip, const model::PoleParams& params) {
-  model::PoleState based = state;
-  if (flip) based.n = -state.n;
+// Eq. (42) in the flight's plane (model::flight_plane_yaw_rad) with a fixed choice of contact end
+// (tail if !flip, head if flip): continuous in time for that choice.
+double residual_with_base(const model::PoleState& state, bool flip, double plane_yaw_rad,
+                          const model::PoleParams& params) {
+  model::PoleState based = model::turned_by_yaw(state, plane_yaw_rad);
+  if (flip) based.n = -based.n;
   return model::catching_condition_residual_radps(model::planar_kinematics(based), params);
 }
 
@@ -30,12 +31,12 @@ model::PoleState state_at(const model::PoleState& start, double tau_s, const mod
 }
 
 // Bisection for the root of residual_with_base(flip) in [lo, hi] (a sign change is known).
-double bisect_residual(const model::PoleState& start, double lo, double hi, bool flip,
+double bisect_residual(const model::PoleState& start, double lo, double hi, bool flip, double plane_yaw_rad,
                        const model::PoleParams& params, double tolerance_s) {
-  double r_lo = residual_with_base(state_at(start, lo, params), flip, params);
+  double r_lo = residual_with_base(state_at(start, lo, params), flip, plane_yaw_rad, params);
   while (hi - lo > tolerance_s) {
     const double mid = 0.5 * (lo + hi);
-    const double r_mid = residual_with_base(state_at(start, mid, params), flip, params);
+    const double r_mid = residual_with_base(state_at(start, mid, params), flip, plane_yaw_rad, params);
     if ((r_mid > 0.0) == (r_lo > 0.0) && r_mid != 0.0) {
       lo = mid;
       r_lo = r_mid;
@@ -179,6 +180,7 @@ CatchingInstant find_catching_instant(const model::PoleState& launch, const mode
   if (!(options.step_s > 0.0) || !(options.horizon_s > 0.0)) return result;
   const double tolerance = options.time_tolerance_s > 0.0 ? options.time_tolerance_s : 1e-10;
   model::PoleState s0 = model::normalised_pole_state(launch);
+  const double yaw = options.plane_yaw_rad.value_or(model::flight_plane_yaw_rad(s0));
   double t0 = 0.0;
   while (t0 < options.horizon_s) {
     const double dt = std::min(options.step_s, options.horizon_s - t0);
@@ -187,8 +189,9 @@ CatchingInstant find_catching_instant(const model::PoleState& launch, const mode
     const bool flip1 = head_is_lower(s1);
     double root = -1.0;
     if (flip0 == flip1) {
-      if (sign_change(residual_with_base(s0, flip0, params), residual_with_base(s1, flip0, params))) {
-        root = bisect_residual(s0, 0.0, dt, flip0, params, tolerance);
+      if (sign_change(residual_with_base(s0, flip0, yaw, params),
+                      residual_with_base(s1, flip0, yaw, params))) {
+        root = bisect_residual(s0, 0.0, dt, flip0, yaw, params, tolerance);
       }
     } else {
       // The pole passes the horizontal inside this step: find that instant and look for a root
@@ -201,11 +204,12 @@ CatchingInstant find_catching_instant(const model::PoleState& launch, const mode
       }
       const model::PoleState s_lo = state_at(s0, lo, params);
       const model::PoleState s_hi = state_at(s0, hi, params);
-      if (sign_change(residual_with_base(s0, flip0, params), residual_with_base(s_lo, flip0, params))) {
-        root = bisect_residual(s0, 0.0, lo, flip0, params, tolerance);
-      } else if (sign_change(residual_with_base(s_hi, flip1, params),
-                             residual_with_base(s1, flip1, params))) {
-        root = bisect_residual(s0, hi, dt, flip1, params, tolerance);
+      if (sign_change(residual_with_base(s0, flip0, yaw, params),
+                      residual_with_base(s_lo, flip0, yaw, params))) {
+        root = bisect_residual(s0, 0.0, lo, flip0, yaw, params, tolerance);
+      } else if (sign_change(residual_with_base(s_hi, flip1, yaw, params),
+                             residual_with_base(s1, flip1, yaw, params))) {
+        root = bisect_residual(s0, hi, dt, flip1, yaw, params, tolerance);
       }
     }
     if (root >= 0.0) {
@@ -215,7 +219,8 @@ CatchingInstant find_catching_instant(const model::PoleState& launch, const mode
       const Eigen::Vector3d lower_end = model::pole_lower_end_m(result.pole, params);
       result.catch_height_m = lower_end.z();
       result.catch_point_m = lower_end.head<2>();
-      result.residual_radps = model::catching_condition_residual_radps(result.pole, params);
+      result.residual_radps =
+          model::catching_condition_residual_radps(model::turned_by_yaw(result.pole, yaw), params);
       return result;
     }
     s0 = s1;

@@ -5,6 +5,7 @@
 // Sign convention and the derivation of (42): groundstation/model/impact.hpp.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -51,6 +52,10 @@ struct CatchingInstantOptions {
   double step_s = 0.005;            // RK4 step of the free-flight simulation
   double horizon_s = 3.0;           // give up after this much flight
   double time_tolerance_s = 1e-10;  // bisection stops below this bracket width
+  // The vertical plane (42) is judged in (model::flight_plane_yaw_rad); unset: the plane of the
+  // state the search starts from. A search that continues an observed flight passes the plane of
+  // the flight's start, so that both judge alike.
+  std::optional<double> plane_yaw_rad;
 };
 
 struct CatchingInstant {

@@ -3,6 +3,7 @@
 // from the throw planner's CSV.
 #include "groundstation/planning/catching_instant.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -129,6 +130,31 @@ TEST_CASE("Fig. 5 launch: the first instant satisfying (42)", "[catching_instant
   const double after = gs::model::catching_condition_residual_radps(
       gs::model::propagate_pole(launch, ci.t_s + 2e-3, 1e-3, params), params);
   CHECK(before * after < 0.0);
+}
+
+// (42) is planar; a throw in another direction is the same throw turned about the vertical and
+// must meet it at the same instant and height, at the turned point (with the xz-plane's (42) a
+// throw along y had no root before the floor).
+TEST_CASE("the catching instant of a throw turned about the vertical is the same instant, turned",
+          "[catching_instant]") {
+  const PoleParams params;
+  const PoleState launch = fig5_launch(params);
+  const CatchingInstant straight = gs::planning::find_catching_instant(launch, params);
+  REQUIRE(straight.found);
+  for (double yaw_deg : {30.0, 90.0, 126.0, 180.0, 270.0, -45.0}) {
+    INFO("yaw " << yaw_deg << " deg");
+    const double yaw = yaw_deg * M_PI / 180.0;
+    const Eigen::Matrix3d turn = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    const PoleState turned{turn * launch.p_m, turn * launch.v_mps, turn * launch.n,
+                           turn * launch.omega_radps};
+    CHECK(gs::model::flight_plane_yaw_rad(turned) == Approx(std::remainder(yaw, 2.0 * M_PI)).margin(1e-12));
+    const CatchingInstant ci = gs::planning::find_catching_instant(turned, params);
+    REQUIRE(ci.found);
+    CHECK(ci.t_s == Approx(straight.t_s).margin(1e-9));
+    CHECK(ci.catch_height_m == Approx(straight.catch_height_m).margin(1e-9));
+    CHECK((ci.catch_point_m - turn.topLeftCorner<2, 2>() * straight.catch_point_m).norm() < 1e-9);
+    CHECK(std::abs(ci.residual_radps) < 1e-6);
+  }
 }
 
 TEST_CASE("without drag the catching instant matches the ballistic closed form", "[catching_instant]") {
