@@ -126,11 +126,46 @@ control::ThrowFrame GroundStation::throw_frame(pa::VehicleId thrower) const {
   return {Eigen::Vector3d(back.x(), back.y(), config_.throw_origin_m.z()), config_.throw_yaw_rad + M_PI};
 }
 
-// The adaptation's values are the throw's (its frame's); the runtime flies in the arena's.
+// The adaptation's values are the throw's (its frame's); the runtime flies in the arena's. A
+// throw to a target comes down on the target.
 Eigen::Vector2d GroundStation::waiting_xy() const {
+  if (target_throw_) return target_throw_->plan.target_m.head<2>();
   return frame_.to_arena_xy(adaptation::compensate_offset_bias(adaptation_.waiting_xy_m, adaptation_));
 }
-double GroundStation::catch_height() const { return frame_.origin_m.z() + adaptation_.catch_height_m; }
+double GroundStation::catch_height() const {
+  if (target_throw_) return target_throw_->plan.target_m.z();
+  return frame_.origin_m.z() + adaptation_.catch_height_m;
+}
+
+Eigen::Vector3d GroundStation::target_aim_offset() const { return target_miss_m_; }
+
+// The optimal catch point evaluated after the throw against the one it was planned to, when the
+// evaluation agrees with the prediction made in flight (the adaptation's gate, end_attempt).
+void GroundStation::learn_target_miss() {
+  if (!target_throw_ || !current_.optimal || !current_.predicted_optimal) return;
+  const adaptation::OptimalCatch& o = current_.optimal->point;
+  const adaptation::OptimalCatch& p = *current_.predicted_optimal;
+  if (std::abs(o.height_m - p.height_m) > config_.adaptation_gate_m ||
+      (o.xy_m - p.xy_m).norm() > config_.adaptation_gate_m ||
+      std::abs(o.t_s - p.t_s) > config_.adaptation_gate_s)
+    return;
+  const Eigen::Vector3d came_down(o.xy_m.x(), o.xy_m.y(), o.height_m);
+  const Eigen::Vector3d miss = frame_.to_frame(came_down) - frame_.to_frame(target_throw_->plan.target_m);
+  if (miss.norm() > config_.adaptation_outlier_m) return;
+  ++target_miss_samples_;
+  target_miss_m_ += adaptation::iterative_mean_gain(target_miss_samples_ - 1, adaptation_settings_.window) *
+                    (miss - target_miss_m_);
+}
+
+Eigen::Vector3d GroundStation::throw_origin_target() const {
+  return frame_.origin_m - pa::kPlateHeightAboveCg_m * Eigen::Vector3d::UnitZ();
+}
+const planning::ThrowTrajectory& GroundStation::flown_throw() const {
+  return target_throw_ ? target_throw_->plan.plan.trajectory : plan_.trajectory;
+}
+const planning::ThrowTracker& GroundStation::flown_tracker() const {
+  return target_throw_ ? target_throw_->tracker : *tracker_;
+}
 
 void GroundStation::request_take_off() {
   for (Vehicle& v : vehicles_) v.requests |= c::request_take_off;
@@ -152,6 +187,24 @@ void GroundStation::request_kill(std::optional<pa::VehicleId> vehicle, pa::proto
 bool GroundStation::request_attempt(const AttemptRequest& request) {
   if (phase_ != AttemptPhase::idle) return false;
   if (!pa::is_act_vehicle(request.thrower)) return false;
+  const control::ThrowFrame frame = throw_frame(request.thrower);
+  std::optional<TargetThrow> target_throw;
+  if (request.target_xy_m) {
+    if (!target_planner_) target_planner_.emplace(problem_);
+    if (!target_planner_->valid()) return false;
+    const Eigen::Vector3d target(request.target_xy_m->x(), request.target_xy_m->y(),
+                                 frame.origin_m.z() + adaptation_.catch_height_m);
+    const Eigen::Vector2d towards = target.head<2>() - frame.origin_m.head<2>();
+    const control::ThrowFrame towards_target{frame.origin_m, std::atan2(towards.y(), towards.x())};
+    const Eigen::Vector3d aim = target - (towards_target.to_arena(target_aim_offset()) - frame.origin_m);
+    planning::TargetThrowPlan plan = target_planner_->plan(frame.origin_m, aim);
+    if (!plan.success) return false;
+    planning::ThrowTracker tracker(plan.plan.trajectory, config_.throw_tracking);
+    if (!tracker.valid()) return false;
+    target_throw.emplace(TargetThrow{std::move(plan), std::move(tracker)});
+  }
+  target_throw_ = std::move(target_throw);
+  frame_ = target_throw_ ? control::ThrowFrame{frame.origin_m, target_throw_->plan.yaw_rad} : frame;
   request_ = request;
   phase_ = AttemptPhase::preparing;
   current_ = AttemptReport{};
@@ -162,9 +215,11 @@ bool GroundStation::request_attempt(const AttemptRequest& request) {
   catch_.reset();
   catch_unreachable_ = catch_infeasible_ = catch_missed_ = false;
   balanced_since_s_.reset();
-  frame_ = throw_frame(request.thrower);
+  if (target_throw_)
+    current_.target_m = Eigen::Vector3d(request.target_xy_m->x(), request.target_xy_m->y(),
+                                        frame_.origin_m.z() + adaptation_.catch_height_m);
   Vehicle& thrower = vehicle_of(request.thrower);
-  thrower.target_m = frame_.origin_m - pa::kPlateHeightAboveCg_m * Eigen::Vector3d::UnitZ();
+  thrower.target_m = throw_origin_target();
   if (request.catch_it) {
     Vehicle& catcher = other(thrower);
     catcher.requests |= c::request_catch;
@@ -242,7 +297,7 @@ std::uint32_t GroundStation::conditions(const Vehicle& v, double now_s) const {
   const bool in_flight = phase_ == AttemptPhase::flight || phase_ == AttemptPhase::balancing;
   if (in_flight && last_pole_seen_m_ && last_pole_seen_m_->z() < config_.pole_down_height_m)
     w |= c::pole_down;
-  if (task == Task::throwing && in_task_s >= problem_.duration_s) w |= c::throw_over;
+  if (task == Task::throwing && in_task_s >= flown_throw().duration_s()) w |= c::throw_over;
   if (task == Task::release && in_task_s >= config_.release_low_s) w |= c::release_over;
   const bool catcher = request_.catch_it && v.id != request_.thrower && phase_ != AttemptPhase::idle;
   if (catcher && (phase_ == AttemptPhase::throwing || phase_ == AttemptPhase::flight) &&
@@ -291,7 +346,7 @@ void GroundStation::enter(Vehicle& v, double now_s) {
     case Task::throwing: v.requests &= ~c::request_throw; break;
     case Task::release: v.requests &= ~c::request_abort; break;
     case Task::retreat:
-      v.target_m = frame_.origin_m - pa::kPlateHeightAboveCg_m * Eigen::Vector3d::UnitZ();
+      v.target_m = throw_origin_target();
       v.set_point_m = here;
       v.set_point_valid = true;
       break;
@@ -459,7 +514,8 @@ std::optional<model::VehicleInput> GroundStation::control(Vehicle& v, double now
       return clamp_input(control::from_balancing_input(u));
     }
     case Task::throwing: {
-      const double tau = std::min(t_act - v.sequencer.task_since_s(), problem_.duration_s);
+      const double duration_s = flown_throw().duration_s();
+      const double tau = std::min(t_act - v.sequencer.task_since_s(), duration_s);
       // The plan is flown in the throw's frame (control/throw_frame.hpp).
       const control::Pivot pivot = frame_.to_frame(control::Pivot{plate.p_m, plate.v_mps});
       const model::VehicleState vehicle = frame_.to_frame(e.state);
@@ -468,12 +524,14 @@ std::optional<model::VehicleInput> GroundStation::control(Vehicle& v, double now
           control::planar_throw_state(pivot, vehicle, pole_in_frame, Eigen::Vector3d::Zero());
       const Eigen::VectorXd b =
           control::balancing_state(pivot, vehicle, pole_in_frame, L, Eigen::Vector3d::Zero());
-      if (tau >= problem_.duration_s - config_.launch_state_window_s) throw_end_ = ThrowEnd{tau, s};
+      if (tau >= duration_s - config_.launch_state_window_s) throw_end_ = ThrowEnd{tau, s};
       // The learnt throw: the plan's reference shifted by the correction (throw_learning.hpp),
-      // i.e. the state fed to the TV-LQR shifted the other way.
+      // i.e. the state fed to the TV-LQR shifted the other way. It is learnt for the Fig. 5 throw
+      // only: a throw to a target is planned anew each time.
       const model::PlanarState<double> shifted =
-          s - adaptation::reference_shift(throw_correction_, tau, problem_.duration_s);
-      model::VehicleInput u = planning::throw_command(*tracker_, balancing_, tau, shifted, b, config_.limits);
+          target_throw_ ? s : s - adaptation::reference_shift(throw_correction_, tau, duration_s);
+      model::VehicleInput u =
+          planning::throw_command(flown_tracker(), balancing_, tau, shifted, b, config_.limits);
       u.omega_radps = frame_.body_rates_to_vehicle(u.omega_radps);
       return clamp_input(u);
     }
@@ -481,10 +539,10 @@ std::optional<model::VehicleInput> GroundStation::control(Vehicle& v, double now
       const double since = t_act - v.sequencer.task_since_s();
       model::VehicleInput u;
       u.a_q_mps2 = config_.limits.a_q_min_mps2;
-      u.omega_radps =
-          since < config_.release_pitch_s
-              ? frame_.body_rates_to_vehicle(Eigen::Vector3d(0.0, problem_.launch_pitch_rate_radps, 0.0))
-              : Eigen::Vector3d(-8.0 * e.state.phi_rad, -8.0 * e.state.theta_rad, 0.0);
+      u.omega_radps = since < config_.release_pitch_s
+                          ? frame_.body_rates_to_vehicle(Eigen::Vector3d(
+                                0.0, flown_throw().input.back()(model::planar::kPitchRate), 0.0))
+                          : Eigen::Vector3d(-8.0 * e.state.phi_rad, -8.0 * e.state.theta_rad, 0.0);
       return clamp_input(u);
     }
     case Task::catching: {
@@ -576,9 +634,8 @@ void GroundStation::update_attempt(double now_s) {
   Vehicle& catcher = other(thrower);
   const estimation::PoleEstimate pole = estimator_.pole();
 
-  if (thrower.sequencer.task() == Task::balance && thrower.set_point_valid) {
-    thrower.target_m = frame_.origin_m - pa::kPlateHeightAboveCg_m * Eigen::Vector3d::UnitZ();
-  }
+  if (thrower.sequencer.task() == Task::balance && thrower.set_point_valid)
+    thrower.target_m = throw_origin_target();
   switch (phase_) {
     case AttemptPhase::preparing: {
       const bool catcher_ready = !request_.catch_it || (catcher.sequencer.task() == Task::wait &&
@@ -593,8 +650,10 @@ void GroundStation::update_attempt(double now_s) {
         catch_target_xy_m_ = current_.waiting_xy_m;
         const planning::MinimaxZManoeuvre z(catch_height() - pa::kPlateHeightAboveCg_m, config_.t_xy_s,
                                             config_.catch_a_max_mps2, config_.catch_k_max_mps3);
-        catch_start_s_ = current_.throw_start_s + problem_.duration_s + config_.launch_delay_s +
-                         catch_instant_s_ - z.duration_s();
+        const double catch_instant_s =
+            target_throw_ ? target_throw_->plan.catching_instant.t_s : catch_instant_s_;
+        catch_start_s_ = current_.throw_start_s + flown_throw().duration_s() + config_.launch_delay_s +
+                         catch_instant_s - z.duration_s();
         planned_catch_start_s_ = catch_start_s_;
         adapted_catch_height_m_ = current_.catch_height_m;
       }
@@ -605,7 +664,7 @@ void GroundStation::update_attempt(double now_s) {
       const std::optional<estimation::ModeSwitch> s = estimator_.last_switch();
       // Only a call at the end of the throw (see conditions() on the flip-flops during it).
       if (s && s->to == estimation::PoleMode::free &&
-          s->event_t_s > current_.throw_start_s + problem_.duration_s - 0.05) {
+          s->event_t_s > current_.throw_start_s + flown_throw().duration_s() - 0.05) {
         current_.launch_s = s->event_t_s;
         phase_ = AttemptPhase::flight;
       } else if (thrower.sequencer.task() != Task::throwing && thrower.sequencer.task() != Task::release &&
@@ -703,6 +762,7 @@ void GroundStation::update_catch_target(double now_s) {
       current_.predicted = adaptation::CatchPoint{predicted, now_s + p.t_s - *current_.launch_s};
       if (converged && (catch_target_xy_m_ - start_xy).norm() > config_.catch_reach_m)
         catch_unreachable_ = true;
+      if (converged && !current_.converged_prediction) current_.converged_prediction = current_.predicted;
     }
     // Missed: the lower end already below the plate and still free.
     const Eigen::Vector3d low = lower_end(pole.state, L);
@@ -758,14 +818,15 @@ void GroundStation::end_attempt(double now_s) {
   record.time_s = current_.launch_s.value_or(now_s);
   if (current_.launch_s && throw_end_) {
     // The state tracked last, carried to T along the plan (a few milliseconds of it).
-    const planning::ThrowTrajectory& plan = plan_.trajectory;
+    const planning::ThrowTrajectory& plan = flown_throw();
+    const double T = plan.duration_s();
     const model::PlanarState<double> at_t =
-        throw_end_->state + plan.state_at(problem_.duration_s) - plan.state_at(throw_end_->tau_s);
+        throw_end_->state + plan.state_at(T) - plan.state_at(throw_end_->tau_s);
     current_.launch_flown = adaptation::launch_state_of(at_t);
-    current_.launch_error =
-        adaptation::launch_vector(*current_.launch_flown) - adaptation::launch_vector(planned_launch());
+    current_.launch_error = adaptation::launch_vector(*current_.launch_flown) -
+                            adaptation::launch_vector(adaptation::launch_state_of(plan.state_at(T)));
     record.launch = *current_.launch_flown;
-    if (config_.throw_learning.gain > 0.0)
+    if (config_.throw_learning.gain > 0.0 && !target_throw_)
       throw_correction_ = adaptation::learn_from_throw(throw_correction_, record.launch, planned_launch(),
                                                        config_.throw_learning, throw_inverse_sensitivity_);
   }
@@ -789,7 +850,7 @@ void GroundStation::end_attempt(double now_s) {
   record.catch_height_used_m = current_.catch_height_m - frame_.origin_m.z();
   record.waiting_xy_m = frame_.to_frame_xy(current_.waiting_xy_m);
   if (current_.catch_start_s) record.target_xy_m = frame_.to_frame_xy(catch_target_xy_m_);
-  if (current_.optimal) {
+  if (current_.optimal && !target_throw_) {
     adaptation::OptimalCatch o = current_.optimal->point;
     o.height_m -= frame_.origin_m.z();
     o.xy_m = frame_.to_frame_xy(o.xy_m);
@@ -830,7 +891,12 @@ void GroundStation::end_attempt(double now_s) {
       adaptation::catcher_flew_to_target(record.outcome)) {
     record.catcher_at_impact_xy_m = frame_.to_frame_xy(current_.catcher_at_impact_m->head<2>());
   }
-  if (adaptation::validate(record).empty()) {
+  // A throw to a target is not the Fig. 5 throw whose catch the adaptation learns (its catch
+  // point, height and instant are its plan's): recorded, neither adapted nor stored.
+  if (target_throw_) {
+    learn_target_miss();
+    record.note = "a throw to a target: not adapted";
+  } else if (adaptation::validate(record).empty()) {
     if (store_) {
       store_->record(record);  // one transaction: the throw and the values that include it
       adaptation_ = store_->adaptation().state;
@@ -843,7 +909,7 @@ void GroundStation::end_attempt(double now_s) {
   phase_ = AttemptPhase::idle;
   catch_.reset();
   // Back to the start: the thrower to the throw's origin, the catcher to the next waiting point.
-  thrower.target_m = frame_.origin_m - pa::kPlateHeightAboveCg_m * Eigen::Vector3d::UnitZ();
+  thrower.target_m = throw_origin_target();
   catcher.target_m = waiting_target();
 }
 

@@ -46,6 +46,7 @@
 #include "groundstation/mission/vehicle_sequencer.hpp"
 #include "groundstation/model/vehicle_limits.hpp"
 #include "groundstation/planning/catch_trajectory.hpp"
+#include "groundstation/planning/target_throw.hpp"
 #include "groundstation/planning/throw_planner.hpp"
 #include "groundstation/planning/throw_tracking.hpp"
 
@@ -164,6 +165,12 @@ struct AttemptRequest {
   pa::VehicleId thrower = pa::kVehicle1;  // throws from its own throw frame (throw_frame())
   bool catch_it = true;                   // the other vehicle flies the catch
   Eigen::Vector2d catch_offset_m = Eigen::Vector2d::Zero();  // practice: catch this far off
+  // Set: a throw to this catch point (x y, arena frame) instead of the Fig. 5 throw: planned for
+  // this attempt (planning/target_throw.hpp, up to ~70 ms) from the thrower's throw origin, the
+  // pole's lower end at its optimal catching instant on the point, at the adapted catching
+  // height. The catcher waits above it. The planner is given the point moved against the mean miss
+  // of the throws to targets before (target_aim_offset()).
+  std::optional<Eigen::Vector2d> target_xy_m;
 };
 
 enum class AttemptPhase : std::uint8_t { idle, preparing, throwing, flight, balancing, ended };
@@ -195,6 +202,10 @@ struct AttemptReport {
   // The correction of the throw's end state this throw was flown with.
   adaptation::LaunchVector throw_correction = adaptation::LaunchVector::Zero();
   bool caught = false;  // balanced on the catcher
+  // A throw to a target: the catch point asked for (lower end at the catching instant), and the
+  // catch-point prediction when it had converged (catch_verdict_delay_s after the launch).
+  std::optional<Eigen::Vector3d> target_m;
+  std::optional<adaptation::CatchPoint> converged_prediction;
 };
 
 // A task change of one vehicle, for telemetry and logs.
@@ -225,7 +236,8 @@ class GroundStation {
   // KILL (motors off at once, latched on board) to one vehicle of the act, or to both (nullopt),
   // whatever the mission is doing: never gated. std::out_of_range for a vehicle not of the act.
   void request_kill(std::optional<pa::VehicleId> vehicle, pa::proto::KillReason reason);
-  // Starts an attempt; false (and nothing changes) while one is running.
+  // Starts an attempt; false (and nothing changes) while one is running, or when a throw to a
+  // target cannot be planned.
   bool request_attempt(const AttemptRequest& request);
 
   AttemptPhase attempt_phase() const { return phase_; }
@@ -251,6 +263,8 @@ class GroundStation {
   control::ThrowFrame throw_frame(pa::VehicleId thrower) const;
   const GroundStationConfig& config() const { return config_; }
   const planning::ThrowPlan& throw_plan() const { return plan_; }
+  // The frame the current attempt throws in (the last attempt's when idle).
+  const control::ThrowFrame& attempt_frame() const { return frame_; }
   // The catch point (lower end, x y) and height expected for the next throw (from the current
   // attempt's thrower, or the last one's), arena frame.
   Eigen::Vector2d waiting_xy() const;
@@ -295,6 +309,17 @@ class GroundStation {
   // manoeuvre starts from (eq. (49)).
   Eigen::Vector3d waiting_target() const;
   double catch_duration() const;  // T_z (48) of the catch manoeuvre at the adapted height
+  // Where the thrower's centre of gravity hovers before the throw: the throw's origin.
+  Eigen::Vector3d throw_origin_target() const;
+  // The throw the attempt flies: the one planned to its target, else the Fig. 5 throw.
+  const planning::ThrowTrajectory& flown_throw() const;
+  const planning::ThrowTracker& flown_tracker() const;
+  // How far a throw to a target is expected to come down from where it is planned to, in the
+  // throw's frame: the mean miss of the throws to targets so far. (The Fig. 5 throw's adapted
+  // catch point against its nominal one is no guide: taken as the first throw's offset, the first
+  // target was missed by 0.25-0.35 m instead of 0.12, seeds 1-3.)
+  Eigen::Vector3d target_aim_offset() const;
+  void learn_target_miss();
 
   GroundStationConfig config_;
   link::GroundLink link_;
@@ -303,6 +328,18 @@ class GroundStation {
   planning::ThrowProblem problem_;
   planning::ThrowPlan plan_;
   std::optional<planning::ThrowTracker> tracker_;
+  // Throws to a target: the planner, made on the first such request (its constructor plans the
+  // reference throws), and the current attempt's plan with its TV-LQR.
+  std::optional<planning::TargetThrowPlanner> target_planner_;
+  struct TargetThrow {
+    planning::TargetThrowPlan plan;
+    planning::ThrowTracker tracker;
+  };
+  std::optional<TargetThrow> target_throw_;
+  // Where throws to targets came down (their optimal catch point, evaluated after the throw)
+  // from where they were planned to, on average, in the throw's frame (along, across, up).
+  Eigen::Vector3d target_miss_m_ = Eigen::Vector3d::Zero();
+  int target_miss_samples_ = 0;
   control::LqrGain hover_;
   control::LqrGain balancing_;
   adaptation::AdaptationSettings adaptation_settings_;

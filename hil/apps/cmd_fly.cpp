@@ -1,4 +1,4 @@
-// `hil fly (--series paper | --throws N | --passes N) [--seed S] [--plant FILE] [--randomise] [--out DIR]`:
+// `hil fly (--series paper | --throws N | --passes N | --targets N) [--seed S] [--plant FILE] [--randomise] [--out DIR]`:
 // a series of throws flown in the lockstep arena by the ground-station runtime (hil/sil/series.hpp),
 // judged on the plant's truth. Prints a table per throw and a summary beside the paper's figures;
 // with --out writes DIR/throws.csv (one row per attempt), DIR/attempt_<n>.csv (its time series)
@@ -25,7 +25,7 @@ namespace hil::apps {
 namespace {
 
 constexpr const char* kUsage =
-    "usage: hil fly (--series paper | --throws N | --passes N) [--seed S] [--plant FILE] [--randomise] [--out DIR [--no-report]] [--store FILE] [--verbose]";
+    "usage: hil fly (--series paper | --throws N | --passes N | --targets N) [--seed S] [--plant FILE] [--randomise] [--out DIR [--no-report]] [--store FILE] [--verbose]";
 
 int usage(const std::string& message) {
   std::cerr << "hil fly: " << message << "\n" << kUsage << "\n";
@@ -77,11 +77,32 @@ void write_time_series(const std::string& path, const std::vector<sil::TimeSampl
   }
 }
 
+// How close the throws to targets came: the ground station's converged prediction and the true
+// impact, each against its target.
+void print_target_summary(const std::vector<sil::AttemptResult>& results) {
+  std::vector<double> predicted, impact;
+  for (const sil::AttemptResult& r : results) {
+    if (r.predicted_target_miss_m >= 0.0) predicted.push_back(r.predicted_target_miss_m);
+    if (r.target_miss_m >= 0.0) impact.push_back(r.target_miss_m);
+  }
+  auto describe = [](std::vector<double> v) {
+    if (v.empty()) return std::string("none");
+    std::sort(v.begin(), v.end());
+    char text[120];
+    std::snprintf(text, sizeof text, "median %.1f mm, max %.1f mm (%zu throws)", 1e3 * v[v.size() / 2],
+                  1e3 * v.back(), v.size());
+    return std::string(text);
+  };
+  std::printf("         targets: catch point predicted 0.1 s after the launch vs the target: %s; true "
+              "impact vs the target: %s\n",
+              describe(predicted).c_str(), describe(impact).c_str());
+}
+
 }  // namespace
 
 int cmd_fly(int argc, char** argv) {
   std::string series, plant_file, out_dir, store_file;
-  std::uint64_t throws = 0, passes = 0, seed = 1;
+  std::uint64_t throws = 0, passes = 0, targets = 0, seed = 1;
   bool randomise = false, verbose = false, no_report = false;
   CLI::App app("", "hil fly");
   pa::cli::describe(
@@ -98,20 +119,26 @@ int cmd_fly(int argc, char** argv) {
                  "N passes back and forth: vehicle 1 throws to vehicle 2, which catches and throws back")
       ->type_name("N")
       ->check(pa::cli::count(1, 100000, "needs a count 1..100000"));
+  app.add_option(
+         "--targets", targets,
+         "N throws to targets 2.5-4.5 m away all round, each planned for the point where vehicle 2 waits")
+      ->type_name("N")
+      ->check(pa::cli::count(1, 1000, "needs a count 1..1000"));
   app.add_option("--seed", seed, "seed of the noise and of --randomise (default 1)")
       ->type_name("S")
       ->check(pa::cli::count(0, UINT64_MAX, "needs a non-negative integer"));
   app.add_option("--plant", plant_file, "plant configuration (default: the built-in one)")->type_name("FILE");
-  app.add_flag("--randomise", randomise,
-               "each attempt on a plant drawn anew from the seed (--passes: all on one plant drawn from it)");
+  app.add_flag(
+      "--randomise", randomise,
+      "each attempt on a plant drawn anew from the seed (--passes, --targets: all on one plant drawn from it)");
   app.add_option("--out", out_dir, "write DIR/throws.csv, DIR/attempt_<n>.csv and DIR/report.html")
       ->type_name("DIR");
   app.add_flag("--no-report", no_report, "with --out: the CSV files only, no report.html");
   app.add_option("--store", store_file, "the ground station's adaptation store")->type_name("FILE");
   app.add_flag("--verbose", verbose, "print the mission log");
   if (const std::optional<int> code = pa::cli::parse(app, argc, argv, std::cout, std::cerr)) return *code;
-  if (int(!series.empty()) + int(throws > 0) + int(passes > 0) != 1)
-    return usage("give exactly one of --series paper, --throws N and --passes N");
+  if (int(!series.empty()) + int(throws > 0) + int(passes > 0) + int(targets > 0) != 1)
+    return usage("give exactly one of --series paper, --throws N, --passes N and --targets N");
 
   PlantConfig plant;
   if (!plant_file.empty()) {
@@ -121,9 +148,12 @@ int cmd_fly(int argc, char** argv) {
       return 2;
     }
   }
-  const std::vector<sil::AttemptPlan> plans = series == "paper" ? sil::paper_series()
-                                              : passes > 0      ? sil::pass_series(static_cast<int>(passes))
-                                                                : sil::catch_series(static_cast<int>(throws));
+  const gs::runtime::GroundStationConfig ground_station;
+  const std::vector<sil::AttemptPlan> plans =
+      series == "paper" ? sil::paper_series()
+      : passes > 0      ? sil::pass_series(static_cast<int>(passes))
+      : targets > 0 ? sil::target_series(static_cast<int>(targets), ground_station.throw_origin_m.head<2>())
+                    : sil::catch_series(static_cast<int>(throws));
   if (!out_dir.empty()) {
     std::error_code ec;
     std::filesystem::create_directories(out_dir, ec);
@@ -141,10 +171,13 @@ int cmd_fly(int argc, char** argv) {
       std::printf("%5d  %-10s  %8.3f  %8.3f  %9.3f  %9.3f  %8.3f  %12.5f  %s%s\n", r.throw_number,
                   r.outcome.c_str(), r.flight_s, r.catch_height_m, r.catch_x_m, r.catch_y_m, r.travel_m,
                   r.energy_error_J, r.abort_reason.c_str(), r.vehicle_crashed ? " (vehicle crashed)" : "");
+      if (r.predicted_target_miss_m >= 0.0)
+        std::printf("       target: predicted %.1f mm, impact %.1f mm from it\n",
+                    1e3 * r.predicted_target_miss_m, 1e3 * r.target_miss_m);
       std::fflush(stdout);
     };
-    if (!randomise || passes > 0) {
-      // Passes fly one series on one plant: randomised, drawn once from the seed.
+    if (!randomise || passes > 0 || targets > 0) {
+      // Passes and targets fly one series on one plant: randomised, drawn once from the seed.
       sil::SeriesConfig config;
       config.plant = randomise ? randomised(plant, seed) : plant;
       config.seed = seed;
@@ -227,6 +260,7 @@ int cmd_fly(int argc, char** argv) {
                 "adapts; vehicle 1 throws the odd passes, vehicle 2 the even ones)\n",
                 static_cast<int>(first_miss - results.begin() - 1), static_cast<unsigned long long>(passes));
   }
+  if (targets > 0) print_target_summary(results);
   std::printf("         no vehicle crashed: %s\n",
               std::none_of(results.begin(), results.end(),
                            [](const sil::AttemptResult& r) { return r.vehicle_crashed; })

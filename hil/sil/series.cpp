@@ -43,6 +43,21 @@ std::vector<AttemptPlan> pass_series(int n) {
   return plans;
 }
 
+std::vector<AttemptPlan> target_series(int n, const Eigen::Vector2d& origin_xy_m) {
+  std::vector<AttemptPlan> plans;
+  for (int i = 0; i < n; ++i) {
+    // Directions 360/n degrees apart, in order, so that the catcher's move from one target to
+    // the next is a chord of the circle and never crosses the thrower; distances 2.5, 3.0, ...
+    // 4.5 m in turn.
+    const double direction = 2.0 * M_PI * i / n;
+    const double distance_m = 2.5 + 0.5 * (i % 5);
+    AttemptPlan p;
+    p.target_xy_m = origin_xy_m + distance_m * Eigen::Vector2d(std::cos(direction), std::sin(direction));
+    plans.push_back(p);
+  }
+  return plans;
+}
+
 std::vector<AttemptPlan> catch_series(int n) {
   std::vector<AttemptPlan> plans;
   if (n <= 0) return plans;
@@ -264,10 +279,12 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
   request.thrower = thrower;
   request.catch_it = plan.catch_it;
   request.catch_offset_m = plan.catch_offset_m;
+  request.target_xy_m = plan.target_xy_m;
   const std::size_t reports_before = gs_.attempts().size();
   if (!gs_.request_attempt(request)) {
     r.outcome = "aborted";
-    r.abort_reason = "ground_station_busy";
+    r.abort_reason = gs_.attempt_phase() != gs::runtime::AttemptPhase::idle ? "ground_station_busy"
+                                                                            : "target_throw_not_planned";
     return r;
   }
 
@@ -400,6 +417,12 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
   if (report)
     r.travel_m =
         required_travel(report->waiting_xy_m, lower_end_m, report->catch_height_m, plan.catch_offset_m, r);
+  if (report && report->target_m) {
+    const Eigen::Vector2d target = report->target_m->head<2>();
+    if (report->converged_prediction)
+      r.predicted_target_miss_m = (report->converged_prediction->xy_m - target).norm();
+    if (r.impact) r.target_miss_m = (Eigen::Vector2d(r.catch_x_m, r.catch_y_m) - target).norm();
+  }
   return r;
 }
 

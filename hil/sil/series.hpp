@@ -40,6 +40,9 @@ struct AttemptPlan {
   // The person puts the pole on the thrower if it is not there (a pass: it must be there already,
   // caught and balanced in the attempt before; if it is not, the attempt is not flown).
   bool place_pole = true;
+  // Set: the thrower throws to this catch point (x y) instead of the Fig. 5 throw
+  // (GroundStation's throw to a target); the catcher waits above it.
+  std::optional<Eigen::Vector2d> target_xy_m = std::nullopt;
 };
 
 // The paper's series (Section VII-B): throw 1 adapts only, throws 2-7 practise with the catch
@@ -52,6 +55,9 @@ std::vector<AttemptPlan> catch_series(int n);
 // throw frame (GroundStation::throw_frame), and so on; the pole is put on vehicle 1 before the
 // first pass and never again.
 std::vector<AttemptPlan> pass_series(int n);
+// Throws to n targets all round vehicle 1's throw origin (origin_xy_m), 2.5 to 4.5 m from it,
+// every one caught by vehicle 2, which moves round the circle from target to target.
+std::vector<AttemptPlan> target_series(int n, const Eigen::Vector2d& origin_xy_m);
 
 // The referee's account of one attempt, the columns of throws.csv.
 struct AttemptResult {
@@ -66,6 +72,10 @@ struct AttemptResult {
   std::string abort_reason;        // the ground station's, for an aborted catch
   double planned_height_m = -1.0;  // the ground station's catching height for the throw (-1: none)
   bool vehicle_crashed = false;    // a vehicle touched the floor at speed or was killed
+  // A throw to a target: how far from it (horizontally) the ground station's converged
+  // catch-point prediction and the true impact were (-1: none).
+  double predicted_target_miss_m = -1.0;
+  double target_miss_m = -1.0;
 };
 
 // One row of an attempt's time series (every 10 ms); the columns of attempt_<n>.csv are in
