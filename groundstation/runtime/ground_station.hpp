@@ -358,6 +358,8 @@ class GroundStation {
     model::PlanarState<double> state;
   };
   std::optional<ThrowEnd> throw_end_;
+  // The pole's resting end from the plate's centre as the throw started (arena frame).
+  Eigen::Vector3d resting_offset_m_ = Eigen::Vector3d::Zero();
   int catch_instant_samples_ = 0;
   int odd_throws_ = 0;  // consecutive throws far from the adapted values
   // The estimator predicted to when this frame's commands act (latency compensation).
