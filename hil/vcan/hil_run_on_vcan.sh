@@ -76,11 +76,12 @@ wait_for "$out/groundstation.txt" "groundstation run: on vcan0" 60 || fail "grou
 watch_until links 90 "vehicle 1  link up *task parked .* at " "vehicle 2  link up *task parked .* at " ||
   fail "the ground station did not hear both vehicles: $(cat "$out/watch_links.txt")"
 say "both links up at $(elapsed) s"
-# The vehicles run on the plant's time, the ground station on the clock. Each vehicle's link guard
-# checks one signed frame per three ticks with a queue of four (docs/security.md), and the ground
-# sends about 260 a second per vehicle: with the plant slower than 0.8 of real time they arrive
-# faster than the vehicle can check them, the queue overflows and commands are lost. That is not
-# a flight to judge, so the scenario says how fast the plant ran and is skipped.
+# The vehicles run on the plant's time, the ground station on the clock: a plant far behind the
+# clock is a world too slow for the ground station's control. In process, steadily at 0.5 of real
+# time the flight stays within this scenario's bounds, at 0.25 it climbs 0.6 m past the take-off
+# height (tests/hil/plant_exchange_test.cpp). Under TCG the plant ran at 0.6 on an idle host and
+# the flight passed, at 0.2 to 0.25 on a loaded one and the take-off failed (docs/hil.md). Below
+# 0.5 that is not a flight to judge: the scenario says how fast the plant ran and is skipped.
 lines=$(grep -c "of real time)" "$out/hil_run.txt")
 wait_for_more() { [ "$(grep -c "of real time)" "$out/hil_run.txt")" -gt "$lines" ]; }
 n=0
@@ -91,8 +92,8 @@ until wait_for_more; do
 done
 speed=$(grep "of real time)" "$out/hil_run.txt" | tail -n 1 | sed -n 's/.*(\([0-9.]*\) of real time)/\1/p')
 say "the plant runs at $speed of real time"
-if ! awk -v r="$speed" 'BEGIN { exit !(r >= 0.8) }'; then
-  say "SKIP: the plant runs at $speed of real time here, below the 0.8 at which the vehicles' link guards keep up with the ground station"
+if ! awk -v r="$speed" 'BEGIN { exit !(r >= 0.5) }'; then
+  say "SKIP: the plant runs at $speed of real time here, below the 0.5 at which the ground station's flight is judged"
   stop_all
   cat "$out/hil_run.txt" "$out/fw_vehicle1.txt" "$out/fw_vehicle2.txt" "$out/groundstation.txt"
   exit 77
