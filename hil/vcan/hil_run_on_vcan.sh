@@ -14,6 +14,8 @@ out=$PA_OUT
 domain=7
 key=$files/test_link.key
 hover_s=${1:-3}
+# The slowest plant, in real-time multiples, whose flight this scenario judges (see below).
+min_speed=0.8
 pids=
 
 say() { echo "scenario: $*"; }
@@ -22,7 +24,25 @@ stop_all() {
   for p in $pids; do kill -TERM "$p" 2>/dev/null; done
   for p in $pids; do wait "$p" 2>/dev/null; done
 }
+# The plant's slowest 5 s so far, from hil run's progress lines (1 before the first).
+slowest() {
+  grep "of real time)" "$out/hil_run.txt" | sed -n 's/.*(\([0-9.]*\) of real time)/\1/p' |
+    awk 'BEGIN { m = 1 } { if ($1 < m) m = $1 } END { print m }'
+}
+below_min_speed() { awk -v r="$1" -v m="$min_speed" 'BEGIN { exit !(r < m) }'; }
+skip_slow() {
+  say "SKIP: the plant ran at $1 of real time here, below the $min_speed at which this flight is judged"
+  stop_all
+  cat "$out/hil_run.txt" "$out/fw_vehicle1.txt" "$out/fw_vehicle2.txt" "$out/groundstation.txt"
+  exit 77
+}
 fail() {
+  # A failure while the plant fell below the speed the flight is judged at is that speed's.
+  speed=$(slowest)
+  if below_min_speed "$speed"; then
+    say "(not judged: $*)"
+    skip_slow "$speed"
+  fi
   say "FAIL: $*"
   stop_all
   for f in hil_run fw_vehicle1 fw_vehicle2 groundstation; do
@@ -79,9 +99,11 @@ say "both links up at $(elapsed) s"
 # The vehicles run on the plant's time, the ground station on the clock: a plant far behind the
 # clock is a world too slow for the ground station's control. In process, steadily at 0.5 of real
 # time the flight stays within this scenario's bounds, at 0.25 it climbs 0.6 m past the take-off
-# height (tests/hil/plant_exchange_test.cpp). Under TCG the plant ran at 0.6 on an idle host and
-# the flight passed, at 0.2 to 0.25 on a loaded one and the take-off failed (docs/hil.md). Below
-# 0.5 that is not a flight to judge: the scenario says how fast the plant ran and is skipped.
+# height (tests/hil/plant_exchange_test.cpp). Under TCG the pace is also irregular (most steps
+# late): at 0.60 and 0.62 of real time the flight passed, at 0.55 both vehicles went into their
+# failsafe in the hover, at 0.2 to 0.25 the take-off failed (docs/hil.md). So the flight is judged
+# only while the plant runs at 0.8 of real time at least; slower, the scenario says how fast the
+# plant ran and is skipped.
 lines=$(grep -c "of real time)" "$out/hil_run.txt")
 wait_for_more() { [ "$(grep -c "of real time)" "$out/hil_run.txt")" -gt "$lines" ]; }
 n=0
@@ -90,14 +112,9 @@ until wait_for_more; do
   [ $n -le 600 ] || fail "hil run reported no progress for 60 s"
   sleep 0.1
 done
-speed=$(grep "of real time)" "$out/hil_run.txt" | tail -n 1 | sed -n 's/.*(\([0-9.]*\) of real time)/\1/p')
+speed=$(slowest)
 say "the plant runs at $speed of real time"
-if ! awk -v r="$speed" 'BEGIN { exit !(r >= 0.5) }'; then
-  say "SKIP: the plant runs at $speed of real time here, below the 0.5 at which the ground station's flight is judged"
-  stop_all
-  cat "$out/hil_run.txt" "$out/fw_vehicle1.txt" "$out/fw_vehicle2.txt" "$out/groundstation.txt"
-  exit 77
-fi
+below_min_speed "$speed" && skip_slow "$speed"
 "$files/groundstation" op take-off --domain $domain --timeout 20 || fail "take-off was not accepted"
 watch_until hover 120 "vehicle 1  link up *task hover" "vehicle 2  link up *task hover" ||
   fail "the vehicles did not reach hover: $(cat "$out/watch_hover.txt")"
@@ -131,5 +148,9 @@ done
 grep -q "^hil run: stopped" "$out/hil_run.txt" || { say "FAIL: hil run did not stop with its summary"; rc=1; }
 cp "$out/logs/vcan0.log" "$out/logs/truth.csv" "$out/"
 for f in "$out"/logs/*; do say "$(basename "$f"): $(wc -l <"$f") lines"; done
+if [ $rc -ne 0 ] && below_min_speed "$(slowest)"; then
+  say "(not judged: the checks above)"
+  skip_slow "$(slowest)"
+fi
 if [ $rc -eq 0 ]; then say "pass"; else say "FAIL"; fi
 exit $rc

@@ -260,8 +260,8 @@ class Flight {
 
 TEST_CASE("Through the exchange, the ground-station runtime takes both vehicles off, hovers and lands them") {
   using gs::mission::Task;
-  // 1: the plant keeps up with the clock. 2: it runs at 0.5 of real time, the slowest at which
-  // hil_run_on_vcan judges the flight (see the next test).
+  // 1: the plant keeps up with the clock. 2: it runs steadily at 0.5 of real time, still a flight
+  // within hil_run_on_vcan's bounds (which judges it from 0.8, as the guest's pace is irregular).
   const double ground_per_plant = GENERATE(1.0, 2.0);
   CAPTURE(ground_per_plant);
   Flight flight(ground_per_plant);
@@ -289,7 +289,7 @@ TEST_CASE("Through the exchange, the ground-station runtime takes both vehicles 
 
 TEST_CASE(
     "With the plant at a quarter of real time, as in the QEMU guest, the take-off overshoots by half a metre") {
-  // Why hil_run_on_vcan is skipped below 0.5 of real time (docs/hil.md): the ground station flies
+  // Why hil_run_on_vcan is skipped when the plant is slow (docs/hil.md): the ground station flies
   // on its clock a world that moves four times too slowly for it, and even with the plant's pace
   // steady (in the guest most steps also come late) the vehicles climb 0.6 m past the 1 m
   // take-off height, outside the scenario's bounds.
