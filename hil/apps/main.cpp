@@ -2,6 +2,9 @@
 // and are declared in commands.hpp; adding one is one line in kSubcommands.
 #include "hil/apps/commands.hpp"
 #include "pa/command_line.hpp"
+#ifdef PA_HIL_RUN
+#include "hil/run/cmd_run.hpp"
+#endif
 
 namespace {
 
@@ -15,6 +18,10 @@ constexpr pa::cli::Subcommand kSubcommands[] = {
     {"cuts", "cut the setpoint stream at drawn instants of the mission and judge the failsafe landings",
      hil::apps::cmd_cuts},
     {"config", "print the plant parameters (optionally randomised from a seed)", hil::apps::cmd_config},
+#ifdef PA_HIL_RUN
+    {"run", "run the truth plant as a process between fw_vehicle processes and groundstation run",
+     hil::run::cmd_run},
+#endif
 };
 
 }  // namespace

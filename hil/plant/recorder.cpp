@@ -42,20 +42,26 @@ void write_pole_truth_csv(std::ostream& out, const std::vector<PoleTruthRow>& ro
   }
 }
 
-void write_vehicle_truth_csv(std::ostream& out, const std::vector<VehicleTruthRow>& rows) {
+void write_vehicle_truth_header(std::ostream& out) {
   out << "t,vehicle,x,y,z,vx,vy,vz,qw,qx,qy,qz,wx,wy,wz,f0,f1,f2,f3\n";
-  for (const VehicleTruthRow& r : rows) {
-    const RigidBodyState& b = r.state.body;
-    const Quat q = b.attitude.w() < 0.0
-                       ? Quat(-b.attitude.w(), -b.attitude.x(), -b.attitude.y(), -b.attitude.z())
-                       : b.attitude;
-    const auto& f = r.state.motor_thrust_N;
-    out << format(
-        "%.6f,vehicle%d,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.6f,%.6f,%.6f,%.6f\n",
-        r.t_s, r.vehicle.node(), b.position_m.x(), b.position_m.y(), b.position_m.z(), b.velocity_mps.x(),
-        b.velocity_mps.y(), b.velocity_mps.z(), q.w(), q.x(), q.y(), q.z(), b.rate_body_radps.x(),
-        b.rate_body_radps.y(), b.rate_body_radps.z(), f[0], f[1], f[2], f[3]);
-  }
+}
+
+void write_vehicle_truth_row(std::ostream& out, const VehicleTruthRow& r) {
+  const RigidBodyState& b = r.state.body;
+  const Quat q = b.attitude.w() < 0.0
+                     ? Quat(-b.attitude.w(), -b.attitude.x(), -b.attitude.y(), -b.attitude.z())
+                     : b.attitude;
+  const auto& f = r.state.motor_thrust_N;
+  out << format(
+      "%.6f,vehicle%d,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.9f,%.6f,%.6f,%.6f,%.6f\n",
+      r.t_s, r.vehicle.node(), b.position_m.x(), b.position_m.y(), b.position_m.z(), b.velocity_mps.x(),
+      b.velocity_mps.y(), b.velocity_mps.z(), q.w(), q.x(), q.y(), q.z(), b.rate_body_radps.x(),
+      b.rate_body_radps.y(), b.rate_body_radps.z(), f[0], f[1], f[2], f[3]);
+}
+
+void write_vehicle_truth_csv(std::ostream& out, const std::vector<VehicleTruthRow>& rows) {
+  write_vehicle_truth_header(out);
+  for (const VehicleTruthRow& r : rows) write_vehicle_truth_row(out, r);
 }
 
 namespace {

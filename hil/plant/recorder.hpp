@@ -26,6 +26,9 @@ void write_mocap_csv(std::ostream& out, const std::vector<MocapRow>& rows,
                      MocapStamp stamp = MocapStamp::delivery);
 void write_pole_truth_csv(std::ostream& out, const std::vector<PoleTruthRow>& rows);
 void write_vehicle_truth_csv(std::ostream& out, const std::vector<VehicleTruthRow>& rows);
+// The same file a row at a time, for a writer that streams it (`hil run --log`).
+void write_vehicle_truth_header(std::ostream& out);
+void write_vehicle_truth_row(std::ostream& out, const VehicleTruthRow& row);
 
 // The whole command: args are the arguments after `record`. Prints a summary (the true launch
 // and impact times among it) on `out`, messages on `err`. Returns 0 on success, 2 for bad

@@ -21,20 +21,28 @@ std::uint64_t mix(std::uint64_t x) {
   return x ^ (x >> 31);
 }
 
-RadioConfig radio_for(RadioConfig radio, std::uint64_t arena_seed, std::uint8_t node) {
+}  // namespace
+
+RadioConfig arena_radio_config(RadioConfig radio, std::uint64_t arena_seed, pa::VehicleId vehicle) {
   // The top half: splitmix64's best-mixed bits.
-  radio.seed =
-      static_cast<std::uint32_t>(mix(mix(arena_seed) ^ ((0x100u + node) * 0xD1B54A32D192ED03ull)) >> 32);
+  radio.seed = static_cast<std::uint32_t>(
+      mix(mix(arena_seed) ^ ((0x100u + vehicle.node()) * 0xD1B54A32D192ED03ull)) >> 32);
   return radio;
 }
 
-}  // namespace
+std::array<bool, 2> radios_carrying(const Frame& frame) {
+  const std::uint8_t node = pa::proto::id_node(frame.id);
+  if (node == pa::proto::kBroadcastNode) return {true, true};
+  std::array<bool, 2> carrying{false, false};
+  if (pa::is_act_vehicle(pa::VehicleId(node))) carrying[pa::act_slot(pa::VehicleId(node))] = true;
+  return carrying;
+}
 
 Arena::Arena(const PlantConfig& plant, const ArenaConfig& config, std::uint64_t seed)
     : lockstep_(plant, seed) {
   links_.reserve(2);
   for (const pa::VehicleId v : pa::kActVehicles) {
-    links_.emplace_back(radio_for(config.radio, seed, v.node()));
+    links_.emplace_back(arena_radio_config(config.radio, seed, v));
     fw::VehicleConfig firmware = firmware_config_for(plant.vehicle, v);
     firmware.link.session_nonce = static_cast<std::uint32_t>(mix(seed ^ (0x200u + v.node())) >> 32);
     vehicles_[pa::act_slot(v)] = &lockstep_.attach_firmware(firmware);
@@ -61,15 +69,10 @@ FirmwareVehicle& Arena::vehicle(pa::VehicleId vehicle) { return *vehicles_[slot(
 const FirmwareVehicle& Arena::vehicle(pa::VehicleId vehicle) const { return *vehicles_[slot(vehicle)]; }
 
 void Arena::send_from_ground(const Frame& frame) {
-  const std::uint8_t node = pa::proto::id_node(frame.id);
-  const double t = t_s();
-  if (node == pa::proto::kBroadcastNode) {
-    for (Link& link : links_) link.bridge.offer(Side::ground, frame, t);
-  } else if (pa::is_act_vehicle(pa::VehicleId(node))) {
-    links_[slot(pa::VehicleId(node))].bridge.offer(Side::ground, frame, t);
-  } else {
-    ++not_carried_;
-  }
+  const std::array<bool, 2> carrying = radios_carrying(frame);
+  if (!carrying[0] && !carrying[1]) ++not_carried_;
+  for (std::size_t v = 0; v < 2; ++v)
+    if (carrying[v]) links_[v].bridge.offer(Side::ground, frame, t_s());
 }
 
 void Arena::step() {

@@ -54,6 +54,14 @@ struct ArenaConfig {
   RadioConfig radio{};
 };
 
+// An arena vehicle's radio: `radio` with its seed derived from the arena's seed and the vehicle's
+// node (see "Seeds" above). `hil run` seeds its radios the same way.
+RadioConfig arena_radio_config(RadioConfig radio, std::uint64_t arena_seed, pa::VehicleId vehicle);
+
+// Which act vehicles' radios carry a frame put on the ground bus, indexed by pa::act_slot(): the
+// vehicle its identifier addresses, both for a broadcast (node 15), none for any other node.
+std::array<bool, 2> radios_carrying(const pa::proto::Frame& frame);
+
 // What one vehicle's radio did, per direction (up = ground -> vehicle).
 struct RadioCounters {
   std::uint64_t uplink_offered = 0;  // frames handed to the radio on the ground bus

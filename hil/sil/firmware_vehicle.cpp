@@ -3,6 +3,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "hil/sil/hil_frames.hpp"
 #include "pa/constants.hpp"
 
 namespace hil::sil {
@@ -51,36 +52,18 @@ void FirmwareVehicle::on_imu(const ImuSample& sample) {
   for (const Frame& f : inbox_) node_impl_.on_frame(f, collect);
   inbox_.clear();
 
-  // The HIL_IMU tick is the plant's sample count modulo 2^16; the firmware unwraps it.
-  const auto tick = static_cast<std::uint16_t>(sample.tick & 0xFFFFu);
-  const pa::proto::HilImuGyro gyro{
-      {static_cast<float>(sample.gyro_radps.x()), static_cast<float>(sample.gyro_radps.y()),
-       static_cast<float>(sample.gyro_radps.z())},
-      tick};
-  const pa::proto::HilImuAccel accel{
-      {static_cast<float>(sample.accel_mps2.x()), static_cast<float>(sample.accel_mps2.y()),
-       static_cast<float>(sample.accel_mps2.z())},
-      tick};
+  const std::uint16_t tick = hil_tick(sample);
   const std::size_t first_reply = sent_.size();
-  Frame f;
-  if (pa::proto::encode(gyro, node_, f)) node_impl_.on_frame(f, collect);
-  if (pa::proto::encode(accel, node_, f)) node_impl_.on_frame(f, collect);
+  for (const Frame& f : hil_imu_frames(sample, node_)) node_impl_.on_frame(f, collect);
   ++samples_fed_;
 
   // The HIL_MOTORS answer for this tick comes first (hil_vehicle_node.hpp); it is the plant's,
   // not the ground's, so it leaves the collected frames.
   bool answered = false;
   for (std::size_t i = first_reply; i < sent_.size(); ++i) {
-    pa::proto::Message m;
-    if (pa::proto::decode(sent_[i], m) != pa::proto::DecodeStatus::ok ||
-        m.type != pa::proto::Type::hil_motors || m.node != node_)
-      continue;
-    if (m.hil_motors.tick == tick) {
-      // Units: both are the normalised thrust fraction (see firmware_config_for()), so the
-      // mapping is one to one; the plant clamps to 0..1 itself.
-      for (int k = 0; k < 4; ++k) motors_.command[k] = static_cast<double>(m.hil_motors.command[k]);
-      answered = true;
-    }
+    const MotorsAnswer answer = read_hil_motors(sent_[i], node_, tick, motors_);
+    if (answer == MotorsAnswer::not_motors) continue;
+    if (answer == MotorsAnswer::answer) answered = true;
     sent_.erase(sent_.begin() + static_cast<std::ptrdiff_t>(i));
     --i;
   }

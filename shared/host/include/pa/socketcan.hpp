@@ -26,6 +26,8 @@ class SocketCan {
   bool write(const pa::proto::Frame& frame);
 
   Status status() const { return status_; }
+  // The socket, for a caller that waits on several buses at once (poll); -1 when not open.
+  int fd() const { return fd_; }
   const char* message() const { return message_; }
 
  private:

@@ -1,0 +1,153 @@
+#include "hil/run/plant_exchange.hpp"
+
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "hil/sil/arena.hpp"
+#include "hil/sil/hil_frames.hpp"
+#include "pa/constants.hpp"
+
+namespace hil::run {
+
+using pa::proto::Frame;
+
+namespace {
+
+// As in the arena: a time built from sums of latencies lands a rounding error off the
+// millisecond grid; this keeps a frame due on the grid on its step.
+constexpr double kGridTolerance_s = 1e-9;
+
+}  // namespace
+
+PlantExchange::PlantExchange(const PlantConfig& plant, const RadioConfig& radio, std::uint64_t seed,
+                             std::size_t vehicles)
+    : plant_(plant, seed), period_s_(1.0 / static_cast<double>(plant.imu.rate_Hz)) {
+  if (plant.imu.rate_Hz != static_cast<int>(pa::kImuRate_Hz))
+    throw std::invalid_argument("the firmware runs on a " + std::to_string(pa::kImuRate_Hz) +
+                                " Hz IMU; the plant's imu_rate_Hz is " + std::to_string(plant.imu.rate_Hz));
+  if (vehicles < 1 || vehicles > pa::kActVehicles.size())
+    throw std::invalid_argument("the arena flies 1 or 2 vehicles, not " + std::to_string(vehicles));
+  links_.reserve(vehicles);
+  for (std::size_t i = 0; i < vehicles; ++i)
+    links_.emplace_back(sil::arena_radio_config(radio, seed, pa::kActVehicles[i]));
+}
+
+PlantExchange::Link* PlantExchange::link(pa::VehicleId vehicle) {
+  if (!pa::is_act_vehicle(vehicle) || pa::act_slot(vehicle) >= links_.size()) return nullptr;
+  return &links_[pa::act_slot(vehicle)];
+}
+
+VehicleExchangeCounters PlantExchange::counters(pa::VehicleId vehicle) const {
+  if (!pa::is_act_vehicle(vehicle) || pa::act_slot(vehicle) >= links_.size())
+    throw std::out_of_range("no vehicle with node " + std::to_string(vehicle.node()) + " runs here");
+  const Link& l = links_[pa::act_slot(vehicle)];
+  VehicleExchangeCounters c = l.counters;
+  c.uplink_lost = l.bridge.lost(Side::ground);
+  c.downlink_lost = l.bridge.lost(Side::vehicle);
+  return c;
+}
+
+void PlantExchange::on_ground_frame(const Frame& frame) {
+  const std::array<bool, 2> carrying = sil::radios_carrying(frame);
+  bool carried = false;
+  for (std::size_t v = 0; v < links_.size(); ++v) {
+    if (!carrying[v] || !sil::radio_carries(frame)) continue;
+    links_[v].bridge.offer(Side::ground, frame, t_s());
+    ++links_[v].counters.uplink_offered;
+    carried = true;
+  }
+  if (!carried) ++ground_not_carried_;
+}
+
+void PlantExchange::on_vehicle_frame(pa::VehicleId vehicle, const Frame& frame) {
+  Link* l = link(vehicle);
+  if (l == nullptr) return;
+  if (sil::radio_carries(frame)) {
+    l->bridge.offer(Side::vehicle, frame, t_s());
+    ++l->counters.downlink_offered;
+    return;
+  }
+  // The answer only counts for the sample awaited; one for an earlier sample is late.
+  const std::uint16_t tick = l->awaited_tick.value_or(0);
+  switch (sil::read_hil_motors(frame, vehicle.node(), tick, motors_[pa::act_slot(vehicle)])) {
+    case sil::MotorsAnswer::answer:
+      if (l->awaited_tick) {
+        ++l->counters.answered;
+        l->awaited_tick.reset();
+      } else {
+        ++l->counters.late_answers;  // a repeat (after a resend): the commands are the same
+      }
+      break;
+    case sil::MotorsAnswer::other_tick: ++l->counters.late_answers; break;
+    case sil::MotorsAnswer::not_motors: ++l->counters.not_carried; break;
+  }
+}
+
+bool PlantExchange::answered() const {
+  for (const Link& l : links_)
+    if (l.awaited_tick) return false;
+  return true;
+}
+
+void PlantExchange::resend_unanswered() {
+  for (Link& l : links_) {
+    if (!l.awaited_tick) continue;
+    l.outbox.insert(l.outbox.end(), l.sample.begin(), l.sample.end());
+    ++l.counters.samples_resent;
+  }
+}
+
+void PlantExchange::step() {
+  Frame f;
+  const double start = t_s() + kGridTolerance_s;
+  for (Link& l : links_) {
+    while (l.bridge.deliver(Side::vehicle, start, f)) {
+      l.outbox.push_back(f);
+      ++l.counters.uplink_delivered;
+    }
+    if (l.awaited_tick) {
+      ++l.counters.missed;
+      l.awaited_tick.reset();
+    }
+  }
+
+  plant_.step(period_s_, motors_[0], motors_[1]);
+  const double t_end = t_s();
+
+  for (const pa::VehicleId v : pa::kActVehicles) {
+    Link* l = link(v);
+    ImuSample sample;
+    while (plant_.pop_imu(v, sample)) {
+      if (l == nullptr) continue;  // no firmware: the queue must not grow
+      l->sample = sil::hil_imu_frames(sample, v.node());
+      l->outbox.insert(l->outbox.end(), l->sample.begin(), l->sample.end());
+      l->awaited_tick = sil::hil_tick(sample);
+      ++l->counters.samples_sent;
+    }
+    VehicleTruthSummary& truth = truth_[pa::act_slot(v)];
+    const double z = plant_.vehicle(v).body.position_m.z();
+    if (z > truth.highest_m) truth.highest_m = z;
+    if (z > VehicleTruthSummary::kAirborneHeight_m) truth.airborne_s += period_s_;
+  }
+
+  for (Link& l : links_) {
+    while (l.bridge.deliver(Side::ground, t_end + kGridTolerance_s, f)) {
+      ground_.push_back(f);
+      ++l.counters.downlink_delivered;
+    }
+  }
+  MocapFrame m;
+  while (plant_.pop_mocap(m)) mocap_.push_back(m);
+}
+
+std::vector<Frame> PlantExchange::take_vehicle_frames(pa::VehicleId vehicle) {
+  Link* l = link(vehicle);
+  return l != nullptr ? std::exchange(l->outbox, {}) : std::vector<Frame>{};
+}
+
+std::vector<Frame> PlantExchange::take_ground_frames() { return std::exchange(ground_, {}); }
+
+std::vector<MocapFrame> PlantExchange::take_mocap() { return std::exchange(mocap_, {}); }
+
+}  // namespace hil::run

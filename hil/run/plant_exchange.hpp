@@ -1,0 +1,126 @@
+// The stepping logic of `hil run` (docs/hil.md): the truth plant exchanging frames with firmware
+// that runs elsewhere (fw_vehicle processes on their own vehicle buses), one radio per vehicle
+// between its bus and the ground bus, and the motion capture. It reads no clock and touches no
+// socket: the caller hands it the frames it read, asks it to step, and writes what it returns,
+// so a test drives it with in-memory buses and the firmware core in process.
+//
+// Time is the plant's: t_k = k ms after k steps. Per vehicle bus, each step sends the new IMU
+// sample as HIL_IMU_GYRO and HIL_IMU_ACCEL and waits for the firmware's HIL_MOTORS for that
+// sample's tick: answered() says whether every firmware answered, and the caller in lockstep
+// steps only then. The answered commands are held over the next step; a sample stepped over
+// without its answer (realtime) holds the previous commands, as an ESC holds its last input, and
+// counts as missed.
+//
+// Radios (hil::RadioBridge, seeded as the arena seeds them: arena_radio_config()):
+//  - a frame read on the ground bus is offered to the radio of the vehicle it addresses (both for
+//    a broadcast) at t_s(); the step from t_k puts on the vehicle bus, before the sample of
+//    t_(k+1), every frame due by t_k;
+//  - a frame read on a vehicle bus that a radio carries (all but the HIL exchange) is offered at
+//    t_s() and put on the ground bus by the first step that ends at or after its due time.
+// Motion capture: the plant's frames, returned by take_mocap() after the step that reached their
+// delivery time (capture + the configured mocap latency).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "hil/plant/mocap.hpp"
+#include "hil/plant/plant.hpp"
+#include "hil/radio/radio_bridge.hpp"
+#include "pa/protocol.hpp"
+
+namespace hil::run {
+
+struct VehicleExchangeCounters {
+  std::uint64_t samples_sent = 0;    // IMU samples put on the vehicle bus
+  std::uint64_t samples_resent = 0;  // sent again to a firmware that had not answered
+  std::uint64_t answered = 0;        // samples whose HIL_MOTORS came back before the next step
+  std::uint64_t missed = 0;          // samples stepped over without their answer
+  std::uint64_t late_answers = 0;    // HIL_MOTORS for another sample than the one awaited
+  std::uint64_t uplink_offered = 0;  // ground frames handed to this vehicle's radio
+  std::uint64_t uplink_lost = 0;
+  std::uint64_t uplink_delivered = 0;  // put on the vehicle bus
+  std::uint64_t downlink_offered = 0;  // vehicle frames handed to the radio
+  std::uint64_t downlink_lost = 0;
+  std::uint64_t downlink_delivered = 0;  // put on the ground bus
+  std::uint64_t not_carried = 0;         // vehicle frames of the HIL exchange other than answers
+};
+
+// What the truth did, per vehicle, for a run's summary.
+struct VehicleTruthSummary {
+  double highest_m = 0.0;   // the centre's highest z
+  double airborne_s = 0.0;  // time with the centre above kAirborneHeight_m
+  static constexpr double kAirborneHeight_m = 0.3;
+};
+
+class PlantExchange {
+ public:
+  // The plant from `plant` with external firmware on the first `vehicles` act vehicles (1: vehicle
+  // 1 only; 2: both; the other stays parked with its motors off). `radio`'s seed is replaced per
+  // vehicle from `seed`, which also seeds the plant. Throws std::invalid_argument for a plant
+  // whose IMU is not the firmware's 1 kHz, a vehicle count other than 1 or 2, a bad radio
+  // configuration, or whatever the Plant constructor throws.
+  PlantExchange(const PlantConfig& plant, const RadioConfig& radio, std::uint64_t seed, std::size_t vehicles);
+
+  const Plant& plant() const { return plant_; }
+  double t_s() const { return plant_.t_s(); }
+  double period_s() const { return period_s_; }
+  std::size_t vehicles() const { return links_.size(); }  // vehicle i (0-based) is node i + 1
+
+  // A frame read from the ground bus now (t_s()).
+  void on_ground_frame(const pa::proto::Frame& frame);
+  // A frame read from `vehicle`'s bus now: its answer to the awaited sample, or a frame for its
+  // radio. Frames of a vehicle without firmware here are ignored.
+  void on_vehicle_frame(pa::VehicleId vehicle, const pa::proto::Frame& frame);
+
+  // Whether every firmware answered its latest sample (true before the first step).
+  bool answered() const;
+  // The latest sample again for each firmware that has not answered it (one started after the
+  // sample went out never saw it), into take_vehicle_frames().
+  void resend_unanswered();
+
+  // One IMU period, t_k -> t_(k+1): uplink frames due by t_k go on the vehicle buses, the plant
+  // steps with the held commands, its new samples go out, the downlink frames due by t_(k+1) go
+  // on the ground bus and the motion-capture frames delivered by then are collected.
+  void step();
+
+  // What to write on `vehicle`'s bus, in order (radio frames, then the sample's two frames).
+  std::vector<pa::proto::Frame> take_vehicle_frames(pa::VehicleId vehicle);
+  // What to write on the ground bus, oldest first.
+  std::vector<pa::proto::Frame> take_ground_frames();
+  // Motion-capture frames delivered since the last call, in capture order.
+  std::vector<MocapFrame> take_mocap();
+
+  // Throws std::out_of_range for a vehicle without firmware here.
+  VehicleExchangeCounters counters(pa::VehicleId vehicle) const;
+  const VehicleTruthSummary& truth_summary(pa::VehicleId vehicle) const {
+    return truth_[pa::act_slot(vehicle)];
+  }
+  // The commands the plant holds for `vehicle` (all zero: motors off).
+  const MotorCommands& motor_commands(pa::VehicleId vehicle) const { return motors_[pa::act_slot(vehicle)]; }
+  std::uint64_t ground_frames_not_carried() const { return ground_not_carried_; }
+
+ private:
+  struct Link {
+    explicit Link(const RadioConfig& config) : bridge(config) {}
+    RadioBridge bridge;
+    std::vector<pa::proto::Frame> outbox;  // for the vehicle bus
+    std::array<pa::proto::Frame, 2> sample{};
+    std::optional<std::uint16_t> awaited_tick;  // none: answered (or nothing sent yet)
+    VehicleExchangeCounters counters;
+  };
+  Link* link(pa::VehicleId vehicle);
+
+  Plant plant_;
+  double period_s_;
+  std::vector<Link> links_;  // indexed by pa::act_slot()
+  std::array<MotorCommands, 2> motors_{};
+  std::array<VehicleTruthSummary, 2> truth_{};
+  std::vector<pa::proto::Frame> ground_;
+  std::vector<MocapFrame> mocap_;
+  std::uint64_t ground_not_carried_ = 0;
+};
+
+}  // namespace hil::run
