@@ -169,7 +169,7 @@ struct AttemptRequest {
   // this attempt (planning/target_throw.hpp, up to ~70 ms) from the thrower's throw origin, the
   // pole's lower end at its optimal catching instant on the point, at the adapted catching
   // height. The catcher waits above it. The planner is given the point moved against the mean miss
-  // of the throws to targets before (target_aim_offset()).
+  // of the throws to targets before (target_miss_m_).
   std::optional<Eigen::Vector2d> target_xy_m;
 };
 
@@ -314,11 +314,8 @@ class GroundStation {
   // The throw the attempt flies: the one planned to its target, else the Fig. 5 throw.
   const planning::ThrowTrajectory& flown_throw() const;
   const planning::ThrowTracker& flown_tracker() const;
-  // How far a throw to a target is expected to come down from where it is planned to, in the
-  // throw's frame: the mean miss of the throws to targets so far. (The Fig. 5 throw's adapted
-  // catch point against its nominal one is no guide: taken as the first throw's offset, the first
-  // target was missed by 0.25-0.35 m instead of 0.12, seeds 1-3.)
-  Eigen::Vector3d target_aim_offset() const;
+  // The optimal catch evaluated after the throw agrees with the one predicted in flight.
+  bool evaluation_agrees_with_prediction() const;
   void learn_target_miss();
 
   GroundStationConfig config_;
@@ -332,12 +329,15 @@ class GroundStation {
   // reference throws), and the current attempt's plan with its TV-LQR.
   std::optional<planning::TargetThrowPlanner> target_planner_;
   struct TargetThrow {
-    planning::TargetThrowPlan plan;
+    Eigen::Vector3d target_m;        // asked for
+    planning::TargetThrowPlan plan;  // planned to the target moved against target_miss_m_
     planning::ThrowTracker tracker;
   };
   std::optional<TargetThrow> target_throw_;
   // Where throws to targets came down (their optimal catch point, evaluated after the throw)
-  // from where they were planned to, on average, in the throw's frame (along, across, up).
+  // from where they were planned to, on average, in the throw's frame (along, across, up). (The
+  // Fig. 5 throw's adapted catch point against its nominal one is no guide: taken as the first
+  // target throw's offset, the first target was missed by 0.25-0.35 m instead of 0.12, seeds 1-3.)
   Eigen::Vector3d target_miss_m_ = Eigen::Vector3d::Zero();
   int target_miss_samples_ = 0;
   control::LqrGain hover_;
