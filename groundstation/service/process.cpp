@@ -171,12 +171,25 @@ void Process::answer(const pa_arena_OperatorCommand& command, bool accepted, con
 
 void Process::take_mocap(double now_s) {
   // The topic keeps the newest frame only: at most one is waiting.
-  while (const pa_arena_MocapFrame* m = mocap_.take()) {
-    const dds::MocapFrameIn in = dds::mocap_frame_from_dds(*m);
-    counters_.mocap_unknown_bodies += in.unknown_bodies;
-    ++counters_.mocap_frames;
-    station_.on_mocap(in.frame, now_s);
+  while (const pa_arena_MocapFrame* m = mocap_.take()) on_mocap(*m, now_s);
+}
+
+bool Process::await_mocap(std::uint64_t frames, double now_s, std::chrono::nanoseconds timeout) {
+  const auto end = std::chrono::steady_clock::now() + timeout;
+  while (frames > 0 && (!newest_mocap_ || *newest_mocap_ + 1 < frames)) {
+    const auto left = end - std::chrono::steady_clock::now();
+    if (left <= std::chrono::nanoseconds::zero()) return false;
+    if (const pa_arena_MocapFrame* m = mocap_.wait_take(left)) on_mocap(*m, now_s);
   }
+  return true;
+}
+
+void Process::on_mocap(const pa_arena_MocapFrame& message, double now_s) {
+  const dds::MocapFrameIn in = dds::mocap_frame_from_dds(message);
+  counters_.mocap_unknown_bodies += in.unknown_bodies;
+  ++counters_.mocap_frames;
+  newest_mocap_ = message.frame_number;
+  station_.on_mocap(in.frame, now_s);
 }
 
 void Process::publish_telemetry(double now_s) {
@@ -228,9 +241,15 @@ void Process::publish_changes(double now_s) {
   const std::vector<runtime::AttemptReport>& done = station_.attempts();
   for (; attempts_published_ < done.size(); ++attempts_published_) {
     const runtime::AttemptReport& r = done[attempts_published_];
-    const std::string detail = "attempt " + std::to_string(r.number) + ": catcher " +
-                               str(mission::reason_name(r.catcher_end)) + ", thrower " +
-                               str(mission::reason_name(r.thrower_end));
+    std::string detail = "attempt " + std::to_string(r.number) + ": catcher " +
+                         str(mission::reason_name(r.catcher_end)) + ", thrower " +
+                         str(mission::reason_name(r.thrower_end));
+    if (r.catcher_at_impact_m) {
+      char at[80];
+      std::snprintf(at, sizeof at, ", catcher at impact (%.3f, %.3f, %.3f) m", r.catcher_at_impact_m->x(),
+                    r.catcher_at_impact_m->y(), r.catcher_at_impact_m->z());
+      detail += at;
+    }
     publish(r.caught ? pa_arena_event_catch_success : pa_arena_event_catch_miss, std::nullopt, detail, now_s);
   }
   for (const pa::VehicleId v : pa::kActVehicles) {

@@ -18,6 +18,7 @@
 #pragma once
 
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -52,6 +53,11 @@ class Process {
 
   void on_frame(const pa::proto::Frame& frame, double now_s);
   void step(double now_s);
+  // On the plant's clock (groundstation run --hil-clock): takes motion-capture frames, waiting up
+  // to `timeout` on the wall clock, until it has the one numbered `frames` - 1 or a later one
+  // (none for 0), so that a step acts on the frames the plant delivered by then whatever DDS's
+  // delivery took. False when it did not come in time.
+  bool await_mocap(std::uint64_t frames, double now_s, std::chrono::nanoseconds timeout);
 
   const runtime::GroundStation& ground_station() const { return station_; }
   const ProcessCounters& counters() const { return counters_; }
@@ -70,6 +76,7 @@ class Process {
   void answer(const pa_arena_OperatorCommand& command, bool accepted, const std::string& detail,
               double now_s);
   void take_mocap(double now_s);
+  void on_mocap(const pa_arena_MocapFrame& message, double now_s);
   void publish_telemetry(double now_s);
   void publish_changes(double now_s);
   void publish(pa_arena_EventKind kind, std::optional<pa::VehicleId> vehicle, const std::string& detail,
@@ -85,9 +92,10 @@ class Process {
   dds::Writer<pa_arena_Event> events_;
 
   std::optional<double> next_telemetry_s_;
-  pa::VehicleId thrower_ = pa::kVehicle1;  // of the latest attempt
-  std::array<VehicleSeen, 2> seen_{};      // by pa::act_slot()
-  int launch_published_ = 0;               // the attempt number whose launch was published
+  std::optional<std::uint64_t> newest_mocap_;  // the latest frame number taken
+  pa::VehicleId thrower_ = pa::kVehicle1;      // of the latest attempt
+  std::array<VehicleSeen, 2> seen_{};          // by pa::act_slot()
+  int launch_published_ = 0;                   // the attempt number whose launch was published
   std::size_t attempts_published_ = 0;
   // The latest sequence numbers acted on (a ring): an operator console's retry is not acted on twice.
   std::array<std::uint32_t, 64> recent_{};

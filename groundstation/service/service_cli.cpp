@@ -19,6 +19,7 @@
 #include "groundstation/service/socketcan_bus.hpp"
 #include "groundstation/service/status_view.hpp"
 #include "pa/command_line.hpp"
+#include "pa/constants.hpp"
 #include "pa/link_key_file.hpp"
 
 namespace gs::apps {
@@ -50,6 +51,62 @@ void add_domain_option(CLI::App& app, unsigned& domain) {
       ->check(pa::cli::count(0, 230, "needs a domain id 0..230"));
 }
 
+// On CLOCK_MONOTONIC, the clock the motion capture stamps its frames with: a step every
+// kStepPeriodMs, and every frame read between the steps. Returns the exit code.
+int run_on_monotonic_clock(service::SocketCanBus& bus, service::Process& process) {
+  double next_step_s = monotonic_s();
+  pa::proto::Frame frame;
+  while (g_stop == 0) {
+    const double wait_s = next_step_s - monotonic_s();
+    // Rounded up: a wait cut to 0 ms would spin on the socket until the step is due.
+    const int timeout_ms = wait_s > 0.0 ? static_cast<int>(std::ceil(wait_s * 1000.0)) : 0;
+    // One frame per turn, then the step if it is due: a busy bus delays a step by one frame's
+    // handling at most, never starves it.
+    if (bus.read(frame, timeout_ms)) {
+      process.on_frame(frame, monotonic_s());
+    } else if (bus.failed()) {
+      return 1;
+    }
+    const double now_s = monotonic_s();
+    if (now_s < next_step_s) continue;
+    process.step(now_s);
+    next_step_s += kStepPeriodMs * 1e-3;
+    if (next_step_s < now_s) next_step_s = now_s;  // after a stall, no burst of steps
+  }
+  return 0;
+}
+
+// The HIL plant's clock (hil run --ground-clock, docs/hil.md): each HIL_CLOCK is a step at the
+// plant's time, once the motion-capture frames it counts are in; HIL_CLOCK_DONE tells the plant
+// it may step on. Frames read in between carry the latest step's time. Returns the exit code.
+int run_on_plant_clock(service::SocketCanBus& bus, service::Process& process, std::uint64_t& late_mocap) {
+  // The plant publishes the motion capture before it sends the HIL_CLOCK that counts it; DDS on
+  // one host delivers it in microseconds, so a frame missing this long was lost.
+  constexpr auto kMocapWait = 1s;
+  constexpr double kPlantStep_s = 1.0 / pa::kImuRate_Hz;
+  double now_s = 0.0;
+  pa::proto::Frame frame;
+  while (g_stop == 0) {
+    if (!bus.read(frame, 100)) {
+      if (bus.failed()) return 1;
+      continue;
+    }
+    pa::proto::Message m;
+    if (pa::proto::id_type(frame.id) != static_cast<std::uint8_t>(pa::proto::Type::hil_clock) ||
+        pa::proto::decode(frame, m) != pa::proto::DecodeStatus::ok) {
+      process.on_frame(frame, now_s);
+      continue;
+    }
+    now_s = kPlantStep_s * m.hil_clock.step;
+    if (!process.await_mocap(m.hil_clock.mocap_frames, now_s, kMocapWait)) ++late_mocap;
+    process.step(now_s);
+    pa::proto::Frame done;
+    pa::proto::encode(pa::proto::HilClockDone{m.hil_clock.step}, pa::proto::kGroundNode, done);
+    bus.send(done);
+  }
+  return 0;
+}
+
 // A sequence number no earlier `op` is likely to have used: the ground station acts on each once.
 std::uint32_t fresh_sequence_number() {
   std::uint32_t n = 0;
@@ -66,9 +123,11 @@ int cmd_run(int argc, char** argv) {
   std::string key_paths[2];
   std::string store_path;
   double telemetry_hz = 50.0;
+  bool hil_clock = false;
   CLI::App app("", "groundstation run");
   pa::cli::describe(
-      app, "usage: groundstation run --can IFACE --domain D --key1 FILE --key2 FILE [--store FILE]",
+      app,
+      "usage: groundstation run --can IFACE --domain D --key1 FILE --key2 FILE [--store FILE] [--hil-clock]",
       "Runs the ground station: the vehicles on the ground CAN bus, the motion capture, operator\n"
       "commands, telemetry and events on the arena's DDS domain (docs/groundstation.md).\n"
       "Ctrl-C ends it with a summary.",
@@ -91,6 +150,9 @@ int cmd_run(int argc, char** argv) {
   app.add_option("--telemetry-hz", telemetry_hz, "telemetry rate (default 50)")
       ->type_name("HZ")
       ->check(pa::cli::number_in(1.0, 200.0, "needs a rate 1..200 Hz"));
+  app.add_flag("--hil-clock", hil_clock,
+               "run on a HIL plant's time, a step per HIL_CLOCK frame (hil run --ground-clock), not on "
+               "CLOCK_MONOTONIC");
   if (const std::optional<int> code = pa::cli::parse(app, argc, argv, std::cout, std::cerr)) return *code;
 
   runtime::GroundStationConfig config;
@@ -122,33 +184,20 @@ int cmd_run(int argc, char** argv) {
 
     std::signal(SIGINT, on_signal);
     std::signal(SIGTERM, on_signal);
-    std::printf("groundstation run: on %s, DDS domain %u\n", interface_name.c_str(), domain);
+    std::printf("groundstation run: on %s, DDS domain %u, %s\n", interface_name.c_str(), domain,
+                hil_clock ? "on the HIL plant's clock" : "on CLOCK_MONOTONIC");
     std::fflush(stdout);
 
-    double next_step_s = monotonic_s();
-    pa::proto::Frame frame;
-    while (g_stop == 0) {
-      const double wait_s = next_step_s - monotonic_s();
-      // Rounded up: a wait cut to 0 ms would spin on the socket until the step is due.
-      const int timeout_ms = wait_s > 0.0 ? static_cast<int>(std::ceil(wait_s * 1000.0)) : 0;
-      // One frame per turn, then the step if it is due: a busy bus delays a step by one frame's
-      // handling at most, never starves it.
-      if (bus.read(frame, timeout_ms)) {
-        process.on_frame(frame, monotonic_s());
-      } else if (bus.failed()) {
-        std::fprintf(stderr, "groundstation run: error: %s\n", bus.message());
-        std::fputs(process.summary().c_str(), stdout);
-        return 1;
-      }
-      const double now_s = monotonic_s();
-      if (now_s < next_step_s) continue;
-      process.step(now_s);
-      next_step_s += kStepPeriodMs * 1e-3;
-      if (next_step_s < now_s) next_step_s = now_s;  // after a stall, no burst of steps
-    }
-    std::printf("groundstation run: stopped\n");
+    std::uint64_t late_mocap = 0;
+    const int code =
+        hil_clock ? run_on_plant_clock(bus, process, late_mocap) : run_on_monotonic_clock(bus, process);
+    if (code != 0) std::fprintf(stderr, "groundstation run: error: %s\n", bus.message());
+    else std::printf("groundstation run: stopped\n");
+    if (hil_clock)
+      std::printf("HIL clock: %llu steps whose motion-capture frame did not come within 1 s\n",
+                  static_cast<unsigned long long>(late_mocap));
     std::fputs(process.summary().c_str(), stdout);
-    return 0;
+    return code;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "groundstation run: error: %s\n", e.what());
     return 1;

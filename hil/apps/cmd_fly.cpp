@@ -103,7 +103,7 @@ void print_target_summary(const std::vector<sil::AttemptResult>& results) {
 int cmd_fly(int argc, char** argv) {
   std::string series, plant_file, out_dir, store_file;
   std::uint64_t throws = 0, passes = 0, targets = 0, seed = 1;
-  bool randomise = false, verbose = false, no_report = false;
+  bool randomise = false, verbose = false, no_report = false, no_trial = false;
   CLI::App app("", "hil fly");
   pa::cli::describe(
       app, kUsage,
@@ -115,6 +115,9 @@ int cmd_fly(int argc, char** argv) {
   app.add_option("--throws", throws, "N throws to catch instead")
       ->type_name("N")
       ->check(pa::cli::count(1, 100000, "needs a count 1..100000"));
+  app.add_flag("--no-trial", no_trial,
+               "with --throws: catch from the first throw, without the trial throw that only adapts (what "
+               "`groundstation op throw` flies)");
   app.add_option("--passes", passes,
                  "N passes back and forth: vehicle 1 throws to vehicle 2, which catches and throws back")
       ->type_name("N")
@@ -139,6 +142,7 @@ int cmd_fly(int argc, char** argv) {
   if (const std::optional<int> code = pa::cli::parse(app, argc, argv, std::cout, std::cerr)) return *code;
   if (int(!series.empty()) + int(throws > 0) + int(passes > 0) + int(targets > 0) != 1)
     return usage("give exactly one of --series paper, --throws N, --passes N and --targets N");
+  if (no_trial && throws == 0) return usage("--no-trial goes with --throws N");
 
   PlantConfig plant;
   if (!plant_file.empty()) {
@@ -153,7 +157,7 @@ int cmd_fly(int argc, char** argv) {
       series == "paper" ? sil::paper_series()
       : passes > 0      ? sil::pass_series(static_cast<int>(passes))
       : targets > 0 ? sil::target_series(static_cast<int>(targets), ground_station.throw_origin_m.head<2>())
-                    : sil::catch_series(static_cast<int>(throws));
+                    : sil::catch_series(static_cast<int>(throws), !no_trial);
   if (!out_dir.empty()) {
     std::error_code ec;
     std::filesystem::create_directories(out_dir, ec);

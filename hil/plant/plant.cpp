@@ -165,6 +165,12 @@ void Plant::set_vehicle(pa::VehicleId vehicle, const VehicleState& state) {
   reset_pairs_of_vehicle(vehicle);
 }
 
+void Plant::place_pole_on(pa::VehicleId vehicle) {
+  const double L = config_.pole.half_length_m;
+  set_pole(make_pole(plate_centre_m(vehicle) + L * Vec3::UnitZ(), Vec3::UnitZ(),
+                     this->vehicle(vehicle).body.velocity_mps, Vec3::Zero()));
+}
+
 void Plant::set_pole(const PoleState& state) {
   if (!finite(state.body)) throw std::invalid_argument("Plant::set_pole: the state is not finite");
   kinematics_valid_ = false;

@@ -69,6 +69,8 @@ class Plant {
   // (or a zero quaternion) throws std::invalid_argument and changes nothing.
   void set_vehicle(pa::VehicleId vehicle, const VehicleState& state);
   void set_pole(const PoleState& state);
+  // The pole put upright on `vehicle`'s plate, moving with it: a person handing it up.
+  void place_pole_on(pa::VehicleId vehicle);
 
   // Advances by dt_s (rounded to whole nanoseconds; non-finite or negative does nothing) with
   // the motor commands held over the interval.

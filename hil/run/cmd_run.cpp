@@ -36,11 +36,14 @@ using pa::proto::Frame;
 
 constexpr const char* kUsage =
     "usage: hil run --ground-can IF --vehicle-can IF1[,IF2] --domain D [--seed S] [--plant FILE]\n"
-    "               [--lockstep | --realtime] [--seconds T] [--log DIR]";
+    "               [--lockstep [--ground-clock] | --realtime] [--seconds T] [--log DIR]";
 
 // A firmware that has not answered its sample for this long is sent it again (it may have
 // started after the sample went out), and the wait is reported once.
 constexpr std::int64_t kResendAfter_ns = 200'000'000;
+// A firmware, or a ground station on the plant's clock, that answered before and has not answered
+// for this long is gone (killed): the plant steps on without it until it answers again.
+constexpr std::int64_t kGoneAfter_ns = 1'000'000'000;
 
 volatile std::sig_atomic_t g_stop = 0;
 void on_signal(int) { g_stop = 1; }
@@ -98,15 +101,17 @@ struct Options {
   std::uint64_t seed = 1;
   std::string plant_file;
   bool realtime = false;
-  double seconds = 0.0;  // 0: until a signal
+  bool ground_clock = false;  // the ground station steps on the plant's time (HIL_CLOCK)
+  double seconds = 0.0;       // 0: until a signal
   std::string log_dir;
 };
 
 class Runner {
  public:
   Runner(const Options& options, PlantExchange& exchange, std::vector<std::unique_ptr<Bus>>& buses,
-         gs::dds::Writer<pa_arena_MocapFrame>& mocap, std::ofstream* truth)
-      : options_(options), exchange_(exchange), buses_(buses), mocap_(mocap), truth_(truth) {
+         gs::dds::Writer<pa_arena_MocapFrame>& mocap, gs::dds::Reader<pa_arena_Event>& events,
+         std::ofstream* truth)
+      : options_(options), exchange_(exchange), buses_(buses), mocap_(mocap), events_(events), truth_(truth) {
     for (const auto& bus : buses_) fds_.push_back(pollfd{bus->can.fd(), POLLIN, 0});
   }
 
@@ -117,6 +122,7 @@ class Runner {
     progress_ns_ = start_ns_;
     std::int64_t next_step_ns = start_ns_;
     std::int64_t sample_sent_ns = start_ns_;
+    std::int64_t stepped_ns = start_ns_;
     bool wait_reported = false;
     while (g_stop == 0) {
       if (options_.seconds > 0.0 && exchange_.t_s() >= options_.seconds - 1e-9) break;
@@ -125,6 +131,7 @@ class Runner {
       if (answered && now >= next_step_ns) {
         step(now);
         sample_sent_ns = now;
+        stepped_ns = now;
         wait_reported = false;
         next_step_ns += period_ns;
         // Lockstep is paced no faster than real time and never catches up in a burst: after a
@@ -136,11 +143,13 @@ class Runner {
         }
         continue;
       }
+      if (!answered && now - stepped_ns > kGoneAfter_ns && release_the_silent(now - stepped_ns)) continue;
       if (!answered && now - sample_sent_ns > kResendAfter_ns) {
         if (!wait_reported) report_wait();
         wait_reported = true;
         exchange_.resend_unanswered();
         write_vehicle_frames();
+        write_ground_frames();
         sample_sent_ns = now;
       }
       const std::int64_t until = answered ? next_step_ns : sample_sent_ns + kResendAfter_ns;
@@ -156,10 +165,18 @@ class Runner {
 
  private:
   void step(std::int64_t now_ns) {
+    take_events();
+    const std::uint64_t handed = exchange_.poles_handed();
     exchange_.step();
+    if (exchange_.poles_handed() != handed) {
+      std::printf("hil run: %.3f s: the pole put on the thrower's plate\n", exchange_.t_s());
+      std::fflush(stdout);
+    }
     write_vehicle_frames();
-    for (const Frame& f : exchange_.take_ground_frames()) buses_[0]->write(f);
+    // The motion capture before the ground bus, whose last frame is the HIL_CLOCK that has the
+    // ground station wait for it.
     publish_mocap(now_ns);
+    write_ground_frames();
     if (exchange_.t_s() >= next_progress_s_ - 1e-9) report_progress(now_ns);
     if (truth_ != nullptr && ++steps_ % 5 == 0) {  // the truth at the motion capture's 200 Hz
       for (const pa::VehicleId v : pa::kActVehicles)
@@ -167,18 +184,45 @@ class Runner {
     }
   }
 
+  // The operator's accepted throw ("throw: attempt N with vehicle V throwing") asks the person
+  // standing by to hand the pole up to vehicle V.
+  void take_events() {
+    while (const pa_arena_Event* e = events_.take()) {
+      if (gs::dds::raw_enum(e->kind) != pa_arena_event_command_accepted) continue;
+      const char* throwing = std::strstr(e->detail, "with vehicle ");
+      unsigned node = 0;
+      if (throwing == nullptr || std::strstr(e->detail, "throw: attempt") == nullptr ||
+          std::sscanf(throwing, "with vehicle %u throwing", &node) != 1 || node > 255 ||
+          !pa::is_act_vehicle(pa::VehicleId(static_cast<std::uint8_t>(node))))
+        continue;
+      exchange_.hand_pole_to(pa::VehicleId(static_cast<std::uint8_t>(node)));
+      std::printf(
+          "hil run: %.3f s: a throw by vehicle %u accepted: the pole goes on its plate once it hovers "
+          "still at the throw's height\n",
+          exchange_.t_s(), node);
+      std::fflush(stdout);
+    }
+  }
+
+  void write_ground_frames() {
+    for (const Frame& f : exchange_.take_ground_frames()) buses_[0]->write(f);
+  }
+
   void write_vehicle_frames() {
     for (std::size_t i = 0; i < exchange_.vehicles(); ++i)
       for (const Frame& f : exchange_.take_vehicle_frames(pa::kActVehicles[i])) buses_[1 + i]->write(f);
   }
 
-  // The capture time on the ground's clock (CLOCK_MONOTONIC): how long before the plant's
-  // present the poses were true, back from the clock's present. Whatever the plant's time lags
-  // behind the clock, the ground station sees the motion capture's own latency.
+  // The capture time on the ground's clock: with --ground-clock the plant's time itself;
+  // otherwise CLOCK_MONOTONIC, how long before the plant's present the poses were true, back from
+  // the clock's present. Whatever the plant's time lags behind the clock, the ground station sees
+  // the motion capture's own latency.
   void publish_mocap(std::int64_t now_ns) {
     for (const MocapFrame& m : exchange_.take_mocap()) {
       gs::estimation::MocapFrame frame = sil::to_ground_station_frame(m);
-      frame.t_s = static_cast<double>(now_ns) * 1e-9 - (exchange_.t_s() - m.capture_t_s);
+      frame.t_s = options_.ground_clock
+                      ? m.capture_t_s
+                      : static_cast<double>(now_ns) * 1e-9 - (exchange_.t_s() - m.capture_t_s);
       gs::dds::mocap_frame_to_dds(frame, m.index, message_);
       mocap_.write(message_.message());
       ++mocap_published_;
@@ -196,7 +240,38 @@ class Runner {
     next_progress_s_ += kProgressEvery_s;
   }
 
+  // Lets go of every process that answered before and is silent now; whether there was one.
+  bool release_the_silent(std::int64_t silent_ns) {
+    const double silent_s = static_cast<double>(silent_ns) * 1e-9;
+    bool released = false;
+    for (std::size_t i = 0; i < exchange_.vehicles(); ++i) {
+      const pa::VehicleId v = pa::kActVehicles[i];
+      if (!exchange_.awaiting_vehicle(v) || !exchange_.vehicle_answered_once(v)) continue;
+      exchange_.release_vehicle(v);
+      released = true;
+      std::fprintf(
+          stderr,
+          "hil run: %.3f s: vehicle %u's firmware has not answered for %.1f s: its motors stop, the plant "
+          "steps on without it until it answers again\n",
+          exchange_.t_s(), unsigned(v.node()), silent_s);
+    }
+    if (exchange_.awaiting_ground() && exchange_.ground_clock_counters().answered > 0) {
+      exchange_.release_ground();
+      released = true;
+      std::fprintf(
+          stderr,
+          "hil run: %.3f s: the ground station has not answered for %.1f s: stepping on without it until "
+          "it answers again\n",
+          exchange_.t_s(), silent_s);
+    }
+    return released;
+  }
+
   void report_wait() {
+    if (exchange_.awaiting_ground())
+      std::fprintf(stderr, "hil run: waiting for the ground station's HIL_CLOCK_DONE on %s (step %llu)\n",
+                   buses_[0]->name.c_str(),
+                   static_cast<unsigned long long>(std::llround(exchange_.t_s() / exchange_.period_s())));
     for (std::size_t i = 0; i < exchange_.vehicles(); ++i) {
       const pa::VehicleId v = pa::kActVehicles[i];
       const VehicleExchangeCounters c = exchange_.counters(v);
@@ -241,6 +316,7 @@ class Runner {
   PlantExchange& exchange_;
   std::vector<std::unique_ptr<Bus>>& buses_;
   gs::dds::Writer<pa_arena_MocapFrame>& mocap_;
+  gs::dds::Reader<pa_arena_Event>& events_;
   std::ofstream* truth_;
   std::vector<pollfd> fds_;
   gs::dds::MocapMessage message_;
@@ -259,7 +335,18 @@ void print_summary(const Options& o, const PlantExchange& exchange, const Runner
   const double t = exchange.t_s();
   std::printf("hil run: stopped after %.3f s of plant time in %.3f s (%.2f of real time, %s, %llu slips)\n",
               t, runner.wall_s(), runner.wall_s() > 0.0 ? t / runner.wall_s() : 0.0,
-              o.realtime ? "realtime" : "lockstep", static_cast<unsigned long long>(runner.slips()));
+              o.realtime       ? "realtime"
+              : o.ground_clock ? "lockstep with the ground station"
+                               : "lockstep",
+              static_cast<unsigned long long>(runner.slips()));
+  if (o.ground_clock) {
+    const GroundClockCounters& g = exchange.ground_clock_counters();
+    std::printf(
+        "hil run: ground clock: %llu HIL_CLOCK sent, %llu answered, %llu other answers, released %llu "
+        "times\n",
+        static_cast<unsigned long long>(g.clocks_sent), static_cast<unsigned long long>(g.answered),
+        static_cast<unsigned long long>(g.other_answers), static_cast<unsigned long long>(g.released));
+  }
   for (std::size_t i = 0; i < exchange.vehicles(); ++i) {
     const pa::VehicleId v = pa::kActVehicles[i];
     const VehicleExchangeCounters c = exchange.counters(v);
@@ -267,7 +354,7 @@ void print_summary(const Options& o, const PlantExchange& exchange, const Runner
     std::printf(
         "hil run: vehicle %u on %s: %llu samples, %llu answered, %llu missed, %llu late answers, %llu resent; "
         "%llu frames read, %llu written (%llu failed); radio up %llu offered, %llu lost, %llu delivered; "
-        "down %llu offered, %llu lost, %llu delivered\n",
+        "down %llu offered, %llu lost, %llu delivered; released %llu times\n",
         unsigned(v.node()), bus.name.c_str(), static_cast<unsigned long long>(c.samples_sent),
         static_cast<unsigned long long>(c.answered), static_cast<unsigned long long>(c.missed),
         static_cast<unsigned long long>(c.late_answers), static_cast<unsigned long long>(c.samples_resent),
@@ -276,7 +363,7 @@ void print_summary(const Options& o, const PlantExchange& exchange, const Runner
         static_cast<unsigned long long>(c.uplink_offered), static_cast<unsigned long long>(c.uplink_lost),
         static_cast<unsigned long long>(c.uplink_delivered),
         static_cast<unsigned long long>(c.downlink_offered), static_cast<unsigned long long>(c.downlink_lost),
-        static_cast<unsigned long long>(c.downlink_delivered));
+        static_cast<unsigned long long>(c.downlink_delivered), static_cast<unsigned long long>(c.released));
   }
   for (const pa::VehicleId v : pa::kActVehicles) {
     const VehicleTruthSummary& s = exchange.truth_summary(v);
@@ -333,8 +420,13 @@ int cmd_run(int argc, char** argv) {
         ->type_name("FILE");
     auto* lockstep_flag = app.add_flag(
         "--lockstep", lockstep, "step only when every firmware answered, no faster than real time (default)");
-    app.add_flag("--realtime", o.realtime, "step on the clock, whether the firmware answered or not")
-        ->excludes(lockstep_flag);
+    auto* realtime_flag =
+        app.add_flag("--realtime", o.realtime, "step on the clock, whether the firmware answered or not")
+            ->excludes(lockstep_flag);
+    app.add_flag("--ground-clock", o.ground_clock,
+                 "lockstep with the ground station too: it runs on the plant's time (groundstation run "
+                 "--hil-clock)")
+        ->excludes(realtime_flag);
     app.add_option("--seconds", o.seconds,
                    "stop after T seconds of plant time (default: at SIGINT or SIGTERM)")
         ->type_name("T")
@@ -408,18 +500,22 @@ int cmd_run(int argc, char** argv) {
     RadioConfig radio;
     radio.loss = plant.radio_loss_probability;
     PlantExchange exchange(plant, radio, o.seed, o.vehicle_can.size());
+    if (o.ground_clock) exchange.join_ground_clock();
     const gs::dds::Domain domain(static_cast<dds_domainid_t>(o.domain));
     const gs::dds::Participant participant(domain);
     gs::dds::Writer<pa_arena_MocapFrame> mocap(participant);
+    gs::dds::Reader<pa_arena_Event> events(participant);
 
     std::signal(SIGINT, on_signal);
     std::signal(SIGTERM, on_signal);
     std::printf("hil run: ground bus %s, vehicle buses %s, DDS domain %u, seed %llu, %s\n",
                 o.ground_can.c_str(), vehicle_can.c_str(), o.domain, static_cast<unsigned long long>(o.seed),
-                o.realtime ? "realtime" : "lockstep");
+                o.realtime       ? "realtime"
+                : o.ground_clock ? "lockstep with the ground station"
+                                 : "lockstep");
     std::fflush(stdout);
 
-    Runner runner(o, exchange, buses, mocap, truth.is_open() ? &truth : nullptr);
+    Runner runner(o, exchange, buses, mocap, events, truth.is_open() ? &truth : nullptr);
     const bool ok = runner.run();
     print_summary(o, exchange, runner, buses);
     return ok ? 0 : 1;

@@ -49,6 +49,19 @@ VehicleExchangeCounters PlantExchange::counters(pa::VehicleId vehicle) const {
 }
 
 void PlantExchange::on_ground_frame(const Frame& frame) {
+  pa::proto::Message m;
+  if (pa::proto::id_type(frame.id) == static_cast<std::uint8_t>(pa::proto::Type::hil_clock_done)) {
+    if (pa::proto::decode(frame, m) == pa::proto::DecodeStatus::ok) {
+      ground_released_ = false;  // it answers: it is awaited again
+      if (ground_awaited_ && m.hil_clock_done.step == *ground_awaited_) {
+        ground_awaited_.reset();
+        ++ground_counters_.answered;
+      } else {
+        ++ground_counters_.other_answers;
+      }
+      return;
+    }
+  }
   const std::array<bool, 2> carrying = sil::radios_carrying(frame);
   bool carried = false;
   for (std::size_t v = 0; v < links_.size(); ++v) {
@@ -72,6 +85,7 @@ void PlantExchange::on_vehicle_frame(pa::VehicleId vehicle, const Frame& frame) 
   const std::uint16_t tick = l->awaited_tick.value_or(0);
   switch (sil::read_hil_motors(frame, vehicle.node(), tick, motors_[pa::act_slot(vehicle)])) {
     case sil::MotorsAnswer::answer:
+      l->released = false;  // back (restarted): waited for again
       if (l->awaited_tick) {
         ++l->counters.answered;
         l->awaited_tick.reset();
@@ -86,8 +100,8 @@ void PlantExchange::on_vehicle_frame(pa::VehicleId vehicle, const Frame& frame) 
 
 bool PlantExchange::answered() const {
   for (const Link& l : links_)
-    if (l.awaited_tick) return false;
-  return true;
+    if (l.awaited_tick && !l.released) return false;
+  return !awaiting_ground();
 }
 
 void PlantExchange::resend_unanswered() {
@@ -96,6 +110,61 @@ void PlantExchange::resend_unanswered() {
     l.outbox.insert(l.outbox.end(), l.sample.begin(), l.sample.end());
     ++l.counters.samples_resent;
   }
+  if (awaiting_ground()) send_ground_clock();
+}
+
+void PlantExchange::hand_pole_to(pa::VehicleId thrower) {
+  if (!pa::is_act_vehicle(thrower)) return;
+  pole_for_ = thrower;
+  still_s_ = 0.0;
+}
+
+void PlantExchange::hand_pole_when_ready() {
+  if (!pole_for_) return;
+  const VehicleState& v = plant_.vehicle(*pole_for_);
+  const bool still = v.body.position_m.z() > kThrowHeight_m && v.body.velocity_mps.norm() < kStillSpeed_mps;
+  still_s_ = still ? still_s_ + period_s_ : 0.0;
+  if (still_s_ < kStill_s - 1e-9) return;
+  plant_.place_pole_on(*pole_for_);
+  ++poles_handed_;
+  pole_for_.reset();
+}
+
+void PlantExchange::release_vehicle(pa::VehicleId vehicle) {
+  Link* l = link(vehicle);
+  if (l == nullptr || l->released) return;
+  l->released = true;
+  ++l->counters.released;
+}
+
+bool PlantExchange::vehicle_released(pa::VehicleId vehicle) const {
+  return pa::is_act_vehicle(vehicle) && pa::act_slot(vehicle) < links_.size() &&
+         links_[pa::act_slot(vehicle)].released;
+}
+
+bool PlantExchange::awaiting_vehicle(pa::VehicleId vehicle) const {
+  if (!pa::is_act_vehicle(vehicle) || pa::act_slot(vehicle) >= links_.size()) return false;
+  const Link& l = links_[pa::act_slot(vehicle)];
+  return l.awaited_tick.has_value() && !l.released;
+}
+
+bool PlantExchange::vehicle_answered_once(pa::VehicleId vehicle) const {
+  return pa::is_act_vehicle(vehicle) && pa::act_slot(vehicle) < links_.size() &&
+         links_[pa::act_slot(vehicle)].counters.answered > 0;
+}
+
+void PlantExchange::release_ground() {
+  if (!ground_released_) ++ground_counters_.released;
+  ground_released_ = true;
+}
+
+void PlantExchange::send_ground_clock() {
+  Frame f;
+  pa::proto::encode(
+      pa::proto::HilClock{static_cast<std::uint32_t>(steps_), static_cast<std::uint32_t>(mocap_delivered_)},
+      pa::proto::kGroundNode, f);
+  ground_.push_back(f);
+  ++ground_counters_.clocks_sent;
 }
 
 void PlantExchange::step() {
@@ -106,13 +175,18 @@ void PlantExchange::step() {
       l.outbox.push_back(f);
       ++l.counters.uplink_delivered;
     }
-    if (l.awaited_tick) {
+    if (l.released) {
+      l.awaited_tick.reset();
+    } else if (l.awaited_tick) {
       ++l.counters.missed;
       l.awaited_tick.reset();
     }
   }
+  for (std::size_t v = 0; v < links_.size(); ++v)
+    if (links_[v].released) motors_[v] = MotorCommands{};
 
   plant_.step(period_s_, motors_[0], motors_[1]);
+  hand_pole_when_ready();
   const double t_end = t_s();
 
   for (const pa::VehicleId v : pa::kActVehicles) {
@@ -138,7 +212,15 @@ void PlantExchange::step() {
     }
   }
   MocapFrame m;
-  while (plant_.pop_mocap(m)) mocap_.push_back(m);
+  while (plant_.pop_mocap(m)) {
+    mocap_.push_back(m);
+    ++mocap_delivered_;
+  }
+  ++steps_;
+  if (ground_clock_) {
+    ground_awaited_ = static_cast<std::uint32_t>(steps_);
+    send_ground_clock();
+  }
 }
 
 std::vector<Frame> PlantExchange::take_vehicle_frames(pa::VehicleId vehicle) {

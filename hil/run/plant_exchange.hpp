@@ -19,6 +19,18 @@
 //    t_s() and put on the ground bus by the first step that ends at or after its due time.
 // Motion capture: the plant's frames, returned by take_mocap() after the step that reached their
 // delivery time (capture + the configured mocap latency).
+//
+// The ground station's lockstep (join_ground_clock()): after every step HIL_CLOCK goes on the
+// ground bus, last, with the step and the motion-capture frames delivered so far; the ground
+// station runs its own step at that time and answers HIL_CLOCK_DONE, and answered() waits for
+// it as for the firmware. So the whole act runs on the plant's time, however slow the machine.
+// A ground station that stopped answering (killed) is let go by the caller (release_ground()):
+// the plant steps on without it until it answers again (restarted).
+//
+// The person who hands the pole up (hand_pole_to()): asked when the operator's throw is
+// accepted, they put the pole upright on the thrower's plate once it hovers still at the throw's
+// height (the ground station flies it to its throw origin, 2 m up, and waits there for the pole),
+// as `hil fly`'s series does at the throw origin.
 #pragma once
 
 #include <array>
@@ -46,6 +58,14 @@ struct VehicleExchangeCounters {
   std::uint64_t downlink_lost = 0;
   std::uint64_t downlink_delivered = 0;  // put on the ground bus
   std::uint64_t not_carried = 0;         // vehicle frames of the HIL exchange other than answers
+  std::uint64_t released = 0;            // times the plant stepped on without this firmware
+};
+
+struct GroundClockCounters {
+  std::uint64_t clocks_sent = 0;    // HIL_CLOCK frames (resent ones included)
+  std::uint64_t answered = 0;       // HIL_CLOCK_DONE for the step awaited
+  std::uint64_t other_answers = 0;  // for another step (after a resend, or from a late start)
+  std::uint64_t released = 0;       // times the plant stepped on without the ground station
 };
 
 // What the truth did, per vehicle, for a run's summary.
@@ -75,10 +95,41 @@ class PlantExchange {
   // radio. Frames of a vehicle without firmware here are ignored.
   void on_vehicle_frame(pa::VehicleId vehicle, const pa::proto::Frame& frame);
 
-  // Whether every firmware answered its latest sample (true before the first step).
+  // The ground station joins the lockstep: from the next step on, each step waits for its
+  // HIL_CLOCK_DONE as well (until release_ground()).
+  void join_ground_clock() { ground_clock_ = true; }
+  bool ground_clock() const { return ground_clock_; }
+  // Whether the ground station is awaited: joined, not released, and its answer to the latest
+  // HIL_CLOCK not in.
+  bool awaiting_ground() const { return ground_clock_ && !ground_released_ && ground_awaited_.has_value(); }
+  // Steps on without the ground station until its next HIL_CLOCK_DONE.
+  void release_ground();
+  bool ground_released() const { return ground_released_; }
+  const GroundClockCounters& ground_clock_counters() const { return ground_counters_; }
+
+  // The pole goes on `thrower`'s plate once it has hovered still (below kStillSpeed_mps) above
+  // kThrowHeight_m for kStill_s.
+  void hand_pole_to(pa::VehicleId thrower);
+  std::uint64_t poles_handed() const { return poles_handed_; }
+  static constexpr double kStillSpeed_mps = 0.2;
+  static constexpr double kThrowHeight_m = 1.5;
+  static constexpr double kStill_s = 0.5;
+
+  // A firmware that stopped answering (its process killed) is let go: the plant steps on without
+  // it, its vehicle's motors stopped (an ESC without input stops), until it answers again.
+  void release_vehicle(pa::VehicleId vehicle);
+  bool vehicle_released(pa::VehicleId vehicle) const;
+  // Whether the plant waits for `vehicle`'s answer to the latest sample.
+  bool awaiting_vehicle(pa::VehicleId vehicle) const;
+  // Whether `vehicle`'s firmware has answered any sample yet.
+  bool vehicle_answered_once(pa::VehicleId vehicle) const;
+
+  // Whether every firmware (and the ground station, joined) answered its latest sample (true
+  // before the first step); a released one is not waited for.
   bool answered() const;
   // The latest sample again for each firmware that has not answered it (one started after the
-  // sample went out never saw it), into take_vehicle_frames().
+  // sample went out never saw it), into take_vehicle_frames(); the latest HIL_CLOCK again for an
+  // awaited ground station, into take_ground_frames().
   void resend_unanswered();
 
   // One IMU period, t_k -> t_(k+1): uplink frames due by t_k go on the vehicle buses, the plant
@@ -109,6 +160,7 @@ class PlantExchange {
     std::vector<pa::proto::Frame> outbox;  // for the vehicle bus
     std::array<pa::proto::Frame, 2> sample{};
     std::optional<std::uint16_t> awaited_tick;  // none: answered (or nothing sent yet)
+    bool released = false;
     VehicleExchangeCounters counters;
   };
   Link* link(pa::VehicleId vehicle);
@@ -120,7 +172,18 @@ class PlantExchange {
   std::array<VehicleTruthSummary, 2> truth_{};
   std::vector<pa::proto::Frame> ground_;
   std::vector<MocapFrame> mocap_;
+  std::uint64_t mocap_delivered_ = 0;
+  std::uint64_t steps_ = 0;
   std::uint64_t ground_not_carried_ = 0;
+  bool ground_clock_ = false;
+  bool ground_released_ = false;
+  std::optional<std::uint32_t> ground_awaited_;  // the step whose HIL_CLOCK_DONE is awaited
+  GroundClockCounters ground_counters_;
+  std::optional<pa::VehicleId> pole_for_;  // a thrower waiting for the pole
+  double still_s_ = 0.0;
+  std::uint64_t poles_handed_ = 0;
+  void send_ground_clock();
+  void hand_pole_when_ready();
 };
 
 }  // namespace hil::run

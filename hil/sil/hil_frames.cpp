@@ -36,10 +36,10 @@ MotorsAnswer read_hil_motors(const Frame& frame, std::uint8_t node, std::uint16_
 }
 
 bool radio_carries(const Frame& frame) {
-  const std::uint8_t type = pa::proto::id_type(frame.id);
-  return type != static_cast<std::uint8_t>(Type::hil_imu_gyro) &&
-         type != static_cast<std::uint8_t>(Type::hil_imu_accel) &&
-         type != static_cast<std::uint8_t>(Type::hil_motors);
+  const pa::proto::TypeInfo* info = pa::proto::find_type(pa::proto::id_type(frame.id));
+  if (info == nullptr) return true;  // a radio carries bytes, not meaning: the receiver rejects it
+  return info->direction == pa::proto::Direction::ground_to_vehicle ||
+         info->direction == pa::proto::Direction::vehicle_to_ground;
 }
 
 }  // namespace hil::sil

@@ -33,7 +33,7 @@ MotorsAnswer read_hil_motors(const pa::proto::Frame& frame, std::uint8_t node, s
                              MotorCommands& out);
 
 // Whether a radio between a vehicle bus and the ground bus carries the frame: everything but the
-// HIL exchange, which exists only between the plant and its firmware.
+// HIL frames, which exist only between the plant and its firmware or its ground station.
 bool radio_carries(const pa::proto::Frame& frame);
 
 }  // namespace hil::sil

@@ -58,11 +58,11 @@ std::vector<AttemptPlan> target_series(int n, const Eigen::Vector2d& origin_xy_m
   return plans;
 }
 
-std::vector<AttemptPlan> catch_series(int n) {
+std::vector<AttemptPlan> catch_series(int n, bool trial_first) {
   std::vector<AttemptPlan> plans;
   if (n <= 0) return plans;
-  plans.push_back(AttemptPlan{false, Eigen::Vector2d::Zero(), 0.0});
-  for (int i = 1; i < n; ++i) plans.push_back(AttemptPlan{});
+  if (trial_first) plans.push_back(AttemptPlan{false, Eigen::Vector2d::Zero(), 0.0});
+  for (int i = trial_first ? 1 : 0; i < n; ++i) plans.push_back(AttemptPlan{});
   return plans;
 }
 
@@ -194,14 +194,6 @@ bool SeriesRunner::at_throw_origin(pa::VehicleId thrower) const {
          (p.plate_centre_m(thrower) - origin).norm() < 0.1 && v.body.velocity_mps.norm() < 0.2;
 }
 
-void SeriesRunner::place_pole_on(pa::VehicleId thrower) {
-  Plant& p = arena_.plant();
-  const double L = p.config().pole.half_length_m;
-  const Vec3 plate = p.plate_centre_m(thrower);
-  p.set_pole(Plant::make_pole(plate + L * Vec3::UnitZ(), Vec3::UnitZ(), p.vehicle(thrower).body.velocity_mps,
-                              Vec3::Zero()));
-}
-
 std::vector<AttemptResult> SeriesRunner::run(const std::vector<AttemptPlan>& plans,
                                              const std::function<void(const AttemptResult&)>& on_result) {
   std::vector<AttemptResult> results;
@@ -303,7 +295,7 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
     const double t = arena_.t_s();
     // The person: the pole onto the thrower hovering at the throw's origin.
     if (!placed && at_throw_origin(thrower) && gs_.attempt_phase() == gs::runtime::AttemptPhase::preparing) {
-      place_pole_on(thrower);
+      arena_.plant().place_pole_on(thrower);
       placed = true;
     }
     if (!throw_start_s && gs_.task(thrower) == Task::throwing) throw_start_s = t;
@@ -372,18 +364,22 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
   if (!impact_s && launch_s && floor_s) r.flight_s = *floor_s - *launch_s;
   const gs::mission::Reason end = report ? report->catcher_end : gs::mission::Reason::none;
   if (report && config_.log) {
-    char line[400];
-    std::snprintf(line, sizeof line,
-                  "  ground station: waiting (%.3f, %.3f), last target (%.3f, %.3f), predicted (%.3f, %.3f) "
-                  "at %.3f s after launch, catching height %.3f (this throw's (42) predicted at %.3f m, "
-                  "%.3f s); truth: lower end (%.3f, %.3f, %.3f) at %.3f s",
-                  report->waiting_xy_m.x(), report->waiting_xy_m.y(), report->last_target_xy_m.x(),
-                  report->last_target_xy_m.y(), report->predicted ? report->predicted->xy_m.x() : 0.0,
-                  report->predicted ? report->predicted->xy_m.y() : 0.0,
-                  report->predicted ? report->predicted->t_s : 0.0, report->catch_height_m,
-                  report->predicted_optimal ? report->predicted_optimal->height_m : 0.0,
-                  report->predicted_optimal ? report->predicted_optimal->t_s : 0.0, r.catch_x_m, r.catch_y_m,
-                  r.catch_height_m, r.flight_s);
+    char line[512];
+    std::snprintf(
+        line, sizeof line,
+        "  ground station: waiting (%.3f, %.3f), last target (%.3f, %.3f), predicted (%.3f, %.3f) "
+        "at %.3f s after launch, catching height %.3f (this throw's (42) predicted at %.3f m, "
+        "%.3f s), catcher at impact (%.3f, %.3f, %.3f); truth: lower end (%.3f, %.3f, %.3f) at %.3f s",
+        report->waiting_xy_m.x(), report->waiting_xy_m.y(), report->last_target_xy_m.x(),
+        report->last_target_xy_m.y(), report->predicted ? report->predicted->xy_m.x() : 0.0,
+        report->predicted ? report->predicted->xy_m.y() : 0.0,
+        report->predicted ? report->predicted->t_s : 0.0, report->catch_height_m,
+        report->predicted_optimal ? report->predicted_optimal->height_m : 0.0,
+        report->predicted_optimal ? report->predicted_optimal->t_s : 0.0,
+        report->catcher_at_impact_m ? report->catcher_at_impact_m->x() : 0.0,
+        report->catcher_at_impact_m ? report->catcher_at_impact_m->y() : 0.0,
+        report->catcher_at_impact_m ? report->catcher_at_impact_m->z() : 0.0, r.catch_x_m, r.catch_y_m,
+        r.catch_height_m, r.flight_s);
     config_.log(line);
   }
   const gs::mission::Reason throw_end = report ? report->thrower_end : gs::mission::Reason::none;

@@ -48,8 +48,8 @@ struct AttemptPlan {
 // The paper's series (Section VII-B): throw 1 adapts only, throws 2-7 practise with the catch
 // manoeuvre 1 m off, throws 8 and 9 are caught.
 std::vector<AttemptPlan> paper_series();
-// One throw that adapts only, then n - 1 catches.
-std::vector<AttemptPlan> catch_series(int n);
+// One throw that adapts only, then n - 1 catches; without `trial_first`, n catches.
+std::vector<AttemptPlan> catch_series(int n, bool trial_first = true);
 // Passes back and forth: one throw by vehicle 1 that adapts only (as catch_series), then n
 // passes: vehicle 1 throws to vehicle 2, which catches, balances and throws back from its own
 // throw frame (GroundStation::throw_frame), and so on; the pole is put on vehicle 1 before the
@@ -138,7 +138,6 @@ class SeriesRunner {
   TimeSample time_sample(double now) const;
   bool run_until(const std::function<bool()>& done, double timeout_s);
   AttemptResult fly(const AttemptPlan& plan, int number);
-  void place_pole_on(pa::VehicleId thrower);
   bool at_throw_origin(pa::VehicleId thrower) const;
 
   SeriesConfig config_;

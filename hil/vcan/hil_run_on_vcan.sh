@@ -5,7 +5,7 @@
 # flies them from the motion capture hil run publishes on DDS. The operator takes off, the
 # vehicles hover, the operator lands them; then hil run's summary of the truth must show both
 # vehicles up above 0.3 m for a while, back on the floor with their motors off.
-# Needs in $PA_FILES: hil, fw_vehicle, groundstation, test_link.key. Writes to $PA_OUT:
+# Needs in $PA_FILES: hil, fw_vehicle, groundstation, test_link.key, arena_scenario.sh. Writes to $PA_OUT:
 # hil_run.txt, groundstation.txt, fw_vehicle1.txt, fw_vehicle2.txt, watch_*.txt, vcan0.log
 # (the ground bus in candump's format) and truth.csv (both vehicles' true state at 200 Hz).
 set -u
@@ -17,13 +17,8 @@ hover_s=${1:-3}
 # The slowest plant, in real-time multiples, whose flight this scenario judges (see below).
 min_speed=0.8
 pids=
+. "$files/arena_scenario.sh"
 
-say() { echo "scenario: $*"; }
-elapsed() { cut -d' ' -f1 /proc/uptime; }
-stop_all() {
-  for p in $pids; do kill -TERM "$p" 2>/dev/null; done
-  for p in $pids; do wait "$p" 2>/dev/null; done
-}
 # The plant's slowest 5 s so far, from hil run's progress lines (1 before the first).
 slowest() {
   grep "of real time)" "$out/hil_run.txt" | sed -n 's/.*(\([0-9.]*\) of real time)/\1/p' |
@@ -50,31 +45,6 @@ fail() {
     tail -n 15 "$out/$f.txt"
   done
   exit 1
-}
-# wait_for FILE TEXT SECONDS: until FILE holds TEXT.
-wait_for() {
-  n=0
-  until grep -q "$2" "$1" 2>/dev/null; do
-    n=$((n + 1))
-    [ $n -le $(($3 * 10)) ] || return 1
-    sleep 0.1
-  done
-}
-# watch_until NAME SECONDS PATTERN...: `groundstation watch --once` until every PATTERN is in its
-# view; the last view is kept in watch_NAME.txt.
-watch_until() {
-  name=$1
-  limit=$2
-  shift 2
-  t0=$(date +%s)
-  while :; do
-    "$files/groundstation" watch --domain $domain --once >"$out/watch_$name.txt" 2>&1
-    all=1
-    for p in "$@"; do grep -q "$p" "$out/watch_$name.txt" || all=0; done
-    [ $all -eq 1 ] && return 0
-    [ $(($(date +%s) - t0)) -lt "$limit" ] || return 1
-    sleep 0.5
-  done
 }
 
 mkdir -p "$out/logs"

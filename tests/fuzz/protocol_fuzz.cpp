@@ -38,6 +38,8 @@ bool re_encode(const Message& m, Frame& out) {
     case Type::telemetry_attitude: return encode(m.telemetry_attitude, m.node, out);
     case Type::telemetry_motors: return encode(m.telemetry_motors, m.node, out);
     case Type::telemetry_status: return encode(m.telemetry_status, m.node, out);
+    case Type::hil_clock: return encode(m.hil_clock, m.node, out);
+    case Type::hil_clock_done: return encode(m.hil_clock_done, m.node, out);
   }
   return false;
 }

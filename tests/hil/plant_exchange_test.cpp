@@ -301,3 +301,95 @@ TEST_CASE(
   for (const pa::VehicleId v : pa::kActVehicles)
     CHECK(flight.rig().exchange.truth_summary(v).highest_m > 1.5);
 }
+
+TEST_CASE("With the ground station on the plant's clock, each step waits for its HIL_CLOCK_DONE as well") {
+  Rig rig(radio_without_jitter(), 1);
+  rig.exchange.join_ground_clock();
+  rig.lockstep();
+  // The step's last ground frame is its clock: step 1, no motion capture delivered yet (the
+  // first frame is due after the mocap latency).
+  REQUIRE_FALSE(rig.at_ground.empty());
+  Message clock;
+  REQUIRE(decode(rig.at_ground.back(), clock) == DecodeStatus::ok);
+  REQUIRE(clock.type == Type::hil_clock);
+  CHECK(clock.hil_clock.step == 1);
+  CHECK(clock.hil_clock.mocap_frames == 0);
+  // The firmware answered; the ground station has not.
+  CHECK(rig.exchange.awaiting_ground());
+  CHECK_FALSE(rig.exchange.answered());
+  // An answer to another step does not count; a resend repeats the clock.
+  Frame done;
+  REQUIRE(encode(HilClockDone{7}, kGroundNode, done));
+  rig.exchange.on_ground_frame(done);
+  CHECK_FALSE(rig.exchange.answered());
+  rig.exchange.resend_unanswered();
+  const std::vector<Frame> again = rig.exchange.take_ground_frames();
+  REQUIRE(again.size() == 1);
+  CHECK(again[0].data == rig.at_ground.back().data);
+  REQUIRE(encode(HilClockDone{1}, kGroundNode, done));
+  rig.exchange.on_ground_frame(done);
+  CHECK(rig.exchange.answered());
+  const hil::run::GroundClockCounters& c = rig.exchange.ground_clock_counters();
+  CHECK(c.answered == 1);
+  CHECK(c.other_answers == 1);
+  CHECK(c.clocks_sent == 2);
+  CHECK(rig.exchange.ground_frames_not_carried() == 0);  // the answers are the plant's, not a radio's
+  CHECK(rig.exchange.counters(pa::kVehicle1).uplink_offered == 0);
+
+  // The clock counts the motion-capture frames delivered: by 40 ms several.
+  for (std::uint32_t k = 2; k <= 40; ++k) {
+    rig.at_ground.clear();
+    rig.lockstep();
+    REQUIRE(decode(rig.at_ground.back(), clock) == DecodeStatus::ok);
+    CHECK(clock.hil_clock.step == k);
+    REQUIRE(encode(HilClockDone{k}, kGroundNode, done));
+    rig.exchange.on_ground_frame(done);
+  }
+  CHECK(clock.hil_clock.mocap_frames >= 5);
+  CHECK(rig.exchange.take_mocap().size() == clock.hil_clock.mocap_frames);
+
+  // A ground station gone (killed) is let go: the plant steps on with the firmware alone and
+  // sends its clock still; the first answer from a ground station back has it awaited again.
+  rig.lockstep();
+  CHECK_FALSE(rig.exchange.answered());
+  rig.exchange.release_ground();
+  CHECK(rig.exchange.answered());
+  for (int k = 0; k < 10; ++k) rig.lockstep();
+  REQUIRE(encode(HilClockDone{45}, kGroundNode, done));
+  rig.exchange.on_ground_frame(done);  // a restarted ground station, behind
+  CHECK_FALSE(rig.exchange.ground_released());
+  CHECK_FALSE(rig.exchange.answered());
+  CHECK(rig.exchange.ground_clock_counters().released == 1);
+}
+
+TEST_CASE("A firmware gone silent is let go: its motors stop and the plant steps on until it answers again") {
+  Rig rig(radio_without_jitter());
+  for (int k = 0; k < 5; ++k) rig.lockstep();
+  CHECK(rig.exchange.vehicle_answered_once(pa::kVehicle2));
+  // Vehicle 2's firmware dies: its samples go unanswered.
+  rig.exchange.step();
+  rig.write();
+  Frame f;
+  while (rig.vehicle_bus[0].receive(kOtherEnd, f))
+    rig.firmware[0]->on_frame(f, [&](const Frame& out) { rig.vehicle_bus[0].send(kOtherEnd, out); });
+  while (rig.vehicle_bus[0].receive(kPlantEnd, f)) rig.exchange.on_vehicle_frame(pa::kVehicle1, f);
+  while (rig.vehicle_bus[1].receive(kOtherEnd, f)) {
+  }
+  CHECK(rig.exchange.awaiting_vehicle(pa::kVehicle2));
+  CHECK_FALSE(rig.exchange.awaiting_vehicle(pa::kVehicle1));
+  CHECK_FALSE(rig.exchange.answered());
+  rig.exchange.release_vehicle(pa::kVehicle2);
+  CHECK(rig.exchange.vehicle_released(pa::kVehicle2));
+  CHECK(rig.exchange.answered());
+  rig.exchange.step();
+  for (double m : rig.exchange.motor_commands(pa::kVehicle2).command) CHECK(m == 0.0);
+  CHECK(rig.exchange.counters(pa::kVehicle2).released == 1);
+  CHECK(rig.exchange.counters(pa::kVehicle2).missed == 0);  // not waited for: not missed
+  // It answers again (restarted): waited for from then on.
+  rig.write();
+  rig.pump();
+  CHECK_FALSE(rig.exchange.vehicle_released(pa::kVehicle2));
+  CHECK(rig.exchange.answered());
+  rig.lockstep();
+  CHECK(rig.exchange.counters(pa::kVehicle2).answered >= 6);
+}

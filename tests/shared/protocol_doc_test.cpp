@@ -17,6 +17,8 @@ const char* direction_name(pa::proto::Direction d) {
     case pa::proto::Direction::vehicle_to_ground: return "vehicle_to_ground";
     case pa::proto::Direction::plant_to_vehicle: return "plant_to_vehicle";
     case pa::proto::Direction::vehicle_to_plant: return "vehicle_to_plant";
+    case pa::proto::Direction::plant_to_ground: return "plant_to_ground";
+    case pa::proto::Direction::ground_to_plant: return "ground_to_plant";
   }
   return "?";
 }

@@ -5,12 +5,23 @@
 // process and the in-memory simulation. No heap.
 #pragma once
 
+#include <array>
 #include <cstdint>
 
 #include "fw/hil_imu.hpp"
 #include "fw/vehicle.hpp"
 
 namespace fw::posix {
+
+// A change of the supervisor's mode, for the process's log: when (the vehicle's clock), why, and
+// how old the ground's last setpoint was then (the failsafe's 20 ms, seen from outside).
+struct ModeChange {
+  std::uint32_t t_us = 0;
+  pa::proto::Mode from = pa::proto::Mode::disarmed;
+  pa::proto::Mode to = pa::proto::Mode::disarmed;
+  pa::proto::FailsafeReason reason = pa::proto::FailsafeReason::none;
+  std::uint32_t setpoint_age_us = 0;
+};
 
 class HilVehicleNode {
  public:
@@ -35,6 +46,13 @@ class HilVehicleNode {
     const std::uint64_t start_ns = monotonic_ns();
     const TickOutput out = vehicle_.tick(sample);
     vehicle_.note_tick_time_us(static_cast<std::uint32_t>((monotonic_ns() - start_ns) / 1000u));
+    if (vehicle_.mode() != mode_) {
+      changes_[change_count_ % kChanges] =
+          ModeChange{now_us_, mode_, vehicle_.mode(), vehicle_.failsafe_reason(),
+                     vehicle_.link().setpoint_age_us(now_us_)};
+      ++change_count_;
+      mode_ = vehicle_.mode();
+    }
 
     pa::proto::Frame reply;
     const pa::proto::HilMotors motors{out.motors_enabled ? out.motor_command : Motors{}, imu_.tick()};
@@ -43,6 +61,13 @@ class HilVehicleNode {
   }
 
   const Vehicle& vehicle() const { return vehicle_; }
+  // The oldest mode change not taken yet; the ring keeps the latest kChanges.
+  bool take_mode_change(ModeChange& out) {
+    if (change_count_ - changes_taken_ > kChanges) changes_taken_ = change_count_ - kChanges;
+    if (changes_taken_ == change_count_) return false;
+    out = changes_[changes_taken_++ % kChanges];
+    return true;
+  }
 
  private:
   static std::uint64_t monotonic_ns();
@@ -51,6 +76,11 @@ class HilVehicleNode {
   HilImuAssembler imu_{};
   std::uint8_t node_;
   std::uint32_t now_us_ = 0;
+  static constexpr std::uint32_t kChanges = 8;
+  std::array<ModeChange, kChanges> changes_{};
+  std::uint32_t change_count_ = 0;
+  std::uint32_t changes_taken_ = 0;
+  pa::proto::Mode mode_ = pa::proto::Mode::disarmed;
 };
 
 }  // namespace fw::posix

@@ -6,6 +6,7 @@
 #include <csignal>
 #include <cstdio>
 #include <iostream>
+#include <iterator>
 #include <optional>
 #include <string>
 
@@ -18,6 +19,14 @@ namespace {
 
 volatile std::sig_atomic_t g_stop = 0;
 void on_signal(int) { g_stop = 1; }
+
+// docs/protocol.md's names of the modes.
+const char* mode_name(pa::proto::Mode mode) {
+  constexpr const char* kNames[] = {"disarmed",         "armed",  "flying", "failsafe_hover",
+                                    "failsafe_descent", "landed", "killed"};
+  const auto i = static_cast<std::size_t>(mode);
+  return i < std::size(kNames) ? kNames[i] : "unknown";
+}
 
 }  // namespace
 
@@ -89,6 +98,15 @@ int main(int argc, char** argv) {
     vehicle.on_frame(frame, [&](const pa::proto::Frame& out) {
       if (!can.write(out)) ++write_failures;
     });
+    fw::posix::ModeChange change;
+    while (vehicle.take_mode_change(change)) {
+      char age[48] = "no setpoint yet";
+      if (change.setpoint_age_us != 0xFFFFFFFFu)
+        std::snprintf(age, sizeof age, "the last setpoint %.1f ms old", change.setpoint_age_us * 1e-3);
+      std::printf("fw_vehicle: %.3f s: mode %s -> %s (failsafe reason %u), %s\n", change.t_us * 1e-6,
+                  mode_name(change.from), mode_name(change.to), static_cast<unsigned>(change.reason), age);
+      std::fflush(stdout);
+    }
   }
   std::printf("fw_vehicle: stopped (mode %u, %u frames rejected, %u writes failed)\n",
               static_cast<unsigned>(vehicle.vehicle().mode()), vehicle.vehicle().rx_rejected(),

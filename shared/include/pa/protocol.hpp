@@ -53,13 +53,17 @@ enum class Type : std::uint8_t {
   telemetry_attitude = 0x11,
   telemetry_motors = 0x12,
   telemetry_status = 0x13,
+  hil_clock = 0x14,
+  hil_clock_done = 0x15,
 };
 
 enum class Direction : std::uint8_t {
   ground_to_vehicle,
   vehicle_to_ground,
   plant_to_vehicle,
-  vehicle_to_plant
+  vehicle_to_plant,
+  plant_to_ground,  // HIL only: the plant's clock, for a ground station in lockstep
+  ground_to_plant
 };
 
 struct TypeInfo {
@@ -70,7 +74,7 @@ struct TypeInfo {
 };
 
 // The catalogue. docs/protocol.md lists the same rows (checked by tests/shared/protocol_doc_test).
-inline constexpr std::array<TypeInfo, 18> kCatalogue{{
+inline constexpr std::array<TypeInfo, 20> kCatalogue{{
     {Type::kill, "KILL", 3, Direction::ground_to_vehicle},
     {Type::command, "COMMAND", 8, Direction::ground_to_vehicle},
     {Type::rate_thrust, "RATE_THRUST", 8, Direction::ground_to_vehicle},
@@ -89,6 +93,8 @@ inline constexpr std::array<TypeInfo, 18> kCatalogue{{
     {Type::telemetry_attitude, "TELEMETRY_ATTITUDE", 8, Direction::vehicle_to_ground},
     {Type::telemetry_motors, "TELEMETRY_MOTORS", 8, Direction::vehicle_to_ground},
     {Type::telemetry_status, "TELEMETRY_STATUS", 8, Direction::vehicle_to_ground},
+    {Type::hil_clock, "HIL_CLOCK", 8, Direction::plant_to_ground},
+    {Type::hil_clock_done, "HIL_CLOCK_DONE", 4, Direction::ground_to_plant},
 }};
 
 // Constant-time lookup: the 7-bit type indexes a table built at compile time.
@@ -296,6 +302,16 @@ struct TelemetryAttitude {
 struct TelemetryMotors {
   std::array<float, 4> command;  // normalised 0..1, 16-bit on the wire
 };
+// HIL lockstep with the ground station (docs/hil.md): the plant's step and how many
+// motion-capture frames it has published by then; the ground station's answer once it has
+// stepped to that time.
+struct HilClock {
+  std::uint32_t step;          // the plant's time in IMU periods (1 ms)
+  std::uint32_t mocap_frames;  // frames published so far: the newest is frame_number mocap_frames - 1
+};
+struct HilClockDone {
+  std::uint32_t step;
+};
 struct TelemetryStatus {
   std::uint16_t tick_time_max_us;  // longest 1 kHz tick since the last report
   std::uint16_t battery_mv;
@@ -327,6 +343,8 @@ struct Message {
     TelemetryAttitude telemetry_attitude;
     TelemetryMotors telemetry_motors;
     TelemetryStatus telemetry_status;
+    HilClock hil_clock;
+    HilClockDone hil_clock_done;
   };
   Message() : kill{} {}
 };
@@ -582,6 +600,23 @@ inline bool encode(const TelemetryStatus& m, std::uint8_t node, Frame& out) {
   return true;
 }
 
+inline bool encode(const HilClock& m, std::uint8_t node, Frame& out) {
+  if (!valid_node(node)) return false;
+  Frame f = detail::start(Type::hil_clock, node);
+  detail::put_u32(&f.data[0], m.step);
+  detail::put_u32(&f.data[4], m.mocap_frames);
+  out = f;
+  return true;
+}
+
+inline bool encode(const HilClockDone& m, std::uint8_t node, Frame& out) {
+  if (!valid_node(node)) return false;
+  Frame f = detail::start(Type::hil_clock_done, node);
+  detail::put_u32(&f.data[0], m.step);
+  out = f;
+  return true;
+}
+
 // ---------------------------------------------------------------------------------------
 // Decoding: every path is a fixed sequence of checks, so a malformed frame costs no more
 // than a good one. `out` is written only on success.
@@ -706,6 +741,8 @@ inline DecodeStatus decode(const Frame& f, Message& out) {
     case Type::telemetry_status:
       m.telemetry_status = TelemetryStatus{get_u16(d), get_u16(d + 2), get_u16(d + 4), d[6], d[7]};
       break;
+    case Type::hil_clock: m.hil_clock = HilClock{get_u32(d), get_u32(d + 4)}; break;
+    case Type::hil_clock_done: m.hil_clock_done = HilClockDone{get_u32(d)}; break;
   }
   out = m;
   return DecodeStatus::ok;
