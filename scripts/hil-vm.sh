@@ -8,7 +8,7 @@
 # Usage: scripts/hil-vm.sh [--native] [--work DIR] [--buses N] [--timeout S] [--file PATH]...
 #                          SCENARIO [ARG...]
 # The scenario is a POSIX sh script (busybox sh in the guest). It finds the FILEs and can-utils'
-# candump and cansend in $PA_FILES and writes what it wants kept to $PA_OUT; these land in
+# candump, cansend and cangen in $PA_FILES and writes what it wants kept to $PA_OUT; these land in
 # DIR/out. Exit code: the scenario's; 1 when the guest fails; 2 on bad arguments; 77 when QEMU
 # or the kernel is missing (ctest counts the test as skipped).
 set -euo pipefail
@@ -72,7 +72,7 @@ if [ "$native" -eq 1 ]; then
   rm -rf "$work/files"
   mkdir -p "$work/files"
   for f in "${files[@]}"; do ln -s "$(realpath "$f")" "$work/files/"; done
-  for tool in candump cansend; do
+  for tool in candump cansend cangen; do
     path=$(command -v "$tool") || { echo "hil-vm: error: $tool not found (Debian: apt-get install can-utils)" >&2; exit 1; }
     ln -s "$path" "$work/files/$tool"
   done
@@ -100,6 +100,7 @@ busybox=$(command -v busybox) || skip "busybox not found (Debian: busybox-static
 if ldd "$busybox" >/dev/null 2>&1; then skip "$busybox is not statically linked (Debian: busybox-static)"; fi
 candump=$(command -v candump) || skip "candump not found (Debian: can-utils)"
 cansend=$(command -v cansend) || skip "cansend not found (Debian: can-utils)"
+cangen=$(command -v cangen) || skip "cangen not found (Debian: can-utils)"
 
 # --- the initramfs --------------------------------------------------------------------------
 root=$work/root
@@ -149,7 +150,7 @@ copy_libraries() {
   done
 }
 cp "$scenario" "$root/guest/scenario.sh"
-for f in "${files[@]}" "$candump" "$cansend"; do
+for f in "${files[@]}" "$candump" "$cansend" "$cangen"; do
   cp -L "$f" "$root/guest/"
   # Debug information is most of a RelWithDebInfo program (hil and groundstation: about 200 MB
   # each, 2 to 3 MB without), and the guest unpacks its initramfs into its 512 MB.

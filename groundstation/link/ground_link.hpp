@@ -19,10 +19,10 @@
 //   vehicle announced in its latest LINK_SESSION. Until one has been heard (within 100 ms of the
 //   vehicle's boot or of this link's start) nothing can be sent to it and frames are counted as
 //   unsigned. There are no broadcasts: the heartbeat and KILL-all go to each vehicle.
-// - Session: the vehicle adopts the session token of the GS_HEARTBEATs it hears while disarmed
-//   and refuses a COMMAND with any other token (bad_session_token). So at least one heartbeat
+// - Session: the vehicle adopts the session token of the GS_HEARTBEATs it hears while on the
+//   ground with its motors off (disarmed or landed) and refuses a COMMAND with any other token (bad_session_token). So at least one heartbeat
 //   must have reached it before the first command: call tick() first and give it the radio's
-//   latency. Two ground stations with different sessions make a disarmed vehicle follow the
+//   latency. Two ground stations with different sessions make a grounded vehicle follow the
 //   latest one. KILL carries the token but is honoured whatever it is.
 // - Heartbeat watchdog: the vehicle counts the ground's heartbeats live for 100 ms after the
 //   last one with a newer sequence. Armed without them it disarms; flying it goes to a failsafe

@@ -247,8 +247,15 @@ void GroundStation::tick(double now_s) {
     if (!v.pending) continue;
     const link::CommandState s = link_.command_state(*v.pending);
     if (s == link::CommandState::pending) continue;
-    if (s != link::CommandState::accepted) v.command_failed = true;
     v.pending.reset();
+    if (s != link::CommandState::accepted) {
+      v.command_failed = true;
+      v.arm_after_disarm = false;
+    } else if (v.arm_after_disarm) {
+      v.arm_after_disarm = false;
+      if (v.sequencer.task() == Task::arming)
+        v.pending = link_.send_command(v.id, pa::proto::CommandCode::arm, 0, now_s);
+    }
   }
 }
 
@@ -328,11 +335,15 @@ void GroundStation::enter(Vehicle& v, double now_s) {
   switch (task) {
     case Task::parked:
     case Task::failsafe: v.set_point_valid = false; break;
-    case Task::arming:
+    case Task::arming: {
       v.requests &= ~c::request_take_off;
       v.command_failed = false;
-      v.pending = link_.send_command(v.id, pa::proto::CommandCode::arm, 0, now_s);
+      // A vehicle that landed (on command or in its failsafe) arms only from disarmed.
+      v.arm_after_disarm = link_.status(v.id).mode == pa::proto::Mode::landed;
+      v.pending = link_.send_command(
+          v.id, v.arm_after_disarm ? pa::proto::CommandCode::disarm : pa::proto::CommandCode::arm, 0, now_s);
       break;
+    }
     case Task::take_off:
       v.target_m = Eigen::Vector3d(here.x(), here.y(), config_.take_off_height_m);
       v.set_point_m = here;
@@ -660,6 +671,17 @@ void GroundStation::update_attempt(double now_s) {
 
   if (thrower.sequencer.task() == Task::balance && thrower.set_point_valid)
     thrower.target_m = throw_origin_target();
+  // A catcher lost (no heartbeat, no pose) before the catch is in its failsafe: the catch is off.
+  // Before the throw the attempt ends there (the thrower keeps balancing the pole); once thrown,
+  // the pole comes down and ends it.
+  if (request_.catch_it && catcher.sequencer.task() == Task::failsafe && !current_.impact_s &&
+      current_.catcher_end == mission::Reason::none) {
+    current_.catcher_end = catcher.sequencer.last_reason();
+    if (phase_ == AttemptPhase::preparing) {
+      end_attempt(now_s);
+      return;
+    }
+  }
   switch (phase_) {
     case AttemptPhase::preparing: {
       const bool catcher_ready = !request_.catch_it || (catcher.sequencer.task() == Task::wait &&
@@ -861,7 +883,9 @@ void GroundStation::end_attempt(double now_s) {
   } else if (current_.catcher_end == mission::Reason::out_of_reach) {
     record.outcome = adaptation::ThrowOutcome::kAbortedOutOfReach;
   } else if (current_.catcher_end == mission::Reason::infeasible ||
-             current_.catcher_end == mission::Reason::abort_requested) {
+             current_.catcher_end == mission::Reason::abort_requested ||
+             current_.catcher_end == mission::Reason::vehicle_lost ||
+             current_.catcher_end == mission::Reason::estimate_lost) {
     record.outcome = adaptation::ThrowOutcome::kAborted;
   } else if (request_.catch_offset_m.norm() > 0.0) {
     record.outcome = adaptation::ThrowOutcome::kOffsetPractice;

@@ -283,8 +283,9 @@ class GroundStation {
     bool set_point_valid = false;
     Eigen::Vector3d integral = Eigen::Vector3d::Zero();  // of the position error
     std::uint32_t requests = 0;
-    std::optional<link::CommandHandle> pending;  // ARM or LAND in flight
+    std::optional<link::CommandHandle> pending;  // ARM, DISARM or LAND in flight
     bool command_failed = false;
+    bool arm_after_disarm = false;  // a DISARM in flight clears `landed` for the ARM that follows
     double last_pose_s = -1e9;
     model::VehicleInput last_sent;
   };

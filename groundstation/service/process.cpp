@@ -28,6 +28,8 @@ bool is_abort(Reason reason) {
   return reason == Reason::abort_requested || reason == Reason::out_of_reach ||
          reason == Reason::infeasible || reason == Reason::pole_left_early;
 }
+// The catcher's, that call the catch off without a task change of the catch's own.
+bool is_lost(Reason reason) { return reason == Reason::vehicle_lost || reason == Reason::estimate_lost; }
 
 }  // namespace
 
@@ -250,6 +252,9 @@ void Process::publish_changes(double now_s) {
                     r.catcher_at_impact_m->y(), r.catcher_at_impact_m->z());
       detail += at;
     }
+    if (!r.caught && is_lost(r.catcher_end))
+      publish(pa_arena_event_abort, pa::other_vehicle(thrower_),
+              "catch aborted: the catcher is " + str(mission::reason_name(r.catcher_end)), now_s);
     publish(r.caught ? pa_arena_event_catch_success : pa_arena_event_catch_miss, std::nullopt, detail, now_s);
   }
   for (const pa::VehicleId v : pa::kActVehicles) {

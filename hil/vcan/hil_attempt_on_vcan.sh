@@ -28,33 +28,12 @@ tolerance_m=0.04
 pids=
 . "$files/arena_scenario.sh"
 
-fail() {
-  say "FAIL: $*"
-  stop_all
-  for f in hil_run fw_vehicle1 fw_vehicle2 groundstation; do
-    echo "--- $f"
-    tail -n 20 "$out/$f.txt"
-  done
-  exit 1
-}
-op() { "$files/groundstation" op "$@" --domain $domain --timeout 30; }
-
-mkdir -p "$out/logs"
 say "start at $(elapsed) s of guest uptime"
-"$files/hil" run --ground-can vcan0 --vehicle-can vcan1,vcan2 --domain $domain --seed $seed --ground-clock \
-  --log "$out/logs" >"$out/hil_run.txt" 2>&1 &
-pids="$!"
-for n in 1 2; do
-  "$files/fw_vehicle" --can vcan$n --node $n --key "$key" >"$out/fw_vehicle$n.txt" 2>&1 &
-  pids="$pids $!"
-done
-"$files/groundstation" run --can vcan0 --domain $domain --key1 "$key" --key2 "$key" --hil-clock \
-  >"$out/groundstation.txt" 2>&1 &
-pids="$pids $!"
-# Every view the watch draws, twice a second of the guest's clock: the DDS telemetry and events
-# of the run, recorded.
-"$files/groundstation" watch --domain $domain >"$out/dds_watch.txt" 2>&1 &
-pids="$pids $!"
+start_plant $seed
+start_firmware 1
+start_firmware 2
+start_ground_station groundstation
+record_dds
 wait_for "$out/hil_run.txt" "hil run: ground bus" 30 || fail "hil run did not start"
 wait_for "$out/groundstation.txt" "groundstation run: on vcan0" 60 || fail "groundstation run did not start"
 

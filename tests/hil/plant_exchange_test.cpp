@@ -51,7 +51,8 @@ class Rig {
     Frame f;
     for (std::size_t i = 0; i < exchange.vehicles(); ++i) {
       while (vehicle_bus[i].receive(kOtherEnd, f))
-        firmware[i]->on_frame(f, [&](const Frame& out) { vehicle_bus[i].send(kOtherEnd, out); });
+        if (!dead[i])
+          firmware[i]->on_frame(f, [&](const Frame& out) { vehicle_bus[i].send(kOtherEnd, out); });
       while (vehicle_bus[i].receive(kPlantEnd, f)) exchange.on_vehicle_frame(pa::kActVehicles[i], f);
     }
     while (ground_bus.receive(kPlantEnd, f)) exchange.on_ground_frame(f);
@@ -70,6 +71,7 @@ class Rig {
   std::array<fw::posix::InMemoryBus<2, 1024>, 2> vehicle_bus{};
   fw::posix::InMemoryBus<2, 1024> ground_bus{};
   std::vector<Frame> at_ground;
+  std::array<bool, 2> dead{};  // a firmware process killed: it reads nothing and answers nothing
 };
 
 hil::RadioConfig radio_without_jitter() {
@@ -223,11 +225,25 @@ class Flight {
     station_.emplace(bus_, config_);
   }
 
+  // The ground-station process killed (nothing more from it), and started again: a new runtime
+  // with a new session token, as `groundstation run` draws one per run.
+  void kill_ground_station() { station_.reset(); }
+  void restart_ground_station(std::uint16_t session) {
+    config_.link.session = session;
+    bus_.take();
+    station_.emplace(bus_, config_);
+  }
+
   // Steps until `done` or `limit_s` of the plant's time; whether `done`.
   template <class Done>
   bool run_until(double limit_s, Done&& done) {
     while (rig_.exchange.t_s() < limit_s && !done()) {
       rig_.lockstep();
+      if (!station_) {
+        rig_.at_ground.clear();
+        rig_.exchange.take_mocap();
+        continue;
+      }
       const double plant_now = rig_.exchange.t_s();
       const double ground_now = ground_per_plant_ * plant_now;
       for (const Frame& f : rig_.at_ground) station_->on_frame(f, ground_now);
@@ -243,6 +259,12 @@ class Flight {
     }
     return done();
   }
+  // Take-off on the operator's request, up to both hovering (within 15 s of the plant's time).
+  bool take_off() {
+    station_->request_take_off();
+    return run_until(rig_.exchange.t_s() + 15.0, [&] { return both(gs::mission::Task::hover); });
+  }
+  bool one(pa::VehicleId v, gs::mission::Task task) const { return station_->task(v) == task; }
   bool both(gs::mission::Task task) const {
     return station_->task(pa::kVehicle1) == task && station_->task(pa::kVehicle2) == task;
   }
@@ -392,4 +414,76 @@ TEST_CASE("A firmware gone silent is let go: its motors stop and the plant steps
   CHECK(rig.exchange.answered());
   rig.lockstep();
   CHECK(rig.exchange.counters(pa::kVehicle2).answered >= 6);
+}
+
+TEST_CASE(
+    "The catcher's firmware killed before the throw: the ground station has it lost and calls the catch off") {
+  using gs::mission::Task;
+  Flight flight(1.0);
+  Rig& rig = flight.rig();
+  flight.run_until(0.5, [] { return false; });
+  REQUIRE(flight.take_off());
+  gs::runtime::AttemptRequest request;
+  REQUIRE(flight.station().request_attempt(request));
+  rig.exchange.hand_pole_to(pa::kVehicle1);
+  // The pole on the thrower, balanced: then vehicle 2's firmware process dies.
+  REQUIRE(
+      flight.run_until(rig.exchange.t_s() + 15.0, [&] { return flight.one(pa::kVehicle1, Task::balance); }));
+  REQUIRE(flight.station().attempt_phase() == gs::runtime::AttemptPhase::preparing);
+  rig.dead[1] = true;
+  rig.exchange.release_vehicle(pa::kVehicle2);  // as hil run does after 1 s without an answer
+  const double killed_at = rig.exchange.t_s();
+  REQUIRE(flight.run_until(killed_at + 2.0, [&] { return !flight.station().attempts().empty(); }));
+
+  const gs::runtime::AttemptReport& report = flight.station().attempts().front();
+  CHECK_FALSE(report.caught);
+  CHECK(report.catcher_end == gs::mission::Reason::vehicle_lost);
+  CHECK_FALSE(report.launch_s);
+  CHECK(flight.station().link().status(pa::kVehicle2).lost);
+  CHECK(flight.one(pa::kVehicle2, Task::failsafe));
+  // Lost within the link's heartbeat timeout (0.2 s) and a heartbeat period, and called off then.
+  CHECK(rig.exchange.t_s() - killed_at < 0.3);
+  // The thrower keeps the pole balanced; vehicle 2, its motors stopped, falls.
+  flight.run_until(rig.exchange.t_s() + 2.0, [] { return false; });
+  CHECK(flight.one(pa::kVehicle1, Task::balance));
+  CHECK(rig.exchange.plant().vehicle_on_floor(pa::kVehicle2));
+}
+
+TEST_CASE(
+    "After a landing the ground station takes the vehicles off again: DISARM clears landed before ARM") {
+  using gs::mission::Task;
+  Flight flight(1.0);
+  Rig& rig = flight.rig();
+  flight.run_until(0.5, [] { return false; });
+  for (int flight_number = 1; flight_number <= 2; ++flight_number) {
+    CAPTURE(flight_number);
+    REQUIRE(flight.take_off());
+    flight.station().request_land();
+    REQUIRE(flight.run_until(rig.exchange.t_s() + 15.0, [&] { return flight.both(Task::parked); }));
+    for (const pa::VehicleId v : pa::kActVehicles)
+      CHECK(flight.station().link().status(v).mode == pa::proto::Mode::landed);
+  }
+}
+
+TEST_CASE("The ground station killed in flight and started again: the vehicles land alone, and fly again") {
+  using gs::mission::Task;
+  Flight flight(1.0);
+  Rig& rig = flight.rig();
+  flight.run_until(0.5, [] { return false; });
+  REQUIRE(flight.take_off());
+  flight.kill_ground_station();
+  const double killed_at = rig.exchange.t_s();
+  // Levelled hover 20 ms after the last setpoint, 0.5 s of it, then the descent at 0.5 m/s from 1 m.
+  flight.run_until(killed_at + 6.0, [] { return false; });
+  for (const pa::VehicleId v : pa::kActVehicles) {
+    CHECK(rig.exchange.plant().vehicle_on_floor(v));
+    for (double m : rig.exchange.motor_commands(v).command) CHECK(m == 0.0);
+  }
+  flight.restart_ground_station(0x5A5A);
+  REQUIRE(flight.run_until(rig.exchange.t_s() + 5.0, [&] {
+    return flight.both(Task::parked) && !flight.station().link().status(pa::kVehicle1).lost &&
+           !flight.station().link().status(pa::kVehicle2).lost;
+  }));
+  flight.run_until(rig.exchange.t_s() + 1.0, [] { return false; });
+  REQUIRE(flight.take_off());
 }

@@ -198,8 +198,10 @@ TickOutput Vehicle::tick(const ImuSample& imu) {
                               static_cast<std::int32_t>(config_.catch_reaction.duration_us))
     reaction_active_ = false;
 
-  // Only a disarmed vehicle may follow a new ground station session.
-  link_.set_session_rebind(supervisor_.mode() == Mode::disarmed);
+  // Only a vehicle on the ground with its motors off, disarmed or landed (a landing ends there,
+  // and a failsafe after its ground station died), may follow a new ground station session: a
+  // restarted ground station takes it over with DISARM, then ARM.
+  link_.set_session_rebind(supervisor_.mode() == Mode::disarmed || supervisor_.mode() == Mode::landed);
 }
 
 void Vehicle::handle_command(const Command& command, std::uint32_t now_us, bool killed_this_tick) {

@@ -80,7 +80,8 @@ class CommandLink {
            pa::elapsed_us(now_us, heartbeat_us_) <= static_cast<std::int32_t>(heartbeat_timeout_us_);
   }
   // The ground station's session: adopted from heartbeats while `may_rebind` is true
-  // (the vehicle is disarmed), fixed otherwise so a second ground station cannot take over.
+  // (the vehicle is on the ground, motors off), fixed otherwise so a second ground station cannot
+  // take over a vehicle in the air.
   void set_session_rebind(bool may_rebind) { may_rebind_ = may_rebind; }
   std::uint16_t session_token() const { return session_token_; }
   bool has_session() const { return has_session_; }
