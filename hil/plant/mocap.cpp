@@ -5,7 +5,11 @@
 namespace hil {
 
 MocapModel::MocapModel(const MocapConfig& config, std::uint64_t seed)
-    : config_(config), rng_(seed, RandomStream::mocap) {}
+    : config_(config),
+      rng_(seed, RandomStream::mocap),
+      outages_{{OutageSchedule(config.dropout_probability, config.dropout_outage_s),
+                OutageSchedule(config.dropout_probability, config.dropout_outage_s),
+                OutageSchedule(config.dropout_probability, config.dropout_outage_s)}} {}
 
 void MocapModel::capture(std::uint64_t index, double t_s, const std::array<RigidBodyState, 3>& truth) {
   MocapFrame frame;
@@ -14,7 +18,9 @@ void MocapModel::capture(std::uint64_t index, double t_s, const std::array<Rigid
   // The draw order is fixed (per body: dropout, position, attitude) so frames are reproducible.
   for (std::size_t b = 0; b < truth.size(); ++b) {
     MocapPose& pose = frame.pose[b];
-    const bool lost = rng_.uniform() < config_.dropout_probability;
+    const double draw = rng_.uniform();
+    const bool lost = config_.dropout_outage_s > 0.0 ? outages_[b].out(t_s, [&] { return rng_.uniform(); })
+                                                     : draw < config_.dropout_probability;
     Vec3 dp;
     Vec3 dtheta;
     for (int i = 0; i < 3; ++i) dp[i] = rng_.gaussian(config_.position_noise_m);

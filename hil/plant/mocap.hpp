@@ -5,6 +5,8 @@
 // sees it.
 #pragma once
 
+#include "hil/plant/outages.hpp"
+
 #include <array>
 #include <cstdint>
 #include <deque>
@@ -44,6 +46,7 @@ class MocapModel {
  private:
   MocapConfig config_;
   Random rng_;
+  std::array<OutageSchedule, 3> outages_;  // per body, with dropout_outage_s
   std::deque<MocapFrame> queue_;
   double last_delivery_t_s_ = -1e300;
 };

@@ -94,6 +94,7 @@ const Parameter kParameters[] = {
     PA_REAL("mocap_position_noise_m", mocap.position_noise_m, 0.0, 1.0, false),
     PA_REAL("mocap_attitude_noise_rad", mocap.attitude_noise_rad, 0.0, 1.0, false),
     PA_REAL("mocap_dropout_probability", mocap.dropout_probability, 0.0, 1.0, false),
+    PA_REAL("mocap_dropout_outage_s", mocap.dropout_outage_s, 0.0, 10.0, false),
     PA_REAL("integration_step_free_s", integration.step_free_s, 0.0, 0.01, true),
     PA_REAL("integration_step_contact_s", integration.step_contact_s, 0.0, 0.01, true),
     PA_INT("integration_contact_step_by_mass", integration.contact_step_by_mass, 0, 1),

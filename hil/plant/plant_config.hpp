@@ -84,6 +84,9 @@ struct MocapConfig {
   double position_noise_m = 0.001;    // 1 sigma per axis
   double attitude_noise_rad = 0.001;  // 1 sigma per axis of a small body-frame rotation
   double dropout_probability = 0.0;   // per body per frame
+  // > 0: each body's dropouts come as outages of this length, dropout_probability the fraction
+  // of the time it is hidden (hil/plant/outages.hpp); 0: frame by frame.
+  double dropout_outage_s = 0.0;
 };
 
 struct IntegrationConfig {

@@ -6,18 +6,23 @@
 
 namespace hil {
 
-RadioBridge::RadioBridge(const RadioConfig& config) : config_(config), rng_(config.seed) {
+RadioBridge::RadioBridge(const RadioConfig& config)
+    : config_(config), rng_(config.seed), outages_(config.loss, config.outage_s) {
   if (!(std::isfinite(config.latency_s) && config.latency_s >= 0))
     throw std::invalid_argument("radio latency must be a finite, non-negative number of seconds");
   if (!(std::isfinite(config.jitter_s) && config.jitter_s >= 0))
     throw std::invalid_argument("radio jitter must be a finite, non-negative number of seconds");
   if (!(config.loss >= 0 && config.loss <= 1)) throw std::invalid_argument("radio loss must be within 0..1");
+  if (!(std::isfinite(config.outage_s) && config.outage_s >= 0))
+    throw std::invalid_argument("radio outage length must be a finite, non-negative number of seconds");
 }
 
 void RadioBridge::offer(Side from, const pa::proto::Frame& frame, double t_s) {
   Direction& d = dir(from);
   ++d.offered;
-  if (unit_(rng_) < config_.loss) {
+  const bool lost =
+      config_.outage_s > 0.0 ? outages_.out(t_s, [&] { return unit_(rng_); }) : unit_(rng_) < config_.loss;
+  if (lost) {
     ++d.lost;
     return;
   }

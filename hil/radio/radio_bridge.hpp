@@ -8,6 +8,7 @@
 #include <deque>
 #include <random>
 
+#include "hil/plant/outages.hpp"
 #include "pa/protocol.hpp"
 
 namespace hil {
@@ -17,6 +18,9 @@ struct RadioConfig {
   double jitter_s = 0.002;   // uniform in [0, jitter_s] on top of the latency
   double loss = 0.0;         // probability that a frame is lost, 0..1
   std::uint32_t seed = 1;
+  // > 0: the losses come as outages of this length (both directions at once), `loss` the
+  // fraction of the time the radio is out (hil/plant/outages.hpp); 0: each frame independently.
+  double outage_s = 0.0;
 };
 
 enum class Side { ground, vehicle };
@@ -51,6 +55,7 @@ class RadioBridge {
   RadioConfig config_;
   std::mt19937 rng_;
   std::uniform_real_distribution<double> unit_{0.0, 1.0};
+  OutageSchedule outages_;
   Direction uplink_;    // ground -> vehicle
   Direction downlink_;  // vehicle -> ground
 };

@@ -2,6 +2,8 @@
 // latency, noise, dropouts, the pole's quaternion).
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -198,4 +200,35 @@ TEST_CASE("motion capture loses bodies at the dropout rate, and jitter keeps fra
     for (const hil::MocapPose& p : f.pose) CHECK_FALSE(p.seen);
   }
   CHECK(frames > 10);
+}
+
+TEST_CASE("motion capture with dropout outages hides each body for 100 ms stretches") {
+  PlantConfig c = noiseless();
+  c.mocap.dropout_probability = 0.1;
+  c.mocap.dropout_outage_s = 0.1;
+  Plant plant(c, 4);
+  std::array<int, 3> run{}, longest{}, outages{}, hidden{};
+  int frames = 0;
+  for (int k = 0; k < 60000; ++k) {
+    plant.step(0.001, kOff, kOff);
+    hil::MocapFrame f;
+    while (plant.pop_mocap(f)) {
+      ++frames;
+      for (std::size_t b = 0; b < 3; ++b) {
+        run[b] = f.pose[b].seen ? 0 : run[b] + 1;
+        if (run[b] == 1) ++outages[b];
+        if (!f.pose[b].seen) ++hidden[b];
+        longest[b] = std::max(longest[b], run[b]);
+      }
+    }
+  }
+  for (std::size_t b = 0; b < 3; ++b) {
+    CAPTURE(b);
+    // 10 % of 60 s in 0.1 s outages (20 frames at 200 Hz): about 60 each, each body on its own.
+    CHECK(static_cast<double>(hidden[b]) / frames == Approx(0.1).margin(0.03));
+    CHECK(outages[b] > 35);
+    CHECK(outages[b] < 70);
+    CHECK(longest[b] >= 20);
+  }
+  CHECK(hidden[0] != hidden[2]);
 }

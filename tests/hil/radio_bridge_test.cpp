@@ -55,3 +55,33 @@ TEST_CASE("a radio configuration outside its ranges is refused with a reason") {
   CHECK_THROWS_AS(RadioBridge(RadioConfig{0.01, 0.0, 1.5, 1}), std::invalid_argument);
   CHECK_THROWS_WITH(RadioBridge(RadioConfig{0.01, -1.0, 0.0, 1}), Catch::Contains("jitter"));
 }
+
+TEST_CASE("a radio with outages loses everything in 100 ms stretches, 20 % of the time, both ways at once") {
+  RadioConfig config{0.0, 0.0, 0.2, 5, 0.1};
+  RadioBridge radio(config);
+  // A frame each way every millisecond for 200 s.
+  int lost_before = 0;
+  int outages = 0, longest_ms = 0, run_ms = 0;
+  for (int k = 0; k < 200000; ++k) {
+    const double t = 0.001 * k;
+    radio.offer(Side::ground, numbered(0), t);
+    const int lost_now = static_cast<int>(radio.lost(Side::ground));
+    const bool lost = lost_now > lost_before;
+    lost_before = lost_now;
+    radio.offer(Side::vehicle, numbered(0), t);
+    run_ms = lost ? run_ms + 1 : 0;
+    if (run_ms == 1) ++outages;
+    if (run_ms > longest_ms) longest_ms = run_ms;
+  }
+  // Both directions lose the same frames: the outage is the link's.
+  CHECK(radio.lost(Side::ground) == radio.lost(Side::vehicle));
+  const double fraction = static_cast<double>(radio.lost(Side::ground)) / 200000.0;
+  CHECK(fraction > 0.17);
+  CHECK(fraction < 0.23);
+  // 20 % of 200 s in 0.1 s outages: about 400 of them (adjacent ones merge), none longer than
+  // two back to back with this seed.
+  CHECK(outages > 300);
+  CHECK(outages < 420);
+  CHECK(longest_ms <= 200);
+  CHECK(longest_ms >= 100);
+}
