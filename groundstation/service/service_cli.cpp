@@ -85,6 +85,7 @@ int run_on_plant_clock(service::SocketCanBus& bus, service::Process& process, st
   constexpr auto kMocapWait = 1s;
   constexpr double kPlantStep_s = 1.0 / pa::kImuRate_Hz;
   double now_s = 0.0;
+  std::optional<std::uint32_t> last_step;
   pa::proto::Frame frame;
   while (g_stop == 0) {
     if (!bus.read(frame, 100)) {
@@ -97,9 +98,13 @@ int run_on_plant_clock(service::SocketCanBus& bus, service::Process& process, st
       process.on_frame(frame, now_s);
       continue;
     }
-    now_s = kPlantStep_s * m.hil_clock.step;
-    if (!process.await_mocap(m.hil_clock.mocap_frames, now_s, kMocapWait)) ++late_mocap;
-    process.step(now_s);
+    // A clock the plant sent again (our answer was late) is answered again, not stepped twice.
+    if (m.hil_clock.step != last_step) {
+      last_step = m.hil_clock.step;
+      now_s = kPlantStep_s * m.hil_clock.step;
+      if (!process.await_mocap(m.hil_clock.mocap_frames, now_s, kMocapWait)) ++late_mocap;
+      process.step(now_s);
+    }
     pa::proto::Frame done;
     pa::proto::encode(pa::proto::HilClockDone{m.hil_clock.step}, pa::proto::kGroundNode, done);
     bus.send(done);

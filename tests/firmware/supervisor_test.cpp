@@ -330,6 +330,16 @@ TEST_CASE("arming is refused in every mode but disarmed", "[supervisor]") {
   }
 }
 
+TEST_CASE("only a vehicle on the ground with its motors off, not killed, may follow a new session",
+          "[supervisor]") {
+  for (Mode m : kModes) {
+    Bench b;
+    b.reach(m);
+    INFO("mode " << int(m));
+    CHECK(b.sup.may_follow_new_session() == (m == Mode::disarmed || m == Mode::landed));
+  }
+}
+
 TEST_CASE("re-arming after landing needs a disarm first", "[supervisor]") {
   Bench b;
   b.landed();

@@ -24,6 +24,7 @@ std::uint32_t Supervisor::time_in_mode_us(std::uint32_t now_us) const {
 
 void Supervisor::enter(Mode mode, FailsafeReason reason, std::uint32_t now_us) {
   mode_ = mode;
+  may_follow_new_session_ = mode == Mode::disarmed || mode == Mode::landed;
   reason_ = reason;
   entered_us_ = now_us;
 }

@@ -201,7 +201,7 @@ TickOutput Vehicle::tick(const ImuSample& imu) {
   // Only a vehicle on the ground with its motors off, disarmed or landed (a landing ends there,
   // and a failsafe after its ground station died), may follow a new ground station session: a
   // restarted ground station takes it over with DISARM, then ARM.
-  link_.set_session_rebind(supervisor_.mode() == Mode::disarmed || supervisor_.mode() == Mode::landed);
+  link_.set_session_rebind(supervisor_.may_follow_new_session());
 }
 
 void Vehicle::handle_command(const Command& command, std::uint32_t now_us, bool killed_this_tick) {

@@ -220,13 +220,18 @@ class Supervisor {
   static constexpr std::int32_t kTimeInModeMax_us = 1 << 30;
   Action action() const { return action_for(mode_); }
   bool motors_enabled() const { return action() != Action::motors_off; }  // armed, flying, failsafes
-  std::uint16_t conditions() const { return conditions_; }                // the bits of the last update
+  // On the ground with the motors off and not killed (disarmed or landed): the modes in which the
+  // vehicle may follow a new ground station's session. Kept at each mode change, so the 1 kHz
+  // tick reads a flag rather than comparing modes.
+  bool may_follow_new_session() const { return may_follow_new_session_; }
+  std::uint16_t conditions() const { return conditions_; }  // the bits of the last update
 
  private:
   void enter(pa::proto::Mode mode, pa::proto::FailsafeReason reason, std::uint32_t now_us);
 
   SupervisorConfig config_;
   pa::proto::Mode mode_ = pa::proto::Mode::disarmed;
+  bool may_follow_new_session_ = true;
   pa::proto::FailsafeReason reason_ = pa::proto::FailsafeReason::none;
   std::uint32_t entered_us_ = 0;
   bool imu_unhealthy_ = false;
