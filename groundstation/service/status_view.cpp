@@ -8,6 +8,7 @@
 #include "groundstation/dds/telemetry_conversion.hpp"
 #include "groundstation/estimation/pole_mode.hpp"
 #include "groundstation/mission/vehicle_sequencer.hpp"
+#include "pa/protocol.hpp"
 #include "pa/vehicle_id.hpp"
 
 namespace gs::service {
@@ -16,8 +17,6 @@ namespace {
 constexpr const char* kEventNames[] = {"launch",      "impact",   "catch success", "catch miss",
                                        "abort",       "failsafe", "vehicle lost",  "vehicle back",
                                        "task change", "refused",  "accepted"};
-constexpr const char* kVehicleModes[] = {"disarmed",         "armed",  "flying", "failsafe hover",
-                                         "failsafe descent", "landed", "killed"};
 
 std::string task_text(std::uint8_t task) {
   if (task >= mission::kTaskCount) return "task " + std::to_string(task);
@@ -25,8 +24,8 @@ std::string task_text(std::uint8_t task) {
 }
 
 std::string vehicle_mode_text(std::uint8_t mode) {
-  if (mode >= std::size(kVehicleModes)) return "mode " + std::to_string(mode);
-  return kVehicleModes[mode];
+  if (mode > pa::proto::kModeMax) return "mode " + std::to_string(mode);
+  return pa::proto::mode_name(static_cast<pa::proto::Mode>(mode));
 }
 
 const char* link_text(std::int32_t link) {

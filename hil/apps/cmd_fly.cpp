@@ -184,6 +184,7 @@ int cmd_fly(int argc, char** argv) {
       // Passes and targets fly one series on one plant: randomised, drawn once from the seed.
       sil::SeriesConfig config;
       config.plant = randomise ? randomised(plant, seed) : plant;
+      config.arena.radio = sil::with_plant_losses(config.arena.radio, config.plant);
       config.seed = seed;
       config.record_time_series = !out_dir.empty();
       config.ground_station.adaptation_store_path = store_file;
@@ -202,6 +203,7 @@ int cmd_fly(int argc, char** argv) {
       for (std::size_t i = 0; i < plans.size(); ++i) {
         sil::SeriesConfig config;
         config.plant = randomised(plant, seed * 1000003ULL + i);
+        config.arena.radio = sil::with_plant_losses(config.arena.radio, config.plant);
         config.seed = seed * 1000003ULL + i;
         config.ground_station.learnt = learnt;
         config.ground_station.adaptation_store_path = store_file;

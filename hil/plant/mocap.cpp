@@ -11,7 +11,8 @@ MocapModel::MocapModel(const MocapConfig& config, std::uint64_t seed)
                 OutageSchedule(config.dropout_probability, config.dropout_outage_s),
                 OutageSchedule(config.dropout_probability, config.dropout_outage_s)}} {}
 
-void MocapModel::capture(std::uint64_t index, double t_s, const std::array<RigidBodyState, 3>& truth) {
+void MocapModel::capture(std::uint64_t index, double t_s, const std::array<RigidBodyState, 3>& truth,
+                         bool dropouts_active) {
   MocapFrame frame;
   frame.index = index;
   frame.capture_t_s = t_s;
@@ -19,8 +20,9 @@ void MocapModel::capture(std::uint64_t index, double t_s, const std::array<Rigid
   for (std::size_t b = 0; b < truth.size(); ++b) {
     MocapPose& pose = frame.pose[b];
     const double draw = rng_.uniform();
-    const bool lost = config_.dropout_outage_s > 0.0 ? outages_[b].out(t_s, [&] { return rng_.uniform(); })
-                                                     : draw < config_.dropout_probability;
+    const bool lost = dropouts_active &&
+                      (config_.dropout_outage_s > 0.0 ? outages_[b].out(t_s, [&] { return rng_.uniform(); })
+                                                      : draw < config_.dropout_probability);
     Vec3 dp;
     Vec3 dtheta;
     for (int i = 0; i < 3; ++i) dp[i] = rng_.gaussian(config_.position_noise_m);

@@ -34,8 +34,10 @@ class MocapModel {
  public:
   MocapModel(const MocapConfig& config, std::uint64_t seed);
 
-  // Records a frame of the true poses (indexed by Body) captured at t_s.
-  void capture(std::uint64_t index, double t_s, const std::array<RigidBodyState, 3>& truth);
+  // Records a frame of the true poses (indexed by Body) captured at t_s; without
+  // `dropouts_active` no body is lost in it (Plant::losses_active()).
+  void capture(std::uint64_t index, double t_s, const std::array<RigidBodyState, 3>& truth,
+               bool dropouts_active = true);
   // The oldest frame delivered by now_s, if any.
   bool pop(double now_s, MocapFrame& out);
   std::size_t in_flight() const { return queue_.size(); }

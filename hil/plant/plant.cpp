@@ -681,8 +681,12 @@ void Plant::sample_imu() {
 }
 
 void Plant::capture_mocap() {
-  mocap_.capture(mocap_index_, t_s(), {vehicles_[0].body, vehicles_[1].body, pole_.body});
+  mocap_.capture(mocap_index_, t_s(), {vehicles_[0].body, vehicles_[1].body, pole_.body}, losses_active());
   ++mocap_index_;
+}
+
+bool Plant::losses_active() const {
+  return config_.losses_only_in_pole_flight == 0 || pole_contact() == Contact::none;
 }
 
 bool Plant::pop_imu(pa::VehicleId vehicle, ImuSample& out) {

@@ -101,6 +101,9 @@ class Plant {
   // imu_rate_Hz; at most kImuQueueLimit are kept.
   bool pop_imu(pa::VehicleId vehicle, ImuSample& out);
   const ImuSample& latest_imu(pa::VehicleId vehicle) const { return latest_imu_[slot(vehicle)]; }
+  // Whether the configured losses (the radios' and the motion capture's dropouts) apply now:
+  // always, or with losses_only_in_pole_flight while the pole touches nothing.
+  bool losses_active() const;
   // The next motion-capture frame delivered by now (capture time + latency <= t_s()).
   bool pop_mocap(MocapFrame& out) { return mocap_.pop(t_s(), out); }
   static constexpr std::size_t kImuQueueLimit = 100000;

@@ -112,6 +112,8 @@ const Parameter kParameters[] = {
     PA_REAL("random_radio_loss_min", randomisation.radio_loss_min, 0.0, 1.0, false),
     PA_REAL("random_radio_loss_max", randomisation.radio_loss_max, 0.0, 1.0, false),
     PA_REAL("radio_loss_probability", radio_loss_probability, 0.0, 1.0, false),
+    PA_REAL("radio_outage_s", radio_outage_s, 0.0, 10.0, false),
+    PA_INT("losses_only_in_pole_flight", losses_only_in_pole_flight, 0, 1),
 };
 
 #undef PA_REAL

@@ -125,6 +125,13 @@ struct PlantConfig {
   // The probability that an arena radio loses a frame, each direction (RadioConfig::loss; a
   // campaign's arena takes it from its drawn plant).
   double radio_loss_probability = 0.0;
+  // > 0: the radios lose frames in outages of this length (both directions at once),
+  // radio_loss_probability the fraction of the time they are out (RadioConfig::outage_s).
+  double radio_outage_s = 0.0;
+  // 1: the radios' losses and the motion capture's dropouts happen only while the pole flies
+  // (touches nothing: thrown and not yet caught or down), the fault of a radio that fades just
+  // when the catch needs it; 0: all the time (Plant::losses_active()).
+  int losses_only_in_pole_flight = 0;
 };
 
 // Names of all keys, in the order of the table (for documentation checks).

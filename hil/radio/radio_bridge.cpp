@@ -20,8 +20,8 @@ RadioBridge::RadioBridge(const RadioConfig& config)
 void RadioBridge::offer(Side from, const pa::proto::Frame& frame, double t_s) {
   Direction& d = dir(from);
   ++d.offered;
-  const bool lost =
-      config_.outage_s > 0.0 ? outages_.out(t_s, [&] { return unit_(rng_); }) : unit_(rng_) < config_.loss;
+  const bool lost = losses_active_ && (config_.outage_s > 0.0 ? outages_.out(t_s, [&] { return unit_(rng_); })
+                                                              : unit_(rng_) < config_.loss);
   if (lost) {
     ++d.lost;
     return;

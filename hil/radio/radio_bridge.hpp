@@ -35,6 +35,10 @@ class RadioBridge {
   // The next frame due on `to`'s bus by now_s, oldest first.
   bool deliver(Side to, double now_s, pa::proto::Frame& out);
 
+  // Whether frames offered from now on may be lost (by default they may; the arena follows
+  // Plant::losses_active()).
+  void set_losses_active(bool active) { losses_active_ = active; }
+
   std::uint64_t offered(Side from) const { return dir(from).offered; }
   std::uint64_t lost(Side from) const { return dir(from).lost; }
 
@@ -56,6 +60,7 @@ class RadioBridge {
   std::mt19937 rng_;
   std::uniform_real_distribution<double> unit_{0.0, 1.0};
   OutageSchedule outages_;
+  bool losses_active_ = true;
   Direction uplink_;    // ground -> vehicle
   Direction downlink_;  // vehicle -> ground
 };

@@ -25,6 +25,7 @@
 #include "hil/plant/recorder.hpp"
 #include "hil/run/cmd_run.hpp"
 #include "hil/run/plant_exchange.hpp"
+#include "hil/sil/arena.hpp"
 #include "hil/sil/ground_station_frame.hpp"
 #include "pa/command_line.hpp"
 #include "pa/socketcan.hpp"
@@ -497,9 +498,7 @@ int cmd_run(int argc, char** argv) {
   }
 
   try {
-    RadioConfig radio;
-    radio.loss = plant.radio_loss_probability;
-    PlantExchange exchange(plant, radio, o.seed, o.vehicle_can.size());
+    PlantExchange exchange(plant, sil::with_plant_losses(RadioConfig{}, plant), o.seed, o.vehicle_can.size());
     if (o.ground_clock) exchange.join_ground_clock();
     const gs::dds::Domain domain(static_cast<dds_domainid_t>(o.domain));
     const gs::dds::Participant participant(domain);

@@ -188,6 +188,8 @@ void PlantExchange::step() {
   plant_.step(period_s_, motors_[0], motors_[1]);
   hand_pole_when_ready();
   const double t_end = t_s();
+  const bool losses = plant_.losses_active();
+  for (Link& l : links_) l.bridge.set_losses_active(losses);
 
   for (const pa::VehicleId v : pa::kActVehicles) {
     Link* l = link(v);

@@ -23,6 +23,12 @@ std::uint64_t mix(std::uint64_t x) {
 
 }  // namespace
 
+RadioConfig with_plant_losses(RadioConfig radio, const PlantConfig& plant) {
+  radio.loss = plant.radio_loss_probability;
+  radio.outage_s = plant.radio_outage_s;
+  return radio;
+}
+
 RadioConfig arena_radio_config(RadioConfig radio, std::uint64_t arena_seed, pa::VehicleId vehicle) {
   // The top half: splitmix64's best-mixed bits.
   radio.seed = static_cast<std::uint32_t>(
@@ -87,6 +93,8 @@ void Arena::step() {
   }
   lockstep_.step();
   const double t_end = t_s();
+  const bool losses = lockstep_.plant().losses_active();
+  for (Link& link : links_) link.bridge.set_losses_active(losses);
   for (std::size_t v = 0; v < 2; ++v) {
     for (const Frame& sent : vehicles_[v]->take_sent()) links_[v].bridge.offer(Side::vehicle, sent, t_end);
   }

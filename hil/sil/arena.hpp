@@ -54,6 +54,10 @@ struct ArenaConfig {
   RadioConfig radio{};
 };
 
+// `radio` losing frames as `plant` says (radio_loss_probability, radio_outage_s): how campaigns,
+// `hil fly` and `hil run` configure their radios from a plant file.
+RadioConfig with_plant_losses(RadioConfig radio, const PlantConfig& plant);
+
 // An arena vehicle's radio: `radio` with its seed derived from the arena's seed and the vehicle's
 // node (see "Seeds" above). `hil run` seeds its radios the same way.
 RadioConfig arena_radio_config(RadioConfig radio, std::uint64_t arena_seed, pa::VehicleId vehicle);

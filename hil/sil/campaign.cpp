@@ -17,7 +17,7 @@ CampaignAttempt fly(const CampaignConfig& config, const gs::runtime::Learnt& lea
   a.plant = randomised(config.plant, a.seed);
   SeriesConfig series;
   series.plant = a.plant;
-  series.arena.radio.loss = a.plant.radio_loss_probability;
+  series.arena.radio = with_plant_losses(series.arena.radio, a.plant);
   series.seed = a.seed;
   series.ground_station.learnt = learnt;
   SeriesRunner runner(series);
@@ -31,7 +31,7 @@ CampaignAttempt fly(const CampaignConfig& config, const gs::runtime::Learnt& lea
 gs::runtime::Learnt warm_up(const PlantConfig& plant, std::uint64_t seed) {
   SeriesConfig series;
   series.plant = plant;
-  series.arena.radio.loss = plant.radio_loss_probability;
+  series.arena.radio = with_plant_losses(series.arena.radio, plant);
   series.seed = seed;
   SeriesRunner runner(series);
   runner.run({AttemptPlan{false}});

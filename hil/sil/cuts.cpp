@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "fw/supervisor.hpp"
 #include "hil/plant/randomisation.hpp"
 #include "hil/sil/campaign.hpp"
 #include "hil/sil/series.hpp"
@@ -26,19 +27,6 @@ constexpr int kVehicleFields = 15;
 constexpr double kRestBeforeTakeOff_s = 2.0;
 constexpr int kCutFields = 7 + 2 * kVehicleFields;
 constexpr double kLostTilt_rad = 60.0 * M_PI / 180.0;
-
-std::string mode_name(Mode mode) {
-  switch (mode) {
-    case Mode::disarmed: return "disarmed";
-    case Mode::armed: return "armed";
-    case Mode::flying: return "flying";
-    case Mode::failsafe_hover: return "failsafe_hover";
-    case Mode::failsafe_descent: return "failsafe_descent";
-    case Mode::landed: return "landed";
-    case Mode::killed: return "killed";
-  }
-  return "unknown";
-}
 
 double tilt_of(const RigidBodyState& body) { return std::acos(std::clamp(body.rotation()(2, 2), -1.0, 1.0)); }
 
@@ -189,7 +177,7 @@ CutResult fly_cut(const Arena& at_cut, const CutLimits& limits) {
     watch[i].last_setpoint_s = age_us == 0xFFFFFFFFu ? t_cut : t_cut - 1e-6 * age_us;
     watch[i].at_cut_m = body.position_m;
     VehicleCut& c = r.vehicles[i];
-    c.mode_at_cut = mode_name(fw.mode());
+    c.mode_at_cut = pa::proto::mode_name(fw.mode());
     c.height_m = body.position_m.z();
     c.tilt_at_cut_rad = c.max_tilt_rad = tilt_of(body);
   }
@@ -228,7 +216,8 @@ CutResult fly_cut(const Arena& at_cut, const CutLimits& limits) {
         if (age_us != 0xFFFFFFFFu) w.last_setpoint_s = std::max(w.last_setpoint_s, t - 1e-6 * age_us);
       }
       const double since = t - w.last_setpoint_s;
-      if (c.failsafe_after_s < 0.0 && fw.mode() == Mode::failsafe_hover) c.failsafe_after_s = since;
+      if (c.failsafe_after_s < 0.0 && fw::on_board_flight(fw.mode()))
+        c.failsafe_after_s = since;  // a hold first
       if (!w.levelled) c.max_tilt_rad = std::max(c.max_tilt_rad, tilt);
       if (!w.levelled && c.failsafe_after_s >= 0.0 && tilt < limits.level_tilt_rad &&
           body.rate_body_radps.cwiseAbs().maxCoeff() < limits.level_rate_radps) {
@@ -245,7 +234,7 @@ CutResult fly_cut(const Arena& at_cut, const CutLimits& limits) {
       const MotorCommands& motors = arena.vehicle(v).motor_commands();
       c.motors_off =
           std::all_of(motors.command.begin(), motors.command.end(), [](double m) { return m == 0.0; });
-      c.final_mode = mode_name(fw.mode());
+      c.final_mode = pa::proto::mode_name(fw.mode());
       c.landed = c.motors_off && on_floor;  // the firmware may say landed or killed
       // Over once the motors are off on the floor (landed, or killed and fallen).
       if (c.motors_off && on_floor && c.touchdown_after_s >= 0.0) {

@@ -51,7 +51,7 @@ struct VehicleCut {
   std::string mode_at_cut;            // the firmware's mode at the cut
   double height_m = 0.0;              // truth, centre of mass at the cut
   double tilt_at_cut_rad = 0.0;       // truth
-  double failsafe_after_s = -1.0;     // to the firmware's switch to failsafe_hover (-1: never)
+  double failsafe_after_s = -1.0;     // to the firmware levelling on board, its hold (-1: never)
   double levelled_after_s = -1.0;     // to levelled on truth after that switch (-1: never)
   double max_tilt_rad = 0.0;          // truth, from the cut to levelled
   double touchdown_after_s = -1.0;    // to the first foot on the floor (-1: never)

@@ -2,8 +2,9 @@
 # A HIL scenario for scripts/hil-vm.sh --buses 3 (POSIX sh: busybox sh in the QEMU guest): the
 # faults an arena meets, survived by the five processes on the plant's clock (hil run
 # --ground-clock, two fw_vehicle, groundstation run --hil-clock, the operator's groundstation op):
-#  1. the ground station killed (SIGKILL) with both vehicles hovering: each firmware goes into its
-#     failsafe hover within 25 ms of the last setpoint it read, then lands with its motors off;
+#  1. the ground station killed (SIGKILL) with both vehicles hovering: each firmware levels and
+#     hovers on board (its hold) within 25 ms of the last setpoint it read, which becomes its
+#     failsafe hover, then lands with its motors off;
 #  2. the ground station started again on the same adaptation store: it re-attaches from the
 #     vehicles' heartbeats and takes them off again on command;
 #  3. a flood of malformed frames (length 7: no frame type has it) on all three buses while they
@@ -47,12 +48,13 @@ done
 rc=0
 check() { if ! eval "$1"; then say "FAIL: $2"; rc=1; fi; }
 for n in 1 2; do
-  hover=$(grep "flying -> failsafe_hover" "$out/fw_vehicle$n.txt" | head -n 1)
-  age=$(echo "$hover" | sed -n 's/.*the last setpoint \([0-9.]*\) ms old.*/\1/p')
-  say "vehicle $n: $hover"
+  hold=$(grep "flying -> hold" "$out/fw_vehicle$n.txt" | tail -n 1)
+  age=$(echo "$hold" | sed -n 's/.*the last setpoint \([0-9.]*\) ms old.*/\1/p')
+  say "vehicle $n: $hold"
   check "[ -n \"$age\" ] && awk -v a=$age 'BEGIN { exit !(a <= 25) }'" \
-    "vehicle $n was not in its failsafe hover within 25 ms of its last setpoint"
-  grep "fw_vehicle: .* -> " "$out/fw_vehicle$n.txt" | tail -n 3
+    "vehicle $n was not levelled (its hold) within 25 ms of its last setpoint"
+  check "grep -q 'hold -> failsafe_hover' '$out/fw_vehicle$n.txt'" "vehicle $n's hold did not become its failsafe hover"
+  grep "fw_vehicle: .* -> " "$out/fw_vehicle$n.txt" | tail -n 4
 done
 say "both landed on their own at $(elapsed) s"
 

@@ -71,18 +71,19 @@ TEST_CASE_METHOD(LinkFixture,
   CHECK(link.heartbeat_live(supervisor_config.heartbeat_timeout_us));
   CHECK_FALSE(link.heartbeat_live(supervisor_config.heartbeat_timeout_us + 1));
   heartbeat(1, 50000);  // repeated
-  CHECK_FALSE(link.heartbeat_live(120000));
+  const std::uint32_t later_us = supervisor_config.heartbeat_timeout_us + 20000;
+  CHECK_FALSE(link.heartbeat_live(later_us));
 
   SECTION("a disarmed vehicle follows a new ground station session") {
-    heartbeat(7, 130000, 0x2222);
+    heartbeat(7, later_us + 10000, 0x2222);
     CHECK(link.session_token() == 0x2222);
-    CHECK(link.heartbeat_live(130000));
+    CHECK(link.heartbeat_live(later_us + 10000));
   }
   SECTION("an armed vehicle ignores any other session") {
     link.set_session_rebind(false);
-    heartbeat(7, 130000, 0x2222);
+    heartbeat(7, later_us + 10000, 0x2222);
     CHECK(link.session_token() == 0x1111);
-    CHECK_FALSE(link.heartbeat_live(130000));
+    CHECK_FALSE(link.heartbeat_live(later_us + 10000));
     CHECK(link.counters().foreign_session == 1);
   }
 }

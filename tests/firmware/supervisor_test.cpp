@@ -30,14 +30,13 @@ using pa::proto::RateThrust;
 using pa::proto::RefuseReason;
 namespace cond = fw::condition;
 
-constexpr std::array<Mode, 7> kModes{Mode::disarmed,         Mode::armed,  Mode::flying, Mode::failsafe_hover,
-                                     Mode::failsafe_descent, Mode::landed, Mode::killed};
+constexpr std::array<Mode, 8> kModes{Mode::disarmed,         Mode::armed,  Mode::flying, Mode::failsafe_hover,
+                                     Mode::failsafe_descent, Mode::landed, Mode::killed, Mode::hold};
 
-// Condition words that can occur together: take-off thrust needs a fresh setpoint, the descent
-// timeout outlasts the hover timeout, and only a failsafe descent can be a commanded landing.
+// Condition words that can occur together: take-off thrust needs a fresh setpoint, and only a
+// failsafe descent can be a commanded landing.
 bool consistent(Mode from, std::uint16_t c) {
   if ((c & cond::takeoff_thrust) && !(c & cond::setpoint_fresh)) return false;
-  if ((c & cond::descent_timeout) && !(c & cond::hover_timeout)) return false;
   if ((c & cond::land_commanded) && from != Mode::failsafe_descent) return false;
   return true;
 }
@@ -126,11 +125,17 @@ struct Bench {
     REQUIRE(sup.mode() == Mode::flying);
     run_ms(100);
   }
-  // Flying, then the stream stops: levelled hover.
-  void hover() {
+  // Flying, then the stream stops: a hold (levelled hover) ...
+  void hold() {
     take_off();
     send_setpoints = false;
     run_until_change(100);
+    REQUIRE(sup.mode() == Mode::hold);
+  }
+  // ... which, as it lasts, is the failsafe hover.
+  void hover() {
+    hold();
+    run_until_change(static_cast<int>(config.hold_max_us / 1000u) + 10);
     REQUIRE(sup.mode() == Mode::failsafe_hover);
   }
   void descend() {
@@ -155,6 +160,7 @@ struct Bench {
       case Mode::disarmed: run_ms(40); break;
       case Mode::armed: arm(); break;
       case Mode::flying: take_off(); break;
+      case Mode::hold: hold(); break;
       case Mode::failsafe_hover: hover(); break;
       case Mode::failsafe_descent: land_command ? land_commanded() : descend(); break;
       case Mode::landed: landed(); break;
@@ -189,6 +195,7 @@ TEST_CASE("automatic transitions only escalate, except the ground retaking contr
     INFO("from " << int(row.from) << " to " << int(row.to));
     CHECK(row.from != row.to);
     if (row.to == Mode::flying) continue;  // take-off, or the ground retakes control
+    if (row.from == Mode::hold && row.to == Mode::failsafe_hover) continue;  // the same hover, now a failsafe
     CHECK(static_cast<int>(fw::action_for(row.to)) > static_cast<int>(fw::action_for(row.from)));
   }
 }
@@ -202,7 +209,7 @@ TEST_CASE("modes with the motors off leave only by a command", "[supervisor]") {
 }
 
 TEST_CASE("a crash or a lost IMU takes precedence in every mode with the motors on", "[supervisor]") {
-  for (Mode m : {Mode::armed, Mode::flying, Mode::failsafe_hover, Mode::failsafe_descent}) {
+  for (Mode m : {Mode::armed, Mode::flying, Mode::hold, Mode::failsafe_hover, Mode::failsafe_descent}) {
     for (std::uint16_t c = 0; c <= cond::kAll; ++c) {
       if (!consistent(m, c)) continue;
       const std::size_t i = fw::find_transition(m, c);
@@ -242,8 +249,7 @@ TEST_CASE("each row, driven through update(), lands in its mode with its reason"
     in.on_ground = (c & cond::on_ground) != 0;
     in.crash = (c & cond::crash) != 0;
     in.now_us = entered_us + 1000u;
-    if (c & cond::hover_timeout) in.now_us = entered_us + config.hover_before_descent_us;
-    if (c & cond::descent_timeout) in.now_us = entered_us + config.descent_max_us;
+    if (c & cond::mode_timeout) in.now_us = entered_us + fw::mode_time_limit_us(row.from, config);
     b.sup.update(in);
     CHECK(b.sup.conditions() == c);
     CHECK(b.sup.mode() == row.to);
@@ -269,7 +275,7 @@ TEST_CASE("arming needs disarmed, a live ground heartbeat, zero thrust and a hea
   }
   SECTION("no ground heartbeat") {
     b.send_heartbeats = false;
-    b.run_ms(150);
+    b.run_ms(static_cast<int>(b.config.heartbeat_timeout_us / 1000u) + 50);
     const CommandResult r = b.command(CommandCode::arm);
     CHECK_FALSE(r.accepted);
     CHECK(r.reason == RefuseReason::no_ground_heartbeat);
@@ -410,21 +416,28 @@ TEST_CASE("a stale setpoint stream brings a levelled hover within 25 ms", "[supe
   b.run_ms(5);
   const std::uint32_t last_fresh_us = b.last_fresh_us();
   const std::uint32_t change_us = b.run_until_change(100);
-  CHECK(b.sup.mode() == Mode::failsafe_hover);
-  CHECK(b.sup.reason() == FailsafeReason::setpoint_stale);
+  CHECK(b.sup.mode() == Mode::hold);
+  CHECK(b.sup.reason() == FailsafeReason::none);  // not yet a failsafe
   CHECK(b.sup.action() == Action::level_hover);
   CHECK(b.sup.motors_enabled());
   const std::int32_t delay_us = pa::elapsed_us(change_us, last_fresh_us);
   CHECK(delay_us >= static_cast<std::int32_t>(b.config.setpoint_timeout_us));
   CHECK(delay_us <= 25000);
 
+  // ... the same levelled hover as a failsafe once the hold lasts hold_max_us ...
+  const std::uint32_t failsafe_us = b.run_until_change(1000);
+  CHECK(b.sup.mode() == Mode::failsafe_hover);
+  CHECK(b.sup.reason() == FailsafeReason::setpoint_stale);
+  CHECK(b.sup.action() == Action::level_hover);
+  CHECK(pa::elapsed_us(failsafe_us, change_us) == static_cast<std::int32_t>(b.config.hold_max_us));
+
   // ... then a descent after 0.5 s of hover ...
   const std::uint32_t descent_us = b.run_until_change(1000);
   CHECK(b.sup.mode() == Mode::failsafe_descent);
   CHECK(b.sup.reason() == FailsafeReason::setpoint_stale);
   CHECK(b.sup.action() == Action::descend);
-  CHECK(pa::elapsed_us(descent_us, change_us) >= 499000);
-  CHECK(pa::elapsed_us(descent_us, change_us) <= 501000);
+  CHECK(pa::elapsed_us(descent_us, failsafe_us) >= 499000);
+  CHECK(pa::elapsed_us(descent_us, failsafe_us) <= 501000);
 
   // ... and motors off once on the ground.
   b.run_ms(800);
@@ -435,6 +448,42 @@ TEST_CASE("a stale setpoint stream brings a levelled hover within 25 ms", "[supe
   CHECK(b.sup.reason() == FailsafeReason::setpoint_stale);
   CHECK(b.sup.action() == Action::motors_off);
   CHECK_FALSE(b.sup.motors_enabled());
+}
+
+TEST_CASE("a radio out for 100 ms is a hold that ends with the stream, never a failsafe", "[supervisor]") {
+  Bench b;
+  b.take_off();
+  // Nothing arrives for 100 ms, both ways: no setpoints, no heartbeats.
+  b.send_setpoints = false;
+  b.send_heartbeats = false;
+  std::vector<Mode> modes{b.sup.mode()};
+  const auto watch = [&] {
+    if (b.sup.mode() != modes.back()) modes.push_back(b.sup.mode());
+  };
+  for (int i = 0; i < 100; ++i) {
+    b.tick();
+    watch();
+  }
+  CHECK(b.sup.mode() == Mode::hold);
+  CHECK(b.sup.reason() == FailsafeReason::none);
+  CHECK(b.sup.action() == Action::level_hover);
+  b.send_setpoints = true;
+  b.send_heartbeats = true;
+  for (int i = 0; i < 50; ++i) {
+    b.tick();
+    watch();
+  }
+  CHECK(modes == std::vector<Mode>{Mode::flying, Mode::hold, Mode::flying});
+  CHECK(b.sup.reason() == FailsafeReason::none);
+}
+
+TEST_CASE("a hold answers LAND with the descent and refuses DISARM, as in flight", "[supervisor]") {
+  Bench b;
+  b.hold();
+  CHECK_FALSE(b.command(CommandCode::disarm).accepted);
+  CHECK(b.command(CommandCode::land).accepted);
+  CHECK(b.sup.mode() == Mode::failsafe_descent);
+  CHECK(b.sup.reason() == FailsafeReason::land_command);
 }
 
 TEST_CASE("a descent that never touches the ground ends by its timeout", "[supervisor]") {
@@ -484,7 +533,7 @@ TEST_CASE("the failsafe ends when the ground station retakes control", "[supervi
   SECTION("not while the heartbeat is missing") {
     b.hover();
     b.send_heartbeats = false;
-    b.run_ms(150);  // the heartbeat times out during the hover
+    b.run_ms(static_cast<int>(b.config.heartbeat_timeout_us / 1000u) + 50);  // it times out in the hover
     b.send_setpoints = true;
     b.run_ms(100);
     SupervisorInputs in = b.inputs();
@@ -555,7 +604,8 @@ TEST_CASE("LAND, DISARM and the commands that are not the supervisor's", "[super
       b.reach(m);
       const CommandResult r = b.command(CommandCode::disarm);
       INFO("mode " << int(m));
-      const bool in_air = m == Mode::flying || m == Mode::failsafe_hover || m == Mode::failsafe_descent;
+      const bool in_air =
+          m == Mode::flying || m == Mode::hold || m == Mode::failsafe_hover || m == Mode::failsafe_descent;
       CHECK(r.accepted == !in_air);
       CHECK(b.sup.mode() == (in_air ? m : Mode::disarmed));
       if (in_air) CHECK(r.reason == RefuseReason::not_disarmed);

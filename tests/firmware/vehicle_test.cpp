@@ -135,7 +135,8 @@ TEST_CASE("arming is refused with the reason the operator needs") {
   }
   SECTION("no live ground heartbeat") {
     b.settle(50);
-    for (int i = 0; i < 150; ++i) b.tick(false, 0);
+    for (std::uint32_t i = 0; i < fw::SupervisorConfig{}.heartbeat_timeout_us / 1000u + 50u; ++i)
+      b.tick(false, 0);
     b.command(CommandCode::arm);
     b.tick(false, 0);
     CHECK(b.last_ack()->reason == RefuseReason::no_ground_heartbeat);
@@ -302,8 +303,8 @@ TEST_CASE("the failsafe removes the tilt the accelerometer's bias gave the estim
   take_off(b);
   b.settle(6000, kG);  // held in place by the ground station: the bias is the mean body x reading
   CHECK(tilt() == Approx(lean).epsilon(0.05));
-  for (int i = 0; i < 100; ++i) b.tick(true, -1);  // the setpoint stream stops
-  REQUIRE(b.vehicle.mode() == Mode::failsafe_hover);
+  for (int i = 0; i < 100; ++i) b.tick(true, -1);  // the setpoint stream stops: a hold, levelled
+  REQUIRE(b.vehicle.mode() == Mode::hold);
   CHECK(tilt() < 0.05 * lean);
 }
 
@@ -368,5 +369,6 @@ TEST_CASE("the scripted self-test flight passes on the host") {
   CHECK(r.pass);
   CHECK(r.impact_detection_latency_ms <= 5.0f);
   CHECK(r.failsafe_hover_after_ms <= 25.0f);
-  CHECK(r.descent_after_ms == Approx(500.0f).margin(2.0f));
+  const fw::SupervisorConfig sup{};
+  CHECK(r.descent_after_ms == Approx((sup.hold_max_us + sup.hover_before_descent_us) / 1000.0f).margin(2.0f));
 }

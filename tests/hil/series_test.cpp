@@ -6,12 +6,14 @@
 // plant's truth.
 #include <catch2/catch.hpp>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <string>
 #include <vector>
 
+#include "hil/plant/plant_config.hpp"
 #include "hil/sil/firmware_vehicle.hpp"
 #include "hil/sil/series.hpp"
 
@@ -297,4 +299,53 @@ TEST_CASE("throws to targets all round: vehicle 1 throws where vehicle 2 waits, 
   }
   CHECK(s.results[3].target_miss_m < 0.06);
   CHECK_FALSE(s.crashed);
+}
+
+TEST_CASE("radio outages and motion-capture dropouts while the pole flies: holds, no failsafe, caught",
+          "[hil][sil][runtime][series][outages]") {
+  // The fault profile hil/config/radio_outages.yaml: both radios out 20 % of the time in 100 ms
+  // outages, each body hidden from the motion capture 20 % of the time in 100 ms outages, only
+  // between the throw and the catch.
+  hil::sil::SeriesConfig config;
+  std::string error;
+  const bool loaded =
+      hil::load_plant_config(PA_SOURCE_DIR "/hil/config/radio_outages.yaml", config.plant, error);
+  INFO(error);
+  REQUIRE(loaded);
+  config.arena.radio = hil::sil::with_plant_losses(config.arena.radio, config.plant);
+  config.seed = 6;
+  Series s;
+  config.log = [&s](const std::string& line) { s.log.push_back(line); };
+  int holds_in_flight = 0, firmware_failsafes = 0, mission_failsafes = 0;
+  std::array<pa::proto::Mode, 2> last{pa::proto::Mode::disarmed, pa::proto::Mode::disarmed};
+  std::array<bool, 2> in_failsafe_task{};
+  config.on_step = [&](const hil::sil::Arena& arena, const gs::runtime::GroundStation& gs) {
+    const bool pole_flies = arena.plant().pole_contact() == hil::Contact::none;
+    for (const pa::VehicleId v : pa::kActVehicles) {
+      const std::size_t i = pa::act_slot(v);
+      const pa::proto::Mode mode = arena.vehicle(v).firmware().mode();
+      if (mode != last[i] && mode == pa::proto::Mode::hold && pole_flies) ++holds_in_flight;
+      if (mode != last[i] &&
+          (mode == pa::proto::Mode::failsafe_hover || mode == pa::proto::Mode::failsafe_descent))
+        ++firmware_failsafes;
+      last[i] = mode;
+      const bool failsafe_task = gs.task(v) == Task::failsafe;
+      if (failsafe_task && !in_failsafe_task[i]) ++mission_failsafes;
+      in_failsafe_task[i] = failsafe_task;
+    }
+  };
+  hil::sil::SeriesRunner runner(config);
+  s.results = runner.run(hil::sil::catch_series(3, false));
+  INFO(joined(s.log));
+  // The faults happened: frames lost both ways on both radios, and the firmware held.
+  for (const pa::VehicleId v : pa::kActVehicles) {
+    CHECK(runner.arena().radio(v).uplink_lost > 0);
+    CHECK(runner.arena().radio(v).downlink_lost > 0);
+  }
+  CHECK(holds_in_flight >= 3);
+  // ... and cost no failsafe, on board or in the mission, and no catch.
+  CHECK(firmware_failsafes == 0);
+  CHECK(mission_failsafes == 0);
+  REQUIRE(s.results.size() == 3);
+  for (const hil::sil::AttemptResult& r : s.results) CHECK(r.outcome == "caught");
 }

@@ -266,10 +266,10 @@ TEST_CASE(
   CHECK(with_thrust.result == AckResult::refused);
   CHECK(with_thrust.reason == RefuseReason::thrust_not_zero);
 
-  // Zero thrust, but the heartbeat has lapsed (> 100 ms): refused.
+  // Zero thrust, but the heartbeat has lapsed (> heartbeat_timeout_us): refused.
   ground.thrust_mps2 = 0.0f;
   ground.heartbeats = false;
-  ground.run(0.15);
+  ground.run(fw::SupervisorConfig{}.heartbeat_timeout_us * 1e-6 + 0.05);
   const CommandAck no_heartbeat = ground.command(CommandCode::arm);
   CHECK(no_heartbeat.result == AckResult::refused);
   CHECK(no_heartbeat.reason == RefuseReason::no_ground_heartbeat);
@@ -448,7 +448,7 @@ TEST_CASE(
     const Mode mode = ground.vehicle().firmware().mode();
     const double t = ground.rig().t_s() - t_stop;
     const hil::VehicleState& s = ground.truth();
-    if (mode == Mode::failsafe_hover) {
+    if (fw::action_for(mode) == fw::Action::level_hover) {  // the hold, then the failsafe hover
       if (hover_s < 0.0) {
         hover_s = t;
         vz_at_failsafe = s.body.velocity_mps.z();
@@ -502,7 +502,7 @@ TEST_CASE(
   CHECK(hover_tilt_max < 3.0 * M_PI / 180.0);
   CHECK(hover_vz_max < 0.15);
   REQUIRE(descent_s > 0.0);
-  CHECK(descent_s - hover_s == Approx(sup.hover_before_descent_us * 1e-6).margin(0.002));
+  CHECK(descent_s - hover_s == Approx((sup.hold_max_us + sup.hover_before_descent_us) * 1e-6).margin(0.002));
   // It descends at descent_rate_mps, within what drag leaves (k/m 0.19/s against the 4/s loop:
   // about 0.02 m/s), the bias left after learning and noise.
   CHECK(descent_vz < -0.2);
@@ -513,22 +513,24 @@ TEST_CASE(
   for (double c : ground.vehicle().motor_commands().command) CHECK(c == 0.0);
   CHECK(thrust_N < 0.01);
 
-  // What the ground saw in VEHICLE_HEARTBEAT: flying -> levelled hover (setpoint stale) ->
-  // descent -> motors off on the floor.
+  // What the ground saw in VEHICLE_HEARTBEAT: flying -> hold (levelled, no failsafe yet) ->
+  // failsafe hover (setpoint stale) -> descent -> motors off on the floor.
   const auto& modes = ground.modes();
-  REQUIRE(modes.size() == 6);
+  REQUIRE(modes.size() == 7);
   CHECK(modes[0].mode == Mode::disarmed);
   CHECK(modes[1].mode == Mode::armed);
   CHECK(modes[2].mode == Mode::flying);
-  CHECK(modes[3].mode == Mode::failsafe_hover);
-  CHECK(modes[3].reason == FailsafeReason::setpoint_stale);
-  CHECK(modes[4].mode == Mode::failsafe_descent);
+  CHECK(modes[3].mode == Mode::hold);
+  CHECK(modes[3].reason == FailsafeReason::none);
+  CHECK(modes[4].mode == Mode::failsafe_hover);
+  CHECK(modes[4].reason == FailsafeReason::setpoint_stale);
+  CHECK(modes[5].mode == Mode::failsafe_descent);
   // The descent ends in `landed`: touching down at the descent's speed, the feet's dampers give
   // a step of several g with a lateral part from the floor's friction; while landing, the impact
   // detector takes that for the floor (not a crash, whose peak threshold is lower), the firmware
   // restarts its integrated vertical speed from rest, its descent law asks for less thrust than
   // the floor now carries, and after ground_contact_us of that it turns the motors off.
-  CHECK(modes[5].mode == Mode::landed);
+  CHECK(modes[6].mode == Mode::landed);
   REQUIRE_FALSE(ground.impacts().empty());
   for (const auto& r : ground.impacts()) {
     std::printf("  IMPACT count %d, %s, class %d, peak %.1f m/s^2, onset %.4f s\n", int(r.impact.count),

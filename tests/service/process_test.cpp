@@ -254,7 +254,7 @@ TEST_CASE("A vehicle heard, then silent, is announced back and then lost; its fa
                             2, heartbeat));
   rig.process.on_frame(heartbeat, rig.now_s);
   rig.process.step(rig.now_s);
-  rig.process.step(rig.now_s + 1.0);  // past the link's vehicle timeout (0.2 s)
+  rig.process.step(rig.now_s + 1.0);  // past the link's vehicle timeout (0.3 s)
 
   std::vector<std::string> lines;
   for (const pa_arena_Event* e = events.wait_take(kWait); e != nullptr; e = events.wait_take(100ms))

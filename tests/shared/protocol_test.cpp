@@ -202,7 +202,8 @@ TEST_CASE("encoding refuses non-finite values, bad enumerations and bad nodes, l
   CHECK_FALSE(encode(Command{static_cast<CommandCode>(9), 0, 0, 0}, 1, f));
   CHECK_FALSE(encode(Kill{0, static_cast<KillReason>(9)}, 1, f));
   CHECK_FALSE(encode(GsHeartbeat{0, 0, static_cast<GroundState>(3), 0}, 1, f));
-  CHECK_FALSE(encode(VehicleHeartbeat{0, static_cast<Mode>(7), 0, 0, FailsafeReason::none, 0}, 1, f));
+  CHECK_FALSE(
+      encode(VehicleHeartbeat{0, static_cast<Mode>(kModeMax + 1), 0, 0, FailsafeReason::none, 0}, 1, f));
   CHECK_FALSE(encode(
       CommandAck{0, CommandCode::arm, static_cast<AckResult>(3), Mode::armed, RefuseReason::none}, 1, f));
   CHECK_FALSE(encode(TimesyncRequest{0, 0}, 16, f));

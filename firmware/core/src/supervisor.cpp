@@ -25,6 +25,7 @@ std::uint32_t Supervisor::time_in_mode_us(std::uint32_t now_us) const {
 void Supervisor::enter(Mode mode, FailsafeReason reason, std::uint32_t now_us) {
   mode_ = mode;
   may_follow_new_session_ = mode == Mode::disarmed || mode == Mode::landed;
+  time_limit_us_ = mode_time_limit_us(mode, config_);
   reason_ = reason;
   entered_us_ = now_us;
 }
@@ -59,8 +60,7 @@ void Supervisor::update(const SupervisorInputs& in) {
   if (imu_lost) c |= condition::imu_lost;
   if (in.on_ground) c |= condition::on_ground;
   if (in.crash) c |= condition::crash;
-  if (at_least(in_mode_us, config_.hover_before_descent_us)) c |= condition::hover_timeout;
-  if (at_least(in_mode_us, config_.descent_max_us)) c |= condition::descent_timeout;
+  if (at_least(in_mode_us, time_limit_us_)) c |= condition::mode_timeout;
   if (reason_ == FailsafeReason::land_command) c |= condition::land_commanded;
   conditions_ = c;
 
@@ -100,6 +100,7 @@ CommandResult Supervisor::handle_command(CommandCode code, const SupervisorInput
         case Mode::landed:
         case Mode::killed: enter(Mode::disarmed, FailsafeReason::none, now.now_us); return accepted;
         case Mode::flying:
+        case Mode::hold:
         case Mode::failsafe_hover:
         case Mode::failsafe_descent:
           return refuse(RefuseReason::not_disarmed);  // not in the air: LAND or KILL
@@ -109,6 +110,7 @@ CommandResult Supervisor::handle_command(CommandCode code, const SupervisorInput
     case CommandCode::land:
       switch (mode_) {
         case Mode::flying:
+        case Mode::hold:
         case Mode::failsafe_hover:
           enter(Mode::failsafe_descent, FailsafeReason::land_command, now.now_us);
           return accepted;

@@ -228,7 +228,7 @@ void Vehicle::handle_command(const Command& command, std::uint32_t now_us, bool 
     case CommandCode::expect_catch:
       if (command.argument <= 0 || command.argument > kExpectCatchMax_ms) {
         acknowledge(command, AckResult::refused, RefuseReason::bad_argument);
-      } else if (supervisor_.mode() != Mode::flying) {
+      } else if (supervisor_.mode() != Mode::flying && supervisor_.mode() != Mode::hold) {
         acknowledge(command, AckResult::refused, RefuseReason::not_flying);
       } else {
         catch_expected_ = true;
@@ -330,16 +330,19 @@ void Vehicle::correct_rest_tilt() {
   inputs_.crash = crash;
   supervisor_.update(inputs_);
   const Mode mode = supervisor_.mode();
-  const bool failsafe = mode == Mode::failsafe_hover || mode == Mode::failsafe_descent;
-  const bool was_failsafe = last_mode_ == Mode::failsafe_hover || last_mode_ == Mode::failsafe_descent;
-  if (failsafe && !was_failsafe) {
-    // Motion capture is out of reach: integrate vertical velocity from here on, from the
-    // speed estimated in flight.
-    failsafe_vz_mps_ = flight_vz_mps_;
-    ground_contact_s_ = 0;
+  // On board: a hold or a failsafe, flown on the vehicle's own estimate (a hold that becomes the
+  // failsafe hover goes on from its vertical speed). Checked at mode changes only: the steady
+  // ticks of a failsafe are the firmware's heaviest.
+  if (mode != last_mode_) {
+    if (on_board_flight(mode) && !on_board_flight(last_mode_)) {
+      // Motion capture is out of reach: integrate vertical velocity from here on, from the
+      // speed estimated in flight.
+      failsafe_vz_mps_ = flight_vz_mps_;
+      ground_contact_s_ = 0;
+    }
+    last_mode_ = mode;
   }
   if (mode != Mode::failsafe_descent) ground_contact_s_ = 0;
-  last_mode_ = mode;
 }
 
 // Levelling law: body rates that turn the measured "up" towards the body z-axis.
@@ -372,13 +375,22 @@ void Vehicle::correct_rest_tilt() {
     case Action::descend: break;
   }
 
-  // The failsafes: level, hold (or sink at) the vertical speed integrated on board.
+  // On board: level, hold (or sink at) the vertical speed integrated on board.
   const Vec3 up = attitude_.up_in_body();
   const float tilt_cos = up[2] < kMinTiltCos ? kMinTiltCos : up[2];
   const float specific_up_mps2 = up_accel_mps2();
   if (imu_ok_) {
     const float clamped_dt = dt_s < 0 ? 0 : (dt_s > 0.005f ? 0.005f : dt_s);
     failsafe_vz_mps_ += (specific_up_mps2 - kGravity_mps2) * clamped_dt;
+  }
+  if (catch_expected_ && supervisor_.mode() == Mode::hold) {
+    // A hold inside a catch window: the plate stays where the ground station was taking it
+    // (attitude held, the last thrust) rather than levelling, which would tip it off the pole's
+    // path just before the pole arrives. The window is the expected-catch one, and the hold
+    // still becomes the levelled failsafe hover at hold_max_us, from the speed integrated here.
+    rate_radps = Vec3{};
+    thrust_mps2 = link_.setpoint().thrust_mps2;
+    return;
   }
   rate_radps = levelling_rates(up);
   if (action == Action::level_hover) {

@@ -20,14 +20,6 @@ namespace {
 volatile std::sig_atomic_t g_stop = 0;
 void on_signal(int) { g_stop = 1; }
 
-// docs/protocol.md's names of the modes.
-const char* mode_name(pa::proto::Mode mode) {
-  constexpr const char* kNames[] = {"disarmed",         "armed",  "flying", "failsafe_hover",
-                                    "failsafe_descent", "landed", "killed"};
-  const auto i = static_cast<std::size_t>(mode);
-  return i < std::size(kNames) ? kNames[i] : "unknown";
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -104,7 +96,8 @@ int main(int argc, char** argv) {
       if (change.setpoint_age_us != 0xFFFFFFFFu)
         std::snprintf(age, sizeof age, "the last setpoint %.1f ms old", change.setpoint_age_us * 1e-3);
       std::printf("fw_vehicle: %.3f s: mode %s -> %s (failsafe reason %u), %s\n", change.t_us * 1e-6,
-                  mode_name(change.from), mode_name(change.to), static_cast<unsigned>(change.reason), age);
+                  pa::proto::mode_name(change.from), pa::proto::mode_name(change.to),
+                  static_cast<unsigned>(change.reason), age);
       std::fflush(stdout);
     }
   }

@@ -199,7 +199,7 @@ Result run(TickProbe* probe) {
         ++manoeuvre_samples;
       }
     }
-    if (hover_tick == 0 && mode == Mode::failsafe_hover) hover_tick = tick;
+    if (hover_tick == 0 && fw::action_for(mode) == fw::Action::level_hover) hover_tick = tick;  // a hold
     if (descent_tick == 0 && mode == Mode::failsafe_descent) {
       descent_tick = tick;
       tilt_cos_at_descent = plant.tilt_cos();
@@ -230,8 +230,11 @@ Result run(TickProbe* probe) {
     r.failure = "impact: timestamp off by more than 1 ms";
   else if (hover_tick == 0 || r.failsafe_hover_after_ms > 25.0f)
     r.failure = "link loss: no levelled hover within 25 ms";
-  else if (descent_tick == 0 || std::fabs(r.descent_after_ms - 500.0f) > 2.0f)
-    r.failure = "link loss: descent not 0.5 s after hover";
+  else if (descent_tick == 0 ||
+           std::fabs(r.descent_after_ms - static_cast<float>(config.supervisor.hold_max_us +
+                                                             config.supervisor.hover_before_descent_us) /
+                                              1000.0f) > 2.0f)
+    r.failure = "link loss: descent not after the hold and the failsafe hover";
   else if (tilt_cos_at_descent < 0.9994f)
     r.failure = "link loss: not level (within 2 degrees) when descending";
   else if (off_tick == 0) r.failure = "link loss: motors still on after reaching the ground";

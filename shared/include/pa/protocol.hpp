@@ -163,7 +163,9 @@ enum class RefuseReason : std::uint8_t {
 };
 inline constexpr std::uint8_t kRefuseReasonMax = 8;
 
-// Vehicle modes, as the supervisor reports them.
+// Vehicle modes, as the supervisor reports them. hold is the setpoint stream paused (a radio
+// fading): the vehicle levels and hovers on board and follows the stream again when it resumes;
+// it is not a failsafe until it lasts (firmware/core/include/fw/supervisor.hpp).
 enum class Mode : std::uint8_t {
   disarmed = 0,
   armed = 1,
@@ -172,8 +174,24 @@ enum class Mode : std::uint8_t {
   failsafe_descent = 4,
   landed = 5,
   killed = 6,
+  hold = 7,
 };
-inline constexpr std::uint8_t kModeMax = 6;
+inline constexpr std::uint8_t kModeMax = 7;
+
+// The mode's name in logs and tools ("mode N" is never needed: decoding rejects other values).
+constexpr const char* mode_name(Mode mode) {
+  switch (mode) {
+    case Mode::disarmed: return "disarmed";
+    case Mode::armed: return "armed";
+    case Mode::flying: return "flying";
+    case Mode::failsafe_hover: return "failsafe_hover";
+    case Mode::failsafe_descent: return "failsafe_descent";
+    case Mode::landed: return "landed";
+    case Mode::killed: return "killed";
+    case Mode::hold: return "hold";
+  }
+  return "unknown";
+}
 
 // Why the vehicle is in a failsafe (or why it stopped); 4 bits on the wire.
 enum class FailsafeReason : std::uint8_t {

@@ -79,9 +79,15 @@ struct CatchReactionConfig {
 };
 
 struct SupervisorConfig {
-  std::uint32_t setpoint_timeout_us = 20000;    // stale stream -> levelled hover (within 25 ms)
-  std::uint32_t heartbeat_timeout_us = 100000;  // lost ground heartbeat -> failsafe
-  std::uint32_t imu_timeout_us = 5000;          // IMU unhealthy this long -> IMU lost (motors off in the air)
+  std::uint32_t setpoint_timeout_us = 20000;  // stale stream -> a hold: levelled hover (within 25 ms)
+  // A hold this long is the failsafe hover: a 100 ms radio outage is ridden out, a dead ground
+  // station is a failsafe 0.22 s after its last setpoint (and lands as before).
+  std::uint32_t hold_max_us = 200000;
+  // Lost ground heartbeat -> failsafe. Longer than a hold: a radio out for 100 ms loses some
+  // heartbeats (50 Hz) and must not look like a lost ground station (the ground station reads
+  // this flag in VEHICLE_HEARTBEAT as "the vehicle hears us", docs/groundstation.md).
+  std::uint32_t heartbeat_timeout_us = 300000;
+  std::uint32_t imu_timeout_us = 5000;  // IMU unhealthy this long -> IMU lost (motors off in the air)
   std::uint32_t hover_before_descent_us = 500000;  // failsafe hover lasts 0.5 s, then descent
   std::uint32_t descent_max_us = 30000000;         // give up waiting for ground contact (from 6 m: 12 s)
   float takeoff_thrust_mps2 = 2.0f;                // a fresh setpoint above this means flying

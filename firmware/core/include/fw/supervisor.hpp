@@ -25,6 +25,12 @@
 //   no "in flight" refuse reason; the answer is not_disarmed and the COMMAND_ACK's mode shows why.
 // - LAND while already in a failsafe descent is accepted and turns it into a commanded landing
 //   (it no longer ends when the stream resumes); its timeout keeps running.
+// - A stale setpoint stream is first a hold, not a failsafe: the vehicle levels and hovers on
+//   board within setpoint_timeout_us (the 25 ms a dead ground station allows) and flies the
+//   stream again at its next fresh setpoint. A radio that fades for 100 ms, which an arena's radio
+//   does, so costs a levelled hover that short and nothing more: no failsafe reason, nothing for
+//   the ground station to recover. Only a hold past hold_max_us, or a ground heartbeat silent for
+//   heartbeat_timeout_us, is the failsafe hover, which descends after hover_before_descent_us.
 // - A failsafe ends (back to flying) when the ground station retakes control: a fresh setpoint
 //   stream and a live heartbeat together. A commanded landing only ends on the ground.
 // - Landed keeps the reason that led there and the motors off until DISARM: re-arming needs
@@ -57,7 +63,7 @@ struct SupervisorInputs {
 enum class Action : std::uint8_t {
   idle = 0,             // armed on the ground: motors at idle, no control
   track_setpoints = 1,  // fly the ground station's rate and thrust setpoints
-  level_hover = 2,      // hold level and height on board
+  level_hover = 2,      // hold level and height on board (a hold, or the failsafe hover)
   descend = 3,          // level, sink at descent_rate_mps until the ground
   motors_off = 4,       // disarmed, landed or killed
 };
@@ -66,6 +72,7 @@ constexpr Action action_for(pa::proto::Mode mode) {
   switch (mode) {
     case pa::proto::Mode::armed: return Action::idle;
     case pa::proto::Mode::flying: return Action::track_setpoints;
+    case pa::proto::Mode::hold:
     case pa::proto::Mode::failsafe_hover: return Action::level_hover;
     case pa::proto::Mode::failsafe_descent: return Action::descend;
     case pa::proto::Mode::disarmed:
@@ -73,6 +80,11 @@ constexpr Action action_for(pa::proto::Mode mode) {
     case pa::proto::Mode::killed: return Action::motors_off;
   }
   return Action::motors_off;
+}
+
+// Flown on the vehicle's own estimate, without the ground station: a hold or a failsafe.
+constexpr bool on_board_flight(pa::proto::Mode mode) {
+  return action_for(mode) == Action::level_hover || action_for(mode) == Action::descend;
 }
 
 // The condition bits a transition row tests.
@@ -84,10 +96,11 @@ inline constexpr std::uint16_t takeoff_thrust = 1u << 2;
 inline constexpr std::uint16_t imu_lost = 1u << 3;  // IMU unhealthy for imu_timeout_us
 inline constexpr std::uint16_t on_ground = 1u << 4;
 inline constexpr std::uint16_t crash = 1u << 5;
-inline constexpr std::uint16_t hover_timeout = 1u << 6;    // time in mode >= hover_before_descent_us
-inline constexpr std::uint16_t descent_timeout = 1u << 7;  // time in mode >= descent_max_us
-inline constexpr std::uint16_t land_commanded = 1u << 8;   // the current failsafe is a LAND command
-inline constexpr unsigned kCount = 9;
+// time in the mode >= its time limit: hold_max_us in a hold, hover_before_descent_us in the
+// failsafe hover, descent_max_us in the descent (mode_time_limit_us; the other modes have none)
+inline constexpr std::uint16_t mode_timeout = 1u << 6;
+inline constexpr std::uint16_t land_commanded = 1u << 7;  // the current failsafe is a LAND command
+inline constexpr unsigned kCount = 8;
 inline constexpr std::uint16_t kAll = (1u << kCount) - 1u;
 }  // namespace condition
 
@@ -102,7 +115,7 @@ struct SupervisorTransition {
 
 // The transition table. Within each mode the rows are in priority order: crash, IMU, then the
 // link, recovery, ground contact and timers.
-inline constexpr std::array<SupervisorTransition, 18> kSupervisorTransitions{{
+inline constexpr std::array<SupervisorTransition, 23> kSupervisorTransitions{{
     // armed: on the ground, motors idle, waiting for a take-off setpoint
     {pa::proto::Mode::armed, condition::crash, 0, pa::proto::Mode::killed, pa::proto::FailsafeReason::crash,
      false},
@@ -119,8 +132,8 @@ inline constexpr std::array<SupervisorTransition, 18> kSupervisorTransitions{{
      pa::proto::FailsafeReason::imu_lost, false},
     {pa::proto::Mode::flying, 0, condition::heartbeat_live, pa::proto::Mode::failsafe_hover,
      pa::proto::FailsafeReason::heartbeat_lost, false},
-    {pa::proto::Mode::flying, 0, condition::setpoint_fresh, pa::proto::Mode::failsafe_hover,
-     pa::proto::FailsafeReason::setpoint_stale, false},
+    {pa::proto::Mode::flying, 0, condition::setpoint_fresh, pa::proto::Mode::hold,
+     pa::proto::FailsafeReason::none, false},
     // failsafe_hover: levelled hover, then a descent
     {pa::proto::Mode::failsafe_hover, condition::crash, 0, pa::proto::Mode::killed,
      pa::proto::FailsafeReason::crash, false},
@@ -130,7 +143,7 @@ inline constexpr std::array<SupervisorTransition, 18> kSupervisorTransitions{{
      pa::proto::Mode::flying, pa::proto::FailsafeReason::none, false},
     {pa::proto::Mode::failsafe_hover, condition::on_ground, 0, pa::proto::Mode::landed,
      pa::proto::FailsafeReason::none, true},
-    {pa::proto::Mode::failsafe_hover, condition::hover_timeout, 0, pa::proto::Mode::failsafe_descent,
+    {pa::proto::Mode::failsafe_hover, condition::mode_timeout, 0, pa::proto::Mode::failsafe_descent,
      pa::proto::FailsafeReason::none, true},
     // failsafe_descent: levelled descent until the floor holds the vehicle
     {pa::proto::Mode::failsafe_descent, condition::crash, 0, pa::proto::Mode::killed,
@@ -139,11 +152,32 @@ inline constexpr std::array<SupervisorTransition, 18> kSupervisorTransitions{{
      pa::proto::FailsafeReason::imu_lost, false},
     {pa::proto::Mode::failsafe_descent, condition::on_ground, 0, pa::proto::Mode::landed,
      pa::proto::FailsafeReason::none, true},
-    {pa::proto::Mode::failsafe_descent, condition::descent_timeout, 0, pa::proto::Mode::landed,
+    {pa::proto::Mode::failsafe_descent, condition::mode_timeout, 0, pa::proto::Mode::landed,
      pa::proto::FailsafeReason::none, true},
     {pa::proto::Mode::failsafe_descent, condition::setpoint_fresh | condition::heartbeat_live,
      condition::land_commanded, pa::proto::Mode::flying, pa::proto::FailsafeReason::none, false},
+    // hold: the stream paused, levelled on board; the stream again, or a failsafe once it lasts
+    {pa::proto::Mode::hold, condition::crash, 0, pa::proto::Mode::killed, pa::proto::FailsafeReason::crash,
+     false},
+    {pa::proto::Mode::hold, condition::imu_lost, 0, pa::proto::Mode::killed,
+     pa::proto::FailsafeReason::imu_lost, false},
+    {pa::proto::Mode::hold, 0, condition::heartbeat_live, pa::proto::Mode::failsafe_hover,
+     pa::proto::FailsafeReason::heartbeat_lost, false},
+    {pa::proto::Mode::hold, condition::setpoint_fresh, 0, pa::proto::Mode::flying,
+     pa::proto::FailsafeReason::none, false},
+    {pa::proto::Mode::hold, condition::mode_timeout, 0, pa::proto::Mode::failsafe_hover,
+     pa::proto::FailsafeReason::setpoint_stale, false},
 }};
+
+// How long a mode may last before its mode_timeout row fires (none: never).
+constexpr std::uint32_t mode_time_limit_us(pa::proto::Mode mode, const SupervisorConfig& config) {
+  switch (mode) {
+    case pa::proto::Mode::hold: return config.hold_max_us;
+    case pa::proto::Mode::failsafe_hover: return config.hover_before_descent_us;
+    case pa::proto::Mode::failsafe_descent: return config.descent_max_us;
+    default: return 0xFFFFFFFFu;
+  }
+}
 
 // Each mode's rows, [begin, end) in kSupervisorTransitions, so that an update scans only the
 // rows of the current mode (in table order, so the first match still wins). Built from the
@@ -204,7 +238,7 @@ class Supervisor {
   //      arming_thrust_max_mps2 and a healthy IMU; refused with killed / not_disarmed /
   //      no_ground_heartbeat / thrust_not_zero / imu_unhealthy (checked in that order).
   // DISARM: from disarmed, armed, landed or killed (clears the KILL latch); refused in the air.
-  // LAND: from flying or a failsafe -> failsafe_descent (reason land_command); refused with
+  // LAND: from flying, a hold or a failsafe -> failsafe_descent (reason land_command); refused with
   //      not_flying on the ground, killed when killed.
   // EXPECT_CATCH and CATCH_HANDLED are not the supervisor's: refused with bad_argument.
   CommandResult handle_command(pa::proto::CommandCode code, const SupervisorInputs& now);
@@ -234,6 +268,7 @@ class Supervisor {
   bool may_follow_new_session_ = true;
   pa::proto::FailsafeReason reason_ = pa::proto::FailsafeReason::none;
   std::uint32_t entered_us_ = 0;
+  std::uint32_t time_limit_us_ = 0xFFFFFFFFu;  // mode_time_limit_us() of the mode, kept at each change
   bool imu_unhealthy_ = false;
   bool imu_lost_ = false;
   std::uint32_t imu_unhealthy_since_us_ = 0;

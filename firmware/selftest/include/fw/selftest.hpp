@@ -27,8 +27,8 @@ struct Result {
   float manoeuvre_rate_error_rms_radps = 0;  // tracking during the rate manoeuvre
   float impact_detection_latency_ms = -1;    // IMPACT confirmed after the true onset
   float impact_timestamp_error_ms = -1;      // reported onset minus the true onset
-  float failsafe_hover_after_ms = -1;        // levelled hover after the last fresh setpoint
-  float descent_after_ms = -1;               // descent after the hover began
+  float failsafe_hover_after_ms = -1;        // levelled hover (a hold) after the last fresh setpoint
+  float descent_after_ms = -1;               // descent after the levelled hover began (hold + failsafe hover)
   float motors_off_after_landing_ms = -1;    // motors off after ground contact
 };
 
