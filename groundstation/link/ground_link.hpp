@@ -80,9 +80,9 @@ struct GroundLinkConfig {
   double timesync_period_s = 0.1;    // TIMESYNC request per vehicle, 10 Hz
   double command_retry_s = 0.05;     // resend an unacknowledged COMMAND (and a KILL) after this
   int command_attempts = 5;          // sends of one COMMAND; then it has timed out (KILL: sends at most)
-  // No VEHICLE_HEARTBEAT for this long: the vehicle is lost. Three times the radio outage the
-  // arena rides out (100 ms: the firmware's hold, docs/failsafe.md), so a fading radio is not a
-  // lost vehicle; a dead firmware is still reported within a third of a second.
+  // No VEHICLE_HEARTBEAT for this long: the vehicle is lost. The firmware's rule too (its hold
+  // and ground heartbeat, docs/failsafe.md): shorter silences are a radio fading (100 ms outages,
+  // two or three back to back), not a lost vehicle; a dead firmware is reported within 0.3 s.
   double vehicle_timeout_s = 0.3;
   double link_quality_window_s = 1.0;        // at most kHeartbeatHistory vehicle heartbeat periods
   double vehicle_heartbeat_period_s = 0.02;  // the vehicle's VEHICLE_HEARTBEAT period (fw::LinkConfig)

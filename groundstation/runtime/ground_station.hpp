@@ -139,8 +139,9 @@ struct GroundStationConfig {
   double upright_rad = 0.5;          // rebalance -> balance below this tilt (29 degrees)
   double pole_down_height_m = 0.25;  // the pole's centre below this: it lies on the floor
   // No pose of a vehicle for this long: its estimate is lost. Motion capture that hides a body
-  // for 100 ms is predicted through on the commanded inputs (a few mm); a quarter second is not.
-  double lost_estimate_s = 0.25;
+  // for 100 ms (two or three times, back to back) is predicted through on the commanded inputs;
+  // the link's rule, 0.3 s (GroundLinkConfig::vehicle_timeout_s).
+  double lost_estimate_s = 0.3;
   // A throw's optimal catch point, evaluated after it, further than these from the one predicted
   // in flight is rejected by the adaptation (see end_attempt).
   double adaptation_gate_m = 0.2;

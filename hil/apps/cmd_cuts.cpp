@@ -171,7 +171,7 @@ int cmd_cuts(int argc, char** argv) {
       config.cuts, vehicles, vehicles_failed, failed_cuts, crashed, lost_before,
       std::string(sil::kLostBeforeCut).c_str());
   std::printf(
-      "  pass: firmware in failsafe_hover within %.0f ms of its last setpoint, then levelled on truth\n"
+      "  pass: firmware levelled on board (its hold) within %.0f ms of its last setpoint, then levelled on truth\n"
       "  (tilt < %.0f deg, body rates < %.2f rad/s), landed with the motors off within %.0f s, no\n"
       "  touchdown faster than %.2f m/s or tilted more than %.0f deg\n",
       1e3 * lim.failsafe_within_s, kDeg * lim.level_tilt_rad, lim.level_rate_radps, lim.land_within_s,
@@ -187,7 +187,7 @@ int cmd_cuts(int argc, char** argv) {
     std::printf(" %s %d/%d", name.c_str(), phases[name].first, phases[name].second);
   }
   std::printf("\n");
-  print_distribution("last setpoint -> failsafe_hover", failsafe_s, 1e3, "ms");
+  print_distribution("last setpoint -> hold (levelled on board)", failsafe_s, 1e3, "ms");
   print_distribution("last setpoint -> levelled (truth)", levelled_s, 1e3, "ms");
   std::printf("  levelled on truth within %.0f ms of the last setpoint: %d of %d vehicles\n",
               1e3 * lim.failsafe_within_s, levelled_in_limit, vehicles);

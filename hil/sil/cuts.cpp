@@ -248,7 +248,7 @@ CutResult fly_cut(const Arena& at_cut, const CutLimits& limits) {
 
   for (VehicleCut& c : r.vehicles) {
     std::vector<std::string> causes;
-    if (c.failsafe_after_s < 0.0) causes.emplace_back("no_failsafe_hover");
+    if (c.failsafe_after_s < 0.0) causes.emplace_back("no_hold");
     else if (c.failsafe_after_s > limits.failsafe_within_s + 1e-9) causes.emplace_back("failsafe_late");
     if (c.levelled_after_s < 0.0) causes.emplace_back("never_levelled");
     if (c.crashed) causes.emplace_back("crashed");

@@ -80,12 +80,13 @@ struct CatchReactionConfig {
 
 struct SupervisorConfig {
   std::uint32_t setpoint_timeout_us = 20000;  // stale stream -> a hold: levelled hover (within 25 ms)
-  // A hold this long is the failsafe hover: a 100 ms radio outage is ridden out, a dead ground
-  // station is a failsafe 0.22 s after its last setpoint (and lands as before).
-  std::uint32_t hold_max_us = 200000;
-  // Lost ground heartbeat -> failsafe. Longer than a hold: a radio out for 100 ms loses some
-  // heartbeats (50 Hz) and must not look like a lost ground station (the ground station reads
-  // this flag in VEHICLE_HEARTBEAT as "the vehicle hears us", docs/groundstation.md).
+  // The link is lost after 0.3 s of silence, on both ends (the ground station's vehicle timeout
+  // is the same): shorter silences are a radio fading (outages of 100 ms, two or three back to
+  // back), which the vehicle rides out in a hold; longer is a dead ground station.
+  // A hold this long is the failsafe hover (a dead ground station: 0.32 s after its last setpoint).
+  std::uint32_t hold_max_us = 300000;
+  // Lost ground heartbeat -> failsafe. The ground station reads this flag in VEHICLE_HEARTBEAT as
+  // "the vehicle hears us" (docs/groundstation.md), so it too must outlast a fading radio.
   std::uint32_t heartbeat_timeout_us = 300000;
   std::uint32_t imu_timeout_us = 5000;  // IMU unhealthy this long -> IMU lost (motors off in the air)
   std::uint32_t hover_before_descent_us = 500000;  // failsafe hover lasts 0.5 s, then descent
