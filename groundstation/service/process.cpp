@@ -152,10 +152,11 @@ void Process::act_on(const pa_arena_OperatorCommand& command, double now_s) {
         return;
       }
       thrower_ = request.thrower;
+      const std::string attempt = "attempt " + std::to_string(station_.current_attempt().number);
       answer(command, true,
-             "throw: attempt " + std::to_string(station_.current_attempt().number) + " with vehicle " +
-                 std::to_string(request.thrower.node()) + " throwing",
+             "throw: " + attempt + " with vehicle " + std::to_string(request.thrower.node()) + " throwing",
              now_s);
+      publish(pa_arena_event_attempt, request.thrower, attempt, now_s);
       return;
     }
     default: answer(command, false, name + " refused: unknown kind", now_s); return;

@@ -16,7 +16,7 @@ namespace {
 
 constexpr const char* kEventNames[] = {"launch",      "impact",   "catch success", "catch miss",
                                        "abort",       "failsafe", "vehicle lost",  "vehicle back",
-                                       "task change", "refused",  "accepted"};
+                                       "task change", "refused",  "accepted",      "attempt"};
 
 std::string task_text(std::uint8_t task) {
   if (task >= mission::kTaskCount) return "task " + std::to_string(task);

@@ -9,7 +9,6 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -185,22 +184,17 @@ class Runner {
     }
   }
 
-  // The operator's accepted throw ("throw: attempt N with vehicle V throwing") asks the person
-  // standing by to hand the pole up to vehicle V.
+  // An attempt that begins (the operator's throw accepted) asks the person standing by to hand
+  // the pole up to its thrower.
   void take_events() {
     while (const pa_arena_Event* e = events_.take()) {
-      if (gs::dds::raw_enum(e->kind) != pa_arena_event_command_accepted) continue;
-      const char* throwing = std::strstr(e->detail, "with vehicle ");
-      unsigned node = 0;
-      if (throwing == nullptr || std::strstr(e->detail, "throw: attempt") == nullptr ||
-          std::sscanf(throwing, "with vehicle %u throwing", &node) != 1 || node > 255 ||
-          !pa::is_act_vehicle(pa::VehicleId(static_cast<std::uint8_t>(node))))
-        continue;
-      exchange_.hand_pole_to(pa::VehicleId(static_cast<std::uint8_t>(node)));
+      const pa::VehicleId thrower(e->vehicle);
+      if (gs::dds::raw_enum(e->kind) != pa_arena_event_attempt || !pa::is_act_vehicle(thrower)) continue;
+      exchange_.hand_pole_to(thrower);
       std::printf(
           "hil run: %.3f s: a throw by vehicle %u accepted: the pole goes on its plate once it hovers "
           "still at the throw's height\n",
-          exchange_.t_s(), node);
+          exchange_.t_s(), static_cast<unsigned>(thrower.node()));
       std::fflush(stdout);
     }
   }

@@ -77,9 +77,11 @@ struct Rig {
   }
 
   void collect(std::chrono::nanoseconds wait) {
-    for (const pa_arena_Event* e = events.wait_take(wait); e != nullptr; e = events.take())
+    for (const pa_arena_Event* e = events.wait_take(wait); e != nullptr; e = events.take()) {
       if (e->kind == pa_arena_event_command_accepted || e->kind == pa_arena_event_command_refused)
         answers.push_back(*e);
+      if (e->kind == pa_arena_event_attempt) attempts.push_back(*e);
+    }
   }
 
   std::vector<pa_arena_Event> of(std::uint32_t sequence_number) const {
@@ -107,7 +109,8 @@ struct Rig {
   gs::dds::Writer<pa_arena_OperatorCommand> commands;
   gs::dds::Reader<pa_arena_Event> events;
   double now_s = 10.0;
-  std::vector<pa_arena_Event> answers;  // every answer seen, oldest first
+  std::vector<pa_arena_Event> answers;   // every answer seen, oldest first
+  std::vector<pa_arena_Event> attempts;  // every attempt event seen, oldest first
 };
 
 }  // namespace
@@ -132,6 +135,23 @@ TEST_CASE("An operator command gets exactly one answer naming its sequence numbe
   CHECK(next[0].kind == pa_arena_event_command_accepted);
   CHECK(rig.process.counters().commands_accepted == 2);
   CHECK(rig.process.counters().commands_refused == 1);
+}
+
+TEST_CASE("An accepted throw begins an attempt: its event names the thrower, a refused one has none") {
+  Rig rig(130);
+  rig.send(pa_arena_command_throw, 2, 7);
+  const std::vector<pa_arena_Event> answer = rig.answers_to(7);
+  REQUIRE(answer.size() == 1);
+  CHECK(answer[0].kind == pa_arena_event_command_accepted);
+  REQUIRE(rig.attempts.size() == 1);
+  CHECK(rig.attempts[0].vehicle == 2);  // what hil run hands the pole up to
+  CHECK(std::string(rig.attempts[0].detail) == "attempt 1");
+
+  rig.send(pa_arena_command_throw, 1, 8);  // an attempt is running
+  const std::vector<pa_arena_Event> refused = rig.answers_to(8);
+  REQUIRE(refused.size() == 1);
+  CHECK(refused[0].kind == pa_arena_event_command_refused);
+  CHECK(rig.attempts.size() == 1);
 }
 
 TEST_CASE(
