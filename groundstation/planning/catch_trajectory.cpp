@@ -21,7 +21,7 @@ constexpr double kScanStep_s = 1e-3;
 bool allFinite(const CatchTrajectoryParams& p) {
   return p.start_xy_m.allFinite() && p.target_xy_m.allFinite() && std::isfinite(p.catch_height_m) &&
          std::isfinite(p.t_xy_s) && std::isfinite(p.a_max_mps2) && std::isfinite(p.k_max_mps3) &&
-         std::isfinite(p.yaw_rad) && std::isfinite(p.gravity_mps2);
+         std::isfinite(p.yaw_rad) && std::isfinite(p.gravity_mps2) && std::isfinite(p.xy_lead_s);
 }
 
 }  // namespace
@@ -35,6 +35,8 @@ std::string_view to_string(CatchParamError error) {
     case CatchParamError::kNonPositiveJerk: return "k_max must be positive";
     case CatchParamError::kNonPositiveGravity: return "gravity must be positive";
     case CatchParamError::kHoldTooShort: return "T_xy must be at least a_max / k_max (Fig. 6)";
+    case CatchParamError::kBadLead:
+      return "the xy lead must be between 0 and t3, and a lead needs a_max below g";
   }
   return "unknown";
 }
@@ -47,6 +49,11 @@ CatchParamError validate(const CatchTrajectoryParams& p) {
   if (!(p.gravity_mps2 > 0.0)) return CatchParamError::kNonPositiveGravity;
   // The hold h = T_xy - a_max/k_max must be >= 0; a relative tolerance keeps T_xy = a/k valid.
   if (p.t_xy_s < p.a_max_mps2 / p.k_max_mps3 * (1.0 - 1e-12)) return CatchParamError::kHoldTooShort;
+  // t3 = 2 a_max / k_max + T_xy ((48) less the last T_xy). With a lead the xy correction runs
+  // in the dive too, where the check's bounds need the vertical specific force g - a_max > 0.
+  const double t3 = 2.0 * p.a_max_mps2 / p.k_max_mps3 + p.t_xy_s;
+  if (!(p.xy_lead_s >= 0.0) || p.xy_lead_s > t3 || (p.xy_lead_s > 0.0 && !(p.a_max_mps2 < p.gravity_mps2)))
+    return CatchParamError::kBadLead;
   return CatchParamError::kNone;
 }
 
@@ -206,8 +213,8 @@ std::optional<CatchTrajectory> CatchTrajectory::create(const CatchTrajectoryPara
 
 CatchTrajectory::CatchTrajectory(const CatchTrajectoryParams& params)
     : params_(params), z_(params.catch_height_m, params.t_xy_s, params.a_max_mps2, params.k_max_mps3) {
-  x_ = MinSnapAxis{params.start_xy_m.x(), params.target_xy_m.x(), params.t_xy_s};
-  y_ = MinSnapAxis{params.start_xy_m.y(), params.target_xy_m.y(), params.t_xy_s};
+  x_ = MinSnapAxis{params.start_xy_m.x(), params.target_xy_m.x(), xy_duration_s()};
+  y_ = MinSnapAxis{params.start_xy_m.y(), params.target_xy_m.y(), xy_duration_s()};
   const Eigen::Vector2d d = params.target_xy_m - params.start_xy_m;
   distance_m_ = d.norm();
   if (distance_m_ > 0.0) {
@@ -247,7 +254,7 @@ CatchReference CatchTrajectory::reference(double t_s) const {
 //   Omega_z = -sin(phi) theta' =  h s c J / (N (h^2 c^2 + w^2))
 // and Omega_x^2 + Omega_y^2 = (J / N^2)^2 = |d/dt (f/|f|)|^2.
 CatchTrajectory::PointInputs CatchTrajectory::xy_phase_inputs(double t_s) const {
-  const double T = params_.t_xy_s;
+  const double T = xy_duration_s();
   const double tau = std::clamp((t_s - xy_start_time_s()) / T, 0.0, 1.0);
   const double h = distance_m_ / (T * T) * min_snap_shape::d2(tau);
   const double h_dot = distance_m_ / (T * T * T) * min_snap_shape::d3(tau);
@@ -264,8 +271,9 @@ CatchTrajectory::PointInputs CatchTrajectory::xy_phase_inputs(double t_s) const 
   return {n, omega[axis], axis};
 }
 
-// The bounds used on a section [ta, tb] of phase 4 or 5 (xy moving; w = z'' + g is linear in t,
-// w' constant, and w >= g > 0 because z'' is in [0, a_max] there):
+// The bounds used on a section [ta, tb] of one phase with xy moving (w = z'' + g is linear in t,
+// w' constant, and w >= g - a_max > 0: z'' >= 0 in [t3, t5], and validate() asks a_max < g of a
+// lead into the dive):
 //   h  in [h_min, h_max]     exact: sigma'' at the ends and at its interior extremes
 //   h' in [hd_min, hd_max]   exact: sigma''' at the ends and at its interior extremes
 //   w  in [w_lo, w_hi]       exact (linear)
@@ -281,17 +289,27 @@ CatchTrajectory::PointInputs CatchTrajectory::xy_phase_inputs(double t_s) const 
 FeasibilityVerdict CatchTrajectory::check_feasibility(const InputLimits& limits) const {
   FeasibilityVerdict verdict;
   const double g = params_.gravity_mps2;
-  const double a_max = params_.a_max_mps2;
   const auto& tz = z_.phase_times_s();
-  const double T = params_.t_xy_s;
-  const double t3 = xy_start_time_s();
+  const double T = xy_duration_s();
+  const double t3 = xy_start_time_s();  // the xy start (t3 itself without a lead)
 
-  // Phases [t0, t3], xy at rest: a_q = z'' + g in [g - a_max, g + a_max], no rates. The signed
-  // value is used so that a_max > g (a thrust that would have to point down) reads as too low.
-  const bool low = g - a_max < limits.a_q_min_mps2;
-  const bool high = g + a_max > limits.a_q_max_mps2;
+  // Before the xy start, xy at rest: a_q = z'' + g, piecewise linear, so its extremes are at the
+  // phase boundaries and the xy start; no rates. The signed value is used so that a_max > g (a
+  // thrust that would have to point down) reads as too low.
+  double rest_hi = g, rest_hi_t = 0.0, rest_lo = g, rest_lo_t = 0.0;
+  auto rest_extremes = [&](double t) {
+    const double w = z_(t).ddz + g;
+    if (w > rest_hi) rest_hi = w, rest_hi_t = t;
+    if (w < rest_lo) rest_lo = w, rest_lo_t = t;
+  };
+  for (const double t : tz)
+    if (t <= t3) rest_extremes(t);
+  rest_extremes(t3);
+  const bool low = rest_lo < limits.a_q_min_mps2;
+  const bool high = rest_hi > limits.a_q_max_mps2;
 
-  // Phases [t3, t5]: bisection with a fixed stack (depth <= log2(T_xy / 1 ms) + 1 per phase).
+  // The phases from the xy start to t5: bisection with a fixed stack (depth <= log2(T_xy / 1 ms)
+  // + 1 per phase).
   const double h_scale = distance_m_ / (T * T);
   const double j_scale = distance_m_ / (T * T * T);
   const double thrust_max2 = limits.a_q_max_mps2 * limits.a_q_max_mps2;
@@ -305,12 +323,12 @@ FeasibilityVerdict CatchTrajectory::check_feasibility(const InputLimits& limits)
     double ta, tb;
   };
   std::array<Section, 96> stack;
-  const std::array<Section, 2> phases = {Section{tz[3], tz[4]}, Section{tz[4], tz[5]}};
   double found_t = -1.0;  // where the bisection met an exact violation
-  for (int phase = 0; phase < 2 && !(low || high || found_t >= 0.0); ++phase) {
-    const double w_dot = z_.phase_jerks_mps3()[3 + phase];
+  for (int phase = 0; phase < 5 && !(low || high || found_t >= 0.0); ++phase) {
+    const Section moving{std::max(tz[phase], t3), tz[phase + 1]};  // the phase's part with xy moving
+    const double w_dot = z_.phase_jerks_mps3()[phase];
     int top = 0;
-    if (phases[phase].tb > phases[phase].ta) stack[top++] = phases[phase];
+    if (moving.tb > moving.ta) stack[top++] = moving;
     while (top > 0 && found_t < 0.0) {
       const Section s = stack[--top];
       const double tau_a = std::clamp((s.ta - t3) / T, 0.0, 1.0);
@@ -383,11 +401,11 @@ FeasibilityVerdict CatchTrajectory::check_feasibility(const InputLimits& limits)
   }
   if (!(low || high || found_t >= 0.0)) return verdict;
 
-  // Infeasible: locate the worst value of every limit. Phases [t0, t3] analytically, the xy
+  // Infeasible: locate the worst value of every limit. Before the xy start analytically, the xy
   // phase by an exact scan every 1 ms plus the phase boundaries and the min-snap extremes.
   verdict.certified = true;
-  double thrust_hi = g + a_max, thrust_hi_t = t3;
-  double thrust_lo = g - a_max, thrust_lo_t = tz[1];
+  double thrust_hi = rest_hi, thrust_hi_t = rest_hi_t;
+  double thrust_lo = rest_lo, thrust_lo_t = rest_lo_t;
   double rate_hi = 0.0, rate_hi_t = 0.0;
   int rate_axis = 1;
   auto consider = [&](double t) {
@@ -398,7 +416,8 @@ FeasibilityVerdict CatchTrajectory::check_feasibility(const InputLimits& limits)
   };
   const int steps = static_cast<int>(std::ceil(T / kScanStep_s));
   for (int i = 0; i <= steps; ++i) consider(std::min(t3 + i * kScanStep_s, tz[5]));
-  consider(tz[4]);
+  for (const double t : tz)
+    if (t >= t3) consider(t);
   for (double tau : kAccelPeakTau) consider(t3 + tau * T);
   for (double tau : kJerkPeakTau) consider(t3 + tau * T);
   if (found_t >= 0.0) consider(found_t);  // the scan's grid may step over it

@@ -20,6 +20,12 @@
 // It needs T_xy >= a_max/k_max. Jerk here takes the values -k_max, 0, +k_max, 0, -k_max (the two
 // holds are the saturated acceleration of the minimax solution). a_max = 0 gives the
 // constant-height correction (Fig. 7, dashed).
+//
+// Beyond the paper: the xy correction may start xy_lead_s before t3, so that it runs over the
+// last T_xy + lead of the z manoeuvre (into the dive, whose thrust g - a_max must then stay
+// positive) while the z manoeuvre, and so the height the catcher waits at, stays (48), (49). A
+// longer correction needs less acceleration and jerk for the same distance; a radio outage that
+// freezes the vehicle's attitude in it then costs less (docs/failsafe.md).
 #pragma once
 
 #include <Eigen/Core>
@@ -43,6 +49,7 @@ struct CatchTrajectoryParams {
   Eigen::Vector2d target_xy_m = Eigen::Vector2d::Zero();  // (xT, yT), at rest at the impact
   double catch_height_m = 0.0;                            // zT (vehicle centre of gravity)
   double t_xy_s = 0.65;                                   // T_xy, length of [t3, t5] (Section V)
+  double xy_lead_s = 0.0;                                 // the xy correction starts this long before t3
   double a_max_mps2 = 4.19;                               // Fig. 7
   double k_max_mps3 = 18.0;                               // Fig. 7
   double yaw_rad = 0.0;                                   // constant yaw psi for (47)
@@ -57,6 +64,7 @@ enum class CatchParamError {
   kNonPositiveJerk,      // k_max <= 0
   kNonPositiveGravity,
   kHoldTooShort,  // T_xy < a_max / k_max: no hold phase, (48)/(49) cannot both hold
+  kBadLead,       // xy_lead_s < 0, beyond t3, or with a_max >= g (no lift in the dive)
 };
 std::string_view to_string(CatchParamError error);
 CatchParamError validate(const CatchTrajectoryParams& params);
@@ -147,9 +155,10 @@ struct LimitViolation {
 };
 
 // What check_feasibility guarantees (see catch_trajectory.cpp for the bounds):
-// - Phases [t0, t3] (xy at rest): exact. The thrust is z'' + g, extremes g - a_max and g + a_max,
-//   and the body rates are zero (the jerk is parallel to f).
-// - Phases [t3, t4] and [t4, t5] (xy moving): recursive bisection. On each section rigorous upper
+// - Before the xy start (t3 - xy_lead_s; xy at rest): exact. The thrust is z'' + g, piecewise
+//   linear, its extremes at the phase boundaries, and the body rates are zero (the jerk is
+//   parallel to f).
+// - The phases from the xy start to t5 (xy moving): recursive bisection. On each section rigorous upper
 //   and lower bounds of a_q and of max_i |Omega_i| are formed from the exact ranges of the
 //   min-snap acceleration and jerk (their extremes are at known tau) and of z'' + g (linear). A
 //   section whose bounds satisfy the limits is certified; one whose exact midpoint value violates
@@ -180,9 +189,10 @@ class CatchTrajectory {
 
   const CatchTrajectoryParams& params() const { return params_; }
   const MinimaxZManoeuvre& z_manoeuvre() const { return z_; }
-  double duration_s() const { return z_.duration_s(); }                        // T_z (impact time)
-  double xy_start_time_s() const { return z_.duration_s() - params_.t_xy_s; }  // t3
-  double start_height_m() const { return z_.start_height_m(); }                // z0
+  double duration_s() const { return z_.duration_s(); }  // T_z (impact time)
+  double xy_duration_s() const { return params_.t_xy_s + params_.xy_lead_s; }
+  double xy_start_time_s() const { return z_.duration_s() - xy_duration_s(); }  // t3 - lead
+  double start_height_m() const { return z_.start_height_m(); }                 // z0
 
  private:
   explicit CatchTrajectory(const CatchTrajectoryParams& params);

@@ -821,6 +821,7 @@ void GroundStation::update_catch_target(double now_s) {
   params.target_xy_m = catch_target_xy_m_;
   params.catch_height_m = height - pa::kPlateHeightAboveCg_m;
   params.t_xy_s = config_.t_xy_s;
+  params.xy_lead_s = config_.catch_xy_lead_s;
   params.a_max_mps2 = config_.catch_a_max_mps2;
   params.k_max_mps3 = config_.catch_k_max_mps3;
   std::optional<planning::CatchTrajectory> plan = planning::CatchTrajectory::create(params);
