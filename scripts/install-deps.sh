@@ -5,6 +5,8 @@ set -euo pipefail
 
 packages=(
   build-essential cmake ninja-build pkg-config
+  # the compiler cache: a second clone's build reuses the first one's objects (CMakeLists.txt)
+  ccache
   catch2 libbenchmark-dev libeigen3-dev
   cyclonedds-dev cyclonedds-tools coinor-libipopt-dev libsqlite3-dev libsodium-dev
   libcli11-dev libyaml-cpp-dev clang-format

@@ -32,6 +32,16 @@ std::string_view condition_name(int bit) {
   return bit >= 0 && bit < condition::kCount ? kNames[static_cast<std::size_t>(bit)] : "?";
 }
 
+std::string condition_names(std::uint32_t word) {
+  std::string out;
+  for (int b = 0; b < condition::kCount; ++b) {
+    if ((word & (std::uint32_t{1} << b)) == 0) continue;
+    if (!out.empty()) out += '|';
+    out += condition_name(b);
+  }
+  return out.empty() ? "0" : out;
+}
+
 std::string_view reason_name(Reason reason) {
   switch (reason) {
     case Reason::none: return "none";

@@ -17,6 +17,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 #include <string_view>
 
 namespace gs::mission {
@@ -80,6 +81,8 @@ inline constexpr std::uint32_t request_land = 1u << 22;
 inline constexpr int kCount = 23;
 }  // namespace condition
 std::string_view condition_name(int bit);
+// The bits of a condition word by name, "vehicle_lost|armed", or "0" (for logs and tests).
+std::string condition_names(std::uint32_t word);
 
 enum class Reason : std::uint8_t {
   none,

@@ -5,9 +5,7 @@
 #include <stdexcept>
 
 #include "groundstation/control/balancing_lqr.hpp"
-#include "groundstation/control/controller_states.hpp"
 #include "groundstation/control/hover_lqr.hpp"
-#include "groundstation/planning/catch_point_predictor.hpp"
 #include "groundstation/planning/catching_instant.hpp"
 #include "groundstation/planning/throw_command.hpp"
 
@@ -17,17 +15,16 @@ namespace {
 namespace c = mission::condition;
 using mission::Task;
 
-constexpr double kGravity_mps2 = pa::kGravity_mps2;
-
-// The lower end of a pole state (the end nearer the floor).
-Eigen::Vector3d lower_end(const model::PoleState& s, double half_length_m) {
-  const Eigen::Vector3d a = s.p_m + half_length_m * s.n;
-  const Eigen::Vector3d b = s.p_m - half_length_m * s.n;
-  return a.z() < b.z() ? a : b;
-}
-
 // The pole's tilt from the vertical (either end up).
 double tilt_rad(const model::PoleState& s) { return std::acos(std::min(1.0, std::abs(s.n.z()))); }
+
+// The pole's end nearest the plate, from the latest pose.
+double pole_end_from_plate_m(const estimation::MocapPose& pose, const Eigen::Vector3d& plate_m,
+                             double half_length_m) {
+  const Eigen::Vector3d n = pose.q * Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d a = pose.p_m + half_length_m * n, b = pose.p_m - half_length_m * n;
+  return std::min((a - plate_m).norm(), (b - plate_m).norm());
+}
 
 // Where the pole rests: its end at the plate (the on-vehicle filter estimates where on the plate
 // it landed), moving with the plate. A pole caught 1.6 cm off the plate's centre, balanced about
@@ -42,67 +39,42 @@ control::Pivot resting_pivot(const estimation::PlateKinematics& plate, const mod
   return {(a - plate.p_m).norm() < (b - plate.p_m).norm() ? a : b, plate.v_mps};
 }
 
-}  // namespace
-
-std::string_view attempt_phase_name(AttemptPhase phase) {
-  switch (phase) {
-    case AttemptPhase::idle: return "idle";
-    case AttemptPhase::preparing: return "preparing";
-    case AttemptPhase::throwing: return "throwing";
-    case AttemptPhase::flight: return "flight";
-    case AttemptPhase::balancing: return "balancing";
-    case AttemptPhase::ended: return "ended";
-  }
-  return "?";
+planning::InputLimits input_limits(const model::VehicleLimits& l) {
+  return {l.a_q_min_mps2, l.a_q_max_mps2, l.omega_max_radps};
 }
+
+control::LqrGain designed(const control::LqrGain& gain) {
+  if (!gain.ok) throw std::runtime_error("the LQR design failed");
+  return gain;
+}
+
+planning::PlanarLaunchState planned_launch(const planning::ThrowBook& throws) {
+  return adaptation::launch_state_of(throws.plan().trajectory.state_at(throws.problem().duration_s));
+}
+
+adaptation::Learner make_learner(const GroundStationConfig& config, const planning::ThrowBook& throws) {
+  const model::PoleParams& pole = config.estimator.free_flight.pole;
+  const planning::CatchingInstant nominal = planning::find_catching_instant(
+      planning::pole_state_at_launch(planning::fig5_launch_state(), pole), pole);
+  return adaptation::Learner(config.learning, adaptation::nominal_adaptation_settings(pole),
+                             nominal.found ? nominal.t_s : 0.8, planned_launch(throws),
+                             adaptation::damped_inverse(adaptation::throw_sensitivity(throws.tracker()),
+                                                        config.learning.throw_learning.damping),
+                             config.learnt, config.adaptation_store_path);
+}
+
+}  // namespace
 
 GroundStation::GroundStation(link::FrameBus& bus, const GroundStationConfig& config)
     : config_(config),
       link_(bus, {pa::kActVehicles.begin(), pa::kActVehicles.end()}, config.link),
-      estimator_(config.estimator) {
-  problem_.limits = config_.limits;
-  plan_ = planning::plan_throw(problem_);
-  if (!plan_.success) throw std::runtime_error("the throw could not be planned: " + plan_.status);
-  tracker_.emplace(plan_.trajectory, config_.throw_tracking);
-  if (!tracker_->valid()) throw std::runtime_error("the throw's TV-LQR could not be designed");
-  throw_inverse_sensitivity_ =
-      adaptation::damped_inverse(adaptation::throw_sensitivity(*tracker_), config_.throw_learning.damping);
-  hover_ = control::hover_lqr();
-  balancing_ = control::balancing_lqr();
-  if (!hover_.ok || !balancing_.ok) throw std::runtime_error("the LQR design failed");
-  const model::PoleParams& pole = config_.estimator.free_flight.pole;
-  adaptation_settings_ = adaptation::nominal_adaptation_settings(pole);
-  adaptation_ = adaptation::initial_adaptation(adaptation_settings_);
+      estimator_(config.estimator),
+      throws_(config.limits, config.throw_tracking),
+      hover_(designed(control::hover_lqr())),
+      balancing_(designed(control::balancing_lqr())),
+      learner_(make_learner(config, throws_)),
+      catch_(config.catching, input_limits(config.limits)) {
   frame_ = throw_frame(pa::kVehicle1);
-  const planning::CatchingInstant nominal = planning::find_catching_instant(
-      planning::pole_state_at_launch(planning::fig5_launch_state(), pole), pole);
-  catch_instant_s_ = nominal.found ? nominal.t_s : 0.8;
-  // What earlier runs learnt (the adaptation store's state), in force from the first throw.
-  if (config_.learnt) {
-    adaptation_ = config_.learnt->state;
-    catch_instant_s_ = config_.learnt->catch_instant_s;
-    catch_instant_samples_ = config_.learnt->catch_instant_samples;
-    throw_correction_ = config_.learnt->throw_correction;
-  }
-  if (!config_.adaptation_store_path.empty()) {
-    store_.emplace(
-        adaptation::AdaptationStore::open_or_create(config_.adaptation_store_path, adaptation_settings_));
-    const adaptation::AdaptationSnapshot snapshot = store_->adaptation();
-    adaptation_ = snapshot.state;
-    catch_instant_samples_ = 0;
-    for (const adaptation::StoredThrow& t : store_->history()) {
-      if (t.id < snapshot.epoch_first_id) continue;
-      // The throw's correction is the sum of the epoch's launch errors (throw_learning.hpp); a
-      // throw without a launch keeps the zero state (no vehicle launches from the origin at rest).
-      if (config_.throw_learning.gain > 0.0 &&
-          adaptation::launch_vector(t.record.launch) != adaptation::LaunchVector::Zero())
-        throw_correction_ = adaptation::learn_from_throw(throw_correction_, t.record.launch, planned_launch(),
-                                                         config_.throw_learning, throw_inverse_sensitivity_);
-      if (!t.record.optimal) continue;
-      ++catch_instant_samples_;
-      catch_instant_s_ += (t.record.optimal->t_s - catch_instant_s_) / catch_instant_samples_;
-    }
-  }
 }
 
 GroundStation::Vehicle& GroundStation::vehicle_of(pa::VehicleId id) {
@@ -115,14 +87,11 @@ const GroundStation::Vehicle& GroundStation::vehicle_of(pa::VehicleId id) const 
 }
 
 mission::Task GroundStation::task(pa::VehicleId id) const { return vehicle_of(id).sequencer.task(); }
-const mission::VehicleSequencer& GroundStation::sequencer(pa::VehicleId id) const {
-  return vehicle_of(id).sequencer;
-}
 
 control::ThrowFrame GroundStation::throw_frame(pa::VehicleId thrower) const {
   const control::ThrowFrame first{config_.throw_origin_m, config_.throw_yaw_rad};
   if (vehicle_of(thrower).id == pa::kVehicle1) return first;
-  const Eigen::Vector2d back = first.to_arena_xy(adaptation_.waiting_xy_m);
+  const Eigen::Vector2d back = first.to_arena_xy(adaptation().waiting_xy_m);
   return {Eigen::Vector3d(back.x(), back.y(), config_.throw_origin_m.z()), config_.throw_yaw_rad + M_PI};
 }
 
@@ -130,48 +99,24 @@ control::ThrowFrame GroundStation::throw_frame(pa::VehicleId thrower) const {
 // throw to a target comes down on the target.
 Eigen::Vector2d GroundStation::waiting_xy() const {
   if (target_throw_) return target_throw_->plan.target_m.head<2>();
-  return frame_.to_arena_xy(adaptation::compensate_offset_bias(adaptation_.waiting_xy_m, adaptation_));
+  return frame_.to_arena_xy(adaptation::compensate_offset_bias(adaptation().waiting_xy_m, adaptation()));
 }
 double GroundStation::catch_height() const {
   if (target_throw_) return target_throw_->plan.target_m.z();
-  return frame_.origin_m.z() + adaptation_.catch_height_m;
+  return frame_.origin_m.z() + adaptation().catch_height_m;
 }
-
-// The evaluation of (42) on the observed flight must agree with the prediction of it made in
-// flight, shortly after the launch (the retiming): a sample that does not is an evaluation gone
-// wrong (a flight cut short, an extrapolation from a bad estimate), not a throw, and a mean would
-// carry it for ever (measured: one sample of -6.4 m moved the catching height by 0.9 m and every
-// later catch missed). Gating against the adapted mean instead locks a bad first sample in
-// (measured: the following good ones were 0.5 m away and rejected).
-bool GroundStation::evaluation_agrees_with_prediction() const {
-  if (!current_.optimal || !current_.predicted_optimal) return false;
-  const adaptation::OptimalCatch& o = current_.optimal->point;
-  const adaptation::OptimalCatch& p = *current_.predicted_optimal;
-  return std::abs(o.height_m - p.height_m) < config_.adaptation_gate_m &&
-         (o.xy_m - p.xy_m).norm() < config_.adaptation_gate_m &&
-         std::abs(o.t_s - p.t_s) < config_.adaptation_gate_s;
+Eigen::Vector3d GroundStation::waiting_target() const {
+  const Eigen::Vector2d xy = waiting_xy() + request_.catch_offset_m;
+  return Eigen::Vector3d(xy.x(), xy.y(), catch_.z_manoeuvre(catch_height()).start_height_m());
 }
-
-// The optimal catch point evaluated after the throw against the one it was planned to.
-void GroundStation::learn_target_miss() {
-  if (!target_throw_ || !evaluation_agrees_with_prediction()) return;
-  const adaptation::OptimalCatch& o = current_.optimal->point;
-  const Eigen::Vector3d came_down(o.xy_m.x(), o.xy_m.y(), o.height_m);
-  const Eigen::Vector3d miss = frame_.to_frame(came_down) - frame_.to_frame(target_throw_->plan.target_m);
-  if (miss.norm() > config_.adaptation_outlier_m) return;
-  ++target_miss_samples_;
-  target_miss_m_ += adaptation::iterative_mean_gain(target_miss_samples_ - 1, adaptation_settings_.window) *
-                    (miss - target_miss_m_);
-}
-
 Eigen::Vector3d GroundStation::throw_origin_target() const {
   return frame_.origin_m - pa::kPlateHeightAboveCg_m * Eigen::Vector3d::UnitZ();
 }
 const planning::ThrowTrajectory& GroundStation::flown_throw() const {
-  return target_throw_ ? target_throw_->plan.plan.trajectory : plan_.trajectory;
+  return target_throw_ ? target_throw_->plan.plan.trajectory : throws_.plan().trajectory;
 }
 const planning::ThrowTracker& GroundStation::flown_tracker() const {
-  return target_throw_ ? target_throw_->tracker : *tracker_;
+  return target_throw_ ? target_throw_->tracker : throws_.tracker();
 }
 
 void GroundStation::request_take_off() {
@@ -195,21 +140,12 @@ bool GroundStation::request_attempt(const AttemptRequest& request) {
   if (phase_ != AttemptPhase::idle) return false;
   if (!pa::is_act_vehicle(request.thrower)) return false;
   const control::ThrowFrame frame = throw_frame(request.thrower);
-  std::optional<TargetThrow> target_throw;
+  std::optional<planning::TargetThrow> target_throw;
   if (request.target_xy_m) {
-    if (!target_planner_) target_planner_.emplace(problem_);
-    if (!target_planner_->valid()) return false;
     const Eigen::Vector3d target(request.target_xy_m->x(), request.target_xy_m->y(),
-                                 frame.origin_m.z() + adaptation_.catch_height_m);
-    const Eigen::Vector2d towards = target.head<2>() - frame.origin_m.head<2>();
-    const control::ThrowFrame towards_target{frame.origin_m, std::atan2(towards.y(), towards.x())};
-    // Planned that much the other way from the target as throws to targets came down from theirs.
-    const Eigen::Vector3d aim = target - (towards_target.to_arena(target_miss_m_) - frame.origin_m);
-    planning::TargetThrowPlan plan = target_planner_->plan(frame.origin_m, aim);
-    if (!plan.success) return false;
-    planning::ThrowTracker tracker(plan.plan.trajectory, config_.throw_tracking);
-    if (!tracker.valid()) return false;
-    target_throw.emplace(TargetThrow{target, std::move(plan), std::move(tracker)});
+                                 frame.origin_m.z() + adaptation().catch_height_m);
+    target_throw = throws_.plan_to(frame.origin_m, target, learner_.target_miss_m());
+    if (!target_throw) return false;
   }
   target_throw_ = std::move(target_throw);
   frame_ = target_throw_ ? control::ThrowFrame{frame.origin_m, target_throw_->plan.yaw_rad} : frame;
@@ -217,19 +153,15 @@ bool GroundStation::request_attempt(const AttemptRequest& request) {
   phase_ = AttemptPhase::preparing;
   current_ = AttemptReport{};
   current_.number = ++attempt_count_;
-  current_.throw_correction = throw_correction_.end_shift;
+  current_.throw_correction = learner_.throw_correction().end_shift;
   throw_end_.reset();
   flight_.clear();
   catch_.reset();
-  catch_unreachable_ = catch_infeasible_ = catch_missed_ = false;
   balanced_since_s_.reset();
   if (target_throw_) current_.target_m = target_throw_->target_m;
   Vehicle& thrower = vehicle_of(request.thrower);
   thrower.target_m = throw_origin_target();
-  if (request.catch_it) {
-    Vehicle& catcher = other(thrower);
-    catcher.requests |= c::request_catch;
-  }
+  if (request.catch_it) other(thrower).requests |= c::request_catch;
   return true;
 }
 
@@ -241,6 +173,7 @@ void GroundStation::on_frame(const pa::proto::Frame& frame, double now_s) {
   }
 }
 
+// A vehicle that landed arms only from disarmed: its DISARM, once accepted, is followed by the ARM.
 void GroundStation::tick(double now_s) {
   link_.tick(now_s);
   for (Vehicle& v : vehicles_) {
@@ -259,71 +192,47 @@ void GroundStation::tick(double now_s) {
   }
 }
 
-std::uint32_t GroundStation::conditions(const Vehicle& v, double now_s) const {
-  std::uint32_t w = v.requests;
+mission::ConditionFacts GroundStation::facts(const Vehicle& v, double now_s) const {
+  mission::ConditionFacts f;
+  f.requests = v.requests;
   const link::VehicleLinkStatus& status = link_.status(v.id);
-  // The link is up when it works both ways: we hear the vehicle, and it hears our (signed)
-  // heartbeats, which it needs before it accepts an ARM.
-  if (status.lost || (status.flags & pa::proto::kFlagGroundHeartbeatOk) == 0) w |= c::vehicle_lost;
-  const bool estimated = estimator_.vehicle_initialised(v.id);
-  if (!estimated || now_s - v.last_pose_s > config_.lost_estimate_s) w |= c::estimate_lost;
-  if (status.armed) w |= c::armed;
-  if (status.mode == pa::proto::Mode::disarmed || status.mode == pa::proto::Mode::landed ||
-      status.mode == pa::proto::Mode::killed)
-    w |= c::on_ground;
-  if (v.command_failed) w |= c::command_failed;
-  const Task task = v.sequencer.task();
-  const double in_task_s = now_s - v.sequencer.task_since_s();
-  if (estimated) {
+  f.link_up = !status.lost && (status.flags & pa::proto::kFlagGroundHeartbeatOk) != 0;
+  f.armed = status.armed;
+  f.on_ground = status.mode == pa::proto::Mode::disarmed || status.mode == pa::proto::Mode::landed ||
+                status.mode == pa::proto::Mode::killed;
+  f.command_failed = v.command_failed;
+  f.task = v.sequencer.task();
+  f.in_task_s = now_s - v.sequencer.task_since_s();
+  f.estimated = estimator_.vehicle_initialised(v.id);
+  f.since_pose_s = now_s - v.last_pose_s;
+  f.target_m = v.target_m;
+  if (f.estimated) {
     const estimation::VehicleEstimate e = estimator_.vehicle(v.id);
-    if (e.state.p_m.z() >= v.target_m.z() - 0.1) w |= c::at_height;
-    if ((e.state.p_m - v.target_m).norm() < config_.at_target_m &&
-        e.state.v_mps.norm() < config_.at_target_speed_mps)
-      w |= c::at_target;
+    f.position_m = e.state.p_m;
+    f.velocity_mps = e.state.v_mps;
   }
-  const estimation::PoleMode mode = estimator_.mode();
+  const bool holding = f.task == Task::throwing || f.task == Task::rebalance || f.task == Task::balance;
+  if (holding && last_pole_pose_ && f.estimated)
+    f.pole_end_from_plate_m = pole_end_from_plate_m(*last_pole_pose_, estimator_.plate(v.id).p_m,
+                                                    estimator_.pole_model().half_length_m);
   const estimation::PoleEstimate pole = estimator_.pole();
-  // While throwing or balancing, the pole counts as on the plate as long as the latest pose puts
-  // an end at the plate: a mode call on the innovations during the throw's fastest phase or while
-  // a caught pole settles on the absorber can be wrong for a frame or two, and leaving the pole
-  // on such a call drops it. (With the observers' first-order rate model this happened at every
-  // release; the second-order model removed most of it, this check stays as the safety net.)
-  bool pole_at_plate = false;
-  const bool holding = task == Task::throwing || task == Task::rebalance || task == Task::balance;
-  if (holding && last_pole_pose_ && estimated) {
-    const estimation::PlateKinematics plate = estimator_.plate(v.id);
-    const Eigen::Vector3d n = last_pole_pose_->q * Eigen::Vector3d::UnitZ();
-    const double L = estimator_.pole_model().half_length_m;
-    const Eigen::Vector3d a = last_pole_pose_->p_m + L * n, b = last_pole_pose_->p_m - L * n;
-    pole_at_plate = std::min((a - plate.p_m).norm(), (b - plate.p_m).norm()) < 0.08;
-  }
-  if (pole_at_plate) w |= c::pole_on_self;
   if (pole.valid) {
-    if (mode == estimation::on_vehicle_mode(v.id)) {
-      w |= c::pole_on_self;
-      if (tilt_rad(pole.state) < config_.upright_rad) w |= c::pole_upright;
-    }
-    if (mode == estimation::PoleMode::free) w |= c::pole_free;
+    f.pole_estimated_on_self = estimator_.mode() == estimation::on_vehicle_mode(v.id);
+    if (f.pole_estimated_on_self) f.pole_tilt_rad = tilt_rad(pole.state);
+    f.pole_estimated_free = estimator_.mode() == estimation::PoleMode::free;
   }
   // The pole on the floor ends an attempt's flight (before the launch it may lie there waiting
   // to be put on the thrower).
   const bool in_flight = phase_ == AttemptPhase::flight || phase_ == AttemptPhase::balancing;
-  if (in_flight && last_pole_seen_m_ && last_pole_seen_m_->z() < config_.pole_down_height_m)
-    w |= c::pole_down;
-  if (task == Task::throwing && in_task_s >= flown_throw().duration_s()) w |= c::throw_over;
-  if (task == Task::release && in_task_s >= config_.release_low_s) w |= c::release_over;
-  const bool catcher = request_.catch_it && v.id != request_.thrower && phase_ != AttemptPhase::idle;
-  if (catcher && (phase_ == AttemptPhase::throwing || phase_ == AttemptPhase::flight) &&
-      now_s >= catch_start_s_)
-    w |= c::catch_due;
-  if (catcher && catch_unreachable_) w |= c::catch_unreachable;
-  if (catcher && catch_infeasible_) w |= c::catch_infeasible;
-  if (catcher && catch_missed_) w |= c::catch_missed;
-  if (task == Task::balance && in_task_s >= config_.balance_settle_s && balanced_since_s_ &&
-      now_s - *balanced_since_s_ >= 1.0)
-    w |= c::settled;
-  if (task == Task::clear && in_task_s >= 1.0) w |= c::settled;
-  return w;
+  f.pole_on_floor = in_flight && last_pole_seen_m_ && last_pole_seen_m_->z() < config_.pole_down_height_m;
+  f.throw_duration_s = flown_throw().duration_s();
+  f.catcher = request_.catch_it && v.id != request_.thrower && phase_ != AttemptPhase::idle;
+  f.catch_due = (phase_ == AttemptPhase::throwing || phase_ == AttemptPhase::flight) && catch_.due(now_s);
+  f.catch_unreachable = catch_.unreachable();
+  f.catch_infeasible = catch_.infeasible();
+  f.catch_missed = catch_.missed();
+  if (balanced_since_s_) f.balanced_for_s = now_s - *balanced_since_s_;
+  return f;
 }
 
 void GroundStation::enter(Vehicle& v, double now_s) {
@@ -331,10 +240,15 @@ void GroundStation::enter(Vehicle& v, double now_s) {
   const bool estimated = estimator_.vehicle_initialised(v.id);
   const Eigen::Vector3d here = estimated ? estimator_.vehicle(v.id).state.p_m : v.target_m;
   v.integral.setZero();
-  v.set_point_velocity_mps.setZero();
+  v.set_point.velocity_mps.setZero();
+  // Hold where the vehicle is now.
+  const auto hold_here = [&] {
+    v.set_point.position_m = here;
+    v.set_point.valid = true;
+  };
   switch (task) {
     case Task::parked:
-    case Task::failsafe: v.set_point_valid = false; break;
+    case Task::failsafe: v.set_point.valid = false; break;
     case Task::arming: {
       v.requests &= ~c::request_take_off;
       v.command_failed = false;
@@ -346,19 +260,15 @@ void GroundStation::enter(Vehicle& v, double now_s) {
     }
     case Task::take_off:
       v.target_m = Eigen::Vector3d(here.x(), here.y(), config_.take_off_height_m);
-      v.set_point_m = here;
-      v.set_point_valid = true;
+      hold_here();
       break;
     case Task::hover:
-      if (!v.set_point_valid) {
-        v.set_point_m = here;
-        v.set_point_valid = true;
-      }
+      if (!v.set_point.valid) hold_here();
       break;
     case Task::balance:
       balanced_since_s_.reset();
-      if (!v.set_point_valid) v.set_point_m = here;
-      v.set_point_valid = true;
+      if (!v.set_point.valid) v.set_point.position_m = here;
+      v.set_point.valid = true;
       break;
     case Task::throwing: {
       v.requests &= ~c::request_throw;
@@ -375,18 +285,13 @@ void GroundStation::enter(Vehicle& v, double now_s) {
     case Task::release: v.requests &= ~c::request_abort; break;
     case Task::retreat:
       v.target_m = throw_origin_target();
-      v.set_point_m = here;
-      v.set_point_valid = true;
+      hold_here();
       break;
     case Task::wait: break;
     case Task::catching: {
-      catch_start_s_ = std::min(catch_start_s_, now_s);
       current_.catch_start_s = now_s;
-      // The firmware classes an impact inside this window as a catch, not a crash (which
-      // would kill the motors): the manoeuvre's remaining time and a second of margin.
-      const planning::MinimaxZManoeuvre z(catch_height() - pa::kPlateHeightAboveCg_m, config_.t_xy_s,
-                                          config_.catch_a_max_mps2, config_.catch_k_max_mps3);
-      const double window_s = catch_start_s_ + z.duration_s() - now_s + 1.0;
+      const double window_s = catch_.start(now_s, catch_height(), config_.catch_window_margin_s);
+      // EXPECT_CATCH carries the window in milliseconds, 0.1-10 s (the firmware's bounds).
       v.pending =
           link_.send_command(v.id, pa::proto::CommandCode::expect_catch,
                              static_cast<std::int32_t>(std::clamp(window_s, 0.1, 10.0) * 1000.0), now_s);
@@ -396,8 +301,7 @@ void GroundStation::enter(Vehicle& v, double now_s) {
       // The ground station flies the caught pole from here: end the firmware's own reaction.
       v.pending = link_.send_command(v.id, pa::proto::CommandCode::catch_handled, 0, now_s);
       v.target_m = here;
-      v.set_point_m = here;
-      v.set_point_valid = true;
+      hold_here();
       if (!current_.impact_s) {
         current_.impact_s = now_s;
         current_.catcher_at_impact_m = here;
@@ -406,12 +310,11 @@ void GroundStation::enter(Vehicle& v, double now_s) {
     case Task::clear: {
       v.requests &= ~(c::request_abort | c::request_catch);
       // Sideways, away from where the pole comes down, at the same height.
-      Eigen::Vector2d away = here.head<2>() - catch_target_xy_m_;
+      Eigen::Vector2d away = here.head<2>() - catch_.target_xy_m();
       if (away.norm() < 0.1) away = Eigen::Vector2d(0.0, 1.0);
-      v.target_m.head<2>() = here.head<2>() + 1.0 * away.normalized();
+      v.target_m.head<2>() = here.head<2>() + config_.clear_distance_m * away.normalized();
       v.target_m.z() = here.z();
-      v.set_point_m = here;
-      v.set_point_valid = true;
+      hold_here();
       break;
     }
     case Task::landing:
@@ -430,68 +333,20 @@ void GroundStation::enter(Vehicle& v, double now_s) {
   }
 }
 
-// The set point moves to the target with a trapezoidal speed profile (accelerating, cruising,
-// braking to stop on it) and its velocity is the controllers' velocity reference: a set point
-// that jumped along at constant speed with a zero velocity reference made the vehicle lag it
-// and overshoot by 0.08 m after a 1 m move to the waiting point (measured, the paper's series).
-void GroundStation::move_set_point(Vehicle& v, const Eigen::Vector3d& position_m, double dt_s) {
-  if (!v.set_point_valid) {
-    v.set_point_m = position_m;
-    v.set_point_velocity_mps.setZero();
-    v.set_point_valid = true;
-  }
-  const Eigen::Vector3d to_go = v.target_m - v.set_point_m;
-  const double distance = to_go.norm();
-  if (distance < 1e-9) {
-    v.set_point_velocity_mps.setZero();
-    return;
-  }
-  const Eigen::Vector3d direction = to_go / distance;
-  const double a = config_.set_point_acceleration_mps2;
-  const double speed = std::min({std::max(0.0, v.set_point_velocity_mps.dot(direction)) + a * dt_s,
-                                 config_.set_point_speed_mps, std::sqrt(2.0 * a * distance)});
-  if (speed * dt_s >= distance) {
-    v.set_point_m = v.target_m;
-    v.set_point_velocity_mps.setZero();
-  } else {
-    v.set_point_m += speed * dt_s * direction;
-    v.set_point_velocity_mps = speed * direction;
-  }
+void GroundStation::integrate(Vehicle& v, const estimation::VehicleEstimate& e, double dt_s) {
+  control::integrate_position_error(v.integral, v.set_point, v.target_m, e.state.p_m, dt_s,
+                                    config_.position_integral_limit_ms);
 }
 
-model::VehicleInput GroundStation::clamp_input(model::VehicleInput u) const {
-  u.a_q_mps2 = std::clamp(u.a_q_mps2, config_.limits.a_q_min_mps2, config_.limits.a_q_max_mps2);
-  for (int i = 0; i < 3; ++i)
-    u.omega_radps(i) =
-        std::clamp(u.omega_radps(i), -config_.limits.omega_max_radps, config_.limits.omega_max_radps);
-  return u;
-}
-
-// The position integral learns constant force offsets (thrust mismatch, drag, the pole's weight)
-// at rest only: while the set point moves towards its target the vehicle lags it by design (no
-// velocity feed-forward), and integrating that lag wound the integral up: a 1 m move to the
-// waiting point overshot by 0.17 m and crept back for seconds, so the catch started from
-// elsewhere (measured, the paper's series, throw 8).
-void GroundStation::integrate_position_error(Vehicle& v, const estimation::VehicleEstimate& e, double dt_s) {
-  if ((v.target_m - v.set_point_m).norm() > 1e-9) return;
-  v.integral += (v.set_point_m - e.state.p_m) * dt_s;
-  v.integral = v.integral.cwiseMax(-1.0).cwiseMin(1.0);
-}
-
-model::VehicleInput GroundStation::hover_control(Vehicle& v, const estimation::VehicleEstimate& e,
-                                                 double dt_s, bool integrate) {
-  namespace hv = control::hover;
-  if (integrate) integrate_position_error(v, e, dt_s);
-  // The integral shifts the LQR's reference position (p_ref = set point + k_i int e): a constant
-  // force offset then leaves no position error, whatever the controller (hover or balancing).
-  Eigen::VectorXd x =
-      control::hover_state(e.state, v.set_point_m + config_.position_integral_gain * v.integral);
-  x.segment<3>(hv::kVx) -= v.set_point_velocity_mps;
-  const Eigen::VectorXd du = -hover_.K * x;
-  model::VehicleInput u;
-  u.a_q_mps2 = kGravity_mps2 + du(hv::kThrust);
-  u.omega_radps = du.segment<3>(hv::kRateX);
-  return u;
+// The integral shifts the LQR's reference position (p_ref = set point + k_i int e): a constant
+// force offset then leaves no position error, whatever the controller (hover or balancing).
+model::VehicleInput GroundStation::hover(Vehicle& v, const estimation::VehicleEstimate& e, double dt_s,
+                                         bool integrate_error) {
+  if (integrate_error) integrate(v, e, dt_s);
+  control::HoverReference reference;
+  reference.position_m = v.set_point.position_m + config_.position_integral_gain * v.integral;
+  reference.velocity_mps = v.set_point.velocity_mps;
+  return control::hover_law(hover_, e.state, reference);
 }
 
 std::optional<model::VehicleInput> GroundStation::control(Vehicle& v, double now_s, double dt_s) {
@@ -510,6 +365,7 @@ std::optional<model::VehicleInput> GroundStation::control(Vehicle& v, double now
   const estimation::PlateKinematics plate = ahead_->plate(v.id);
   const double L = ahead_->pole_model().half_length_m;
   const Eigen::Vector3d plate_offset = pa::kPlateHeightAboveCg_m * Eigen::Vector3d::UnitZ();
+  const auto clamped = [&](const model::VehicleInput& u) { return control::clamp_input(u, config_.limits); };
 
   switch (task) {
     case Task::take_off:
@@ -519,27 +375,24 @@ std::optional<model::VehicleInput> GroundStation::control(Vehicle& v, double now
     case Task::clear:
     case Task::rebalance: {
       if (task == Task::wait) v.target_m = waiting_target();
-      move_set_point(v, e.state.p_m, dt_s);
-      model::VehicleInput u = hover_control(v, e, dt_s, task != Task::take_off || e.state.p_m.z() > 0.2);
+      control::move_set_point(v.set_point, v.target_m, e.state.p_m, dt_s, config_.carrot);
+      model::VehicleInput u =
+          hover(v, e, dt_s, task != Task::take_off || e.state.p_m.z() > config_.take_off_integral_height_m);
       if (task == Task::rebalance) u.a_q_mps2 += config_.pole_weight_mps2;
-      return clamp_input(u);
+      return clamped(u);
     }
     case Task::balance: {
-      namespace bal = control::balancing;
-      move_set_point(v, e.state.p_m, dt_s);
+      control::move_set_point(v.set_point, v.target_m, e.state.p_m, dt_s, config_.carrot);
       if (pole.valid && tilt_rad(pole.state) < config_.balance_settled_rad) {
         if (!balanced_since_s_) balanced_since_s_ = now_s;
       } else {
         balanced_since_s_.reset();
       }
-      integrate_position_error(v, e, dt_s);
-      Eigen::VectorXd x = control::balancing_state(
-          resting_pivot(plate, pole.state, L), e.state, pole.state, L,
-          v.set_point_m + plate_offset + config_.position_integral_gain * v.integral);
-      x.segment<3>(bal::kVx) -= v.set_point_velocity_mps;
-      Eigen::VectorXd u = -balancing_.K * x;
-      u(bal::kThrust) += kGravity_mps2 + config_.pole_weight_mps2;
-      return clamp_input(control::from_balancing_input(u));
+      integrate(v, e, dt_s);
+      return clamped(control::balance_law(
+          balancing_, resting_pivot(plate, pole.state, L), e.state, pole.state, L,
+          v.set_point.position_m + plate_offset + config_.position_integral_gain * v.integral,
+          v.set_point.velocity_mps, config_.pole_weight_mps2));
     }
     case Task::throwing: {
       const double duration_s = flown_throw().duration_s();
@@ -564,53 +417,39 @@ std::optional<model::VehicleInput> GroundStation::control(Vehicle& v, double now
       // i.e. the state fed to the TV-LQR shifted the other way. It is learnt for the Fig. 5 throw
       // only: a throw to a target is planned anew each time.
       const model::PlanarState<double> shifted =
-          target_throw_ ? s : s - adaptation::reference_shift(throw_correction_, tau, duration_s);
+          target_throw_ ? s : s - adaptation::reference_shift(learner_.throw_correction(), tau, duration_s);
       model::VehicleInput u =
           planning::throw_command(flown_tracker(), balancing_, tau, shifted, b, config_.limits);
       u.omega_radps = frame_.body_rates_to_vehicle(u.omega_radps);
-      return clamp_input(u);
+      return clamped(u);
     }
     case Task::release: {
-      const double since = t_act - v.sequencer.task_since_s();
-      model::VehicleInput u;
-      u.a_q_mps2 = config_.limits.a_q_min_mps2;
-      u.omega_radps = since < config_.release_pitch_s
-                          ? frame_.body_rates_to_vehicle(Eigen::Vector3d(
-                                0.0, flown_throw().input.back()(model::planar::kPitchRate), 0.0))
-                          : Eigen::Vector3d(-8.0 * e.state.phi_rad, -8.0 * e.state.theta_rad, 0.0);
-      return clamp_input(u);
+      const Eigen::Vector3d pitch_back = frame_.body_rates_to_vehicle(
+          Eigen::Vector3d(0.0, flown_throw().input.back()(model::planar::kPitchRate), 0.0));
+      return clamped(control::release_law(e.state, t_act - v.sequencer.task_since_s(),
+                                          config_.release_pitch_s, pitch_back,
+                                          config_.release_level_gain_per_s, config_.limits.a_q_min_mps2));
     }
     case Task::catching: {
-      namespace hv = control::hover;
-      if (!catch_) return clamp_input(hover_control(v, e, dt_s, false));
-      const planning::CatchReference ref = catch_->reference(t_act - catch_start_s_);
+      if (!catch_.trajectory()) return clamped(hover(v, e, dt_s, false));
+      const planning::CatchReference ref = catch_.trajectory()->reference(t_act - catch_.start_s());
       // The hover LQR about the reference's state with its nominal inputs (46), (47) as feed
       // forward: a time-varying reference tracked with the hover gains, which hold across the
       // manoeuvre's tilts (at most atan(a_max / g) ~ 23 degrees plus the xy correction's). The
       // integral learnt while waiting stays in force, frozen.
-      Eigen::VectorXd x =
-          control::hover_state(e.state, ref.position_m + config_.position_integral_gain * v.integral);
-      x.segment<3>(hv::kVx) -= ref.velocity_mps;
-      x(hv::kRoll) -= ref.roll_rad;
-      x(hv::kPitch) -= ref.pitch_rad;
-      x(hv::kYaw) -= ref.yaw_rad;
-      const Eigen::VectorXd du = -hover_.K * x;
-      model::VehicleInput u;
-      u.a_q_mps2 = ref.thrust_mps2 + du(hv::kThrust);
-      u.omega_radps = ref.body_rates_radps + du.segment<3>(hv::kRateX);
-      v.set_point_m = ref.position_m;
-      return clamp_input(u);
+      control::HoverReference reference;
+      reference.position_m = ref.position_m + config_.position_integral_gain * v.integral;
+      reference.velocity_mps = ref.velocity_mps;
+      reference.roll_rad = ref.roll_rad;
+      reference.pitch_rad = ref.pitch_rad;
+      reference.yaw_rad = ref.yaw_rad;
+      reference.thrust_mps2 = ref.thrust_mps2;
+      reference.body_rates_radps = ref.body_rates_radps;
+      v.set_point.position_m = ref.position_m;
+      return clamped(control::hover_law(hover_, e.state, reference));
     }
     default: return std::nullopt;
   }
-}
-
-Eigen::Vector3d GroundStation::waiting_target() const {
-  const Eigen::Vector2d xy = waiting_xy() + request_.catch_offset_m;
-  const double z_T = catch_height() - pa::kPlateHeightAboveCg_m;
-  const planning::MinimaxZManoeuvre z(z_T, config_.t_xy_s, config_.catch_a_max_mps2,
-                                      config_.catch_k_max_mps3);
-  return Eigen::Vector3d(xy.x(), xy.y(), z.start_height_m());
 }
 
 void GroundStation::on_mocap(const estimation::MocapFrame& frame, double now_s) {
@@ -630,7 +469,7 @@ void GroundStation::on_mocap(const estimation::MocapFrame& frame, double now_s) 
   update_attempt(now_s);
   for (Vehicle& v : vehicles_) {
     const Task before = v.sequencer.task();
-    if (v.sequencer.step(conditions(v, now_s), now_s)) {
+    if (v.sequencer.step(mission::condition_word(facts(v, now_s), config_.conditions), now_s)) {
       if (events_.size() < kEventLogCapacity)
         events_.push_back({now_s, v.id, before, v.sequencer.task(), v.sequencer.last_reason()});
       enter(v, now_s);
@@ -638,17 +477,8 @@ void GroundStation::on_mocap(const estimation::MocapFrame& frame, double now_s) 
     const std::optional<model::VehicleInput> u = control(v, now_s, dt_s);
     if (!u) continue;
     const model::VehicleInput sent = link_.send_setpoint(v.id, *u);
-    v.last_sent = sent;
     estimator_.set_command(v.id, now_s + config_.command_lead_s, sent);
   }
-}
-
-Learnt GroundStation::learnt() const {
-  return {adaptation_, catch_instant_s_, catch_instant_samples_, throw_correction_};
-}
-
-planning::PlanarLaunchState GroundStation::planned_launch() const {
-  return adaptation::launch_state_of(plan_.trajectory.state_at(problem_.duration_s));
 }
 
 std::vector<link::ImpactReport> GroundStation::take_impacts() {
@@ -663,13 +493,25 @@ std::vector<MissionEvent> GroundStation::take_events() {
   return out;
 }
 
+CatchView GroundStation::catch_view(const Vehicle& catcher) const {
+  CatchView view;
+  view.catcher_task = catcher.sequencer.task();
+  view.pole = estimator_.pole();
+  view.pole_model = estimator_.pole_model();
+  view.catcher_position_m = estimator_.vehicle(catcher.id).state.p_m;
+  view.frame = frame_;
+  view.adaptation = adaptation();
+  view.catch_offset_m = request_.catch_offset_m;
+  return view;
+}
+
 void GroundStation::update_attempt(double now_s) {
   if (phase_ == AttemptPhase::idle) return;
   Vehicle& thrower = vehicle_of(request_.thrower);
   Vehicle& catcher = other(thrower);
   const estimation::PoleEstimate pole = estimator_.pole();
 
-  if (thrower.sequencer.task() == Task::balance && thrower.set_point_valid)
+  if (thrower.sequencer.task() == Task::balance && thrower.set_point.valid)
     thrower.target_m = throw_origin_target();
   // A catcher lost (no heartbeat, no pose) before the catch is in its failsafe: the catch is off.
   // Before the throw the attempt ends there (the thrower keeps balancing the pole); once thrown,
@@ -693,24 +535,19 @@ void GroundStation::update_attempt(double now_s) {
         current_.throw_start_s = thrower.sequencer.task_since_s();
         current_.waiting_xy_m = waiting_xy() + request_.catch_offset_m;
         current_.catch_height_m = catch_height();
-        catch_target_xy_m_ = current_.waiting_xy_m;
-        const planning::MinimaxZManoeuvre z(catch_height() - pa::kPlateHeightAboveCg_m, config_.t_xy_s,
-                                            config_.catch_a_max_mps2, config_.catch_k_max_mps3);
         const double catch_instant_s =
-            target_throw_ ? target_throw_->plan.catching_instant.t_s : catch_instant_s_;
-        catch_start_s_ = current_.throw_start_s + flown_throw().duration_s() + config_.launch_delay_s +
-                         catch_instant_s - z.duration_s();
-        planned_catch_start_s_ = catch_start_s_;
-        adapted_catch_height_m_ = current_.catch_height_m;
+            target_throw_ ? target_throw_->plan.catching_instant.t_s : learner_.catch_instant_s();
+        catch_.plan(current_, current_.throw_start_s + flown_throw().duration_s() + config_.launch_delay_s,
+                    catch_instant_s);
       }
       break;
     }
     case AttemptPhase::throwing: {
       // The launch: the estimator's switch to free flight after the throw's manoeuvre began.
       const std::optional<estimation::ModeSwitch> s = estimator_.last_switch();
-      // Only a call at the end of the throw (see conditions() on the flip-flops during it).
+      // Only a call at the end of the throw (see the conditions on the flip-flops during it).
       if (s && s->to == estimation::PoleMode::free &&
-          s->event_t_s > current_.throw_start_s + flown_throw().duration_s() - 0.05) {
+          s->event_t_s > current_.throw_start_s + flown_throw().duration_s() - config_.launch_call_window_s) {
         current_.launch_s = s->event_t_s;
         phase_ = AttemptPhase::flight;
       } else if (thrower.sequencer.task() != Task::throwing && thrower.sequencer.task() != Task::release &&
@@ -724,8 +561,9 @@ void GroundStation::update_attempt(double now_s) {
   }
   // The catch manoeuvre starts before the launch (T_z ~ 1.8 s against ~1.1 s of flight): plan
   // it from the throw's start on, from the waiting point until the pole flies.
-  if (phase_ == AttemptPhase::flight) predict_optimal_catch(now_s);
-  if (request_.catch_it && phase_ != AttemptPhase::preparing) update_catch_target(now_s);
+  if (phase_ == AttemptPhase::flight) catch_.retime(now_s, catch_view(catcher), current_);
+  if (request_.catch_it && phase_ != AttemptPhase::preparing)
+    catch_.update(now_s, catch_view(catcher), current_);
   if (phase_ == AttemptPhase::flight || phase_ == AttemptPhase::balancing) {
     // The pole's free flight, from the launch to the impact, for the evaluation of (42).
     if (pole.valid && pole.mode == estimation::PoleMode::free && current_.launch_s && !current_.impact_s &&
@@ -735,7 +573,7 @@ void GroundStation::update_attempt(double now_s) {
     if (catcher.sequencer.task() == Task::balance) {
       phase_ = AttemptPhase::balancing;
       if (!balanced_on_catcher_s_) balanced_on_catcher_s_ = now_s;
-      if (now_s - *balanced_on_catcher_s_ >= 3.0) {
+      if (now_s - *balanced_on_catcher_s_ >= config_.caught_after_s) {
         current_.caught = true;
         end_attempt(now_s);
         return;
@@ -744,139 +582,18 @@ void GroundStation::update_attempt(double now_s) {
       balanced_on_catcher_s_.reset();
     }
     const bool down = last_pole_seen_m_ && last_pole_seen_m_->z() < config_.pole_down_height_m;
-    if (down || now_s - current_.throw_start_s > 15.0) {
+    if (down || now_s - current_.throw_start_s > config_.attempt_timeout_s) {
       end_attempt(now_s);
       return;
     }
   }
 }
 
-void GroundStation::predict_optimal_catch(double now_s) {
-  const estimation::PoleEstimate pole = estimator_.pole();
-  const bool flying = pole.valid && pole.mode == estimation::PoleMode::free && current_.launch_s;
-  // Beyond the paper: this throw's own optimal catching instant. The adaptation gives the mean
-  // catching height and instant of past throws; a throw in other air (drag) or launched a little
-  // differently meets (42) elsewhere, and caught at the mean height its energy misses E* by up to
-  // 0.06 J (measured with randomised plants), enough to drop it. So for catch_retime_s after the
-  // launch the catch manoeuvre's end is moved to where and when this flight meets (42), within a
-  // bound: the z reference shifts by the height change and the time change, which the tracking
-  // absorbs when done this early. The prediction needs that long to converge: at 0.15 s after
-  // the launch it still put (42) 0.3 m higher and 0.05 s earlier than the evaluation after the
-  // throw did; at 0.4 s, 0.05 m and 0.01 s (measured, the paper's series with seed 1).
-  if (flying && now_s - *current_.launch_s <= config_.catch_retime_s) {
-    planning::CatchingInstantOptions options;
-    options.step_s = 0.01;
-    options.horizon_s = 2.0;
-    const planning::CatchingInstant optimal =
-        planning::find_catching_instant(pole.state, estimator_.pole_model(), options);
-    if (optimal.found) {
-      current_.predicted_optimal = adaptation::OptimalCatch{pole.t_s + optimal.t_s - *current_.launch_s,
-                                                            optimal.catch_height_m, optimal.catch_point_m};
-      current_.catch_height_m =
-          adapted_catch_height_m_ + std::clamp(optimal.catch_height_m - adapted_catch_height_m_,
-                                               -config_.catch_retime_max_m, config_.catch_retime_max_m);
-      const double end_s = planned_catch_start_s_ + catch_duration();
-      catch_start_s_ =
-          planned_catch_start_s_ +
-          std::clamp(pole.t_s + optimal.t_s - end_s, -config_.catch_retime_max_s, config_.catch_retime_max_s);
-    }
-  }
-}
-
-void GroundStation::update_catch_target(double now_s) {
-  Vehicle& catcher = other(vehicle_of(request_.thrower));
-  const Task task = catcher.sequencer.task();
-  if (task != Task::wait && task != Task::catching) return;
-  const estimation::PoleEstimate pole = estimator_.pole();
-  const double L = estimator_.pole_model().half_length_m;
-  const Eigen::Vector2d start_xy = current_.waiting_xy_m;
-  const bool flying = pole.valid && pole.mode == estimation::PoleMode::free && current_.launch_s;
-  const double height = current_.catch_height_m;
-  // The verdicts (out of reach, infeasible) wait until the prediction has converged: right after
-  // the launch call the free-flight estimate is still the on-vehicle one's guess (the paper saw
-  // the prediction converge 0.075 s after the launch).
-  const bool converged = flying && now_s - *current_.launch_s >= config_.catch_verdict_delay_s;
-  if (flying) {
-    const planning::CatchPointPrediction p =
-        planning::predict_catch_point(pole.state, height, estimator_.pole_model());
-    if (p.found) {
-      const Eigen::Vector2d predicted(p.x_m, p.y_m);
-      catch_target_xy_m_ =
-          frame_.to_arena_xy(adaptation::compensate_offset_bias(frame_.to_frame_xy(predicted), adaptation_)) +
-          request_.catch_offset_m;
-      current_.last_target_xy_m = catch_target_xy_m_;
-      current_.predicted = adaptation::CatchPoint{predicted, now_s + p.t_s - *current_.launch_s};
-      if (converged && (catch_target_xy_m_ - start_xy).norm() > config_.catch_reach_m)
-        catch_unreachable_ = true;
-      if (converged && !current_.converged_prediction) current_.converged_prediction = current_.predicted;
-    }
-    // Missed: the lower end already below the plate and still free.
-    const Eigen::Vector3d low = lower_end(pole.state, L);
-    if (task == Task::catching && catch_ && now_s - catch_start_s_ > catch_->duration_s() &&
-        low.z() < height - 0.15)
-      catch_missed_ = true;
-  }
-  planning::CatchTrajectoryParams params;
-  params.start_xy_m = start_xy;
-  params.target_xy_m = catch_target_xy_m_;
-  params.catch_height_m = height - pa::kPlateHeightAboveCg_m;
-  params.t_xy_s = config_.t_xy_s;
-  params.xy_lead_s = config_.catch_xy_lead_s;
-  params.a_max_mps2 = config_.catch_a_max_mps2;
-  params.k_max_mps3 = config_.catch_k_max_mps3;
-  std::optional<planning::CatchTrajectory> plan = planning::CatchTrajectory::create(params);
-  if (!plan) {
-    if (converged) catch_infeasible_ = true;
-    return;
-  }
-  if (converged && !plan->check_feasibility(problem_limits()).feasible()) catch_infeasible_ = true;
-  // The catch manoeuvre re-planned at every frame from the latest prediction (Section V).
-  if (task == Task::catching) catch_ = plan;
-  const estimation::VehicleEstimate e = estimator_.vehicle(catcher.id);
-  if (task == Task::catching) {
-    current_.travel_m += (e.state.p_m - last_catcher_p_m_).head<2>().norm();
-  }
-  last_catcher_p_m_ = e.state.p_m;
-}
-
-double GroundStation::catch_duration() const {
-  return planning::MinimaxZManoeuvre(adapted_catch_height_m_ - pa::kPlateHeightAboveCg_m, config_.t_xy_s,
-                                     config_.catch_a_max_mps2, config_.catch_k_max_mps3)
-      .duration_s();
-}
-
-planning::InputLimits GroundStation::problem_limits() const {
-  return planning::InputLimits{config_.limits.a_q_min_mps2, config_.limits.a_q_max_mps2,
-                               config_.limits.omega_max_radps};
-}
-
-void GroundStation::end_attempt(double now_s) {
-  Vehicle& thrower = vehicle_of(request_.thrower);
-  Vehicle& catcher = other(thrower);
-  catcher.requests &= ~c::request_catch;
-  thrower.requests &= ~c::request_throw;
-  const model::PoleParams model = estimator_.pole_model();
-  if (current_.launch_s && flight_.size() >= 2) {
-    current_.optimal = adaptation::evaluate_optimal_catch(flight_, *current_.launch_s, model);
-  }
-  // Adaptation (Section VI): every throw whose optimal catching instant could be evaluated moves
-  // the catching height and the waiting point; a catch flown to its end moves the offset bias.
+// The attempt's record in its throw's frame, as the adaptation takes it (Section VI).
+adaptation::ThrowRecord GroundStation::attempt_record(double now_s) const {
   adaptation::ThrowRecord record;
   record.time_s = current_.launch_s.value_or(now_s);
-  if (current_.launch_s && throw_end_) {
-    // The state tracked last, carried to T along the plan (a few milliseconds of it).
-    const planning::ThrowTrajectory& plan = flown_throw();
-    const double T = plan.duration_s();
-    const model::PlanarState<double> at_t =
-        throw_end_->state + plan.state_at(T) - plan.state_at(throw_end_->tau_s);
-    current_.launch_flown = adaptation::launch_state_of(at_t);
-    current_.launch_error = adaptation::launch_vector(*current_.launch_flown) -
-                            adaptation::launch_vector(adaptation::launch_state_of(plan.state_at(T)));
-    record.launch = *current_.launch_flown;
-    if (config_.throw_learning.gain > 0.0 && !target_throw_)
-      throw_correction_ = adaptation::learn_from_throw(throw_correction_, record.launch, planned_launch(),
-                                                       config_.throw_learning, throw_inverse_sensitivity_);
-  }
+  if (current_.launch_flown) record.launch = *current_.launch_flown;
   if (!request_.catch_it) {
     record.outcome = adaptation::ThrowOutcome::kThrowOnly;
   } else if (current_.caught) {
@@ -895,52 +612,58 @@ void GroundStation::end_attempt(double now_s) {
   } else {
     record.outcome = adaptation::ThrowOutcome::kMissed;
   }
-  // The record is the throw's, in its frame.
   record.catch_height_used_m = current_.catch_height_m - frame_.origin_m.z();
   record.waiting_xy_m = frame_.to_frame_xy(current_.waiting_xy_m);
-  if (current_.catch_start_s) record.target_xy_m = frame_.to_frame_xy(catch_target_xy_m_);
-  if (current_.optimal && !target_throw_) {
-    adaptation::OptimalCatch o = current_.optimal->point;
-    o.height_m -= frame_.origin_m.z();
-    o.xy_m = frame_.to_frame_xy(o.xy_m);
-    bool plausible = evaluation_agrees_with_prediction();
-    // A sound evaluation of a throw far from all the others (the thrower pushed aside, a gust)
-    // is one odd throw, not the new mean: with few samples it would move the waiting point out
-    // of reach of the next catch (measured: a throw pushed 1.5 m sideways made the next catch
-    // infeasible). It counts once such throws repeat (the system has changed), so that a bad
-    // first sample cannot lock the mean either.
-    if (plausible && adaptation_.catch_point_samples > 0) {
-      const bool odd = std::abs(o.height_m - adaptation_.catch_height_m) > config_.adaptation_outlier_m ||
-                       (o.xy_m - adaptation_.waiting_xy_m).norm() > config_.adaptation_outlier_m;
-      odd_throws_ = odd ? odd_throws_ + 1 : 0;
-      if (odd && odd_throws_ < config_.adaptation_outlier_repeats) plausible = false;
-    }
-    if (plausible) {
-      record.optimal = o;
-      catch_instant_samples_ += 1;
-      catch_instant_s_ += (o.t_s - catch_instant_s_) / static_cast<double>(catch_instant_samples_);
-    } else {
-      record.note = "optimal catch evaluation rejected: outside the adaptation gate";
-    }
-  }
-  if (current_.impact_s && current_.catcher_at_impact_m &&
-      adaptation::catcher_flew_to_target(record.outcome)) {
+  if (current_.catch_start_s) record.target_xy_m = frame_.to_frame_xy(catch_.target_xy_m());
+  if (current_.impact_s && current_.catcher_at_impact_m && adaptation::catcher_flew_to_target(record.outcome))
     record.catcher_at_impact_xy_m = frame_.to_frame_xy(current_.catcher_at_impact_m->head<2>());
+  return record;
+}
+
+void GroundStation::end_attempt(double now_s) {
+  Vehicle& thrower = vehicle_of(request_.thrower);
+  Vehicle& catcher = other(thrower);
+  catcher.requests &= ~c::request_catch;
+  thrower.requests &= ~c::request_throw;
+  if (current_.launch_s && flight_.size() >= 2)
+    current_.optimal =
+        adaptation::evaluate_optimal_catch(flight_, *current_.launch_s, estimator_.pole_model());
+  if (current_.launch_s && throw_end_) {
+    // The state tracked last, carried to T along the plan (a few milliseconds of it).
+    const planning::ThrowTrajectory& plan = flown_throw();
+    const double T = plan.duration_s();
+    const model::PlanarState<double> at_t =
+        throw_end_->state + plan.state_at(T) - plan.state_at(throw_end_->tau_s);
+    current_.launch_flown = adaptation::launch_state_of(at_t);
+    current_.launch_error = adaptation::launch_vector(*current_.launch_flown) -
+                            adaptation::launch_vector(adaptation::launch_state_of(plan.state_at(T)));
+    if (!target_throw_) learner_.learn_launch(*current_.launch_flown);
   }
-  // A throw to a target is not the Fig. 5 throw whose catch the adaptation learns (its catch
-  // point, height and instant are its plan's): recorded, neither adapted nor stored.
+  adaptation::ThrowRecord record = attempt_record(now_s);
+  // The optimal catch evaluated after the throw counts only if it agrees with the one predicted
+  // in flight (adaptation/learner.hpp).
+  const bool agrees =
+      current_.optimal && learner_.evaluation_agrees(current_.optimal->point, current_.predicted_optimal);
   if (target_throw_) {
-    learn_target_miss();
-    record.note = "a throw to a target: not adapted";
-  } else if (adaptation::validate(record).empty()) {
-    if (store_) {
-      store_->record(record);  // one transaction: the throw and the values that include it
-      adaptation_ = store_->adaptation().state;
-    } else {
-      adaptation_ = adaptation::adapt(adaptation_, record, adaptation_settings_.window);
+    // A throw to a target is not the Fig. 5 throw whose catch the adaptation learns (its catch
+    // point, height and instant are its plan's): its miss is learnt, the record kept, neither
+    // adapted nor stored.
+    if (agrees) {
+      const adaptation::OptimalCatch& o = current_.optimal->point;
+      const Eigen::Vector3d came_down(o.xy_m.x(), o.xy_m.y(), o.height_m);
+      learner_.learn_target_miss(frame_.to_frame(came_down) - frame_.to_frame(target_throw_->plan.target_m));
     }
+    record.note = "a throw to a target: not adapted";
+    learner_.keep(record);
+  } else {
+    if (current_.optimal) {
+      adaptation::OptimalCatch o = current_.optimal->point;
+      o.height_m -= frame_.origin_m.z();
+      o.xy_m = frame_.to_frame_xy(o.xy_m);
+      learner_.learn_optimal_catch(record, o, agrees);
+    }
+    learner_.adapt(record);
   }
-  records_.push_back(record);
   reports_.push_back(current_);
   phase_ = AttemptPhase::idle;
   catch_.reset();

@@ -199,7 +199,7 @@ int cmd_fly(int argc, char** argv) {
       // Each attempt on a plant drawn anew from its ranges: one series of one throw per draw,
       // after the throw that adapts only.
       // What the ground station learnt carries over from draw to draw, as its store would.
-      std::optional<gs::runtime::Learnt> learnt;
+      std::optional<gs::adaptation::Learnt> learnt;
       for (std::size_t i = 0; i < plans.size(); ++i) {
         sil::SeriesConfig config;
         config.plant = randomised(plant, seed * 1000003ULL + i);

@@ -11,7 +11,7 @@
 namespace hil::sil {
 namespace {
 
-CampaignAttempt fly(const CampaignConfig& config, const gs::runtime::Learnt& learnt, int attempt) {
+CampaignAttempt fly(const CampaignConfig& config, const gs::adaptation::Learnt& learnt, int attempt) {
   CampaignAttempt a;
   a.seed = attempt_seed(config.seed, attempt);
   a.plant = randomised(config.plant, a.seed);
@@ -28,7 +28,7 @@ CampaignAttempt fly(const CampaignConfig& config, const gs::runtime::Learnt& lea
 
 }  // namespace
 
-gs::runtime::Learnt warm_up(const PlantConfig& plant, std::uint64_t seed) {
+gs::adaptation::Learnt warm_up(const PlantConfig& plant, std::uint64_t seed) {
   SeriesConfig series;
   series.plant = plant;
   series.arena.radio = with_plant_losses(series.arena.radio, plant);
@@ -79,7 +79,7 @@ std::vector<CampaignAttempt> run_campaign(
     const std::function<void(const std::vector<const CampaignAttempt*>&)>& progress) {
   if (config.attempts < 1 || config.jobs < 1)
     throw std::runtime_error("a campaign needs attempts and jobs >= 1");
-  const gs::runtime::Learnt learnt = warm_up(config.plant, config.seed);
+  const gs::adaptation::Learnt learnt = warm_up(config.plant, config.seed);
 
   // The plants are drawn here too (a draw is cheap and deterministic): the workers report only
   // the referee's results.

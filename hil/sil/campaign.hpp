@@ -38,7 +38,7 @@ struct CampaignAttempt {
 
 // What the ground station learns from one throw (adapt only) on `plant`, flown with `seed`:
 // where a campaign's ground stations start.
-gs::runtime::Learnt warm_up(const PlantConfig& plant, std::uint64_t seed);
+gs::adaptation::Learnt warm_up(const PlantConfig& plant, std::uint64_t seed);
 
 // The seed of attempt i (1..N) of a campaign seeded with `seed`.
 std::uint64_t attempt_seed(std::uint64_t seed, int attempt);

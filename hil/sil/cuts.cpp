@@ -54,7 +54,7 @@ class PhaseTracker {
 long step_index(double t_s) { return std::lround(t_s * 1000.0); }
 
 // Flies mission `mission` with `on_step(step, phase, arena)` after every step.
-void fly_mission(const CutsConfig& config, const gs::runtime::Learnt& learnt, std::uint64_t seed,
+void fly_mission(const CutsConfig& config, const gs::adaptation::Learnt& learnt, std::uint64_t seed,
                  const std::function<void(long, std::optional<CutPhase>, const Arena&)>& on_step) {
   SeriesConfig series;
   series.plant = randomised(config.plant, seed);
@@ -69,7 +69,8 @@ void fly_mission(const CutsConfig& config, const gs::runtime::Learnt& learnt, st
   runner.run({AttemptPlan{}});
 }
 
-std::vector<CutResult> fly_group(const CutsConfig& config, const gs::runtime::Learnt& learnt, int mission) {
+std::vector<CutResult> fly_group(const CutsConfig& config, const gs::adaptation::Learnt& learnt,
+                                 int mission) {
   const std::uint64_t seed = attempt_seed(config.seed, mission);
   // Where each phase begins and ends (steps), from a first flight.
   // And when the mission itself lost each vehicle (tilted past kLostTilt_rad), if it did: a
@@ -328,7 +329,7 @@ bool decode_cuts(const std::string& line, std::vector<CutResult>& cuts) {
 std::vector<CutResult> run_cuts(const CutsConfig& config, const std::function<void(int)>& progress) {
   if (config.cuts < 1 || config.jobs < 1 || config.cuts_per_mission < 1)
     throw std::runtime_error("cuts need cuts, jobs and cuts per mission >= 1");
-  const gs::runtime::Learnt learnt = warm_up(config.plant, config.seed);
+  const gs::adaptation::Learnt learnt = warm_up(config.plant, config.seed);
   const int missions = (config.cuts + config.cuts_per_mission - 1) / config.cuts_per_mission;
   std::vector<CutResult> all(static_cast<std::size_t>(config.cuts));
   int done = 0;

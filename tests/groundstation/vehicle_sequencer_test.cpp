@@ -29,6 +29,7 @@ struct StringMaker<gs::mission::Reason> {
 
 namespace {
 
+using gs::mission::condition_names;
 using gs::mission::find_transition;
 using gs::mission::kAirborne;
 using gs::mission::kTaskCount;
@@ -55,17 +56,6 @@ std::vector<Task> all_tasks() {
 bool in(TaskSet set, Task t) { return (set & task_bit(t)) != 0; }
 bool airborne(Task t) { return in(kAirborne, t); }
 
-// "vehicle_lost|armed", or "0".
-std::string bits(std::uint32_t word) {
-  std::string out;
-  for (int b = 0; b < c::kCount; ++b) {
-    if ((word & (std::uint32_t{1} << b)) == 0) continue;
-    if (!out.empty()) out += '|';
-    out += gs::mission::condition_name(b);
-  }
-  return out.empty() ? "0" : out;
-}
-
 std::string task_list(TaskSet set) {
   std::string out;
   for (Task t : all_tasks()) {
@@ -81,13 +71,14 @@ std::string describe_row(int i) {
   if (i < 0) return "no row";
   const Transition& r = kTransitions[static_cast<std::size_t>(i)];
   std::ostringstream s;
-  s << "row " << i << ": " << task_list(r.from) << " [" << bits(r.all) << " / not " << bits(r.none) << "] -> "
-    << gs::mission::task_name(r.to) << " (" << gs::mission::reason_name(r.reason) << ")";
+  s << "row " << i << ": " << task_list(r.from) << " [" << condition_names(r.all) << " / not "
+    << condition_names(r.none) << "] -> " << gs::mission::task_name(r.to) << " ("
+    << gs::mission::reason_name(r.reason) << ")";
   return s.str();
 }
 
 std::string describe_word(Task t, std::uint32_t word) {
-  return std::string(gs::mission::task_name(t)) + " under " + bits(word);
+  return std::string(gs::mission::task_name(t)) + " under " + condition_names(word);
 }
 
 // The rule read plainly and independently of find_transition: the first row, in table order,
@@ -346,7 +337,7 @@ TEST_CASE("each row can fire from each task in its `from` set", "[sequencer]") {
       INFO(describe_row(i) << ", from " << gs::mission::task_name(t));
       CHECK(found);
       if (!found) continue;
-      INFO("word " << bits(word));
+      INFO("word " << condition_names(word));
       CHECK(row_index(find_transition(t, word)) == i);
       VehicleSequencer s;
       s.reset(t, 3.0);
@@ -472,7 +463,7 @@ TEST_CASE("any airborne task, or landing, that loses the vehicle goes to failsaf
     for (std::uint32_t extra : {0u, c::request_land, c::request_abort | c::pole_on_self, c::estimate_lost,
                                 c::on_ground, kAllBits}) {
       const Outcome o = step_from(t, c::vehicle_lost | extra);
-      INFO("with " << bits(extra));
+      INFO("with " << condition_names(extra));
       CHECK(o.task == Task::failsafe);
       CHECK(o.reason == Reason::vehicle_lost);
     }

@@ -222,7 +222,7 @@ TEST_CASE("the adaptation store keeps what a series learnt for the next run", "[
   std::remove(path.c_str());
   std::remove((path + "-wal").c_str());
   std::remove((path + "-shm").c_str());
-  gs::runtime::Learnt learnt;
+  gs::adaptation::Learnt learnt;
   {
     hil::sil::SeriesConfig config;
     config.seed = 2;

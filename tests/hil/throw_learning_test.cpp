@@ -29,7 +29,7 @@ std::vector<LaunchVector> launch_errors(double gain) {
   config.plant.pole.drag_axial_kgpm2 *= 1.3;
   config.plant.pole.drag_normal_kgpm2 *= 1.3;
   config.plant.pole.drag_rotational_kgpm2 *= 1.3;
-  config.ground_station.throw_learning.gain = gain;
+  config.ground_station.learning.throw_learning.gain = gain;
   hil::sil::SeriesRunner runner(config);
   runner.run(
       std::vector<hil::sil::AttemptPlan>(10, hil::sil::AttemptPlan{false, Eigen::Vector2d::Zero(), 0.0}));

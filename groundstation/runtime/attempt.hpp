@@ -1,0 +1,65 @@
+// An attempt as the runtime keeps it (Section VII-B): what the mission script asks for, its
+// phases, and the ground station's own account of it (the referee in hil judges with the truth).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string_view>
+
+#include <Eigen/Core>
+
+#include "groundstation/adaptation/throw_evaluation.hpp"
+#include "groundstation/adaptation/throw_learning.hpp"
+#include "groundstation/mission/vehicle_sequencer.hpp"
+#include "pa/vehicle_id.hpp"
+
+namespace gs::runtime {
+
+// What the mission script (an operator, `hil fly`) asks for one attempt.
+struct AttemptRequest {
+  pa::VehicleId thrower = pa::kVehicle1;  // throws from its own throw frame (throw_frame())
+  bool catch_it = true;                   // the other vehicle flies the catch
+  Eigen::Vector2d catch_offset_m = Eigen::Vector2d::Zero();  // practice: catch this far off
+  // Set: a throw to this catch point (x y, arena frame) instead of the Fig. 5 throw: planned for
+  // this attempt (planning/target_throw.hpp, up to ~70 ms) from the thrower's throw origin, the
+  // pole's lower end at its optimal catching instant on the point, at the adapted catching
+  // height. The catcher waits above it. The planner is given the point moved against the mean miss
+  // of the throws to targets before (target_miss_m_).
+  std::optional<Eigen::Vector2d> target_xy_m;
+};
+
+enum class AttemptPhase : std::uint8_t { idle, preparing, throwing, flight, balancing };
+
+// The ground station's own account of an attempt (the referee in hil judges with the truth).
+struct AttemptReport {
+  int number = 0;
+  double throw_start_s = 0.0;
+  std::optional<double> launch_s;                       // the estimator's launch
+  std::optional<double> catch_start_s;                  // the z manoeuvre's start
+  std::optional<double> impact_s;                       // the estimator's switch onto the catcher
+  std::optional<Eigen::Vector3d> catcher_at_impact_m;   // its estimated position then
+  mission::Reason catcher_end = mission::Reason::none;  // what ended the catch (caught, out_of_reach...)
+  // what ended the throw (throw_ended, pole_left_early...)
+  mission::Reason thrower_end = mission::Reason::none;
+  Eigen::Vector2d waiting_xy_m = Eigen::Vector2d::Zero();
+  Eigen::Vector2d last_target_xy_m = Eigen::Vector2d::Zero();
+  std::optional<adaptation::CatchPoint> predicted;  // the latest catch-point prediction (lower end)
+  // This throw's optimal catch (42) as predicted in flight (arena frame, time after the launch).
+  std::optional<adaptation::OptimalCatch> predicted_optimal;
+  double catch_height_m = 0.0;  // lower pole end, arena frame
+  double travel_m = 0.0;        // the catcher's estimated path from its waiting point
+  std::optional<adaptation::OptimalCatchEvaluation> optimal;  // (42) evaluated after the throw
+  // The thrower's launch state as the last command of the throw estimated it (at tau within
+  // launch_state_window_s of T), carried to T along the plan; and its error from the plan's.
+  std::optional<planning::PlanarLaunchState> launch_flown;
+  std::optional<adaptation::LaunchVector> launch_error;
+  // The correction of the throw's end state this throw was flown with.
+  adaptation::LaunchVector throw_correction = adaptation::LaunchVector::Zero();
+  bool caught = false;  // balanced on the catcher
+  // A throw to a target: the catch point asked for (lower end at the catching instant), and the
+  // catch-point prediction when it had converged (catch_verdict_delay_s after the launch).
+  std::optional<Eigen::Vector3d> target_m;
+  std::optional<adaptation::CatchPoint> converged_prediction;
+};
+
+}  // namespace gs::runtime

@@ -1,0 +1,93 @@
+// The catch of one attempt (Section V): when the catcher's z manoeuvre starts so that it comes
+// to rest at the catching height at the expected catching instant, this throw's own optimal
+// catching instant (42) predicted shortly after the launch (the retiming), the catch manoeuvre
+// re-planned at every frame from the latest catch-point prediction, and the verdicts the
+// sequencer acts on (out of reach, infeasible, missed). State and time are passed in; it flies
+// nothing itself (the runtime tracks catch_trajectory()).
+#pragma once
+
+#include <optional>
+
+#include <Eigen/Core>
+
+#include "groundstation/adaptation/adaptation_law.hpp"
+#include "groundstation/control/throw_frame.hpp"
+#include "groundstation/estimation/state_estimator.hpp"
+#include "groundstation/mission/vehicle_sequencer.hpp"
+#include "groundstation/planning/catch_trajectory.hpp"
+#include "groundstation/runtime/attempt.hpp"
+
+namespace gs::runtime {
+
+struct CatchSettings {
+  double t_xy_s = 0.65;
+  double xy_lead_s = 0.5;
+  double a_max_mps2 = 4.19;
+  double k_max_mps3 = 18.0;
+  double reach_m = 1.0;          // a predicted catch point farther from the waiting point aborts
+  double verdict_delay_s = 0.1;  // after the launch, before reach and feasibility are judged
+  double retime_s = 0.4;         // this throw's (42) moves the catch's end this long after the launch
+  double retime_max_m = 0.5;
+  double retime_max_s = 0.15;
+  double missed_margin_m = 0.15;  // the lower end this far below the catching height, free: missed
+};
+
+// What the catch sees of the world at a frame.
+struct CatchView {
+  mission::Task catcher_task = mission::Task::parked;
+  estimation::PoleEstimate pole;
+  model::PoleParams pole_model;
+  Eigen::Vector3d catcher_position_m = Eigen::Vector3d::Zero();
+  control::ThrowFrame frame;               // the attempt's throw frame
+  adaptation::AdaptationState adaptation;  // its offset bias compensates the prediction
+  Eigen::Vector2d catch_offset_m = Eigen::Vector2d::Zero();
+};
+
+class CatchCoordinator {
+ public:
+  // `limits`: the catcher's inputs, which the feasibility verdict checks the manoeuvre against.
+  CatchCoordinator(const CatchSettings& settings, const planning::InputLimits& limits)
+      : settings_(settings), limits_(limits) {}
+
+  // A new attempt: no manoeuvre, no verdicts.
+  void reset();
+  // The throw has started: the catch from `report.waiting_xy_m` at `report.catch_height_m` (the
+  // adapted values), due when the z manoeuvre must start for it to end `catch_instant_s` after
+  // the launch expected at `launch_s`.
+  void plan(const AttemptReport& report, double launch_s, double catch_instant_s);
+  // Before the verdicts: this throw's optimal catch (42), moving the catch's end (height in
+  // `report`, start time) within bounds for retime_s after the launch.
+  void retime(double now_s, const CatchView& view, AttemptReport& report);
+  // At every frame from the throw's start: the catch point predicted, the manoeuvre re-planned,
+  // the verdicts judged once the prediction has converged; the report's prediction and travel.
+  void update(double now_s, const CatchView& view, AttemptReport& report);
+  // The catcher starts the manoeuvre now (no later than planned). Returns how long the impact
+  // may take from now: the manoeuvre's remaining time plus `margin_s`, for a z manoeuvre ending
+  // at `catch_height_m`.
+  double start(double now_s, double catch_height_m, double margin_s);
+
+  bool due(double now_s) const { return now_s >= start_s_; }
+  bool unreachable() const { return unreachable_; }
+  bool infeasible() const { return infeasible_; }
+  bool missed() const { return missed_; }
+  double start_s() const { return start_s_; }
+  const Eigen::Vector2d& target_xy_m() const { return target_xy_m_; }
+  const std::optional<planning::CatchTrajectory>& trajectory() const { return trajectory_; }
+  // The z manoeuvre of a catch ending with the plate at `catch_height_m`.
+  planning::MinimaxZManoeuvre z_manoeuvre(double catch_height_m) const;
+
+ private:
+  CatchSettings settings_;
+  planning::InputLimits limits_;
+  std::optional<planning::CatchTrajectory> trajectory_;
+  double start_s_ = 0.0;
+  double planned_start_s_ = 0.0;  // from the adapted catching instant
+  double adapted_height_m_ = 0.0;
+  Eigen::Vector2d target_xy_m_ = Eigen::Vector2d::Zero();
+  bool unreachable_ = false;
+  bool infeasible_ = false;
+  bool missed_ = false;
+  Eigen::Vector3d last_catcher_m_ = Eigen::Vector3d::Zero();
+};
+
+}  // namespace gs::runtime

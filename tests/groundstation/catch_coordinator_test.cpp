@@ -1,0 +1,154 @@
+// The catch coordinator (groundstation/runtime/catch_coordinator.hpp) on the Fig. 5 throw's
+// pole in free flight: when the catch is due, the catch point followed, the verdicts judged only
+// once the prediction has converged, the retiming bounded and the catch window.
+#include <catch2/catch.hpp>
+
+#include "groundstation/planning/catching_instant.hpp"
+#include "groundstation/runtime/catch_coordinator.hpp"
+
+namespace {
+
+using gs::mission::Task;
+using gs::runtime::AttemptReport;
+using gs::runtime::CatchCoordinator;
+using gs::runtime::CatchSettings;
+using gs::runtime::CatchView;
+
+const gs::model::PoleParams kPole;
+
+// The Fig. 5 pole just after the launch at t = 10 s, and its optimal catch (42).
+struct Throw {
+  gs::model::PoleState pole = gs::planning::pole_state_at_launch(gs::planning::fig5_launch_state(), kPole);
+  gs::planning::CatchingInstant optimal = gs::planning::find_catching_instant(pole, kPole);
+  double launch_s = 10.0;
+};
+
+// The catcher in `task` seeing the pole in free flight, launched `after_s` ago.
+CatchView view(const Throw& t, Task task, double after_s) {
+  CatchView v;
+  v.catcher_task = task;
+  v.pole.valid = true;
+  v.pole.mode = gs::estimation::PoleMode::free;
+  v.pole.t_s = t.launch_s + after_s;
+  v.pole.state = t.pole;  // the prediction starts from the launch state whenever it is asked
+  v.pole_model = kPole;
+  v.catcher_position_m = Eigen::Vector3d(t.optimal.catch_point_m.x(), 0.0, 2.0);
+  return v;
+}
+
+// An attempt whose catcher waits `off_m` along x from the optimal catch point.
+AttemptReport waiting(const Throw& t, double off_m) {
+  AttemptReport r;
+  r.waiting_xy_m = t.optimal.catch_point_m + Eigen::Vector2d(off_m, 0.0);
+  r.catch_height_m = t.optimal.catch_height_m;
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("The catch is due when the z manoeuvre must start to end at the catching instant") {
+  const Throw t;
+  REQUIRE(t.optimal.found);
+  CatchCoordinator c(CatchSettings{}, {});
+  const AttemptReport r = waiting(t, 0.0);
+  c.plan(r, t.launch_s, t.optimal.t_s);
+  const double t_z = c.z_manoeuvre(r.catch_height_m).duration_s();
+  CHECK(t_z > 1.0);
+  CHECK(c.start_s() == Approx(t.launch_s + t.optimal.t_s - t_z));
+  CHECK_FALSE(c.due(c.start_s() - 0.001));
+  CHECK(c.due(c.start_s()));
+  CHECK(c.target_xy_m() == r.waiting_xy_m);
+  // Started late, the catch keeps its planned start; started early, it starts now. The window
+  // covers the manoeuvre's rest and the margin.
+  const double planned = c.start_s();
+  CHECK(c.start(planned + 0.1, r.catch_height_m, 1.0) == Approx(t_z - 0.1 + 1.0));
+  CHECK(c.start_s() == planned);
+  CHECK(c.start(planned - 0.2, r.catch_height_m, 1.0) == Approx(t_z + 1.0));
+  CHECK(c.start_s() == planned - 0.2);
+}
+
+TEST_CASE("The catch follows the predicted catch point; verdicts wait for the prediction to converge") {
+  const Throw t;
+  const CatchSettings s;
+  CatchCoordinator c(s, {});
+  AttemptReport r = waiting(t, 0.0);
+  c.plan(r, t.launch_s, t.optimal.t_s);
+  r.launch_s = t.launch_s;
+  c.update(t.launch_s + 0.05, view(t, Task::wait, 0.05), r);
+  REQUIRE(r.predicted);
+  CHECK((c.target_xy_m() - t.optimal.catch_point_m).norm() < 0.01);
+  CHECK(r.last_target_xy_m == c.target_xy_m());
+  CHECK_FALSE(r.converged_prediction);
+  c.update(t.launch_s + s.verdict_delay_s + 0.001, view(t, Task::wait, s.verdict_delay_s), r);
+  CHECK(r.converged_prediction);
+  CHECK_FALSE(c.unreachable());
+  CHECK_FALSE(c.infeasible());
+  CHECK_FALSE(c.trajectory());  // planned only once catching
+  c.update(t.launch_s + 0.2, view(t, Task::catching, 0.2), r);
+  REQUIRE(c.trajectory());
+  CHECK(c.trajectory()->duration_s() == Approx(c.z_manoeuvre(r.catch_height_m).duration_s()));
+  // The catch's practice offset moves the target with it.
+  CatchView offset = view(t, Task::catching, 0.25);
+  offset.catch_offset_m = Eigen::Vector2d(0.0, 0.3);
+  c.update(t.launch_s + 0.25, offset, r);
+  CHECK((c.target_xy_m() - t.optimal.catch_point_m - offset.catch_offset_m).norm() < 0.01);
+}
+
+TEST_CASE("A catch point beyond reach is judged so only after the verdict delay") {
+  const Throw t;
+  const CatchSettings s;
+  CatchCoordinator c(s, {});
+  AttemptReport r = waiting(t, s.reach_m + 0.2);
+  c.plan(r, t.launch_s, t.optimal.t_s);
+  r.launch_s = t.launch_s;
+  c.update(t.launch_s + 0.05, view(t, Task::wait, 0.05), r);
+  CHECK_FALSE(c.unreachable());
+  c.update(t.launch_s + s.verdict_delay_s + 0.001, view(t, Task::wait, s.verdict_delay_s), r);
+  CHECK(c.unreachable());
+  c.reset();
+  CHECK_FALSE(c.unreachable());
+}
+
+TEST_CASE("A manoeuvre beyond the catcher's inputs is infeasible") {
+  const Throw t;
+  const CatchSettings s;
+  CatchCoordinator c(s, gs::planning::InputLimits{1.0, 20.0, 0.05});  // hardly any body rate
+  AttemptReport r = waiting(t, 0.5);
+  c.plan(r, t.launch_s, t.optimal.t_s);
+  r.launch_s = t.launch_s;
+  c.update(t.launch_s + s.verdict_delay_s + 0.001, view(t, Task::wait, s.verdict_delay_s), r);
+  CHECK_FALSE(c.unreachable());
+  CHECK(c.infeasible());
+}
+
+TEST_CASE("Nothing is judged for a catcher that is neither waiting nor catching") {
+  const Throw t;
+  CatchCoordinator c(CatchSettings{}, {});
+  AttemptReport r = waiting(t, 5.0);
+  c.plan(r, t.launch_s, t.optimal.t_s);
+  r.launch_s = t.launch_s;
+  c.update(t.launch_s + 0.5, view(t, Task::clear, 0.5), r);
+  CHECK_FALSE(r.predicted);
+  CHECK_FALSE(c.unreachable());
+}
+
+TEST_CASE("The retiming moves the catch's end to this flight's (42), within its bounds") {
+  const Throw t;
+  CatchSettings s;
+  s.retime_max_m = 0.1;
+  CatchCoordinator c(s, {});
+  AttemptReport r = waiting(t, 0.0);
+  r.catch_height_m += 0.3;  // the adapted height 0.3 m above this flight's
+  c.plan(r, t.launch_s, t.optimal.t_s);
+  r.launch_s = t.launch_s;
+  const double planned = c.start_s();
+  c.retime(t.launch_s + 0.1, view(t, Task::wait, 0.0), r);
+  REQUIRE(r.predicted_optimal);
+  CHECK(r.predicted_optimal->height_m == Approx(t.optimal.catch_height_m).margin(0.01));
+  CHECK(r.catch_height_m == Approx(t.optimal.catch_height_m + 0.3 - s.retime_max_m));
+  CHECK(std::abs(c.start_s() - planned) <= s.retime_max_s + 1e-12);
+  // After retime_s it holds.
+  const double height = r.catch_height_m;
+  c.retime(t.launch_s + s.retime_s + 0.01, view(t, Task::wait, 0.0), r);
+  CHECK(r.catch_height_m == height);
+}
