@@ -31,4 +31,22 @@ model::VehicleInput throw_command(const ThrowTracker& tracker, const control::Lq
   return u;
 }
 
+ThrowStep throw_step(const ThrowTracker& tracker, const control::LqrGain& balancing, double t_s,
+                     const control::ThrowFrame& frame, const control::Pivot& plate,
+                     const Eigen::Vector3d& resting_offset_m, const model::VehicleState& vehicle,
+                     const model::PoleState& pole, double half_length_m,
+                     const model::PlanarState<double>& reference_shift, const model::VehicleLimits& limits) {
+  const control::Pivot pivot = frame.to_frame(plate);
+  const model::VehicleState vehicle_in_frame = frame.to_frame(vehicle);
+  const model::PoleState pole_in_frame = frame.to_frame(pole);
+  ThrowStep step;
+  step.state = control::planar_throw_state(pivot, vehicle_in_frame, pole_in_frame, Eigen::Vector3d::Zero());
+  const control::Pivot resting{plate.p_m + resting_offset_m, plate.v_mps};
+  const Eigen::VectorXd b = control::balancing_state(frame.to_frame(resting), vehicle_in_frame, pole_in_frame,
+                                                     half_length_m, Eigen::Vector3d::Zero());
+  step.input = throw_command(tracker, balancing, t_s, step.state - reference_shift, b, limits);
+  step.input.omega_radps = frame.body_rates_to_vehicle(step.input.omega_radps);
+  return step;
+}
+
 }  // namespace gs::planning

@@ -13,7 +13,9 @@
 
 #include <Eigen/Core>
 
+#include "groundstation/control/controller_states.hpp"
 #include "groundstation/control/lqr.hpp"
+#include "groundstation/control/throw_frame.hpp"
 #include "groundstation/model/vehicle.hpp"
 #include "groundstation/model/vehicle_limits.hpp"
 #include "groundstation/planning/throw_tracking.hpp"
@@ -31,5 +33,21 @@ model::VehicleInput throw_command(const ThrowTracker& tracker, const control::Lq
 // s_qp with the throw plane's components (x, z, vx, vz, pitch, a, a') set to zero: what the
 // lateral balancing sees.
 Eigen::VectorXd lateral_balancing_state(const Eigen::VectorXd& balancing_state);
+
+// One step of a throw flown on the arena's estimate (what the runtime does at each frame of the
+// throwing task): the plate, the vehicle and the pole turned into the throw's frame, the planar
+// state fed to the TV-LQR shifted against `reference_shift` (the learnt throw, zero for none),
+// the pole balanced across the plane about its resting end `resting_offset_m` from the plate's
+// centre (arena frame: about the centre, a pole resting 1-2 cm off it reads as a tilt, which the
+// lateral LQR flies as a sideways push), and the body rates turned back to the vehicle's.
+struct ThrowStep {
+  model::VehicleInput input;         // clamped as throw_command()'s
+  model::PlanarState<double> state;  // the throw's planar state, unshifted
+};
+ThrowStep throw_step(const ThrowTracker& tracker, const control::LqrGain& balancing, double t_s,
+                     const control::ThrowFrame& frame, const control::Pivot& plate,
+                     const Eigen::Vector3d& resting_offset_m, const model::VehicleState& vehicle,
+                     const model::PoleState& pole, double half_length_m,
+                     const model::PlanarState<double>& reference_shift, const model::VehicleLimits& limits);
 
 }  // namespace gs::planning

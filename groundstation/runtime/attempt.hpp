@@ -10,6 +10,8 @@
 
 #include "groundstation/adaptation/throw_evaluation.hpp"
 #include "groundstation/adaptation/throw_learning.hpp"
+#include "groundstation/adaptation/throw_record.hpp"
+#include "groundstation/control/throw_frame.hpp"
 #include "groundstation/mission/vehicle_sequencer.hpp"
 #include "pa/vehicle_id.hpp"
 
@@ -61,5 +63,17 @@ struct AttemptReport {
   std::optional<Eigen::Vector3d> target_m;
   std::optional<adaptation::CatchPoint> converged_prediction;
 };
+
+// How the attempt ended, as the adaptation classes throws (throw_record.hpp): a throw without a
+// catch, caught, aborted (out of reach, or for any other reason of the catcher's), a practice
+// catch off the catch point, dropped after an impact, or missed.
+adaptation::ThrowOutcome outcome_of(const AttemptRequest& request, const AttemptReport& report);
+
+// The attempt's record in its throw's frame, as the adaptation takes it (Section VI), at `now_s`
+// when it never launched; `catch_target_xy_m` the catch manoeuvre's last target (arena frame).
+// The learner adds the gated optimal catch.
+adaptation::ThrowRecord record_of(const AttemptRequest& request, const AttemptReport& report,
+                                  const control::ThrowFrame& frame, const Eigen::Vector2d& catch_target_xy_m,
+                                  double now_s);
 
 }  // namespace gs::runtime

@@ -397,31 +397,20 @@ std::optional<model::VehicleInput> GroundStation::control(Vehicle& v, double now
     case Task::throwing: {
       const double duration_s = flown_throw().duration_s();
       const double tau = std::min(t_act - v.sequencer.task_since_s(), duration_s);
-      // The plan is flown in the throw's frame (control/throw_frame.hpp).
-      const control::Pivot pivot = frame_.to_frame(control::Pivot{plate.p_m, plate.v_mps});
-      const model::VehicleState vehicle = frame_.to_frame(e.state);
-      const model::PoleState pole_in_frame = frame_.to_frame(pole.state);
-      const model::PlanarState<double> s =
-          control::planar_throw_state(pivot, vehicle, pole_in_frame, Eigen::Vector3d::Zero());
-      // Across the throw's plane the pole is balanced about its resting end, as in balancing: about
-      // the plate's centre a pole resting 1-2 cm off it reads as a tilt, which the lateral LQR
-      // flew as a sideways push, and passes drifted sideways from throw to throw until one was
-      // dropped (hil fly --passes 100 --randomise, seeds 1 and 4: 37 and 7 passes, then 84 and
-      // 92). The offset is taken as the throw starts: the filter's estimate of it moves while
-      // the throw accelerates (tracked, the learnt throw's error grew, throw_learning_test).
-      const control::Pivot resting{plate.p_m + resting_offset_m_, plate.v_mps};
-      const Eigen::VectorXd b = control::balancing_state(frame_.to_frame(resting), vehicle, pole_in_frame, L,
-                                                         Eigen::Vector3d::Zero());
-      if (tau >= duration_s - config_.launch_state_window_s) throw_end_ = ThrowEnd{tau, s};
-      // The learnt throw: the plan's reference shifted by the correction (throw_learning.hpp),
-      // i.e. the state fed to the TV-LQR shifted the other way. It is learnt for the Fig. 5 throw
-      // only: a throw to a target is planned anew each time.
-      const model::PlanarState<double> shifted =
-          target_throw_ ? s : s - adaptation::reference_shift(learner_.throw_correction(), tau, duration_s);
-      model::VehicleInput u =
-          planning::throw_command(flown_tracker(), balancing_, tau, shifted, b, config_.limits);
-      u.omega_radps = frame_.body_rates_to_vehicle(u.omega_radps);
-      return clamped(u);
+      // The learnt throw (throw_learning.hpp) is the Fig. 5 throw's only: a throw to a target is
+      // planned anew each time. Across the plane the pole is balanced about the end it rested on
+      // as the throw started: about the plate's centre, passes drifted sideways from throw to
+      // throw until one was dropped (hil fly --passes 100 --randomise, seeds 1 and 4: 37 and 7
+      // passes, then 84 and 92); taken as the throw starts, since the filter's estimate of it
+      // moves while the throw accelerates (the learnt throw's error grew, throw_learning_test).
+      const model::PlanarState<double> shift =
+          target_throw_ ? model::PlanarState<double>::Zero()
+                        : adaptation::reference_shift(learner_.throw_correction(), tau, duration_s);
+      const planning::ThrowStep step = planning::throw_step(
+          flown_tracker(), balancing_, tau, frame_, control::Pivot{plate.p_m, plate.v_mps}, resting_offset_m_,
+          e.state, pole.state, L, shift, config_.limits);
+      if (tau >= duration_s - config_.launch_state_window_s) throw_end_ = ThrowEnd{tau, step.state};
+      return clamped(step.input);
     }
     case Task::release: {
       const Eigen::Vector3d pitch_back = frame_.body_rates_to_vehicle(
@@ -589,37 +578,6 @@ void GroundStation::update_attempt(double now_s) {
   }
 }
 
-// The attempt's record in its throw's frame, as the adaptation takes it (Section VI).
-adaptation::ThrowRecord GroundStation::attempt_record(double now_s) const {
-  adaptation::ThrowRecord record;
-  record.time_s = current_.launch_s.value_or(now_s);
-  if (current_.launch_flown) record.launch = *current_.launch_flown;
-  if (!request_.catch_it) {
-    record.outcome = adaptation::ThrowOutcome::kThrowOnly;
-  } else if (current_.caught) {
-    record.outcome = adaptation::ThrowOutcome::kCaught;
-  } else if (current_.catcher_end == mission::Reason::out_of_reach) {
-    record.outcome = adaptation::ThrowOutcome::kAbortedOutOfReach;
-  } else if (current_.catcher_end == mission::Reason::infeasible ||
-             current_.catcher_end == mission::Reason::abort_requested ||
-             current_.catcher_end == mission::Reason::vehicle_lost ||
-             current_.catcher_end == mission::Reason::estimate_lost) {
-    record.outcome = adaptation::ThrowOutcome::kAborted;
-  } else if (request_.catch_offset_m.norm() > 0.0) {
-    record.outcome = adaptation::ThrowOutcome::kOffsetPractice;
-  } else if (current_.impact_s) {
-    record.outcome = adaptation::ThrowOutcome::kDropped;
-  } else {
-    record.outcome = adaptation::ThrowOutcome::kMissed;
-  }
-  record.catch_height_used_m = current_.catch_height_m - frame_.origin_m.z();
-  record.waiting_xy_m = frame_.to_frame_xy(current_.waiting_xy_m);
-  if (current_.catch_start_s) record.target_xy_m = frame_.to_frame_xy(catch_.target_xy_m());
-  if (current_.impact_s && current_.catcher_at_impact_m && adaptation::catcher_flew_to_target(record.outcome))
-    record.catcher_at_impact_xy_m = frame_.to_frame_xy(current_.catcher_at_impact_m->head<2>());
-  return record;
-}
-
 void GroundStation::end_attempt(double now_s) {
   Vehicle& thrower = vehicle_of(request_.thrower);
   Vehicle& catcher = other(thrower);
@@ -639,7 +597,7 @@ void GroundStation::end_attempt(double now_s) {
                             adaptation::launch_vector(adaptation::launch_state_of(plan.state_at(T)));
     if (!target_throw_) learner_.learn_launch(*current_.launch_flown);
   }
-  adaptation::ThrowRecord record = attempt_record(now_s);
+  adaptation::ThrowRecord record = record_of(request_, current_, frame_, catch_.target_xy_m(), now_s);
   // The optimal catch evaluated after the throw counts only if it agrees with the one predicted
   // in flight (adaptation/learner.hpp).
   const bool agrees =

@@ -245,7 +245,6 @@ class GroundStation {
   void update_attempt(double now_s);
   CatchView catch_view(const Vehicle& catcher) const;
   void end_attempt(double now_s);
-  adaptation::ThrowRecord attempt_record(double now_s) const;
   // The catch point (lower end, x y) expected for the next throw, arena frame.
   Eigen::Vector2d waiting_xy() const;
   // The catcher's waiting point for the next throw: above the catch point, at the height the z

@@ -4,6 +4,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <Eigen/Geometry>
+
 #include "groundstation/control/balancing_lqr.hpp"
 #include "groundstation/planning/throw_planner.hpp"
 
@@ -95,4 +97,66 @@ TEST_CASE("the lateral rates are clamped into the rate limit", "[throw_command]"
   CHECK(std::abs(u.omega_radps.x()) == Approx(s.problem.limits.omega_max_radps));
   CHECK(std::abs(u.omega_radps.z()) <= s.problem.limits.omega_max_radps);
   CHECK(gs::planning::lateral_balancing_state(fallen) == fallen);
+}
+
+TEST_CASE("a throw step does not depend on where in the arena or towards where it is flown",
+          "[throw_command]") {
+  const Setup& s = setup();
+  const double L = 0.665;
+  // The scene of the plan at 1 s in the throw's own frame (origin 0, yaw 0), a little off it.
+  const gs::model::PlanarState<double> x = s.tracker.reference().state_at(1.0);
+  const gs::control::Pivot plate{Eigen::Vector3d(x(planar::kX) + 0.02, 0.01, x(planar::kZ)),
+                                 Eigen::Vector3d(x(planar::kVx), 0.0, x(planar::kVz))};
+  gs::model::VehicleState vehicle;
+  vehicle.p_m = plate.p_m - Eigen::Vector3d(0.0, 0.0, 0.03);
+  vehicle.v_mps = plate.v_mps;
+  vehicle.phi_rad = 0.02;
+  vehicle.theta_rad = x(planar::kTheta);
+  gs::model::PoleState pole;
+  const double alpha = x(planar::kAlpha), alpha_dot = x(planar::kAlphaDot);
+  pole.n = Eigen::Vector3d(std::sin(alpha), 0.01, std::cos(alpha)).normalized();
+  pole.p_m = plate.p_m + L * pole.n;
+  pole.v_mps = plate.v_mps + L * alpha_dot * Eigen::Vector3d(std::cos(alpha), 0.0, -std::sin(alpha));
+  pole.omega_radps = Eigen::Vector3d(0.0, alpha_dot, 0.0);
+  const Eigen::Vector3d resting(0.01, -0.005, 0.0);
+  const gs::model::PlanarState<double> shift = gs::model::PlanarState<double>::Constant(0.01);
+  const gs::control::ThrowFrame here{};
+  const gs::planning::ThrowStep in_frame = gs::planning::throw_step(
+      s.tracker, s.balancing, 1.0, here, plate, resting, vehicle, pole, L, shift, s.problem.limits);
+  REQUIRE(in_frame.input.a_q_mps2 > s.problem.limits.a_q_min_mps2);
+  REQUIRE(in_frame.input.a_q_mps2 < s.problem.limits.a_q_max_mps2);
+
+  // The same scene turned by 2 rad about the vertical and moved to (3, -1, 2): the vehicle's body
+  // axes are relabelled by the turn (throw_frame.hpp), so its attitude is a R a^T and the rates
+  // it is commanded come out turned.
+  const gs::control::ThrowFrame there{Eigen::Vector3d(3.0, -1.0, 2.0), 2.0};
+  const Eigen::Matrix3d a = Eigen::AngleAxisd(there.yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Matrix3d r =
+      a * gs::model::rotation_inertial_from_body(vehicle.phi_rad, vehicle.theta_rad, vehicle.psi_rad) *
+      a.transpose();
+  gs::model::VehicleState moved;
+  moved.p_m = there.origin_m + a * vehicle.p_m;
+  moved.v_mps = a * vehicle.v_mps;
+  moved.theta_rad = -std::asin(r(2, 0));
+  moved.phi_rad = std::atan2(r(2, 1), r(2, 2));
+  moved.psi_rad = std::atan2(r(1, 0), r(0, 0));
+  gs::model::PoleState moved_pole;
+  moved_pole.p_m = there.origin_m + a * pole.p_m;
+  moved_pole.v_mps = a * pole.v_mps;
+  moved_pole.n = a * pole.n;
+  moved_pole.omega_radps = a * pole.omega_radps;
+  const gs::control::Pivot moved_plate{there.origin_m + a * plate.p_m, a * plate.v_mps};
+  const gs::planning::ThrowStep in_arena =
+      gs::planning::throw_step(s.tracker, s.balancing, 1.0, there, moved_plate, a * resting, moved,
+                               moved_pole, L, shift, s.problem.limits);
+
+  CHECK((in_arena.state - in_frame.state).norm() < 1e-9);
+  CHECK(in_arena.input.a_q_mps2 == Approx(in_frame.input.a_q_mps2));
+  CHECK((in_arena.input.omega_radps - a * in_frame.input.omega_radps).norm() < 1e-9);
+  // The shift is the learnt throw's: the TV-LQR sees the state less the shift.
+  const gs::planning::ThrowStep unshifted =
+      gs::planning::throw_step(s.tracker, s.balancing, 1.0, here, plate, resting, vehicle, pole, L,
+                               gs::model::PlanarState<double>::Zero(), s.problem.limits);
+  CHECK(unshifted.state == in_frame.state);
+  CHECK(unshifted.input.a_q_mps2 != Approx(in_frame.input.a_q_mps2));
 }

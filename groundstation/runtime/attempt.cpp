@@ -1,0 +1,37 @@
+#include "groundstation/runtime/attempt.hpp"
+
+namespace gs::runtime {
+
+adaptation::ThrowOutcome outcome_of(const AttemptRequest& request, const AttemptReport& report) {
+  using adaptation::ThrowOutcome;
+  using mission::Reason;
+  if (!request.catch_it) return ThrowOutcome::kThrowOnly;
+  if (report.caught) return ThrowOutcome::kCaught;
+  switch (report.catcher_end) {
+    case Reason::out_of_reach: return ThrowOutcome::kAbortedOutOfReach;
+    case Reason::infeasible:
+    case Reason::abort_requested:
+    case Reason::vehicle_lost:
+    case Reason::estimate_lost: return ThrowOutcome::kAborted;
+    default: break;
+  }
+  if (request.catch_offset_m.norm() > 0.0) return ThrowOutcome::kOffsetPractice;
+  return report.impact_s ? ThrowOutcome::kDropped : ThrowOutcome::kMissed;
+}
+
+adaptation::ThrowRecord record_of(const AttemptRequest& request, const AttemptReport& report,
+                                  const control::ThrowFrame& frame, const Eigen::Vector2d& catch_target_xy_m,
+                                  double now_s) {
+  adaptation::ThrowRecord record;
+  record.time_s = report.launch_s.value_or(now_s);
+  if (report.launch_flown) record.launch = *report.launch_flown;
+  record.outcome = outcome_of(request, report);
+  record.catch_height_used_m = report.catch_height_m - frame.origin_m.z();
+  record.waiting_xy_m = frame.to_frame_xy(report.waiting_xy_m);
+  if (report.catch_start_s) record.target_xy_m = frame.to_frame_xy(catch_target_xy_m);
+  if (report.impact_s && report.catcher_at_impact_m && adaptation::catcher_flew_to_target(record.outcome))
+    record.catcher_at_impact_xy_m = frame.to_frame_xy(report.catcher_at_impact_m->head<2>());
+  return record;
+}
+
+}  // namespace gs::runtime

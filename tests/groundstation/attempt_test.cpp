@@ -1,0 +1,71 @@
+// The attempt's account (groundstation/runtime/attempt.hpp): how an attempt's end is classed for
+// the adaptation, and its record in the throw's own frame.
+#include <catch2/catch.hpp>
+
+#include "groundstation/runtime/attempt.hpp"
+
+namespace {
+
+using gs::adaptation::ThrowOutcome;
+using gs::mission::Reason;
+using gs::runtime::AttemptReport;
+using gs::runtime::AttemptRequest;
+using gs::runtime::outcome_of;
+using gs::runtime::record_of;
+
+}  // namespace
+
+TEST_CASE("An attempt's end is classed by what ended the catch, in order of precedence") {
+  AttemptRequest request;
+  AttemptReport report;
+  CHECK(outcome_of(request, report) == ThrowOutcome::kMissed);
+  report.impact_s = 12.0;
+  CHECK(outcome_of(request, report) == ThrowOutcome::kDropped);
+  request.catch_offset_m = Eigen::Vector2d(1.0, 0.0);
+  CHECK(outcome_of(request, report) == ThrowOutcome::kOffsetPractice);
+  for (Reason r :
+       {Reason::infeasible, Reason::abort_requested, Reason::vehicle_lost, Reason::estimate_lost}) {
+    report.catcher_end = r;
+    CHECK(outcome_of(request, report) == ThrowOutcome::kAborted);
+  }
+  report.catcher_end = Reason::out_of_reach;
+  CHECK(outcome_of(request, report) == ThrowOutcome::kAbortedOutOfReach);
+  report.caught = true;  // balanced on the catcher outranks whatever ended the catch manoeuvre
+  CHECK(outcome_of(request, report) == ThrowOutcome::kCaught);
+  request.catch_it = false;
+  CHECK(outcome_of(request, report) == ThrowOutcome::kThrowOnly);
+}
+
+TEST_CASE("The record is the throw's, in its frame") {
+  // Vehicle 2's frame: from (3.5, 0) back towards -x, the origin 2 m up.
+  const gs::control::ThrowFrame frame{Eigen::Vector3d(3.5, 0.0, 2.0), M_PI};
+  AttemptRequest request;
+  AttemptReport report;
+  report.catch_height_m = 1.4;
+  report.waiting_xy_m = Eigen::Vector2d(0.2, 0.1);
+  const Eigen::Vector2d target(0.1, -0.1);
+  gs::adaptation::ThrowRecord r = record_of(request, report, frame, target, 30.0);
+  CHECK(r.time_s == 30.0);  // never launched: the attempt's end
+  CHECK(r.catch_height_used_m == Approx(-0.6));
+  CHECK(r.waiting_xy_m.isApprox(Eigen::Vector2d(3.3, -0.1)));
+  CHECK_FALSE(r.target_xy_m);  // no catch manoeuvre started
+  CHECK_FALSE(r.catcher_at_impact_xy_m);
+  report.launch_s = 21.0;
+  report.catch_start_s = 20.5;
+  report.impact_s = 22.0;
+  report.caught = true;
+  report.catcher_at_impact_m = Eigen::Vector3d(0.0, 0.0, 1.5);
+  report.launch_flown = gs::planning::PlanarLaunchState{1.5, 2.0, 0.3, 5.5, 0.48, 2.5};
+  r = record_of(request, report, frame, target, 30.0);
+  CHECK(r.time_s == 21.0);
+  CHECK(r.outcome == ThrowOutcome::kCaught);
+  CHECK(r.launch.vz_mps == 5.5);
+  REQUIRE(r.target_xy_m);
+  CHECK(r.target_xy_m->isApprox(Eigen::Vector2d(3.4, 0.1)));
+  REQUIRE(r.catcher_at_impact_xy_m);
+  CHECK(r.catcher_at_impact_xy_m->isApprox(Eigen::Vector2d(3.5, 0.0)));
+  // A catch aborted for reach: the catcher never flew to its target, its place says nothing.
+  report.caught = false;
+  report.catcher_end = Reason::out_of_reach;
+  CHECK_FALSE(record_of(request, report, frame, target, 30.0).catcher_at_impact_xy_m);
+}
