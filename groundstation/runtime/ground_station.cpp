@@ -87,6 +87,9 @@ const GroundStation::Vehicle& GroundStation::vehicle_of(pa::VehicleId id) const 
 }
 
 mission::Task GroundStation::task(pa::VehicleId id) const { return vehicle_of(id).sequencer.task(); }
+const estimation::ThrustGainEstimator& GroundStation::thrust_gain(pa::VehicleId id) const {
+  return vehicle_of(id).thrust_gain;
+}
 
 control::ThrowFrame GroundStation::throw_frame(pa::VehicleId thrower) const {
   const control::ThrowFrame first{config_.throw_origin_m, config_.throw_yaw_rad};
@@ -446,7 +449,10 @@ void GroundStation::on_mocap(const estimation::MocapFrame& frame, double now_s) 
   last_mocap_s_ = now_s;
   estimator_.update(frame);
   for (Vehicle& v : vehicles_) {
-    if (frame.vehicle[pa::act_slot(v.id)]) v.last_pose_s = now_s;
+    const std::optional<estimation::MocapPose>& pose = frame.vehicle[pa::act_slot(v.id)];
+    if (!pose) continue;
+    v.last_pose_s = now_s;
+    measure_thrust_gain(v, frame.t_s, *pose);
   }
   if (frame.pole) {
     last_pole_seen_m_ = frame.pole->p_m;
@@ -464,10 +470,33 @@ void GroundStation::on_mocap(const estimation::MocapFrame& frame, double now_s) 
       enter(v, now_s);
     }
     const std::optional<model::VehicleInput> u = control(v, now_s, dt_s);
-    if (!u) continue;
-    const model::VehicleInput sent = link_.send_setpoint(v.id, *u);
-    estimator_.set_command(v.id, now_s + config_.command_lead_s, sent);
+    if (u) send(v, *u, now_s);
   }
+}
+
+// The thrust gain is measured while the vehicle flies on its thrust alone: not on the floor, not
+// throwing, releasing, catching or with a pole swinging up; balancing, the pole's weight is the
+// known extra load.
+void GroundStation::measure_thrust_gain(Vehicle& v, double t_s, const estimation::MocapPose& pose) {
+  const Task task = v.sequencer.task();
+  const bool steady = task == Task::take_off || task == Task::hover || task == Task::wait ||
+                      task == Task::retreat || task == Task::clear || task == Task::balance;
+  const double load = task == Task::balance ? config_.pole_weight_mps2 : 0.0;
+  v.thrust_gain.pose(t_s, pose.p_m.z(), (pose.q * Eigen::Vector3d::UnitZ()).z(), load,
+                     steady && pose.p_m.z() > config_.thrust_gain_min_height_m);
+}
+
+// The setpoint carries a_q / k (the vehicle delivers k a_q); the estimator's model is told what
+// the vehicle delivers, the thrust-gain estimator what it was commanded.
+void GroundStation::send(Vehicle& v, model::VehicleInput u, double now_s) {
+  const double gain = config_.compensate_thrust_gain ? v.thrust_gain.gain() : 1.0;
+  if (u.a_q_mps2 > 0.0)
+    u.a_q_mps2 = std::clamp(u.a_q_mps2 / gain, config_.limits.a_q_min_mps2, config_.limits.a_q_max_mps2);
+  model::VehicleInput sent = link_.send_setpoint(v.id, u);
+  const double t_acts_s = now_s + config_.command_lead_s;
+  v.thrust_gain.command(t_acts_s, sent.a_q_mps2);
+  sent.a_q_mps2 *= gain;
+  estimator_.set_command(v.id, t_acts_s, sent);
 }
 
 std::vector<link::ImpactReport> GroundStation::take_impacts() {

@@ -43,6 +43,7 @@
 #include "groundstation/control/task_laws.hpp"
 #include "groundstation/control/throw_frame.hpp"
 #include "groundstation/estimation/state_estimator.hpp"
+#include "groundstation/estimation/thrust_gain.hpp"
 #include "groundstation/link/ground_link.hpp"
 #include "groundstation/mission/condition_word.hpp"
 #include "groundstation/mission/vehicle_sequencer.hpp"
@@ -104,6 +105,12 @@ struct GroundStationConfig {
   double position_integral_limit_ms = 1.0;
   double take_off_integral_height_m = 0.2;
   double pole_weight_mps2 = 0.03 * 9.81 / 0.52;  // m_p g / m_q (hil/config/plant.yaml values)
+  // Each vehicle's thrust gain, measured in flight (estimation/thrust_gain.hpp) while it hovers,
+  // waits, balances or flies clear, above this height (clear of the legs' ground contact); the
+  // setpoints carry a_q / k, so that every law flies the vehicle it was designed for.
+  estimation::ThrustGainConfig thrust_gain;
+  bool compensate_thrust_gain = true;
+  double thrust_gain_min_height_m = 0.3;
   // The throw: balancing with the tilt below this first (see conditions).
   double balance_settled_rad = 0.03;
   // The release after T (Section VII-A leaves it open): minimum thrust for conditions.release_low_s
@@ -209,6 +216,8 @@ class GroundStation {
   const std::vector<adaptation::ThrowRecord>& throw_records() const { return learner_.records(); }
 
   mission::Task task(pa::VehicleId vehicle) const;
+  // The vehicle's thrust gain as measured in flight (1: the airframe file's).
+  const estimation::ThrustGainEstimator& thrust_gain(pa::VehicleId vehicle) const;
   const estimation::StateEstimator& estimator() const { return estimator_; }
   const link::GroundLink& link() const { return link_; }
   const adaptation::AdaptationState& adaptation() const { return learner_.state(); }
@@ -232,12 +241,15 @@ class GroundStation {
     bool command_failed = false;
     bool arm_after_disarm = false;  // a DISARM in flight clears `landed` for the ARM that follows
     double last_pose_s = -1e9;
+    estimation::ThrustGainEstimator thrust_gain;
   };
 
   Vehicle& vehicle_of(pa::VehicleId vehicle);  // std::out_of_range for a vehicle not of the act
   const Vehicle& vehicle_of(pa::VehicleId vehicle) const;
   Vehicle& other(const Vehicle& v) { return vehicle_of(pa::other_vehicle(v.id)); }
   mission::ConditionFacts facts(const Vehicle& v, double now_s) const;
+  void measure_thrust_gain(Vehicle& v, double t_s, const estimation::MocapPose& pose);
+  void send(Vehicle& v, model::VehicleInput u, double now_s);
   void enter(Vehicle& v, double now_s);
   std::optional<model::VehicleInput> control(Vehicle& v, double now_s, double dt_s);
   model::VehicleInput hover(Vehicle& v, const estimation::VehicleEstimate& e, double dt_s, bool integrate);
