@@ -26,7 +26,7 @@ struct AttemptRequest {
   // this attempt (planning/target_throw.hpp, up to ~70 ms) from the thrower's throw origin, the
   // pole's lower end at its optimal catching instant on the point, at the adapted catching
   // height. The catcher waits above it. The planner is given the point moved against the mean miss
-  // of the throws to targets before (target_miss_m_).
+  // of the throws to targets before (adaptation::Learner::target_miss_m).
   std::optional<Eigen::Vector2d> target_xy_m;
 };
 
@@ -59,7 +59,7 @@ struct AttemptReport {
   adaptation::LaunchVector throw_correction = adaptation::LaunchVector::Zero();
   bool caught = false;  // balanced on the catcher
   // A throw to a target: the catch point asked for (lower end at the catching instant), and the
-  // catch-point prediction when it had converged (catch_verdict_delay_s after the launch).
+  // catch-point prediction when it had converged (CatchSettings::verdict_delay_s after the launch).
   std::optional<Eigen::Vector3d> target_m;
   std::optional<adaptation::CatchPoint> converged_prediction;
 };

@@ -1,9 +1,10 @@
 // The ground-station runtime: the one object that flies the mission, as a loop over named
 // pieces. It owns the estimator, the link, both vehicles' sequencers, the throw book, the catch
 // coordinator and the learner, and is driven from outside by three calls and nothing else:
-//   on_mocap(frame, now)  a motion-capture frame arrived: estimator update, the attempt's
-//                        progress, then for each vehicle its condition word, its sequencer step
-//                        and its task's law (control/task_laws.hpp) to a setpoint;
+//   on_mocap(frame, now)  a motion-capture frame arrived: estimator update, each vehicle's
+//                        thrust gain (estimation/thrust_gain.hpp), the attempt's progress, then
+//                        for each vehicle its condition word, its sequencer step and its task's
+//                        law (control/task_laws.hpp) to a setpoint, its thrust over the gain;
 //   on_frame(frame, now)  a frame from the ground CAN bus (heartbeats, acks, IMPACT, TIMESYNC);
 //   tick(now)            link housekeeping (heartbeats, retries, TIMESYNC, lost vehicles).
 // No clock, no thread: `now` is the ground clock, which is also the clock the motion capture
