@@ -5,13 +5,14 @@
 #include <limits>
 
 #include "fw/attitude_estimator.hpp"
+#include "pa/constants.hpp"
 
 namespace {
 
 using fw::AttitudeEstimator;
 using fw::Vec3;
 
-constexpr float kG = AttitudeEstimator::kGravity_mps2;
+constexpr float kG = pa::kGravityFloat_mps2;
 constexpr float kDt_s = 0.001f;
 
 // Specific force at rest: g times inertial up expressed in the body.

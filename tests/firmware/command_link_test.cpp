@@ -142,18 +142,18 @@ TEST_CASE_METHOD(LinkFixture, "a time-sync request is kept with the time it was 
   CHECK_FALSE(link.take_timesync(r, at));
 }
 
-TEST_CASE("the transmit queue keeps order and counts what does not fit") {
-  fw::FrameQueue<3> q;
-  for (std::uint8_t i = 0; i < 5; ++i) {
+TEST_CASE_METHOD(LinkFixture, "the transmit queue keeps order and counts what does not fit") {
+  constexpr std::size_t kSent = fw::CommandLink::kTxQueue + 2;
+  for (std::size_t i = 0; i < kSent; ++i) {
     Frame f;
-    f.len = i;
-    q.push(f);
+    f.id = static_cast<std::uint16_t>(i);
+    CHECK(link.send(f) == (i < fw::CommandLink::kTxQueue));
   }
-  CHECK(q.dropped() == 2);
+  CHECK(link.tx_dropped() == 2);
   Frame out;
-  for (std::uint8_t i = 0; i < 3; ++i) {
-    REQUIRE(q.pop(out));
-    CHECK(out.len == i);
+  for (std::size_t i = 0; i < fw::CommandLink::kTxQueue; ++i) {
+    REQUIRE(link.pop_tx(out));
+    CHECK(out.id == i);
   }
-  CHECK_FALSE(q.pop(out));
+  CHECK_FALSE(link.pop_tx(out));
 }

@@ -9,8 +9,6 @@
 namespace fw {
 namespace {
 
-static_assert(AttitudeEstimator::kGravity_mps2 == static_cast<float>(pa::kGravity_mps2));
-
 // Normalises q in place; returns false (leaving q alone) if it cannot.
 [[gnu::always_inline]] inline bool normalise(Quaternion& q) {
   const float n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
@@ -58,8 +56,8 @@ void AttitudeEstimator::update(const Vec3& gyro_radps, const Vec3& accel_mps2, f
   if (!aligned_ || accel_gain_per_s_ > 0.0f) {
     const float n2 =
         accel_mps2[0] * accel_mps2[0] + accel_mps2[1] * accel_mps2[1] + accel_mps2[2] * accel_mps2[2];
-    const float lo = (1.0f - kAccelGateFraction) * kGravity_mps2;
-    const float hi = (1.0f + kAccelGateFraction) * kGravity_mps2;
+    const float lo = (1.0f - kAccelGateFraction) * pa::kGravityFloat_mps2;
+    const float hi = (1.0f + kAccelGateFraction) * pa::kGravityFloat_mps2;
     // A non-finite component makes n2 NaN or infinite, which fails the upper bound.
     if (n2 >= lo * lo && n2 <= hi * hi) {
       const float inv = 1.0f / std::sqrt(n2);

@@ -35,11 +35,10 @@ void CommandLink::apply(const Message& m, std::uint32_t now_us) {
       kill_reason_ = m.kill.reason;
       break;
     case Type::command:
-      if (command_count_ == commands_.size()) {
+      if (!commands_.push(m.command)) {
         RxCounters::bump(counters_.queue_full);  // the ground retries an unacknowledged command
         return;
       }
-      commands_[command_count_++] = m.command;
       break;
     case Type::rate_thrust:
       // Only a new sequence number refreshes the stream; repeats and replays are stale.
@@ -88,12 +87,6 @@ std::uint32_t CommandLink::setpoint_age_us(std::uint32_t now_us) const {
   if (!has_setpoint_) return 0xFFFFFFFFu;
   const std::int32_t age = pa::elapsed_us(now_us, setpoint_us_);
   return age < 0 ? 0u : static_cast<std::uint32_t>(age);
-}
-
-void CommandLink::pop_command(Command& out) {
-  out = commands_[0];
-  for (std::size_t i = 1; i < command_count_; ++i) commands_[i - 1] = commands_[i];
-  --command_count_;
 }
 
 }  // namespace fw

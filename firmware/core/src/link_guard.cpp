@@ -10,7 +10,7 @@ LinkGuard::LinkGuard(const LinkConfig& link)
 }
 
 void LinkGuard::on_frame(const Frame& frame, const Message& decoded, std::uint32_t received_us) {
-  if (holding_) bump(forged_);  // its AUTH never came
+  if (holding_) saturating_increment(forged_);  // its AUTH never came
   held_.message = decoded;
   held_.received_us = received_us;
   held_.words = pa::auth::TagCheck::words(frame);
@@ -19,25 +19,24 @@ void LinkGuard::on_frame(const Frame& frame, const Message& decoded, std::uint32
 
 void LinkGuard::on_auth(const Frame& frame) {
   if (!holding_) {
-    bump(forged_);  // an AUTH with nothing to vouch for
+    saturating_increment(forged_);  // an AUTH with nothing to vouch for
     return;
   }
   holding_ = false;
-  if (size_ == kQueue) {
-    bump(queue_full_);
+  if (queue_.full()) {
+    saturating_increment(queue_full_);
     // A KILL is never the one dropped: it takes the newest entry's place (the head, which may
     // be under check, is never the newest of a full queue), so a flood cannot keep it out.
     if (held_.message.type != Type::kill) return;
-    --size_;
-    latest_kill_ = latest_kill_ > size_ ? 0 : latest_kill_;
+    queue_.pop_back();
+    latest_kill_ = latest_kill_ > queue_.size() ? 0 : latest_kill_;
   }
   // AUTH: u16 counter low bits, then the 48-bit tag (the caller checked type and length).
   const std::uint64_t auth = pa::auth::detail::load_u64(frame.data.data());
   held_.counter_low = static_cast<std::uint16_t>(auth);
   held_.tag = auth >> 16;
-  queue_[(head_ + size_) % kQueue] = held_;
-  ++size_;
-  if (held_.message.type == Type::kill) latest_kill_ = size_;
+  queue_.push(held_);
+  if (held_.message.type == Type::kill) latest_kill_ = queue_.size();
 }
 
 bool LinkGuard::verify_next(Message& out, std::uint32_t& received_us) {
@@ -49,7 +48,7 @@ bool LinkGuard::verify_next(Message& out, std::uint32_t& received_us) {
     case 2: return finish_check(out, received_us);
     default:
       // Start the next check. Replays cost no MAC, so they are skipped here (at most the queue).
-      while (size_ > 0 && step_ == 0) start_check();
+      while (!queue_.empty() && step_ == 0) start_check();
       return false;
   }
 }
@@ -62,20 +61,19 @@ void LinkGuard::start_check() {
   superseded_ = latest_kill_ > 1 ? latest_kill_ - 1 : 0;
   latest_kill_ = 0;
   if (superseded_ != 0) {
-    const Pending kill = queue_[(head_ + superseded_) % kQueue];
-    for (std::size_t k = superseded_; k > 0; --k)
-      queue_[(head_ + k) % kQueue] = queue_[(head_ + k - 1) % kQueue];
-    queue_[head_] = kill;
+    const Pending kill = queue_[superseded_];
+    for (std::size_t k = superseded_; k > 0; --k) queue_[k] = queue_[k - 1];
+    queue_.front() = kill;
   }
-  const Pending& p = queue_[head_];
+  const Pending& p = queue_.front();
   if (!provisioned_) {
-    bump(forged_);
+    saturating_increment(forged_);
     drop_head();
     return;
   }
   // The counter first: a replay is refused without spending a MAC on it.
   if (pa::auth::expand_counter(last_counter_, p.counter_low, counter_) != pa::auth::CounterCheck::fresh) {
-    bump(replayed_);
+    saturating_increment(replayed_);
     drop_head();
     return;
   }
@@ -86,8 +84,7 @@ void LinkGuard::start_check() {
 void LinkGuard::drop_head() { drop(1); }
 
 void LinkGuard::drop(std::size_t n) {
-  head_ = (head_ + n) % kQueue;
-  size_ -= n;
+  queue_.pop_front(n);
   latest_kill_ = latest_kill_ > n ? latest_kill_ - n : 0;
 }
 
@@ -95,11 +92,11 @@ bool LinkGuard::finish_check(Message& out, std::uint32_t& received_us) {
   step_ = 0;
   const bool ok = check_.finish();
   if (!ok) {
-    bump(forged_);  // a forged KILL supersedes nothing: the frames behind it keep their turn
+    saturating_increment(forged_);  // a forged KILL supersedes nothing: the frames behind it keep their turn
   } else {
     last_counter_ = counter_;
-    out = queue_[head_].message;
-    received_us = queue_[head_].received_us;
+    out = queue_.front().message;
+    received_us = queue_.front().received_us;
   }
   drop(ok ? 1 + superseded_ : 1);
   superseded_ = 0;

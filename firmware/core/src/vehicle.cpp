@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "fw/float_ops.hpp"
+#include "fw/saturating.hpp"
 #include "pa/constants.hpp"
 #include "pa/sequence.hpp"
 
@@ -11,7 +12,6 @@ namespace fw {
 using namespace pa::proto;
 
 namespace {
-constexpr float kGravity_mps2 = 9.81f;
 constexpr float kImuGyroLimit_radps = 40.0f;  // beyond the sensor's range: a broken sample
 constexpr float kImuAccelLimit_mps2 = 200.0f;
 constexpr float kNominalDt_s = 0.001f;
@@ -41,8 +41,6 @@ std::uint32_t ticks_for(std::uint32_t period_us) {
   const std::uint32_t t = period_us / pa::kImuPeriod_us;
   return t == 0 ? 1u : t;
 }
-std::uint16_t saturate_u16(std::uint32_t v) { return v > 0xFFFFu ? 0xFFFFu : static_cast<std::uint16_t>(v); }
-std::uint8_t saturate_u8(std::uint32_t v) { return v > 0xFFu ? 0xFFu : static_cast<std::uint8_t>(v); }
 }  // namespace
 
 Vehicle::Vehicle(const VehicleConfig& config)
@@ -92,8 +90,7 @@ void Vehicle::on_frame(const Frame& frame, std::uint32_t now_us) {
 }
 
 std::uint32_t Vehicle::rx_rejected() const {
-  const std::uint64_t sum = std::uint64_t{link_.counters().rejected()} + guard_.rejected();
-  return sum > 0xFFFFFFFFu ? 0xFFFFFFFFu : static_cast<std::uint32_t>(sum);
+  return saturate_cast<std::uint32_t>(std::uint64_t{link_.counters().rejected()} + guard_.rejected());
 }
 
 // The 1 kHz loop, top to bottom (docs/architecture.md, "One tick of the system"):
@@ -263,7 +260,7 @@ void Vehicle::acknowledge(const Command& command, AckResult result, RefuseReason
 // this the speed drifted by bias * time, from 4.9 m enough to stall the descent and climb.
 [[gnu::always_inline]] inline void Vehicle::learn_accel_bias() {
   if (dot(gyro_radps_, gyro_radps_) > kBiasStillRate2_radps2) return;
-  const float excess_mps2 = std::sqrt(dot(accel_mps2_, accel_mps2_)) - kGravity_mps2;
+  const float excess_mps2 = std::sqrt(dot(accel_mps2_, accel_mps2_)) - pa::kGravityFloat_mps2;
   if (std::fabs(excess_mps2) > kBiasMax_mps2) return;
   if (bias_samples_ < kBiasWindow) bias_samples_ += 1.0f;
   accel_bias_up_mps2_ += (excess_mps2 - accel_bias_up_mps2_) / bias_samples_;
@@ -304,7 +301,7 @@ void Vehicle::track_flight(std::uint32_t) {
   }
   if (!imu_ok_) return;
   constexpr float h = kFlightVzPeriod_ticks * kNominalDt_s;
-  flight_vz_mps_ += (up_accel_mps2() - kGravity_mps2 - flight_vz_mps_ / kFlightVzLeak_s) * h;
+  flight_vz_mps_ += (up_accel_mps2() - pa::kGravityFloat_mps2 - flight_vz_mps_ / kFlightVzLeak_s) * h;
   constexpr float a = h / kFlightAccelMean_s;
   flight_accel_x_mps2_ += (accel_mps2_[0] - flight_accel_x_mps2_) * a;
   flight_accel_y_mps2_ += (accel_mps2_[1] - flight_accel_y_mps2_) * a;
@@ -319,11 +316,11 @@ void Vehicle::track_flight(std::uint32_t) {
 // once per failsafe, with the share of b_perp that the vertical bias learnt at rest took.
 void Vehicle::correct_rest_tilt() {
   rest_tilt_corrected_ = true;
-  constexpr float inv_g = 1.0f / kGravity_mps2;
+  constexpr float inv_g = 1.0f / pa::kGravityFloat_mps2;
   const Vec3 lean = AttitudeEstimator::rotate_to_inertial(
       rest_attitude_, Vec3{flight_accel_x_mps2_ * inv_g, flight_accel_y_mps2_ * inv_g, 0.0f});
   attitude_.correct_tilt(Vec3{-lean[0], -lean[1], 1.0f});
-  accel_bias_up_mps2_ -= 0.5f * kGravity_mps2 * (lean[0] * lean[0] + lean[1] * lean[1]);
+  accel_bias_up_mps2_ -= 0.5f * pa::kGravityFloat_mps2 * (lean[0] * lean[0] + lean[1] * lean[1]);
 }
 
 [[gnu::always_inline]] inline void Vehicle::supervise(bool crash) {
@@ -381,7 +378,7 @@ void Vehicle::correct_rest_tilt() {
   const float specific_up_mps2 = up_accel_mps2();
   if (imu_ok_) {
     const float clamped_dt = dt_s < 0 ? 0 : (dt_s > 0.005f ? 0.005f : dt_s);
-    failsafe_vz_mps_ += (specific_up_mps2 - kGravity_mps2) * clamped_dt;
+    failsafe_vz_mps_ += (specific_up_mps2 - pa::kGravityFloat_mps2) * clamped_dt;
   }
   if (catch_expected_ && supervisor_.mode() == Mode::hold) {
     // A hold inside a catch window: the plate stays where the ground station was taking it
@@ -394,11 +391,11 @@ void Vehicle::correct_rest_tilt() {
   }
   rate_radps = levelling_rates(up);
   if (action == Action::level_hover) {
-    thrust_mps2 = (kGravity_mps2 + kVerticalGain_per_s * (0.0f - failsafe_vz_mps_)) / tilt_cos;
+    thrust_mps2 = (pa::kGravityFloat_mps2 + kVerticalGain_per_s * (0.0f - failsafe_vz_mps_)) / tilt_cos;
     return;
   }
   const float target = -config_.supervisor.descent_rate_mps;
-  thrust_mps2 = (kGravity_mps2 + kVerticalGain_per_s * (target - failsafe_vz_mps_)) / tilt_cos;
+  thrust_mps2 = (pa::kGravityFloat_mps2 + kVerticalGain_per_s * (target - failsafe_vz_mps_)) / tilt_cos;
   if (thrust_mps2 < 0) thrust_mps2 = 0;
   // Ground contact: the floor holds the vehicle up although the thrust asks it to sink.
   const float support = specific_up_mps2 - thrust_applied_mps2_;
@@ -458,7 +455,7 @@ void Vehicle::correct_rest_tilt() {
 
 void Vehicle::note_tick_time_us(std::uint32_t us) {
   if (us > tick_time_max_us_) tick_time_max_us_ = us;
-  if (us > pa::kImuPeriod_us && overruns_ != 0xFFFFFFFFu) ++overruns_;
+  if (us > pa::kImuPeriod_us) saturating_increment(overruns_);
 }
 
 void Vehicle::send_heartbeat(std::uint32_t now_us) {
@@ -476,7 +473,7 @@ void Vehicle::send_heartbeat(std::uint32_t now_us) {
                             flags,
                             static_cast<std::uint8_t>(link_.setpoint().seq & 0x0Fu),
                             supervisor_.reason(),
-                            saturate_u8(rx_rejected())};
+                            saturate_cast<std::uint8_t>(rx_rejected())};
   link_.send_message(hb);
 }
 
@@ -497,8 +494,9 @@ void Vehicle::send_telemetry_attitude(std::uint32_t) {
 void Vehicle::send_telemetry_motors(std::uint32_t) { link_.send_message(TelemetryMotors{motor_command_}); }
 
 void Vehicle::send_telemetry_status(std::uint32_t) {
-  const TelemetryStatus status{saturate_u16(tick_time_max_us_), battery_mv_, saturate_u16(rx_rejected()),
-                               saturate_u8(overruns_), impacts_.count()};
+  const TelemetryStatus status{saturate_cast<std::uint16_t>(tick_time_max_us_), battery_mv_,
+                               saturate_cast<std::uint16_t>(rx_rejected()),
+                               saturate_cast<std::uint8_t>(overruns_), impacts_.count()};
   tick_time_max_us_ = 0;  // the longest tick of each report period
   link_.send_message(status);
 }

@@ -8,7 +8,8 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "fw/command_link.hpp"
+#include "fw/fixed_queue.hpp"
+#include "fw/saturating.hpp"
 #include "pa/protocol.hpp"
 
 namespace fw::posix {
@@ -20,7 +21,7 @@ class InMemoryBus {
   bool send(std::size_t endpoint, const pa::proto::Frame& f) {
     if (endpoint >= Endpoints) return false;
     for (std::size_t e = 0; e < Endpoints; ++e)
-      if (e != endpoint) queues_[e].push(f);
+      if (e != endpoint && !queues_[e].push(f)) saturating_increment(overruns_[e]);
     return true;
   }
   // Next frame waiting for `endpoint`, oldest first.
@@ -28,11 +29,12 @@ class InMemoryBus {
     return endpoint < Endpoints && queues_[endpoint].pop(out);
   }
   std::uint32_t overruns(std::size_t endpoint) const {
-    return endpoint < Endpoints ? queues_[endpoint].dropped() : 0;
+    return endpoint < Endpoints ? overruns_[endpoint] : 0;
   }
 
  private:
-  std::array<FrameQueue<Depth>, Endpoints> queues_{};
+  std::array<FixedQueue<pa::proto::Frame, Depth>, Endpoints> queues_{};
+  std::array<std::uint32_t, Endpoints> overruns_{};
 };
 
 }  // namespace fw::posix

@@ -7,6 +7,7 @@
 
 #include "fw/synthetic_vehicle.hpp"
 #include "fw/vehicle.hpp"
+#include "pa/constants.hpp"
 
 namespace fw::selftest {
 
@@ -14,7 +15,6 @@ namespace {
 
 using namespace pa::proto;
 
-constexpr float kGravity_mps2 = 9.81f;
 constexpr std::uint16_t kSession = 0x5A17;
 constexpr std::uint8_t kNode = 1;
 // The self-test's own link key and nonce: a test vehicle's, never a flying one's.
@@ -86,8 +86,9 @@ void script_setpoint(std::uint32_t tick, const SyntheticVehicle& plant, Vec3& ra
   if (tick < kClimbAt) return;
   constexpr float kHeight_m = 1.0f;
   const float tilt_cos = plant.tilt_cos() > 0.5f ? plant.tilt_cos() : 0.5f;
-  thrust = (kGravity_mps2 + 4.0f * (kHeight_m - plant.position_m()[2]) - 3.0f * plant.velocity_mps()[2]) /
-           tilt_cos;
+  thrust =
+      (pa::kGravityFloat_mps2 + 4.0f * (kHeight_m - plant.position_m()[2]) - 3.0f * plant.velocity_mps()[2]) /
+      tilt_cos;
   const Vec3 up = plant.up_in_body();
   rate = Vec3{-3.0f * up[1], 3.0f * up[0], 0.0f};  // level
   if (tick >= kManoeuvreAt && tick < kManoeuvreEnd) {
@@ -143,7 +144,7 @@ Result run(TickProbe* probe) {
           3.14159265f * static_cast<float>(tick - kImpactAt) / static_cast<float>(kImpactPulse);
       external[2] = -kImpactPeak_N * std::sin(phase);
     } else if (tick >= kImpactAt + kImpactPulse && tick < kLinkLossAt) {
-      external[2] = -0.03f * kGravity_mps2;
+      external[2] = -0.03f * pa::kGravityFloat_mps2;
     }
     plant.step(motors, external, 0.001f);
 

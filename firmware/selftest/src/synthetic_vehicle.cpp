@@ -5,7 +5,6 @@
 namespace fw::selftest {
 
 namespace {
-constexpr float kGravity_mps2 = 9.81f;
 constexpr float kFloorStiffness_Npm = 2000.0f;
 constexpr float kFloorDamping_Nspm = 40.0f;
 
@@ -23,7 +22,7 @@ Vec3 rotate_inverse(const Quaternion& q, const Vec3& v) {
 
 SyntheticVehicle::SyntheticVehicle(const AirframeConfig& airframe)
     : airframe_(airframe), geometry_(airframe) {
-  p_[2] = -airframe.mass_kg * kGravity_mps2 / kFloorStiffness_Npm;  // at rest on its legs
+  p_[2] = -airframe.mass_kg * pa::kGravityFloat_mps2 / kFloorStiffness_Npm;  // at rest on its legs
 }
 
 float SyntheticVehicle::noise() {
@@ -61,7 +60,7 @@ void SyntheticVehicle::step(const Motors& command, const Vec3& external_force_N,
   // Translation: thrust along body z, the external force, gravity, and the floor at z = 0.
   const Vec3 thrust_inertial = rotate(q_, Vec3{0, 0, effect.thrust_N});
   Vec3 force{thrust_inertial[0] + external_force_N[0], thrust_inertial[1] + external_force_N[1],
-             thrust_inertial[2] + external_force_N[2] - m * kGravity_mps2};
+             thrust_inertial[2] + external_force_N[2] - m * pa::kGravityFloat_mps2};
   // The floor: stiff, well-damped landing gear (about 60 rad/s), so a touchdown is felt as a
   // deceleration of a few g over some tens of ms, as a real IMU feels it.
   Vec3 floor_force{};

@@ -6,6 +6,9 @@
 namespace pa {
 
 inline constexpr double kGravity_mps2 = 9.81;
+// The same in float, for the firmware's single-precision FPU.
+inline constexpr float kGravityFloat_mps2 = 9.81f;
+static_assert(kGravityFloat_mps2 == static_cast<float>(kGravity_mps2));
 
 // The pole (paper, Section VII-A).
 inline constexpr double kPoleHalfLength_m = 0.665;  // 2L = 1.33 m

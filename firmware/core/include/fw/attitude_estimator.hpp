@@ -27,7 +27,6 @@ namespace fw {
 
 class AttitudeEstimator {
  public:
-  static constexpr float kGravity_mps2 = 9.81f;      // pa::kGravity_mps2 in float
   static constexpr float kAccelGateFraction = 0.2f;  // correct only when ||a| - g| <= 0.2 g
   static constexpr float kDtMax_s = 0.02f;           // dt is clamped into [0, kDtMax_s]
   static constexpr float kGyroLimit_radps = 40.0f;   // gyro clamped per axis (2000 deg/s range)

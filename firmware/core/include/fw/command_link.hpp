@@ -4,53 +4,15 @@
 // here asserts, allocates or loops over unbounded input.
 #pragma once
 
-#include <array>
 #include <cstdint>
 
 #include "fw/config.hpp"
+#include "fw/fixed_queue.hpp"
+#include "fw/saturating.hpp"
 #include "pa/protocol.hpp"
 #include "pa/sequence.hpp"
 
 namespace fw {
-
-// A fixed-capacity FIFO of frames (no heap). Pushing into a full queue drops the new frame
-// and counts it; the caller decides what matters more by what it pushes first.
-template <std::size_t Capacity>
-class FrameQueue {
- public:
-  bool push(const pa::proto::Frame& f) {
-    pa::proto::Frame* slot = next_slot();
-    if (slot == nullptr) {
-      count_drop();
-      return false;
-    }
-    *slot = f;
-    commit();
-    return true;
-  }
-  // In two steps, for a frame written in place: the slot the next push fills (nullptr when the
-  // queue is full), then commit() to queue what was written there.
-  pa::proto::Frame* next_slot() { return size_ == Capacity ? nullptr : &buffer_[(head_ + size_) % Capacity]; }
-  void commit() { ++size_; }
-  void count_drop() {
-    if (dropped_ != 0xFFFFFFFFu) ++dropped_;
-  }
-  bool pop(pa::proto::Frame& out) {
-    if (size_ == 0) return false;
-    out = buffer_[head_];
-    head_ = (head_ + 1) % Capacity;
-    --size_;
-    return true;
-  }
-  std::size_t size() const { return size_; }
-  std::uint32_t dropped() const { return dropped_; }
-
- private:
-  std::array<pa::proto::Frame, Capacity> buffer_{};
-  std::size_t head_ = 0;
-  std::size_t size_ = 0;
-  std::uint32_t dropped_ = 0;
-};
 
 class CommandLink {
  public:
@@ -94,11 +56,7 @@ class CommandLink {
     reason = kill_reason_;
     return true;
   }
-  bool take_command(pa::proto::Command& out) {
-    if (command_count_ == 0) return false;
-    pop_command(out);
-    return true;
-  }
+  bool take_command(pa::proto::Command& out) { return commands_.pop(out); }
   bool take_timesync(pa::proto::TimesyncRequest& request, std::uint32_t& received_us) {
     if (!timesync_pending_) return false;
     timesync_pending_ = false;
@@ -107,7 +65,13 @@ class CommandLink {
     return true;
   }
 
-  bool send(const pa::proto::Frame& f) { return tx_.push(f); }
+  // A full queue drops the new frame and counts it; the caller decides what matters more by what
+  // it sends first.
+  bool send(const pa::proto::Frame& f) {
+    if (tx_.push(f)) return true;
+    saturating_increment(tx_dropped_);
+    return false;
+  }
   // encode() then send(), with the frame encoded straight into the transmit queue: nothing is
   // sent when the message does not encode, and a full queue drops (and counts) it.
   template <class Message>
@@ -115,7 +79,7 @@ class CommandLink {
     pa::proto::Frame* slot = tx_.next_slot();
     if (slot == nullptr) {
       pa::proto::Frame f;
-      if (encode(message, node_, f)) tx_.count_drop();
+      if (encode(message, node_, f)) saturating_increment(tx_dropped_);
       return false;
     }
     if (!encode(message, node_, *slot)) return false;  // encode() leaves the slot alone then
@@ -123,14 +87,13 @@ class CommandLink {
     return true;
   }
   bool pop_tx(pa::proto::Frame& out) { return tx_.pop(out); }
-  std::uint32_t tx_dropped() const { return tx_.dropped(); }
+  std::uint32_t tx_dropped() const { return tx_dropped_; }
 
   const pa::proto::RxCounters& counters() const { return counters_; }
   std::uint8_t node() const { return node_; }
 
  private:
   void apply(const pa::proto::Message& m, std::uint32_t now_us);
-  void pop_command(pa::proto::Command& out);  // the oldest; command_count_ > 0
 
   std::uint8_t node_;
   std::uint32_t setpoint_timeout_us_;
@@ -150,15 +113,15 @@ class CommandLink {
   bool kill_pending_ = false;
   pa::proto::KillReason kill_reason_ = pa::proto::KillReason::operator_request;
 
-  std::array<pa::proto::Command, kCommandQueue> commands_{};
-  std::size_t command_count_ = 0;
+  FixedQueue<pa::proto::Command, kCommandQueue> commands_{};
 
   bool timesync_pending_ = false;
   pa::proto::TimesyncRequest timesync_{};
   std::uint32_t timesync_rx_us_ = 0;
 
   pa::proto::RxCounters counters_{};
-  FrameQueue<kTxQueue> tx_{};
+  FixedQueue<pa::proto::Frame, kTxQueue> tx_{};
+  std::uint32_t tx_dropped_ = 0;
 };
 
 }  // namespace fw

@@ -11,10 +11,11 @@
 // arrives every ~4 ticks).
 #pragma once
 
-#include <array>
 #include <cstdint>
 
 #include "fw/config.hpp"
+#include "fw/fixed_queue.hpp"
+#include "fw/saturating.hpp"
 #include "pa/link_auth.hpp"
 #include "pa/protocol.hpp"
 
@@ -30,14 +31,14 @@ class LinkGuard {
   void on_frame(const pa::proto::Frame& frame, const pa::proto::Message& decoded, std::uint32_t received_us);
   void on_auth(const pa::proto::Frame& auth);
   // A ground frame no AUTH can vouch for (a broadcast): counted as forged.
-  void on_unsigned() { bump(forged_); }
+  void on_unsigned() { saturating_increment(forged_); }
   // Once per tick: the next step of the check of one queued frame (the oldest, or the latest
   // KILL, which supersedes what came before it); true, with the decoded frame in `out`, when a
   // check completes and holds, and when it was received in `received_us` (a setpoint is fresh
   // from its arrival, not from the end of its check).
   bool verify_next(pa::proto::Message& out, std::uint32_t& received_us);
 
-  std::size_t queued() const { return size_; }  // frames with their AUTH, not yet verified
+  std::size_t queued() const { return queue_.size(); }  // frames with their AUTH, not yet verified
   std::uint32_t nonce() const { return nonce_; }
   std::uint32_t last_counter() const { return last_counter_; }
   bool provisioned() const { return provisioned_; }
@@ -59,9 +60,6 @@ class LinkGuard {
   void drop_head();
   void drop(std::size_t n);  // the first n queued frames
   bool finish_check(pa::proto::Message& out, std::uint32_t& received_us);
-  static void bump(std::uint32_t& c) {
-    if (c != 0xFFFFFFFFu) ++c;
-  }
 
   pa::auth::TagCheck check_{};
   std::uint32_t nonce_;
@@ -70,9 +68,7 @@ class LinkGuard {
 
   Pending held_{};  // the latest frame still waiting for its AUTH
   bool holding_ = false;
-  std::array<Pending, kQueue> queue_{};
-  std::size_t head_ = 0;
-  std::size_t size_ = 0;
+  FixedQueue<Pending, kQueue> queue_{};
 
   // The check in progress: its next step (0: none in progress).
   int step_ = 0;  // the head of the queue is being checked while it is not 0

@@ -10,6 +10,7 @@
 #include "fw/config.hpp"
 #include "fw/mixer.hpp"
 #include "fw/types.hpp"
+#include "pa/constants.hpp"
 
 namespace fw::selftest {
 
@@ -43,7 +44,7 @@ class SyntheticVehicle {
   Quaternion q_{1, 0, 0, 0};  // body to inertial
   Vec3 w_{};                  // body rates
   Motors thrust_N_{};
-  Vec3 specific_force_body_{0, 0, 9.81f};
+  Vec3 specific_force_body_{0, 0, pa::kGravityFloat_mps2};
   bool on_floor_ = true;
   std::uint32_t rng_ = 12345u;
   Vec3 disturbance_Nm_{0.002f, -0.0015f, 0.0005f};

@@ -10,6 +10,7 @@
 #include "fw/drivers/dshot.hpp"
 #include "fw/drivers/mpu6000.hpp"
 #include "fw/drivers/orientation.hpp"
+#include "fw/saturating.hpp"
 
 namespace fw::drivers::omnibus_f4 {
 
@@ -66,7 +67,7 @@ constexpr std::uint16_t battery_mv(std::uint16_t adc) {
   const std::uint32_t mv =
       (static_cast<std::uint32_t>(adc & 0x0FFFu) * kAdcReferenceMv * kBatteryDividerX10 + 20475u) /
       (4095u * 10u);
-  return static_cast<std::uint16_t>(mv > 0xFFFFu ? 0xFFFFu : mv);
+  return saturate_cast<std::uint16_t>(mv);
 }
 
 // Status LED on PB5, lit when driven low.
