@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "fw/failsafe_controller.hpp"
 #include "hil/plant/plant_config.hpp"
 #include "hil/sil/firmware_vehicle.hpp"
 
@@ -458,7 +459,7 @@ TEST_CASE(
       hover_vz_max = std::max(hover_vz_max, std::abs(s.body.velocity_mps.z()));
     } else if (mode == Mode::failsafe_descent) {
       if (descent_s < 0.0) descent_s = t;
-      // The descent speed, before the floor: the firmware's vertical loop (4/s, vehicle.cpp)
+      // The descent speed, before the floor: the firmware's vertical loop (FailsafeController)
       // takes its speed from 0 to -descent_rate_mps, but the speed it holds is integrated from
       // its accelerometer, less the bias it learnt on the floor, from the speed it had
       // estimated in flight when the failsafe began; so the true speed is off by that
@@ -466,8 +467,9 @@ TEST_CASE(
       if (t > descent_s + 0.25 && touchdown_s < 0.0 &&
           !ground.rig().plant().vehicle_on_floor(pa::kVehicle1)) {
         const double rate = double(sup.descent_rate_mps);
-        const double expected = -rate * (1.0 - std::exp(-4.0 * (t - descent_s))) + vz_at_failsafe -
-                                vz_estimate_at_failsafe - (accel_bias.z() - learnt_bias) * (t - hover_s);
+        const double expected =
+            -rate * (1.0 - std::exp(-double(fw::FailsafeController::kVerticalGain_per_s) * (t - descent_s))) +
+            vz_at_failsafe - vz_estimate_at_failsafe - (accel_bias.z() - learnt_bias) * (t - hover_s);
         descent_vz_sum += s.body.velocity_mps.z();
         descent_model_error_max =
             std::max(descent_model_error_max, std::abs(s.body.velocity_mps.z() - expected));

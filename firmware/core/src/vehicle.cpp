@@ -15,28 +15,13 @@ namespace {
 constexpr float kImuGyroLimit_radps = 40.0f;  // beyond the sensor's range: a broken sample
 constexpr float kImuAccelLimit_mps2 = 200.0f;
 constexpr float kNominalDt_s = 0.001f;
-constexpr float kVerticalGain_per_s = 4.0f;  // failsafe vertical-velocity loop
-// The accelerometer's bias along "up" is learnt at rest from samples this still and this close
-// to g (a vehicle being carried or bumped is not at rest), averaged over up to kBiasWindow.
-constexpr float kBiasStillRate2_radps2 = 0.1f * 0.1f;
-constexpr float kBiasMax_mps2 = 0.5f;
-constexpr float kBiasWindow = 2000.0f;
-constexpr float kMinTiltCos = 0.5f;  // thrust compensation for tilt stops at 60 degrees
-// The vertical speed integrated in flight forgets with this time constant: it bounds the drift
-// from the accelerometer's residual bias over a long flight (the ground station holds the
-// vehicle still on average), and costs climb / constant (0.06 m/s after a 3.5 m climb).
-constexpr float kFlightVzLeak_s = 60.0f;
-constexpr std::uint32_t kFlightVzPeriod_ticks = 5;
-// The mean of the body x/y accelerometer in flight (its bias) over this time constant: long
-// against the drag of a manoeuvre, short against the hover before a throw.
-constexpr float kFlightAccelMean_s = 2.0f;
+static_assert(InertialReference::kTrackPeriod_s == InertialReference::kTrackPeriod_ticks * kNominalDt_s);
 constexpr std::int32_t kExpectCatchMax_ms = 10000;
 // A quadrocopter's accelerometer reads gravity only while the vehicle rests; in flight it
 // reads the thrust direction, which would pull the estimate towards "level" whatever the
 // true tilt. So the tilt is corrected on the ground and integrated from the gyro in flight.
 constexpr float kAttitudeGroundGain_per_s = 2.0f;
 
-float dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 std::uint32_t ticks_for(std::uint32_t period_us) {
   const std::uint32_t t = period_us / pa::kImuPeriod_us;
   return t == 0 ? 1u : t;
@@ -50,7 +35,7 @@ Vehicle::Vehicle(const VehicleConfig& config)
       attitude_(kAttitudeGroundGain_per_s),
       impacts_(config.impact, config.airframe),
       supervisor_(config.supervisor),
-      ground_contact_us_(static_cast<float>(config.supervisor.ground_contact_us)),
+      failsafe_(config.supervisor),
       rate_controller_(config.rate, config.airframe),
       mixer_(config.airframe),
       // The static task table. Phases keep the heavier frames on different ticks.
@@ -62,7 +47,7 @@ Vehicle::Vehicle(const VehicleConfig& config)
           task(&Vehicle::send_telemetry_status, ticks_for(config.link.telemetry_status_period_us), 4),
           task(&Vehicle::send_link_session, ticks_for(config.link.link_session_period_us), 6),
           // Not telemetry: what the failsafe starts from, at 200 Hz on the ticks that send none.
-          task(&Vehicle::track_flight, kFlightVzPeriod_ticks, 4),
+          task(&Vehicle::track_flight, InertialReference::kTrackPeriod_ticks, 4),
       }} {}
 
 // A task runs on the ticks whose count (1 on the first tick) is `phase` modulo `period`; the
@@ -113,18 +98,7 @@ TickOutput Vehicle::tick(const ImuSample& imu) {
   check_ground_frame(now_us);
   // The link's watchdogs and the sensors' health, once per tick: no frame arrives during it.
   update_inputs(now_us);
-  const Mode mode_before = supervisor_.mode();
-  const bool resting =
-      mode_before == Mode::disarmed || mode_before == Mode::armed || mode_before == Mode::landed;
-  if (resting) attitude_.set_accel_gain(kAttitudeGroundGain_per_s);
-  else attitude_.set_accel_gain(0.0f);
-  if (imu_ok_) {
-    // Gyro-only in flight, so an uncorrected bias tilts the estimate by bias * flight time.
-    const Vec3 rate{gyro_radps_[0] - gyro_bias_radps_[0], gyro_radps_[1] - gyro_bias_radps_[1],
-                    gyro_radps_[2] - gyro_bias_radps_[2]};
-    attitude_.update(rate, accel_mps2_, dt_s);
-  }
-  if (resting && imu_ok_) learn_accel_bias();
+  estimate(dt_s);
   handle_link(now_us);
   const bool crash = detect_impact(now_us);
   supervise(crash);
@@ -165,7 +139,7 @@ TickOutput Vehicle::tick(const ImuSample& imu) {
   // the vertical speed integrated since the failsafe began (which drifts with the
   // accelerometer's bias) restarts from zero, and the descent law's thrust falls under the
   // floor's support, which the ground-contact detector then sees.
-  if (event.touchdown && final) failsafe_vz_mps_ = 0;
+  if (event.touchdown && final) failsafe_.on_touchdown();
   if (event.classification == ImpactClass::catch_impact && !reaction_active_) {
     reaction_active_ = true;
     reaction_started_us_ = now_us;
@@ -250,41 +224,29 @@ void Vehicle::acknowledge(const Command& command, AckResult result, RefuseReason
   inputs_.setpoint_fresh = link_.setpoint_fresh(now_us);
   inputs_.setpoint_thrust_mps2 = link_.setpoint().thrust_mps2;
   inputs_.imu_ok = imu_ok_;
-  inputs_.on_ground = ground_contact_s_ * 1e6f >= ground_contact_us_;
+  inputs_.on_ground = failsafe_.on_ground();
   inputs_.crash = false;  // until the impact detector has run
 }
 
-// At rest on the floor the accelerometer reads g exactly, so what it reads more is its bias
-// (along up: the x and y biases only tilt the measured up, second order in its length). The
-// failsafe integrates its vertical speed from the accelerometer with no motion capture; without
-// this the speed drifted by bias * time, from 4.9 m enough to stall the descent and climb.
-[[gnu::always_inline]] inline void Vehicle::learn_accel_bias() {
-  if (dot(gyro_radps_, gyro_radps_) > kBiasStillRate2_radps2) return;
-  const float excess_mps2 = std::sqrt(dot(accel_mps2_, accel_mps2_)) - pa::kGravityFloat_mps2;
-  if (std::fabs(excess_mps2) > kBiasMax_mps2) return;
-  if (bias_samples_ < kBiasWindow) bias_samples_ += 1.0f;
-  accel_bias_up_mps2_ += (excess_mps2 - accel_bias_up_mps2_) / bias_samples_;
-  // At rest the gyro reads its bias (the Earth's rate, 7e-5 rad/s, is below its noise).
-  for (int i = 0; i < 3; ++i) gyro_bias_radps_[i] += (gyro_radps_[i] - gyro_bias_radps_[i]) / bias_samples_;
+// The attitude, corrected by the accelerometer on the ground only (in flight it reads the thrust
+// direction, not gravity), and the biases learnt at rest.
+[[gnu::always_inline]] inline void Vehicle::estimate(float dt_s) {
+  const Mode mode = supervisor_.mode();
+  const bool resting = mode == Mode::disarmed || mode == Mode::armed || mode == Mode::landed;
+  if (resting) attitude_.set_accel_gain(kAttitudeGroundGain_per_s);
+  else attitude_.set_accel_gain(0.0f);
+  if (!imu_ok_) return;
+  // Gyro-only in flight, so an uncorrected bias tilts the estimate by bias * flight time.
+  attitude_.update(inertial_.unbiased_rate_radps(gyro_radps_), accel_mps2_, dt_s);
+  if (resting) inertial_.learn_at_rest(gyro_radps_, accel_mps2_);
 }
 
-// The specific force along the estimated up, less the bias learnt at rest.
-[[gnu::always_inline]] inline float Vehicle::up_accel_mps2() const {
-  return dot(accel_mps2_, attitude_.up_in_body()) - accel_bias_up_mps2_;
-}
-
-// What the failsafe starts from, kept in flight by a periodic task (every kFlightVzPeriod_ticks,
-// off the ticks that send telemetry, which with the link guard's step are the longest):
-// - the vertical speed: a cut stream can find the vehicle moving (a catch manoeuvre descends, a
-//   throw climbs), so the failsafe starts from the speed integrated in flight, not from rest;
-// - the accelerometer's x/y bias and the attitude at rest, for correct_rest_tilt.
+// What the failsafe starts from (fw/inertial_reference.hpp), kept in flight by a periodic task
+// off the ticks that send telemetry, which with the link guard's step are the longest.
 void Vehicle::track_flight(std::uint32_t) {
   const Mode mode = supervisor_.mode();
   if (mode == Mode::disarmed || mode == Mode::armed || mode == Mode::landed || mode == Mode::killed) {
-    flight_vz_mps_ = 0;
-    flight_accel_x_mps2_ = flight_accel_y_mps2_ = 0;
-    rest_attitude_ = attitude_.quaternion();
-    rest_tilt_corrected_ = false;
+    inertial_.rest(attitude_.quaternion());
     crash_kills_ = true;
     return;
   }
@@ -293,34 +255,14 @@ void Vehicle::track_flight(std::uint32_t) {
   // keeps levelling and descending (the floor then lands it, motors off) rather than falling
   // from the height of a catch; one that tumbles is stopped. (Decided here, at 200 Hz, to keep
   // the impact's tick short.)
-  crash_kills_ = mode == Mode::flying || attitude_.tilt_cos() <= kMinTiltCos;
+  crash_kills_ = mode == Mode::flying || attitude_.tilt_cos() <= FailsafeController::kMinTiltCos;
   if (mode != Mode::flying) {
-    flight_vz_mps_ = failsafe_vz_mps_;  // a failsafe the ground station ends goes on from there
-    if (!rest_tilt_corrected_) correct_rest_tilt();
+    inertial_.follow_vz(failsafe_.vz_mps());
+    if (!inertial_.rest_tilt_corrected()) inertial_.correct_rest_tilt(attitude_);
     return;
   }
   if (!imu_ok_) return;
-  constexpr float h = kFlightVzPeriod_ticks * kNominalDt_s;
-  flight_vz_mps_ += (up_accel_mps2() - pa::kGravityFloat_mps2 - flight_vz_mps_ / kFlightVzLeak_s) * h;
-  constexpr float a = h / kFlightAccelMean_s;
-  flight_accel_x_mps2_ += (accel_mps2_[0] - flight_accel_x_mps2_) * a;
-  flight_accel_y_mps2_ += (accel_mps2_[1] - flight_accel_y_mps2_) * a;
-}
-
-// At rest the attitude estimate aligns up with the accelerometer's reading, bias b included, so
-// it leans by b_perp / g: 0.4 m/s^2 of bias is 2.3 degrees, which the levelled failsafe would
-// fly, drifting tens of metres and (the drag then seen along body z) stalling its descent. In
-// flight the body x/y accelerometer reads only drag and that bias (the thrust is along body z),
-// and the ground station holds the vehicle still on average: its mean is b_perp. The lean is
-// fixed in the estimated inertial frame (the gyro carries it along), so it is removed there,
-// once per failsafe, with the share of b_perp that the vertical bias learnt at rest took.
-void Vehicle::correct_rest_tilt() {
-  rest_tilt_corrected_ = true;
-  constexpr float inv_g = 1.0f / pa::kGravityFloat_mps2;
-  const Vec3 lean = AttitudeEstimator::rotate_to_inertial(
-      rest_attitude_, Vec3{flight_accel_x_mps2_ * inv_g, flight_accel_y_mps2_ * inv_g, 0.0f});
-  attitude_.correct_tilt(Vec3{-lean[0], -lean[1], 1.0f});
-  accel_bias_up_mps2_ -= 0.5f * pa::kGravityFloat_mps2 * (lean[0] * lean[0] + lean[1] * lean[1]);
+  inertial_.track_flight(inertial_.up_accel_mps2(accel_mps2_, attitude_.up_in_body()), accel_mps2_);
 }
 
 [[gnu::always_inline]] inline void Vehicle::supervise(bool crash) {
@@ -334,19 +276,11 @@ void Vehicle::correct_rest_tilt() {
     if (on_board_flight(mode) && !on_board_flight(last_mode_)) {
       // Motion capture is out of reach: integrate vertical velocity from here on, from the
       // speed estimated in flight.
-      failsafe_vz_mps_ = flight_vz_mps_;
-      ground_contact_s_ = 0;
+      failsafe_.start(inertial_.flight_vz_mps());
     }
     last_mode_ = mode;
   }
-  if (mode != Mode::failsafe_descent) ground_contact_s_ = 0;
-}
-
-// Levelling law: body rates that turn the measured "up" towards the body z-axis.
-// For an inertial vector seen from the body, u' = -w x u; with w = k (e_z x u) the tilt decays.
-[[gnu::always_inline]] inline Vec3 Vehicle::levelling_rates(const Vec3& up) const {
-  const float k = config_.supervisor.level_gain_per_s;
-  return Vec3{-k * up[1], k * up[0], 0.0f};
+  if (mode != Mode::failsafe_descent) failsafe_.clear_ground_contact();
 }
 
 [[gnu::always_inline]] inline void Vehicle::choose_setpoint(float dt_s, Vec3& rate_radps,
@@ -364,7 +298,7 @@ void Vehicle::correct_rest_tilt() {
       thrust_mps2 = sp.thrust_mps2;
       if (reaction_active_) {
         thrust_mps2 += config_.catch_reaction.thrust_add_mps2;
-        if (config_.catch_reaction.hold_level) rate_radps = levelling_rates(attitude_.up_in_body());
+        if (config_.catch_reaction.hold_level) rate_radps = failsafe_.levelling_rates(attitude_.up_in_body());
       }
       return;
     }
@@ -372,14 +306,11 @@ void Vehicle::correct_rest_tilt() {
     case Action::descend: break;
   }
 
-  // On board: level, hold (or sink at) the vertical speed integrated on board.
+  // On board (fw/failsafe_controller.hpp): level, hold (or sink at) the vertical speed
+  // integrated on board.
   const Vec3 up = attitude_.up_in_body();
-  const float tilt_cos = up[2] < kMinTiltCos ? kMinTiltCos : up[2];
-  const float specific_up_mps2 = up_accel_mps2();
-  if (imu_ok_) {
-    const float clamped_dt = dt_s < 0 ? 0 : (dt_s > 0.005f ? 0.005f : dt_s);
-    failsafe_vz_mps_ += (specific_up_mps2 - pa::kGravityFloat_mps2) * clamped_dt;
-  }
+  const float specific_up_mps2 = inertial_.up_accel_mps2(accel_mps2_, up);
+  if (imu_ok_) failsafe_.integrate(specific_up_mps2, dt_s);
   if (catch_expected_ && supervisor_.mode() == Mode::hold) {
     // A hold inside a catch window: the plate stays where the ground station was taking it
     // (attitude held, the last thrust) rather than levelling, which would tip it off the pole's
@@ -389,18 +320,9 @@ void Vehicle::correct_rest_tilt() {
     thrust_mps2 = link_.setpoint().thrust_mps2;
     return;
   }
-  rate_radps = levelling_rates(up);
-  if (action == Action::level_hover) {
-    thrust_mps2 = (pa::kGravityFloat_mps2 + kVerticalGain_per_s * (0.0f - failsafe_vz_mps_)) / tilt_cos;
-    return;
-  }
-  const float target = -config_.supervisor.descent_rate_mps;
-  thrust_mps2 = (pa::kGravityFloat_mps2 + kVerticalGain_per_s * (target - failsafe_vz_mps_)) / tilt_cos;
-  if (thrust_mps2 < 0) thrust_mps2 = 0;
-  // Ground contact: the floor holds the vehicle up although the thrust asks it to sink.
-  const float support = specific_up_mps2 - thrust_applied_mps2_;
-  if (support > config_.supervisor.ground_contact_mps2) ground_contact_s_ += dt_s > 0 ? dt_s : 0;
-  else ground_contact_s_ = 0;
+  rate_radps = failsafe_.levelling_rates(up);
+  if (action == Action::level_hover) thrust_mps2 = failsafe_.hover_thrust_mps2(up);
+  else thrust_mps2 = failsafe_.descend(up, specific_up_mps2, thrust_applied_mps2_, dt_s);
 }
 
 [[gnu::always_inline]] inline TickOutput Vehicle::control_and_mix(float dt_s, const Vec3& rate_radps,

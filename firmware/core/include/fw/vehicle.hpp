@@ -11,7 +11,9 @@
 #include "fw/attitude_estimator.hpp"
 #include "fw/command_link.hpp"
 #include "fw/config.hpp"
+#include "fw/failsafe_controller.hpp"
 #include "fw/impact_detector.hpp"
+#include "fw/inertial_reference.hpp"
 #include "fw/link_guard.hpp"
 #include "fw/mixer.hpp"
 #include "fw/rate_controller.hpp"
@@ -51,9 +53,9 @@ class Vehicle {
   std::uint8_t saturation() const { return saturation_; }
   bool catch_reaction_active() const { return reaction_active_; }
   // The accelerometer's bias along up, learnt at rest on the floor; the failsafe removes it.
-  float accel_bias_up_mps2() const { return accel_bias_up_mps2_; }
-  const Vec3& gyro_bias_radps() const { return gyro_bias_radps_; }  // learnt at rest
-  float flight_vz_mps() const { return flight_vz_mps_; }            // the failsafe's starting speed
+  float accel_bias_up_mps2() const { return inertial_.accel_bias_up_mps2(); }
+  const Vec3& gyro_bias_radps() const { return inertial_.gyro_bias_radps(); }  // learnt at rest
+  float flight_vz_mps() const { return inertial_.flight_vz_mps(); }  // the failsafe's starting speed
   std::uint8_t impact_count() const { return impacts_.count(); }
   std::uint32_t ticks() const { return ticks_; }
 
@@ -73,8 +75,7 @@ class Vehicle {
   void check_ground_frame(std::uint32_t now_us);
   void handle_link(std::uint32_t now_us);
   bool detect_impact(std::uint32_t now_us);  // true when the impact was a crash
-  void learn_accel_bias();
-  float up_accel_mps2() const;
+  void estimate(float dt_s);
   void supervise(bool crash);
   void choose_setpoint(float dt_s, Vec3& rate_radps, float& thrust_mps2);
   TickOutput control_and_mix(float dt_s, const Vec3& rate_radps, float thrust_mps2);
@@ -85,7 +86,6 @@ class Vehicle {
   void acknowledge(const pa::proto::Command& command, pa::proto::AckResult result,
                    pa::proto::RefuseReason reason);
   void update_inputs(std::uint32_t now_us);  // inputs_ for this tick, crash false
-  Vec3 levelling_rates(const Vec3& up_in_body) const;
 
   void send_heartbeat(std::uint32_t now_us);
   void send_telemetry_rates(std::uint32_t now_us);
@@ -94,7 +94,6 @@ class Vehicle {
   void send_telemetry_status(std::uint32_t now_us);
   void send_link_session(std::uint32_t now_us);
   void track_flight(std::uint32_t now_us);
-  void correct_rest_tilt();
 
   VehicleConfig config_;
   CommandLink link_;
@@ -102,7 +101,8 @@ class Vehicle {
   AttitudeEstimator attitude_;
   ImpactDetector impacts_;
   Supervisor supervisor_;
-  float ground_contact_us_;  // config_.supervisor.ground_contact_us, as the float it is compared in
+  InertialReference inertial_;
+  FailsafeController failsafe_;
   RateController rate_controller_;
   Mixer mixer_;
   static constexpr std::size_t kTelemetryTasks = 6;  // the first six send frames
@@ -127,22 +127,6 @@ class Vehicle {
   bool reaction_active_ = false;
   std::uint32_t reaction_started_us_ = 0;
 
-  // Failsafe vertical channel: velocity integrated from the accelerometer since the failsafe
-  // began (motion capture is out of reach then), and the ground-contact detector. It starts
-  // from flight_vz_mps_, the same integral kept in flight with a leak (track_flight).
-  float failsafe_vz_mps_ = 0;
-  float flight_vz_mps_ = 0;
-  float ground_contact_s_ = 0;
-  float accel_bias_up_mps2_ = 0;  // learnt at rest (learn_accel_bias)
-  float bias_samples_ = 0;
-  Vec3 gyro_bias_radps_{};  // learnt at rest with the accelerometer's, for the attitude estimate
-  // The tilt the attitude estimate took at rest from the accelerometer's x/y bias, removed when
-  // a failsafe begins (correct_rest_tilt): the attitude at rest's last periodic sample, the
-  // bias as the mean body x/y reading in flight, and whether it has been removed since rest.
-  Quaternion rest_attitude_{1.0f, 0.0f, 0.0f, 0.0f};
-  float flight_accel_x_mps2_ = 0;
-  float flight_accel_y_mps2_ = 0;
-  bool rest_tilt_corrected_ = false;
   bool crash_kills_ = true;  // whether an impact classed a crash stops the motors (track_flight)
   pa::proto::Mode last_mode_ = pa::proto::Mode::disarmed;
 
