@@ -87,23 +87,11 @@ int cmd_campaign(int argc, char** argv) {
   std::fprintf(stderr, "\n");
 
   std::ofstream csv(out_dir + "/throws.csv");
-  csv << "throw,outcome,flight_s,catch_height_m,catch_x_m,catch_y_m,travel_m,energy_error_J,abort_reason,seed";
-  for (const DrawnParameter& p : drawn_parameters(results.front().plant)) csv << "," << p.key;
-  csv << "\n";
+  trials::write_csv(csv, sil::campaign_throws_columns(results.front().plant), results);
   std::map<std::string, int> failures;
   int caught = 0, crashed = 0;
   for (const sil::CampaignAttempt& a : results) {
     const sil::AttemptResult& r = a.result;
-    char line[512];
-    std::snprintf(line, sizeof line, "%d,%s,%.4f,%.4f,%.4f,%.4f,%.4f,%.5f,%s,%llu", r.throw_number,
-                  r.outcome.c_str(), r.flight_s, r.catch_height_m, r.catch_x_m, r.catch_y_m, r.travel_m,
-                  r.energy_error_J, r.abort_reason.c_str(), static_cast<unsigned long long>(a.seed));
-    csv << line;
-    for (const DrawnParameter& p : drawn_parameters(a.plant)) {
-      std::snprintf(line, sizeof line, ",%.6g", p.value);
-      csv << line;
-    }
-    csv << "\n";
     if (r.outcome == "caught") {
       ++caught;
     } else {

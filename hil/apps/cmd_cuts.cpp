@@ -115,9 +115,8 @@ int cmd_cuts(int argc, char** argv) {
   std::fprintf(stderr, "\n");
 
   std::ofstream csv(out_dir + "/cuts.csv");
-  csv << "cut,mission,mission_seed,phase,t_cut_s,vehicle,mode_at_cut,height_m,tilt_at_cut_deg,"
-         "failsafe_after_s,levelled_after_s,max_tilt_deg,touchdown_after_s,touchdown_speed_mps,"
-         "touchdown_tilt_deg,drift_m,min_separation_m,final_mode,landed,motors_off,crashed,failure\n";
+  const trials::Schema<sil::CutRow> columns = sil::cuts_csv_columns();
+  csv << trials::csv_header(columns) << "\n";
   const sil::CutLimits& lim = config.limits;
   std::map<std::string, int> causes;
   std::map<std::string, std::pair<int, int>> phases;  // cuts, cuts with a failure
@@ -127,17 +126,7 @@ int cmd_cuts(int argc, char** argv) {
     bool failed = false;
     for (const pa::VehicleId v : pa::kActVehicles) {
       const sil::VehicleCut& c = r.vehicles[pa::act_slot(v)];
-      char line[768];
-      std::snprintf(
-          line, sizeof line,
-          "%d,%d,%llu,%s,%.3f,%d,%s,%.3f,%.2f,%.3f,%.3f,%.2f,%.3f,%.4f,%.2f,%.3f,%.3f,%s,%d,%d,%d,%s\n",
-          r.cut, r.mission, static_cast<unsigned long long>(r.mission_seed),
-          std::string(sil::cut_phase_name(r.phase)).c_str(), r.t_cut_s, int(v.node()), c.mode_at_cut.c_str(),
-          c.height_m, kDeg * c.tilt_at_cut_rad, c.failsafe_after_s, c.levelled_after_s, kDeg * c.max_tilt_rad,
-          c.touchdown_after_s, c.touchdown_speed_mps, kDeg * c.touchdown_tilt_rad, c.drift_m,
-          r.min_separation_m, c.final_mode.c_str(), c.landed ? 1 : 0, c.motors_off ? 1 : 0, c.crashed ? 1 : 0,
-          c.failure.c_str());
-      csv << line;
+      csv << trials::csv_row(columns, sil::CutRow{&r, v}) << "\n";
       if (c.touchdown_speed_mps >= 0.0) speeds.push_back(c.touchdown_speed_mps);
       if (c.failsafe_after_s >= 0.0) failsafe_s.push_back(c.failsafe_after_s);
       if (c.levelled_after_s >= 0.0) levelled_s.push_back(c.levelled_after_s);

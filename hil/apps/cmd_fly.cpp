@@ -32,14 +32,6 @@ int usage(const std::string& message) {
   return 2;
 }
 
-void write_row(std::ostream& out, const sil::AttemptResult& r) {
-  char line[512];
-  std::snprintf(line, sizeof line, "%d,%s,%.4f,%.4f,%.4f,%.4f,%.4f,%.5f,%s,%.4f\n", r.throw_number,
-                r.outcome.c_str(), r.flight_s, r.catch_height_m, r.catch_x_m, r.catch_y_m, r.travel_m,
-                r.energy_error_J, r.abort_reason.c_str(), r.planned_height_m);
-  out << line;
-}
-
 // One attempt's time series as DIR/attempt_<n>.csv (columns: docs/report.md).
 void write_time_series(const std::string& path, const std::vector<sil::TimeSample>& samples) {
   std::ofstream ts(path);
@@ -274,9 +266,7 @@ int cmd_fly(int argc, char** argv) {
                   : "NO");
   if (!out_dir.empty()) {
     std::ofstream csv(out_dir + "/throws.csv");
-    csv << "throw,outcome,flight_s,catch_height_m,catch_x_m,catch_y_m,travel_m,energy_error_J,abort_reason,"
-           "planned_height_m\n";
-    for (const sil::AttemptResult& r : results) write_row(csv, r);
+    trials::write_csv(csv, trials::fly_throws_columns(), results);
     csv.close();
     if (!no_report) make_report(out_dir, "hil fly");
   }

@@ -2,7 +2,6 @@
 
 #include <cstdio>
 #include <optional>
-#include <sstream>
 #include <stdexcept>
 
 #include "hil/plant/randomisation.hpp"
@@ -42,36 +41,25 @@ std::uint64_t attempt_seed(std::uint64_t seed, int attempt) {
   return seed * 1000003ULL + static_cast<std::uint64_t>(attempt);
 }
 
-std::string encode_result(const AttemptResult& r) {
-  char numbers[256];
-  std::snprintf(numbers, sizeof numbers, "%.17g\t%.17g\t%.17g\t%.17g\t%.17g\t%.17g\t%d\t%d", r.flight_s,
-                r.catch_height_m, r.catch_x_m, r.catch_y_m, r.travel_m, r.energy_error_J, r.impact ? 1 : 0,
-                r.vehicle_crashed ? 1 : 0);
-  return r.outcome + "\t" + numbers + "\t" + r.abort_reason;
-}
-
-bool decode_result(const std::string& line, AttemptResult& r) {
-  std::vector<std::string> fields;
-  std::stringstream in(line);
-  std::string field;
-  while (std::getline(in, field, '\t')) fields.push_back(field);
-  if (line.empty() || line.back() == '\t') fields.emplace_back();
-  if (fields.size() != 10) return false;
-  try {
-    r.outcome = fields[0];
-    r.flight_s = std::stod(fields[1]);
-    r.catch_height_m = std::stod(fields[2]);
-    r.catch_x_m = std::stod(fields[3]);
-    r.catch_y_m = std::stod(fields[4]);
-    r.travel_m = std::stod(fields[5]);
-    r.energy_error_J = std::stod(fields[6]);
-    r.impact = fields[7] == "1";
-    r.vehicle_crashed = fields[8] == "1";
-    r.abort_reason = fields[9];
-  } catch (const std::exception&) {
-    return false;
+trials::Schema<CampaignAttempt> campaign_throws_columns(const PlantConfig& plant) {
+  using trials::column;
+  using trials::column_of;
+  trials::Schema<CampaignAttempt> out;
+  const auto result = [](const CampaignAttempt& a) -> const AttemptResult& { return a.result; };
+  for (const trials::Field<AttemptResult>& f : trials::columns(
+           trials::attempt_schema(), {"throw", "outcome", "flight_s", "catch_height_m", "catch_x_m",
+                                      "catch_y_m", "travel_m", "energy_error_J", "abort_reason"}))
+    out.push_back(column_of<CampaignAttempt>(f, result));
+  out.push_back(trials::field("seed", &CampaignAttempt::seed));
+  const std::vector<DrawnParameter> drawn = drawn_parameters(plant);
+  for (std::size_t k = 0; k < drawn.size(); ++k) {
+    out.push_back(column<CampaignAttempt>(std::string(drawn[k].key), [k](const CampaignAttempt& a) {
+      char text[64];
+      std::snprintf(text, sizeof text, "%.6g", drawn_parameters(a.plant)[k].value);
+      return std::string(text);
+    }));
   }
-  return true;
+  return out;
 }
 
 std::vector<CampaignAttempt> run_campaign(
@@ -92,10 +80,11 @@ std::vector<CampaignAttempt> run_campaign(
   }
   std::vector<const CampaignAttempt*> done;
   run_on_workers(
-      config.attempts, config.jobs, [&](int i) { return encode_result(fly(config, learnt, i).result); },
+      config.attempts, config.jobs,
+      [&](int i) { return trials::encode_result(fly(config, learnt, i).result); },
       [&](int i, const std::string& report) {
         AttemptResult r;
-        if (!decode_result(report, r))
+        if (!trials::decode_result(report, r))
           throw std::runtime_error("a worker reported an unreadable result: '" + report + "'");
         r.throw_number = i;
         CampaignAttempt& a = attempts[static_cast<std::size_t>(i - 1)];

@@ -50,8 +50,8 @@ std::vector<CampaignAttempt> run_campaign(
     const CampaignConfig& config,
     const std::function<void(const std::vector<const CampaignAttempt*>& done)>& progress = {});
 
-// One attempt's result as one line and back (the workers' reports; tab-separated, no newline).
-std::string encode_result(const AttemptResult& r);
-bool decode_result(const std::string& line, AttemptResult& r);
+// The columns of a campaign's throws.csv: `hil fly`'s up to abort_reason, the attempt's seed, then
+// the parameters drawn for its plant (drawn_parameters(), keyed as `plant` keys them).
+trials::Schema<CampaignAttempt> campaign_throws_columns(const PlantConfig& plant);
 
 }  // namespace hil::sil

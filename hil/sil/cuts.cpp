@@ -4,7 +4,6 @@
 #include <cstdio>
 #include <optional>
 #include <random>
-#include <sstream>
 #include <stdexcept>
 
 #include "fw/supervisor.hpp"
@@ -21,11 +20,9 @@ using pa::proto::Mode;
 
 constexpr pa::VehicleId kThrower = pa::kVehicle1;
 constexpr pa::VehicleId kCatcher = pa::kVehicle2;
-constexpr int kVehicleFields = 15;
 // A pre-flight rest as long as the firmware's bias window (2000 IMU samples): the mission's
 // ground station takes off at once otherwise, after 45 ms on the floor.
 constexpr double kRestBeforeTakeOff_s = 2.0;
-constexpr int kCutFields = 7 + 2 * kVehicleFields;
 constexpr double kLostTilt_rad = 60.0 * M_PI / 180.0;
 
 double tilt_of(const RigidBodyState& body) { return std::acos(std::clamp(body.rotation()(2, 2), -1.0, 1.0)); }
@@ -129,13 +126,30 @@ std::vector<CutResult> fly_group(const CutsConfig& config, const gs::adaptation:
   return results;
 }
 
-std::vector<std::string> split(const std::string& text, char separator) {
-  std::vector<std::string> fields;
-  std::stringstream in(text);
-  std::string field;
-  while (std::getline(in, field, separator)) fields.push_back(field);
-  if (!text.empty() && text.back() == separator) fields.emplace_back();
-  return fields;
+constexpr double kDeg = 180.0 / M_PI;
+
+// Every field of one vehicle's cut; the CSV's angles in degrees.
+const trials::Schema<VehicleCut>& vehicle_cut_schema() {
+  using V = VehicleCut;
+  using trials::field;
+  static const trials::Schema<V> schema{
+      field("mode_at_cut", &V::mode_at_cut),
+      field("height_m", &V::height_m, "%.3f"),
+      field("tilt_at_cut_deg", &V::tilt_at_cut_rad, "%.2f", kDeg),
+      field("failsafe_after_s", &V::failsafe_after_s, "%.3f"),
+      field("levelled_after_s", &V::levelled_after_s, "%.3f"),
+      field("max_tilt_deg", &V::max_tilt_rad, "%.2f", kDeg),
+      field("touchdown_after_s", &V::touchdown_after_s, "%.3f"),
+      field("touchdown_speed_mps", &V::touchdown_speed_mps, "%.4f"),
+      field("touchdown_tilt_deg", &V::touchdown_tilt_rad, "%.2f", kDeg),
+      field("drift_m", &V::drift_m, "%.3f"),
+      field("final_mode", &V::final_mode),
+      field("landed", &V::landed),
+      field("motors_off", &V::motors_off),
+      field("crashed", &V::crashed),
+      field("failure", &V::failure),
+  };
+  return schema;
 }
 
 }  // namespace
@@ -260,24 +274,41 @@ CutResult fly_cut(const Arena& at_cut, const CutLimits& limits) {
   return r;
 }
 
+const trials::Schema<CutResult>& cut_schema() {
+  static const trials::Schema<CutResult> schema = [] {
+    using R = CutResult;
+    using trials::field;
+    trials::Field<R> phase = field("phase", &R::phase);
+    phase.read = [](R& r, const std::string& text) {
+      const int p = std::stoi(text);
+      if (p < 0 || p >= kCutPhaseCount) throw std::out_of_range("no phase " + text);
+      r.phase = static_cast<CutPhase>(p);
+    };
+    phase.cell = [](const R& r) { return std::string(cut_phase_name(r.phase)); };
+    trials::Schema<R> s{
+        field("cut", &R::cut),
+        field("mission", &R::mission),
+        field("mission_seed", &R::mission_seed),
+        phase,
+        field("t_cut_s", &R::t_cut_s, "%.3f"),
+        field("min_separation_m", &R::min_separation_m, "%.3f"),
+        field("run_s", &R::run_s, "%.3f"),
+    };
+    for (std::size_t i = 0; i < 2; ++i) {
+      for (const trials::Field<VehicleCut>& f : vehicle_cut_schema())
+        s.push_back(trials::lift<R>(
+            f, [i](auto& r) -> auto& { return r.vehicles[i]; }));
+    }
+    return s;
+  }();
+  return schema;
+}
+
 std::string encode_cuts(const std::vector<CutResult>& cuts) {
   std::string out;
-  char buffer[512];
   for (const CutResult& r : cuts) {
     if (!out.empty()) out += '|';
-    std::snprintf(buffer, sizeof buffer, "%d\t%d\t%llu\t%d\t%.17g\t%.17g\t%.17g", r.cut, r.mission,
-                  static_cast<unsigned long long>(r.mission_seed), static_cast<int>(r.phase), r.t_cut_s,
-                  r.min_separation_m, r.run_s);
-    out += buffer;
-    for (const VehicleCut& c : r.vehicles) {
-      std::snprintf(buffer, sizeof buffer,
-                    "\t%s\t%.17g\t%.17g\t%.17g\t%.17g\t%.17g\t%.17g\t%.17g\t%.17g\t%.17g\t%s\t%d\t%d\t%d\t%s",
-                    c.mode_at_cut.c_str(), c.height_m, c.tilt_at_cut_rad, c.failsafe_after_s,
-                    c.levelled_after_s, c.max_tilt_rad, c.touchdown_after_s, c.touchdown_speed_mps,
-                    c.touchdown_tilt_rad, c.drift_m, c.final_mode.c_str(), c.landed ? 1 : 0,
-                    c.motors_off ? 1 : 0, c.crashed ? 1 : 0, c.failure.c_str());
-      out += buffer;
-    }
+    out += trials::encode(cut_schema(), r);
   }
   return out;
 }
@@ -285,45 +316,34 @@ std::string encode_cuts(const std::vector<CutResult>& cuts) {
 bool decode_cuts(const std::string& line, std::vector<CutResult>& cuts) {
   cuts.clear();
   if (line.empty()) return true;
-  try {
-    for (const std::string& record : split(line, '|')) {
-      const std::vector<std::string> f = split(record, '\t');
-      if (f.size() != static_cast<std::size_t>(kCutFields)) return false;
-      CutResult r;
-      r.cut = std::stoi(f[0]);
-      r.mission = std::stoi(f[1]);
-      r.mission_seed = std::stoull(f[2]);
-      const int phase = std::stoi(f[3]);
-      if (phase < 0 || phase >= kCutPhaseCount) return false;
-      r.phase = static_cast<CutPhase>(phase);
-      r.t_cut_s = std::stod(f[4]);
-      r.min_separation_m = std::stod(f[5]);
-      r.run_s = std::stod(f[6]);
-      for (std::size_t i = 0; i < 2; ++i) {
-        const std::size_t o = 7 + i * kVehicleFields;
-        VehicleCut& c = r.vehicles[i];
-        c.mode_at_cut = f[o];
-        c.height_m = std::stod(f[o + 1]);
-        c.tilt_at_cut_rad = std::stod(f[o + 2]);
-        c.failsafe_after_s = std::stod(f[o + 3]);
-        c.levelled_after_s = std::stod(f[o + 4]);
-        c.max_tilt_rad = std::stod(f[o + 5]);
-        c.touchdown_after_s = std::stod(f[o + 6]);
-        c.touchdown_speed_mps = std::stod(f[o + 7]);
-        c.touchdown_tilt_rad = std::stod(f[o + 8]);
-        c.drift_m = std::stod(f[o + 9]);
-        c.final_mode = f[o + 10];
-        c.landed = f[o + 11] == "1";
-        c.motors_off = f[o + 12] == "1";
-        c.crashed = f[o + 13] == "1";
-        c.failure = f[o + 14];
-      }
-      cuts.push_back(r);
-    }
-  } catch (const std::exception&) {
-    return false;
+  for (const std::string& record : trials::split(line, '|')) {
+    CutResult r;
+    if (!trials::decode(cut_schema(), record, r)) return false;
+    cuts.push_back(r);
   }
   return true;
+}
+
+trials::Schema<CutRow> cuts_csv_columns() {
+  const auto cut = [](const CutRow& row) -> const CutResult& { return *row.cut; };
+  const auto vehicle = [](const CutRow& row) -> const VehicleCut& {
+    return row.cut->vehicles[pa::act_slot(row.vehicle)];
+  };
+  trials::Schema<CutRow> out;
+  for (const auto& f : trials::columns(cut_schema(), {"cut", "mission", "mission_seed", "phase", "t_cut_s"}))
+    out.push_back(trials::column_of<CutRow>(f, cut));
+  out.push_back(trials::column<CutRow>(
+      "vehicle", [](const CutRow& row) { return std::to_string(int(row.vehicle.node())); }));
+  for (const auto& f : trials::columns(
+           vehicle_cut_schema(),
+           {"mode_at_cut", "height_m", "tilt_at_cut_deg", "failsafe_after_s", "levelled_after_s",
+            "max_tilt_deg", "touchdown_after_s", "touchdown_speed_mps", "touchdown_tilt_deg", "drift_m"}))
+    out.push_back(trials::column_of<CutRow>(f, vehicle));
+  out.push_back(trials::column_of<CutRow>(trials::columns(cut_schema(), {"min_separation_m"}).front(), cut));
+  for (const auto& f :
+       trials::columns(vehicle_cut_schema(), {"final_mode", "landed", "motors_off", "crashed", "failure"}))
+    out.push_back(trials::column_of<CutRow>(f, vehicle));
+  return out;
 }
 
 std::vector<CutResult> run_cuts(const CutsConfig& config, const std::function<void(int)>& progress) {

@@ -27,6 +27,7 @@
 
 #include "hil/plant/plant_config.hpp"
 #include "hil/sil/arena.hpp"
+#include "hil/trials/record_schema.hpp"
 
 namespace hil::sil {
 
@@ -99,8 +100,20 @@ CutResult fly_cut(const Arena& at_cut, const CutLimits& limits);
 // number of cuts judged so far. Throws std::runtime_error as run_on_workers() does.
 std::vector<CutResult> run_cuts(const CutsConfig& config, const std::function<void(int done)>& progress = {});
 
-// Cuts as one line and back (the workers' reports).
+// Every field of a cut, its vehicles' too (record_schema.hpp): the workers' reports carry them all.
+const trials::Schema<CutResult>& cut_schema();
+
+// Cuts as one line and back (the workers' reports): each cut encoded with cut_schema(), the cuts
+// separated by '|'.
 std::string encode_cuts(const std::vector<CutResult>& cuts);
 bool decode_cuts(const std::string& line, std::vector<CutResult>& cuts);
+
+// One row of cuts.csv: one vehicle of one cut.
+struct CutRow {
+  const CutResult* cut = nullptr;
+  pa::VehicleId vehicle = pa::kVehicle1;
+};
+// The columns of cuts.csv (docs/failsafe.md): angles in degrees, the phase by name.
+trials::Schema<CutRow> cuts_csv_columns();
 
 }  // namespace hil::sil

@@ -29,6 +29,7 @@
 #include "hil/plant/mocap.hpp"
 #include "hil/sil/arena.hpp"
 #include "hil/sil/ground_station_frame.hpp"
+#include "hil/trials/attempt_result.hpp"
 
 namespace hil::sil {
 
@@ -59,24 +60,8 @@ std::vector<AttemptPlan> pass_series(int n);
 // every one caught by vehicle 2, which moves round the circle from target to target.
 std::vector<AttemptPlan> target_series(int n, const Eigen::Vector2d& origin_xy_m);
 
-// The referee's account of one attempt, the columns of throws.csv.
-struct AttemptResult {
-  int throw_number = 0;
-  std::string outcome;           // caught, dropped, missed, aborted, practice, throw_only
-  double flight_s = -1.0;        // launch to impact (or to the catch height's crossing)
-  double catch_height_m = -1.0;  // lower end at the impact, arena frame
-  double catch_x_m = 0.0, catch_y_m = 0.0;
-  double travel_m = 0.0;        // from the catcher's waiting point to the catch point (series.cpp)
-  double energy_error_J = 0.0;  // E - E* right after the impact (0 without one)
-  bool impact = false;
-  std::string abort_reason;        // the ground station's, for an aborted catch
-  double planned_height_m = -1.0;  // the ground station's catching height for the throw (-1: none)
-  bool vehicle_crashed = false;    // a vehicle touched the floor at speed or was killed
-  // A throw to a target: how far from it (horizontally) the ground station's converged
-  // catch-point prediction and the true impact were (-1: none).
-  double predicted_target_miss_m = -1.0;
-  double target_miss_m = -1.0;
-};
+// The referee's account of one attempt (hil/trials/attempt_result.hpp).
+using trials::AttemptResult;
 
 // One row of an attempt's time series (every 10 ms); the columns of attempt_<n>.csv are in
 // docs/report.md. Index 0 is vehicle 1, 1 is vehicle 2 (thrower and catcher in the paper's series).

@@ -1,6 +1,6 @@
 // A campaign (hil/sil/campaign.hpp): its results depend on the seed alone, whatever the number of
-// worker processes; the workers' reports survive the pipe exactly; the drawn parameters it
-// records are the plant's own keys.
+// worker processes; the drawn parameters it records are the plant's own keys (the workers'
+// reports: trial_records_test.cpp).
 #include "hil/sil/campaign.hpp"
 
 #include <catch2/catch.hpp>
@@ -9,41 +9,6 @@
 #include <string>
 
 #include "hil/plant/randomisation.hpp"
-
-namespace {
-
-using hil::sil::AttemptResult;
-
-}  // namespace
-
-TEST_CASE("a worker's report decodes to the result it encodes", "[hil][campaign]") {
-  AttemptResult r;
-  r.throw_number = 7;
-  r.outcome = "aborted";
-  r.flight_s = 1.0123456789012345;
-  r.catch_height_m = -1.0;
-  r.catch_x_m = 3.6;
-  r.catch_y_m = -0.01;
-  r.travel_m = 0.07;
-  r.energy_error_J = -0.00312;
-  r.impact = false;
-  r.vehicle_crashed = true;
-  r.abort_reason = "out_of_reach";
-  AttemptResult back;
-  REQUIRE(hil::sil::decode_result(hil::sil::encode_result(r), back));
-  CHECK(back.outcome == r.outcome);
-  CHECK(back.flight_s == r.flight_s);
-  CHECK(back.catch_x_m == r.catch_x_m);
-  CHECK(back.energy_error_J == r.energy_error_J);
-  CHECK(back.vehicle_crashed);
-  CHECK_FALSE(back.impact);
-  CHECK(back.abort_reason == r.abort_reason);
-  r.abort_reason.clear();  // the last field empty
-  REQUIRE(hil::sil::decode_result(hil::sil::encode_result(r), back));
-  CHECK(back.abort_reason.empty());
-  CHECK_FALSE(hil::sil::decode_result("caught\t1.0\tnot a number", back));
-  CHECK_FALSE(hil::sil::decode_result("", back));
-}
 
 TEST_CASE("the drawn parameters are the plant configuration's keys", "[hil][campaign]") {
   const std::vector<std::string_view> keys = hil::plant_config_keys();

@@ -1,40 +1,13 @@
 // Setpoint-stream cuts (hil/sil/cuts.hpp): cut at drawn instants of every phase of the mission,
 // both vehicles reach the firmware's levelled hover within 25 ms of their last setpoint, level
 // on truth, and land with the motors off without crashing; the cuts depend on the seed alone,
-// whatever the number of workers; the workers' reports survive the pipe.
+// whatever the number of workers (the workers' reports: trial_records_test.cpp).
 #include "hil/sil/cuts.hpp"
 
 #include <catch2/catch.hpp>
 
 #include <string>
 #include <vector>
-
-TEST_CASE("a worker's cut report decodes to the cuts it encodes", "[hil][cuts]") {
-  hil::sil::CutResult r;
-  r.cut = 12;
-  r.mission = 3;
-  r.mission_seed = 1000007;
-  r.phase = hil::sil::CutPhase::catching;
-  r.t_cut_s = 13.0123456789012345;
-  r.vehicles[1].failsafe_after_s = 0.021;
-  r.vehicles[1].touchdown_speed_mps = 0.4321;
-  r.vehicles[1].final_mode = "landed";
-  r.vehicles[1].landed = true;
-  r.vehicles[1].failure = "crashed+killed";
-  std::vector<hil::sil::CutResult> back;
-  REQUIRE(hil::sil::decode_cuts(hil::sil::encode_cuts({r, r}), back));
-  REQUIRE(back.size() == 2);
-  CHECK(back[1].cut == 12);
-  CHECK(back[1].mission_seed == r.mission_seed);
-  CHECK(back[1].phase == r.phase);
-  CHECK(back[1].t_cut_s == r.t_cut_s);
-  CHECK(back[1].vehicles[1].touchdown_speed_mps == r.vehicles[1].touchdown_speed_mps);
-  CHECK(back[1].vehicles[1].landed);
-  CHECK_FALSE(back[1].vehicles[0].landed);
-  CHECK(back[1].vehicles[1].failure == "crashed+killed");
-  CHECK(back[1].vehicles[0].failure.empty());
-  CHECK_FALSE(hil::sil::decode_cuts("1\t2\tnot a number", back));
-}
 
 TEST_CASE("cut in every phase, both vehicles level within 25 ms and land with the motors off",
           "[hil][cuts]") {

@@ -1,0 +1,36 @@
+#include "hil/trials/attempt_result.hpp"
+
+namespace hil::trials {
+
+const Schema<AttemptResult>& attempt_schema() {
+  using R = AttemptResult;
+  static const Schema<R> schema{
+      field("throw", &R::throw_number),
+      field("outcome", &R::outcome),
+      field("flight_s", &R::flight_s, "%.4f"),
+      field("catch_height_m", &R::catch_height_m, "%.4f"),
+      field("catch_x_m", &R::catch_x_m, "%.4f"),
+      field("catch_y_m", &R::catch_y_m, "%.4f"),
+      field("travel_m", &R::travel_m, "%.4f"),
+      field("energy_error_J", &R::energy_error_J, "%.5f"),
+      field("abort_reason", &R::abort_reason),
+      field("planned_height_m", &R::planned_height_m, "%.4f"),
+      field("impact", &R::impact),
+      field("vehicle_crashed", &R::vehicle_crashed),
+      field("predicted_target_miss_m", &R::predicted_target_miss_m, "%.4f"),
+      field("target_miss_m", &R::target_miss_m, "%.4f"),
+  };
+  return schema;
+}
+
+Schema<AttemptResult> fly_throws_columns() {
+  return columns(attempt_schema(),
+                 {"throw", "outcome", "flight_s", "catch_height_m", "catch_x_m", "catch_y_m", "travel_m",
+                  "energy_error_J", "abort_reason", "planned_height_m"});
+}
+
+std::string encode_result(const AttemptResult& r) { return encode(attempt_schema(), r); }
+
+bool decode_result(const std::string& line, AttemptResult& r) { return decode(attempt_schema(), line, r); }
+
+}  // namespace hil::trials
