@@ -62,13 +62,22 @@ Plant::Plant(const PlantConfig& config, std::uint64_t seed)
     foot_body_m_[f] = motor_position_body_m(config.vehicle, f) - Vec3(0.0, 0.0, config.vehicle.foot_depth_m);
   for (const Vec3& foot : foot_body_m_) foot_reach_m_ = std::max(foot_reach_m_, foot.norm());
   foot_reach_m_ = foot_reach_m_ * (1.0 + 1e-9) + 1e-9;
-  vehicle_inertia_kgm2_ =
-      Vec3(config.vehicle.inertia_xx_kgm2, config.vehicle.inertia_yy_kgm2, config.vehicle.inertia_zz_kgm2);
+  // (A scale of 1 multiplies exactly: the airframe's own values, bit for bit.)
+  const VehicleConfig& vc = config.vehicle;
+  for (int v = 0; v < 2; ++v) {
+    vehicle_inertia_kgm2_[v] =
+        Vec3(vc.inertia_xx_kgm2, vc.inertia_yy_kgm2, vc.inertia_zz_kgm2) * vc.inertia_scale[v];
+    vehicle_inverse_inertia_[v] = vehicle_inertia_kgm2_[v].cwiseInverse();
+    vehicle_mass_kg_[v] = vc.mass_kg * vc.mass_scale[v];
+    vehicle_inverse_mass_per_kg_[v] = 1.0 / vehicle_mass_kg_[v];
+    motor_time_constant_s_[v] = vc.motor_time_constant_s * vc.motor_time_constant_scale[v];
+    for (int i = 0; i < 4; ++i) motor_gain_[v][i] = vc.motor_gain[v][i] * vc.thrust_scale[v];
+    battery_[v].state_of_charge = config.battery.charge_start[v];
+    battery_[v].voltage_V = battery_open_circuit_V(config.battery, battery_[v].state_of_charge);
+  }
   pole_inertia_kgm2_ =
       Vec3(pole_transverse_inertia_kgm2(), pole_transverse_inertia_kgm2(), pole_axial_inertia_kgm2());
-  vehicle_inverse_inertia_ = vehicle_inertia_kgm2_.cwiseInverse();
   pole_inverse_inertia_ = pole_inertia_kgm2_.cwiseInverse();
-  vehicle_inverse_mass_per_kg_ = 1.0 / config.vehicle.mass_kg;
   pole_inverse_mass_per_kg_ = 1.0 / config.pole.mass_kg;
   const ContactConfig& c = config.contact;
   floor_law_ =
@@ -87,8 +96,8 @@ Plant::Plant(const PlantConfig& config, std::uint64_t seed)
     imu_sum_rate_[v].setZero();
     true_specific_force_[v].setZero();
   }
-  vehicles_[0] = parked_vehicle(-1.0, 0.0, 0.0);
-  vehicles_[1] = parked_vehicle(1.0, 0.0, 0.0);
+  vehicles_[0] = parked_vehicle(-1.0, 0.0, 0.0, pa::kVehicle1);
+  vehicles_[1] = parked_vehicle(1.0, 0.0, 0.0, pa::kVehicle2);
   // The pole lies still on the floor, each end sunk by half its weight over the floor's stiffness.
   const double sink_m =
       config.pole.mass_kg * config.gravity_mps2 / (2.0 * config.contact.floor_stiffness_Npm);
@@ -111,19 +120,19 @@ PoleState Plant::make_pole(const Vec3& centre_m, const Vec3& axis, const Vec3& v
   return p;
 }
 
-VehicleState Plant::hovering_vehicle(const Vec3& position_m, double yaw_rad) const {
+VehicleState Plant::hovering_vehicle(const Vec3& position_m, double yaw_rad, pa::VehicleId vehicle) const {
   VehicleState v;
   v.body.position_m = position_m;
   v.body.attitude = Quat(Eigen::AngleAxisd(yaw_rad, Vec3::UnitZ()));
-  v.motor_thrust_N.fill(config_.vehicle.mass_kg * config_.gravity_mps2 / 4.0);
+  v.motor_thrust_N.fill(vehicle_mass_kg_[slot(vehicle)] * config_.gravity_mps2 / 4.0);
   return v;
 }
 
-VehicleState Plant::parked_vehicle(double x_m, double y_m, double yaw_rad) const {
+VehicleState Plant::parked_vehicle(double x_m, double y_m, double yaw_rad, pa::VehicleId vehicle) const {
   VehicleState v;
   // Each foot sunk by a quarter of the weight over the floor's stiffness: at rest from the start.
   const double sink_m =
-      config_.vehicle.mass_kg * config_.gravity_mps2 / (4.0 * config_.contact.floor_stiffness_Npm);
+      vehicle_mass_kg_[slot(vehicle)] * config_.gravity_mps2 / (4.0 * config_.contact.floor_stiffness_Npm);
   v.body.position_m = Vec3(x_m, y_m, config_.contact.floor_height_m + config_.vehicle.foot_depth_m - sink_m);
   v.body.attitude = Quat(Eigen::AngleAxisd(yaw_rad, Vec3::UnitZ()));
   return v;
@@ -131,10 +140,12 @@ VehicleState Plant::parked_vehicle(double x_m, double y_m, double yaw_rad) const
 
 MotorCommands Plant::hover_commands(pa::VehicleId vehicle) const {
   MotorCommands c;
-  const double per_motor_N = config_.vehicle.mass_kg * config_.gravity_mps2 / 4.0;
+  const std::size_t v = slot(vehicle);
+  const double per_motor_N = vehicle_mass_kg_[v] * config_.gravity_mps2 / 4.0;
   for (int i = 0; i < 4; ++i) {
-    c.command[i] =
-        per_motor_N / (config_.vehicle.motor_gain[slot(vehicle)][i] * config_.vehicle.motor_thrust_max_N);
+    c.command[i] = per_motor_N / (motor_gain_[v][i] * config_.vehicle.motor_thrust_max_N);
+    if (config_.battery.enabled != 0)
+      c.command[i] /= thrust_voltage_factor(battery_[v].voltage_V, config_.battery.reference_voltage_V);
   }
   return c;
 }
@@ -324,7 +335,6 @@ Plant::Evaluation Plant::evaluate(const Bodies& b, const Kinematics& k, const Ro
   Evaluation e;
   const Vec3 gravity(0.0, 0.0, -config_.gravity_mps2);
   const VehicleConfig& vc = config_.vehicle;
-  const Vec3& vehicle_inertia = vehicle_inertia_kgm2_;
 
   std::array<Vec3, 2> vehicle_force;        // non-gravitational, inertial
   std::array<Vec3, 2> vehicle_torque_body;  // about the CG
@@ -382,12 +392,12 @@ Plant::Evaluation Plant::evaluate(const Bodies& b, const Kinematics& k, const Ro
     const RigidBodyState& body = b.vehicle[v];
     BodyRate& r = e.vehicle[v];
     r.dp = body.velocity_mps;
-    const Vec3 specific_force = vehicle_force[v] * vehicle_inverse_mass_per_kg_;
+    const Vec3 specific_force = vehicle_force[v] * vehicle_inverse_mass_per_kg_[v];
     r.dv = specific_force + gravity;
     r.dq = quaternion_rate(body.attitude, body.rate_body_radps);
     const Vec3 w = body.rate_body_radps;
-    r.dw = (vehicle_torque_body[v] - w.cross(vehicle_inertia.cwiseProduct(w)))
-               .cwiseProduct(vehicle_inverse_inertia_);
+    r.dw = (vehicle_torque_body[v] - w.cross(vehicle_inertia_kgm2_[v].cwiseProduct(w)))
+               .cwiseProduct(vehicle_inverse_inertia_[v]);
     e.specific_force_body[v] = transpose_times(k.vehicle_rotation[v], specific_force);
   }
   BodyRate& r = e.pole;
@@ -460,10 +470,12 @@ double Plant::contact_rate_per_s(int pair, const PairGeometry& g, const Vec3& po
     normal_inverse =
         1.0 / pc.mass_kg + (pc.half_length_m * pole_axis).cross(g.normal).squaredNorm() / inertia;
     if (surface != Surface::floor) {  // the plate's vehicle moves too
-      const VehicleConfig& vc = config_.vehicle;
-      const double vehicle_inertia = std::min({vc.inertia_xx_kgm2, vc.inertia_yy_kgm2, vc.inertia_zz_kgm2});
-      normal_inverse += 1.0 / vc.mass_kg + g.lever_vehicle_m.cross(g.normal).squaredNorm() / vehicle_inertia;
-      tangential_inverse += 1.0 / vc.mass_kg + g.lever_vehicle_m.squaredNorm() / vehicle_inertia;
+      const int v = surface == Surface::plate1 ? 0 : 1;
+      const Vec3& I = vehicle_inertia_kgm2_[v];
+      const double vehicle_inertia = std::min({I.x(), I.y(), I.z()});
+      const double mass_kg = vehicle_mass_kg_[v];
+      normal_inverse += 1.0 / mass_kg + g.lever_vehicle_m.cross(g.normal).squaredNorm() / vehicle_inertia;
+      tangential_inverse += 1.0 / mass_kg + g.lever_vehicle_m.squaredNorm() / vehicle_inertia;
     }
   }
   const ContactLaw& l = law(surface);
@@ -527,16 +539,25 @@ void Plant::substep(std::int64_t h_ns, const Bodies& b0, const Kinematics& k0) {
     m.above_at_start = gap_m(k0, p) >= -kPlacementTolerance_m;
     if (m.engaged || m.above_at_start) candidates_[candidate_count_++] = static_cast<std::uint8_t>(p);
   }
-  // The motors' lags in closed form: the thrusts at the step's start, middle and end.
-  const double tau_s = config_.vehicle.motor_time_constant_s;
-  const double decay_middle = tau_s > 0.0 ? std::exp(-(0.5 * h) / tau_s) : 0.0;
-  const double decay_end = tau_s > 0.0 ? std::exp(-h / tau_s) : 0.0;
+  // The motors' lags in closed form: the thrusts at the step's start, middle and end (the
+  // decays computed once where both vehicles' motors are alike).
+  std::array<double, 2> decay_middle{}, decay_end{};
+  for (std::size_t v = 0; v < 2; ++v) {
+    const double tau_s = motor_time_constant_s_[v];
+    if (v == 1 && tau_s == motor_time_constant_s_[0]) {
+      decay_middle[1] = decay_middle[0];
+      decay_end[1] = decay_end[0];
+      continue;
+    }
+    decay_middle[v] = tau_s > 0.0 ? std::exp(-(0.5 * h) / tau_s) : 0.0;
+    decay_end[v] = tau_s > 0.0 ? std::exp(-h / tau_s) : 0.0;
+  }
   std::array<std::array<double, 4>, 2> thrust_end_N;
   RotorWrenches rotors_start, rotors_middle, rotors_end;
   for (std::size_t v = 0; v < 2; ++v) {
     rotors_start[v] = rotor_wrench(config_.vehicle, thrust_at(v, 1.0));
-    rotors_middle[v] = rotor_wrench(config_.vehicle, thrust_at(v, decay_middle));
-    thrust_end_N[v] = thrust_at(v, decay_end);
+    rotors_middle[v] = rotor_wrench(config_.vehicle, thrust_at(v, decay_middle[v]));
+    thrust_end_N[v] = thrust_at(v, decay_end[v]);
     rotors_end[v] = rotor_wrench(config_.vehicle, thrust_end_N[v]);
   }
 
@@ -647,10 +668,21 @@ void Plant::step(double dt_s, const MotorCommands& vehicle1, const MotorCommands
   const std::array<const MotorCommands*, 2> commands{&vehicle1, &vehicle2};
   for (int v = 0; v < 2; ++v) {
     for (int i = 0; i < 4; ++i) {
-      target_thrust_N_[v][i] = motor_target_thrust_N(
-          commands[v]->command[i], config_.vehicle.motor_gain[v][i], config_.vehicle.motor_thrust_max_N);
+      target_thrust_N_[v][i] = motor_target_thrust_N(commands[v]->command[i], motor_gain_[v][i],
+                                                     config_.vehicle.motor_thrust_max_N);
     }
   }
+  const bool battery = config_.battery.enabled != 0;
+  if (battery) {
+    // The voltage under the thrust the motors make as the step begins, held over it like the
+    // commands (the current follows the motors' lag, tens of milliseconds).
+    load_batteries();
+    for (int v = 0; v < 2; ++v) {
+      const double factor = thrust_voltage_factor(battery_[v].voltage_V, config_.battery.reference_voltage_V);
+      for (double& f : target_thrust_N_[v]) f *= factor;
+    }
+  }
+  const std::int64_t start_ns = t_ns_;
   if (t_ns_ >= static_cast<std::int64_t>(mocap_index_) * mocap_period_ns_) capture_mocap();
   while (t_ns_ < end_ns) {
     const std::int64_t next_imu_ns = static_cast<std::int64_t>(imu_tick_ + 1) * imu_period_ns_;
@@ -663,6 +695,24 @@ void Plant::step(double dt_s, const MotorCommands& vehicle1, const MotorCommands
     substep(choose_step_ns(limit_ns, b, k), b, k);
     if (t_ns_ == next_imu_ns) sample_imu();
     if (t_ns_ == next_mocap_ns) capture_mocap();
+  }
+  if (battery) {
+    const double hours = static_cast<double>(t_ns_ - start_ns) * 1e-9 / 3600.0;
+    for (BatteryState& b : battery_) b.charge_drawn_Ah += b.current_A * hours;
+  }
+}
+
+void Plant::load_batteries() {
+  const BatteryConfig& bc = config_.battery;
+  for (int v = 0; v < 2; ++v) {
+    BatteryState& b = battery_[v];
+    double power_W = 0.0;
+    for (const double f : vehicles_[v].motor_thrust_N)
+      power_W += motor_electrical_power_W(f, config_.vehicle, config_.air_density_kgpm3);
+    b.state_of_charge = std::max(0.0, bc.charge_start[v] - b.charge_drawn_Ah / bc.capacity_Ah);
+    b.voltage_V = battery_terminal_V(battery_open_circuit_V(bc, b.state_of_charge), power_W,
+                                     bc.internal_resistance_ohm);
+    b.current_A = power_W / b.voltage_V;
   }
 }
 
@@ -757,18 +807,19 @@ double Plant::pole_energy_J() const {
 }
 
 double Plant::vehicle_energy_J(pa::VehicleId vehicle) const {
-  const VehicleConfig& vc = config_.vehicle;
-  const RigidBodyState& b = vehicles_[slot(vehicle)].body;
-  const Vec3 inertia(vc.inertia_xx_kgm2, vc.inertia_yy_kgm2, vc.inertia_zz_kgm2);
-  return 0.5 * vc.mass_kg * b.velocity_mps.squaredNorm() +
+  const std::size_t v = slot(vehicle);
+  const RigidBodyState& b = vehicles_[v].body;
+  const Vec3& inertia = vehicle_inertia_kgm2_[v];
+  const double mass_kg = vehicle_mass_kg_[v];
+  return 0.5 * mass_kg * b.velocity_mps.squaredNorm() +
          0.5 * b.rate_body_radps.dot(inertia.cwiseProduct(b.rate_body_radps)) +
-         vc.mass_kg * config_.gravity_mps2 * b.position_m.z();
+         mass_kg * config_.gravity_mps2 * b.position_m.z();
 }
 
 Vec3 Plant::pole_momentum_Ns() const { return config_.pole.mass_kg * pole_.body.velocity_mps; }
 
 Vec3 Plant::vehicle_momentum_Ns(pa::VehicleId vehicle) const {
-  return config_.vehicle.mass_kg * vehicles_[slot(vehicle)].body.velocity_mps;
+  return vehicle_mass_kg_[slot(vehicle)] * vehicles_[slot(vehicle)].body.velocity_mps;
 }
 
 Vec3 Plant::pole_angular_momentum_Nms(const Vec3& about_m) const {
@@ -780,9 +831,8 @@ Vec3 Plant::pole_angular_momentum_Nms(const Vec3& about_m) const {
 }
 
 Vec3 Plant::vehicle_angular_momentum_Nms(pa::VehicleId vehicle, const Vec3& about_m) const {
-  const VehicleConfig& vc = config_.vehicle;
   const RigidBodyState& b = vehicles_[slot(vehicle)].body;
-  const Vec3 inertia(vc.inertia_xx_kgm2, vc.inertia_yy_kgm2, vc.inertia_zz_kgm2);
+  const Vec3& inertia = vehicle_inertia_kgm2_[slot(vehicle)];
   return (b.position_m - about_m).cross(vehicle_momentum_Ns(vehicle)) +
          b.attitude * inertia.cwiseProduct(b.rate_body_radps);
 }

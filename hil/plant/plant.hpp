@@ -4,7 +4,10 @@
 //
 //  - each vehicle is a rigid body with its inertia, driven by four motors whose thrust follows
 //    the command through a first-order lag, within [0, gain * thrust_max], with per-motor gain
-//    mismatch, rotor drag torque about z and a linear translational drag;
+//    mismatch, rotor drag torque about z and a linear translational drag; each vehicle's mass,
+//    inertia, thrust and motor lag may differ from the airframe's (VehicleConfig's scales), and
+//    with battery_enabled its battery sags and drains and its motors' thrust goes with the
+//    square of its voltage (battery.hpp);
 //  - the pole is a rigid rod in 3D (6 DoF: transverse inertia m (L^2/3 + r^2/2), axial m r^2)
 //    with the paper's drag law integrated along its length (pole_drag.hpp);
 //  - each pole end touches each vehicle's catching plate (a disc of plate_radius_m at
@@ -33,6 +36,7 @@
 #include <deque>
 #include <vector>
 
+#include "hil/plant/battery.hpp"
 #include "hil/plant/contact_law.hpp"
 #include "hil/plant/imu.hpp"
 #include "hil/plant/mocap.hpp"
@@ -126,13 +130,24 @@ class Plant {
 
   // --- state builders -----------------------------------------------------------------------
   // A vehicle at `position_m`, level, with heading `yaw_rad`, at rest, each motor producing a
-  // quarter of its weight.
-  VehicleState hovering_vehicle(const Vec3& position_m, double yaw_rad) const;
-  // A vehicle at rest on its feet on the floor, motors stopped.
-  VehicleState parked_vehicle(double x_m, double y_m, double yaw_rad) const;
+  // quarter of `vehicle`'s weight.
+  VehicleState hovering_vehicle(const Vec3& position_m, double yaw_rad,
+                                pa::VehicleId vehicle = pa::kVehicle1) const;
+  // A vehicle at rest on its feet on the floor (sunk by `vehicle`'s weight), motors stopped.
+  VehicleState parked_vehicle(double x_m, double y_m, double yaw_rad,
+                              pa::VehicleId vehicle = pa::kVehicle1) const;
   // The commands that hold every motor of `vehicle` at a quarter of the vehicle's weight with
-  // this plant's motor gains (an oracle: a real controller does not know the gains).
+  // this plant's motor gains and its battery's voltage now (an oracle: a real controller does
+  // not know them).
   MotorCommands hover_commands(pa::VehicleId vehicle) const;
+  // `vehicle`'s mass and principal inertia as built (the airframe's times its scales).
+  double vehicle_mass_kg(pa::VehicleId vehicle) const { return vehicle_mass_kg_[slot(vehicle)]; }
+  const Vec3& vehicle_inertia_kgm2(pa::VehicleId vehicle) const {
+    return vehicle_inertia_kgm2_[slot(vehicle)];
+  }
+  // `vehicle`'s battery as of the last step (with battery_enabled; otherwise at its start,
+  // unloaded).
+  const BatteryState& battery(pa::VehicleId vehicle) const { return battery_[slot(vehicle)]; }
   // The plate's centre (on its surface) and normal, inertial frame.
   Vec3 plate_centre_m(pa::VehicleId vehicle) const;
   Vec3 plate_normal(pa::VehicleId vehicle) const;
@@ -241,6 +256,8 @@ class Plant {
   void reset_pair(int pair);
   void reset_pairs_of_pole();
   void reset_pairs_of_vehicle(pa::VehicleId vehicle);
+  // Each battery's voltage and current under the motors' thrust now (battery_enabled only).
+  void load_batteries();
   void capture_mocap();
   void sample_imu();
   Bodies bodies() const;
@@ -260,13 +277,17 @@ class Plant {
   // when the step began (no other pair can touch during it), in order.
   std::array<std::uint8_t, kPairs> candidates_{};
   int candidate_count_ = 0;
-  // The principal moments of inertia (body frame) of a vehicle and of the pole.
-  Vec3 vehicle_inertia_kgm2_;
+  // The principal moments of inertia (body frame) of each vehicle and of the pole, and the
+  // vehicles' masses, motor gains (with their thrust scales) and motor time constants.
+  std::array<Vec3, 2> vehicle_inertia_kgm2_;
   Vec3 pole_inertia_kgm2_;
+  std::array<double, 2> vehicle_mass_kg_{};
+  std::array<std::array<double, 4>, 2> motor_gain_{};
+  std::array<double, 2> motor_time_constant_s_{};
   // Their inverses and those of the masses: the rates multiply rather than divide.
-  Vec3 vehicle_inverse_inertia_;
+  std::array<Vec3, 2> vehicle_inverse_inertia_;
   Vec3 pole_inverse_inertia_;
-  double vehicle_inverse_mass_per_kg_ = 0.0;
+  std::array<double, 2> vehicle_inverse_mass_per_kg_{};
   double pole_inverse_mass_per_kg_ = 0.0;
   ContactLaw floor_law_;
   ContactLaw plate_law_;
@@ -279,6 +300,7 @@ class Plant {
   std::array<VehicleState, 2> vehicles_{};
   PoleState pole_{};
   std::array<std::array<double, 4>, 2> target_thrust_N_{};
+  std::array<BatteryState, 2> battery_{};
   std::array<PairMemory, kPairs> pairs_{};
   std::vector<PoleContactEvent> events_;
   bool pole_asleep_ = false;

@@ -39,6 +39,7 @@ double& motor_gain(PlantConfig& c) {
 
 const Parameter kParameters[] = {
     PA_REAL("gravity_mps2", gravity_mps2, 0.0, 100.0, false),
+    PA_REAL("air_density_kgpm3", air_density_kgpm3, 0.0, 10.0, true),
     PA_REAL("pole_half_length_m", pole.half_length_m, 0.0, 10.0, true),
     PA_REAL("pole_mass_kg", pole.mass_kg, 0.0, 10.0, true),
     PA_REAL("pole_radius_m", pole.radius_m, 0.0, 0.1, true),
@@ -54,6 +55,8 @@ const Parameter kParameters[] = {
     PA_REAL("vehicle_yaw_moment_per_thrust_m", vehicle.yaw_moment_per_thrust_m, 0.0, 1.0, false),
     PA_REAL("vehicle_motor_thrust_max_N", vehicle.motor_thrust_max_N, 0.0, 1000.0, true),
     PA_REAL("vehicle_motor_time_constant_s", vehicle.motor_time_constant_s, 0.0, 1.0, false),
+    PA_REAL("vehicle_rotor_radius_m", vehicle.rotor_radius_m, 0.0, 5.0, true),
+    PA_REAL("vehicle_propulsion_efficiency", vehicle.propulsion_efficiency, 0.0, 1.0, true),
     PA_REAL("vehicle_drag_Nspm", vehicle.drag_Nspm, 0.0, 100.0, false),
     PA_REAL("vehicle_foot_depth_m", vehicle.foot_depth_m, 0.0, 1.0, false),
     PA_REAL("vehicle_plate_radius_m", vehicle.plate_radius_m, 0.0, 1.0, true),
@@ -66,6 +69,21 @@ const Parameter kParameters[] = {
     Parameter{"vehicle2_motor1_gain", motor_gain<1, 1>, nullptr, 0.0, 2.0, false},
     Parameter{"vehicle2_motor2_gain", motor_gain<1, 2>, nullptr, 0.0, 2.0, false},
     Parameter{"vehicle2_motor3_gain", motor_gain<1, 3>, nullptr, 0.0, 2.0, false},
+    PA_REAL("vehicle1_thrust_scale", vehicle.thrust_scale[0], 0.0, 2.0, true),
+    PA_REAL("vehicle2_thrust_scale", vehicle.thrust_scale[1], 0.0, 2.0, true),
+    PA_REAL("vehicle1_mass_scale", vehicle.mass_scale[0], 0.0, 10.0, true),
+    PA_REAL("vehicle2_mass_scale", vehicle.mass_scale[1], 0.0, 10.0, true),
+    PA_REAL("vehicle1_inertia_scale", vehicle.inertia_scale[0], 0.0, 10.0, true),
+    PA_REAL("vehicle2_inertia_scale", vehicle.inertia_scale[1], 0.0, 10.0, true),
+    PA_REAL("vehicle1_motor_time_constant_scale", vehicle.motor_time_constant_scale[0], 0.0, 10.0, false),
+    PA_REAL("vehicle2_motor_time_constant_scale", vehicle.motor_time_constant_scale[1], 0.0, 10.0, false),
+    PA_INT("battery_enabled", battery.enabled, 0, 1),
+    PA_INT("battery_cells", battery.cells, 1, 14),
+    PA_REAL("battery_capacity_Ah", battery.capacity_Ah, 0.0, 100.0, true),
+    PA_REAL("battery_internal_resistance_ohm", battery.internal_resistance_ohm, 0.0, 10.0, false),
+    PA_REAL("battery_reference_voltage_V", battery.reference_voltage_V, 0.0, 100.0, true),
+    PA_REAL("vehicle1_battery_charge_start", battery.charge_start[0], 0.0, 1.0, false),
+    PA_REAL("vehicle2_battery_charge_start", battery.charge_start[1], 0.0, 1.0, false),
     PA_REAL("contact_plate_stiffness_Npm", contact.plate_stiffness_Npm, 0.0, 1e7, true),
     PA_REAL("contact_plate_damping_Nspm", contact.plate_damping_Nspm, 0.0, 1e5, false),
     PA_REAL("contact_plate_damping_force_max_N", contact.plate_damping_force_max_N, 0.0, 1e6, true),
@@ -111,6 +129,26 @@ const Parameter kParameters[] = {
     PA_REAL("random_pole_length_fraction", randomisation.pole_length_fraction, 0.0, 0.5, false),
     PA_REAL("random_radio_loss_min", randomisation.radio_loss_min, 0.0, 1.0, false),
     PA_REAL("random_radio_loss_max", randomisation.radio_loss_max, 0.0, 1.0, false),
+    PA_INT("random_profile", randomisation.profile, 0, 1),
+    PA_REAL("envelope_thrust_scale_min", envelope.thrust_scale_min, 0.0, 2.0, true),
+    PA_REAL("envelope_thrust_scale_max", envelope.thrust_scale_max, 0.0, 2.0, true),
+    PA_REAL("envelope_charge_start_min", envelope.charge_start_min, 0.0, 1.0, false),
+    PA_REAL("envelope_charge_start_max", envelope.charge_start_max, 0.0, 1.0, false),
+    PA_REAL("envelope_motor_time_constant_min_s", envelope.motor_time_constant_min_s, 0.0, 1.0, false),
+    PA_REAL("envelope_motor_time_constant_max_s", envelope.motor_time_constant_max_s, 0.0, 1.0, false),
+    PA_REAL("envelope_mass_fraction", envelope.mass_fraction, 0.0, 0.5, false),
+    PA_REAL("envelope_inertia_fraction", envelope.inertia_fraction, 0.0, 0.5, false),
+    PA_REAL("envelope_pole_drag_fraction", envelope.pole_drag_fraction, 0.0, 0.99, false),
+    PA_REAL("envelope_pole_length_fraction", envelope.pole_length_fraction, 0.0, 0.5, false),
+    PA_REAL("envelope_pole_mass_fraction", envelope.pole_mass_fraction, 0.0, 0.5, false),
+    PA_REAL("envelope_latency_min_s", envelope.latency_min_s, 0.0, 10.0, false),
+    PA_REAL("envelope_latency_max_s", envelope.latency_max_s, 0.0, 10.0, false),
+    PA_REAL("envelope_jitter_max_s", envelope.jitter_max_s, 0.0, 10.0, false),
+    PA_REAL("envelope_position_noise_min_m", envelope.position_noise_min_m, 0.0, 1.0, false),
+    PA_REAL("envelope_position_noise_max_m", envelope.position_noise_max_m, 0.0, 1.0, false),
+    PA_REAL("envelope_attitude_noise_min_rad", envelope.attitude_noise_min_rad, 0.0, 1.0, false),
+    PA_REAL("envelope_attitude_noise_max_rad", envelope.attitude_noise_max_rad, 0.0, 1.0, false),
+    PA_REAL("envelope_radio_loss_max", envelope.radio_loss_max, 0.0, 1.0, false),
     PA_REAL("radio_loss_probability", radio_loss_probability, 0.0, 1.0, false),
     PA_REAL("radio_outage_s", radio_outage_s, 0.0, 10.0, false),
     PA_INT("losses_only_in_pole_flight", losses_only_in_pole_flight, 0, 1),
@@ -195,6 +233,26 @@ std::string check_plant_config(const PlantConfig& c) {
     return "random_radio_loss_min must not exceed random_radio_loss_max";
   if (c.vehicle.plate_height_m < -c.vehicle.foot_depth_m)
     return "the plate must not lie below the vehicle's feet";
+  const EnvelopeConfig& e = c.envelope;
+  const struct {
+    double lo, hi;
+    const char* what;
+  } ranges[] = {
+      {e.thrust_scale_min, e.thrust_scale_max,
+       "envelope_thrust_scale_min must not exceed envelope_thrust_scale_max"},
+      {e.charge_start_min, e.charge_start_max,
+       "envelope_charge_start_min must not exceed envelope_charge_start_max"},
+      {e.motor_time_constant_min_s, e.motor_time_constant_max_s,
+       "envelope_motor_time_constant_min_s must not exceed envelope_motor_time_constant_max_s"},
+      {e.latency_min_s, e.latency_max_s, "envelope_latency_min_s must not exceed envelope_latency_max_s"},
+      {e.position_noise_min_m, e.position_noise_max_m,
+       "envelope_position_noise_min_m must not exceed envelope_position_noise_max_m"},
+      {e.attitude_noise_min_rad, e.attitude_noise_max_rad,
+       "envelope_attitude_noise_min_rad must not exceed envelope_attitude_noise_max_rad"},
+  };
+  for (const auto& r : ranges) {
+    if (r.lo > r.hi) return r.what;
+  }
   return {};
 }
 

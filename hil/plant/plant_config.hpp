@@ -44,6 +44,28 @@ struct VehicleConfig {
   double plate_height_m = 0.03;            // plate surface above the CG (Section VII-A)
   // Per-motor thrust gain (actual / nominal thrust), vehicle 1 and vehicle 2.
   std::array<std::array<double, 4>, 2> motor_gain{{{1.0, 1.0, 1.0, 1.0}, {1.0, 1.0, 1.0, 1.0}}};
+  // Each vehicle as built against the airframe above (vehicle 1, vehicle 2), factors on its
+  // values; 1 is the airframe file. Thrust: at full charge (with the battery), on every motor.
+  std::array<double, 2> thrust_scale{1.0, 1.0};
+  std::array<double, 2> mass_scale{1.0, 1.0};
+  std::array<double, 2> inertia_scale{1.0, 1.0};  // all three principal moments
+  std::array<double, 2> motor_time_constant_scale{1.0, 1.0};
+  // The electrical power of a motor making thrust T (battery.hpp): T^1.5 / (eta sqrt(2 rho A)),
+  // A = pi r^2 the rotor disc.
+  double rotor_radius_m = 0.1;
+  double propulsion_efficiency = 0.45;  // eta: rotor figure of merit x motor x ESC
+};
+
+// The battery of each vehicle (battery.hpp): a LiPo pack whose open-circuit voltage follows its
+// state of charge, sagging by I R under load; the motors' thrust goes with the square of the
+// voltage. Off (0), the motors make exactly the thrust of the airframe file, as before.
+struct BatteryConfig {
+  int enabled = 0;
+  int cells = 3;                                 // in series: 12.6 V full, 11.1 V nominal
+  double capacity_Ah = 2.1;                      // 2100 mAh
+  double internal_resistance_ohm = 0.04;         // the pack's with its wiring
+  double reference_voltage_V = 12.6;             // where motor_thrust_max_N is made
+  std::array<double, 2> charge_start{1.0, 1.0};  // state of charge at the start, vehicle 1, 2
 };
 
 // Compliant (penalty) contact (contact_law.hpp): a spring and dampers along the normal, and a
@@ -111,6 +133,32 @@ struct RandomisationConfig {
   double pole_length_fraction = 0.02;  // the pole's length scaled by U(1 -+ f)
   double radio_loss_min = 0.0;         // radio_loss_probability drawn from U(min, max)
   double radio_loss_max = 0.02;
+  // 0: randomised() draws the spreads above; 1: the arena envelope (EnvelopeConfig).
+  int profile = 0;
+};
+
+// The arena envelope: as wide as real vehicles and arenas (randomisation.hpp). Ranges are
+// uniform; a fraction f scales the nominal value by U(1 - f, 1 + f).
+struct EnvelopeConfig {
+  double thrust_scale_min = 0.85;  // each vehicle's thrust at full charge, of the airframe's
+  double thrust_scale_max = 1.05;
+  double charge_start_min = 0.7;  // each battery's state of charge at the start
+  double charge_start_max = 1.0;
+  double motor_time_constant_min_s = 0.02;  // each vehicle's motors
+  double motor_time_constant_max_s = 0.06;
+  double mass_fraction = 0.1;       // each vehicle's mass
+  double inertia_fraction = 0.2;    // each vehicle's inertia
+  double pole_drag_fraction = 0.4;  // each pole drag coefficient
+  double pole_length_fraction = 0.03;
+  double pole_mass_fraction = 0.05;
+  double latency_min_s = 0.005;  // motion capture
+  double latency_max_s = 0.04;
+  double jitter_max_s = 0.004;  // jitter drawn from U(0, max)
+  double position_noise_min_m = 0.0005;
+  double position_noise_max_m = 0.003;
+  double attitude_noise_min_rad = 0.0005;
+  double attitude_noise_max_rad = 0.003;
+  double radio_loss_max = 0.05;  // radio_loss_probability drawn from U(0, max)
 };
 
 struct PlantConfig {
@@ -122,6 +170,9 @@ struct PlantConfig {
   MocapConfig mocap{};
   IntegrationConfig integration{};
   RandomisationConfig randomisation{};
+  BatteryConfig battery{};
+  EnvelopeConfig envelope{};
+  double air_density_kgpm3 = 1.225;  // for the rotors' power (VehicleConfig)
   // The probability that an arena radio loses a frame, each direction (RadioConfig::loss; a
   // campaign's arena takes it from its drawn plant).
   double radio_loss_probability = 0.0;

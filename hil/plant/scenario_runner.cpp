@@ -29,7 +29,7 @@ PoleState carried(const PoleState& launch, double dt_s) {
 bool find_catch_point(const PlantConfig& config, const Scenario& s, Vec3& out, std::string& error) {
   Plant probe(config, s.seed);
   probe.set_vehicle(pa::kVehicle1, probe.parked_vehicle(-1e4, 0.0, 0.0));
-  probe.set_vehicle(pa::kVehicle2, probe.parked_vehicle(1e4, 0.0, 0.0));
+  probe.set_vehicle(pa::kVehicle2, probe.parked_vehicle(1e4, 0.0, 0.0, pa::kVehicle2));
   probe.set_pole(launch_state(s));
   const double L = config.pole.half_length_m;
   std::array<Vec3, 2> previous{probe.pole().end_m(0, L), probe.pole().end_m(1, L)};
@@ -91,9 +91,9 @@ bool run(const Scenario& s, ScenarioResult& out, std::string& error) {
       out.catch_position_m = hold_position[i];
     }
     if (v.mode == VehicleMode::parked) {
-      plant.set_vehicle(id, plant.parked_vehicle(v.position_m.x(), v.position_m.y(), v.yaw_rad));
+      plant.set_vehicle(id, plant.parked_vehicle(v.position_m.x(), v.position_m.y(), v.yaw_rad, id));
     } else {
-      VehicleState state = plant.hovering_vehicle(hold_position[i], v.yaw_rad);
+      VehicleState state = plant.hovering_vehicle(hold_position[i], v.yaw_rad, id);
       if (!launching && s.balance_vehicle == id) {
         for (double& f : state.motor_thrust_N) f += config.pole.mass_kg * config.gravity_mps2 / 4.0;
       }
