@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 #include "groundstation/control/balancing_lqr.hpp"
@@ -75,6 +76,7 @@ GroundStation::GroundStation(link::FrameBus& bus, const GroundStationConfig& con
       learner_(make_learner(config, throws_)),
       catch_(config.catching, input_limits(config.limits)) {
   frame_ = throw_frame(pa::kVehicle1);
+  for (Vehicle& v : vehicles_) v.thrust_gain = estimation::ThrustGainEstimator(config_.thrust_gain);
 }
 
 GroundStation::Vehicle& GroundStation::vehicle_of(pa::VehicleId id) {
@@ -139,17 +141,47 @@ void GroundStation::request_kill(std::optional<pa::VehicleId> vehicle, pa::proto
   }
 }
 
+std::string GroundStation::thrust_shortfall(const Vehicle& v, double needed_mps2, const char* part) const {
+  const double k = v.thrust_gain.gain();
+  if (k * config_.limits.a_q_max_mps2 >= config_.min_thrust_fraction * needed_mps2) return {};
+  char text[200];
+  std::snprintf(text, sizeof text,
+                "vehicle %u is too weak to %s: thrust gain %.2f gives %.1f m/s^2 at most, the %s needs %.1f",
+                static_cast<unsigned>(v.id.node()), part, k, k * config_.limits.a_q_max_mps2, part,
+                config_.min_thrust_fraction * needed_mps2);
+  return text;
+}
+
 bool GroundStation::request_attempt(const AttemptRequest& request) {
-  if (phase_ != AttemptPhase::idle) return false;
-  if (!pa::is_act_vehicle(request.thrower)) return false;
+  const auto refuse = [&](std::string why) {
+    refusal_ = std::move(why);
+    return false;
+  };
+  if (phase_ != AttemptPhase::idle) return refuse("an attempt is running");
+  if (!pa::is_act_vehicle(request.thrower))
+    return refuse("vehicle " + std::to_string(request.thrower.node()) + " is not of the act");
   const control::ThrowFrame frame = throw_frame(request.thrower);
   std::optional<planning::TargetThrow> target_throw;
   if (request.target_xy_m) {
     const Eigen::Vector3d target(request.target_xy_m->x(), request.target_xy_m->y(),
                                  frame.origin_m.z() + adaptation().catch_height_m);
     target_throw = throws_.plan_to(frame.origin_m, target, learner_.target_miss_m());
-    if (!target_throw) return false;
+    if (!target_throw) return refuse("the throw to the target cannot be planned");
   }
+  const planning::ThrowTrajectory& flown =
+      target_throw ? target_throw->plan.plan.trajectory : throws_.plan().trajectory;
+  double peak_mps2 = 0.0;
+  for (const model::PlanarInput<double>& u : flown.input)
+    peak_mps2 = std::max(peak_mps2, u(model::planar::kThrust));
+  if (std::string why = thrust_shortfall(vehicle_of(request.thrower), peak_mps2, "throw"); !why.empty())
+    return refuse(why);
+  if (request.catch_it) {
+    const double needed_mps2 = pa::kGravity_mps2 + config_.catching.a_max_mps2;
+    if (std::string why = thrust_shortfall(other(vehicle_of(request.thrower)), needed_mps2, "catch");
+        !why.empty())
+      return refuse(why);
+  }
+  refusal_.clear();
   target_throw_ = std::move(target_throw);
   frame_ = target_throw_ ? control::ThrowFrame{frame.origin_m, target_throw_->plan.yaw_rad} : frame;
   request_ = request;

@@ -112,6 +112,12 @@ struct GroundStationConfig {
   estimation::ThrustGainConfig thrust_gain;
   bool compensate_thrust_gain = true;
   double thrust_gain_min_height_m = 0.3;
+  // A vehicle flies its part of an attempt only if its thrust at the commanded maximum, k a_q,max,
+  // is at least this fraction of what the part needs at its peak: the throw's planned peak thrust
+  // (17.1 m/s^2) for the thrower, g plus the catch's a_max for the catcher. Measured: with every
+  // motor at 0.85 (17.0 m/s^2 at most) the throw saturates for a moment and 19 of 19 were caught
+  // (hil fly --throws 20); so thrower k >= 0.81 and catcher k >= 0.67.
+  double min_thrust_fraction = 0.95;
   // The throw: balancing with the tilt below this first (see conditions).
   double balance_settled_rad = 0.03;
   // The release after T (Section VII-A leaves it open): minimum thrust for conditions.release_low_s
@@ -201,9 +207,11 @@ class GroundStation {
   // KILL (motors off at once, latched on board) to one vehicle of the act, or to both (nullopt),
   // whatever the mission is doing: never gated. std::out_of_range for a vehicle not of the act.
   void request_kill(std::optional<pa::VehicleId> vehicle, pa::proto::KillReason reason);
-  // Starts an attempt; false (and nothing changes) while one is running, or when a throw to a
-  // target cannot be planned.
+  // Starts an attempt; false (and nothing changes, refusal() says why) while one is running, for
+  // a vehicle not of the act, when a throw to a target cannot be planned, or when a vehicle's
+  // measured thrust gain leaves it short of what its part needs (see min_thrust_margin).
   bool request_attempt(const AttemptRequest& request);
+  const std::string& refusal() const { return refusal_; }
 
   AttemptPhase attempt_phase() const { return phase_; }
   // Completed attempts, oldest first.
@@ -251,6 +259,8 @@ class GroundStation {
   mission::ConditionFacts facts(const Vehicle& v, double now_s) const;
   void measure_thrust_gain(Vehicle& v, double t_s, const estimation::MocapPose& pose);
   void send(Vehicle& v, model::VehicleInput u, double now_s);
+  // Empty if the vehicle's thrust suffices for `needed_mps2`, else why not.
+  std::string thrust_shortfall(const Vehicle& v, double needed_mps2, const char* part) const;
   void enter(Vehicle& v, double now_s);
   std::optional<model::VehicleInput> control(Vehicle& v, double now_s, double dt_s);
   model::VehicleInput hover(Vehicle& v, const estimation::VehicleEstimate& e, double dt_s, bool integrate);
@@ -293,6 +303,7 @@ class GroundStation {
   AttemptReport current_;
   std::vector<AttemptReport> reports_;
   int attempt_count_ = 0;
+  std::string refusal_;                                // why the last request_attempt() was refused
   std::optional<planning::TargetThrow> target_throw_;  // the attempt's, when it throws to a target
   // The throw's last tracked state near its end (tau within launch_state_window_s of T).
   struct ThrowEnd {

@@ -148,7 +148,7 @@ void Process::act_on(const pa_arena_OperatorCommand& command, double now_s) {
       runtime::AttemptRequest request;
       if (!all) request.thrower = target;
       if (!station_.request_attempt(request)) {
-        answer(command, false, "throw refused: an attempt is running", now_s);
+        answer(command, false, "throw refused: " + station_.refusal(), now_s);
         return;
       }
       thrower_ = request.thrower;

@@ -1,0 +1,62 @@
+// The runtime (groundstation/runtime/ground_station.hpp) on its own, on an in-memory bus with no
+// vehicle behind it: which attempts it accepts and why it refuses the others. (Its flights are
+// tested in the lockstep arena, tests/hil/series_test.cpp.)
+#include <catch2/catch.hpp>
+
+#include "groundstation/link/frame_bus.hpp"
+#include "groundstation/runtime/ground_station.hpp"
+
+namespace {
+
+using gs::runtime::AttemptRequest;
+using gs::runtime::GroundStation;
+using gs::runtime::GroundStationConfig;
+
+// Every vehicle of the act with a key (the link refuses to start without).
+GroundStationConfig keyed() {
+  GroundStationConfig c;
+  for (const pa::VehicleId v : pa::kActVehicles) {
+    gs::link::VehicleKey key{v, {}};
+    key.key.fill(static_cast<std::uint8_t>(0x30 + v.node()));  // an all-zero key is no key
+    c.link.keys.push_back(key);
+  }
+  return c;
+}
+
+}  // namespace
+
+TEST_CASE("An attempt is accepted once at a time, only for a vehicle of the act") {
+  gs::link::InMemoryFrameBus bus;
+  GroundStation station(bus, keyed());
+  CHECK(station.request_attempt(AttemptRequest{}));
+  CHECK(station.refusal().empty());
+  CHECK(station.current_attempt().number == 1);
+  CHECK_FALSE(station.request_attempt(AttemptRequest{}));
+  CHECK(station.refusal() == "an attempt is running");
+  CHECK(station.current_attempt().number == 1);
+
+  GroundStation other(bus, keyed());
+  AttemptRequest stranger;
+  stranger.thrower = pa::VehicleId(7);
+  CHECK_FALSE(other.request_attempt(stranger));
+  CHECK(other.refusal() == "vehicle 7 is not of the act");
+}
+
+TEST_CASE("A vehicle too weak for its part is refused the attempt, with the numbers") {
+  gs::link::InMemoryFrameBus bus;
+  GroundStationConfig config = keyed();
+  // Both vehicles start from a measured gain of 0.6: 12 m/s^2 at most, where the throw peaks at
+  // 17.1 m/s^2 (0.95 of it needed) and the catch needs 0.95 (g + a_max) = 13.3.
+  config.thrust_gain.initial_gain = 0.6;
+  GroundStation weak(bus, config);
+  CHECK_FALSE(weak.request_attempt(AttemptRequest{}));
+  CAPTURE(weak.refusal());
+  CHECK(weak.refusal().find("vehicle 1 is too weak to throw: thrust gain 0.60 gives 12.0 m/s^2 at most") !=
+        std::string::npos);
+  CHECK(weak.attempt_phase() == gs::runtime::AttemptPhase::idle);
+  CHECK(weak.current_attempt().number == 0);
+  // At 0.85 both parts fit (measured: 19 of 19 caught with every motor at 0.85).
+  config.thrust_gain.initial_gain = 0.85;
+  GroundStation able(bus, config);
+  CHECK(able.request_attempt(AttemptRequest{}));
+}
