@@ -17,8 +17,8 @@
 #include "hil/apps/commands.hpp"
 #include "hil/apps/report.hpp"
 #include "hil/plant/plant_config.hpp"
-#include "hil/plant/randomisation.hpp"
 #include "hil/sil/series.hpp"
+#include "hil/trials/trial_config.hpp"
 #include "pa/command_line.hpp"
 
 namespace hil::apps {
@@ -174,10 +174,8 @@ int cmd_fly(int argc, char** argv) {
     };
     if (!randomise || passes > 0 || targets > 0) {
       // Passes and targets fly one series on one plant: randomised, drawn once from the seed.
-      sil::SeriesConfig config;
-      config.plant = randomise ? randomised(plant, seed) : plant;
-      config.arena.radio = sil::with_plant_losses(config.arena.radio, config.plant);
-      config.seed = seed;
+      sil::SeriesConfig config = trials::trial_config(
+          plant, seed, randomise ? trials::PlantDraw::drawn : trials::PlantDraw::as_given);
       config.record_time_series = !out_dir.empty();
       config.ground_station.adaptation_store_path = store_file;
       if (verbose) config.log = [](const std::string& line) { std::printf("%s\n", line.c_str()); };
@@ -189,14 +187,13 @@ int cmd_fly(int argc, char** argv) {
       }
     } else {
       // Each attempt on a plant drawn anew from its ranges: one series of one throw per draw,
-      // after the throw that adapts only.
-      // What the ground station learnt carries over from draw to draw, as its store would.
+      // after the throw that adapts only. Attempt k is seeded attempt_seed(seed, k), as attempt k
+      // of a campaign (trial_config.hpp). What the ground station learnt carries over from draw
+      // to draw, as its store would.
       std::optional<gs::adaptation::Learnt> learnt;
       for (std::size_t i = 0; i < plans.size(); ++i) {
-        sil::SeriesConfig config;
-        config.plant = randomised(plant, seed * 1000003ULL + i);
-        config.arena.radio = sil::with_plant_losses(config.arena.radio, config.plant);
-        config.seed = seed * 1000003ULL + i;
+        sil::SeriesConfig config = trials::trial_config(
+            plant, trials::attempt_seed(seed, static_cast<int>(i) + 1), trials::PlantDraw::drawn);
         config.ground_station.learnt = learnt;
         config.ground_station.adaptation_store_path = store_file;
         config.record_time_series = !out_dir.empty();

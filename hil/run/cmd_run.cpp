@@ -26,6 +26,7 @@
 #include "hil/run/plant_exchange.hpp"
 #include "hil/sil/arena.hpp"
 #include "hil/sil/ground_station_frame.hpp"
+#include "hil/trials/trial_config.hpp"
 #include "pa/command_line.hpp"
 #include "pa/socketcan.hpp"
 
@@ -492,7 +493,8 @@ int cmd_run(int argc, char** argv) {
   }
 
   try {
-    PlantExchange exchange(plant, sil::with_plant_losses(RadioConfig{}, plant), o.seed, o.vehicle_can.size());
+    const sil::SeriesConfig trial = trials::trial_config(plant, o.seed, trials::PlantDraw::as_given);
+    PlantExchange exchange(trial.plant, trial.arena.radio, trial.seed, o.vehicle_can.size());
     if (o.ground_clock) exchange.join_ground_clock();
     const gs::dds::Domain domain(static_cast<dds_domainid_t>(o.domain));
     const gs::dds::Participant participant(domain);

@@ -6,18 +6,16 @@
 
 #include "hil/plant/randomisation.hpp"
 #include "hil/sil/worker_pool.hpp"
+#include "hil/trials/trial_config.hpp"
 
 namespace hil::sil {
 namespace {
 
 CampaignAttempt fly(const CampaignConfig& config, const gs::adaptation::Learnt& learnt, int attempt) {
   CampaignAttempt a;
-  a.seed = attempt_seed(config.seed, attempt);
-  a.plant = randomised(config.plant, a.seed);
-  SeriesConfig series;
-  series.plant = a.plant;
-  series.arena.radio = with_plant_losses(series.arena.radio, a.plant);
-  series.seed = a.seed;
+  a.seed = trials::attempt_seed(config.seed, attempt);
+  SeriesConfig series = trials::trial_config(config.plant, a.seed, trials::PlantDraw::drawn);
+  a.plant = series.plant;
   series.ground_station.learnt = learnt;
   SeriesRunner runner(series);
   a.result = runner.run({AttemptPlan{}}).front();
@@ -28,17 +26,9 @@ CampaignAttempt fly(const CampaignConfig& config, const gs::adaptation::Learnt& 
 }  // namespace
 
 gs::adaptation::Learnt warm_up(const PlantConfig& plant, std::uint64_t seed) {
-  SeriesConfig series;
-  series.plant = plant;
-  series.arena.radio = with_plant_losses(series.arena.radio, plant);
-  series.seed = seed;
-  SeriesRunner runner(series);
+  SeriesRunner runner(trials::trial_config(plant, seed, trials::PlantDraw::as_given));
   runner.run({AttemptPlan{false}});
   return runner.ground_station().learnt();
-}
-
-std::uint64_t attempt_seed(std::uint64_t seed, int attempt) {
-  return seed * 1000003ULL + static_cast<std::uint64_t>(attempt);
 }
 
 trials::Schema<CampaignAttempt> campaign_throws_columns(const PlantConfig& plant) {
@@ -74,8 +64,8 @@ std::vector<CampaignAttempt> run_campaign(
   std::vector<CampaignAttempt> attempts(static_cast<std::size_t>(config.attempts));
   for (int i = 1; i <= config.attempts; ++i) {
     CampaignAttempt& a = attempts[static_cast<std::size_t>(i - 1)];
-    a.seed = attempt_seed(config.seed, i);
-    a.plant = randomised(config.plant, a.seed);
+    a.seed = trials::attempt_seed(config.seed, i);
+    a.plant = trials::trial_config(config.plant, a.seed, trials::PlantDraw::drawn).plant;
     a.result.throw_number = i;
   }
   std::vector<const CampaignAttempt*> done;

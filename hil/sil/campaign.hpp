@@ -5,9 +5,9 @@
 // Independent attempts. First a warm-up flies one throw (adapt only) on the nominal plant; what
 // the ground station learnt there is where every attempt's ground station starts, as a real one
 // would start from its store after calibration flights. Attempt i (1..N) then takes off on the
-// plant randomised(plant, attempt_seed(seed, i)) with that seed for its noise, and its radios
-// losing frames at the plant's drawn radio_loss_probability, and throws once to catch. Nothing else is shared, so the results depend on the seed alone, whatever the number of
-// workers.
+// plant drawn with attempt_seed(seed, i), its radios losing frames as that plant says
+// (trial_config.hpp), and throws once to catch. Nothing else is shared, so the results depend on
+// the seed alone, whatever the number of workers.
 //
 // The attempts run on worker processes (worker_pool.hpp); the parent collects the results in
 // order of completion (for the progress line) and returns them in attempt order.
@@ -39,9 +39,6 @@ struct CampaignAttempt {
 // What the ground station learns from one throw (adapt only) on `plant`, flown with `seed`:
 // where a campaign's ground stations start.
 gs::adaptation::Learnt warm_up(const PlantConfig& plant, std::uint64_t seed);
-
-// The seed of attempt i (1..N) of a campaign seeded with `seed`.
-std::uint64_t attempt_seed(std::uint64_t seed, int attempt);
 
 // Flies the campaign. `progress` is called in the calling process after each attempt with the
 // results so far (in order of completion). Throws std::runtime_error when a worker cannot be

@@ -11,6 +11,7 @@
 #include "hil/sil/campaign.hpp"
 #include "hil/sil/series.hpp"
 #include "hil/sil/worker_pool.hpp"
+#include "hil/trials/trial_config.hpp"
 
 namespace hil::sil {
 namespace {
@@ -53,9 +54,7 @@ long step_index(double t_s) { return std::lround(t_s * 1000.0); }
 // Flies mission `mission` with `on_step(step, phase, arena)` after every step.
 void fly_mission(const CutsConfig& config, const gs::adaptation::Learnt& learnt, std::uint64_t seed,
                  const std::function<void(long, std::optional<CutPhase>, const Arena&)>& on_step) {
-  SeriesConfig series;
-  series.plant = randomised(config.plant, seed);
-  series.seed = seed;
+  SeriesConfig series = trials::trial_config(config.plant, seed, trials::PlantDraw::drawn);
   series.ground_station.learnt = learnt;
   series.rest_before_take_off_s = kRestBeforeTakeOff_s;
   PhaseTracker phases;
@@ -68,7 +67,7 @@ void fly_mission(const CutsConfig& config, const gs::adaptation::Learnt& learnt,
 
 std::vector<CutResult> fly_group(const CutsConfig& config, const gs::adaptation::Learnt& learnt,
                                  int mission) {
-  const std::uint64_t seed = attempt_seed(config.seed, mission);
+  const std::uint64_t seed = trials::attempt_seed(config.seed, mission);
   // Where each phase begins and ends (steps), from a first flight.
   // And when the mission itself lost each vehicle (tilted past kLostTilt_rad), if it did: a
   // vehicle tumbling before its cut is the mission's failure, not the failsafe's.

@@ -11,9 +11,9 @@
 // is drawn in phase (c - 1) mod 5 (the next phase the mission flew when it did not fly that
 // one), uniformly on its millisecond grid; the phase reported is the one flown at the cut.
 //
-// Mission m (1..M) flies on the plant randomised(plant, attempt_seed(seed, m)) with that seed for
-// its noise, its ground station starting from what a warm-up on the nominal plant learnt, as in
-// a campaign (campaign.hpp); missions run on worker processes (worker_pool.hpp), so the results
+// Mission m (1..M) flies on the plant drawn with attempt_seed(seed, m), its radios losing frames
+// as that plant says (trial_config.hpp), its ground station starting from what a warm-up on the
+// nominal plant learnt, as in a campaign (campaign.hpp); missions run on worker processes (worker_pool.hpp), so the results
 // depend on the seed (and cuts_per_mission) alone, whatever the number of workers.
 #pragma once
 

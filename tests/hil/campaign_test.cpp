@@ -9,6 +9,7 @@
 #include <string>
 
 #include "hil/plant/randomisation.hpp"
+#include "hil/trials/trial_config.hpp"
 
 TEST_CASE("the drawn parameters are the plant configuration's keys", "[hil][campaign]") {
   const std::vector<std::string_view> keys = hil::plant_config_keys();
@@ -40,7 +41,7 @@ TEST_CASE("a campaign is reproducible from its seed whatever the number of worke
   for (std::size_t i = 0; i < 2; ++i) {
     INFO("attempt " << i + 1);
     CHECK(one[i].result.throw_number == static_cast<int>(i) + 1);
-    CHECK(one[i].seed == hil::sil::attempt_seed(4, static_cast<int>(i) + 1));
+    CHECK(one[i].seed == hil::trials::attempt_seed(4, static_cast<int>(i) + 1));
     CHECK(one[i].result.outcome == two[i].result.outcome);
     CHECK(one[i].result.flight_s == two[i].result.flight_s);
     CHECK(one[i].result.energy_error_J == two[i].result.energy_error_J);
