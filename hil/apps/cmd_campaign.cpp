@@ -1,6 +1,6 @@
 // `hil campaign --attempts N --out DIR [--seed S] [--plant FILE] [--jobs J]`: N independent
 // attempts to throw and catch, each on a plant drawn anew from the configured ranges, flown in
-// the lockstep arena by the ground-station runtime on J worker processes (hil/sil/campaign.hpp).
+// the lockstep arena by the ground-station runtime on J worker processes (hil/trials/campaign.hpp).
 // Reproducible from S whatever J is. Prints a progress line while it runs and a summary (the
 // catch rate with its 95% confidence interval, the failures by cause); writes DIR/throws.csv:
 // the columns of `hil fly` and then the drawn parameters of each attempt, and DIR/report.html
@@ -20,7 +20,7 @@
 #include "hil/apps/report.hpp"
 #include "hil/plant/plant_config.hpp"
 #include "hil/plant/randomisation.hpp"
-#include "hil/sil/campaign.hpp"
+#include "hil/trials/campaign.hpp"
 #include "pa/command_line.hpp"
 
 namespace hil::apps {
@@ -59,7 +59,7 @@ int cmd_campaign(int argc, char** argv) {
   app.add_flag("--no-report", no_report, "the CSV file only, no report.html");
   if (const std::optional<int> code = pa::cli::parse(app, argc, argv, std::cout, std::cerr)) return *code;
 
-  sil::CampaignConfig config;
+  trials::CampaignConfig config;
   if (const std::optional<int> code = prepare_batch("hil campaign", batch, config.plant, config.jobs))
     return *code;
   const std::string& out_dir = batch.out_dir;
@@ -67,11 +67,11 @@ int cmd_campaign(int argc, char** argv) {
   config.attempts = static_cast<int>(attempts);
 
   const auto start = std::chrono::steady_clock::now();
-  std::vector<sil::CampaignAttempt> results;
+  std::vector<trials::CampaignAttempt> results;
   try {
-    results = sil::run_campaign(config, [&](const std::vector<const sil::CampaignAttempt*>& done) {
+    results = trials::run_campaign(config, [&](const std::vector<const trials::CampaignAttempt*>& done) {
       const int caught =
-          static_cast<int>(std::count_if(done.begin(), done.end(), [](const sil::CampaignAttempt* a) {
+          static_cast<int>(std::count_if(done.begin(), done.end(), [](const trials::CampaignAttempt* a) {
             return a->result.outcome == "caught";
           }));
       const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -87,11 +87,11 @@ int cmd_campaign(int argc, char** argv) {
   std::fprintf(stderr, "\n");
 
   std::ofstream csv(out_dir + "/throws.csv");
-  trials::write_csv(csv, sil::campaign_throws_columns(results.front().plant), results);
+  trials::write_csv(csv, trials::campaign_throws_columns(results.front().plant), results);
   std::map<std::string, int> failures;
   int caught = 0, crashed = 0;
-  for (const sil::CampaignAttempt& a : results) {
-    const sil::AttemptResult& r = a.result;
+  for (const trials::CampaignAttempt& a : results) {
+    const trials::AttemptResult& r = a.result;
     if (r.outcome == "caught") {
       ++caught;
     } else {

@@ -1,7 +1,7 @@
 // `hil cuts --cuts N --out DIR [--seed S] [--plant FILE] [--jobs J] [--per-mission K]`: N cuts
 // of the ground station's setpoint stream at drawn instants of the closed-loop mission (hover,
 // balance, throw, catch manoeuvre, after the catch), each judged on truth until both vehicles
-// have landed (hil/sil/cuts.hpp). Reproducible from S (and K) whatever J is. Writes DIR/cuts.csv,
+// have landed (hil/trials/cuts.hpp). Reproducible from S (and K) whatever J is. Writes DIR/cuts.csv,
 // one row per vehicle per cut, and prints a summary: failures by cause and by phase, the times
 // to the failsafe and to levelled, and the touchdown speeds' distribution with a histogram.
 #include <algorithm>
@@ -17,7 +17,7 @@
 #include "hil/apps/batch_options.hpp"
 #include "hil/apps/commands.hpp"
 #include "hil/plant/plant_config.hpp"
-#include "hil/sil/cuts.hpp"
+#include "hil/trials/cuts.hpp"
 #include "pa/command_line.hpp"
 
 namespace hil::apps {
@@ -91,7 +91,7 @@ int cmd_cuts(int argc, char** argv) {
       ->check(pa::cli::count(1, 100000, "needs a count 1..100000"));
   if (const std::optional<int> code = pa::cli::parse(app, argc, argv, std::cout, std::cerr)) return *code;
 
-  sil::CutsConfig config;
+  trials::CutsConfig config;
   if (const std::optional<int> code = prepare_batch("hil cuts", batch, config.plant, config.jobs))
     return *code;
   const std::string& out_dir = batch.out_dir;
@@ -100,9 +100,9 @@ int cmd_cuts(int argc, char** argv) {
   config.cuts_per_mission = static_cast<int>(per_mission);
 
   const auto start = std::chrono::steady_clock::now();
-  std::vector<sil::CutResult> results;
+  std::vector<trials::CutResult> results;
   try {
-    results = sil::run_cuts(config, [&](int done) {
+    results = trials::run_cuts(config, [&](int done) {
       const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       std::fprintf(stderr, "\rhil cuts: %d/%d cuts, %.0f s", done, config.cuts, elapsed);
       std::fflush(stderr);
@@ -115,18 +115,18 @@ int cmd_cuts(int argc, char** argv) {
   std::fprintf(stderr, "\n");
 
   std::ofstream csv(out_dir + "/cuts.csv");
-  const trials::Schema<sil::CutRow> columns = sil::cuts_csv_columns();
+  const trials::Schema<trials::CutRow> columns = trials::cuts_csv_columns();
   csv << trials::csv_header(columns) << "\n";
-  const sil::CutLimits& lim = config.limits;
+  const trials::CutLimits& lim = config.limits;
   std::map<std::string, int> causes;
   std::map<std::string, std::pair<int, int>> phases;  // cuts, cuts with a failure
   std::vector<double> speeds, failsafe_s, levelled_s;
   int failed_cuts = 0, vehicles_failed = 0, levelled_in_limit = 0, crashed = 0, killed = 0, lost_before = 0;
-  for (const sil::CutResult& r : results) {
+  for (const trials::CutResult& r : results) {
     bool failed = false;
     for (const pa::VehicleId v : pa::kActVehicles) {
-      const sil::VehicleCut& c = r.vehicles[pa::act_slot(v)];
-      csv << trials::csv_row(columns, sil::CutRow{&r, v}) << "\n";
+      const trials::VehicleCut& c = r.vehicles[pa::act_slot(v)];
+      csv << trials::csv_row(columns, trials::CutRow{&r, v}) << "\n";
       if (c.touchdown_speed_mps >= 0.0) speeds.push_back(c.touchdown_speed_mps);
       if (c.failsafe_after_s >= 0.0) failsafe_s.push_back(c.failsafe_after_s);
       if (c.levelled_after_s >= 0.0) levelled_s.push_back(c.levelled_after_s);
@@ -138,10 +138,10 @@ int cmd_cuts(int argc, char** argv) {
         failed = true;
         ++vehicles_failed;
         ++causes[c.failure];
-        if (c.failure.rfind(sil::kLostBeforeCut, 0) == 0) ++lost_before;
+        if (c.failure.rfind(trials::kLostBeforeCut, 0) == 0) ++lost_before;
       }
     }
-    auto& p = phases[std::string(sil::cut_phase_name(r.phase))];
+    auto& p = phases[std::string(trials::cut_phase_name(r.phase))];
     ++p.first;
     if (failed) {
       ++p.second;
@@ -158,7 +158,7 @@ int cmd_cuts(int argc, char** argv) {
       "cuts: %d cuts, %d vehicles: %d vehicles failed (in %d cuts), %d crashed; %d of the failed had been\n"
       "  lost by the mission flown uncut before their cut (%s: tilted past 60 deg)\n",
       config.cuts, vehicles, vehicles_failed, failed_cuts, crashed, lost_before,
-      std::string(sil::kLostBeforeCut).c_str());
+      std::string(trials::kLostBeforeCut).c_str());
   std::printf(
       "  pass: firmware levelled on board (its hold) within %.0f ms of its last setpoint, then levelled on truth\n"
       "  (tilt < %.0f deg, body rates < %.2f rad/s), landed with the motors off within %.0f s, no\n"
@@ -171,8 +171,8 @@ int cmd_cuts(int argc, char** argv) {
       "  as a crash) for %d vehicles; judged on truth above\n",
       killed);
   std::printf("  by phase (cuts, cuts with a failure):");
-  for (int p = 0; p < sil::kCutPhaseCount; ++p) {
-    const std::string name(sil::cut_phase_name(static_cast<sil::CutPhase>(p)));
+  for (int p = 0; p < trials::kCutPhaseCount; ++p) {
+    const std::string name(trials::cut_phase_name(static_cast<trials::CutPhase>(p)));
     std::printf(" %s %d/%d", name.c_str(), phases[name].first, phases[name].second);
   }
   std::printf("\n");

@@ -1,5 +1,5 @@
 // `hil fly (--series paper | --throws N | --passes N | --targets N) [--seed S] [--plant FILE] [--randomise] [--out DIR]`:
-// a series of throws flown in the lockstep arena by the ground-station runtime (hil/sil/series.hpp),
+// a series of throws flown in the lockstep arena by the ground-station runtime (hil/trials/series.hpp),
 // judged on the plant's truth. Prints a table per throw and a summary beside the paper's figures;
 // with --out writes DIR/throws.csv (one row per attempt), DIR/attempt_<n>.csv (its time series)
 // and DIR/report.html (hil/apps/report.hpp; not with --no-report). Columns: docs/report.md.
@@ -17,7 +17,7 @@
 #include "hil/apps/commands.hpp"
 #include "hil/apps/report.hpp"
 #include "hil/plant/plant_config.hpp"
-#include "hil/sil/series.hpp"
+#include "hil/trials/series.hpp"
 #include "hil/trials/trial_config.hpp"
 #include "pa/command_line.hpp"
 
@@ -33,7 +33,7 @@ int usage(const std::string& message) {
 }
 
 // One attempt's time series as DIR/attempt_<n>.csv (columns: docs/report.md).
-void write_time_series(const std::string& path, const std::vector<sil::TimeSample>& samples) {
+void write_time_series(const std::string& path, const std::vector<trials::TimeSample>& samples) {
   std::ofstream ts(path);
   ts << "t_s,v1_x,v1_y,v1_z,v2_x,v2_y,v2_z,pole_x,pole_y,pole_z,pole_nx,pole_ny,pole_nz,task1,task2";
   for (const char* v : {"1", "2"}) {
@@ -45,7 +45,7 @@ void write_time_series(const std::string& path, const std::vector<sil::TimeSampl
   }
   ts << ",end0_x,end0_y,end0_z,end1_x,end1_y,end1_z";
   ts << ",v1_thrust_mps2,v1_p_radps,v1_q_radps,v1_r_radps,v2_thrust_mps2,v2_p_radps,v2_q_radps,v2_r_radps\n";
-  for (const sil::TimeSample& s : samples) {
+  for (const trials::TimeSample& s : samples) {
     char line[1024];
     int n = std::snprintf(
         line, sizeof line, "%.3f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f,%s,%s", s.t_s,
@@ -71,9 +71,9 @@ void write_time_series(const std::string& path, const std::vector<sil::TimeSampl
 
 // How close the throws to targets came: the ground station's converged prediction and the true
 // impact, each against its target.
-void print_target_summary(const std::vector<sil::AttemptResult>& results) {
+void print_target_summary(const std::vector<trials::AttemptResult>& results) {
   std::vector<double> predicted, impact;
-  for (const sil::AttemptResult& r : results) {
+  for (const trials::AttemptResult& r : results) {
     if (r.predicted_target_miss_m >= 0.0) predicted.push_back(r.predicted_target_miss_m);
     if (r.target_miss_m >= 0.0) impact.push_back(r.target_miss_m);
   }
@@ -145,11 +145,12 @@ int cmd_fly(int argc, char** argv) {
     }
   }
   const gs::runtime::GroundStationConfig ground_station;
-  const std::vector<sil::AttemptPlan> plans =
-      series == "paper" ? sil::paper_series()
-      : passes > 0      ? sil::pass_series(static_cast<int>(passes))
-      : targets > 0 ? sil::target_series(static_cast<int>(targets), ground_station.throw_origin_m.head<2>())
-                    : sil::catch_series(static_cast<int>(throws), !no_trial);
+  const std::vector<trials::AttemptPlan> plans =
+      series == "paper" ? trials::paper_series()
+      : passes > 0      ? trials::pass_series(static_cast<int>(passes))
+      : targets > 0
+          ? trials::target_series(static_cast<int>(targets), ground_station.throw_origin_m.head<2>())
+          : trials::catch_series(static_cast<int>(throws), !no_trial);
   if (!out_dir.empty()) {
     std::error_code ec;
     std::filesystem::create_directories(out_dir, ec);
@@ -159,11 +160,11 @@ int cmd_fly(int argc, char** argv) {
     }
   }
 
-  std::vector<sil::AttemptResult> results;
+  std::vector<trials::AttemptResult> results;
   try {
     std::printf(
         "throw  outcome     flight_s  height_m  catch_x_m  catch_y_m  travel_m  energy_err_J  abort\n");
-    auto print = [&](const sil::AttemptResult& r) {
+    auto print = [&](const trials::AttemptResult& r) {
       std::printf("%5d  %-10s  %8.3f  %8.3f  %9.3f  %9.3f  %8.3f  %12.5f  %s%s\n", r.throw_number,
                   r.outcome.c_str(), r.flight_s, r.catch_height_m, r.catch_x_m, r.catch_y_m, r.travel_m,
                   r.energy_error_J, r.abort_reason.c_str(), r.vehicle_crashed ? " (vehicle crashed)" : "");
@@ -174,12 +175,12 @@ int cmd_fly(int argc, char** argv) {
     };
     if (!randomise || passes > 0 || targets > 0) {
       // Passes and targets fly one series on one plant: randomised, drawn once from the seed.
-      sil::SeriesConfig config = trials::trial_config(
+      trials::SeriesConfig config = trials::trial_config(
           plant, seed, randomise ? trials::PlantDraw::drawn : trials::PlantDraw::as_given);
       config.record_time_series = !out_dir.empty();
       config.ground_station.adaptation_store_path = store_file;
       if (verbose) config.log = [](const std::string& line) { std::printf("%s\n", line.c_str()); };
-      sil::SeriesRunner runner(config);
+      trials::SeriesRunner runner(config);
       results = runner.run(plans, print);
       if (!out_dir.empty()) {
         for (std::size_t i = 0; i < runner.time_series().size(); ++i)
@@ -192,15 +193,15 @@ int cmd_fly(int argc, char** argv) {
       // to draw, as its store would.
       std::optional<gs::adaptation::Learnt> learnt;
       for (std::size_t i = 0; i < plans.size(); ++i) {
-        sil::SeriesConfig config = trials::trial_config(
+        trials::SeriesConfig config = trials::trial_config(
             plant, trials::attempt_seed(seed, static_cast<int>(i) + 1), trials::PlantDraw::drawn);
         config.ground_station.learnt = learnt;
         config.ground_station.adaptation_store_path = store_file;
         config.record_time_series = !out_dir.empty();
         if (verbose) config.log = [](const std::string& line) { std::printf("%s\n", line.c_str()); };
-        sil::SeriesRunner runner(config);
-        std::vector<sil::AttemptPlan> one{plans[i]};
-        sil::AttemptResult r = runner.run(one).front();
+        trials::SeriesRunner runner(config);
+        std::vector<trials::AttemptPlan> one{plans[i]};
+        trials::AttemptResult r = runner.run(one).front();
         learnt = runner.ground_station().learnt();
         if (!out_dir.empty() && !runner.time_series().empty())
           write_time_series(out_dir + "/attempt_" + std::to_string(i + 1) + ".csv",
@@ -224,7 +225,7 @@ int cmd_fly(int argc, char** argv) {
   std::map<std::string, int> counts;
   int caught = 0, catches = 0, impacts = 0;
   double energy_sum = 0.0, flight_sum = 0.0;
-  for (const sil::AttemptResult& r : results) {
+  for (const trials::AttemptResult& r : results) {
     ++counts[r.outcome];
     if (r.outcome == "caught") ++caught;
     if (r.outcome != "throw_only" && r.outcome != "practice") ++catches;
@@ -249,8 +250,9 @@ int cmd_fly(int argc, char** argv) {
   }
   if (passes > 0) {
     // After the throw that adapts only.
-    const auto first_miss = std::find_if(results.begin() + 1, results.end(),
-                                         [](const sil::AttemptResult& r) { return r.outcome != "caught"; });
+    const auto first_miss =
+        std::find_if(results.begin() + 1, results.end(),
+                     [](const trials::AttemptResult& r) { return r.outcome != "caught"; });
     std::printf("         passes: %d consecutive passes caught without a drop (of %llu, after the throw that "
                 "adapts; vehicle 1 throws the odd passes, vehicle 2 the even ones)\n",
                 static_cast<int>(first_miss - results.begin() - 1), static_cast<unsigned long long>(passes));
@@ -258,7 +260,7 @@ int cmd_fly(int argc, char** argv) {
   if (targets > 0) print_target_summary(results);
   std::printf("         no vehicle crashed: %s\n",
               std::none_of(results.begin(), results.end(),
-                           [](const sil::AttemptResult& r) { return r.vehicle_crashed; })
+                           [](const trials::AttemptResult& r) { return r.vehicle_crashed; })
                   ? "yes"
                   : "NO");
   if (!out_dir.empty()) {

@@ -493,7 +493,7 @@ int cmd_run(int argc, char** argv) {
   }
 
   try {
-    const sil::SeriesConfig trial = trials::trial_config(plant, o.seed, trials::PlantDraw::as_given);
+    const trials::SeriesConfig trial = trials::trial_config(plant, o.seed, trials::PlantDraw::as_given);
     PlantExchange exchange(trial.plant, trial.arena.radio, trial.seed, o.vehicle_can.size());
     if (o.ground_clock) exchange.join_ground_clock();
     const gs::dds::Domain domain(static_cast<dds_domainid_t>(o.domain));

@@ -54,8 +54,8 @@ struct ArenaConfig {
   RadioConfig radio{};
 };
 
-// `radio` losing frames as `plant` says (radio_loss_probability, radio_outage_s): how campaigns,
-// `hil fly` and `hil run` configure their radios from a plant file.
+// `radio` losing frames as `plant` says (radio_loss_probability, radio_outage_s): how every trial
+// configures its radios from its plant (hil/trials/trial_config.hpp).
 RadioConfig with_plant_losses(RadioConfig radio, const PlantConfig& plant);
 
 // An arena vehicle's radio: `radio` with its seed derived from the arena's seed and the vehicle's
@@ -85,7 +85,7 @@ class Arena {
   Arena(const PlantConfig& plant, const ArenaConfig& config, std::uint64_t seed);
   // A copy carries on from the same state (plant, firmwares, radios, what waits for the ground)
   // and evolves exactly as the original would under the same ground calls: a mission flown once
-  // can be forked at any step (hil/sil/cuts.hpp). Not assigned or moved: it points into its own
+  // can be forked at any step (hil/trials/cuts.hpp). Not assigned or moved: it points into its own
   // Lockstep.
   Arena(const Arena& other);
   Arena& operator=(const Arena&) = delete;

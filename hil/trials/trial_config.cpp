@@ -9,8 +9,8 @@ std::uint64_t attempt_seed(std::uint64_t seed, int attempt) {
   return seed * 1000003ULL + static_cast<std::uint64_t>(attempt);
 }
 
-sil::SeriesConfig trial_config(const PlantConfig& plant, std::uint64_t seed, PlantDraw draw) {
-  sil::SeriesConfig config;
+SeriesConfig trial_config(const PlantConfig& plant, std::uint64_t seed, PlantDraw draw) {
+  SeriesConfig config;
   config.plant = draw == PlantDraw::drawn ? randomised(plant, seed) : plant;
   config.arena.radio = sil::with_plant_losses(config.arena.radio, config.plant);
   config.seed = seed;

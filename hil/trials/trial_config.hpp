@@ -13,7 +13,7 @@
 #include <cstdint>
 
 #include "hil/plant/plant_config.hpp"
-#include "hil/sil/series.hpp"
+#include "hil/trials/series.hpp"
 
 namespace hil::trials {
 
@@ -27,6 +27,6 @@ std::uint64_t attempt_seed(std::uint64_t seed, int attempt);
 
 // A trial on `plant` (drawn from it with `seed` when `draw` says so), its radios losing frames as
 // that plant says, its noise and radios seeded with `seed`.
-sil::SeriesConfig trial_config(const PlantConfig& plant, std::uint64_t seed, PlantDraw draw);
+SeriesConfig trial_config(const PlantConfig& plant, std::uint64_t seed, PlantDraw draw);
 
 }  // namespace hil::trials

@@ -1,7 +1,7 @@
-// A campaign (hil/sil/campaign.hpp): its results depend on the seed alone, whatever the number of
+// A campaign (hil/trials/campaign.hpp): its results depend on the seed alone, whatever the number of
 // worker processes; the drawn parameters it records are the plant's own keys (the workers'
 // reports: trial_records_test.cpp).
-#include "hil/sil/campaign.hpp"
+#include "hil/trials/campaign.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -26,16 +26,16 @@ TEST_CASE("the drawn parameters are the plant configuration's keys", "[hil][camp
 
 TEST_CASE("a campaign is reproducible from its seed whatever the number of workers",
           "[hil][sil][runtime][campaign]") {
-  hil::sil::CampaignConfig config;
+  hil::trials::CampaignConfig config;
   config.seed = 4;
   config.attempts = 2;
   config.jobs = 1;
   int reports = 0;
   const auto one =
-      hil::sil::run_campaign(config, [&](const auto& done) { reports = static_cast<int>(done.size()); });
+      hil::trials::run_campaign(config, [&](const auto& done) { reports = static_cast<int>(done.size()); });
   CHECK(reports == 2);
   config.jobs = 2;
-  const auto two = hil::sil::run_campaign(config);
+  const auto two = hil::trials::run_campaign(config);
   REQUIRE(one.size() == 2);
   REQUIRE(two.size() == 2);
   for (std::size_t i = 0; i < 2; ++i) {

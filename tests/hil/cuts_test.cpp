@@ -1,8 +1,8 @@
-// Setpoint-stream cuts (hil/sil/cuts.hpp): cut at drawn instants of every phase of the mission,
+// Setpoint-stream cuts (hil/trials/cuts.hpp): cut at drawn instants of every phase of the mission,
 // both vehicles reach the firmware's levelled hover within 25 ms of their last setpoint, level
 // on truth, and land with the motors off without crashing; the cuts depend on the seed alone,
 // whatever the number of workers (the workers' reports: trial_records_test.cpp).
-#include "hil/sil/cuts.hpp"
+#include "hil/trials/cuts.hpp"
 
 #include <catch2/catch.hpp>
 
@@ -11,18 +11,18 @@
 
 TEST_CASE("cut in every phase, both vehicles level within 25 ms and land with the motors off",
           "[hil][cuts]") {
-  hil::sil::CutsConfig config;
+  hil::trials::CutsConfig config;
   config.seed = 3;
   config.cuts = 20;
   config.cuts_per_mission = 10;
   config.jobs = 2;
-  const std::vector<hil::sil::CutResult> cuts = hil::sil::run_cuts(config);
+  const std::vector<hil::trials::CutResult> cuts = hil::trials::run_cuts(config);
   REQUIRE(cuts.size() == 20);
-  std::vector<int> per_phase(hil::sil::kCutPhaseCount, 0);
-  for (const hil::sil::CutResult& r : cuts) {
+  std::vector<int> per_phase(hil::trials::kCutPhaseCount, 0);
+  for (const hil::trials::CutResult& r : cuts) {
     ++per_phase[static_cast<std::size_t>(r.phase)];
-    for (const hil::sil::VehicleCut& c : r.vehicles) {
-      INFO("cut " << r.cut << " at " << r.t_cut_s << " s in " << hil::sil::cut_phase_name(r.phase) << ": "
+    for (const hil::trials::VehicleCut& c : r.vehicles) {
+      INFO("cut " << r.cut << " at " << r.t_cut_s << " s in " << hil::trials::cut_phase_name(r.phase) << ": "
                   << c.failure);
       CHECK(c.mode_at_cut == "flying");
       CHECK(c.failsafe_after_s >= 0.0);
@@ -41,7 +41,7 @@ TEST_CASE("cut in every phase, both vehicles level within 25 ms and land with th
 
   // The same cuts on one worker.
   config.jobs = 1;
-  const std::vector<hil::sil::CutResult> again = hil::sil::run_cuts(config);
+  const std::vector<hil::trials::CutResult> again = hil::trials::run_cuts(config);
   REQUIRE(again.size() == cuts.size());
   for (std::size_t i = 0; i < cuts.size(); ++i) {
     CHECK(again[i].t_cut_s == cuts[i].t_cut_s);

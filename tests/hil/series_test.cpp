@@ -1,4 +1,4 @@
-// The closed loop in the lockstep arena (hil/sil/series.hpp): the ground-station runtime flies
+// The closed loop in the lockstep arena (hil/trials/series.hpp): the ground-station runtime flies
 // both vehicles through the real firmware and the radio, on its own estimate, from the floor.
 // What it must do today: arm both vehicles over the protocol, take off, hold their points,
 // take the pole a person puts on vehicle 1, balance it at the throw's origin and start the throw
@@ -15,16 +15,17 @@
 
 #include "hil/plant/plant_config.hpp"
 #include "hil/sil/firmware_vehicle.hpp"
-#include "hil/sil/series.hpp"
+#include "hil/trials/series.hpp"
+#include "hil/trials/trial_config.hpp"
 
 namespace {
 
 using gs::mission::Task;
 
 struct Run {
-  std::vector<hil::sil::AttemptResult> results;
+  std::vector<hil::trials::AttemptResult> results;
   std::vector<std::string> log;
-  std::vector<hil::sil::TimeSample> samples;
+  std::vector<hil::trials::TimeSample> samples;
   int firmware_missed_ticks = 0;
   std::uint64_t link_undecodable = 0;
   bool throw_started = false;
@@ -33,13 +34,13 @@ struct Run {
 const Run& throw_only() {
   static const Run run = [] {
     Run r;
-    hil::sil::SeriesConfig config;
+    hil::trials::SeriesConfig config;
     config.seed = 3;
     config.record_time_series = true;
     config.attempt_timeout_s = 20.0;
     config.log = [&r](const std::string& line) { r.log.push_back(line); };
-    hil::sil::SeriesRunner runner(config);
-    r.results = runner.run({hil::sil::AttemptPlan{false, Eigen::Vector2d::Zero(), 0.0}});
+    hil::trials::SeriesRunner runner(config);
+    r.results = runner.run({hil::trials::AttemptPlan{false, Eigen::Vector2d::Zero(), 0.0}});
     r.samples = runner.time_series().front();
     for (const pa::VehicleId vehicle : pa::kActVehicles)
       r.firmware_missed_ticks += static_cast<int>(runner.arena().vehicle(vehicle).missed_ticks());
@@ -91,14 +92,14 @@ TEST_CASE("the pole put on vehicle 1 is balanced at the throw's origin, then the
   // within 10 cm of the throw's origin (plate at (0, 0, 2), the centre of gravity 3 cm below). The balancing LQR with the integral holds 0.5 degrees and a few centimetres
   // (measured with seed 3); a controller on a wrong state lets the pole fall within a second.
   double throw_t = 0.0;
-  for (const hil::sil::TimeSample& s : r.samples)
+  for (const hil::trials::TimeSample& s : r.samples)
     if (s.task1 == "throwing") {
       throw_t = s.t_s;
       break;
     }
   REQUIRE(throw_t > 0.0);
   int seen = 0;
-  for (const hil::sil::TimeSample& s : r.samples) {
+  for (const hil::trials::TimeSample& s : r.samples) {
     if (s.t_s < throw_t - 1.0 || s.t_s >= throw_t) continue;
     ++seen;
     CHECK(std::acos(std::min(1.0, s.pole_axis.z())) < 3.0 * M_PI / 180.0);
@@ -106,20 +107,20 @@ TEST_CASE("the pole put on vehicle 1 is balanced at the throw's origin, then the
   }
   CHECK(seen >= 90);
   // Vehicle 2 held its point meanwhile.
-  for (const hil::sil::TimeSample& s : r.samples) {
+  for (const hil::trials::TimeSample& s : r.samples) {
     if (s.t_s < throw_t - 1.0 || s.t_s >= throw_t) continue;
     CHECK(std::abs(s.vehicle2_m.z() - 1.0) < 0.1);
   }
 }
 
-TEST_CASE("hil::sil::paper_series is the paper's nine throws", "[hil][sil][runtime]") {
-  const std::vector<hil::sil::AttemptPlan> plans = hil::sil::paper_series();
+TEST_CASE("hil::trials::paper_series is the paper's nine throws", "[hil][sil][runtime]") {
+  const std::vector<hil::trials::AttemptPlan> plans = hil::trials::paper_series();
   REQUIRE(plans.size() == 9);
   CHECK_FALSE(plans[0].catch_it);
   for (int i = 1; i < 7; ++i) CHECK(plans[i].catch_offset_m.norm() == Approx(1.0));
   CHECK(plans[7].catch_offset_m.norm() == 0.0);
   CHECK(plans[8].catch_it);
-  const std::vector<hil::sil::AttemptPlan> catches = hil::sil::catch_series(3);
+  const std::vector<hil::trials::AttemptPlan> catches = hil::trials::catch_series(3);
   REQUIRE(catches.size() == 3);
   CHECK_FALSE(catches[0].catch_it);
   CHECK(catches[2].catch_it);
@@ -128,24 +129,24 @@ TEST_CASE("hil::sil::paper_series is the paper's nine throws", "[hil][sil][runti
 namespace {
 
 struct Series {
-  std::vector<hil::sil::AttemptResult> results;
+  std::vector<hil::trials::AttemptResult> results;
   std::vector<std::string> log;
   bool crashed = false;
 };
 
-Series fly(const std::vector<hil::sil::AttemptPlan>& plans, std::uint64_t seed) {
+Series fly(const std::vector<hil::trials::AttemptPlan>& plans, std::uint64_t seed) {
   Series s;
-  hil::sil::SeriesConfig config;
+  hil::trials::SeriesConfig config;
   config.seed = seed;
   config.log = [&s](const std::string& line) { s.log.push_back(line); };
-  hil::sil::SeriesRunner runner(config);
+  hil::trials::SeriesRunner runner(config);
   s.results = runner.run(plans);
   for (const auto& r : s.results) s.crashed = s.crashed || r.vehicle_crashed;
   return s;
 }
 
 const Series& paper_series() {
-  static const Series s = fly(hil::sil::paper_series(), 1);
+  static const Series s = fly(hil::trials::paper_series(), 1);
   return s;
 }
 
@@ -185,7 +186,7 @@ TEST_CASE("the paper's series in the closed loop: throws 8 and 9 caught and bala
 }
 
 TEST_CASE("a series is reproducible from its seed", "[hil][sil][runtime][series]") {
-  const std::vector<hil::sil::AttemptPlan> plans = hil::sil::catch_series(2);
+  const std::vector<hil::trials::AttemptPlan> plans = hil::trials::catch_series(2);
   const Series a = fly(plans, 5);
   const Series b = fly(plans, 5);
   REQUIRE(a.results.size() == b.results.size());
@@ -203,7 +204,7 @@ TEST_CASE("a spoiled launch is aborted as out of reach and the mission goes on",
           "[hil][sil][runtime][series]") {
   // The thrower pushed 1.5 m sideways 0.3 s before the launch: the pole flies 1.5 m off the
   // waiting point, beyond the catch's reach (1 m).
-  std::vector<hil::sil::AttemptPlan> plans = hil::sil::catch_series(3);
+  std::vector<hil::trials::AttemptPlan> plans = hil::trials::catch_series(3);
   plans[1].push_sideways_m = 1.5;
   const Series s = fly(plans, 1);
   INFO(joined(s.log));
@@ -224,11 +225,11 @@ TEST_CASE("the adaptation store keeps what a series learnt for the next run", "[
   std::remove((path + "-shm").c_str());
   gs::adaptation::Learnt learnt;
   {
-    hil::sil::SeriesConfig config;
+    hil::trials::SeriesConfig config;
     config.seed = 2;
     config.ground_station.adaptation_store_path = path;
-    hil::sil::SeriesRunner runner(config);
-    const auto results = runner.run(hil::sil::catch_series(2));
+    hil::trials::SeriesRunner runner(config);
+    const auto results = runner.run(hil::trials::catch_series(2));
     REQUIRE(results.size() == 2);
     learnt = runner.ground_station().learnt();
     CHECK(learnt.state.catch_point_samples == 2);
@@ -246,7 +247,7 @@ TEST_CASE("the adaptation store keeps what a series learnt for the next run", "[
 
 TEST_CASE("passes back and forth: vehicle 2 catches, balances and throws back to vehicle 1",
           "[hil][sil][runtime][series]") {
-  const std::vector<hil::sil::AttemptPlan> plans = hil::sil::pass_series(4);
+  const std::vector<hil::trials::AttemptPlan> plans = hil::trials::pass_series(4);
   REQUIRE(plans.size() == 5);
   CHECK_FALSE(plans[0].catch_it);  // the throw that adapts
   CHECK(plans[1].place_pole);
@@ -268,7 +269,7 @@ TEST_CASE("passes back and forth: vehicle 2 catches, balances and throws back to
 TEST_CASE("a pass whose pole is not on its thrower is not flown", "[hil][sil][runtime][series]") {
   // The first pass does not place the pole: nobody put it back on vehicle 1 after the throw
   // that adapts.
-  std::vector<hil::sil::AttemptPlan> plans = hil::sil::pass_series(2);
+  std::vector<hil::trials::AttemptPlan> plans = hil::trials::pass_series(2);
   plans[1].place_pole = false;
   const Series s = fly(plans, 1);
   REQUIRE(s.results.size() == 3);
@@ -279,7 +280,7 @@ TEST_CASE("a pass whose pole is not on its thrower is not flown", "[hil][sil][ru
 
 TEST_CASE("throws to targets all round: vehicle 1 throws where vehicle 2 waits, and it catches",
           "[hil][sil][runtime][series][target_throw]") {
-  const std::vector<hil::sil::AttemptPlan> plans = hil::sil::target_series(4, Eigen::Vector2d::Zero());
+  const std::vector<hil::trials::AttemptPlan> plans = hil::trials::target_series(4, Eigen::Vector2d::Zero());
   REQUIRE(plans.size() == 4);
   // Directions 0, 90, 180 and 270 degrees (with the planar (42) the throws along y were dropped),
   // 2.5 to 4 m away.
@@ -288,7 +289,7 @@ TEST_CASE("throws to targets all round: vehicle 1 throws where vehicle 2 waits, 
   const Series s = fly(plans, 1);
   INFO(joined(s.log));
   REQUIRE(s.results.size() == 4);
-  for (const hil::sil::AttemptResult& r : s.results) {
+  for (const hil::trials::AttemptResult& r : s.results) {
     CHECK(r.outcome == "caught");
     // The true impact near the target (the first throw, before any aim is learnt, within
     // 0.12 m; measured 0.09), the later ones closer (measured 0.003-0.03 m).
@@ -306,14 +307,12 @@ TEST_CASE("radio outages and motion-capture dropouts while the pole flies: holds
   // The fault profile hil/config/radio_outages.yaml: both radios out 20 % of the time in 100 ms
   // outages, each body hidden from the motion capture 20 % of the time in 100 ms outages, only
   // between the throw and the catch.
-  hil::sil::SeriesConfig config;
+  hil::PlantConfig plant;
   std::string error;
-  const bool loaded =
-      hil::load_plant_config(PA_SOURCE_DIR "/hil/config/radio_outages.yaml", config.plant, error);
+  const bool loaded = hil::load_plant_config(PA_SOURCE_DIR "/hil/config/radio_outages.yaml", plant, error);
   INFO(error);
   REQUIRE(loaded);
-  config.arena.radio = hil::sil::with_plant_losses(config.arena.radio, config.plant);
-  config.seed = 6;
+  hil::trials::SeriesConfig config = hil::trials::trial_config(plant, 6, hil::trials::PlantDraw::as_given);
   Series s;
   config.log = [&s](const std::string& line) { s.log.push_back(line); };
   int holds_in_flight = 0, firmware_failsafes = 0, mission_failsafes = 0;
@@ -334,9 +333,9 @@ TEST_CASE("radio outages and motion-capture dropouts while the pole flies: holds
       in_failsafe_task[i] = failsafe_task;
     }
   };
-  hil::sil::SeriesRunner runner(config);
+  hil::trials::SeriesRunner runner(config);
   // The paper's protocol: a throw that adapts only (the waiting point learnt), then the catches.
-  s.results = runner.run(hil::sil::catch_series(4));
+  s.results = runner.run(hil::trials::catch_series(4));
   INFO(joined(s.log));
   // The faults happened: frames lost both ways on both radios, and the firmware held.
   for (const pa::VehicleId v : pa::kActVehicles) {

@@ -9,7 +9,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "hil/sil/series.hpp"
+#include "hil/trials/series.hpp"
 
 namespace {
 
@@ -21,7 +21,7 @@ const gs::adaptation::LaunchMatrix kIdentity = gs::adaptation::LaunchMatrix::Ide
 
 // The launch errors of ten throw-only attempts, as the ground station measured them.
 std::vector<LaunchVector> launch_errors(double gain) {
-  hil::sil::SeriesConfig config;
+  hil::trials::SeriesConfig config;
   config.seed = 5;
   config.attempt_timeout_s = 20.0;
   for (int m = 0; m < 4; ++m) config.plant.vehicle.motor_gain[0][m] = 0.95;
@@ -30,9 +30,9 @@ std::vector<LaunchVector> launch_errors(double gain) {
   config.plant.pole.drag_normal_kgpm2 *= 1.3;
   config.plant.pole.drag_rotational_kgpm2 *= 1.3;
   config.ground_station.learning.throw_learning.gain = gain;
-  hil::sil::SeriesRunner runner(config);
-  runner.run(
-      std::vector<hil::sil::AttemptPlan>(10, hil::sil::AttemptPlan{false, Eigen::Vector2d::Zero(), 0.0}));
+  hil::trials::SeriesRunner runner(config);
+  runner.run(std::vector<hil::trials::AttemptPlan>(
+      10, hil::trials::AttemptPlan{false, Eigen::Vector2d::Zero(), 0.0}));
   std::vector<LaunchVector> errors;
   for (const gs::runtime::AttemptReport& a : runner.ground_station().attempts())
     if (a.launch_error) errors.push_back(*a.launch_error);

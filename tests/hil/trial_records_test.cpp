@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "hil/sil/campaign.hpp"
-#include "hil/sil/cuts.hpp"
 #include "hil/trials/attempt_result.hpp"
+#include "hil/trials/campaign.hpp"
+#include "hil/trials/cuts.hpp"
 
 namespace {
 
@@ -53,17 +53,17 @@ void check_same(const AttemptResult& a, const AttemptResult& b) {
   CHECK(a.target_miss_m == b.target_miss_m);
 }
 
-hil::sil::CutResult distinct_cut() {
-  hil::sil::CutResult r;
+hil::trials::CutResult distinct_cut() {
+  hil::trials::CutResult r;
   r.cut = 12;
   r.mission = 3;
   r.mission_seed = 1000000000007ULL;
-  r.phase = hil::sil::CutPhase::catching;
+  r.phase = hil::trials::CutPhase::catching;
   r.t_cut_s = 13.0123456789012345;
   r.min_separation_m = 1.2345678901234567;
   r.run_s = 7.123;
   for (std::size_t i = 0; i < 2; ++i) {
-    hil::sil::VehicleCut& c = r.vehicles[i];
+    hil::trials::VehicleCut& c = r.vehicles[i];
     const double k = 1.0 + static_cast<double>(i);  // the two vehicles differ too
     c.mode_at_cut = i == 0 ? "flying" : "taking_off";
     c.height_m = 2.1 * k;
@@ -84,7 +84,7 @@ hil::sil::CutResult distinct_cut() {
   return r;
 }
 
-void check_same(const hil::sil::CutResult& a, const hil::sil::CutResult& b) {
+void check_same(const hil::trials::CutResult& a, const hil::trials::CutResult& b) {
   CHECK(a.cut == b.cut);
   CHECK(a.mission == b.mission);
   CHECK(a.mission_seed == b.mission_seed);
@@ -94,7 +94,7 @@ void check_same(const hil::sil::CutResult& a, const hil::sil::CutResult& b) {
   CHECK(a.run_s == b.run_s);
   for (std::size_t i = 0; i < 2; ++i) {
     INFO("vehicle slot " << i);
-    const hil::sil::VehicleCut &x = a.vehicles[i], &y = b.vehicles[i];
+    const hil::trials::VehicleCut &x = a.vehicles[i], &y = b.vehicles[i];
     CHECK(x.mode_at_cut == y.mode_at_cut);
     CHECK(x.height_m == y.height_m);
     CHECK(x.tilt_at_cut_rad == y.tilt_at_cut_rad);
@@ -151,21 +151,21 @@ TEST_CASE("an attempt's report with an empty last field or unreadable fields", "
 }
 
 TEST_CASE("a worker's cut report carries every field of its cuts exactly", "[hil][trials][cuts]") {
-  hil::sil::CutResult other = distinct_cut();
+  hil::trials::CutResult other = distinct_cut();
   other.cut = 13;
-  other.phase = hil::sil::CutPhase::after_catch;
-  std::vector<hil::sil::CutResult> back;
-  REQUIRE(hil::sil::decode_cuts(hil::sil::encode_cuts({distinct_cut(), other}), back));
+  other.phase = hil::trials::CutPhase::after_catch;
+  std::vector<hil::trials::CutResult> back;
+  REQUIRE(hil::trials::decode_cuts(hil::trials::encode_cuts({distinct_cut(), other}), back));
   REQUIRE(back.size() == 2);
   check_same(back[0], distinct_cut());
   check_same(back[1], other);
-  CHECK(hil::sil::cut_schema().size() == 7 + 2 * 15);
-  REQUIRE(hil::sil::decode_cuts("", back));
+  CHECK(hil::trials::cut_schema().size() == 7 + 2 * 15);
+  REQUIRE(hil::trials::decode_cuts("", back));
   CHECK(back.empty());
-  CHECK_FALSE(hil::sil::decode_cuts("1\t2\tnot a number", back));
-  std::string line = hil::sil::encode_cuts({distinct_cut()});
+  CHECK_FALSE(hil::trials::decode_cuts("1\t2\tnot a number", back));
+  std::string line = hil::trials::encode_cuts({distinct_cut()});
   line.replace(line.find("\t3\t1000000000007\t3\t"), 19, "\t3\t1000000000007\t9\t");  // no phase 9
-  CHECK_FALSE(hil::sil::decode_cuts(line, back));
+  CHECK_FALSE(hil::trials::decode_cuts(line, back));
 }
 
 TEST_CASE("the CSV files keep their columns and formats", "[hil][trials]") {
@@ -177,10 +177,10 @@ TEST_CASE("the CSV files keep their columns and formats", "[hil][trials]") {
         "planned_height_m\n"
         "7,aborted,1.0123,2.0123,3.6000,-0.0100,0.0700,-0.00312,out_of_reach,1.9877\n");
 
-  hil::sil::CampaignAttempt a;
+  hil::trials::CampaignAttempt a;
   a.result = distinct_result();
   a.seed = 1000004;
-  const auto columns = hil::sil::campaign_throws_columns(a.plant);
+  const auto columns = hil::trials::campaign_throws_columns(a.plant);
   const std::string header = hil::trials::csv_header(columns);
   CHECK(header.rfind("throw,outcome,flight_s,catch_height_m,catch_x_m,catch_y_m,travel_m,energy_error_J,"
                      "abort_reason,seed,",
@@ -188,13 +188,13 @@ TEST_CASE("the CSV files keep their columns and formats", "[hil][trials]") {
   CHECK(hil::trials::csv_row(columns, a)
             .rfind("7,aborted,1.0123,2.0123,3.6000,-0.0100,0.0700,-0.00312,out_of_reach,1000004,", 0) == 0);
 
-  const hil::sil::CutResult cut = distinct_cut();
-  const auto cut_columns = hil::sil::cuts_csv_columns();
+  const hil::trials::CutResult cut = distinct_cut();
+  const auto cut_columns = hil::trials::cuts_csv_columns();
   CHECK(hil::trials::csv_header(cut_columns) ==
         "cut,mission,mission_seed,phase,t_cut_s,vehicle,mode_at_cut,height_m,tilt_at_cut_deg,"
         "failsafe_after_s,levelled_after_s,max_tilt_deg,touchdown_after_s,touchdown_speed_mps,"
         "touchdown_tilt_deg,drift_m,min_separation_m,final_mode,landed,motors_off,crashed,failure");
-  CHECK(hil::trials::csv_row(cut_columns, hil::sil::CutRow{&cut, pa::kVehicle2}) ==
+  CHECK(hil::trials::csv_row(cut_columns, hil::trials::CutRow{&cut, pa::kVehicle2}) ==
         "12,3,1000000000007,catch,13.012,2,taking_off,4.200,12.61,0.042,0.620,46.98,10.200,0.8642,6.99,1.420,"
         "1.235,killed,0,1,1,crashed+not_landed");
 }

@@ -29,7 +29,7 @@
 #include "hil/sil/arena.hpp"
 #include "hil/trials/record_schema.hpp"
 
-namespace hil::sil {
+namespace hil::trials {
 
 inline constexpr std::string_view kLostBeforeCut = "lost_before_cut";
 
@@ -94,14 +94,14 @@ struct CutsConfig {
 // Judges the cut of the mission at `at_cut`'s state: a copy of it runs with the uplink silent
 // until both vehicles are landed with their motors off, or limits.land_within_s has passed.
 // Fills every field but cut, mission, mission_seed and phase.
-CutResult fly_cut(const Arena& at_cut, const CutLimits& limits);
+CutResult fly_cut(const sil::Arena& at_cut, const CutLimits& limits);
 
 // Flies every cut. `progress` is called in the calling process after each mission with the
 // number of cuts judged so far. Throws std::runtime_error as run_on_workers() does.
 std::vector<CutResult> run_cuts(const CutsConfig& config, const std::function<void(int done)>& progress = {});
 
 // Every field of a cut, its vehicles' too (record_schema.hpp): the workers' reports carry them all.
-const trials::Schema<CutResult>& cut_schema();
+const Schema<CutResult>& cut_schema();
 
 // Cuts as one line and back (the workers' reports): each cut encoded with cut_schema(), the cuts
 // separated by '|'.
@@ -114,6 +114,6 @@ struct CutRow {
   pa::VehicleId vehicle = pa::kVehicle1;
 };
 // The columns of cuts.csv (docs/failsafe.md): angles in degrees, the phase by name.
-trials::Schema<CutRow> cuts_csv_columns();
+Schema<CutRow> cuts_csv_columns();
 
-}  // namespace hil::sil
+}  // namespace hil::trials

@@ -1,20 +1,20 @@
-#include "hil/sil/campaign.hpp"
+#include "hil/trials/campaign.hpp"
 
 #include <cstdio>
 #include <optional>
 #include <stdexcept>
 
 #include "hil/plant/randomisation.hpp"
-#include "hil/sil/worker_pool.hpp"
 #include "hil/trials/trial_config.hpp"
+#include "hil/trials/worker_pool.hpp"
 
-namespace hil::sil {
+namespace hil::trials {
 namespace {
 
 CampaignAttempt fly(const CampaignConfig& config, const gs::adaptation::Learnt& learnt, int attempt) {
   CampaignAttempt a;
-  a.seed = trials::attempt_seed(config.seed, attempt);
-  SeriesConfig series = trials::trial_config(config.plant, a.seed, trials::PlantDraw::drawn);
+  a.seed = attempt_seed(config.seed, attempt);
+  SeriesConfig series = trial_config(config.plant, a.seed, PlantDraw::drawn);
   a.plant = series.plant;
   series.ground_station.learnt = learnt;
   SeriesRunner runner(series);
@@ -26,21 +26,19 @@ CampaignAttempt fly(const CampaignConfig& config, const gs::adaptation::Learnt& 
 }  // namespace
 
 gs::adaptation::Learnt warm_up(const PlantConfig& plant, std::uint64_t seed) {
-  SeriesRunner runner(trials::trial_config(plant, seed, trials::PlantDraw::as_given));
+  SeriesRunner runner(trial_config(plant, seed, PlantDraw::as_given));
   runner.run({AttemptPlan{false}});
   return runner.ground_station().learnt();
 }
 
-trials::Schema<CampaignAttempt> campaign_throws_columns(const PlantConfig& plant) {
-  using trials::column;
-  using trials::column_of;
-  trials::Schema<CampaignAttempt> out;
+Schema<CampaignAttempt> campaign_throws_columns(const PlantConfig& plant) {
+  Schema<CampaignAttempt> out;
   const auto result = [](const CampaignAttempt& a) -> const AttemptResult& { return a.result; };
-  for (const trials::Field<AttemptResult>& f : trials::columns(
-           trials::attempt_schema(), {"throw", "outcome", "flight_s", "catch_height_m", "catch_x_m",
-                                      "catch_y_m", "travel_m", "energy_error_J", "abort_reason"}))
+  for (const Field<AttemptResult>& f :
+       columns(attempt_schema(), {"throw", "outcome", "flight_s", "catch_height_m", "catch_x_m", "catch_y_m",
+                                  "travel_m", "energy_error_J", "abort_reason"}))
     out.push_back(column_of<CampaignAttempt>(f, result));
-  out.push_back(trials::field("seed", &CampaignAttempt::seed));
+  out.push_back(field("seed", &CampaignAttempt::seed));
   const std::vector<DrawnParameter> drawn = drawn_parameters(plant);
   for (std::size_t k = 0; k < drawn.size(); ++k) {
     out.push_back(column<CampaignAttempt>(std::string(drawn[k].key), [k](const CampaignAttempt& a) {
@@ -64,17 +62,16 @@ std::vector<CampaignAttempt> run_campaign(
   std::vector<CampaignAttempt> attempts(static_cast<std::size_t>(config.attempts));
   for (int i = 1; i <= config.attempts; ++i) {
     CampaignAttempt& a = attempts[static_cast<std::size_t>(i - 1)];
-    a.seed = trials::attempt_seed(config.seed, i);
-    a.plant = trials::trial_config(config.plant, a.seed, trials::PlantDraw::drawn).plant;
+    a.seed = attempt_seed(config.seed, i);
+    a.plant = trial_config(config.plant, a.seed, PlantDraw::drawn).plant;
     a.result.throw_number = i;
   }
   std::vector<const CampaignAttempt*> done;
   run_on_workers(
-      config.attempts, config.jobs,
-      [&](int i) { return trials::encode_result(fly(config, learnt, i).result); },
+      config.attempts, config.jobs, [&](int i) { return encode_result(fly(config, learnt, i).result); },
       [&](int i, const std::string& report) {
         AttemptResult r;
-        if (!trials::decode_result(report, r))
+        if (!decode_result(report, r))
           throw std::runtime_error("a worker reported an unreadable result: '" + report + "'");
         r.throw_number = i;
         CampaignAttempt& a = attempts[static_cast<std::size_t>(i - 1)];
@@ -86,4 +83,4 @@ std::vector<CampaignAttempt> run_campaign(
   return attempts;
 }
 
-}  // namespace hil::sil
+}  // namespace hil::trials

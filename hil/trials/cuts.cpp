@@ -1,4 +1,4 @@
-#include "hil/sil/cuts.hpp"
+#include "hil/trials/cuts.hpp"
 
 #include <algorithm>
 #include <cstdio>
@@ -8,12 +8,12 @@
 
 #include "fw/supervisor.hpp"
 #include "hil/plant/randomisation.hpp"
-#include "hil/sil/campaign.hpp"
-#include "hil/sil/series.hpp"
-#include "hil/sil/worker_pool.hpp"
+#include "hil/trials/campaign.hpp"
+#include "hil/trials/series.hpp"
 #include "hil/trials/trial_config.hpp"
+#include "hil/trials/worker_pool.hpp"
 
-namespace hil::sil {
+namespace hil::trials {
 namespace {
 
 using gs::mission::Task;
@@ -53,12 +53,12 @@ long step_index(double t_s) { return std::lround(t_s * 1000.0); }
 
 // Flies mission `mission` with `on_step(step, phase, arena)` after every step.
 void fly_mission(const CutsConfig& config, const gs::adaptation::Learnt& learnt, std::uint64_t seed,
-                 const std::function<void(long, std::optional<CutPhase>, const Arena&)>& on_step) {
-  SeriesConfig series = trials::trial_config(config.plant, seed, trials::PlantDraw::drawn);
+                 const std::function<void(long, std::optional<CutPhase>, const sil::Arena&)>& on_step) {
+  SeriesConfig series = trial_config(config.plant, seed, PlantDraw::drawn);
   series.ground_station.learnt = learnt;
   series.rest_before_take_off_s = kRestBeforeTakeOff_s;
   PhaseTracker phases;
-  series.on_step = [&](const Arena& arena, const gs::runtime::GroundStation& gs) {
+  series.on_step = [&](const sil::Arena& arena, const gs::runtime::GroundStation& gs) {
     on_step(step_index(arena.t_s()), phases.update(gs.task(kThrower), gs.task(kCatcher)), arena);
   };
   SeriesRunner runner(series);
@@ -67,14 +67,14 @@ void fly_mission(const CutsConfig& config, const gs::adaptation::Learnt& learnt,
 
 std::vector<CutResult> fly_group(const CutsConfig& config, const gs::adaptation::Learnt& learnt,
                                  int mission) {
-  const std::uint64_t seed = trials::attempt_seed(config.seed, mission);
+  const std::uint64_t seed = attempt_seed(config.seed, mission);
   // Where each phase begins and ends (steps), from a first flight.
   // And when the mission itself lost each vehicle (tilted past kLostTilt_rad), if it did: a
   // vehicle tumbling before its cut is the mission's failure, not the failsafe's.
   std::array<long, kCutPhaseCount> first{}, last{};
   first.fill(-1);
   std::array<long, 2> lost{-1, -1};
-  fly_mission(config, learnt, seed, [&](long k, std::optional<CutPhase> phase, const Arena& arena) {
+  fly_mission(config, learnt, seed, [&](long k, std::optional<CutPhase> phase, const sil::Arena& arena) {
     for (const pa::VehicleId v : pa::kActVehicles) {
       long& at = lost[pa::act_slot(v)];
       if (at < 0 && tilt_of(arena.plant().vehicle(v).body) > kLostTilt_rad) at = k;
@@ -102,7 +102,7 @@ std::vector<CutResult> fly_group(const CutsConfig& config, const gs::adaptation:
 
   std::vector<CutResult> results;
   std::size_t next = 0;
-  fly_mission(config, learnt, seed, [&](long k, std::optional<CutPhase> phase, const Arena& arena) {
+  fly_mission(config, learnt, seed, [&](long k, std::optional<CutPhase> phase, const sil::Arena& arena) {
     for (; next < plan.size() && plan[next].first <= k; ++next) {
       CutResult r = fly_cut(arena, config.limits);
       r.cut = plan[next].second;
@@ -128,10 +128,9 @@ std::vector<CutResult> fly_group(const CutsConfig& config, const gs::adaptation:
 constexpr double kDeg = 180.0 / M_PI;
 
 // Every field of one vehicle's cut; the CSV's angles in degrees.
-const trials::Schema<VehicleCut>& vehicle_cut_schema() {
+const Schema<VehicleCut>& vehicle_cut_schema() {
   using V = VehicleCut;
-  using trials::field;
-  static const trials::Schema<V> schema{
+  static const Schema<V> schema{
       field("mode_at_cut", &V::mode_at_cut),
       field("height_m", &V::height_m, "%.3f"),
       field("tilt_at_cut_deg", &V::tilt_at_cut_rad, "%.2f", kDeg),
@@ -164,8 +163,8 @@ std::string_view cut_phase_name(CutPhase phase) {
   return "unknown";
 }
 
-CutResult fly_cut(const Arena& at_cut, const CutLimits& limits) {
-  Arena arena(at_cut);
+CutResult fly_cut(const sil::Arena& at_cut, const CutLimits& limits) {
+  sil::Arena arena(at_cut);
   arena.silence_uplink();
   arena.take_ground_frames();
   arena.take_mocap();
@@ -273,18 +272,17 @@ CutResult fly_cut(const Arena& at_cut, const CutLimits& limits) {
   return r;
 }
 
-const trials::Schema<CutResult>& cut_schema() {
-  static const trials::Schema<CutResult> schema = [] {
+const Schema<CutResult>& cut_schema() {
+  static const Schema<CutResult> schema = [] {
     using R = CutResult;
-    using trials::field;
-    trials::Field<R> phase = field("phase", &R::phase);
+    Field<R> phase = field("phase", &R::phase);
     phase.read = [](R& r, const std::string& text) {
       const int p = std::stoi(text);
       if (p < 0 || p >= kCutPhaseCount) throw std::out_of_range("no phase " + text);
       r.phase = static_cast<CutPhase>(p);
     };
     phase.cell = [](const R& r) { return std::string(cut_phase_name(r.phase)); };
-    trials::Schema<R> s{
+    Schema<R> s{
         field("cut", &R::cut),
         field("mission", &R::mission),
         field("mission_seed", &R::mission_seed),
@@ -294,8 +292,8 @@ const trials::Schema<CutResult>& cut_schema() {
         field("run_s", &R::run_s, "%.3f"),
     };
     for (std::size_t i = 0; i < 2; ++i) {
-      for (const trials::Field<VehicleCut>& f : vehicle_cut_schema())
-        s.push_back(trials::lift<R>(
+      for (const Field<VehicleCut>& f : vehicle_cut_schema())
+        s.push_back(lift<R>(
             f, [i](auto& r) -> auto& { return r.vehicles[i]; }));
     }
     return s;
@@ -307,7 +305,7 @@ std::string encode_cuts(const std::vector<CutResult>& cuts) {
   std::string out;
   for (const CutResult& r : cuts) {
     if (!out.empty()) out += '|';
-    out += trials::encode(cut_schema(), r);
+    out += encode(cut_schema(), r);
   }
   return out;
 }
@@ -315,33 +313,33 @@ std::string encode_cuts(const std::vector<CutResult>& cuts) {
 bool decode_cuts(const std::string& line, std::vector<CutResult>& cuts) {
   cuts.clear();
   if (line.empty()) return true;
-  for (const std::string& record : trials::split(line, '|')) {
+  for (const std::string& record : split(line, '|')) {
     CutResult r;
-    if (!trials::decode(cut_schema(), record, r)) return false;
+    if (!decode(cut_schema(), record, r)) return false;
     cuts.push_back(r);
   }
   return true;
 }
 
-trials::Schema<CutRow> cuts_csv_columns() {
+Schema<CutRow> cuts_csv_columns() {
   const auto cut = [](const CutRow& row) -> const CutResult& { return *row.cut; };
   const auto vehicle = [](const CutRow& row) -> const VehicleCut& {
     return row.cut->vehicles[pa::act_slot(row.vehicle)];
   };
-  trials::Schema<CutRow> out;
-  for (const auto& f : trials::columns(cut_schema(), {"cut", "mission", "mission_seed", "phase", "t_cut_s"}))
-    out.push_back(trials::column_of<CutRow>(f, cut));
-  out.push_back(trials::column<CutRow>(
-      "vehicle", [](const CutRow& row) { return std::to_string(int(row.vehicle.node())); }));
-  for (const auto& f : trials::columns(
-           vehicle_cut_schema(),
-           {"mode_at_cut", "height_m", "tilt_at_cut_deg", "failsafe_after_s", "levelled_after_s",
-            "max_tilt_deg", "touchdown_after_s", "touchdown_speed_mps", "touchdown_tilt_deg", "drift_m"}))
-    out.push_back(trials::column_of<CutRow>(f, vehicle));
-  out.push_back(trials::column_of<CutRow>(trials::columns(cut_schema(), {"min_separation_m"}).front(), cut));
+  Schema<CutRow> out;
+  for (const auto& f : columns(cut_schema(), {"cut", "mission", "mission_seed", "phase", "t_cut_s"}))
+    out.push_back(column_of<CutRow>(f, cut));
+  out.push_back(
+      column<CutRow>("vehicle", [](const CutRow& row) { return std::to_string(int(row.vehicle.node())); }));
   for (const auto& f :
-       trials::columns(vehicle_cut_schema(), {"final_mode", "landed", "motors_off", "crashed", "failure"}))
-    out.push_back(trials::column_of<CutRow>(f, vehicle));
+       columns(vehicle_cut_schema(),
+               {"mode_at_cut", "height_m", "tilt_at_cut_deg", "failsafe_after_s", "levelled_after_s",
+                "max_tilt_deg", "touchdown_after_s", "touchdown_speed_mps", "touchdown_tilt_deg", "drift_m"}))
+    out.push_back(column_of<CutRow>(f, vehicle));
+  out.push_back(column_of<CutRow>(columns(cut_schema(), {"min_separation_m"}).front(), cut));
+  for (const auto& f :
+       columns(vehicle_cut_schema(), {"final_mode", "landed", "motors_off", "crashed", "failure"}))
+    out.push_back(column_of<CutRow>(f, vehicle));
   return out;
 }
 
@@ -369,4 +367,4 @@ std::vector<CutResult> run_cuts(const CutsConfig& config, const std::function<vo
   return all;
 }
 
-}  // namespace hil::sil
+}  // namespace hil::trials

@@ -1,11 +1,11 @@
-#include "hil/sil/series.hpp"
+#include "hil/trials/series.hpp"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 
-namespace hil::sil {
+namespace hil::trials {
 namespace {
 
 using gs::mission::Task;
@@ -70,7 +70,7 @@ namespace {
 // The ground station holds the keys the arena's firmware was built with.
 gs::runtime::GroundStationConfig with_simulation_keys(gs::runtime::GroundStationConfig c) {
   c.link.keys.clear();
-  for (const pa::VehicleId v : pa::kActVehicles) c.link.keys.push_back({v, simulation_key(v)});
+  for (const pa::VehicleId v : pa::kActVehicles) c.link.keys.push_back({v, sil::simulation_key(v)});
   return c;
 }
 }  // namespace
@@ -91,7 +91,7 @@ void SeriesRunner::step() {
   const double now = arena_.t_s();
   for (const pa::proto::Frame& f : arena_.take_ground_frames()) gs_.on_frame(f, now);
   for (const MocapFrame& m : arena_.take_mocap()) {
-    const gs::estimation::MocapFrame frame = to_ground_station_frame(m);
+    const gs::estimation::MocapFrame frame = sil::to_ground_station_frame(m);
     if (!config_.time_ground_station) {
       gs_.on_mocap(frame, now);
       continue;
@@ -422,4 +422,4 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
   return r;
 }
 
-}  // namespace hil::sil
+}  // namespace hil::trials

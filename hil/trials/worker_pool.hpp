@@ -10,7 +10,7 @@
 #include <functional>
 #include <string>
 
-namespace hil::sil {
+namespace hil::trials {
 
 // Runs items 1..items on `jobs` worker processes. `run(i)` is called in a worker and returns
 // item i's report (one line: no '\n'); `on_report(i, line)` is called in the calling process
@@ -21,4 +21,4 @@ void run_on_workers(int items, int jobs, const std::function<std::string(int ite
                     const std::function<void(int item, const std::string& report)>& on_report,
                     const std::string& noun = "item");
 
-}  // namespace hil::sil
+}  // namespace hil::trials

@@ -1,4 +1,4 @@
-#include "hil/sil/worker_pool.hpp"
+#include "hil/trials/worker_pool.hpp"
 
 #include <poll.h>
 #include <sys/wait.h>
@@ -11,7 +11,7 @@
 #include <stdexcept>
 #include <vector>
 
-namespace hil::sil {
+namespace hil::trials {
 namespace {
 
 bool write_all(int fd, const std::string& text) {
@@ -118,4 +118,4 @@ void run_on_workers(int items, int jobs, const std::function<std::string(int)>& 
   if (!workers_ok) throw std::runtime_error("a worker failed after reporting its " + noun + "s");
 }
 
-}  // namespace hil::sil
+}  // namespace hil::trials

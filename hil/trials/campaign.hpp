@@ -19,9 +19,9 @@
 #include <vector>
 
 #include "hil/plant/plant_config.hpp"
-#include "hil/sil/series.hpp"
+#include "hil/trials/series.hpp"
 
-namespace hil::sil {
+namespace hil::trials {
 
 struct CampaignConfig {
   PlantConfig plant;       // the nominal plant; its randomisation ranges are drawn from
@@ -49,6 +49,6 @@ std::vector<CampaignAttempt> run_campaign(
 
 // The columns of a campaign's throws.csv: `hil fly`'s up to abort_reason, the attempt's seed, then
 // the parameters drawn for its plant (drawn_parameters(), keyed as `plant` keys them).
-trials::Schema<CampaignAttempt> campaign_throws_columns(const PlantConfig& plant);
+Schema<CampaignAttempt> campaign_throws_columns(const PlantConfig& plant);
 
-}  // namespace hil::sil
+}  // namespace hil::trials
