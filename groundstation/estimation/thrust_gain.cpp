@@ -88,6 +88,7 @@ void ThrustGainEstimator::measure() {
     atz += row * s.z_m;
   }
   const Eigen::Vector3d coefficients = ata.ldlt().solve(atz);
+  if (std::abs(coefficients(1)) > config_.max_vertical_speed_mps) return;
   const double accel = 2.0 * coefficients(2);
   const double t_s = window_.back().t_s;
   // The random walk since the last measurement.

@@ -23,6 +23,7 @@ struct Flight {
   double load_mps2 = 0.0;  // an extra downward load (the pole), known to the estimator
   std::function<bool(double)> usable = [](double) { return true; };
   std::function<double(double)> push = [](double) { return 0.0; };  // unknown external m/s^2
+  double climb_mps = 0.0;                                           // a steady climb
 };
 
 // Flies `seconds` and returns the estimator; the controller compensates with its estimate.
@@ -38,8 +39,8 @@ ThrustGainEstimator fly(const Flight& f, double seconds, std::uint64_t seed = 1)
     // 200 Hz: a pose, and a command that acts `lead` later (a gentle sine in height to excite).
     if (i % 5 == 0) {
       estimator.pose(t, z + noise(rng), f.body_z_up, f.load_mps2, f.usable(t));
-      const double z_ref = 1.0 + 0.2 * std::sin(0.7 * t);
-      const double a = 6.0 * (z_ref - z) - 4.0 * vz + pa::kGravity_mps2 + f.load_mps2;
+      const double z_ref = 1.0 + f.climb_mps * t + 0.2 * std::sin(0.7 * t);
+      const double a = 6.0 * (z_ref - z) - 4.0 * (vz - f.climb_mps) + pa::kGravity_mps2 + f.load_mps2;
       const double sent = a / (estimator.gain() * f.body_z_up);
       in_flight.push_back({t + lead, sent});
       estimator.command(t + lead, sent);
@@ -104,6 +105,14 @@ TEST_CASE("Unusable poses and disturbances do not move the estimate") {
   CAPTURE(e.gain(), e.rejected());
   CHECK(e.rejected() > 0);
   CHECK(std::abs(e.gain() - 0.85) < 0.01);
+}
+
+TEST_CASE("A climbing or sinking vehicle is not measured (its drag is not in the model)") {
+  Flight climbing;
+  climbing.climb_mps = 0.5;
+  const ThrustGainEstimator e = fly(climbing, 5.0);
+  CHECK(e.measurements() <= 2);  // of some 50 windows: only while it gathers speed at the start
+  CHECK(fly(Flight{}, 5.0).measurements() > 40);
 }
 
 TEST_CASE("Bad input is ignored: non-finite values, time going back") {
