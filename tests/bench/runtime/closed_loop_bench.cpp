@@ -2,7 +2,7 @@
 // update, latency compensation, mission, controllers and catch re-planning, link, both vehicles;
 // the budget: a median of at most 50 us) and the whole arena (plant, two firmware cores, radios,
 // motion capture and the ground station) as a multiple of real time on one core, both measured
-// while flying a throw that adapts only and a catch (hil/sil/series.hpp).
+// while flying a throw that adapts only and a catch (hil/trials/series.hpp).
 //
 // Printed, per core (processor time, whatever else the machine runs): realtime_multiple, (b)
 // the arena with the ground station; arena_realtime_multiple, (a) the arena alone (plant, both
@@ -18,7 +18,7 @@
 #include <ctime>
 #include <vector>
 
-#include "hil/sil/series.hpp"
+#include "hil/trials/series.hpp"
 
 namespace {
 
@@ -32,14 +32,14 @@ void BM_ClosedLoopThrowAndCatch(benchmark::State& state) {
   std::vector<double> frames;
   double simulated_s = 0.0, cpu_s = 0.0, ground_station_s = 0.0, arena_s = 0.0;
   for (auto _ : state) {
-    hil::sil::SeriesConfig config;
+    hil::trials::SeriesConfig config;
     config.seed = 1;
     config.time_ground_station = true;
     config.time_arena = true;
     const std::clock_t start = std::clock();
     const auto wall_start = std::chrono::steady_clock::now();
-    hil::sil::SeriesRunner runner(config);
-    const auto results = runner.run(hil::sil::catch_series(2));
+    hil::trials::SeriesRunner runner(config);
+    const auto results = runner.run(hil::trials::catch_series(2));
     // Processor time: the multiple per core, whatever else the machine runs.
     const double run_cpu_s = static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC;
     const double run_wall_s =

@@ -7,7 +7,7 @@
 //
 // With vehicles really flying: the lockstep arena (hil/sil/arena.hpp: plant, both firmware cores,
 // radios, motion capture) in place of the vehicles and the cameras, as SeriesRunner feeds a bare
-// GroundStation (hil/sil/series.cpp), but through the Process: every 1 ms step the arena's ground
+// GroundStation (hil/trials/series.cpp), but through the Process: every 1 ms step the arena's ground
 // frames go to on_frame, each motion-capture frame it delivered is converted to the DDS sample and
 // published (an in-process participant on domain 131, used by no other test), then step() runs,
 // and what the Process sent goes to the arena's ground bus. The take-off is an operator command
