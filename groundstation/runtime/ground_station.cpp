@@ -152,21 +152,35 @@ std::string GroundStation::thrust_shortfall(const Vehicle& v, double needed_mps2
   return text;
 }
 
+std::string_view GroundStation::refusal_name(Refusal refusal) {
+  switch (refusal) {
+    case Refusal::none: return "none";
+    case Refusal::busy: return "ground_station_busy";
+    case Refusal::not_of_act: return "not_of_act";
+    case Refusal::target_not_planned: return "target_throw_not_planned";
+    case Refusal::too_weak: return "vehicle_too_weak";
+  }
+  return "?";
+}
+
 bool GroundStation::request_attempt(const AttemptRequest& request) {
-  const auto refuse = [&](std::string why) {
+  const auto refuse = [&](Refusal kind, std::string why) {
+    refusal_kind_ = kind;
     refusal_ = std::move(why);
     return false;
   };
-  if (phase_ != AttemptPhase::idle) return refuse("an attempt is running");
+  if (phase_ != AttemptPhase::idle) return refuse(Refusal::busy, "an attempt is running");
   if (!pa::is_act_vehicle(request.thrower))
-    return refuse("vehicle " + std::to_string(request.thrower.node()) + " is not of the act");
+    return refuse(Refusal::not_of_act,
+                  "vehicle " + std::to_string(request.thrower.node()) + " is not of the act");
   const control::ThrowFrame frame = throw_frame(request.thrower);
   std::optional<planning::TargetThrow> target_throw;
   if (request.target_xy_m) {
     const Eigen::Vector3d target(request.target_xy_m->x(), request.target_xy_m->y(),
                                  frame.origin_m.z() + adaptation().catch_height_m);
     target_throw = throws_.plan_to(frame.origin_m, target, learner_.target_miss_m());
-    if (!target_throw) return refuse("the throw to the target cannot be planned");
+    if (!target_throw)
+      return refuse(Refusal::target_not_planned, "the throw to the target cannot be planned");
   }
   const planning::ThrowTrajectory& flown =
       target_throw ? target_throw->plan.plan.trajectory : throws_.plan().trajectory;
@@ -174,13 +188,14 @@ bool GroundStation::request_attempt(const AttemptRequest& request) {
   for (const model::PlanarInput<double>& u : flown.input)
     peak_mps2 = std::max(peak_mps2, u(model::planar::kThrust));
   if (std::string why = thrust_shortfall(vehicle_of(request.thrower), peak_mps2, "throw"); !why.empty())
-    return refuse(why);
+    return refuse(Refusal::too_weak, why);
   if (request.catch_it) {
     const double needed_mps2 = pa::kGravity_mps2 + config_.catching.a_max_mps2;
     if (std::string why = thrust_shortfall(other(vehicle_of(request.thrower)), needed_mps2, "catch");
         !why.empty())
-      return refuse(why);
+      return refuse(Refusal::too_weak, why);
   }
+  refusal_kind_ = Refusal::none;
   refusal_.clear();
   target_throw_ = std::move(target_throw);
   frame_ = target_throw_ ? control::ThrowFrame{frame.origin_m, target_throw_->plan.yaw_rad} : frame;
@@ -484,7 +499,7 @@ void GroundStation::on_mocap(const estimation::MocapFrame& frame, double now_s) 
     const std::optional<estimation::MocapPose>& pose = frame.vehicle[pa::act_slot(v.id)];
     if (!pose) continue;
     v.last_pose_s = now_s;
-    measure_thrust_gain(v, frame.t_s, *pose);
+    measure_thrust_gain(v, now_s, *pose);
   }
   if (frame.pole) {
     last_pole_seen_m_ = frame.pole->p_m;
@@ -508,7 +523,9 @@ void GroundStation::on_mocap(const estimation::MocapFrame& frame, double now_s) 
 
 // The thrust gain is measured while the vehicle flies on its thrust alone: not on the floor, not
 // throwing, releasing, catching or with a pole swinging up; balancing, the pole's weight is the
-// known extra load.
+// known extra load. Poses are stamped with the ground clock on arrival, the clock the commands
+// are stamped with: the motion capture's own may be another (a plant slower than real time, an
+// arena's system), and its latency only shifts the window by tens of milliseconds of steady flight.
 void GroundStation::measure_thrust_gain(Vehicle& v, double t_s, const estimation::MocapPose& pose) {
   const Task task = v.sequencer.task();
   const bool steady = task == Task::take_off || task == Task::hover || task == Task::wait ||

@@ -35,6 +35,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Core>
@@ -211,7 +212,10 @@ class GroundStation {
   // a vehicle not of the act, when a throw to a target cannot be planned, or when a vehicle's
   // measured thrust gain leaves it short of what its part needs (see min_thrust_margin).
   bool request_attempt(const AttemptRequest& request);
-  const std::string& refusal() const { return refusal_; }
+  enum class Refusal : std::uint8_t { none, busy, not_of_act, target_not_planned, too_weak };
+  static std::string_view refusal_name(Refusal refusal);
+  Refusal refusal_kind() const { return refusal_kind_; }
+  const std::string& refusal() const { return refusal_; }  // in words, with the numbers
 
   AttemptPhase attempt_phase() const { return phase_; }
   // Completed attempts, oldest first.
@@ -303,7 +307,8 @@ class GroundStation {
   AttemptReport current_;
   std::vector<AttemptReport> reports_;
   int attempt_count_ = 0;
-  std::string refusal_;                                // why the last request_attempt() was refused
+  Refusal refusal_kind_ = Refusal::none;  // why the last request_attempt() was refused
+  std::string refusal_;
   std::optional<planning::TargetThrow> target_throw_;  // the attempt's, when it throws to a target
   // The throw's last tracked state near its end (tau within launch_state_window_s of T).
   struct ThrowEnd {

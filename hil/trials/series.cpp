@@ -275,8 +275,7 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
   const std::size_t reports_before = gs_.attempts().size();
   if (!gs_.request_attempt(request)) {
     r.outcome = "aborted";
-    r.abort_reason = gs_.attempt_phase() != gs::runtime::AttemptPhase::idle ? "ground_station_busy"
-                                                                            : "target_throw_not_planned";
+    r.abort_reason = std::string(gs::runtime::GroundStation::refusal_name(gs_.refusal_kind()));
     return r;
   }
 

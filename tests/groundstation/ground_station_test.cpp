@@ -33,6 +33,7 @@ TEST_CASE("An attempt is accepted once at a time, only for a vehicle of the act"
   CHECK(station.current_attempt().number == 1);
   CHECK_FALSE(station.request_attempt(AttemptRequest{}));
   CHECK(station.refusal() == "an attempt is running");
+  CHECK(station.refusal_kind() == GroundStation::Refusal::busy);
   CHECK(station.current_attempt().number == 1);
 
   GroundStation other(bus, keyed());
@@ -53,6 +54,8 @@ TEST_CASE("A vehicle too weak for its part is refused the attempt, with the numb
   CAPTURE(weak.refusal());
   CHECK(weak.refusal().find("vehicle 1 is too weak to throw: thrust gain 0.60 gives 12.0 m/s^2 at most") !=
         std::string::npos);
+  CHECK(weak.refusal_kind() == GroundStation::Refusal::too_weak);
+  CHECK(GroundStation::refusal_name(weak.refusal_kind()) == "vehicle_too_weak");
   CHECK(weak.attempt_phase() == gs::runtime::AttemptPhase::idle);
   CHECK(weak.current_attempt().number == 0);
   // At 0.85 both parts fit (measured: 19 of 19 caught with every motor at 0.85).
