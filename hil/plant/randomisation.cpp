@@ -23,6 +23,20 @@ void append_imu_noise(std::vector<DrawnParameter>& out, const PlantConfig& c) {
                          {"imu_gyro_bias_sigma_radps", c.imu.gyro_bias_sigma_radps}});
 }
 
+// x scaled by U(1 - fraction, 1 + fraction); the groups below are drawn alike by both profiles.
+void scale(Random& rng, double& x, double fraction) { x *= rng.uniform(1.0 - fraction, 1.0 + fraction); }
+void scale_pole_drag(Random& rng, PoleConfig& pole, double fraction) {
+  scale(rng, pole.drag_axial_kgpm2, fraction);
+  scale(rng, pole.drag_normal_kgpm2, fraction);
+  scale(rng, pole.drag_rotational_kgpm2, fraction);
+}
+void scale_imu_noise(Random& rng, ImuConfig& imu, double fraction) {
+  scale(rng, imu.accel_noise_mps2, fraction);
+  scale(rng, imu.gyro_noise_radps, fraction);
+  scale(rng, imu.accel_bias_sigma_mps2, fraction);
+  scale(rng, imu.gyro_bias_sigma_radps, fraction);
+}
+
 // The arena envelope (EnvelopeConfig), on the same stream as the default profile: a seed gives
 // one world per profile. What the envelope leaves out (each motor's mismatch, the vehicles'
 // drag, the friction, the IMU's noise) is drawn with the default profile's spreads.
@@ -31,11 +45,9 @@ PlantConfig envelope_randomised(const PlantConfig& nominal, std::uint64_t seed) 
   const RandomisationConfig& r = nominal.randomisation;
   const EnvelopeConfig& e = nominal.envelope;
   PlantConfig c = nominal;
-  auto scale = [&rng](double& x, double fraction) { x *= rng.uniform(1.0 - fraction, 1.0 + fraction); };
+  auto scale = [&rng](double& x, double fraction) { hil::scale(rng, x, fraction); };
 
-  scale(c.pole.drag_axial_kgpm2, e.pole_drag_fraction);
-  scale(c.pole.drag_normal_kgpm2, e.pole_drag_fraction);
-  scale(c.pole.drag_rotational_kgpm2, e.pole_drag_fraction);
+  scale_pole_drag(rng, c.pole, e.pole_drag_fraction);
   scale(c.pole.mass_kg, e.pole_mass_fraction);
   scale(c.pole.half_length_m, e.pole_length_fraction);
   VehicleConfig& v = c.vehicle;
@@ -56,10 +68,7 @@ PlantConfig envelope_randomised(const PlantConfig& nominal, std::uint64_t seed) 
   c.mocap.jitter_s = rng.uniform(0.0, e.jitter_max_s);
   c.mocap.position_noise_m = rng.uniform(e.position_noise_min_m, e.position_noise_max_m);
   c.mocap.attitude_noise_rad = rng.uniform(e.attitude_noise_min_rad, e.attitude_noise_max_rad);
-  scale(c.imu.accel_noise_mps2, r.noise_fraction);
-  scale(c.imu.gyro_noise_radps, r.noise_fraction);
-  scale(c.imu.accel_bias_sigma_mps2, r.noise_fraction);
-  scale(c.imu.gyro_bias_sigma_radps, r.noise_fraction);
+  scale_imu_noise(rng, c.imu, r.noise_fraction);
   c.radio_loss_probability = rng.uniform(0.0, e.radio_loss_max);
   return c;
 }
@@ -108,11 +117,9 @@ PlantConfig randomised(const PlantConfig& nominal, std::uint64_t seed) {
   const RandomisationConfig& r = nominal.randomisation;
   PlantConfig c = nominal;
   // The draw order is fixed: changing it changes every recorded world.
-  auto scale = [&rng](double& x, double fraction) { x *= rng.uniform(1.0 - fraction, 1.0 + fraction); };
+  auto scale = [&rng](double& x, double fraction) { hil::scale(rng, x, fraction); };
 
-  scale(c.pole.drag_axial_kgpm2, r.drag_fraction);
-  scale(c.pole.drag_normal_kgpm2, r.drag_fraction);
-  scale(c.pole.drag_rotational_kgpm2, r.drag_fraction);
+  scale_pole_drag(rng, c.pole, r.drag_fraction);
   for (auto& vehicle : c.vehicle.motor_gain) {
     for (double& gain : vehicle) scale(gain, r.motor_gain_fraction);
   }
@@ -123,10 +130,7 @@ PlantConfig randomised(const PlantConfig& nominal, std::uint64_t seed) {
   c.mocap.latency_s = rng.uniform(r.latency_min_s, r.latency_max_s);
   scale(c.mocap.position_noise_m, r.noise_fraction);
   scale(c.mocap.attitude_noise_rad, r.noise_fraction);
-  scale(c.imu.accel_noise_mps2, r.noise_fraction);
-  scale(c.imu.gyro_noise_radps, r.noise_fraction);
-  scale(c.imu.accel_bias_sigma_mps2, r.noise_fraction);
-  scale(c.imu.gyro_bias_sigma_radps, r.noise_fraction);
+  scale_imu_noise(rng, c.imu, r.noise_fraction);
   // Drawn after the others, so that adding them kept every earlier draw.
   scale(c.pole.mass_kg, r.pole_mass_fraction);
   scale(c.pole.half_length_m, r.pole_length_fraction);
