@@ -22,9 +22,12 @@ key=$files/test_link.key
 # The catch point's tolerance against the in-process run, per axis. Both fly the same plan from the
 # same seed, but the operator's commands reach the ground station at plant times set by the guest's
 # wall clock (when `op` ran), so the take-off and the throw start at other plant times than in
-# process and the noise each meets differs: over seeds 1-3 in process the catcher's position at
-# the impact spreads by 2 cm in x and y and 1.2 cm in z. Twice that.
-tolerance_m=0.04
+# process and the noise each meets differs. Over seeds 1-5 in process (`hil fly --throws 1
+# --no-trial --seed S --verbose`) the catcher's position at the impact spreads by 3.2 cm in x,
+# 2.4 cm in y and 5.4 cm in z: each run settles on its own thrust gain from its own poses (before
+# the gain was measured, seeds 1-3 spread by 1.2 cm in z; the five processes then met 4.1 cm).
+# Twice that.
+tolerance_m=0.1
 pids=
 . "$files/arena_scenario.sh"
 
