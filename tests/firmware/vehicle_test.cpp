@@ -214,6 +214,20 @@ TEST_CASE("expect-catch is checked: its window must be sane and the vehicle flyi
   CHECK(b.last_ack()->result == AckResult::accepted);
 }
 
+TEST_CASE("the motors' identified lag is taken in any mode within a motor's range") {
+  Bench b;
+  b.settle(50);
+  CHECK(b.vehicle.motor_time_constant_s() == fw::AirframeConfig{}.motor_time_constant_s);
+  b.command(CommandCode::set_motor_time_constant, 55000);
+  b.settle(2);
+  CHECK(b.last_ack()->result == AckResult::accepted);
+  CHECK(b.vehicle.motor_time_constant_s() == Approx(0.055f));
+  b.command(CommandCode::set_motor_time_constant, 500000);
+  b.settle(2);
+  CHECK(b.last_ack()->reason == RefuseReason::bad_argument);
+  CHECK(b.vehicle.motor_time_constant_s() == Approx(0.055f));
+}
+
 namespace {
 // Arm and fly a hover stream; the IMU reads the hover's specific force.
 void take_off(Bench& b) {

@@ -125,7 +125,8 @@ CommandResult Supervisor::handle_command(CommandCode code, const SupervisorInput
       return refuse(RefuseReason::not_flying);
 
     case CommandCode::expect_catch:
-    case CommandCode::catch_handled: break;
+    case CommandCode::catch_handled:
+    case CommandCode::set_motor_time_constant: break;
   }
   return refuse(RefuseReason::bad_argument);
 }

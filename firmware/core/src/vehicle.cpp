@@ -37,6 +37,7 @@ Vehicle::Vehicle(const VehicleConfig& config)
       supervisor_(config.supervisor),
       failsafe_(config.supervisor),
       rate_controller_(config.rate, config.airframe),
+      equaliser_(config.airframe.motor_time_constant_s),
       mixer_(config.airframe),
       // The static task table. Phases keep the heavier frames on different ticks.
       tasks_{{
@@ -211,6 +212,12 @@ void Vehicle::handle_command(const Command& command, std::uint32_t now_us, bool 
       reaction_active_ = false;
       acknowledge(command, AckResult::accepted, RefuseReason::none);
       return;
+    case CommandCode::set_motor_time_constant: {
+      const bool set = equaliser_.set_motor_time_constant(static_cast<float>(command.argument) * 1e-6f);
+      acknowledge(command, set ? AckResult::accepted : AckResult::refused,
+                  set ? RefuseReason::none : RefuseReason::bad_argument);
+      return;
+    }
   }
 }
 
@@ -330,6 +337,7 @@ void Vehicle::track_flight(std::uint32_t) {
   TickOutput out{};
   if (!supervisor_.motors_enabled()) {
     rate_controller_.reset();
+    equaliser_.reset();
     saturation_ = 0;
     thrust_applied_mps2_ = 0;
     motor_command_ = Motors{};
@@ -341,10 +349,13 @@ void Vehicle::track_flight(std::uint32_t) {
   if (supervisor_.action() == Action::idle) rate_controller_.reset();
   const Vec3 torque = rate_controller_.update(rate_radps, gyro_radps_, dt_s, saturation_);
   const float mass = config_.airframe.mass_kg;
-  const MixerOutput mixed = mixer_.mix(MixerInput{thrust_mps2 * mass, torque});
+  const MixerInput request{thrust_mps2 * mass, torque};
+  const MixerOutput mixed = mixer_.mix(equaliser_.equalise(request, dt_s));
   saturation_ = mixed.saturation;
   motor_command_ = mixed.command;
-  thrust_applied_mps2_ = (thrust_mps2 * mass - mixed.thrust_unallocated_N) / mass;
+  // What reaches the thrust through the design lag (the impact detector's model): the request,
+  // less what the motors could not take.
+  thrust_applied_mps2_ = (request.thrust_N - mixed.thrust_unallocated_N) / mass;
   out.motor_command = mixed.command;
   out.motors_enabled = true;
   return out;

@@ -144,8 +144,11 @@ enum class CommandCode : std::uint8_t {
   land = 3,           // controlled descent, then motors off on the ground
   expect_catch = 4,   // argument: catch window in ms; impacts inside it are catches
   catch_handled = 5,  // the ground station has taken over after an impact
+  // argument: the motors' identified time constant in us (10000..100000), which the firmware
+  // equalises to its airframe's (fw/motor_lag_equaliser.hpp); any mode
+  set_motor_time_constant = 6,
 };
-inline constexpr std::uint8_t kCommandCodeMax = 5;
+inline constexpr std::uint8_t kCommandCodeMax = 6;
 
 enum class AckResult : std::uint8_t { accepted = 0, refused = 1, duplicate = 2 };
 inline constexpr std::uint8_t kAckResultMax = 2;

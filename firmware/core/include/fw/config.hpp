@@ -19,7 +19,10 @@ struct AirframeConfig {
   float yaw_moment_per_thrust_m = 0.016f;               // rotor drag torque / thrust
   float motor_thrust_min_N = 0.08f;                     // idle: motors keep spinning when armed
   float motor_thrust_max_N = 3.2f;
-  float motor_time_constant_s = 0.03f;  // first-order lag of thrust
+  // The first-order lag of thrust the airframe was designed for: the rate gains, the impact
+  // detector and the ground station's models assume it, and the motors are made to respond with
+  // it whatever their own lag (motor_lag_equaliser.hpp).
+  float motor_time_constant_s = 0.03f;
 };
 
 struct RateControllerConfig {

@@ -16,6 +16,7 @@
 #include "fw/inertial_reference.hpp"
 #include "fw/link_guard.hpp"
 #include "fw/mixer.hpp"
+#include "fw/motor_lag_equaliser.hpp"
 #include "fw/rate_controller.hpp"
 #include "fw/supervisor.hpp"
 #include "fw/types.hpp"
@@ -51,6 +52,8 @@ class Vehicle {
   std::uint32_t rx_rejected() const;
   const AttitudeEstimator& attitude() const { return attitude_; }
   std::uint8_t saturation() const { return saturation_; }
+  // The motors' lag as the ground station identified it (the airframe's until then).
+  float motor_time_constant_s() const { return equaliser_.motor_time_constant_s(); }
   bool catch_reaction_active() const { return reaction_active_; }
   // The accelerometer's bias along up, learnt at rest on the floor; the failsafe removes it.
   float accel_bias_up_mps2() const { return inertial_.accel_bias_up_mps2(); }
@@ -104,6 +107,7 @@ class Vehicle {
   InertialReference inertial_;
   FailsafeController failsafe_;
   RateController rate_controller_;
+  MotorLagEqualiser equaliser_;
   Mixer mixer_;
   static constexpr std::size_t kTelemetryTasks = 6;  // the first six send frames
   std::array<PeriodicTask, kTelemetryTasks + 1> tasks_;
