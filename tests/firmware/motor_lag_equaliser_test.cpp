@@ -23,6 +23,12 @@ struct Lag {
   float step(float u) { return y += (u - y) * (1.0f - std::exp(-kDt_s / tau_s)); }
 };
 
+// The request as the equaliser passes it on.
+MixerInput equalised(MotorLagEqualiser& eq, MixerInput u, float dt_s) {
+  eq.equalise(u, dt_s);
+  return u;
+}
+
 MixerInput request(float thrust_N, float torque_x_Nm = 0.0f) {
   return MixerInput{thrust_N, {torque_x_Nm, 0.0f, 0.0f}};
 }
@@ -38,7 +44,7 @@ float worst_mismatch_N(float motor_s, float identified_s) {
   float worst = 0.0f;
   for (int k = 0; k < 400; ++k) {
     const float u = k < 100 ? 5.0f : 7.0f;
-    const float delivered = motors.step(eq.equalise(request(u), kDt_s).thrust_N);
+    const float delivered = motors.step(equalised(eq, request(u), kDt_s).thrust_N);
     worst = std::fmax(worst, std::fabs(delivered - design.step(u)));
   }
   return worst;
@@ -50,7 +56,7 @@ TEST_CASE("with the design lag the request passes bit for bit") {
   MotorLagEqualiser eq(kDesign_s);
   for (int k = 0; k < 50; ++k) {
     const MixerInput u = request(5.0f + 0.1f * static_cast<float>(k), 0.01f * static_cast<float>(k % 7));
-    const MixerInput y = eq.equalise(u, kDt_s);
+    const MixerInput y = equalised(eq, u, kDt_s);
     CHECK(y.thrust_N == u.thrust_N);
     CHECK(y.torque_Nm[0] == u.torque_Nm[0]);
   }
@@ -71,12 +77,12 @@ TEST_CASE("slow or fast motors, equalised, deliver the design lag's thrust") {
 TEST_CASE("the torques are equalised like the thrust") {
   MotorLagEqualiser eq(kDesign_s);
   REQUIRE(eq.set_motor_time_constant(0.06f));
-  eq.equalise(request(5.0f, 0.0f), kDt_s);
+  equalised(eq, request(5.0f, 0.0f), kDt_s);
   // A step leads by tau_m / tau_d at once (less what the low-pass took in its first dt / tau_d),
   // then settles on the request.
-  CHECK(eq.equalise(request(5.0f, 0.1f), kDt_s).torque_Nm[0] == Approx(0.2f - 0.1f / 30.0f).margin(1e-5f));
+  CHECK(equalised(eq, request(5.0f, 0.1f), kDt_s).torque_Nm[0] == Approx(0.2f - 0.1f / 30.0f).margin(1e-5f));
   MixerInput y{};
-  for (int k = 0; k < 500; ++k) y = eq.equalise(request(5.0f, 0.1f), kDt_s);
+  for (int k = 0; k < 500; ++k) y = equalised(eq, request(5.0f, 0.1f), kDt_s);
   CHECK(y.torque_Nm[0] == Approx(0.1f).margin(1e-4f));
   CHECK(y.thrust_N == Approx(5.0f).margin(1e-4f));
 }
@@ -97,11 +103,11 @@ TEST_CASE("a non-finite request or dt disturbs nothing; the filter starts at res
   MotorLagEqualiser eq(kDesign_s);
   REQUIRE(eq.set_motor_time_constant(0.06f));
   // Started on its first request: no lead kick when the motors start.
-  CHECK(eq.equalise(request(5.0f), kDt_s).thrust_N == 5.0f);
+  CHECK(equalised(eq, request(5.0f), kDt_s).thrust_N == 5.0f);
   const MixerInput bad = request(std::numeric_limits<float>::quiet_NaN());
-  CHECK(std::isnan(eq.equalise(bad, kDt_s).thrust_N));
-  CHECK(eq.equalise(request(5.0f), std::numeric_limits<float>::quiet_NaN()).thrust_N == Approx(5.0f));
-  CHECK(eq.equalise(request(5.0f), -1.0f).thrust_N == Approx(5.0f));
+  CHECK(std::isnan(equalised(eq, bad, kDt_s).thrust_N));
+  CHECK(equalised(eq, request(5.0f), std::numeric_limits<float>::quiet_NaN()).thrust_N == Approx(5.0f));
+  CHECK(equalised(eq, request(5.0f), -1.0f).thrust_N == Approx(5.0f));
   eq.reset();
-  CHECK(eq.equalise(request(9.0f), kDt_s).thrust_N == 9.0f);
+  CHECK(equalised(eq, request(9.0f), kDt_s).thrust_N == 9.0f);
 }

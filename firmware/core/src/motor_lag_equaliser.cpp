@@ -11,6 +11,7 @@ bool MotorLagEqualiser::set_motor_time_constant(float time_constant_s) {
   if (!(design_s_ > 0.0f)) return false;
   motor_s_ = time_constant_s;
   ratio_ = motor_s_ / design_s_;
+  started_ = false;
   return true;
 }
 

@@ -349,13 +349,15 @@ void Vehicle::track_flight(std::uint32_t) {
   if (supervisor_.action() == Action::idle) rate_controller_.reset();
   const Vec3 torque = rate_controller_.update(rate_radps, gyro_radps_, dt_s, saturation_);
   const float mass = config_.airframe.mass_kg;
-  const MixerInput request{thrust_mps2 * mass, torque};
-  const MixerOutput mixed = mixer_.mix(equaliser_.equalise(request, dt_s));
+  const float thrust_N = thrust_mps2 * mass;
+  MixerInput request{thrust_N, torque};
+  equaliser_.equalise(request, dt_s);
+  const MixerOutput mixed = mixer_.mix(request);
   saturation_ = mixed.saturation;
   motor_command_ = mixed.command;
   // What reaches the thrust through the design lag (the impact detector's model): the request,
   // less what the motors could not take.
-  thrust_applied_mps2_ = (request.thrust_N - mixed.thrust_unallocated_N) / mass;
+  thrust_applied_mps2_ = (thrust_N - mixed.thrust_unallocated_N) / mass;
   out.motor_command = mixed.command;
   out.motors_enabled = true;
   return out;

@@ -47,28 +47,26 @@ class MotorLagEqualiser {
   float motor_time_constant_s() const { return motor_s_; }
   float design_time_constant_s() const { return design_s_; }
 
-  // The request to give the mixer this tick. A non-finite request passes unchanged (the mixer
-  // refuses it) and leaves the filter as it was.
-  // Inline: the 1 kHz loop calls it every tick.
-  MixerInput equalise(const MixerInput& request, float dt_s) {
+  // The request to give the mixer this tick, in place. Inline: the 1 kHz loop calls it every
+  // tick, and with the design's lag it costs a comparison. A non-finite request passes unchanged
+  // (the mixer refuses it) and leaves the filter as it was.
+  void equalise(MixerInput& request, float dt_s) {
+    if (ratio_ == 1.0f) return;
     if (!std::isfinite(request.thrust_N) || !std::isfinite(request.torque_Nm[0]) ||
         !std::isfinite(request.torque_Nm[1]) || !std::isfinite(request.torque_Nm[2]))
-      return request;
-    if (!started_ || ratio_ == 1.0f) {
-      // At rest on itself: y = u now, and no jump when the lag is set later.
+      return;
+    if (!started_) {  // at rest on the request: no kick when the motors start or the lag is set
       lowpassed_ = request;
       started_ = true;
-      return request;
+      return;
     }
     const float a = (dt_s >= kDtMin_s ? (dt_s <= kDtMax_s ? dt_s : kDtMax_s) : kDtMin_s) / design_s_;
-    MixerInput out;
     lowpassed_.thrust_N += a * (request.thrust_N - lowpassed_.thrust_N);
-    out.thrust_N = ratio_ * request.thrust_N + (1.0f - ratio_) * lowpassed_.thrust_N;
+    request.thrust_N = ratio_ * request.thrust_N + (1.0f - ratio_) * lowpassed_.thrust_N;
     for (int i = 0; i < 3; ++i) {
       lowpassed_.torque_Nm[i] += a * (request.torque_Nm[i] - lowpassed_.torque_Nm[i]);
-      out.torque_Nm[i] = ratio_ * request.torque_Nm[i] + (1.0f - ratio_) * lowpassed_.torque_Nm[i];
+      request.torque_Nm[i] = ratio_ * request.torque_Nm[i] + (1.0f - ratio_) * lowpassed_.torque_Nm[i];
     }
-    return out;
   }
 
   // The motors stopped: the next request starts the filter at rest on itself.
