@@ -10,7 +10,6 @@ namespace {
 
 constexpr double kStep_s = 0.001;            // the firmware's tick
 constexpr double kTelemetryRate_Hz = 200.0;  // TELEMETRY_RATES
-constexpr double kChiSquare1_95 = 3.84;
 
 struct Candidate {
   double time_constant_s;
@@ -18,6 +17,58 @@ struct Candidate {
   double round_trip_s;
   double error;
 };
+
+// The firmware's loop on both axes replayed in model time (the ground's clock less the way up):
+// a command acts from when it was sent, a telemetry sample shows the rate round_trip_s before it
+// arrived.
+struct Replay {
+  double squared_error = std::numeric_limits<double>::infinity();
+  double lag_product = 0.0;  // sum of each residual times the one before it (per axis)
+};
+Replay replay(const RateLoopConfig& loop, const std::vector<RateCommandSample>& commands,
+              const std::vector<RateTelemetrySample>& telemetry, double equalised_time_constant_s,
+              double time_constant_s, double inertia_gain, double round_trip_s) {
+  Replay out;
+  if (commands.empty() || telemetry.empty()) return out;
+  const double ratio = equalised_time_constant_s / loop.design_time_constant_s;
+  const double lowpass = kStep_s / loop.design_time_constant_s;
+  const double motor = 1.0 - std::exp(-kStep_s / time_constant_s);
+  Eigen::Array2d rate = telemetry.front().rate_radps.array();
+  Eigen::Array2d integral = Eigen::Array2d::Zero(), equaliser = Eigen::Array2d::Zero(),
+                 delivered = Eigen::Array2d::Zero(), motor_command = Eigen::Array2d::Zero(),
+                 last_residual = Eigen::Array2d::Zero();
+  const Eigen::Array2d kp = loop.kp_per_s.array(), ki = loop.ki_per_s2.array(),
+                       limit = loop.integrator_limit_radps2.array();
+  std::size_t c = 0;
+  Eigen::Array2d setpoint = Eigen::Array2d::Zero();
+  double t = commands.front().t_s;
+  out.squared_error = 0.0;
+  for (const RateTelemetrySample& sample : telemetry) {
+    const double seen_at = sample.t_s - round_trip_s;
+    while (t + kStep_s <= seen_at) {
+      while (c < commands.size() && commands[c].t_s <= t) {
+        setpoint =
+            commands[c].rate_radps.array().cwiseMax(-loop.rate_limit_radps).cwiseMin(loop.rate_limit_radps);
+        ++c;
+      }
+      const Eigen::Array2d e = setpoint - rate;
+      integral = (integral + ki * e * kStep_s).cwiseMax(-limit).cwiseMin(limit);
+      // The firmware's command from this sample drives the motors from the next (its tick).
+      delivered += motor * (motor_command - delivered);
+      rate += inertia_gain * delivered * kStep_s;
+      const Eigen::Array2d request = kp * e + integral;
+      equaliser += lowpass * (request - equaliser);
+      motor_command = ratio * request + (1.0 - ratio) * equaliser;
+      t += kStep_s;
+    }
+    if (seen_at < commands.front().t_s) continue;  // before the replay starts
+    const Eigen::Array2d residual = sample.rate_radps.array() - rate;
+    out.squared_error += residual.matrix().squaredNorm();
+    out.lag_product += (residual * last_residual).sum();
+    last_residual = residual;
+  }
+  return out;
+}
 
 }  // namespace
 
@@ -52,46 +103,13 @@ Eigen::Vector2d RateResponseIdentifier::excitation(double elapsed_s) const {
   return rate;
 }
 
-// The firmware's loop on both axes replayed in model time (the ground's clock less the way up):
-// a command acts from when it was sent, a telemetry sample shows the rate round_trip_s before it
-// arrived.
 double RateResponseIdentifier::squared_error(const std::vector<RateCommandSample>& commands,
                                              const std::vector<RateTelemetrySample>& telemetry,
                                              double equalised_time_constant_s, double time_constant_s,
                                              double inertia_gain, double round_trip_s) const {
-  if (commands.empty() || telemetry.empty()) return std::numeric_limits<double>::infinity();
-  const double ratio = equalised_time_constant_s / loop_.design_time_constant_s;
-  const double lowpass = kStep_s / loop_.design_time_constant_s;
-  const double motor = 1.0 - std::exp(-kStep_s / time_constant_s);
-  Eigen::Array2d rate = telemetry.front().rate_radps.array();
-  Eigen::Array2d integral = Eigen::Array2d::Zero(), equaliser = Eigen::Array2d::Zero(),
-                 delivered = Eigen::Array2d::Zero();
-  const Eigen::Array2d kp = loop_.kp_per_s.array(), ki = loop_.ki_per_s2.array(),
-                       limit = loop_.integrator_limit_radps2.array();
-  std::size_t c = 0;
-  Eigen::Array2d setpoint = Eigen::Array2d::Zero();
-  double t = commands.front().t_s;
-  double error = 0.0;
-  for (const RateTelemetrySample& sample : telemetry) {
-    const double seen_at = sample.t_s - round_trip_s;
-    while (t + kStep_s <= seen_at) {
-      while (c < commands.size() && commands[c].t_s <= t) {
-        setpoint =
-            commands[c].rate_radps.array().cwiseMax(-loop_.rate_limit_radps).cwiseMin(loop_.rate_limit_radps);
-        ++c;
-      }
-      const Eigen::Array2d e = setpoint - rate;
-      integral = (integral + ki * e * kStep_s).cwiseMax(-limit).cwiseMin(limit);
-      const Eigen::Array2d request = kp * e + integral;
-      equaliser += lowpass * (request - equaliser);
-      delivered += motor * (ratio * request + (1.0 - ratio) * equaliser - delivered);
-      rate += inertia_gain * delivered * kStep_s;
-      t += kStep_s;
-    }
-    if (seen_at < commands.front().t_s) continue;  // before the replay starts
-    error += (sample.rate_radps.array() - rate).matrix().squaredNorm();
-  }
-  return error;
+  return replay(loop_, commands, telemetry, equalised_time_constant_s, time_constant_s, inertia_gain,
+                round_trip_s)
+      .squared_error;
 }
 
 IdentificationResult RateResponseIdentifier::fit(const std::vector<RateCommandSample>& commands,
@@ -153,33 +171,32 @@ IdentificationResult RateResponseIdentifier::fit(const std::vector<RateCommandSa
   best = search(best, 0.0005, 0.01, 0.0005, 3, 3, 3);
 
   const int n = 2 * static_cast<int>(telemetry.size());
-  const double variance = best.error / std::max(1, n - 3);
-  // The profile over tau: at each lag the best (g, D) near the optimum's.
-  const double threshold = best.error + kChiSquare1_95 * variance;
-  const auto profile_edge = [&](double direction) {
-    double edge = best.time_constant_s;
-    Candidate at = best;
-    for (double tau = best.time_constant_s + direction * 0.0005;
-         tau >= settings_.min_time_constant_s && tau <= settings_.max_time_constant_s;
-         tau += direction * 0.0005) {
-      at.time_constant_s = tau;
-      Candidate local{tau, 0.0, 0.0, std::numeric_limits<double>::infinity()};
-      for (int j = -1; j <= 1; ++j)
-        for (int k = -1; k <= 1; ++k) {
-          const double gain = at.inertia_gain + j * 0.01, trip = std::max(0.0, at.round_trip_s + k * 0.0005);
-          const double e = error_of(tau, gain, trip);
-          if (e < local.error) local = Candidate{tau, gain, trip, e};
-        }
-      at = local;
-      if (local.error > threshold) return edge;
-      edge = tau;
-    }
-    return edge;
+  // The profile's curvature over tau, each side re-minimised over (g, D) near the optimum's.
+  const auto profile = [&](double tau) {
+    double e = std::numeric_limits<double>::infinity();
+    for (int j = -1; j <= 1; ++j)
+      for (int k = -1; k <= 1; ++k)
+        e = std::min(
+            e, error_of(tau, best.inertia_gain + j * 0.01, std::max(0.0, best.round_trip_s + k * 0.0005)));
+    return e;
   };
+  const double h = 0.001;
+  const double curvature =
+      (profile(best.time_constant_s + h) + profile(best.time_constant_s - h) - 2.0 * best.error) /
+      (2.0 * h * h);
+  // Var(tau) = sigma^2 / curvature for white residuals, times (1 + rho) / (1 - rho) for residuals
+  // correlated from sample to sample with rho (what the model misses is slow, not white).
+  const double lag_product = replay(loop_, commands, telemetry, equalised_time_constant_s,
+                                    best.time_constant_s, best.inertia_gain, best.round_trip_s)
+                                 .lag_product;
+  const double rho = std::clamp(lag_product / best.error, 0.0, 0.95);
+  const double variance = best.error / std::max(1, n - 3) * (1.0 + rho) / (1.0 - rho);
+  const double half_width =
+      curvature > 0.0 ? 1.96 * std::sqrt(variance / curvature) : std::numeric_limits<double>::infinity();
   MotorIdentification id;
   id.time_constant_s = best.time_constant_s;
-  id.time_constant_low_s = profile_edge(-1.0);
-  id.time_constant_high_s = profile_edge(1.0);
+  id.time_constant_low_s = best.time_constant_s - half_width;
+  id.time_constant_high_s = best.time_constant_s + half_width;
   id.inertia_gain = best.inertia_gain;
   id.round_trip_s = best.round_trip_s;
   id.rms_radps = std::sqrt(best.error / std::max(1, n));

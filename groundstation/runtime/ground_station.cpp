@@ -76,7 +76,12 @@ GroundStation::GroundStation(link::FrameBus& bus, const GroundStationConfig& con
       learner_(make_learner(config, throws_)),
       catch_(config.catching, input_limits(config.limits)) {
   frame_ = throw_frame(pa::kVehicle1);
-  for (Vehicle& v : vehicles_) v.thrust_gain = estimation::ThrustGainEstimator(config_.thrust_gain);
+  for (Vehicle& v : vehicles_) {
+    v.thrust_gain = estimation::ThrustGainEstimator(config_.thrust_gain);
+    v.identification =
+        IdentificationFlight(estimation::RateResponseIdentifier(config_.rate_loop, config_.rate_response));
+    v.equalised_s = config_.rate_loop.design_time_constant_s;
+  }
 }
 
 GroundStation::Vehicle& GroundStation::vehicle_of(pa::VehicleId id) {
@@ -91,6 +96,13 @@ const GroundStation::Vehicle& GroundStation::vehicle_of(pa::VehicleId id) const 
 mission::Task GroundStation::task(pa::VehicleId id) const { return vehicle_of(id).sequencer.task(); }
 const estimation::ThrustGainEstimator& GroundStation::thrust_gain(pa::VehicleId id) const {
   return vehicle_of(id).thrust_gain;
+}
+const std::optional<estimation::IdentificationResult>& GroundStation::motor_identification(
+    pa::VehicleId id) const {
+  return vehicle_of(id).identified;
+}
+double GroundStation::equalised_motor_time_constant_s(pa::VehicleId id) const {
+  return vehicle_of(id).equalised_s;
 }
 
 control::ThrowFrame GroundStation::throw_frame(pa::VehicleId thrower) const {
@@ -217,6 +229,16 @@ bool GroundStation::request_attempt(const AttemptRequest& request) {
 
 void GroundStation::on_frame(const pa::proto::Frame& frame, double now_s) {
   link_.on_frame(frame, now_s);
+  // The rates each vehicle reports, for its identification flight.
+  const std::uint8_t node = pa::proto::id_node(frame.id);
+  pa::proto::Message m;
+  if (pa::proto::id_type(frame.id) == static_cast<std::uint8_t>(pa::proto::Type::telemetry_rates) &&
+      pa::is_act_vehicle(pa::VehicleId(node)) && pa::proto::decode(frame, m) == pa::proto::DecodeStatus::ok) {
+    const pa::proto::TelemetryRates& r = m.telemetry_rates;
+    vehicle_of(pa::VehicleId(node))
+        .identification.telemetry(now_s, Eigen::Vector2d(r.rate_radps[0], r.rate_radps[1]),
+                                  (r.saturation & 3u) != 0);
+  }
   for (const link::ImpactReport& r : link_.take_impacts()) {
     if (impacts_.size() < kEventLogCapacity) impacts_.push_back(r);
     if (pa::is_act_vehicle(r.vehicle)) estimator_.report_impact(r.vehicle, r.t_s);
@@ -226,6 +248,7 @@ void GroundStation::on_frame(const pa::proto::Frame& frame, double now_s) {
 // A vehicle that landed arms only from disarmed: its DISARM, once accepted, is followed by the ARM.
 void GroundStation::tick(double now_s) {
   link_.tick(now_s);
+  for (Vehicle& v : vehicles_) identify_motors(v, now_s);
   for (Vehicle& v : vehicles_) {
     if (!v.pending) continue;
     const link::CommandState s = link_.command_state(*v.pending);
@@ -314,6 +337,8 @@ void GroundStation::enter(Vehicle& v, double now_s) {
       break;
     case Task::hover:
       if (!v.set_point.valid) hold_here();
+      if (config_.identify_motors && v.sequencer.last_reason() == mission::Reason::airborne)
+        v.identification.start(now_s, v.equalised_s);
       break;
     case Task::balance:
       balanced_since_s_.reset();
@@ -541,11 +566,34 @@ void GroundStation::send(Vehicle& v, model::VehicleInput u, double now_s) {
   const double gain = config_.compensate_thrust_gain ? v.thrust_gain.gain() : 1.0;
   if (u.a_q_mps2 > 0.0)
     u.a_q_mps2 = std::clamp(u.a_q_mps2 / gain, config_.limits.a_q_min_mps2, config_.limits.a_q_max_mps2);
+  u.omega_radps.head<2>() += v.identification.excitation(now_s);
   model::VehicleInput sent = link_.send_setpoint(v.id, u);
+  v.identification.command_sent(now_s, sent.omega_radps.head<2>());
   const double t_acts_s = now_s + config_.command_lead_s;
   v.thrust_gain.command(t_acts_s, sent.a_q_mps2);
   sent.a_q_mps2 *= gain;
   estimator_.set_command(v.id, t_acts_s, sent);
+}
+
+// The identification flight's fit once it is over; a lag that differs from the equaliser's by more
+// than the fit's accuracy goes on board. A refused fit keeps what is set.
+void GroundStation::identify_motors(Vehicle& v, double now_s) {
+  if (v.equaliser_command) {
+    const link::CommandState s = link_.command_state(*v.equaliser_command);
+    if (s != link::CommandState::pending) {
+      if (s == link::CommandState::accepted) v.equalised_s = v.equaliser_sent_s;
+      v.equaliser_command.reset();
+    }
+  }
+  const std::optional<estimation::IdentificationResult> result = v.identification.finish(now_s);
+  if (!result) return;
+  v.identified = result;
+  if (!result->identified) return;
+  const double tau = result->identified->time_constant_s;
+  if (std::abs(tau - v.equalised_s) <= config_.motor_lag_tolerance_fraction * tau) return;
+  v.equaliser_sent_s = tau;
+  v.equaliser_command = link_.send_command(v.id, pa::proto::CommandCode::set_motor_time_constant,
+                                           static_cast<std::int32_t>(std::lround(tau * 1e6)), now_s);
 }
 
 std::vector<link::ImpactReport> GroundStation::take_impacts() {

@@ -44,6 +44,7 @@
 #include "groundstation/control/lqr.hpp"
 #include "groundstation/control/task_laws.hpp"
 #include "groundstation/control/throw_frame.hpp"
+#include "groundstation/estimation/rate_response.hpp"
 #include "groundstation/estimation/state_estimator.hpp"
 #include "groundstation/estimation/thrust_gain.hpp"
 #include "groundstation/link/ground_link.hpp"
@@ -53,6 +54,7 @@
 #include "groundstation/planning/throw_book.hpp"
 #include "groundstation/runtime/attempt.hpp"
 #include "groundstation/runtime/catch_coordinator.hpp"
+#include "groundstation/runtime/identification_flight.hpp"
 
 namespace gs::runtime {
 
@@ -113,6 +115,15 @@ struct GroundStationConfig {
   estimation::ThrustGainConfig thrust_gain;
   bool compensate_thrust_gain = true;
   double thrust_gain_min_height_m = 0.3;
+  // Each take-off identifies the vehicle's motor lag from rate doublets once it is airborne
+  // (runtime/identification_flight.hpp, from the firmware's rate loop as configured on board) and
+  // sets it on board for the firmware's equaliser when it differs from what is set there by more
+  // than motor_lag_tolerance_fraction: the fit's own accuracy (rate_response_test), so a vehicle
+  // with the airframe's motors is left as it is.
+  bool identify_motors = true;
+  estimation::RateLoopConfig rate_loop;
+  estimation::RateResponseSettings rate_response;
+  double motor_lag_tolerance_fraction = 0.1;
   // A vehicle flies its part of an attempt only if its thrust at the commanded maximum, k a_q,max,
   // is at least this fraction of what the part needs at its peak: the throw's planned peak thrust
   // (17.1 m/s^2) for the thrower, g plus the catch's a_max for the catcher. Measured: with every
@@ -231,6 +242,10 @@ class GroundStation {
   mission::Task task(pa::VehicleId vehicle) const;
   // The vehicle's thrust gain as measured in flight (1: the airframe file's).
   const estimation::ThrustGainEstimator& thrust_gain(pa::VehicleId vehicle) const;
+  // The vehicle's latest motor identification (none before its first take-off's is over), and the
+  // lag its firmware's equaliser is set to as far as the ground station knows (acknowledged).
+  const std::optional<estimation::IdentificationResult>& motor_identification(pa::VehicleId vehicle) const;
+  double equalised_motor_time_constant_s(pa::VehicleId vehicle) const;
   const estimation::StateEstimator& estimator() const { return estimator_; }
   const link::GroundLink& link() const { return link_; }
   const adaptation::AdaptationState& adaptation() const { return learner_.state(); }
@@ -255,6 +270,11 @@ class GroundStation {
     bool arm_after_disarm = false;  // a DISARM in flight clears `landed` for the ARM that follows
     double last_pose_s = -1e9;
     estimation::ThrustGainEstimator thrust_gain;
+    IdentificationFlight identification;  // per take-off (identify_motors)
+    std::optional<estimation::IdentificationResult> identified;
+    double equalised_s = 0.0;                              // the firmware's equaliser, as acknowledged
+    std::optional<link::CommandHandle> equaliser_command;  // SET_MOTOR_TIME_CONSTANT in flight
+    double equaliser_sent_s = 0.0;                         // its argument
   };
 
   Vehicle& vehicle_of(pa::VehicleId vehicle);  // std::out_of_range for a vehicle not of the act
@@ -262,6 +282,7 @@ class GroundStation {
   Vehicle& other(const Vehicle& v) { return vehicle_of(pa::other_vehicle(v.id)); }
   mission::ConditionFacts facts(const Vehicle& v, double now_s) const;
   void measure_thrust_gain(Vehicle& v, double t_s, const estimation::MocapPose& pose);
+  void identify_motors(Vehicle& v, double now_s);
   void send(Vehicle& v, model::VehicleInput u, double now_s);
   // Empty if the vehicle's thrust suffices for `needed_mps2`, else why not.
   std::string thrust_shortfall(const Vehicle& v, double needed_mps2, const char* part) const;

@@ -92,6 +92,32 @@ void print_target_summary(const std::vector<trials::AttemptResult>& results) {
 
 }  // namespace
 
+// What the ground station identified of each vehicle's motors at its take-off, beside the truth
+// of the plant it flew (which the ground station never sees).
+void print_identification(const gs::runtime::GroundStation& gs, const PlantConfig& plant) {
+  for (const pa::VehicleId v : pa::kActVehicles) {
+    const std::size_t slot = pa::act_slot(v);
+    const double truth_s =
+        plant.vehicle.motor_time_constant_s * plant.vehicle.motor_time_constant_scale[slot];
+    const auto& result = gs.motor_identification(v);
+    std::printf("         vehicle %u motors: ", static_cast<unsigned>(v.node()));
+    if (!result) {
+      std::printf("not identified");
+    } else if (!result->identified) {
+      std::printf("identification refused (%s)",
+                  std::string(gs::estimation::refusal_name(result->refusal)).c_str());
+    } else {
+      const gs::estimation::MotorIdentification& id = *result->identified;
+      std::printf("lag %.1f ms (95 %%: %.1f-%.1f), inertia gain %.2f, round trip %.0f ms, rms %.3f rad/s",
+                  1e3 * id.time_constant_s, 1e3 * id.time_constant_low_s, 1e3 * id.time_constant_high_s,
+                  id.inertia_gain, 1e3 * id.round_trip_s, id.rms_radps);
+    }
+    std::printf("; equalised to %.1f ms; the plant's lag %.1f ms, inertia gain %.2f\n",
+                1e3 * gs.equalised_motor_time_constant_s(v), 1e3 * truth_s,
+                1.0 / plant.vehicle.inertia_scale[slot]);
+  }
+}
+
 int cmd_fly(int argc, char** argv) {
   std::string series, plant_file, out_dir, store_file;
   std::uint64_t throws = 0, passes = 0, targets = 0, seed = 1;
@@ -182,6 +208,7 @@ int cmd_fly(int argc, char** argv) {
       if (verbose) config.log = [](const std::string& line) { std::printf("%s\n", line.c_str()); };
       trials::SeriesRunner runner(config);
       results = runner.run(plans, print);
+      print_identification(runner.ground_station(), config.plant);
       if (!out_dir.empty()) {
         for (std::size_t i = 0; i < runner.time_series().size(); ++i)
           write_time_series(out_dir + "/attempt_" + std::to_string(i + 1) + ".csv", runner.time_series()[i]);

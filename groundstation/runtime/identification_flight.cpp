@@ -1,0 +1,30 @@
+#include "groundstation/runtime/identification_flight.hpp"
+
+namespace gs::runtime {
+
+void IdentificationFlight::start(double now_s, double equalised_s) {
+  start_s_ = now_s;
+  equalised_s_ = equalised_s;
+  commands_.clear();
+  telemetry_.clear();
+}
+
+Eigen::Vector2d IdentificationFlight::excitation(double now_s) const {
+  return start_s_ ? identifier_.excitation(now_s - *start_s_) : Eigen::Vector2d::Zero();
+}
+
+void IdentificationFlight::command_sent(double now_s, const Eigen::Vector2d& rate_radps) {
+  if (start_s_ && now_s >= *start_s_) commands_.push_back({now_s, rate_radps});
+}
+
+void IdentificationFlight::telemetry(double now_s, const Eigen::Vector2d& rate_radps, bool saturated) {
+  if (start_s_ && now_s >= *start_s_) telemetry_.push_back({now_s, rate_radps, saturated});
+}
+
+std::optional<estimation::IdentificationResult> IdentificationFlight::finish(double now_s) {
+  if (!start_s_ || now_s < *start_s_ + identifier_.excitation_duration_s() + kSettle_s) return std::nullopt;
+  start_s_.reset();
+  return identifier_.fit(commands_, telemetry_, equalised_s_);
+}
+
+}  // namespace gs::runtime

@@ -1,0 +1,44 @@
+// The identification each take-off flies (estimation/rate_response.hpp): rate doublets on roll and
+// pitch once the vehicle is airborne, the commands it sent and the rates it reported recorded
+// meanwhile, then the fit. A step of every take-off rather than a separate `identify` run: a
+// battery swap or a new propeller changes the motors, and the doublets cost 1.3 s of the climb to
+// the throw's origin, where the vehicle waits for the pole anyway.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "groundstation/estimation/rate_response.hpp"
+
+namespace gs::runtime {
+
+class IdentificationFlight {
+ public:
+  IdentificationFlight()
+      : IdentificationFlight(estimation::RateResponseIdentifier{estimation::RateLoopConfig{}}) {}
+  explicit IdentificationFlight(const estimation::RateResponseIdentifier& identifier)
+      : identifier_(identifier) {}
+
+  // Starts the excitation at `now_s` with the firmware's equaliser set to `equalised_s`.
+  void start(double now_s, double equalised_s);
+  bool running() const { return start_s_.has_value(); }
+
+  // The roll and pitch rates to add to the command sent at `now_s`.
+  Eigen::Vector2d excitation(double now_s) const;
+  void command_sent(double now_s, const Eigen::Vector2d& rate_radps);
+  void telemetry(double now_s, const Eigen::Vector2d& rate_radps, bool saturated);
+
+  // Once the excitation and the responses' way back are over: the fit, and the flight ends.
+  std::optional<estimation::IdentificationResult> finish(double now_s);
+
+ private:
+  // The last responses arrive a round trip after the excitation; the fit waits this long.
+  static constexpr double kSettle_s = 0.3;
+  estimation::RateResponseIdentifier identifier_;
+  std::optional<double> start_s_;
+  double equalised_s_ = 0.0;
+  std::vector<estimation::RateCommandSample> commands_;
+  std::vector<estimation::RateTelemetrySample> telemetry_;
+};
+
+}  // namespace gs::runtime
