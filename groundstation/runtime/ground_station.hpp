@@ -126,10 +126,12 @@ struct GroundStationConfig {
   double motor_lag_tolerance_fraction = 0.1;
   // A vehicle flies its part of an attempt only if its thrust at the commanded maximum, k a_q,max,
   // is at least this fraction of what the part needs at its peak: the throw's planned peak thrust
-  // (17.1 m/s^2) for the thrower, g plus the catch's a_max for the catcher. Measured: with every
-  // motor at 0.85 (17.0 m/s^2 at most) the throw saturates for a moment and 19 of 19 were caught
-  // (hil fly --throws 20); so thrower k >= 0.81 and catcher k >= 0.67.
-  double min_thrust_fraction = 0.95;
+  // (17.1 m/s^2) for the thrower, g plus the catch's a_max for the catcher; the throw saturates
+  // for a moment and is caught all the same. Measured (hil fly --throws 20): both vehicles' thrust
+  // at 0.8 (k a_q,max = 16.0 m/s^2) 19 of 19 caught; at 0.77 the take-off fails. At 0.95 the
+  // corner 10 % heavier at thrust 0.9 (k 0.818) was refused from throw 10 of 50 on (its k read
+  // 1 % low), every throw before it caught. So thrower k >= 0.77 and catcher k >= 0.63.
+  double min_thrust_fraction = 0.9;
   // The throw: balancing with the tilt below this first (see conditions).
   double balance_settled_rad = 0.03;
   // The release after T (Section VII-A leaves it open): minimum thrust for conditions.release_low_s
