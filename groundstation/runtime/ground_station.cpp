@@ -332,6 +332,7 @@ void GroundStation::enter(Vehicle& v, double now_s) {
       break;
     }
     case Task::take_off:
+      v.take_off_ramp_mps2 = 0.0;
       v.target_m = Eigen::Vector3d(here.x(), here.y(), config_.take_off_height_m);
       hold_here();
       break;
@@ -451,9 +452,18 @@ std::optional<model::VehicleInput> GroundStation::control(Vehicle& v, double now
     case Task::rebalance: {
       if (task == Task::wait) v.target_m = waiting_target();
       control::move_set_point(v.set_point, v.target_m, e.state.p_m, dt_s, config_.carrot);
-      model::VehicleInput u =
-          hover(v, e, dt_s, task != Task::take_off || e.state.p_m.z() > config_.take_off_integral_height_m);
+      const bool on_floor = task == Task::take_off && e.state.p_m.z() <= config_.take_off_integral_height_m;
+      model::VehicleInput u = hover(v, e, dt_s, !on_floor);
       if (task == Task::rebalance) u.a_q_mps2 += config_.pole_weight_mps2;
+      if (task == Task::take_off) {
+        // The ramp grows on the floor and gives way in the air to the integral and the measured
+        // thrust gain, which take over from it within a second.
+        const bool stuck = on_floor && now_s - v.sequencer.task_since_s() > config_.take_off_ramp_after_s;
+        v.take_off_ramp_mps2 =
+            std::clamp(v.take_off_ramp_mps2 + (stuck ? 1.0 : -1.0) * config_.take_off_ramp_mps3 * dt_s, 0.0,
+                       config_.limits.a_q_max_mps2);
+        u.a_q_mps2 += v.take_off_ramp_mps2;
+      }
       return clamped(u);
     }
     case Task::balance: {

@@ -105,6 +105,11 @@ class SeriesRunner {
   std::vector<AttemptResult> run(const std::vector<AttemptPlan>& plans,
                                  const std::function<void(const AttemptResult&)>& on_result = {});
 
+  // Flies on for `duration_s` without an attempt: the vehicles hold their points.
+  void hover_for(double duration_s) {
+    run_until([] { return false; }, duration_s);
+  }
+
   const gs::runtime::GroundStation& ground_station() const { return gs_; }
   const sil::Arena& arena() const { return arena_; }
   // The time series of every attempt (when record_time_series), attempt by attempt.
