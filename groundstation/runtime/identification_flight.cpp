@@ -7,6 +7,8 @@ void IdentificationFlight::start(double now_s, double equalised_s) {
   equalised_s_ = equalised_s;
   commands_.clear();
   telemetry_.clear();
+  commands_.reserve(kMaxSamples);
+  telemetry_.reserve(kMaxSamples);
 }
 
 Eigen::Vector2d IdentificationFlight::excitation(double now_s) const {
@@ -14,11 +16,13 @@ Eigen::Vector2d IdentificationFlight::excitation(double now_s) const {
 }
 
 void IdentificationFlight::command_sent(double now_s, const Eigen::Vector2d& rate_radps) {
-  if (start_s_ && now_s >= *start_s_) commands_.push_back({now_s, rate_radps});
+  if (start_s_ && now_s >= *start_s_ && commands_.size() < kMaxSamples)
+    commands_.push_back({now_s, rate_radps});
 }
 
 void IdentificationFlight::telemetry(double now_s, const Eigen::Vector2d& rate_radps, bool saturated) {
-  if (start_s_ && now_s >= *start_s_) telemetry_.push_back({now_s, rate_radps, saturated});
+  if (start_s_ && now_s >= *start_s_ && telemetry_.size() < kMaxSamples)
+    telemetry_.push_back({now_s, rate_radps, saturated});
 }
 
 std::optional<estimation::IdentificationResult> IdentificationFlight::finish(double now_s) {

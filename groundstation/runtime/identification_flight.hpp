@@ -34,6 +34,9 @@ class IdentificationFlight {
  private:
   // The last responses arrive a round trip after the excitation; the fit waits this long.
   static constexpr double kSettle_s = 0.3;
+  // What one flight keeps of each (a flight records ~260 of each at the radio's 200 Hz): a vehicle
+  // flooding its telemetry costs no memory beyond it.
+  static constexpr std::size_t kMaxSamples = 1024;
   estimation::RateResponseIdentifier identifier_;
   std::optional<double> start_s_;
   double equalised_s_ = 0.0;
