@@ -196,6 +196,7 @@ void PlantExchange::step() {
     ImuSample sample;
     while (plant_.pop_imu(v, sample)) {
       if (l == nullptr) continue;  // no firmware: the queue must not grow
+      if (const auto battery = sil::hil_battery_frame(plant_, v, sample)) l->outbox.push_back(*battery);
       l->sample = sil::hil_imu_frames(sample, v.node());
       l->outbox.insert(l->outbox.end(), l->sample.begin(), l->sample.end());
       l->awaited_tick = sil::hil_tick(sample);

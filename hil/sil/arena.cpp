@@ -49,7 +49,7 @@ Arena::Arena(const PlantConfig& plant, const ArenaConfig& config, std::uint64_t 
   links_.reserve(2);
   for (const pa::VehicleId v : pa::kActVehicles) {
     links_.emplace_back(arena_radio_config(config.radio, seed, v));
-    fw::VehicleConfig firmware = firmware_config_for(plant.vehicle, v);
+    fw::VehicleConfig firmware = firmware_config_for(plant.vehicle, v, plant.battery.reference_voltage_V);
     firmware.link.session_nonce = static_cast<std::uint32_t>(mix(seed ^ (0x200u + v.node())) >> 32);
     vehicles_[pa::act_slot(v)] = &lockstep_.attach_firmware(firmware);
   }

@@ -10,7 +10,8 @@ namespace hil::sil {
 
 using pa::proto::Frame;
 
-fw::VehicleConfig firmware_config_for(const VehicleConfig& plant_vehicle, pa::VehicleId vehicle) {
+fw::VehicleConfig firmware_config_for(const VehicleConfig& plant_vehicle, pa::VehicleId vehicle,
+                                      double battery_reference_voltage_V) {
   fw::VehicleConfig c{};
   fw::AirframeConfig& a = c.airframe;
   a.mass_kg = static_cast<float>(plant_vehicle.mass_kg);
@@ -26,6 +27,9 @@ fw::VehicleConfig firmware_config_for(const VehicleConfig& plant_vehicle, pa::Ve
   // sides, and only the plant's (unknown to the firmware) gains differ.
   a.motor_thrust_max_N = static_cast<float>(plant_vehicle.motor_thrust_max_N);
   a.motor_time_constant_s = static_cast<float>(plant_vehicle.motor_time_constant_s);
+  // The voltage at which motor_thrust_max_N is made: the firmware scales its commands by
+  // (V_ref / V)^2 from the HIL_BATTERY voltage (fw/battery_compensation.hpp).
+  c.battery.reference_voltage_V = static_cast<float>(battery_reference_voltage_V);
   c.link.vehicle = vehicle;
   c.link.key = simulation_key(vehicle);
   c.link.session_nonce = 1;
@@ -106,7 +110,9 @@ void Lockstep::step() {
     std::optional<FirmwareVehicle>& firmware = firmware_[pa::act_slot(v)];
     ImuSample sample;
     while (plant_.pop_imu(v, sample)) {
-      if (firmware) firmware->on_imu(sample);
+      if (!firmware) continue;
+      if (const auto battery = hil_battery_frame(plant_, v, sample)) firmware->inject(*battery);
+      firmware->on_imu(sample);
     }
   }
 }

@@ -4,7 +4,7 @@
 //
 // The coupling is the vehicle bus of the HIL, in memory: each plant IMU sample goes to the
 // firmware as HIL_IMU_GYRO and HIL_IMU_ACCEL frames (so the sample is quantised exactly as on the
-// bus), the firmware answers with HIL_MOTORS for the same tick, and those motor commands are
+// bus), every tenth after the battery's HIL_BATTERY (hil_frames.hpp), the firmware answers with HIL_MOTORS for the same tick, and those motor commands are
 // held over the plant's next step. The plant is the time master: the firmware's clock is the
 // plant's IMU tick (tick k = k ms), so a run is reproducible from the plant's seed.
 //
@@ -41,8 +41,13 @@ namespace hil::sil {
 // linearly from zero.
 // The plant's per-motor gains, drag and randomised parameters are deliberately not passed on:
 // they are what the firmware has to cope with (randomise the plant after building this).
+// The battery's reference voltage (the plant's battery_reference_voltage_V, where the maximum
+// motor thrust is made) is the firmware's too, so that its compensation turns the plant's
+// HIL_BATTERY voltage into the factor the plant's motor law asks for.
 // It carries the vehicle's simulation_key() and a session nonce of 1.
-fw::VehicleConfig firmware_config_for(const VehicleConfig& plant_vehicle, pa::VehicleId vehicle);
+fw::VehicleConfig firmware_config_for(
+    const VehicleConfig& plant_vehicle, pa::VehicleId vehicle,
+    double battery_reference_voltage_V = BatteryConfig{}.reference_voltage_V);
 
 // A vehicle's link key in simulation (pa/link_auth.hpp): fixed and public, so a simulated ground
 // station and its simulated vehicles agree. Real vehicles get theirs at flashing time.

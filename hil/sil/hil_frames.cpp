@@ -1,5 +1,8 @@
 #include "hil/sil/hil_frames.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 namespace hil::sil {
 
 using pa::proto::Frame;
@@ -21,6 +24,19 @@ std::array<Frame, 2> hil_imu_frames(const ImuSample& sample, std::uint8_t node) 
   pa::proto::encode(gyro, node, frames[0]);
   pa::proto::encode(accel, node, frames[1]);
   return frames;
+}
+
+std::optional<Frame> hil_battery_frame(const Plant& plant, pa::VehicleId vehicle, const ImuSample& sample) {
+  if (sample.tick % kHilBatteryPeriod_ticks != 0) return std::nullopt;
+  const BatteryConfig& battery = plant.config().battery;
+  const double voltage_V =
+      battery.enabled != 0 ? plant.battery(vehicle).voltage_V : battery.reference_voltage_V;
+  const double mv = std::round(voltage_V * 1000.0);
+  const pa::proto::HilBattery message{
+      static_cast<std::uint16_t>(std::isfinite(mv) ? std::clamp(mv, 0.0, 65535.0) : 0.0)};
+  Frame f;
+  if (!pa::proto::encode(message, vehicle.node(), f)) return std::nullopt;
+  return f;
 }
 
 MotorsAnswer read_hil_motors(const Frame& frame, std::uint8_t node, std::uint16_t tick, MotorCommands& out) {

@@ -40,6 +40,10 @@ def gs_heartbeat(seq, time_ms=0, token=TOKEN, node=BROADCAST):
     return frame(0x0A, node, struct.pack("<IHBB", time_ms, token, 1, seq & 0xFF))
 
 
+def battery(mv, node=NODE):
+    return frame(0x16, node, struct.pack("<H", mv))
+
+
 def write(folder, name, data):
     os.makedirs(os.path.join(CORPUS, folder), exist_ok=True)
     with open(os.path.join(CORPUS, folder, name), "wb") as f:
@@ -65,6 +69,7 @@ def protocol_seeds():
         "telemetry_attitude": frame(0x11, NODE, struct.pack("<hhhh", 32767, 0, 0, 0)),
         "telemetry_motors": frame(0x12, NODE, struct.pack("<HHHH", 30000, 31000, 32000, 33000)),
         "telemetry_status": frame(0x13, NODE, struct.pack("<HHHBB", 250, 16000, 3, 0, 1)),
+        "hil_battery": frame(0x16, NODE, struct.pack("<H", 11400)),
     }
     for name, (i, payload) in frames.items():
         write("protocol", name, struct.pack("<H", i) + payload)
@@ -117,6 +122,11 @@ def vehicle_seeds():
     write("vehicle", "expect_catch_impact",
           Script().tick(3).command(1).tick(2).tick(5, thrust=9.81).command(4, 500).tick(1, thrust=9.81)
           .tick(3, thrust=9.81, accel=(0, 0, 120)).tick(3, thrust=9.81).command(5).tick(2, thrust=9.81).data)
+    # The pack sagging in flight, then readings out of range (a 2S pack, none) and silence.
+    sag = Script().tick(3).command(1).tick(2)
+    for mv in (12600, 12100, 11600, 11100, 7000, 0, 65535, 11000):
+        sag.frame(battery(mv)).tick(10, thrust=9.81)
+    write("vehicle", "battery_sag", sag.tick(20, thrust=9.81).data)
     write("vehicle", "imu_unhealthy", Script().tick(3).command(1).tick(2).tick(10, thrust=9.81, flags=0x40).data)
 
 

@@ -20,7 +20,8 @@
 // - KILL is always honoured: after a signed KILL for this node that found the link's queue
 //   empty, the next tick's motors are off, and the vehicle is killed (or disarmed, when a
 //   DISARM followed it);
-// - the motor commands are finite, within 0..1, and all zero when the motors are off.
+// - the motor commands are finite, within 0..1, and all zero when the motors are off, whatever
+//   HIL_BATTERY voltages arrived (the battery's factor stays within its limits).
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -98,6 +99,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       Frame auth;
       const bool signed_frame = (r[0] & 0x40u) != 0 && ground.sign(f, auth);
       if (signed_frame) note_signed_frame(f, vehicle.guard().queued() == 0, received);
+      // A HIL port reads the battery's HIL_BATTERY from its bus into the vehicle (posix/
+      // hil_vehicle_node.hpp); the core itself counts it and drops it like any HIL frame.
+      Message battery;
+      if (decode(f, battery) == DecodeStatus::ok && battery.type == Type::hil_battery &&
+          battery.node == kNode)
+        vehicle.note_battery_mv(battery.hil_battery.voltage_mv);
       vehicle.on_frame(f, now_us);
       if (signed_frame) vehicle.on_frame(auth, now_us);
       check(vehicle.mode() == before);
@@ -128,6 +135,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       check(after == Mode::killed || after == Mode::disarmed);
     }
     check(out.motors_enabled == motors_on(after));
+    const float factor = vehicle.battery().factor();
+    check(factor >= 1.0f / (fw::BatteryCompensation::kValidMax * fw::BatteryCompensation::kValidMax) &&
+          factor <= fw::BatteryCompensation::kFactorMax);
     for (float m : out.motor_command) {
       check(std::isfinite(m) && m >= 0.0f && m <= 1.0f);
       if (!out.motors_enabled) check(m == 0.0f);

@@ -5,7 +5,9 @@
 #include <catch2/catch.hpp>
 
 #include <array>
+#include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <optional>
 #include <vector>
 
@@ -31,11 +33,16 @@ constexpr std::size_t kOtherEnd = 1;  // ... and the firmware's (vehicle buses) 
 // test sees what the exchange does between a sample and its answer.
 class Rig {
  public:
-  explicit Rig(const hil::RadioConfig& radio, std::size_t vehicles = 2)
-      : exchange(hil::PlantConfig{}, radio, 11, vehicles) {
+  // `compensate`: false builds the firmware without its battery compensation (no reference voltage).
+  explicit Rig(const hil::RadioConfig& radio, std::size_t vehicles = 2,
+               const hil::PlantConfig& plant = hil::PlantConfig{}, bool compensate = true)
+      : exchange(plant, radio, 11, vehicles) {
     for (std::size_t i = 0; i < vehicles; ++i) {
       const pa::VehicleId v = pa::kActVehicles[i];
-      firmware[i].emplace(hil::sil::firmware_config_for(hil::PlantConfig{}.vehicle, v));
+      fw::VehicleConfig c =
+          hil::sil::firmware_config_for(plant.vehicle, v, plant.battery.reference_voltage_V);
+      if (!compensate) c.battery.reference_voltage_V = 0.0f;
+      firmware[i].emplace(c);
     }
   }
 
@@ -219,7 +226,9 @@ TEST_CASE("The exchange refuses a vehicle count the arena does not have") {
 // falls behind the clock (1: the plant keeps up).
 class Flight {
  public:
-  explicit Flight(double ground_per_plant) : rig_(hil::RadioConfig{}), ground_per_plant_(ground_per_plant) {
+  explicit Flight(double ground_per_plant, const hil::PlantConfig& plant = hil::PlantConfig{},
+                  bool compensate = true)
+      : rig_(hil::RadioConfig{}, 2, plant, compensate), ground_per_plant_(ground_per_plant) {
     for (const pa::VehicleId v : pa::kActVehicles)
       config_.link.keys.push_back({v, hil::sil::simulation_key(v)});
     // The thrust gain is measured from accelerations on the ground's clock; with the plant slower
@@ -490,4 +499,48 @@ TEST_CASE("The ground station killed in flight and started again: the vehicles l
   }));
   flight.run_until(rig.exchange.t_s() + 1.0, [] { return false; });
   REQUIRE(flight.take_off());
+}
+
+TEST_CASE(
+    "Through the exchange, the firmware reads the plant's battery and keeps the thrust gain at full charge") {
+  // Both packs drain from full over the hover: 60 mAh, the plant's battery law at 35 times the
+  // speed of the 2.1 Ah pack, so 40 s of hover take them from 12.45 V to about 11.4 V under load.
+  hil::PlantConfig plant{};
+  plant.battery.enabled = 1;
+  plant.battery.capacity_Ah = 0.06;
+  struct Drift {
+    double k_start = 0, k_end = 0, v_start = 0, v_end = 0;
+    std::uint16_t firmware_mv = 0;
+  };
+  const auto hover = [&](bool compensate) {
+    Flight flight(1.0, plant, compensate);
+    Rig& rig = flight.rig();
+    flight.run_until(0.5, [] { return false; });
+    flight.station().request_take_off();
+    REQUIRE(flight.run_until(15.0, [&] { return flight.both(gs::mission::Task::hover); }));
+    // k settles on its first windows of hover.
+    REQUIRE_FALSE(
+        flight.run_until(rig.exchange.t_s() + 5.0, [&] { return !flight.both(gs::mission::Task::hover); }));
+    Drift d;
+    d.k_start = flight.station().thrust_gain(pa::kVehicle1).gain();
+    d.v_start = rig.exchange.plant().battery(pa::kVehicle1).voltage_V;
+    REQUIRE_FALSE(
+        flight.run_until(rig.exchange.t_s() + 40.0, [&] { return !flight.both(gs::mission::Task::hover); }));
+    d.k_end = flight.station().thrust_gain(pa::kVehicle1).gain();
+    d.v_end = rig.exchange.plant().battery(pa::kVehicle1).voltage_V;
+    d.firmware_mv = rig.firmware[0]->vehicle().battery().filtered_mv();
+    return d;
+  };
+  const Drift on = hover(true);
+  const Drift off = hover(false);
+  for (const auto& [name, d] : {std::pair{"compensated", on}, std::pair{"uncompensated", off}})
+    std::printf("hil run exchange, 40 s hover on a draining pack, %s: %.2f V -> %.2f V; k %.4f -> %.4f\n",
+                name, d.v_start, d.v_end, d.k_start, d.k_end);
+  CHECK(on.v_end < on.v_start - 0.6);
+  // The HIL_BATTERY frames reach the fw_vehicle node through the exchange.
+  CHECK(double(on.firmware_mv) == Approx(on.v_end * 1000.0).margin(30.0));
+  CHECK(off.firmware_mv == 0);
+  // With the compensation k stays at its full-charge value; without, it follows (V / V_ref)^2.
+  CHECK(on.k_end == Approx(on.k_start).margin(0.02));
+  CHECK(off.k_end / off.k_start == Approx(std::pow(off.v_end / off.v_start, 2.0)).epsilon(0.03));
 }

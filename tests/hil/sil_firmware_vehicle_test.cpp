@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -44,12 +45,19 @@ double tilt_rad(const hil::VehicleState& v) {
 // The ground station's side of the protocol, just enough to fly: a 50 Hz GS_HEARTBEAT, a
 // 200 Hz RATE_THRUST stream (a new sequence number in each frame), commands, and what the
 // vehicle says back.
+// `compensate`: false flies the firmware without its battery compensation (no reference voltage).
+fw::VehicleConfig firmware_for(const hil::PlantConfig& plant, bool compensate) {
+  fw::VehicleConfig c =
+      hil::sil::firmware_config_for(plant.vehicle, pa::kVehicle1, plant.battery.reference_voltage_V);
+  if (!compensate) c.battery.reference_voltage_V = 0.0f;
+  return c;
+}
+
 class Ground {
  public:
-  explicit Ground(const hil::PlantConfig& plant = shipped_plant(), std::uint64_t seed = kSeed)
-      : rig_(plant, seed),
-        vehicle_(rig_.attach_firmware(
-            hil::sil::firmware_config_for(rig_.plant().config().vehicle, pa::kVehicle1))) {
+  explicit Ground(const hil::PlantConfig& plant = shipped_plant(), std::uint64_t seed = kSeed,
+                  bool compensate = true)
+      : rig_(plant, seed), vehicle_(rig_.attach_firmware(firmware_for(rig_.plant().config(), compensate))) {
     signer_.start_session(vehicle_.firmware().guard().nonce(), 0);
   }
 
@@ -353,6 +361,129 @@ TEST_CASE("SIL: at hover thrust with zero rates the true vehicle stays level") {
   CHECK_FALSE(ground.rig().plant().vehicle_on_floor(pa::kVehicle1));
   CHECK(ground.vehicle().missed_ticks() == 0);
   CHECK(ground.undecodable() == 0);
+}
+
+namespace {
+
+// A hover held on the plant's truth (the ground station's job, done here with a PID on height and
+// a levelling law on the true attitude) on a battery that drains from full in about 30 s (a
+// 40 mAh pack: the plant's battery law at 60 times the speed of the 2.1 Ah one). Returns the
+// delivered-over-commanded thrust in the first and last 2 s and the voltage at the end.
+struct DischargeHover {
+  double ratio_start = 0, ratio_end = 0;
+  double voltage_start_V = 0, voltage_end_V = 0;
+  double command_start = 0, command_end = 0;    // the mean motor command
+  double setpoint_start = 0, setpoint_end = 0;  // the ground's hover thrust, m/s^2
+  double voltage_last_V = 0;                    // the plant's at the end
+  std::uint16_t firmware_mv_end = 0;            // what the firmware had filtered by then
+  bool compensation_active = false;
+};
+
+DischargeHover hover_on_draining_battery(bool compensate) {
+  hil::PlantConfig plant = shipped_plant();
+  plant.battery.enabled = 1;
+  plant.battery.capacity_Ah = 0.04;
+  Ground ground(plant, kSeed, compensate);
+  ground.arm();
+  ground.take_off();
+  const double mass_kg = double(firmware_for(plant, compensate).airframe.mass_kg);
+  constexpr double kHeight_m = 1.0;
+  constexpr double kFlight_s = 30.0, kWindow_s = 2.0, kSettle_s = 3.0;
+  double integral_mps2 = 0.0;  // takes up what the thrust lacks, as the ground's thrust gain does
+  const long n = std::lround(kFlight_s / ground.rig().period_s());
+  double delivered[2] = {0, 0}, commanded[2] = {0, 0}, volts[2] = {0, 0}, command[2] = {0, 0},
+         setpoint[2] = {0, 0};
+  long samples[2] = {0, 0};
+  for (long k = 0; k < n; ++k) {
+    const hil::VehicleState& v = ground.truth();
+    const Vec3 up_body = v.body.attitude.conjugate() * Vec3::UnitZ();
+    const double e_m = kHeight_m - v.body.position_m.z();
+    integral_mps2 += 2.0 * e_m * ground.rig().period_s();
+    const double a = kG + integral_mps2 + 4.0 * e_m - 3.0 * v.body.velocity_mps.z();
+    ground.thrust_mps2 = static_cast<float>(a / std::max(up_body.z(), 0.5));
+    ground.rate_radps = {static_cast<float>(-3.0 * up_body.y()), static_cast<float>(3.0 * up_body.x()), 0.0f};
+    ground.tick();
+    const double t_s = static_cast<double>(k + 1) * ground.rig().period_s();
+    if (std::getenv("PA_DEBUG_DISCHARGE") != nullptr && (k + 1) % 1000 == 0)
+      std::printf("t %.1f z %.3f V %.3f soc %.3f a %.3f mode %d\n", t_s, ground.truth().body.position_m.z(),
+                  ground.rig().plant().battery(pa::kVehicle1).voltage_V,
+                  ground.rig().plant().battery(pa::kVehicle1).state_of_charge, a,
+                  int(ground.vehicle().firmware().mode()));
+    const int w = t_s >= kSettle_s && t_s < kSettle_s + kWindow_s ? 0 : t_s >= kFlight_s - kWindow_s ? 1 : -1;
+    if (w < 0) continue;
+    const hil::VehicleState& after = ground.truth();
+    double thrust_N = 0, cmd = 0;
+    for (int i = 0; i < 4; ++i) {
+      thrust_N += after.motor_thrust_N[i];
+      cmd += ground.vehicle().motor_commands().command[i] / 4.0;
+    }
+    delivered[w] += thrust_N;
+    // What the firmware was asked: the setpoint the ground sent, on the airframe's mass.
+    const double setpoint_mps2 = double(ground.vehicle().firmware().link().setpoint().thrust_mps2);
+    commanded[w] += setpoint_mps2 * mass_kg;
+    setpoint[w] += setpoint_mps2;
+    volts[w] += ground.rig().plant().battery(pa::kVehicle1).voltage_V;
+    command[w] += cmd;
+    ++samples[w];
+  }
+  REQUIRE(ground.vehicle().firmware().mode() == Mode::flying);
+  REQUIRE_FALSE(ground.rig().plant().vehicle_on_floor(pa::kVehicle1));
+  DischargeHover r;
+  r.ratio_start = delivered[0] / commanded[0];
+  r.ratio_end = delivered[1] / commanded[1];
+  r.voltage_start_V = volts[0] / double(samples[0]);
+  r.voltage_end_V = volts[1] / double(samples[1]);
+  r.command_start = command[0] / double(samples[0]);
+  r.command_end = command[1] / double(samples[1]);
+  r.setpoint_start = setpoint[0] / double(samples[0]);
+  r.setpoint_end = setpoint[1] / double(samples[1]);
+  r.voltage_last_V = ground.rig().plant().battery(pa::kVehicle1).voltage_V;
+  r.firmware_mv_end = ground.vehicle().firmware().battery().filtered_mv();
+  r.compensation_active = ground.vehicle().firmware().battery().active();
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("SIL: on a draining battery the compensation keeps the delivered thrust at the command") {
+  const DischargeHover on = hover_on_draining_battery(true);
+  const DischargeHover off = hover_on_draining_battery(false);
+  for (const auto& [name, r] : {std::pair{"compensated", on}, std::pair{"uncompensated", off}})
+    std::printf(
+        "SIL discharge hover, %s: %.2f V -> %.2f V under load; delivered / commanded thrust %.4f -> %.4f; "
+        "mean motor command %.4f -> %.4f; hover thrust setpoint %.3f -> %.3f m/s^2\n",
+        name, r.voltage_start_V, r.voltage_end_V, r.ratio_start, r.ratio_end, r.command_start, r.command_end,
+        r.setpoint_start, r.setpoint_end);
+  // The pack sags well below full in both (the same plant and the same draw within a few %).
+  CHECK(on.voltage_end_V < on.voltage_start_V - 0.8);
+  CHECK(off.voltage_end_V < off.voltage_start_V - 0.8);
+  // The firmware reads the plant's voltage (HIL_BATTERY, filtered over 0.1 s).
+  CHECK(on.compensation_active);
+  CHECK(double(on.firmware_mv_end) == Approx(on.voltage_last_V * 1000.0).margin(10.0));
+  CHECK_FALSE(off.compensation_active);
+  // Compensated, the thrust follows the command at every charge (the plant's per-motor gains
+  // set the level, not the voltage); the motor commands rise with (V_ref / V)^2 to make it so.
+  CHECK(on.ratio_end == Approx(on.ratio_start).epsilon(0.01));
+  CHECK(on.command_end / on.command_start ==
+        Approx(std::pow(on.voltage_start_V / on.voltage_end_V, 2.0)).epsilon(0.02));
+  // Uncompensated, it falls with (V / V_ref)^2: the ground's loop pays with a larger command.
+  CHECK(off.ratio_end / off.ratio_start ==
+        Approx(std::pow(off.voltage_end_V / off.voltage_start_V, 2.0)).epsilon(0.02));
+  CHECK(off.ratio_end < off.ratio_start * 0.9);
+  // What the ground station sees: the hover thrust it must ask for stays where it was with the
+  // compensation (its thrust gain k stays at its full-charge value) and climbs without.
+  CHECK(on.setpoint_end == Approx(on.setpoint_start).epsilon(0.01));
+  CHECK(off.setpoint_end > off.setpoint_start * 1.15);
+}
+
+TEST_CASE(
+    "SIL: without the plant's battery the firmware reads the reference voltage and compensates nothing") {
+  Ground ground;  // battery_enabled 0, as shipped
+  REQUIRE(ground.rig().plant().config().battery.enabled == 0);
+  ground.arm();
+  CHECK(ground.vehicle().firmware().battery().active());
+  CHECK(ground.vehicle().firmware().battery().filtered_mv() == 12600);
+  CHECK(ground.vehicle().firmware().battery().factor() == 1.0f);
 }
 
 TEST_CASE("SIL: a body-rate step is tracked by the true vehicle as the rate loop predicts") {

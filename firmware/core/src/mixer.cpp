@@ -63,13 +63,22 @@ Mixer::Mixer(const AirframeConfig& airframe) {
   inv_4k_per_m_ = 1.0f / (4.0f * yaw_moment_m_);
   thrust_min_N_ = lo_N;
   thrust_max_N_ = hi_N;
+  thrust_ceiling_N_ = hi_N;
+}
+
+bool Mixer::set_command_factor(float factor) {
+  if (!valid_ || !std::isfinite(factor) || !(factor > 0.0f)) return false;
+  const float ceiling_N = thrust_max_N_ / factor;
+  if (!(ceiling_N > thrust_min_N_) || !std::isfinite(ceiling_N)) return false;
+  thrust_ceiling_N_ = ceiling_N;
+  return true;
 }
 
 MixerOutput Mixer::rejected(float motor_thrust_N) const {
   MixerOutput out;
   for (int i = 0; i < 4; ++i) {
     out.thrust_N[i] = motor_thrust_N;
-    out.command[i] = valid_ ? motor_thrust_N / thrust_max_N_ : 0.0f;
+    out.command[i] = valid_ ? motor_thrust_N / thrust_ceiling_N_ : 0.0f;
   }
   out.saturation = 0xFFu;
   return out;
@@ -96,7 +105,7 @@ MixerOutput Mixer::mix(const MixerInput& input) const {
   }
 
   const float lo_N = thrust_min_N_;
-  const float hi_N = thrust_max_N_;
+  const float hi_N = thrust_ceiling_N_;
   const float span_N = hi_N - lo_N;
 
   std::uint8_t flags = 0;

@@ -39,6 +39,7 @@ Vehicle::Vehicle(const VehicleConfig& config)
       rate_controller_(config.rate, config.airframe),
       equaliser_(config.airframe.motor_time_constant_s),
       mixer_(config.airframe),
+      battery_(config.battery),
       // The static task table. Phases keep the heavier frames on different ticks.
       tasks_{{
           task(&Vehicle::send_telemetry_rates, ticks_for(config.link.telemetry_rates_period_us), 0),
@@ -428,8 +429,14 @@ void Vehicle::send_telemetry_attitude(std::uint32_t) {
 
 void Vehicle::send_telemetry_motors(std::uint32_t) { link_.send_message(TelemetryMotors{motor_command_}); }
 
-void Vehicle::send_telemetry_status(std::uint32_t) {
-  const TelemetryStatus status{saturate_cast<std::uint16_t>(tick_time_max_us_), battery_mv_,
+void Vehicle::note_battery_mv(std::uint16_t mv) {
+  if (battery_.on_voltage_mv(mv, last_imu_us_)) mixer_.set_command_factor(battery_.factor());
+}
+
+// Also the battery's housekeeping: a voltage that stopped coming is dropped here, at 10 Hz.
+void Vehicle::send_telemetry_status(std::uint32_t now_us) {
+  if (battery_.check_stale(now_us)) mixer_.set_command_factor(battery_.factor());
+  const TelemetryStatus status{saturate_cast<std::uint16_t>(tick_time_max_us_), battery_.filtered_mv(),
                                saturate_cast<std::uint16_t>(rx_rejected()),
                                saturate_cast<std::uint8_t>(overruns_), impacts_.count()};
   tick_time_max_us_ = 0;  // the longest tick of each report period

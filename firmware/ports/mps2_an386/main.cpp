@@ -6,11 +6,13 @@
 
 #include "console.hpp"
 #include "cortex_m/runtime.hpp"
+#include "fw/battery_compensation.hpp"
 #include "fw/drivers/dshot.hpp"
 #include "fw/drivers/mpu6000.hpp"
 #include "fw/drivers/omnibus_f4.hpp"
 #include "fw/drivers/serial_frame.hpp"
 #include "fw/link_guard.hpp"
+#include "fw/mixer.hpp"
 #include "fw/selftest.hpp"
 #include "instruction_counter.hpp"
 
@@ -146,6 +148,24 @@ __attribute__((noinline)) void step() {
 }
 }  // namespace link_auth
 
+// The battery's compensation per reading (fw/battery_compensation.hpp), between ticks at 100 Hz:
+// a reading filtered into a new factor and the mixer's ceiling set from it, as
+// Vehicle::note_battery_mv does; the readings alternate so each one changes the factor.
+namespace battery {
+fw::BatteryCompensation g_battery{fw::BatteryConfig{}};
+fw::Mixer g_mixer{fw::AirframeConfig{}};
+std::uint32_t g_now_us = 0;
+std::uint16_t g_mv = 11400;
+
+__attribute__((noinline)) void step() {
+  asm volatile("" ::"r"(&g_battery), "r"(&g_mixer), "r"(&g_mv) : "memory");
+  g_now_us += 10000u;
+  g_mv = g_mv == 11400 ? 11500 : 11400;
+  if (g_battery.on_voltage_mv(g_mv, g_now_us)) g_mixer.set_command_factor(g_battery.factor());
+  asm volatile("" ::"r"(&g_battery), "r"(&g_mixer) : "memory");
+}
+}  // namespace battery
+
 bool within(float measured, float expected, float tolerance) {
   return measured > expected * (1.0f - tolerance) && measured < expected * (1.0f + tolerance);
 }
@@ -215,6 +235,10 @@ int main() {
   print_figure("link_auth_step1_instructions", instructions_beyond_empty_call(link_auth::step), 0);
   print_figure("link_auth_step2_instructions", instructions_beyond_empty_call(link_auth::step), 0);
   print_figure("link_auth_step3_instructions", instructions_beyond_empty_call(link_auth::step), 0);
+
+  // Between ticks, once per voltage reading (the tick itself only reads the mixer's ceiling).
+  battery::step();  // the first reading starts the filter
+  print_figure("battery_reading_instructions", instructions_beyond_empty_call(battery::step), 0);
 
   // The start-up code painted the stack; a high-water mark at the very end of it means the
   // stack may have run into .bss and nothing above can be trusted.

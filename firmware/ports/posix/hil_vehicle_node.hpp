@@ -1,7 +1,8 @@
 // One vehicle as the HIL sees it: frames from its vehicle bus in, frames out. HIL_IMU frames
 // from the plant are assembled into samples that run the 1 kHz tick (the vehicle's clock is
 // the plant's tick clock, so a run is reproducible); the motor outputs go back as HIL_MOTORS
-// with the same tick, followed by whatever the firmware has to send. Shared by the SocketCAN
+// with the same tick, followed by whatever the firmware has to send; HIL_BATTERY is the pack's
+// voltage, the reading a flight image takes from its ADC. Shared by the SocketCAN
 // process and the in-memory simulation. No heap.
 #pragma once
 
@@ -35,6 +36,10 @@ class HilVehicleNode {
     const pa::proto::DecodeStatus status = pa::proto::decode(frame, m);
     const bool hil_imu = status == pa::proto::DecodeStatus::ok && (m.type == pa::proto::Type::hil_imu_gyro ||
                                                                    m.type == pa::proto::Type::hil_imu_accel);
+    if (status == pa::proto::DecodeStatus::ok && m.type == pa::proto::Type::hil_battery) {
+      if (m.node == node_) vehicle_.note_battery_mv(m.hil_battery.voltage_mv);  // the plant's pack
+      return;
+    }
     if (!hil_imu) {
       vehicle_.on_frame(frame, now_us_);  // the core counts what it cannot use
       return;

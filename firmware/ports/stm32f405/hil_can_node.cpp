@@ -24,6 +24,11 @@ void HilCanNode::on_frame(const Frame& frame) {
   const DecodeStatus status = decode(frame, m);
   const bool hil_imu =
       status == DecodeStatus::ok && (m.type == Type::hil_imu_gyro || m.type == Type::hil_imu_accel);
+  if (status == DecodeStatus::ok && m.type == Type::hil_battery) {
+    // The plant's pack, which the flight image reads from its ADC instead.
+    if (m.node == node_id_) node_.vehicle().note_battery_mv(m.hil_battery.voltage_mv);
+    return;
+  }
   if (!hil_imu) {
     node_.on_frame(frame, now_us_);  // the core counts what it cannot use
     return;

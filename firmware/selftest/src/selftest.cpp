@@ -39,6 +39,11 @@ constexpr std::uint32_t kEnd = 9500;
 
 constexpr std::uint32_t kSetpointPeriod = 5;    // 200 Hz
 constexpr std::uint32_t kHeartbeatPeriod = 20;  // 50 Hz
+// The battery as the flight image reads it, between ticks at 100 Hz: at the reference voltage,
+// where the synthetic motors make the thrust they are commanded (the compensation's factor is
+// 1, its work per tick and per reading the same as on a sagging pack).
+constexpr std::uint32_t kBatteryPeriod = 10;
+constexpr std::uint16_t kBattery_mv = 12600;
 
 struct Ground {
   pa::auth::Signer signer{kLinkKey};
@@ -129,6 +134,7 @@ Result run(TickProbe* probe) {
 
     // Ground station: heartbeats throughout, setpoints at 200 Hz, commands at their times.
     if (tick % kHeartbeatPeriod == 0) ground.heartbeat(vehicle, tick);
+    if (tick % kBatteryPeriod == 0) vehicle.note_battery_mv(kBattery_mv);
     Vec3 rate{};
     float thrust = 0;
     script_setpoint(tick, plant, rate, thrust);

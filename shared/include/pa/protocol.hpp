@@ -55,6 +55,7 @@ enum class Type : std::uint8_t {
   telemetry_status = 0x13,
   hil_clock = 0x14,
   hil_clock_done = 0x15,
+  hil_battery = 0x16,
 };
 
 enum class Direction : std::uint8_t {
@@ -74,7 +75,7 @@ struct TypeInfo {
 };
 
 // The catalogue. docs/protocol.md lists the same rows (checked by tests/shared/protocol_doc_test).
-inline constexpr std::array<TypeInfo, 20> kCatalogue{{
+inline constexpr std::array<TypeInfo, 21> kCatalogue{{
     {Type::kill, "KILL", 3, Direction::ground_to_vehicle},
     {Type::command, "COMMAND", 8, Direction::ground_to_vehicle},
     {Type::rate_thrust, "RATE_THRUST", 8, Direction::ground_to_vehicle},
@@ -95,6 +96,7 @@ inline constexpr std::array<TypeInfo, 20> kCatalogue{{
     {Type::telemetry_status, "TELEMETRY_STATUS", 8, Direction::vehicle_to_ground},
     {Type::hil_clock, "HIL_CLOCK", 8, Direction::plant_to_ground},
     {Type::hil_clock_done, "HIL_CLOCK_DONE", 4, Direction::ground_to_plant},
+    {Type::hil_battery, "HIL_BATTERY", 2, Direction::plant_to_vehicle},
 }};
 
 // Constant-time lookup: the 7-bit type indexes a table built at compile time.
@@ -333,6 +335,10 @@ struct HilClock {
 struct HilClockDone {
   std::uint32_t step;
 };
+// The battery's terminal voltage under load as the plant has it (what a vehicle's ADC reads).
+struct HilBattery {
+  std::uint16_t voltage_mv;  // 0..65.535 V
+};
 struct TelemetryStatus {
   std::uint16_t tick_time_max_us;  // longest 1 kHz tick since the last report
   std::uint16_t battery_mv;
@@ -366,6 +372,7 @@ struct Message {
     TelemetryStatus telemetry_status;
     HilClock hil_clock;
     HilClockDone hil_clock_done;
+    HilBattery hil_battery;
   };
   Message() : kill{} {}
 };
@@ -638,6 +645,14 @@ inline bool encode(const HilClockDone& m, std::uint8_t node, Frame& out) {
   return true;
 }
 
+inline bool encode(const HilBattery& m, std::uint8_t node, Frame& out) {
+  if (!valid_node(node)) return false;
+  Frame f = detail::start(Type::hil_battery, node);
+  detail::put_u16(&f.data[0], m.voltage_mv);
+  out = f;
+  return true;
+}
+
 // ---------------------------------------------------------------------------------------
 // Decoding: every path is a fixed sequence of checks, so a malformed frame costs no more
 // than a good one. `out` is written only on success.
@@ -764,6 +779,7 @@ inline DecodeStatus decode(const Frame& f, Message& out) {
       break;
     case Type::hil_clock: m.hil_clock = HilClock{get_u32(d), get_u32(d + 4)}; break;
     case Type::hil_clock_done: m.hil_clock_done = HilClockDone{get_u32(d)}; break;
+    case Type::hil_battery: m.hil_battery = HilBattery{get_u16(d)}; break;
   }
   out = m;
   return DecodeStatus::ok;

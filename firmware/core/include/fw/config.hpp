@@ -103,6 +103,15 @@ struct SupervisorConfig {
   std::uint32_t ground_contact_us = 300000;        // ... sustained this long
 };
 
+struct BatteryConfig {
+  // The pack voltage at which the thrust map (AirframeConfig::motor_thrust_max_N, and so every
+  // motor command's thrust fraction) holds: thrust tables are measured at the full pack's
+  // voltage, 12.6 V for a 3S LiPo such as the paper's platform flies. The motor commands are
+  // scaled by (V_ref / V)^2 as the measured voltage V falls (fw/battery_compensation.hpp).
+  // 0 turns the compensation off (the commands are then those of V_ref whatever V reads).
+  float reference_voltage_V = 12.6f;
+};
+
 struct LinkConfig {
   pa::VehicleId vehicle = pa::kVehicle1;  // this vehicle: its node id on the bus, 1..14
   // The authenticated link (pa/link_auth.hpp): the vehicle's key, provisioned at flashing time
@@ -124,6 +133,7 @@ struct VehicleConfig {
   ImpactDetectorConfig impact{};
   CatchReactionConfig catch_reaction{};
   SupervisorConfig supervisor{};
+  BatteryConfig battery{};
   LinkConfig link{};
 };
 

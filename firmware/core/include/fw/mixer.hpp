@@ -38,8 +38,8 @@ struct MixerInput {
 };
 
 struct MixerOutput {
-  Motors thrust_N{};                  // per motor, always within [motor_thrust_min_N, motor_thrust_max_N]
-  Motors command{};                   // thrust_N / motor_thrust_max_N: normalised, linear in thrust
+  Motors thrust_N{};                  // per motor, always within [motor_thrust_min_N, the ceiling]
+  Motors command{};                   // thrust_N / the ceiling (set_command_factor): normalised
   std::uint8_t saturation = 0;        // fw::saturation bits: what could not be allocated, by direction
   Vec3 torque_unallocated_Nm{};       // requested minus achieved torque
   float thrust_unallocated_N = 0.0f;  // requested minus achieved collective thrust
@@ -72,6 +72,16 @@ class Mixer {
   // The collective thrust and torques that the given motor thrusts produce (the equations above).
   MixerInput effect(const Motors& thrust_N) const;
 
+  // The battery's compensation (fw/battery_compensation.hpp): with the pack at V a motor makes
+  // at most motor_thrust_max_N / factor, factor = (V_ref / V)^2, so the motor thrusts are
+  // allocated under that ceiling and each command is thrust / ceiling, i.e. the thrust fraction
+  // at V_ref times the factor; saturation keeps the priority above against the lower ceiling.
+  // A factor that is not finite, not positive or that would put the ceiling at or below
+  // motor_thrust_min_N is refused (false) and the previous one kept. Initially 1 (exactly the
+  // allocation without it).
+  bool set_command_factor(float factor);
+  float thrust_ceiling_N() const { return thrust_ceiling_N_; }
+
  private:
   MixerOutput rejected(float motor_thrust_N) const;
 
@@ -82,6 +92,7 @@ class Mixer {
   float inv_4k_per_m_ = 0.0f;  // 1 / (4 k)
   float thrust_min_N_ = 0.0f;
   float thrust_max_N_ = 0.0f;
+  float thrust_ceiling_N_ = 0.0f;  // thrust_max_N_ / the battery's factor
 };
 
 }  // namespace fw

@@ -9,6 +9,7 @@
 #include <cstdint>
 
 #include "fw/attitude_estimator.hpp"
+#include "fw/battery_compensation.hpp"
 #include "fw/command_link.hpp"
 #include "fw/config.hpp"
 #include "fw/failsafe_controller.hpp"
@@ -42,7 +43,13 @@ class Vehicle {
   bool pop_tx(pa::proto::Frame& out) { return link_.pop_tx(out); }
   // The port measures each tick and reports it; the longest is sent in TELEMETRY_STATUS.
   void note_tick_time_us(std::uint32_t us);
-  void note_battery_mv(std::uint16_t mv) { battery_mv_ = mv; }
+  // The pack's terminal voltage, read by the port (the flight image's VBAT ADC, the HIL ports'
+  // HIL_BATTERY frames) about every 10 ms between ticks, on the clock of the last IMU sample:
+  // the motor commands are compensated for it (fw/battery_compensation.hpp) and TELEMETRY_STATUS
+  // reports it filtered. The ports take HIL_BATTERY from their own bus only: no ground frame
+  // sets it (the radio is open air and this frame carries no AUTH).
+  void note_battery_mv(std::uint16_t mv);
+  const BatteryCompensation& battery() const { return battery_; }
 
   pa::proto::Mode mode() const { return supervisor_.mode(); }
   pa::proto::FailsafeReason failsafe_reason() const { return supervisor_.reason(); }
@@ -109,6 +116,7 @@ class Vehicle {
   RateController rate_controller_;
   MotorLagEqualiser equaliser_;
   Mixer mixer_;
+  BatteryCompensation battery_;
   static constexpr std::size_t kTelemetryTasks = 6;  // the first six send frames
   std::array<PeriodicTask, kTelemetryTasks + 1> tasks_;
 
@@ -136,7 +144,6 @@ class Vehicle {
 
   std::uint32_t tick_time_max_us_ = 0;
   std::uint32_t overruns_ = 0;
-  std::uint16_t battery_mv_ = 0;
 };
 
 }  // namespace fw
