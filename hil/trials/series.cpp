@@ -101,6 +101,11 @@ void SeriesRunner::step() {
     frame_times_s_.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   }
   gs_.tick(now);
+  // What the person standing by with the pole sees of each vehicle on the ground station.
+  const bool preparing = gs_.attempt_phase() == gs::runtime::AttemptPhase::preparing;
+  for (const pa::VehicleId v : pa::kActVehicles)
+    arena_.show_waiting_for_pole(v,
+                                 preparing && (gs_.task(v) == Task::hover || gs_.task(v) == Task::balance));
   for (const pa::proto::Frame& f : bus_.take()) arena_.send_from_ground(f);
   if (config_.log) {
     for (const gs::runtime::MissionEvent& e : gs_.take_events()) {
@@ -183,15 +188,6 @@ bool SeriesRunner::run_until(const std::function<bool()>& done, double timeout_s
     if (done()) return true;
   }
   return false;
-}
-
-bool SeriesRunner::at_throw_origin(pa::VehicleId thrower) const {
-  const Plant& p = arena_.plant();
-  const VehicleState& v = p.vehicle(thrower);
-  const Vec3 origin = gs_.throw_frame(thrower).origin_m;
-  const Task task = gs_.task(thrower);
-  return (task == Task::hover || task == Task::balance) &&
-         (p.plate_centre_m(thrower) - origin).norm() < 0.1 && v.body.velocity_mps.norm() < 0.2;
 }
 
 std::vector<AttemptResult> SeriesRunner::run(const std::vector<AttemptPlan>& plans,
@@ -279,7 +275,9 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
     return r;
   }
 
-  bool placed = !plan.place_pole, pushed = false;
+  // The person stands by to put the pole on the thrower hovering at the throw's origin.
+  if (plan.place_pole) arena_.hand_pole_to(thrower, gs_.throw_frame(thrower).origin_m);
+  bool pushed = false;
   std::optional<double> throw_start_s, launch_s, impact_s, floor_s;
   double upright_since_s = -1.0;  // < 0: not upright on the catcher
   std::vector<Vec3> lower_end_m;  // the pole's lower end from the launch to where it stopped
@@ -292,11 +290,6 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
   while (arena_.t_s() < deadline) {
     step();
     const double t = arena_.t_s();
-    // The person: the pole onto the thrower hovering at the throw's origin.
-    if (!placed && at_throw_origin(thrower) && gs_.attempt_phase() == gs::runtime::AttemptPhase::preparing) {
-      arena_.plant().place_pole_on(thrower);
-      placed = true;
-    }
     if (!throw_start_s && gs_.task(thrower) == Task::throwing) throw_start_s = t;
     if (plan.push_sideways_m != 0.0 && !pushed && throw_start_s && t - *throw_start_s >= 2.2) {
       // The spoiled launch: thrower and pole moved sideways together, as by a gust.

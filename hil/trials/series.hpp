@@ -120,7 +120,6 @@ class SeriesRunner {
   TimeSample time_sample(double now) const;
   bool run_until(const std::function<bool()>& done, double timeout_s);
   AttemptResult fly(const AttemptPlan& plan, int number);
-  bool at_throw_origin(pa::VehicleId thrower) const;
 
   SeriesConfig config_;
   sil::Arena arena_;

@@ -43,7 +43,7 @@ const Run& throw_only() {
     r.results = runner.run({hil::trials::AttemptPlan{false, Eigen::Vector2d::Zero(), 0.0}});
     r.samples = runner.time_series().front();
     for (const pa::VehicleId vehicle : pa::kActVehicles)
-      r.firmware_missed_ticks += static_cast<int>(runner.arena().vehicle(vehicle).missed_ticks());
+      r.firmware_missed_ticks += static_cast<int>(runner.arena().exchange().counters(vehicle).missed);
     r.link_undecodable = runner.ground_station().link().counters().undecodable();
     for (const std::string& line : r.log)
       if (line.find("balance -> throwing") != std::string::npos) r.throw_started = true;
@@ -339,8 +339,8 @@ TEST_CASE("radio outages and motion-capture dropouts while the pole flies: holds
   INFO(joined(s.log));
   // The faults happened: frames lost both ways on both radios, and the firmware held.
   for (const pa::VehicleId v : pa::kActVehicles) {
-    CHECK(runner.arena().radio(v).uplink_lost > 0);
-    CHECK(runner.arena().radio(v).downlink_lost > 0);
+    CHECK(runner.arena().exchange().counters(v).uplink_lost > 0);
+    CHECK(runner.arena().exchange().counters(v).downlink_lost > 0);
   }
   CHECK(holds_in_flight >= 3);
   // ... and cost no failsafe, on board or in the mission, and no catch.

@@ -1,6 +1,6 @@
-#include "hil/sil/hil_frames.hpp"
+#include "hil/run/hil_frames.hpp"
 
-namespace hil::sil {
+namespace hil::run {
 
 using pa::proto::Frame;
 using pa::proto::Type;
@@ -42,4 +42,4 @@ bool radio_carries(const Frame& frame) {
          info->direction == pa::proto::Direction::vehicle_to_ground;
 }
 
-}  // namespace hil::sil
+}  // namespace hil::run
