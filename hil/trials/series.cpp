@@ -8,6 +8,7 @@
 namespace hil::trials {
 namespace {
 
+using gs::adaptation::ThrowOutcome;
 using gs::mission::Task;
 
 constexpr double kUpright_rad = 5.0 * M_PI / 180.0;  // the acceptance's "within 5 degrees"
@@ -203,7 +204,7 @@ std::vector<AttemptResult> SeriesRunner::run(const std::vector<AttemptPlan>& pla
       r = fly(plans[i], static_cast<int>(i) + 1);
     } else {
       r.throw_number = static_cast<int>(i) + 1;
-      r.outcome = "aborted";
+      r.outcome = ThrowOutcome::aborted;
       r.abort_reason = "take_off_failed";
     }
     results.push_back(r);
@@ -258,7 +259,7 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
   const pa::VehicleId catcher = pa::other_vehicle(thrower);
   // A pass needs the pole balanced on the thrower, where the last attempt left it.
   if (!plan.place_pole && plant.pole_contact() != contact_of(plate_of(thrower))) {
-    r.outcome = "aborted";
+    r.outcome = ThrowOutcome::aborted;
     r.abort_reason = "pole_not_on_thrower";
     recording_ = nullptr;
     return r;
@@ -270,7 +271,7 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
   request.target_xy_m = plan.target_xy_m;
   const std::size_t reports_before = gs_.attempts().size();
   if (!gs_.request_attempt(request)) {
-    r.outcome = "aborted";
+    r.outcome = ThrowOutcome::aborted;
     r.abort_reason = std::string(gs::runtime::GroundStation::refusal_name(gs_.refusal_kind()));
     return r;
   }
@@ -376,29 +377,29 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
   }
   const gs::mission::Reason throw_end = report ? report->thrower_end : gs::mission::Reason::none;
   if (!plan.catch_it) {
-    r.outcome = "throw_only";
+    r.outcome = ThrowOutcome::throw_only;
   } else if (throw_end != gs::mission::Reason::throw_ended && !impact_s) {
     // The throw itself failed (the pole left the plate before T, or it was aborted): the
     // catcher had nothing to catch.
-    r.outcome = "aborted";
+    r.outcome = ThrowOutcome::aborted;
     r.abort_reason = throw_end == gs::mission::Reason::none
                          ? "no_throw"
                          : std::string(gs::mission::reason_name(throw_end));
   } else if (end == gs::mission::Reason::out_of_reach || end == gs::mission::Reason::infeasible ||
              end == gs::mission::Reason::abort_requested) {
-    r.outcome = "aborted";
+    r.outcome = ThrowOutcome::aborted;
     r.abort_reason = std::string(gs::mission::reason_name(end));
   } else if (plan.catch_offset_m.norm() > 0.0) {
-    r.outcome = "practice";
+    r.outcome = ThrowOutcome::offset_practice;
   } else if (caught) {
-    r.outcome = "caught";
+    r.outcome = ThrowOutcome::caught;
   } else if (impact_s) {
-    r.outcome = "dropped";
+    r.outcome = ThrowOutcome::dropped;
   } else if (!launch_s) {
-    r.outcome = "aborted";
+    r.outcome = ThrowOutcome::aborted;
     r.abort_reason = report ? "no_launch" : "timeout";
   } else {
-    r.outcome = "missed";
+    r.outcome = ThrowOutcome::missed;
   }
   if (!r.impact) r.energy_error_J = 0.0;
   if (report) r.planned_height_m = report->catch_height_m;
