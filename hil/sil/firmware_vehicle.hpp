@@ -98,8 +98,9 @@ class FirmwareVehicle {
   std::uint64_t missed_ticks_ = 0;
 };
 
-// The plant and up to one firmware per plant vehicle, stepped together one IMU period at a time.
-// A plant vehicle without firmware gets zero motor commands (it stays parked, or falls), and its
+// The plant and up to one firmware per plant vehicle, stepped together one IMU period at a time,
+// without radios (the arena, arena.hpp, steps through `hil run`'s plant exchange instead). A plant
+// vehicle without firmware gets zero motor commands (it stays parked, or falls), and its
 // IMU samples are discarded so that the plant's queue does not grow.
 class Lockstep {
  public:
