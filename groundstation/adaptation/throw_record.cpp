@@ -6,13 +6,13 @@ namespace gs::adaptation {
 
 std::string_view to_string(ThrowOutcome outcome) {
   switch (outcome) {
-    case ThrowOutcome::kCaught: return "caught";
-    case ThrowOutcome::kDropped: return "dropped";
-    case ThrowOutcome::kMissed: return "missed";
-    case ThrowOutcome::kOffsetPractice: return "offset_practice";
-    case ThrowOutcome::kAbortedOutOfReach: return "aborted_out_of_reach";
-    case ThrowOutcome::kAborted: return "aborted";
-    case ThrowOutcome::kThrowOnly: return "throw_only";
+    case ThrowOutcome::caught: return "caught";
+    case ThrowOutcome::dropped: return "dropped";
+    case ThrowOutcome::missed: return "missed";
+    case ThrowOutcome::offset_practice: return "offset_practice";
+    case ThrowOutcome::aborted_out_of_reach: return "aborted_out_of_reach";
+    case ThrowOutcome::aborted: return "aborted";
+    case ThrowOutcome::throw_only: return "throw_only";
   }
   return "unknown";
 }
@@ -26,13 +26,13 @@ std::optional<ThrowOutcome> parse_throw_outcome(std::string_view name) {
 
 bool catcher_flew_to_target(ThrowOutcome outcome) {
   switch (outcome) {
-    case ThrowOutcome::kCaught:
-    case ThrowOutcome::kDropped:
-    case ThrowOutcome::kMissed:
-    case ThrowOutcome::kOffsetPractice: return true;
-    case ThrowOutcome::kAbortedOutOfReach:
-    case ThrowOutcome::kAborted:
-    case ThrowOutcome::kThrowOnly: return false;
+    case ThrowOutcome::caught:
+    case ThrowOutcome::dropped:
+    case ThrowOutcome::missed:
+    case ThrowOutcome::offset_practice: return true;
+    case ThrowOutcome::aborted_out_of_reach:
+    case ThrowOutcome::aborted:
+    case ThrowOutcome::throw_only: return false;
   }
   return false;
 }

@@ -18,22 +18,26 @@
 
 namespace gs::adaptation {
 
-// What became of a throw. The order is the store's; the names are the CLI's and the store's.
+// What became of a throw. The order is the store's; the names are the CLI's, the store's and
+// those of the trials' records (hil/trials/attempt_result.hpp), whose referee judges on truth.
 enum class ThrowOutcome {
-  kCaught,             // caught and balanced again (the paper's throws 8 and 9)
-  kDropped,            // caught, then lost while balancing
-  kMissed,             // the catch manoeuvre was flown to the end, the pole missed the plate
-  kOffsetPractice,     // the catch manoeuvre was flown with a deliberate horizontal offset, so the
-                       // pole was not meant to be caught (the paper's throws 2-7)
-  kAbortedOutOfReach,  // the catch was abandoned: the catch point was too far away (throws 2, 7)
-  kAborted,            // the catch was abandoned for another reason (say which in the note)
-  kThrowOnly,          // no catch was attempted (the paper's throw 1)
+  caught,                // caught and balanced again (the paper's throws 8 and 9)
+  dropped,               // caught, then lost while balancing
+  missed,                // the catch manoeuvre was flown to the end, the pole missed the plate
+  offset_practice,       // the catch manoeuvre was flown with a deliberate horizontal offset, so the
+                         // pole was not meant to be caught (the paper's throws 2-7)
+  aborted_out_of_reach,  // the catch was abandoned: the catch point was too far away (throws 2, 7)
+  aborted,               // the catch was abandoned for another reason (say which in the note)
+  throw_only,            // no catch was attempted (the paper's throw 1)
 };
 
-inline constexpr ThrowOutcome kAllThrowOutcomes[] = {
-    ThrowOutcome::kCaught,         ThrowOutcome::kDropped,           ThrowOutcome::kMissed,
-    ThrowOutcome::kOffsetPractice, ThrowOutcome::kAbortedOutOfReach, ThrowOutcome::kAborted,
-    ThrowOutcome::kThrowOnly};
+inline constexpr ThrowOutcome kAllThrowOutcomes[] = {ThrowOutcome::caught,
+                                                     ThrowOutcome::dropped,
+                                                     ThrowOutcome::missed,
+                                                     ThrowOutcome::offset_practice,
+                                                     ThrowOutcome::aborted_out_of_reach,
+                                                     ThrowOutcome::aborted,
+                                                     ThrowOutcome::throw_only};
 
 // "caught", "dropped", "missed", "offset_practice", "aborted_out_of_reach", "aborted",
 // "throw_only".
@@ -61,7 +65,7 @@ struct OptimalCatch {
 
 struct ThrowRecord {
   double time_s = 0.0;  // ground-station time of the launch
-  ThrowOutcome outcome = ThrowOutcome::kThrowOnly;
+  ThrowOutcome outcome = ThrowOutcome::throw_only;
 
   // The throwing vehicle and the pole at the launch (the end state of the throw, Fig. 5), plus the
   // lateral position and velocity out of the throw plane, which the planar state cannot hold.

@@ -54,15 +54,15 @@ void for_each_sample(const CatchTrajectory& traj, F&& f) {
 std::string describe(planning::Feasibility kind, const planning::LimitViolation& v) {
   char buf[200];
   switch (kind) {
-    case planning::Feasibility::kThrustTooHigh:
+    case planning::Feasibility::thrust_too_high:
       std::snprintf(buf, sizeof buf, "thrust_too_high: a_q = %.3f m/s^2 > %.3f at t = %.3f s", v.value,
                     v.limit, v.t_s);
       break;
-    case planning::Feasibility::kThrustTooLow:
+    case planning::Feasibility::thrust_too_low:
       std::snprintf(buf, sizeof buf, "thrust_too_low: a_q = %.3f m/s^2 < %.3f at t = %.3f s", v.value,
                     v.limit, v.t_s);
       break;
-    case planning::Feasibility::kRatesTooHigh:
+    case planning::Feasibility::rates_too_high:
       std::snprintf(buf, sizeof buf, "rates_too_high: |Omega_%c| = %.3f rad/s > %.3f at t = %.3f s",
                     "xyz"[v.axis < 0 ? 1 : v.axis], v.value, v.limit, v.t_s);
       break;
@@ -75,9 +75,9 @@ std::string describe(planning::Feasibility kind, const planning::LimitViolation&
 std::string describe_violations(const planning::FeasibilityVerdict& verdict) {
   std::string text = describe(verdict.reason, verdict.primary());
   const std::pair<planning::Feasibility, const planning::LimitViolation*> all[] = {
-      {planning::Feasibility::kThrustTooHigh, &verdict.thrust_high},
-      {planning::Feasibility::kThrustTooLow, &verdict.thrust_low},
-      {planning::Feasibility::kRatesTooHigh, &verdict.rates}};
+      {planning::Feasibility::thrust_too_high, &verdict.thrust_high},
+      {planning::Feasibility::thrust_too_low, &verdict.thrust_low},
+      {planning::Feasibility::rates_too_high, &verdict.rates}};
   for (const auto& [kind, v] : all) {
     if (kind != verdict.reason && v->violated) text += "; also " + describe(kind, *v);
   }
@@ -144,7 +144,7 @@ int run(int argc, char** argv) {
   params.start_xy_m = Eigen::Vector2d(start.first, start.second);
   params.target_xy_m = Eigen::Vector2d(target.first, target.second);
   params.catch_height_m = catch_height;
-  if (const auto error = planning::validate(params); error != planning::CatchParamError::kNone) {
+  if (const auto error = planning::validate(params); error != planning::CatchParamError::none) {
     return usage_error(std::string(planning::to_string(error)));
   }
 

@@ -28,49 +28,49 @@ bool allFinite(const CatchTrajectoryParams& p) {
 
 std::string_view to_string(CatchParamError error) {
   switch (error) {
-    case CatchParamError::kNone: return "ok";
-    case CatchParamError::kNonFinite: return "a parameter is not finite";
-    case CatchParamError::kNonPositiveDuration: return "T_xy must be positive";
-    case CatchParamError::kNegativeAccel: return "a_max must be non-negative";
-    case CatchParamError::kNonPositiveJerk: return "k_max must be positive";
-    case CatchParamError::kNonPositiveGravity: return "gravity must be positive";
-    case CatchParamError::kHoldTooShort: return "T_xy must be at least a_max / k_max (Fig. 6)";
-    case CatchParamError::kBadLead:
+    case CatchParamError::none: return "ok";
+    case CatchParamError::non_finite: return "a parameter is not finite";
+    case CatchParamError::non_positive_duration: return "T_xy must be positive";
+    case CatchParamError::negative_accel: return "a_max must be non-negative";
+    case CatchParamError::non_positive_jerk: return "k_max must be positive";
+    case CatchParamError::non_positive_gravity: return "gravity must be positive";
+    case CatchParamError::hold_too_short: return "T_xy must be at least a_max / k_max (Fig. 6)";
+    case CatchParamError::bad_lead:
       return "the xy lead must be between 0 and t3, and a lead needs a_max below g";
   }
   return "unknown";
 }
 
 CatchParamError validate(const CatchTrajectoryParams& p) {
-  if (!allFinite(p)) return CatchParamError::kNonFinite;
-  if (!(p.t_xy_s > 0.0)) return CatchParamError::kNonPositiveDuration;
-  if (!(p.a_max_mps2 >= 0.0)) return CatchParamError::kNegativeAccel;
-  if (!(p.k_max_mps3 > 0.0)) return CatchParamError::kNonPositiveJerk;
-  if (!(p.gravity_mps2 > 0.0)) return CatchParamError::kNonPositiveGravity;
+  if (!allFinite(p)) return CatchParamError::non_finite;
+  if (!(p.t_xy_s > 0.0)) return CatchParamError::non_positive_duration;
+  if (!(p.a_max_mps2 >= 0.0)) return CatchParamError::negative_accel;
+  if (!(p.k_max_mps3 > 0.0)) return CatchParamError::non_positive_jerk;
+  if (!(p.gravity_mps2 > 0.0)) return CatchParamError::non_positive_gravity;
   // The hold h = T_xy - a_max/k_max must be >= 0; a relative tolerance keeps T_xy = a/k valid.
-  if (p.t_xy_s < p.a_max_mps2 / p.k_max_mps3 * (1.0 - 1e-12)) return CatchParamError::kHoldTooShort;
+  if (p.t_xy_s < p.a_max_mps2 / p.k_max_mps3 * (1.0 - 1e-12)) return CatchParamError::hold_too_short;
   // t3 = 2 a_max / k_max + T_xy ((48) less the last T_xy). With a lead the xy correction runs
   // in the dive too, where the check's bounds need the vertical specific force g - a_max > 0.
   const double t3 = 2.0 * p.a_max_mps2 / p.k_max_mps3 + p.t_xy_s;
   if (!(p.xy_lead_s >= 0.0) || p.xy_lead_s > t3 || (p.xy_lead_s > 0.0 && !(p.a_max_mps2 < p.gravity_mps2)))
-    return CatchParamError::kBadLead;
-  return CatchParamError::kNone;
+    return CatchParamError::bad_lead;
+  return CatchParamError::none;
 }
 
 std::string_view to_string(Feasibility verdict) {
   switch (verdict) {
-    case Feasibility::kFeasible: return "feasible";
-    case Feasibility::kThrustTooHigh: return "thrust_too_high";
-    case Feasibility::kThrustTooLow: return "thrust_too_low";
-    case Feasibility::kRatesTooHigh: return "rates_too_high";
+    case Feasibility::feasible: return "feasible";
+    case Feasibility::thrust_too_high: return "thrust_too_high";
+    case Feasibility::thrust_too_low: return "thrust_too_low";
+    case Feasibility::rates_too_high: return "rates_too_high";
   }
   return "unknown";
 }
 
 const LimitViolation& FeasibilityVerdict::primary() const {
   switch (reason) {
-    case Feasibility::kThrustTooLow: return thrust_low;
-    case Feasibility::kRatesTooHigh: return rates;
+    case Feasibility::thrust_too_low: return thrust_low;
+    case Feasibility::rates_too_high: return rates;
     default: return thrust_high;
   }
 }
@@ -207,7 +207,7 @@ NominalInputs nominal_inputs(const Eigen::Vector3d& acceleration_mps2, const Eig
 // The catch trajectory.
 
 std::optional<CatchTrajectory> CatchTrajectory::create(const CatchTrajectoryParams& params) {
-  if (validate(params) != CatchParamError::kNone) return std::nullopt;
+  if (validate(params) != CatchParamError::none) return std::nullopt;
   return CatchTrajectory(params);
 }
 
@@ -430,11 +430,11 @@ FeasibilityVerdict CatchTrajectory::check_feasibility(const InputLimits& limits)
   }
   if (rate_hi > rate_max) verdict.rates = {true, rate_hi_t, rate_hi, rate_max, rate_axis};
   if (verdict.thrust_high.violated) {
-    verdict.reason = Feasibility::kThrustTooHigh;
+    verdict.reason = Feasibility::thrust_too_high;
   } else if (verdict.thrust_low.violated) {
-    verdict.reason = Feasibility::kThrustTooLow;
+    verdict.reason = Feasibility::thrust_too_low;
   } else {
-    verdict.reason = Feasibility::kRatesTooHigh;
+    verdict.reason = Feasibility::rates_too_high;
   }
   return verdict;
 }

@@ -57,14 +57,14 @@ struct CatchTrajectoryParams {
 };
 
 enum class CatchParamError {
-  kNone,
-  kNonFinite,
-  kNonPositiveDuration,  // T_xy <= 0
-  kNegativeAccel,        // a_max < 0
-  kNonPositiveJerk,      // k_max <= 0
-  kNonPositiveGravity,
-  kHoldTooShort,  // T_xy < a_max / k_max: no hold phase, (48)/(49) cannot both hold
-  kBadLead,       // xy_lead_s < 0, beyond t3, or with a_max >= g (no lift in the dive)
+  none,
+  non_finite,
+  non_positive_duration,  // T_xy <= 0
+  negative_accel,         // a_max < 0
+  non_positive_jerk,      // k_max <= 0
+  non_positive_gravity,
+  hold_too_short,  // T_xy < a_max / k_max: no hold phase, (48)/(49) cannot both hold
+  bad_lead,        // xy_lead_s < 0, beyond t3, or with a_max >= g (no lift in the dive)
 };
 std::string_view to_string(CatchParamError error);
 CatchParamError validate(const CatchTrajectoryParams& params);
@@ -143,7 +143,7 @@ struct NominalInputs {
 NominalInputs nominal_inputs(const Eigen::Vector3d& acceleration_mps2, const Eigen::Vector3d& jerk_mps3,
                              double yaw_rad, double gravity_mps2 = pa::kGravity_mps2);
 
-enum class Feasibility { kFeasible, kThrustTooHigh, kThrustTooLow, kRatesTooHigh };
+enum class Feasibility { feasible, thrust_too_high, thrust_too_low, rates_too_high };
 std::string_view to_string(Feasibility verdict);
 
 struct LimitViolation {
@@ -172,16 +172,16 @@ struct LimitViolation {
 // - The verdict's reason is by precedence thrust too high, thrust too low, rates too high; every
 //   violated limit is reported in its own field.
 struct FeasibilityVerdict {
-  Feasibility reason = Feasibility::kFeasible;
+  Feasibility reason = Feasibility::feasible;
   bool certified = true;
   LimitViolation thrust_high, thrust_low, rates;
-  bool feasible() const { return reason == Feasibility::kFeasible; }
+  bool feasible() const { return reason == Feasibility::feasible; }
   const LimitViolation& primary() const;  // the violation named by reason (feasible: thrust_high)
 };
 
 class CatchTrajectory {
  public:
-  // std::nullopt when validate(params) != kNone.
+  // std::nullopt when validate(params) != CatchParamError::none.
   static std::optional<CatchTrajectory> create(const CatchTrajectoryParams& params);
 
   CatchReference reference(double t_s) const;

@@ -5,18 +5,18 @@ namespace gs::runtime {
 adaptation::ThrowOutcome outcome_of(const AttemptRequest& request, const AttemptReport& report) {
   using adaptation::ThrowOutcome;
   using mission::Reason;
-  if (!request.catch_it) return ThrowOutcome::kThrowOnly;
-  if (report.caught) return ThrowOutcome::kCaught;
+  if (!request.catch_it) return ThrowOutcome::throw_only;
+  if (report.caught) return ThrowOutcome::caught;
   switch (report.catcher_end) {
-    case Reason::out_of_reach: return ThrowOutcome::kAbortedOutOfReach;
+    case Reason::out_of_reach: return ThrowOutcome::aborted_out_of_reach;
     case Reason::infeasible:
     case Reason::abort_requested:
     case Reason::vehicle_lost:
-    case Reason::estimate_lost: return ThrowOutcome::kAborted;
+    case Reason::estimate_lost: return ThrowOutcome::aborted;
     default: break;
   }
-  if (request.catch_offset_m.norm() > 0.0) return ThrowOutcome::kOffsetPractice;
-  return report.impact_s ? ThrowOutcome::kDropped : ThrowOutcome::kMissed;
+  if (request.catch_offset_m.norm() > 0.0) return ThrowOutcome::offset_practice;
+  return report.impact_s ? ThrowOutcome::dropped : ThrowOutcome::missed;
 }
 
 adaptation::ThrowRecord record_of(const AttemptRequest& request, const AttemptReport& report,

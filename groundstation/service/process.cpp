@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <string_view>
 
+#include "groundstation/dds/event_detail.hpp"
 #include "groundstation/dds/mocap_conversion.hpp"
 #include "groundstation/dds/telemetry_conversion.hpp"
 
@@ -152,11 +153,13 @@ void Process::act_on(const pa_arena_OperatorCommand& command, double now_s) {
         return;
       }
       thrower_ = request.thrower;
-      const std::string attempt = "attempt " + std::to_string(station_.current_attempt().number);
+      const int number = station_.current_attempt().number;
       answer(command, true,
-             "throw: " + attempt + " with vehicle " + std::to_string(request.thrower.node()) + " throwing",
+             "throw: attempt " + std::to_string(number) + " with vehicle " +
+                 std::to_string(request.thrower.node()) + " throwing",
              now_s);
-      publish(pa_arena_event_attempt, request.thrower, attempt, now_s);
+      publish(pa_arena_event_attempt, request.thrower,
+              dds::attempt_event_detail(number, station_.throw_frame(request.thrower).origin_m), now_s);
       return;
     }
     default: answer(command, false, name + " refused: unknown kind", now_s); return;
@@ -220,9 +223,7 @@ void Process::publish_telemetry(double now_s) {
 
 void Process::publish_changes(double now_s) {
   for (const runtime::MissionEvent& e : station_.take_events()) {
-    const std::string detail = str(mission::task_name(e.from)) + " -> " + str(mission::task_name(e.to)) +
-                               " (" + str(mission::reason_name(e.reason)) + ")";
-    publish(pa_arena_event_task_change, e.vehicle, detail, now_s);
+    publish(pa_arena_event_task_change, e.vehicle, dds::task_change_detail(e.from, e.to, e.reason), now_s);
     if (is_abort(e.reason))
       publish(pa_arena_event_abort, e.vehicle, str(mission::reason_name(e.reason)), now_s);
     if (e.to == mission::Task::failsafe && e.from != mission::Task::failsafe)

@@ -72,7 +72,7 @@ int cmd_campaign(int argc, char** argv) {
     results = trials::run_campaign(config, [&](const std::vector<const trials::CampaignAttempt*>& done) {
       const int caught =
           static_cast<int>(std::count_if(done.begin(), done.end(), [](const trials::CampaignAttempt* a) {
-            return a->result.outcome == "caught";
+            return a->result.outcome == gs::adaptation::ThrowOutcome::caught;
           }));
       const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       std::fprintf(stderr, "\rhil campaign: %zu/%d attempts, %d caught (%.1f%%), %.0f s", done.size(),
@@ -92,10 +92,11 @@ int cmd_campaign(int argc, char** argv) {
   int caught = 0, crashed = 0;
   for (const trials::CampaignAttempt& a : results) {
     const trials::AttemptResult& r = a.result;
-    if (r.outcome == "caught") {
+    if (r.outcome == gs::adaptation::ThrowOutcome::caught) {
       ++caught;
     } else {
-      ++failures[r.abort_reason.empty() ? r.outcome : r.outcome + " (" + r.abort_reason + ")"];
+      const std::string outcome(gs::adaptation::to_string(r.outcome));
+      ++failures[r.abort_reason.empty() ? outcome : outcome + " (" + r.abort_reason + ")"];
     }
     if (r.vehicle_crashed) ++crashed;
   }

@@ -24,6 +24,8 @@
 namespace hil::apps {
 namespace {
 
+using gs::adaptation::ThrowOutcome;
+
 constexpr const char* kUsage =
     "usage: hil fly (--series paper | --throws N | --passes N | --targets N) [--seed S] [--plant FILE] [--randomise] [--out DIR [--no-report]] [--store FILE] [--verbose]";
 
@@ -189,11 +191,12 @@ int cmd_fly(int argc, char** argv) {
   std::vector<trials::AttemptResult> results;
   try {
     std::printf(
-        "throw  outcome     flight_s  height_m  catch_x_m  catch_y_m  travel_m  energy_err_J  abort\n");
+        "throw  outcome          flight_s  height_m  catch_x_m  catch_y_m  travel_m  energy_err_J  abort\n");
     auto print = [&](const trials::AttemptResult& r) {
-      std::printf("%5d  %-10s  %8.3f  %8.3f  %9.3f  %9.3f  %8.3f  %12.5f  %s%s\n", r.throw_number,
-                  r.outcome.c_str(), r.flight_s, r.catch_height_m, r.catch_x_m, r.catch_y_m, r.travel_m,
-                  r.energy_error_J, r.abort_reason.c_str(), r.vehicle_crashed ? " (vehicle crashed)" : "");
+      std::printf("%5d  %-15s  %8.3f  %8.3f  %9.3f  %9.3f  %8.3f  %12.5f  %s%s\n", r.throw_number,
+                  std::string(gs::adaptation::to_string(r.outcome)).c_str(), r.flight_s, r.catch_height_m,
+                  r.catch_x_m, r.catch_y_m, r.travel_m, r.energy_error_J, r.abort_reason.c_str(),
+                  r.vehicle_crashed ? " (vehicle crashed)" : "");
       if (r.predicted_target_miss_m >= 0.0)
         std::printf("       target: predicted %.1f mm, impact %.1f mm from it\n",
                     1e3 * r.predicted_target_miss_m, 1e3 * r.target_miss_m);
@@ -253,10 +256,10 @@ int cmd_fly(int argc, char** argv) {
   int caught = 0, catches = 0, impacts = 0;
   double energy_sum = 0.0, flight_sum = 0.0;
   for (const trials::AttemptResult& r : results) {
-    ++counts[r.outcome];
-    if (r.outcome == "caught") ++caught;
-    if (r.outcome != "throw_only" && r.outcome != "practice") ++catches;
-    if (r.impact && (r.outcome == "caught" || r.outcome == "dropped")) {
+    ++counts[std::string(gs::adaptation::to_string(r.outcome))];
+    if (r.outcome == ThrowOutcome::caught) ++caught;
+    if (r.outcome != ThrowOutcome::throw_only && r.outcome != ThrowOutcome::offset_practice) ++catches;
+    if (r.impact && (r.outcome == ThrowOutcome::caught || r.outcome == ThrowOutcome::dropped)) {
       energy_sum += std::abs(r.energy_error_J);
       flight_sum += r.flight_s;
       ++impacts;
@@ -279,7 +282,7 @@ int cmd_fly(int argc, char** argv) {
     // After the throw that adapts only.
     const auto first_miss =
         std::find_if(results.begin() + 1, results.end(),
-                     [](const trials::AttemptResult& r) { return r.outcome != "caught"; });
+                     [](const trials::AttemptResult& r) { return r.outcome != ThrowOutcome::caught; });
     std::printf("         passes: %d consecutive passes caught without a drop (of %llu, after the throw that "
                 "adapts; vehicle 1 throws the odd passes, vehicle 2 the even ones)\n",
                 static_cast<int>(first_miss - results.begin() - 1), static_cast<unsigned long long>(passes));

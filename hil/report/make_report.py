@@ -27,10 +27,10 @@ NO_MATPLOTLIB = 3
 # The columns of throws.csv before a campaign's drawn parameters (and `hil fly`'s extra column).
 RESULT_COLUMNS = {"throw", "outcome", "flight_s", "catch_height_m", "catch_x_m", "catch_y_m", "travel_m",
                   "energy_error_J", "abort_reason", "seed", "planned_height_m"}
-NOT_A_CATCH = {"throw_only", "practice"}  # attempts that did not try to catch
+NOT_A_CATCH = {"throw_only", "offset_practice"}  # attempts that did not try to catch
 ANIMATION_PERIOD_S = 0.02  # 50 Hz
 OUTCOME_COLOURS = {"caught": "tab:green", "dropped": "tab:orange", "missed": "tab:red", "aborted": "tab:purple",
-                   "practice": "tab:blue", "throw_only": "tab:gray"}
+                   "offset_practice": "tab:blue", "throw_only": "tab:gray"}
 
 
 def wilson95(k, n):
@@ -169,7 +169,7 @@ def figure_throw(plt, figs, attempts, throws):
 
 def pick_catch_attempt(attempts, throws):
     outcome = {int(r["throw"]): r["outcome"] for r in throws if r.get("throw", "").isdigit()}
-    order = sorted(attempts, key=lambda n: (outcome.get(n) != "caught", outcome.get(n) == "practice", n))
+    order = sorted(attempts, key=lambda n: (outcome.get(n) != "caught", outcome.get(n) == "offset_practice", n))
     for n in order:
         sel, t0 = window(attempts[n], "task2", {"catching"}, 0.3, 1.0)
         if sel:

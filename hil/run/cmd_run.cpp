@@ -19,12 +19,12 @@
 #include <vector>
 
 #include "groundstation/dds/dds.hpp"
+#include "groundstation/dds/event_detail.hpp"
 #include "groundstation/dds/mocap_conversion.hpp"
 #include "hil/plant/plant_config.hpp"
 #include "hil/plant/recorder.hpp"
 #include "hil/run/cmd_run.hpp"
 #include "hil/run/plant_exchange.hpp"
-#include "hil/sil/arena.hpp"
 #include "hil/sil/ground_station_frame.hpp"
 #include "hil/trials/trial_config.hpp"
 #include "pa/command_line.hpp"
@@ -185,17 +185,28 @@ class Runner {
     }
   }
 
-  // An attempt that begins (the operator's throw accepted) asks the person standing by to hand
-  // the pole up to its thrower.
+  // The person standing by with the pole reads the ground station's events: an attempt that
+  // begins (the operator's throw accepted) asks them to hand the pole up to its thrower at the
+  // throw's origin the event names, and the tasks say when the thrower waits for it (hovering).
   void take_events() {
     while (const pa_arena_Event* e = events_.take()) {
-      const pa::VehicleId thrower(e->vehicle);
-      if (gs::dds::raw_enum(e->kind) != pa_arena_event_attempt || !pa::is_act_vehicle(thrower)) continue;
-      exchange_.hand_pole_to(thrower);
+      const pa::VehicleId vehicle(e->vehicle);
+      if (!pa::is_act_vehicle(vehicle)) continue;
+      const auto kind = gs::dds::raw_enum(e->kind);
+      if (kind == pa_arena_event_task_change) {
+        if (const std::optional<gs::mission::Task> task = gs::dds::task_change_to(e->detail))
+          exchange_.show_waiting_for_pole(
+              vehicle, *task == gs::mission::Task::hover || *task == gs::mission::Task::balance);
+        continue;
+      }
+      const std::optional<Vec3> origin =
+          kind == pa_arena_event_attempt ? gs::dds::attempt_event_origin(e->detail) : std::nullopt;
+      if (!origin) continue;
+      exchange_.hand_pole_to(vehicle, *origin);
       std::printf(
           "hil run: %.3f s: a throw by vehicle %u accepted: the pole goes on its plate once it hovers "
-          "still at the throw's height\n",
-          exchange_.t_s(), static_cast<unsigned>(thrower.node()));
+          "still at (%.2f, %.2f, %.2f) m\n",
+          exchange_.t_s(), static_cast<unsigned>(vehicle.node()), origin->x(), origin->y(), origin->z());
       std::fflush(stdout);
     }
   }

@@ -4,8 +4,8 @@
 #include <string>
 #include <utility>
 
-#include "hil/sil/arena.hpp"
-#include "hil/sil/hil_frames.hpp"
+#include "hil/run/hil_frames.hpp"
+#include "hil/run/radio_routing.hpp"
 #include "pa/constants.hpp"
 
 namespace hil::run {
@@ -14,8 +14,8 @@ using pa::proto::Frame;
 
 namespace {
 
-// As in the arena: a time built from sums of latencies lands a rounding error off the
-// millisecond grid; this keeps a frame due on the grid on its step.
+// Times built from whole nanoseconds and sums of latencies land a rounding error off the
+// millisecond grid; well below any period, this keeps a frame due on the grid on its step.
 constexpr double kGridTolerance_s = 1e-9;
 
 }  // namespace
@@ -30,7 +30,7 @@ PlantExchange::PlantExchange(const PlantConfig& plant, const RadioConfig& radio,
     throw std::invalid_argument("the arena flies 1 or 2 vehicles, not " + std::to_string(vehicles));
   links_.reserve(vehicles);
   for (std::size_t i = 0; i < vehicles; ++i)
-    links_.emplace_back(sil::arena_radio_config(radio, seed, pa::kActVehicles[i]));
+    links_.emplace_back(arena_radio_config(radio, seed, pa::kActVehicles[i]));
 }
 
 PlantExchange::Link* PlantExchange::link(pa::VehicleId vehicle) {
@@ -62,10 +62,10 @@ void PlantExchange::on_ground_frame(const Frame& frame) {
       return;
     }
   }
-  const std::array<bool, 2> carrying = sil::radios_carrying(frame);
+  const std::array<bool, 2> carrying = radios_carrying(frame);
   bool carried = false;
   for (std::size_t v = 0; v < links_.size(); ++v) {
-    if (!carrying[v] || !sil::radio_carries(frame)) continue;
+    if (!carrying[v] || !radio_carries(frame)) continue;
     links_[v].bridge.offer(Side::ground, frame, t_s());
     ++links_[v].counters.uplink_offered;
     carried = true;
@@ -76,15 +76,15 @@ void PlantExchange::on_ground_frame(const Frame& frame) {
 void PlantExchange::on_vehicle_frame(pa::VehicleId vehicle, const Frame& frame) {
   Link* l = link(vehicle);
   if (l == nullptr) return;
-  if (sil::radio_carries(frame)) {
+  if (radio_carries(frame)) {
     l->bridge.offer(Side::vehicle, frame, t_s());
     ++l->counters.downlink_offered;
     return;
   }
   // The answer only counts for the sample awaited; one for an earlier sample is late.
   const std::uint16_t tick = l->awaited_tick.value_or(0);
-  switch (sil::read_hil_motors(frame, vehicle.node(), tick, motors_[pa::act_slot(vehicle)])) {
-    case sil::MotorsAnswer::answer:
+  switch (read_hil_motors(frame, vehicle.node(), tick, motors_[pa::act_slot(vehicle)])) {
+    case MotorsAnswer::answer:
       l->released = false;  // back (restarted): waited for again
       if (l->awaited_tick) {
         ++l->counters.answered;
@@ -93,8 +93,8 @@ void PlantExchange::on_vehicle_frame(pa::VehicleId vehicle, const Frame& frame) 
         ++l->counters.late_answers;  // a repeat (after a resend): the commands are the same
       }
       break;
-    case sil::MotorsAnswer::other_tick: ++l->counters.late_answers; break;
-    case sil::MotorsAnswer::not_motors: ++l->counters.not_carried; break;
+    case MotorsAnswer::other_tick: ++l->counters.late_answers; break;
+    case MotorsAnswer::not_motors: ++l->counters.not_carried; break;
   }
 }
 
@@ -113,19 +113,21 @@ void PlantExchange::resend_unanswered() {
   if (awaiting_ground()) send_ground_clock();
 }
 
-void PlantExchange::hand_pole_to(pa::VehicleId thrower) {
+void PlantExchange::hand_pole_to(pa::VehicleId thrower, const Vec3& origin_m) {
   if (!pa::is_act_vehicle(thrower)) return;
-  pole_for_ = thrower;
-  still_s_ = 0.0;
+  pole_for_ = PoleWanted{thrower, origin_m};
+}
+
+void PlantExchange::show_waiting_for_pole(pa::VehicleId vehicle, bool waiting) {
+  if (pa::is_act_vehicle(vehicle)) waiting_for_pole_[pa::act_slot(vehicle)] = waiting;
 }
 
 void PlantExchange::hand_pole_when_ready() {
-  if (!pole_for_) return;
-  const VehicleState& v = plant_.vehicle(*pole_for_);
-  const bool still = v.body.position_m.z() > kThrowHeight_m && v.body.velocity_mps.norm() < kStillSpeed_mps;
-  still_s_ = still ? still_s_ + period_s_ : 0.0;
-  if (still_s_ < kStill_s - 1e-9) return;
-  plant_.place_pole_on(*pole_for_);
+  if (!pole_for_ || !waiting_for_pole_[pa::act_slot(pole_for_->thrower)]) return;
+  const pa::VehicleId thrower = pole_for_->thrower;
+  const bool at_origin = (plant_.plate_centre_m(thrower) - pole_for_->origin_m).norm() < kAtOrigin_m;
+  if (!at_origin || plant_.vehicle(thrower).body.velocity_mps.norm() >= kStillSpeed_mps) return;
+  plant_.place_pole_on(thrower);
   ++poles_handed_;
   pole_for_.reset();
 }
@@ -172,6 +174,7 @@ void PlantExchange::step() {
   const double start = t_s() + kGridTolerance_s;
   for (Link& l : links_) {
     while (l.bridge.deliver(Side::vehicle, start, f)) {
+      if (uplink_silent_) continue;
       l.outbox.push_back(f);
       ++l.counters.uplink_delivered;
     }
@@ -185,8 +188,8 @@ void PlantExchange::step() {
   for (std::size_t v = 0; v < links_.size(); ++v)
     if (links_[v].released) motors_[v] = MotorCommands{};
 
-  plant_.step(period_s_, motors_[0], motors_[1]);
   hand_pole_when_ready();
+  plant_.step(period_s_, motors_[0], motors_[1]);
   const double t_end = t_s();
   const bool losses = plant_.losses_active();
   for (Link& l : links_) l.bridge.set_losses_active(losses);
@@ -196,10 +199,10 @@ void PlantExchange::step() {
     ImuSample sample;
     while (plant_.pop_imu(v, sample)) {
       if (l == nullptr) continue;  // no firmware: the queue must not grow
-      if (const auto battery = sil::hil_battery_frame(plant_, v, sample)) l->outbox.push_back(*battery);
-      l->sample = sil::hil_imu_frames(sample, v.node());
+      if (const auto battery = hil_battery_frame(plant_, v, sample)) l->outbox.push_back(*battery);
+      l->sample = hil_imu_frames(sample, v.node());
       l->outbox.insert(l->outbox.end(), l->sample.begin(), l->sample.end());
-      l->awaited_tick = sil::hil_tick(sample);
+      l->awaited_tick = hil_tick(sample);
       ++l->counters.samples_sent;
     }
     VehicleTruthSummary& truth = truth_[pa::act_slot(v)];

@@ -1,8 +1,9 @@
-// The stepping logic of `hil run` (docs/hil.md): the truth plant exchanging frames with firmware
-// that runs elsewhere (fw_vehicle processes on their own vehicle buses), one radio per vehicle
-// between its bus and the ground bus, and the motion capture. It reads no clock and touches no
-// socket: the caller hands it the frames it read, asks it to step, and writes what it returns,
-// so a test drives it with in-memory buses and the firmware core in process.
+// The truth plant exchanging frames with firmware on its vehicle buses, one radio per vehicle
+// between its bus and the ground bus, and the motion capture: the stepping logic of `hil run`
+// (docs/hil.md), whose firmware runs elsewhere (fw_vehicle processes on SocketCAN), and of the
+// in-process arena (hil/sil/arena.hpp), which shuttles the frames to the firmware core in memory.
+// It reads no clock and touches no socket: the caller hands it the frames it read, asks it to
+// step, and writes what it returns.
 //
 // Time is the plant's: t_k = k ms after k steps. Per vehicle bus, each step sends the new IMU
 // sample as HIL_IMU_GYRO and HIL_IMU_ACCEL and waits for the firmware's HIL_MOTORS for that
@@ -11,7 +12,7 @@
 // without its answer (realtime) holds the previous commands, as an ESC holds its last input, and
 // counts as missed.
 //
-// Radios (hil::RadioBridge, seeded as the arena seeds them: arena_radio_config()):
+// Radios (hil::RadioBridge, each seeded from the exchange's seed: arena_radio_config()):
 //  - a frame read on the ground bus is offered to the radio of the vehicle it addresses (both for
 //    a broadcast) at t_s(); the step from t_k puts on the vehicle bus, before the sample of
 //    t_(k+1), every frame due by t_k;
@@ -27,10 +28,10 @@
 // A ground station that stopped answering (killed) is let go by the caller (release_ground()):
 // the plant steps on without it until it answers again (restarted).
 //
-// The person who hands the pole up (hand_pole_to()): asked when the operator's throw is
-// accepted, they put the pole upright on the thrower's plate once it hovers still at the throw's
-// height (the ground station flies it to its throw origin, 2 m up, and waits there for the pole),
-// as `hil fly`'s series does at the throw origin.
+// The person who hands the pole up (hand_pole_to()), one rule for `hil run` and `hil fly`: asked
+// when a throw is accepted, they put the pole upright on the thrower's plate once the ground
+// station shows the thrower waiting for it (show_waiting_for_pole()) and it hovers still at the
+// throw's origin, where the ground station flies it to wait.
 #pragma once
 
 #include <array>
@@ -40,6 +41,7 @@
 
 #include "hil/plant/mocap.hpp"
 #include "hil/plant/plant.hpp"
+#include "hil/plant/types.hpp"
 #include "hil/radio/radio_bridge.hpp"
 #include "pa/protocol.hpp"
 
@@ -85,12 +87,17 @@ class PlantExchange {
   PlantExchange(const PlantConfig& plant, const RadioConfig& radio, std::uint64_t seed, std::size_t vehicles);
 
   const Plant& plant() const { return plant_; }
+  // For a caller that moves bodies in the plant between steps (the series' sideways push).
+  Plant& plant() { return plant_; }
   double t_s() const { return plant_.t_s(); }
   double period_s() const { return period_s_; }
   std::size_t vehicles() const { return links_.size(); }  // vehicle i (0-based) is node i + 1
 
   // A frame read from the ground bus now (t_s()).
   void on_ground_frame(const pa::proto::Frame& frame);
+  // The radios go silent towards the vehicles from now on: frames in flight and frames sent later
+  // never reach them (counted as neither lost nor delivered). The downlink carries on.
+  void silence_uplink() { uplink_silent_ = true; }
   // A frame read from `vehicle`'s bus now: its answer to the awaited sample, or a frame for its
   // radio. Frames of a vehicle without firmware here are ignored.
   void on_vehicle_frame(pa::VehicleId vehicle, const pa::proto::Frame& frame);
@@ -107,13 +114,16 @@ class PlantExchange {
   bool ground_released() const { return ground_released_; }
   const GroundClockCounters& ground_clock_counters() const { return ground_counters_; }
 
-  // The pole goes on `thrower`'s plate once it has hovered still (below kStillSpeed_mps) above
-  // kThrowHeight_m for kStill_s.
-  void hand_pole_to(pa::VehicleId thrower);
+  // The pole goes on `thrower`'s plate at the start of the first step that begins with the ground
+  // station showing the thrower waiting for it, the plate's centre within kAtOrigin_m of
+  // `origin_m` and the vehicle slower than kStillSpeed_mps; a later call replaces the request.
+  void hand_pole_to(pa::VehicleId thrower, const Vec3& origin_m);
+  // What the ground station shows of `vehicle`: waiting for the pole (hovering, its attempt being
+  // prepared) or not; false until said. The caller keeps it up to date.
+  void show_waiting_for_pole(pa::VehicleId vehicle, bool waiting);
   std::uint64_t poles_handed() const { return poles_handed_; }
+  static constexpr double kAtOrigin_m = 0.1;
   static constexpr double kStillSpeed_mps = 0.2;
-  static constexpr double kThrowHeight_m = 1.5;
-  static constexpr double kStill_s = 0.5;
 
   // A firmware that stopped answering (its process killed) is let go: the plant steps on without
   // it, its vehicle's motors stopped (an ESC without input stops), until it answers again.
@@ -132,8 +142,8 @@ class PlantExchange {
   // awaited ground station, into take_ground_frames().
   void resend_unanswered();
 
-  // One IMU period, t_k -> t_(k+1): uplink frames due by t_k go on the vehicle buses, the plant
-  // steps with the held commands, its new samples go out, the downlink frames due by t_(k+1) go
+  // One IMU period, t_k -> t_(k+1): uplink frames due by t_k go on the vehicle buses, the pole
+  // goes up if the person is ready (hand_pole_to()), the plant steps with the held commands, its new samples go out, the downlink frames due by t_(k+1) go
   // on the ground bus and the motion-capture frames delivered by then are collected.
   void step();
 
@@ -179,9 +189,14 @@ class PlantExchange {
   bool ground_released_ = false;
   std::optional<std::uint32_t> ground_awaited_;  // the step whose HIL_CLOCK_DONE is awaited
   GroundClockCounters ground_counters_;
-  std::optional<pa::VehicleId> pole_for_;  // a thrower waiting for the pole
-  double still_s_ = 0.0;
+  struct PoleWanted {
+    pa::VehicleId thrower;
+    Vec3 origin_m;
+  };
+  std::optional<PoleWanted> pole_for_;
+  std::array<bool, 2> waiting_for_pole_{};  // indexed by pa::act_slot()
   std::uint64_t poles_handed_ = 0;
+  bool uplink_silent_ = false;
   void send_ground_clock();
   void hand_pole_when_ready();
 };

@@ -3,12 +3,17 @@
 #include <stdexcept>
 #include <string>
 
-#include "hil/sil/hil_frames.hpp"
+#include "hil/run/hil_frames.hpp"
 #include "pa/constants.hpp"
 
 namespace hil::sil {
 
 using pa::proto::Frame;
+using run::hil_imu_frames;
+using run::hil_tick;
+using run::hil_battery_frame;
+using run::MotorsAnswer;
+using run::read_hil_motors;
 
 fw::VehicleConfig firmware_config_for(const VehicleConfig& plant_vehicle, pa::VehicleId vehicle,
                                       double battery_reference_voltage_V) {
@@ -72,6 +77,13 @@ void FirmwareVehicle::on_imu(const ImuSample& sample) {
     --i;
   }
   if (!answered) ++missed_ticks_;
+}
+
+std::vector<Frame> FirmwareVehicle::on_bus(const std::vector<Frame>& frames) {
+  std::vector<Frame> sent;
+  const auto collect = [&sent](const Frame& f) { sent.push_back(f); };
+  for (const Frame& f : frames) node_impl_.on_frame(f, collect);
+  return sent;
 }
 
 std::vector<Frame> FirmwareVehicle::take_sent() {

@@ -15,8 +15,9 @@
 // firmware's computation thus costs one IMU period of transport delay, the most a 1 kHz loop
 // that answers within its tick can cost.
 //
-// Ground-to-vehicle frames go straight to the vehicle's bus here; a caller that wants the
-// radio's latency and loss puts a hil::RadioBridge in front of inject() and behind take_sent().
+// Ground-to-vehicle frames go straight to the vehicle's bus here (inject()). The arena
+// (arena.hpp) instead hands the firmware its whole vehicle bus as hil::run::PlantExchange writes
+// it (on_bus()): radio frames, the IMU sample and back the answer, on the same frames.
 #pragma once
 
 #include <array>
@@ -80,6 +81,11 @@ class FirmwareVehicle {
   // oldest first, since the last call.
   std::vector<pa::proto::Frame> take_sent();
 
+  // Frames on the vehicle bus, read by the firmware in order (a HIL_IMU pair runs its tick);
+  // returns every frame it sent meanwhile, HIL_MOTORS included, oldest first. Beside the
+  // inject() / on_imu() / take_sent() path, whose counters and motor commands it leaves alone.
+  std::vector<pa::proto::Frame> on_bus(const std::vector<pa::proto::Frame>& frames);
+
   // The firmware itself, read only (mode, failsafe reason, attitude estimate...).
   const fw::Vehicle& firmware() const { return node_impl_.vehicle(); }
 
@@ -97,8 +103,9 @@ class FirmwareVehicle {
   std::uint64_t missed_ticks_ = 0;
 };
 
-// The plant and up to one firmware per plant vehicle, stepped together one IMU period at a time.
-// A plant vehicle without firmware gets zero motor commands (it stays parked, or falls), and its
+// The plant and up to one firmware per plant vehicle, stepped together one IMU period at a time,
+// without radios (the arena, arena.hpp, steps through `hil run`'s plant exchange instead). A plant
+// vehicle without firmware gets zero motor commands (it stays parked, or falls), and its
 // IMU samples are discarded so that the plant's queue does not grow.
 class Lockstep {
  public:

@@ -6,7 +6,7 @@ const Schema<AttemptResult>& attempt_schema() {
   using R = AttemptResult;
   static const Schema<R> schema{
       field("throw", &R::throw_number),
-      field("outcome", &R::outcome),
+      named_field("outcome", &R::outcome, gs::adaptation::to_string, gs::adaptation::parse_throw_outcome),
       field("flight_s", &R::flight_s, "%.4f"),
       field("catch_height_m", &R::catch_height_m, "%.4f"),
       field("catch_x_m", &R::catch_x_m, "%.4f"),

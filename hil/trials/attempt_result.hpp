@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "groundstation/adaptation/throw_record.hpp"
 #include "hil/trials/record_schema.hpp"
 
 namespace hil::trials {
@@ -12,7 +13,8 @@ namespace hil::trials {
 // The columns of throws.csv are its fields' CSV names (docs/report.md).
 struct AttemptResult {
   int throw_number = 0;
-  std::string outcome;           // caught, dropped, missed, aborted, practice, throw_only
+  // caught, dropped, missed, aborted (abort_reason says why), offset_practice or throw_only
+  gs::adaptation::ThrowOutcome outcome = gs::adaptation::ThrowOutcome::aborted;
   double flight_s = -1.0;        // launch to impact (or to the catch height's crossing)
   double catch_height_m = -1.0;  // lower end at the impact, arena frame
   double catch_x_m = 0.0, catch_y_m = 0.0;

@@ -244,7 +244,7 @@ CutResult fly_cut(const sil::Arena& at_cut, const CutLimits& limits) {
         c.touchdown_tilt_rad = tilt;
         c.drift_m = (body.position_m - w.at_cut_m).head<2>().norm();
       }
-      const MotorCommands& motors = arena.vehicle(v).motor_commands();
+      const MotorCommands& motors = arena.exchange().motor_commands(v);
       c.motors_off =
           std::all_of(motors.command.begin(), motors.command.end(), [](double m) { return m == 0.0; });
       c.final_mode = pa::proto::mode_name(fw.mode());

@@ -5,7 +5,8 @@
 // offered to every CSV; nothing writes a record's fields by hand.
 //
 //   field("flight_s", &AttemptResult::flight_s, "%.4f")   // a member: int, uint64, double, bool,
-//                                                          // string, or an enum (as its number)
+//                                                          // string, or an enum (as its number;
+//   named_field("outcome", &AttemptResult::outcome, to_string, parse_throw_outcome)  // by name)
 //   encode(schema, r) / decode(schema, line, r)             // tab-separated, every field
 //   csv_header(columns) / csv_row(columns, r)               // comma-separated, the chosen columns
 //
@@ -89,6 +90,21 @@ Field<R> field(std::string name, M R::*member, const char* csv_format = nullptr,
   } else {
     static_assert(std::is_same_v<M, double>, "a field is an int, uint64, double, bool, string or enum");
   }
+  return f;
+}
+
+// A field of enum member `member` written as its name, in the report and the CSV alike:
+// `name_of(value)`, and back `parse(text)` (an optional: none for a name it does not know).
+template <class R, class E, class NameOf, class Parse>
+Field<R> named_field(std::string name, E R::*member, NameOf name_of, Parse parse) {
+  Field<R> f;
+  f.name = std::move(name);
+  f.exact = f.cell = [member, name_of](const R& r) { return std::string(name_of(r.*member)); };
+  f.read = [member, parse](R& r, const std::string& text) {
+    const auto value = parse(text);
+    if (!value) throw std::invalid_argument("not a name: " + text);
+    r.*member = *value;
+  };
   return f;
 }
 

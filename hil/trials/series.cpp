@@ -8,6 +8,7 @@
 namespace hil::trials {
 namespace {
 
+using gs::adaptation::ThrowOutcome;
 using gs::mission::Task;
 
 constexpr double kUpright_rad = 5.0 * M_PI / 180.0;  // the acceptance's "within 5 degrees"
@@ -101,6 +102,11 @@ void SeriesRunner::step() {
     frame_times_s_.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   }
   gs_.tick(now);
+  // What the person standing by with the pole sees of each vehicle on the ground station.
+  const bool preparing = gs_.attempt_phase() == gs::runtime::AttemptPhase::preparing;
+  for (const pa::VehicleId v : pa::kActVehicles)
+    arena_.show_waiting_for_pole(v,
+                                 preparing && (gs_.task(v) == Task::hover || gs_.task(v) == Task::balance));
   for (const pa::proto::Frame& f : bus_.take()) arena_.send_from_ground(f);
   if (config_.log) {
     for (const gs::runtime::MissionEvent& e : gs_.take_events()) {
@@ -185,15 +191,6 @@ bool SeriesRunner::run_until(const std::function<bool()>& done, double timeout_s
   return false;
 }
 
-bool SeriesRunner::at_throw_origin(pa::VehicleId thrower) const {
-  const Plant& p = arena_.plant();
-  const VehicleState& v = p.vehicle(thrower);
-  const Vec3 origin = gs_.throw_frame(thrower).origin_m;
-  const Task task = gs_.task(thrower);
-  return (task == Task::hover || task == Task::balance) &&
-         (p.plate_centre_m(thrower) - origin).norm() < 0.1 && v.body.velocity_mps.norm() < 0.2;
-}
-
 std::vector<AttemptResult> SeriesRunner::run(const std::vector<AttemptPlan>& plans,
                                              const std::function<void(const AttemptResult&)>& on_result) {
   std::vector<AttemptResult> results;
@@ -207,7 +204,7 @@ std::vector<AttemptResult> SeriesRunner::run(const std::vector<AttemptPlan>& pla
       r = fly(plans[i], static_cast<int>(i) + 1);
     } else {
       r.throw_number = static_cast<int>(i) + 1;
-      r.outcome = "aborted";
+      r.outcome = ThrowOutcome::aborted;
       r.abort_reason = "take_off_failed";
     }
     results.push_back(r);
@@ -262,7 +259,7 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
   const pa::VehicleId catcher = pa::other_vehicle(thrower);
   // A pass needs the pole balanced on the thrower, where the last attempt left it.
   if (!plan.place_pole && plant.pole_contact() != contact_of(plate_of(thrower))) {
-    r.outcome = "aborted";
+    r.outcome = ThrowOutcome::aborted;
     r.abort_reason = "pole_not_on_thrower";
     recording_ = nullptr;
     return r;
@@ -274,12 +271,14 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
   request.target_xy_m = plan.target_xy_m;
   const std::size_t reports_before = gs_.attempts().size();
   if (!gs_.request_attempt(request)) {
-    r.outcome = "aborted";
+    r.outcome = ThrowOutcome::aborted;
     r.abort_reason = std::string(gs::runtime::GroundStation::refusal_name(gs_.refusal_kind()));
     return r;
   }
 
-  bool placed = !plan.place_pole, pushed = false;
+  // The person stands by to put the pole on the thrower hovering at the throw's origin.
+  if (plan.place_pole) arena_.hand_pole_to(thrower, gs_.throw_frame(thrower).origin_m);
+  bool pushed = false;
   std::optional<double> throw_start_s, launch_s, impact_s, floor_s;
   double upright_since_s = -1.0;  // < 0: not upright on the catcher
   std::vector<Vec3> lower_end_m;  // the pole's lower end from the launch to where it stopped
@@ -292,11 +291,6 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
   while (arena_.t_s() < deadline) {
     step();
     const double t = arena_.t_s();
-    // The person: the pole onto the thrower hovering at the throw's origin.
-    if (!placed && at_throw_origin(thrower) && gs_.attempt_phase() == gs::runtime::AttemptPhase::preparing) {
-      arena_.plant().place_pole_on(thrower);
-      placed = true;
-    }
     if (!throw_start_s && gs_.task(thrower) == Task::throwing) throw_start_s = t;
     if (plan.push_sideways_m != 0.0 && !pushed && throw_start_s && t - *throw_start_s >= 2.2) {
       // The spoiled launch: thrower and pole moved sideways together, as by a gust.
@@ -383,29 +377,29 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
   }
   const gs::mission::Reason throw_end = report ? report->thrower_end : gs::mission::Reason::none;
   if (!plan.catch_it) {
-    r.outcome = "throw_only";
+    r.outcome = ThrowOutcome::throw_only;
   } else if (throw_end != gs::mission::Reason::throw_ended && !impact_s) {
     // The throw itself failed (the pole left the plate before T, or it was aborted): the
     // catcher had nothing to catch.
-    r.outcome = "aborted";
+    r.outcome = ThrowOutcome::aborted;
     r.abort_reason = throw_end == gs::mission::Reason::none
                          ? "no_throw"
                          : std::string(gs::mission::reason_name(throw_end));
   } else if (end == gs::mission::Reason::out_of_reach || end == gs::mission::Reason::infeasible ||
              end == gs::mission::Reason::abort_requested) {
-    r.outcome = "aborted";
+    r.outcome = ThrowOutcome::aborted;
     r.abort_reason = std::string(gs::mission::reason_name(end));
   } else if (plan.catch_offset_m.norm() > 0.0) {
-    r.outcome = "practice";
+    r.outcome = ThrowOutcome::offset_practice;
   } else if (caught) {
-    r.outcome = "caught";
+    r.outcome = ThrowOutcome::caught;
   } else if (impact_s) {
-    r.outcome = "dropped";
+    r.outcome = ThrowOutcome::dropped;
   } else if (!launch_s) {
-    r.outcome = "aborted";
+    r.outcome = ThrowOutcome::aborted;
     r.abort_reason = report ? "no_launch" : "timeout";
   } else {
-    r.outcome = "missed";
+    r.outcome = ThrowOutcome::missed;
   }
   if (!r.impact) r.energy_error_J = 0.0;
   if (report) r.planned_height_m = report->catch_height_m;

@@ -3,7 +3,8 @@
 // station (groundstation/runtime) connected only by what an arena connects them with: the
 // ground bus and the motion-capture frames. Two hands from outside the system complete it:
 //  - the person who puts the pole on the thrower's plate while it hovers at the throw's origin
-//    (at the start and whenever the pole is elsewhere, as in the paper's series), and who
+//    (at the start and whenever the pole is elsewhere, as in the paper's series; the rule is
+//    `hil run`'s, hil::run::PlantExchange::hand_pole_to(), told what the runtime shows), and who
 //    spoils a throw on request by pushing the thrower sideways;
 //  - the referee, who judges each attempt on the plant's TRUTH: the launch (the pole's end
 //    leaves plate 1), the impact on the catcher's plate, the energy right after it, and whether
@@ -125,7 +126,6 @@ class SeriesRunner {
   TimeSample time_sample(double now) const;
   bool run_until(const std::function<bool()>& done, double timeout_s);
   AttemptResult fly(const AttemptPlan& plan, int number);
-  bool at_throw_origin(pa::VehicleId thrower) const;
 
   SeriesConfig config_;
   sil::Arena arena_;

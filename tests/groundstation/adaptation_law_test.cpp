@@ -88,7 +88,7 @@ TEST_CASE("the iterative mean equals the direct mean of the samples (VI-A)") {
   }
   // The first sample replaces the nominal value outright.
   const AdaptationState one =
-      adapt(initial_adaptation(settings), throw_with_optimal(1.2, {0.5, 0.2}, ThrowOutcome::kThrowOnly), 0);
+      adapt(initial_adaptation(settings), throw_with_optimal(1.2, {0.5, 0.2}, ThrowOutcome::throw_only), 0);
   CHECK(one.catch_height_m == 1.2);
   CHECK(one.waiting_xy_m == Eigen::Vector2d(0.5, 0.2));
 }
@@ -96,9 +96,9 @@ TEST_CASE("the iterative mean equals the direct mean of the samples (VI-A)") {
 TEST_CASE("a throw without an evaluated optimal instant leaves the catch point alone") {
   const AdaptationSettings settings = test_settings();
   AdaptationState state =
-      adapt(initial_adaptation(settings), throw_with_optimal(1.3, {0.6, 0.1}, ThrowOutcome::kCaught), 0);
+      adapt(initial_adaptation(settings), throw_with_optimal(1.3, {0.6, 0.1}, ThrowOutcome::caught), 0);
   ThrowRecord lost;  // e.g. the motion capture lost the pole
-  lost.outcome = ThrowOutcome::kMissed;
+  lost.outcome = ThrowOutcome::missed;
   const AdaptationState after = adapt(state, lost, 0);
   CHECK(after == state);
 }
@@ -113,16 +113,16 @@ TEST_CASE("with a window the gain stops at 1/N: the mean first, then exponential
   AdaptationState state = initial_adaptation(settings);
   // Five throws at 1.30 m: the plain mean of them.
   for (int k = 0; k < 5; ++k) {
-    state = adapt(state, throw_with_optimal(1.30 + 0.01 * k, {0.6, 0.0}, ThrowOutcome::kCaught), 5);
+    state = adapt(state, throw_with_optimal(1.30 + 0.01 * k, {0.6, 0.0}, ThrowOutcome::caught), 5);
   }
   CHECK(state.catch_height_m == Approx(1.32).epsilon(1e-12));
   // Then the throws move to 1.50 m: after n more the old offset has decayed by 0.8^n, whereas the
   // plain mean would still sit at the average of both groups.
   AdaptationState plain = recompute_adaptation(
       test_settings(0),
-      std::vector<ThrowRecord>(5, throw_with_optimal(1.32, {0.6, 0.0}, ThrowOutcome::kCaught)));
+      std::vector<ThrowRecord>(5, throw_with_optimal(1.32, {0.6, 0.0}, ThrowOutcome::caught)));
   for (int n = 1; n <= 20; ++n) {
-    const ThrowRecord shifted = throw_with_optimal(1.50, {0.6, 0.0}, ThrowOutcome::kCaught);
+    const ThrowRecord shifted = throw_with_optimal(1.50, {0.6, 0.0}, ThrowOutcome::caught);
     state = adapt(state, shifted, 5);
     plain = adapt(plain, shifted, 0);
     REQUIRE(1.50 - state.catch_height_m == Approx((1.50 - 1.32) * std::pow(0.8, n)).epsilon(1e-9));
@@ -156,12 +156,12 @@ TEST_CASE("the offset bias is the mean catcher error over catches that flew to t
     state = next;
   }
   CHECK(samples == 40);
-  CHECK(catcher_flew_to_target(ThrowOutcome::kOffsetPractice));
-  CHECK_FALSE(catcher_flew_to_target(ThrowOutcome::kAbortedOutOfReach));
-  CHECK_FALSE(catcher_flew_to_target(ThrowOutcome::kThrowOnly));
+  CHECK(catcher_flew_to_target(ThrowOutcome::offset_practice));
+  CHECK_FALSE(catcher_flew_to_target(ThrowOutcome::aborted_out_of_reach));
+  CHECK_FALSE(catcher_flew_to_target(ThrowOutcome::throw_only));
   // A catch without the catcher's position measures nothing either.
   ThrowRecord unmeasured;
-  unmeasured.outcome = ThrowOutcome::kCaught;
+  unmeasured.outcome = ThrowOutcome::caught;
   unmeasured.target_xy_m = Eigen::Vector2d(0.6, 0.0);
   CHECK(adapt(state, unmeasured, 0) == state);
 }
@@ -178,7 +178,7 @@ TEST_CASE("compensating the bias shifts the catch so the biased vehicle rests on
   Eigen::Vector2d sum = Eigen::Vector2d::Zero();
   for (int k = 0; k < 12; ++k) {
     ThrowRecord r;
-    r.outcome = ThrowOutcome::kCaught;
+    r.outcome = ThrowOutcome::caught;
     const Eigen::Vector2d predicted(0.64 + scatter(rng), scatter(rng));
     r.predicted = CatchPoint{predicted, 0.8};
     r.target_xy_m = compensate_offset_bias(predicted, state);
@@ -348,10 +348,10 @@ TEST_CASE("a series like the paper's: adapted catch point = mean of the evaluate
     const auto flight = observed_flight(pole, 0.0, model.t_s + 0.3, params);
 
     ThrowRecord r;
-    r.outcome = k == 1               ? ThrowOutcome::kThrowOnly
-                : (k == 2 || k == 7) ? ThrowOutcome::kAbortedOutOfReach
-                : k <= 7             ? ThrowOutcome::kOffsetPractice
-                                     : ThrowOutcome::kCaught;
+    r.outcome = k == 1               ? ThrowOutcome::throw_only
+                : (k == 2 || k == 7) ? ThrowOutcome::aborted_out_of_reach
+                : k <= 7             ? ThrowOutcome::offset_practice
+                                     : ThrowOutcome::caught;
     r.launch = launch;
     r.launch_y_m = y;
     r.launch_vy_mps = vy;
@@ -365,13 +365,13 @@ TEST_CASE("a series like the paper's: adapted catch point = mean of the evaluate
     REQUIRE(optimal);
     r.optimal = optimal->point;
     const Eigen::Vector2d offset =
-        r.outcome == ThrowOutcome::kOffsetPractice ? Eigen::Vector2d(1.0, 0.0) : Eigen::Vector2d::Zero();
+        r.outcome == ThrowOutcome::offset_practice ? Eigen::Vector2d(1.0, 0.0) : Eigen::Vector2d::Zero();
     if (catcher_flew_to_target(r.outcome)) {
       r.target_xy_m = compensate_offset_bias(actual->xy_m, state) + offset;
       r.catcher_at_impact_xy_m = *r.target_xy_m + catcher_bias;
     }
     double energy_error = NAN;
-    if (r.outcome == ThrowOutcome::kCaught) {
+    if (r.outcome == ThrowOutcome::caught) {
       // The pole state where it meets the plate at the height used.
       const PoleState at_impact = gs::model::propagate_pole(pole, actual->t_s, 0.001, params);
       r.energy_after_impact_J = post_impact_energy_J(at_impact, Eigen::Vector3d::Zero(), params);

@@ -18,22 +18,22 @@ using gs::runtime::record_of;
 TEST_CASE("An attempt's end is classed by what ended the catch, in order of precedence") {
   AttemptRequest request;
   AttemptReport report;
-  CHECK(outcome_of(request, report) == ThrowOutcome::kMissed);
+  CHECK(outcome_of(request, report) == ThrowOutcome::missed);
   report.impact_s = 12.0;
-  CHECK(outcome_of(request, report) == ThrowOutcome::kDropped);
+  CHECK(outcome_of(request, report) == ThrowOutcome::dropped);
   request.catch_offset_m = Eigen::Vector2d(1.0, 0.0);
-  CHECK(outcome_of(request, report) == ThrowOutcome::kOffsetPractice);
+  CHECK(outcome_of(request, report) == ThrowOutcome::offset_practice);
   for (Reason r :
        {Reason::infeasible, Reason::abort_requested, Reason::vehicle_lost, Reason::estimate_lost}) {
     report.catcher_end = r;
-    CHECK(outcome_of(request, report) == ThrowOutcome::kAborted);
+    CHECK(outcome_of(request, report) == ThrowOutcome::aborted);
   }
   report.catcher_end = Reason::out_of_reach;
-  CHECK(outcome_of(request, report) == ThrowOutcome::kAbortedOutOfReach);
+  CHECK(outcome_of(request, report) == ThrowOutcome::aborted_out_of_reach);
   report.caught = true;  // balanced on the catcher outranks whatever ended the catch manoeuvre
-  CHECK(outcome_of(request, report) == ThrowOutcome::kCaught);
+  CHECK(outcome_of(request, report) == ThrowOutcome::caught);
   request.catch_it = false;
-  CHECK(outcome_of(request, report) == ThrowOutcome::kThrowOnly);
+  CHECK(outcome_of(request, report) == ThrowOutcome::throw_only);
 }
 
 TEST_CASE("The record is the throw's, in its frame") {
@@ -58,7 +58,7 @@ TEST_CASE("The record is the throw's, in its frame") {
   report.launch_flown = gs::planning::PlanarLaunchState{1.5, 2.0, 0.3, 5.5, 0.48, 2.5};
   r = record_of(request, report, frame, target, 30.0);
   CHECK(r.time_s == 21.0);
-  CHECK(r.outcome == ThrowOutcome::kCaught);
+  CHECK(r.outcome == ThrowOutcome::caught);
   CHECK(r.launch.vz_mps == 5.5);
   REQUIRE(r.target_xy_m);
   CHECK(r.target_xy_m->isApprox(Eigen::Vector2d(3.4, 0.1)));

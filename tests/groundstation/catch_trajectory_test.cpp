@@ -242,7 +242,7 @@ TEST_CASE("the catch trajectory starts hovering, moves xy during [t3, t5] and en
   CatchTrajectoryParams bad = fig7_params();
   bad.t_xy_s = 0.2;  // < a_max / k_max = 0.233 s
   CHECK_FALSE(CatchTrajectory::create(bad));
-  CHECK(gs::planning::validate(bad) == gs::planning::CatchParamError::kHoldTooShort);
+  CHECK(gs::planning::validate(bad) == gs::planning::CatchParamError::hold_too_short);
   bad = fig7_params();
   bad.target_xy_m.x() = std::nan("");
   CHECK_FALSE(CatchTrajectory::create(bad));
@@ -281,15 +281,15 @@ TEST_CASE("a lead starts the xy correction in the dive: same z manoeuvre, gentle
   // Leads it cannot fly: negative, longer than the manoeuvre before t3, or into a dive without lift.
   CatchTrajectoryParams bad = p;
   bad.xy_lead_s = -0.1;
-  CHECK(gs::planning::validate(bad) == gs::planning::CatchParamError::kBadLead);
+  CHECK(gs::planning::validate(bad) == gs::planning::CatchParamError::bad_lead);
   bad.xy_lead_s = led->z_manoeuvre().phase_times_s()[3] + 0.01;
-  CHECK(gs::planning::validate(bad) == gs::planning::CatchParamError::kBadLead);
+  CHECK(gs::planning::validate(bad) == gs::planning::CatchParamError::bad_lead);
   bad = p;
   bad.a_max_mps2 = 10.0;
   bad.k_max_mps3 = 40.0;
-  CHECK(gs::planning::validate(bad) == gs::planning::CatchParamError::kBadLead);
+  CHECK(gs::planning::validate(bad) == gs::planning::CatchParamError::bad_lead);
   bad.xy_lead_s = 0.0;  // the paper's manoeuvre: its thrust check says too low, not a bad lead
-  CHECK(gs::planning::validate(bad) == gs::planning::CatchParamError::kNone);
+  CHECK(gs::planning::validate(bad) == gs::planning::CatchParamError::none);
 }
 
 TEST_CASE("the nominal inputs fly the trajectory through the vehicle model (4), (5)") {
@@ -380,7 +380,7 @@ TEST_CASE("feasibility: small moves are feasible and certified") {
   const auto v = fig7->check_feasibility(limits);
   CHECK(v.feasible());
   CHECK(v.certified);
-  CHECK(v.reason == Feasibility::kFeasible);
+  CHECK(v.reason == Feasibility::feasible);
   p.target_xy_m = {0.03, -0.02};
   const auto tiny = CatchTrajectory::create(p);
   CHECK(tiny->check_feasibility(limits).feasible());
@@ -396,7 +396,7 @@ TEST_CASE("feasibility: a huge move in a short T_xy is infeasible") {
   REQUIRE(traj);
   const auto v = traj->check_feasibility(InputLimits{});
   CHECK_FALSE(v.feasible());
-  CHECK((v.reason == Feasibility::kThrustTooHigh || v.reason == Feasibility::kRatesTooHigh));
+  CHECK((v.reason == Feasibility::thrust_too_high || v.reason == Feasibility::rates_too_high));
   CHECK(v.thrust_high.violated);
   CHECK(v.rates.violated);
   // The reported worst values are the trajectory's own inputs at the reported instants.
@@ -418,7 +418,7 @@ TEST_CASE("feasibility: rates alone too high") {
   const auto traj = CatchTrajectory::create(p);
   REQUIRE(traj);
   const auto v = traj->check_feasibility(InputLimits{});
-  CHECK(v.reason == Feasibility::kRatesTooHigh);
+  CHECK(v.reason == Feasibility::rates_too_high);
   CHECK_FALSE(v.thrust_high.violated);
   CHECK_FALSE(v.thrust_low.violated);
   CHECK(v.rates.axis == 1);  // a move along x with zero yaw pitches: Omega_y
@@ -435,7 +435,7 @@ TEST_CASE("feasibility: a_max too large makes the thrust too high") {
   const auto traj = CatchTrajectory::create(p);
   REQUIRE(traj);
   const auto v = traj->check_feasibility(InputLimits{0.5, 15.0, 10.0});
-  CHECK(v.reason == Feasibility::kThrustTooHigh);
+  CHECK(v.reason == Feasibility::thrust_too_high);
   CHECK(v.thrust_high.value >= kG + 7.0 - 1e-9);
   CHECK(v.thrust_high.t_s >= traj->z_manoeuvre().phase_times_s()[3]);
   CHECK_FALSE(v.thrust_low.violated);
@@ -443,7 +443,7 @@ TEST_CASE("feasibility: a_max too large makes the thrust too high") {
   // the upper one first and the lower one is reported too.
   p.a_max_mps2 = 10.5;
   const auto both = CatchTrajectory::create(p)->check_feasibility(InputLimits{});
-  CHECK(both.reason == Feasibility::kThrustTooHigh);
+  CHECK(both.reason == Feasibility::thrust_too_high);
   CHECK(both.thrust_low.violated);
   CHECK(both.thrust_low.value == Approx(kG - 10.5));
 }
@@ -456,7 +456,7 @@ TEST_CASE("feasibility: a very deep drop needs too little thrust") {
   REQUIRE(traj);
   CHECK(traj->start_height_m() - p.catch_height_m > 25.0);
   const auto v = traj->check_feasibility(InputLimits{});
-  CHECK(v.reason == Feasibility::kThrustTooLow);
+  CHECK(v.reason == Feasibility::thrust_too_low);
   CHECK(v.thrust_low.value == Approx(kG - 9.0));
   const auto& t = traj->z_manoeuvre().phase_times_s();
   CHECK(v.thrust_low.t_s >= t[1] - 1e-12);
@@ -501,9 +501,9 @@ TEST_CASE("feasibility agrees with a brute-force scan on random manoeuvres") {
       CHECK(w.violated);
       // The violation is real: the trajectory's own inputs at that instant break the limit.
       const auto r = traj->reference(w.t_s);
-      if (v.reason == Feasibility::kRatesTooHigh) {
+      if (v.reason == Feasibility::rates_too_high) {
         CHECK(r.body_rates_radps.cwiseAbs().maxCoeff() > limits.omega_max_radps);
-      } else if (v.reason == Feasibility::kThrustTooHigh) {
+      } else if (v.reason == Feasibility::thrust_too_high) {
         CHECK(r.thrust_mps2 > limits.a_q_max_mps2);
       } else {
         CHECK(r.acceleration_mps2.z() + kG < limits.a_q_min_mps2);

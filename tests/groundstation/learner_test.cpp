@@ -35,7 +35,7 @@ OptimalCatch catch_at(double height_m, double x_m, double t_s) {
 ThrowRecord caught(const OptimalCatch& o) {
   ThrowRecord r;
   r.time_s = 10.0;
-  r.outcome = ThrowOutcome::kCaught;
+  r.outcome = ThrowOutcome::caught;
   r.launch = kPlanned;
   r.catch_height_used_m = o.height_m;
   r.waiting_xy_m = o.xy_m;

@@ -144,7 +144,6 @@ TEST_CASE("arena: vehicle 1 and vehicle 2, the firmware of each flying its own p
   CHECK(arena.vehicle(pa::kVehicle2).vehicle() == pa::kVehicle2);
   CHECK_THROWS_AS(arena.vehicle(pa::VehicleId(0)), std::out_of_range);
   CHECK_THROWS_AS(arena.vehicle(pa::VehicleId(3)), std::out_of_range);
-  CHECK_THROWS_AS(arena.radio(pa::VehicleId(kBroadcastNode)), std::out_of_range);
   CHECK(arena.period_s() == Approx(0.001));
 
   hil::PlantConfig slow{};
@@ -197,7 +196,8 @@ TEST_CASE("arena: frames addressed to node 2 reach vehicle 2 only, after the rad
   // Nothing went over node 1's radio; every frame sent to node 2 was delivered once the radio
   // had time to carry the last ones.
   for (int k = 0; k < 10; ++k) arena.step();
-  const hil::sil::RadioCounters r1 = arena.radio(pa::kVehicle1), r2 = arena.radio(pa::kVehicle2);
+  const hil::run::VehicleExchangeCounters r1 = arena.exchange().counters(pa::kVehicle1),
+                                          r2 = arena.exchange().counters(pa::kVehicle2);
   CHECK(r1.uplink_offered == 0);
   CHECK(r1.uplink_delivered == 0);
   CHECK(r2.uplink_offered > 0);
@@ -205,17 +205,11 @@ TEST_CASE("arena: frames addressed to node 2 reach vehicle 2 only, after the rad
   CHECK(r2.uplink_lost == 0);
   CHECK(r1.downlink_delivered > 0);
   CHECK(r2.downlink_delivered > 0);
-  CHECK(arena.not_carried() == 0);
-
-  // Frames for the ground's own node or a vehicle not in the arena are carried by no radio.
-  Frame f;
-  REQUIRE(encode(Command{CommandCode::disarm, 99, kSession, 0}, 3, f));
-  arena.send_from_ground(f);
-  REQUIRE(encode(Command{CommandCode::disarm, 99, kSession, 0}, kGroundNode, f));
-  arena.send_from_ground(f);
-  CHECK(arena.not_carried() == 2);
-  CHECK(arena.radio(pa::kVehicle1).uplink_offered == 0);
-  CHECK(arena.radio(pa::kVehicle2).uplink_offered == r2.uplink_offered);
+  // In process every sample is answered before the next step.
+  for (const hil::run::VehicleExchangeCounters& r : {r1, r2}) {
+    CHECK(r.samples_sent == r.answered);
+    CHECK(r.missed == 0);
+  }
 }
 
 TEST_CASE("arena: broadcast frames reach both vehicles, which do not act on them (they carry no AUTH)") {
@@ -230,10 +224,12 @@ TEST_CASE("arena: broadcast frames reach both vehicles, which do not act on them
     CHECK(arena.vehicle(vehicle).firmware().guard().forged() > 0);  // counted
   }
   for (int k = 0; k < 10; ++k) arena.step();  // the last frames still in flight land
-  CHECK(arena.radio(pa::kVehicle1).uplink_offered > 0);
-  CHECK(arena.radio(pa::kVehicle1).uplink_offered == arena.radio(pa::kVehicle2).uplink_offered);
-  CHECK(arena.radio(pa::kVehicle1).uplink_delivered == arena.radio(pa::kVehicle1).uplink_offered);
-  CHECK(arena.radio(pa::kVehicle2).uplink_delivered == arena.radio(pa::kVehicle2).uplink_offered);
+  const hil::run::VehicleExchangeCounters r1 = arena.exchange().counters(pa::kVehicle1),
+                                          r2 = arena.exchange().counters(pa::kVehicle2);
+  CHECK(r1.uplink_offered > 0);
+  CHECK(r1.uplink_offered == r2.uplink_offered);
+  CHECK(r1.uplink_delivered == r1.uplink_offered);
+  CHECK(r2.uplink_delivered == r2.uplink_offered);
 }
 
 TEST_CASE("arena: with jitter, frames still arrive in order within latency + jitter + one step") {
@@ -257,7 +253,7 @@ TEST_CASE("arena: with jitter, frames still arrive in order within latency + jit
   CHECK(heartbeats >= 2 * 24);
 }
 
-TEST_CASE("arena: with loss 1 nothing arrives either way, and the radios count it") {
+TEST_CASE("arena: with loss 1 nothing arrives either way (plant_exchange_test counts it)") {
   Arena arena(hil::PlantConfig{}, exact_radio(1.0), 6);
   Ground ground(arena, kBroadcastNode);
   ground.run(0.2);
@@ -266,17 +262,6 @@ TEST_CASE("arena: with loss 1 nothing arrives either way, and the radios count i
   CHECK(ground.arrivals().empty());
   CHECK(arena.vehicle(pa::kVehicle1).firmware().mode() == Mode::disarmed);
   CHECK(arena.vehicle(pa::kVehicle2).firmware().mode() == Mode::disarmed);
-  for (const pa::VehicleId vehicle : pa::kActVehicles) {
-    const hil::sil::RadioCounters r = arena.radio(vehicle);
-    // 0.3 s of 50 Hz heartbeats and 200 Hz setpoints, and the ARM.
-    CHECK(r.uplink_offered == 15 + 60 + 1);
-    CHECK(r.uplink_lost == r.uplink_offered);
-    CHECK(r.uplink_delivered == 0);
-    // The firmware kept talking: heartbeats at least.
-    CHECK(r.downlink_offered >= 15);
-    CHECK(r.downlink_lost == r.downlink_offered);
-    CHECK(r.downlink_delivered == 0);
-  }
 }
 
 TEST_CASE("arena: motion capture at its rate and latency, with both vehicles and the pole") {
@@ -344,7 +329,8 @@ Run fly(std::uint64_t seed) {
     }
     ground.tick();
     for (const hil::MocapFrame& m : arena.take_mocap()) run.mocap.push_back(m);
-    const hil::sil::RadioCounters r1 = arena.radio(pa::kVehicle1), r2 = arena.radio(pa::kVehicle2);
+    const hil::run::VehicleExchangeCounters r1 = arena.exchange().counters(pa::kVehicle1),
+                                            r2 = arena.exchange().counters(pa::kVehicle2);
     run.lost1.push_back(r1.uplink_lost + r1.downlink_lost);
     run.lost2.push_back(r2.uplink_lost + r2.downlink_lost);
   }

@@ -15,14 +15,21 @@
 namespace {
 
 // The thrust gain the ground station should measure: the collective it commands for a hover (the
-// airframe file's weight) over the collective that holds the vehicle as built, on its battery now.
+// airframe file's weight) over the collective that holds the vehicle as built. The firmware takes
+// the pack's sag out of its commands (fw/battery_compensation.hpp), so the gain is the motors',
+// propellers' and mass's alone: the plant's hover commands at the battery's voltage now, scaled
+// back to the reference voltage.
 double true_thrust_gain(const hil::Plant& plant, const hil::PlantConfig& config, pa::VehicleId v) {
   const hil::MotorCommands hover = plant.hover_commands(v);
   double mean = 0.0;
   for (double c : hover.command) mean += 0.25 * c;
+  const double voltage_factor =
+      config.battery.enabled
+          ? hil::thrust_voltage_factor(plant.battery(v).voltage_V, config.battery.reference_voltage_V)
+          : 1.0;
   const double commanded =
       pa::kGravity_mps2 * config.vehicle.mass_kg / (4.0 * config.vehicle.motor_thrust_max_N);
-  return commanded / mean;
+  return commanded / (mean * voltage_factor);
 }
 
 }  // namespace
@@ -37,8 +44,8 @@ TEST_CASE("20 vehicles drawn from the envelope: motor lag within 10 %, thrust ga
                                                                  hil::trials::PlantDraw::drawn);
     hil::trials::SeriesRunner runner(config);
     runner.run({});  // the take-off, until both hover
-    // The identification flight and 4 s of hover for the thrust gain.
-    runner.hover_for(6.0);
+    // The identification flight, then hover for the thrust gain.
+    runner.hover_for(10.0);
     for (const pa::VehicleId v : pa::kActVehicles) {
       const std::size_t slot = pa::act_slot(v);
       const double lag_s =

@@ -4,6 +4,7 @@
 // InMemoryBus between the plant's radios and the test standing in for the ground station.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -210,6 +211,103 @@ TEST_CASE("The radios carry frames both ways with their latency, and only what a
   CHECK(*reached_ground_at - sent_at == Approx(0.008).margin(1e-9));
 }
 
+TEST_CASE("Ground frames for the ground's own node or a vehicle not here are carried by no radio") {
+  Rig rig(radio_without_jitter());
+  Frame f;
+  REQUIRE(encode(Command{CommandCode::disarm, 99, 0x5A17, 0}, 3, f));
+  rig.exchange.on_ground_frame(f);
+  REQUIRE(encode(Command{CommandCode::disarm, 99, 0x5A17, 0}, kGroundNode, f));
+  rig.exchange.on_ground_frame(f);
+  REQUIRE(encode(GsHeartbeat{1, 0x1234, GroundState::idle, 0}, kBroadcastNode, f));
+  rig.exchange.on_ground_frame(f);  // a broadcast: both radios
+  CHECK(rig.exchange.ground_frames_not_carried() == 2);
+  for (const pa::VehicleId v : pa::kActVehicles) CHECK(rig.exchange.counters(v).uplink_offered == 1);
+}
+
+TEST_CASE("With loss 1 nothing arrives either way, and the radios count it") {
+  hil::RadioConfig lossy = radio_without_jitter();
+  lossy.loss = 1.0;
+  Rig rig(lossy);
+  Frame heartbeat;
+  for (int k = 0; k < 300; ++k) {
+    if (k % 20 == 0) {
+      for (const pa::VehicleId v : pa::kActVehicles) {
+        REQUIRE(encode(GsHeartbeat{static_cast<std::uint32_t>(k), 0x1234, GroundState::idle, 0}, v.node(),
+                       heartbeat));
+        rig.ground_bus.send(kOtherEnd, heartbeat);
+      }
+    }
+    rig.lockstep();
+  }
+  CHECK(rig.at_ground.empty());
+  for (const pa::VehicleId v : pa::kActVehicles) {
+    const hil::run::VehicleExchangeCounters c = rig.exchange.counters(v);
+    CHECK(c.uplink_offered == 15);
+    CHECK(c.uplink_lost == c.uplink_offered);
+    CHECK(c.uplink_delivered == 0);
+    // The firmware kept talking: its heartbeats at least.
+    CHECK(c.downlink_offered >= 14);
+    CHECK(c.downlink_lost == c.downlink_offered);
+    CHECK(c.downlink_delivered == 0);
+  }
+}
+
+TEST_CASE(
+    "Silenced, the radios carry nothing more to the vehicles, neither lost nor delivered; the downlink goes on") {
+  Rig rig(radio_without_jitter());
+  Frame heartbeat;
+  REQUIRE(encode(GsHeartbeat{1, 0x1234, GroundState::idle, 0}, pa::kVehicle1.node(), heartbeat));
+  rig.ground_bus.send(kOtherEnd, heartbeat);
+  rig.lockstep();
+  rig.exchange.silence_uplink();  // the heartbeat is still in flight
+  rig.ground_bus.send(kOtherEnd, heartbeat);
+  for (int k = 0; k < 100; ++k) rig.lockstep();
+  const hil::run::VehicleExchangeCounters c = rig.exchange.counters(pa::kVehicle1);
+  CHECK(c.uplink_offered == 2);
+  CHECK(c.uplink_lost == 0);
+  CHECK(c.uplink_delivered == 0);
+  CHECK(c.downlink_delivered > 0);
+  CHECK_FALSE(rig.at_ground.empty());
+}
+
+TEST_CASE(
+    "The person hands the pole up once the ground station shows the thrower waiting, still at the origin") {
+  Rig rig(radio_without_jitter(), 1);
+  hil::run::PlantExchange& exchange = rig.exchange;
+  const hil::Vec3 origin(0.5, -0.5, 2.0);
+  // Held in the air as the ground station would fly it (the firmware is not run here): the plate's
+  // centre `offset` from the origin, moving at `speed`.
+  const auto hold = [&](const hil::Vec3& offset, double speed_mps) {
+    hil::VehicleState v = exchange.plant().vehicle(pa::kVehicle1);
+    v.body.position_m += origin + offset - exchange.plant().plate_centre_m(pa::kVehicle1);
+    v.body.velocity_mps = hil::Vec3(speed_mps, 0.0, 0.0);
+    exchange.plant().set_vehicle(pa::kVehicle1, v);
+    exchange.step();
+  };
+  exchange.show_waiting_for_pole(pa::kVehicle1, true);
+  hold(hil::Vec3::Zero(), 0.0);
+  CHECK(exchange.poles_handed() == 0);  // nobody asked
+  exchange.hand_pole_to(pa::kVehicle1, origin);
+  exchange.show_waiting_for_pole(pa::kVehicle1, false);
+  hold(hil::Vec3::Zero(), 0.0);  // there, but still retreating on the ground station
+  exchange.show_waiting_for_pole(pa::kVehicle1, true);
+  hold(hil::Vec3(0.0, 0.0, 0.15), 0.0);
+  hold(hil::Vec3(0.12, 0.0, 0.0), 0.0);
+  hold(hil::Vec3::Zero(), 0.3);
+  CHECK(exchange.poles_handed() == 0);
+  // Within 0.1 m and 0.2 m/s at the start of a step: up, on the plate.
+  const hil::Vec3 offset(0.05, 0.0, -0.05);
+  hold(offset, 0.1);
+  CHECK(exchange.poles_handed() == 1);
+  const hil::Vec3 plate_m = origin + offset;
+  const double half_length_m = exchange.plant().config().pole.half_length_m;
+  const hil::PoleState& pole = exchange.plant().pole();
+  CHECK(std::min((pole.end_m(0, half_length_m) - plate_m).norm(),
+                 (pole.end_m(1, half_length_m) - plate_m).norm()) < 0.01);
+  exchange.step();
+  CHECK(exchange.poles_handed() == 1);  // once per request
+}
+
 TEST_CASE("The exchange refuses a vehicle count the arena does not have") {
   CHECK_THROWS_AS(hil::run::PlantExchange(hil::PlantConfig{}, hil::RadioConfig{}, 1, 0),
                   std::invalid_argument);
@@ -268,6 +366,10 @@ class Flight {
         station_->on_mocap(frame, ground_now);
       }
       for (; next_tick_s_ <= ground_now + 1e-9; next_tick_s_ += 0.001) station_->tick(next_tick_s_);
+      // What hil run's person reads of the tasks (the task-change events).
+      for (const pa::VehicleId v : pa::kActVehicles)
+        rig_.exchange.show_waiting_for_pole(
+            v, one(v, gs::mission::Task::hover) || one(v, gs::mission::Task::balance));
       for (const Frame& f : bus_.take()) rig_.ground_bus.send(kOtherEnd, f);
     }
     return done();
@@ -438,7 +540,7 @@ TEST_CASE(
   REQUIRE(flight.take_off());
   gs::runtime::AttemptRequest request;
   REQUIRE(flight.station().request_attempt(request));
-  rig.exchange.hand_pole_to(pa::kVehicle1);
+  rig.exchange.hand_pole_to(pa::kVehicle1, flight.station().throw_frame(pa::kVehicle1).origin_m);
   // The pole on the thrower, balanced: then vehicle 2's firmware process dies.
   REQUIRE(
       flight.run_until(rig.exchange.t_s() + 15.0, [&] { return flight.one(pa::kVehicle1, Task::balance); }));

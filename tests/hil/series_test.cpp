@@ -20,6 +20,7 @@
 
 namespace {
 
+using gs::adaptation::ThrowOutcome;
 using gs::mission::Task;
 
 struct Run {
@@ -43,7 +44,7 @@ const Run& throw_only() {
     r.results = runner.run({hil::trials::AttemptPlan{false, Eigen::Vector2d::Zero(), 0.0}});
     r.samples = runner.time_series().front();
     for (const pa::VehicleId vehicle : pa::kActVehicles)
-      r.firmware_missed_ticks += static_cast<int>(runner.arena().vehicle(vehicle).missed_ticks());
+      r.firmware_missed_ticks += static_cast<int>(runner.arena().exchange().counters(vehicle).missed);
     r.link_undecodable = runner.ground_station().link().counters().undecodable();
     for (const std::string& line : r.log)
       if (line.find("balance -> throwing") != std::string::npos) r.throw_started = true;
@@ -157,15 +158,15 @@ TEST_CASE("the paper's series in the closed loop: throws 8 and 9 caught and bala
   const Series& s = paper_series();
   REQUIRE(s.results.size() == 9);
   for (const auto& r : s.results) {
-    INFO("throw " << r.throw_number << ": " << r.outcome << " " << r.abort_reason);
+    INFO("throw " << r.throw_number << ": " << gs::adaptation::to_string(r.outcome) << " " << r.abort_reason);
     CHECK_FALSE(r.vehicle_crashed);
   }
-  CHECK(s.results[0].outcome == "throw_only");
-  for (int i = 1; i < 7; ++i) CHECK(s.results[i].outcome == "practice");
+  CHECK(s.results[0].outcome == ThrowOutcome::throw_only);
+  for (int i = 1; i < 7; ++i) CHECK(s.results[i].outcome == ThrowOutcome::offset_practice);
   // Caught: the referee saw the pole on the catcher's plate within 5 degrees of upright for 3 s
   // after the impact (plant truth).
-  CHECK(s.results[7].outcome == "caught");
-  CHECK(s.results[8].outcome == "caught");
+  CHECK(s.results[7].outcome == ThrowOutcome::caught);
+  CHECK(s.results[8].outcome == ThrowOutcome::caught);
   // The pole's energy right after the impact, against E* = m_p g L (the paper: within 0.0102 J
   // on average). Measured with seed 1: -0.0030 and -0.0031 J.
   const double mean_error =
@@ -209,11 +210,11 @@ TEST_CASE("a spoiled launch is aborted as out of reach and the mission goes on",
   const Series s = fly(plans, 1);
   INFO(joined(s.log));
   REQUIRE(s.results.size() == 3);
-  CHECK(s.results[1].outcome == "aborted");
+  CHECK(s.results[1].outcome == ThrowOutcome::aborted);
   CHECK(s.results[1].abort_reason == "out_of_reach");
   CHECK_FALSE(s.crashed);
   // The next attempt is flown (and caught).
-  CHECK(s.results[2].outcome == "caught");
+  CHECK(s.results[2].outcome == ThrowOutcome::caught);
 }
 
 TEST_CASE("the adaptation store keeps what a series learnt for the next run", "[hil][sil][runtime][series]") {
@@ -256,7 +257,7 @@ TEST_CASE("passes back and forth: vehicle 2 catches, balances and throws back to
   const Series s = fly(plans, 1);
   INFO(joined(s.log));
   REQUIRE(s.results.size() == 5);
-  for (std::size_t i = 1; i < s.results.size(); ++i) CHECK(s.results[i].outcome == "caught");
+  for (std::size_t i = 1; i < s.results.size(); ++i) CHECK(s.results[i].outcome == ThrowOutcome::caught);
   CHECK_FALSE(s.crashed);
   // Vehicle 1's throws come down on vehicle 2 some 3.6 m along +x; vehicle 2's come back to
   // where vehicle 1 throws from (x = 0), without a person putting the pole back.
@@ -273,7 +274,7 @@ TEST_CASE("a pass whose pole is not on its thrower is not flown", "[hil][sil][ru
   plans[1].place_pole = false;
   const Series s = fly(plans, 1);
   REQUIRE(s.results.size() == 3);
-  CHECK(s.results[1].outcome == "aborted");
+  CHECK(s.results[1].outcome == ThrowOutcome::aborted);
   CHECK(s.results[1].abort_reason == "pole_not_on_thrower");
   CHECK(s.results[2].abort_reason == "pole_not_on_thrower");
 }
@@ -290,7 +291,7 @@ TEST_CASE("throws to targets all round: vehicle 1 throws where vehicle 2 waits, 
   INFO(joined(s.log));
   REQUIRE(s.results.size() == 4);
   for (const hil::trials::AttemptResult& r : s.results) {
-    CHECK(r.outcome == "caught");
+    CHECK(r.outcome == ThrowOutcome::caught);
     // The true impact near the target (the first throw, before any aim is learnt, within
     // 0.12 m; measured 0.09), the later ones closer (measured 0.003-0.03 m).
     CHECK(r.target_miss_m >= 0.0);
@@ -339,14 +340,14 @@ TEST_CASE("radio outages and motion-capture dropouts while the pole flies: holds
   INFO(joined(s.log));
   // The faults happened: frames lost both ways on both radios, and the firmware held.
   for (const pa::VehicleId v : pa::kActVehicles) {
-    CHECK(runner.arena().radio(v).uplink_lost > 0);
-    CHECK(runner.arena().radio(v).downlink_lost > 0);
+    CHECK(runner.arena().exchange().counters(v).uplink_lost > 0);
+    CHECK(runner.arena().exchange().counters(v).downlink_lost > 0);
   }
   CHECK(holds_in_flight >= 3);
   // ... and cost no failsafe, on board or in the mission, and no catch.
   CHECK(firmware_failsafes == 0);
   CHECK(mission_failsafes == 0);
   REQUIRE(s.results.size() == 4);
-  CHECK(s.results[0].outcome == "throw_only");
-  for (std::size_t i = 1; i < s.results.size(); ++i) CHECK(s.results[i].outcome == "caught");
+  CHECK(s.results[0].outcome == ThrowOutcome::throw_only);
+  for (std::size_t i = 1; i < s.results.size(); ++i) CHECK(s.results[i].outcome == ThrowOutcome::caught);
 }

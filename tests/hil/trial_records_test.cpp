@@ -20,7 +20,7 @@ using hil::trials::AttemptResult;
 AttemptResult distinct_result() {
   AttemptResult r;
   r.throw_number = 7;
-  r.outcome = "aborted";
+  r.outcome = gs::adaptation::ThrowOutcome::aborted_out_of_reach;  // not the default, aborted
   r.flight_s = 1.0123456789012345;
   r.catch_height_m = 2.0123456789012345;
   r.catch_x_m = 3.6000000000000001;
@@ -148,6 +148,9 @@ TEST_CASE("an attempt's report with an empty last field or unreadable fields", "
   CHECK_FALSE(hil::trials::decode_result(line + "\t1", back));  // one field too many
   line.replace(line.find("\t1\t"), 3, "\tyes\t");               // a flag that is not 0 or 1
   CHECK_FALSE(hil::trials::decode_result(line, back));
+  line = hil::trials::encode_result(r);
+  line.replace(line.find("\taborted_out_of_reach\t"), 22, "\tpractice\t");  // no outcome's name
+  CHECK_FALSE(hil::trials::decode_result(line, back));
 }
 
 TEST_CASE("a worker's cut report carries every field of its cuts exactly", "[hil][trials][cuts]") {
@@ -175,7 +178,7 @@ TEST_CASE("the CSV files keep their columns and formats", "[hil][trials]") {
   CHECK(fly.str() ==
         "throw,outcome,flight_s,catch_height_m,catch_x_m,catch_y_m,travel_m,energy_error_J,abort_reason,"
         "planned_height_m\n"
-        "7,aborted,1.0123,2.0123,3.6000,-0.0100,0.0700,-0.00312,out_of_reach,1.9877\n");
+        "7,aborted_out_of_reach,1.0123,2.0123,3.6000,-0.0100,0.0700,-0.00312,out_of_reach,1.9877\n");
 
   hil::trials::CampaignAttempt a;
   a.result = distinct_result();
@@ -185,8 +188,10 @@ TEST_CASE("the CSV files keep their columns and formats", "[hil][trials]") {
   CHECK(header.rfind("throw,outcome,flight_s,catch_height_m,catch_x_m,catch_y_m,travel_m,energy_error_J,"
                      "abort_reason,seed,",
                      0) == 0);
-  CHECK(hil::trials::csv_row(columns, a)
-            .rfind("7,aborted,1.0123,2.0123,3.6000,-0.0100,0.0700,-0.00312,out_of_reach,1000004,", 0) == 0);
+  CHECK(
+      hil::trials::csv_row(columns, a)
+          .rfind("7,aborted_out_of_reach,1.0123,2.0123,3.6000,-0.0100,0.0700,-0.00312,out_of_reach,1000004,",
+                 0) == 0);
 
   const hil::trials::CutResult cut = distinct_cut();
   const auto cut_columns = hil::trials::cuts_csv_columns();

@@ -7,9 +7,11 @@
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <cstring>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "groundstation/dds/event_detail.hpp"
 #include "groundstation/dds/mocap_conversion.hpp"
 #include "groundstation/service/status_view.hpp"
 
@@ -145,7 +147,12 @@ TEST_CASE("An accepted throw begins an attempt: its event names the thrower, a r
   CHECK(answer[0].kind == pa_arena_event_command_accepted);
   REQUIRE(rig.attempts.size() == 1);
   CHECK(rig.attempts[0].vehicle == 2);  // what hil run hands the pole up to
-  CHECK(std::string(rig.attempts[0].detail) == "attempt 1");
+  // and where it waits for the pole: vehicle 2 throws back from where vehicle 1's throws come down
+  const std::optional<Eigen::Vector3d> origin = gs::dds::attempt_event_origin(rig.attempts[0].detail);
+  REQUIRE(origin);
+  CHECK(std::string(rig.attempts[0].detail).rfind("attempt 1, pole at ", 0) == 0);
+  CHECK(origin->z() == Approx(2.0));
+  CHECK(origin->head<2>().norm() > 1.0);
 
   rig.send(pa_arena_command_throw, 1, 8);  // an attempt is running
   const std::vector<pa_arena_Event> refused = rig.answers_to(8);

@@ -1,9 +1,9 @@
-#include "hil/sil/hil_frames.hpp"
+#include "hil/run/hil_frames.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-namespace hil::sil {
+namespace hil::run {
 
 using pa::proto::Frame;
 using pa::proto::Type;
@@ -58,4 +58,4 @@ bool radio_carries(const Frame& frame) {
          info->direction == pa::proto::Direction::vehicle_to_ground;
 }
 
-}  // namespace hil::sil
+}  // namespace hil::run

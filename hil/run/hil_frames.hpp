@@ -15,7 +15,7 @@
 #include "hil/plant/types.hpp"
 #include "pa/protocol.hpp"
 
-namespace hil::sil {
+namespace hil::run {
 
 // The HIL_IMU tick of a plant sample: its count modulo 2^16 (the firmware unwraps it).
 std::uint16_t hil_tick(const ImuSample& sample);
@@ -50,4 +50,4 @@ MotorsAnswer read_hil_motors(const pa::proto::Frame& frame, std::uint8_t node, s
 // HIL frames, which exist only between the plant and its firmware or its ground station.
 bool radio_carries(const pa::proto::Frame& frame);
 
-}  // namespace hil::sil
+}  // namespace hil::run

@@ -1,0 +1,26 @@
+// The details of the events (arena.idl, pa_events) that a program reads back, written and read
+// here only: an attempt's (event_attempt: its number and the throw's origin, where the ground
+// station flies the thrower to wait for the pole) and a task change's (event_task_change). `hil
+// run`'s person hands the pole up from them. Pure functions.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "groundstation/mission/vehicle_sequencer.hpp"
+
+namespace gs::dds {
+
+// "attempt 3, pole at 0.000 0.000 2.000" (metres, arena frame).
+std::string attempt_event_detail(int number, const Eigen::Vector3d& origin_m);
+// The origin in such a detail; none for any other text.
+std::optional<Eigen::Vector3d> attempt_event_origin(const std::string& detail);
+
+// "retreat -> hover (clear_of_pole)".
+std::string task_change_detail(mission::Task from, mission::Task to, mission::Reason reason);
+// The task changed to in such a detail; none for any other text.
+std::optional<mission::Task> task_change_to(const std::string& detail);
+
+}  // namespace gs::dds
