@@ -155,12 +155,19 @@ void GroundStation::request_kill(std::optional<pa::VehicleId> vehicle, pa::proto
 
 std::string GroundStation::thrust_shortfall(const Vehicle& v, double needed_mps2, const char* part) const {
   const double k = v.thrust_gain.gain();
-  if (k * config_.limits.a_q_max_mps2 >= config_.min_thrust_fraction * needed_mps2) return {};
-  char text[200];
-  std::snprintf(text, sizeof text,
-                "vehicle %u is too weak to %s: thrust gain %.2f gives %.1f m/s^2 at most, the %s needs %.1f",
-                static_cast<unsigned>(v.id.node()), part, k, k * config_.limits.a_q_max_mps2, part,
-                config_.min_thrust_fraction * needed_mps2);
+  const link::VehicleLinkStatus& status = link_.status(v.id);
+  const double volts = status.vehicle_status.valid ? 1e-3 * status.vehicle_status.value.battery_mv : 0.0;
+  // No voltage reported (0: none, or no compensation on board): the ceiling is k's alone.
+  const double sag =
+      volts > 0.0 ? std::min(1.0, std::pow(volts / config_.battery_reference_voltage_V, 2.0)) : 1.0;
+  const double most_mps2 = k * sag * config_.limits.a_q_max_mps2;
+  if (most_mps2 >= config_.min_thrust_fraction * needed_mps2) return {};
+  char text[240];
+  std::snprintf(
+      text, sizeof text,
+      "vehicle %u is too weak to %s: thrust gain %.2f at %.2f V gives %.1f m/s^2 at most, the %s needs %.1f",
+      static_cast<unsigned>(v.id.node()), part, k, volts, most_mps2, part,
+      config_.min_thrust_fraction * needed_mps2);
   return text;
 }
 
