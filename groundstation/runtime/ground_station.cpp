@@ -162,11 +162,13 @@ std::string GroundStation::thrust_shortfall(const Vehicle& v, double needed_mps2
       volts > 0.0 ? std::min(1.0, std::pow(volts / config_.battery_reference_voltage_V, 2.0)) : 1.0;
   const double most_mps2 = k * sag * config_.limits.a_q_max_mps2;
   if (most_mps2 >= config_.min_thrust_fraction * needed_mps2) return {};
+  char at[32] = "";
+  if (volts > 0.0) std::snprintf(at, sizeof at, " at %.2f V", volts);
   char text[240];
   std::snprintf(
       text, sizeof text,
-      "vehicle %u is too weak to %s: thrust gain %.2f at %.2f V gives %.1f m/s^2 at most, the %s needs %.1f",
-      static_cast<unsigned>(v.id.node()), part, k, volts, most_mps2, part,
+      "vehicle %u is too weak to %s: thrust gain %.2f%s gives %.1f m/s^2 at most, the %s needs %.1f",
+      static_cast<unsigned>(v.id.node()), part, k, at, most_mps2, part,
       config_.min_thrust_fraction * needed_mps2);
   return text;
 }
