@@ -158,15 +158,19 @@ IdentificationResult RateResponseIdentifier::fit(const std::vector<RateCommandSa
     }
     return best;
   };
-  // Coarse: the whole box in steps of 5 ms, 0.1 and 5 ms; then twice finer, each around the last.
+  // Coarse: the whole box in steps of 10 ms, 0.2 and 10 ms; then finer, each around the last. A
+  // grid twice as fine from the start found the same minima at four times the cost (~4400
+  // replays, over a second in the HIL guest's emulation, where the ground station's lockstep
+  // waits at most one); this costs ~1100.
   const Candidate centre{0.5 * (settings_.min_time_constant_s + settings_.max_time_constant_s),
                          0.5 * (settings_.min_inertia_gain + settings_.max_inertia_gain),
                          0.5 * settings_.max_round_trip_s, 0.0};
   const int half_tau =
-      static_cast<int>(std::ceil((centre.time_constant_s - settings_.min_time_constant_s) / 0.005));
-  const int half_gain = static_cast<int>(std::ceil((centre.inertia_gain - settings_.min_inertia_gain) / 0.1));
-  const int half_trip = static_cast<int>(std::ceil(centre.round_trip_s / 0.005));
-  Candidate best = search(centre, 0.005, 0.1, 0.005, half_tau, half_gain, half_trip);
+      static_cast<int>(std::ceil((centre.time_constant_s - settings_.min_time_constant_s) / 0.01));
+  const int half_gain = static_cast<int>(std::ceil((centre.inertia_gain - settings_.min_inertia_gain) / 0.2));
+  const int half_trip = static_cast<int>(std::ceil(centre.round_trip_s / 0.01));
+  Candidate best = search(centre, 0.01, 0.2, 0.01, half_tau, half_gain, half_trip);
+  best = search(best, 0.005, 0.1, 0.005, 1, 1, 1);
   best = search(best, 0.0025, 0.05, 0.0025, 2, 2, 2);
   best = search(best, 0.0005, 0.01, 0.0005, 3, 3, 3);
 
