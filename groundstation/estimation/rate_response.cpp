@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace gs::estimation {
 
@@ -10,13 +11,6 @@ namespace {
 
 constexpr double kStep_s = 0.001;            // the firmware's tick
 constexpr double kTelemetryRate_Hz = 200.0;  // TELEMETRY_RATES
-
-struct Candidate {
-  double time_constant_s;
-  double inertia_gain;
-  double round_trip_s;
-  double error;
-};
 
 // The firmware's loop on both axes replayed in model time (the ground's clock less the way up):
 // a command acts from when it was sent, a telemetry sample shows the rate round_trip_s before it
@@ -115,111 +109,143 @@ double RateResponseIdentifier::squared_error(const std::vector<RateCommandSample
 IdentificationResult RateResponseIdentifier::fit(const std::vector<RateCommandSample>& commands,
                                                  const std::vector<RateTelemetrySample>& telemetry,
                                                  double equalised_time_constant_s) const {
-  IdentificationResult result;
-  const double expected = excitation_duration_s() * kTelemetryRate_Hz;
-  if (commands.empty() ||
-      static_cast<double>(telemetry.size()) < settings_.min_telemetry_fraction * expected) {
-    result.refusal = IdentificationRefusal::no_telemetry;
-    return result;
+  RateResponseFit fit(*this, commands, telemetry, equalised_time_constant_s);
+  while (!fit.advance(std::numeric_limits<int>::max())) {
+  }
+  return *fit.result();
+}
+
+RateResponseFit::RateResponseFit(const RateResponseIdentifier& identifier,
+                                 std::vector<RateCommandSample> commands,
+                                 std::vector<RateTelemetrySample> telemetry, double equalised_time_constant_s)
+    : identifier_(identifier),
+      commands_(std::move(commands)),
+      telemetry_(std::move(telemetry)),
+      equalised_s_(equalised_time_constant_s) {
+  const RateResponseSettings& settings = identifier_.settings();
+  const double expected = identifier_.excitation_duration_s() * kTelemetryRate_Hz;
+  IdentificationResult refused;
+  if (commands_.empty() ||
+      static_cast<double>(telemetry_.size()) < settings.min_telemetry_fraction * expected) {
+    refused.refusal = IdentificationRefusal::no_telemetry;
+    result_ = refused;
+    return;
   }
   double peak = 0.0;
-  for (const RateTelemetrySample& s : telemetry) {
+  for (const RateTelemetrySample& s : telemetry_) {
     if (s.saturated) {
-      result.refusal = IdentificationRefusal::saturated;
-      return result;
+      refused.refusal = IdentificationRefusal::saturated;
+      result_ = refused;
+      return;
     }
     peak = std::max(peak, s.rate_radps.cwiseAbs().maxCoeff());
   }
-  if (peak < settings_.min_response_fraction * settings_.amplitude_radps) {
-    result.refusal = IdentificationRefusal::no_motion;
-    return result;
+  if (peak < settings.min_response_fraction * settings.amplitude_radps) {
+    refused.refusal = IdentificationRefusal::no_motion;
+    result_ = refused;
+    return;
   }
+  // Coarse: the whole box in steps of 10 ms, 0.2 and 10 ms.
+  const Eigen::Vector3d centre(0.5 * (settings.min_time_constant_s + settings.max_time_constant_s),
+                               0.5 * (settings.min_inertia_gain + settings.max_inertia_gain),
+                               0.5 * settings.max_round_trip_s);
+  const Eigen::Vector3d step(0.01, 0.2, 0.01);
+  const Eigen::Vector3i half(
+      (centre - Eigen::Vector3d(settings.min_time_constant_s, settings.min_inertia_gain, 0.0))
+          .cwiseQuotient(step)
+          .array()
+          .ceil()
+          .cast<int>());
+  queue_grid(centre, step, half);
+}
 
-  const auto error_of = [&](double tau, double gain, double trip) {
-    return squared_error(commands, telemetry, equalised_time_constant_s, tau, gain, trip);
-  };
-  // The best of a grid of (tau, g, D) around `around`, `steps` either side of it.
-  const auto search = [&](const Candidate& around, double d_tau, double d_gain, double d_trip, int steps_tau,
-                          int steps_gain, int steps_trip) {
-    Candidate best{0.0, 0.0, 0.0, std::numeric_limits<double>::infinity()};
-    for (int i = -steps_tau; i <= steps_tau; ++i) {
-      const double tau = around.time_constant_s + i * d_tau;
-      if (tau < settings_.min_time_constant_s - 1e-9 || tau > settings_.max_time_constant_s + 1e-9) continue;
-      for (int j = -steps_gain; j <= steps_gain; ++j) {
-        const double gain = around.inertia_gain + j * d_gain;
-        if (gain < settings_.min_inertia_gain - 1e-9 || gain > settings_.max_inertia_gain + 1e-9) continue;
-        for (int k = -steps_trip; k <= steps_trip; ++k) {
-          const double trip = around.round_trip_s + k * d_trip;
-          if (trip < -1e-9 || trip > settings_.max_round_trip_s + 1e-9) continue;
-          const double e = error_of(tau, gain, trip);
-          if (e < best.error) best = Candidate{tau, gain, trip, e};
-        }
+void RateResponseFit::queue_grid(const Eigen::Vector3d& around, const Eigen::Vector3d& step,
+                                 const Eigen::Vector3i& half) {
+  const RateResponseSettings& settings = identifier_.settings();
+  queue_.clear();
+  next_ = 0;
+  for (int i = -half[0]; i <= half[0]; ++i)
+    for (int j = -half[1]; j <= half[1]; ++j)
+      for (int k = -half[2]; k <= half[2]; ++k) {
+        const Eigen::Vector3d c = around + Eigen::Vector3d(i * step[0], j * step[1], k * step[2]);
+        if (c[0] < settings.min_time_constant_s - 1e-9 || c[0] > settings.max_time_constant_s + 1e-9 ||
+            c[1] < settings.min_inertia_gain - 1e-9 || c[1] > settings.max_inertia_gain + 1e-9 ||
+            c[2] < -1e-9 || c[2] > settings.max_round_trip_s + 1e-9)
+          continue;
+        queue_.push_back(c);
       }
-    }
-    return best;
-  };
-  // Coarse: the whole box in steps of 10 ms, 0.2 and 10 ms; then finer, each around the last. A
-  // grid twice as fine from the start found the same minima at four times the cost (~4400
-  // replays, over a second in the HIL guest's emulation, where the ground station's lockstep
-  // waits at most one); this costs ~1100.
-  const Candidate centre{0.5 * (settings_.min_time_constant_s + settings_.max_time_constant_s),
-                         0.5 * (settings_.min_inertia_gain + settings_.max_inertia_gain),
-                         0.5 * settings_.max_round_trip_s, 0.0};
-  const int half_tau =
-      static_cast<int>(std::ceil((centre.time_constant_s - settings_.min_time_constant_s) / 0.01));
-  const int half_gain = static_cast<int>(std::ceil((centre.inertia_gain - settings_.min_inertia_gain) / 0.2));
-  const int half_trip = static_cast<int>(std::ceil(centre.round_trip_s / 0.01));
-  Candidate best = search(centre, 0.01, 0.2, 0.01, half_tau, half_gain, half_trip);
-  best = search(best, 0.005, 0.1, 0.005, 1, 1, 1);
-  best = search(best, 0.0025, 0.05, 0.0025, 2, 2, 2);
-  best = search(best, 0.0005, 0.01, 0.0005, 3, 3, 3);
+}
 
-  const int n = 2 * static_cast<int>(telemetry.size());
-  // The profile's curvature over tau, each side re-minimised over (g, D) near the optimum's.
-  const auto profile = [&](double tau) {
-    double e = std::numeric_limits<double>::infinity();
+bool RateResponseFit::advance(int replays) {
+  while (!result_) {
+    if (next_ < queue_.size()) {
+      if (replays-- <= 0) return false;
+      const Eigen::Vector3d& c = queue_[next_++];
+      const double e = identifier_.squared_error(commands_, telemetry_, equalised_s_, c[0], c[1], c[2]);
+      if (stage_ < kProfileStage) {
+        if (e < best_error_) best_ = c, best_error_ = e;
+      } else {
+        // The profile's two sides: the best (g, D) near the optimum's at tau* - h, then tau* + h.
+        double& side = c[0] < best_[0] ? profile_low_ : profile_high_;
+        side = std::min(side, e);
+      }
+      continue;
+    }
+    // The stage is over: the next one around the best, or the result.
+    ++stage_;
+    if (stage_ == 1) queue_grid(best_, Eigen::Vector3d(0.005, 0.1, 0.005), Eigen::Vector3i(1, 1, 1));
+    else if (stage_ == 2) queue_grid(best_, Eigen::Vector3d(0.0025, 0.05, 0.0025), Eigen::Vector3i(2, 2, 2));
+    else if (stage_ == 3) queue_grid(best_, Eigen::Vector3d(0.0005, 0.01, 0.0005), Eigen::Vector3i(3, 3, 3));
+    else if (stage_ == kProfileStage) queue_profile();
+    else finish();
+  }
+  return true;
+}
+
+void RateResponseFit::queue_profile() {
+  queue_.clear();
+  next_ = 0;
+  for (const double side : {-kProfileStep_s, kProfileStep_s})
     for (int j = -1; j <= 1; ++j)
       for (int k = -1; k <= 1; ++k)
-        e = std::min(
-            e, error_of(tau, best.inertia_gain + j * 0.01, std::max(0.0, best.round_trip_s + k * 0.0005)));
-    return e;
-  };
-  const double h = 0.001;
+        queue_.emplace_back(best_[0] + side, best_[1] + j * 0.01, std::max(0.0, best_[2] + k * 0.0005));
+}
+
+void RateResponseFit::finish() {
+  const RateResponseSettings& settings = identifier_.settings();
+  IdentificationResult result;
+  const int n = 2 * static_cast<int>(telemetry_.size());
   const double curvature =
-      (profile(best.time_constant_s + h) + profile(best.time_constant_s - h) - 2.0 * best.error) /
-      (2.0 * h * h);
+      (profile_low_ + profile_high_ - 2.0 * best_error_) / (2.0 * kProfileStep_s * kProfileStep_s);
   // Var(tau) = sigma^2 / curvature for white residuals, times (1 + rho) / (1 - rho) for residuals
   // correlated from sample to sample with rho (what the model misses is slow, not white).
-  const double lag_product = replay(loop_, commands, telemetry, equalised_time_constant_s,
-                                    best.time_constant_s, best.inertia_gain, best.round_trip_s)
-                                 .lag_product;
-  const double rho = std::clamp(lag_product / best.error, 0.0, 0.95);
-  const double variance = best.error / std::max(1, n - 3) * (1.0 + rho) / (1.0 - rho);
+  const double lag_product =
+      replay(identifier_.loop(), commands_, telemetry_, equalised_s_, best_[0], best_[1], best_[2])
+          .lag_product;
+  const double rho = std::clamp(lag_product / best_error_, 0.0, 0.95);
+  const double variance = best_error_ / std::max(1, n - 3) * (1.0 + rho) / (1.0 - rho);
   const double half_width =
       curvature > 0.0 ? 1.96 * std::sqrt(variance / curvature) : std::numeric_limits<double>::infinity();
   MotorIdentification id;
-  id.time_constant_s = best.time_constant_s;
-  id.time_constant_low_s = best.time_constant_s - half_width;
-  id.time_constant_high_s = best.time_constant_s + half_width;
-  id.inertia_gain = best.inertia_gain;
-  id.round_trip_s = best.round_trip_s;
-  id.rms_radps = std::sqrt(best.error / std::max(1, n));
-  id.samples = static_cast<int>(telemetry.size());
-
+  id.time_constant_s = best_[0];
+  id.time_constant_low_s = best_[0] - half_width;
+  id.time_constant_high_s = best_[0] + half_width;
+  id.inertia_gain = best_[1];
+  id.round_trip_s = best_[2];
+  id.rms_radps = std::sqrt(best_error_ / std::max(1, n));
+  id.samples = static_cast<int>(telemetry_.size());
   const double edge_margin_s = 0.002;
-  if (best.time_constant_s < settings_.min_time_constant_s + edge_margin_s ||
-      best.time_constant_s > settings_.max_time_constant_s - edge_margin_s ||
-      id.rms_radps > settings_.min_response_fraction * settings_.amplitude_radps) {
+  if (id.time_constant_s < settings.min_time_constant_s + edge_margin_s ||
+      id.time_constant_s > settings.max_time_constant_s - edge_margin_s ||
+      id.rms_radps > settings.min_response_fraction * settings.amplitude_radps) {
     result.refusal = IdentificationRefusal::at_search_edge;
-    return result;
-  }
-  if (id.time_constant_high_s - id.time_constant_low_s >
-      settings_.max_interval_fraction * id.time_constant_s) {
+  } else if (id.time_constant_high_s - id.time_constant_low_s >
+             settings.max_interval_fraction * id.time_constant_s) {
     result.refusal = IdentificationRefusal::not_confident;
-    return result;
+  } else {
+    result.identified = id;
   }
-  result.identified = id;
-  return result;
+  result_ = result;
 }
 
 }  // namespace gs::estimation

@@ -28,6 +28,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <limits>
 #include <optional>
 #include <string_view>
 #include <vector>
@@ -111,10 +112,14 @@ class RateResponseIdentifier {
   double excitation_duration_s() const;
 
   // Fits the samples recorded from the excitation's start (commands sent and telemetry received
-  // from then on, in time order) with the equaliser set to `equalised_time_constant_s`.
+  // from then on, in time order) with the equaliser set to `equalised_time_constant_s`, at once
+  // (RateResponseFit in one slice).
   IdentificationResult fit(const std::vector<RateCommandSample>& commands,
                            const std::vector<RateTelemetrySample>& telemetry,
                            double equalised_time_constant_s) const;
+
+  const RateLoopConfig& loop() const { return loop_; }
+  const RateResponseSettings& settings() const { return settings_; }
 
   // The squared error of one candidate (for tests and the fit's refinement).
   double squared_error(const std::vector<RateCommandSample>& commands,
@@ -124,6 +129,39 @@ class RateResponseIdentifier {
  private:
   RateLoopConfig loop_;
   RateResponseSettings settings_;
+};
+
+// The fit in slices: ~1100 replays of 16 ms CPU in all (bench_runtime), which the runtime spreads
+// over its frames, so that no frame waits for the whole (in the HIL guest's emulation the whole
+// held the ground station over a second, and the lockstep stepped on without it).
+class RateResponseFit {
+ public:
+  RateResponseFit(const RateResponseIdentifier& identifier, std::vector<RateCommandSample> commands,
+                  std::vector<RateTelemetrySample> telemetry, double equalised_time_constant_s);
+  // Runs at most `replays` more replays; true once the result is in.
+  bool advance(int replays);
+  const std::optional<IdentificationResult>& result() const { return result_; }
+
+ private:
+  // Stages 0-3 search the grid ever finer around the best; stage 4 the profile's two sides.
+  static constexpr int kProfileStage = 4;
+  static constexpr double kProfileStep_s = 0.001;
+  void queue_grid(const Eigen::Vector3d& around, const Eigen::Vector3d& step, const Eigen::Vector3i& half);
+  void queue_profile();
+  void finish();
+
+  RateResponseIdentifier identifier_;
+  std::vector<RateCommandSample> commands_;
+  std::vector<RateTelemetrySample> telemetry_;
+  double equalised_s_;
+  std::vector<Eigen::Vector3d> queue_;  // candidates (tau, g, D) of the stage
+  std::size_t next_ = 0;
+  int stage_ = 0;
+  Eigen::Vector3d best_ = Eigen::Vector3d::Zero();
+  double best_error_ = std::numeric_limits<double>::infinity();
+  double profile_low_ = std::numeric_limits<double>::infinity();
+  double profile_high_ = std::numeric_limits<double>::infinity();
+  std::optional<IdentificationResult> result_;
 };
 
 }  // namespace gs::estimation

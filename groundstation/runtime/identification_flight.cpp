@@ -1,10 +1,13 @@
 #include "groundstation/runtime/identification_flight.hpp"
 
+#include <utility>
+
 namespace gs::runtime {
 
 void IdentificationFlight::start(double now_s, double equalised_s) {
   start_s_ = now_s;
   equalised_s_ = equalised_s;
+  fit_.reset();
   commands_.clear();
   telemetry_.clear();
   commands_.reserve(kMaxSamples);
@@ -21,14 +24,25 @@ void IdentificationFlight::command_sent(double now_s, const Eigen::Vector2d& rat
 }
 
 void IdentificationFlight::telemetry(double now_s, const Eigen::Vector2d& rate_radps, bool saturated) {
-  if (start_s_ && now_s >= *start_s_ && telemetry_.size() < kMaxSamples)
+  if (recording(now_s) && telemetry_.size() < kMaxSamples)
     telemetry_.push_back({now_s, rate_radps, saturated});
+}
+
+bool IdentificationFlight::recording(double now_s) const {
+  return start_s_ && !fit_ && now_s >= *start_s_ &&
+         now_s < *start_s_ + identifier_.excitation_duration_s() + kSettle_s;
 }
 
 std::optional<estimation::IdentificationResult> IdentificationFlight::finish(double now_s) {
   if (!start_s_ || now_s < *start_s_ + identifier_.excitation_duration_s() + kSettle_s) return std::nullopt;
+  if (!fit_) fit_.emplace(identifier_, std::move(commands_), std::move(telemetry_), equalised_s_);
+  if (!fit_->advance(kReplaysPerCall)) return std::nullopt;
+  std::optional<estimation::IdentificationResult> result = fit_->result();
+  fit_.reset();
   start_s_.reset();
-  return identifier_.fit(commands_, telemetry_, equalised_s_);
+  commands_.clear();
+  telemetry_.clear();
+  return result;
 }
 
 }  // namespace gs::runtime

@@ -159,3 +159,17 @@ TEST_CASE("the excitation is a doublet on roll, then on pitch, and nothing outsi
   CHECK(id.excitation(0.7)[1] > 0.0);
   CHECK(id.excitation(id.excitation_duration_s() + 0.01).isZero());
 }
+
+TEST_CASE("the fit in slices of 20 replays comes to the fit at once") {
+  const RateResponseIdentifier id{RateLoopConfig{}};
+  const Recording r = fly(Vehicle{0.05, 1.1, 0.03, 0.2}, id, 11);
+  const auto whole = id.fit(r.commands, r.telemetry, 0.03);
+  REQUIRE(whole.identified);
+  gs::estimation::RateResponseFit sliced(id, r.commands, r.telemetry, 0.03);
+  int slices = 1;
+  while (!sliced.advance(20)) ++slices;
+  CHECK(slices > 40);  // ~1100 replays
+  REQUIRE(sliced.result()->identified);
+  CHECK(sliced.result()->identified->time_constant_s == whole.identified->time_constant_s);
+  CHECK(sliced.result()->identified->time_constant_high_s == whole.identified->time_constant_high_s);
+}
