@@ -6,6 +6,7 @@
 #include <cmath>
 #include <random>
 
+#include "fw/config.hpp"
 #include "groundstation/estimation/rate_response.hpp"
 
 namespace {
@@ -172,4 +173,16 @@ TEST_CASE("the fit in slices of 20 replays comes to the fit at once") {
   REQUIRE(sliced.result()->identified);
   CHECK(sliced.result()->identified->time_constant_s == whole.identified->time_constant_s);
   CHECK(sliced.result()->identified->time_constant_high_s == whole.identified->time_constant_high_s);
+}
+
+TEST_CASE("the ground station's copy of the rate loop is the firmware's configuration") {
+  const RateLoopConfig loop;
+  const fw::RateControllerConfig rate;
+  for (int axis = 0; axis < 2; ++axis) {
+    CHECK(loop.kp_per_s[axis] == Approx(rate.kp_per_s[axis]));
+    CHECK(loop.ki_per_s2[axis] == Approx(rate.ki_per_s2[axis]));
+    CHECK(loop.integrator_limit_radps2[axis] == Approx(rate.integrator_limit_radps2[axis]));
+  }
+  CHECK(loop.rate_limit_radps == Approx(rate.rate_limit_radps));
+  CHECK(loop.design_time_constant_s == Approx(fw::AirframeConfig{}.motor_time_constant_s));
 }
