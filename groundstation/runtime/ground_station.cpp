@@ -64,6 +64,11 @@ adaptation::Learner make_learner(const GroundStationConfig& config, const planni
                              config.learnt, config.adaptation_store_path);
 }
 
+ThrustAdmission thrust_admission(const GroundStationConfig& config) {
+  return {config.limits.a_q_max_mps2, config.min_thrust_fraction, config.battery_reference_voltage_V,
+          pa::kGravity_mps2 + config.catching.a_max_mps2};
+}
+
 }  // namespace
 
 GroundStation::GroundStation(link::FrameBus& bus, const GroundStationConfig& config)
@@ -153,69 +158,35 @@ void GroundStation::request_kill(std::optional<pa::VehicleId> vehicle, pa::proto
   }
 }
 
-std::string GroundStation::thrust_shortfall(const Vehicle& v, double needed_mps2, const char* part) const {
-  const double k = v.thrust_gain.gain();
-  const link::VehicleLinkStatus& status = link_.status(v.id);
-  const double volts = status.vehicle_status.valid ? 1e-3 * status.vehicle_status.value.battery_mv : 0.0;
-  // No voltage reported (0: none, or no compensation on board): the ceiling is k's alone.
-  const double sag =
-      volts > 0.0 ? std::min(1.0, std::pow(volts / config_.battery_reference_voltage_V, 2.0)) : 1.0;
-  const double most_mps2 = k * sag * config_.limits.a_q_max_mps2;
-  if (most_mps2 >= config_.min_thrust_fraction * needed_mps2) return {};
-  char at[32] = "";
-  if (volts > 0.0) std::snprintf(at, sizeof at, " at %.2f V", volts);
-  char text[240];
-  std::snprintf(
-      text, sizeof text,
-      "vehicle %u is too weak to %s: thrust gain %.2f%s gives %.1f m/s^2 at most, the %s needs %.1f",
-      static_cast<unsigned>(v.id.node()), part, k, at, most_mps2, part,
-      config_.min_thrust_fraction * needed_mps2);
-  return text;
-}
-
-std::string_view GroundStation::refusal_name(Refusal refusal) {
-  switch (refusal) {
-    case Refusal::none: return "none";
-    case Refusal::busy: return "ground_station_busy";
-    case Refusal::not_of_act: return "not_of_act";
-    case Refusal::target_not_planned: return "target_throw_not_planned";
-    case Refusal::too_weak: return "vehicle_too_weak";
-  }
-  return "?";
+VehicleThrust GroundStation::thrust_of(pa::VehicleId vehicle) const {
+  const link::VehicleLinkStatus& status = link_.status(vehicle);
+  return {vehicle, vehicle_of(vehicle).thrust_gain.gain(),
+          status.vehicle_status.valid ? 1e-3 * status.vehicle_status.value.battery_mv : 0.0};
 }
 
 bool GroundStation::request_attempt(const AttemptRequest& request) {
-  const auto refuse = [&](Refusal kind, std::string why) {
-    refusal_kind_ = kind;
-    refusal_ = std::move(why);
+  const auto refuse = [&](Admission admission) {
+    refusal_kind_ = admission.refusal;
+    refusal_ = std::move(admission.why);
     return false;
   };
-  if (phase_ != AttemptPhase::idle) return refuse(Refusal::busy, "an attempt is running");
-  if (!pa::is_act_vehicle(request.thrower))
-    return refuse(Refusal::not_of_act,
-                  "vehicle " + std::to_string(request.thrower.node()) + " is not of the act");
+  if (Admission a = admit_request(phase_ != AttemptPhase::idle, request.thrower); !a.admitted())
+    return refuse(std::move(a));
   const control::ThrowFrame frame = throw_frame(request.thrower);
   std::optional<planning::TargetThrow> target_throw;
   if (request.target_xy_m) {
     const Eigen::Vector3d target(request.target_xy_m->x(), request.target_xy_m->y(),
                                  frame.origin_m.z() + adaptation().catch_height_m);
     target_throw = throws_.plan_to(frame.origin_m, target, learner_.target_miss_m());
-    if (!target_throw)
-      return refuse(Refusal::target_not_planned, "the throw to the target cannot be planned");
   }
-  const planning::ThrowTrajectory& flown =
-      target_throw ? target_throw->plan.plan.trajectory : throws_.plan().trajectory;
-  double peak_mps2 = 0.0;
-  for (const model::PlanarInput<double>& u : flown.input)
-    peak_mps2 = std::max(peak_mps2, u(model::planar::kThrust));
-  if (std::string why = thrust_shortfall(vehicle_of(request.thrower), peak_mps2, "throw"); !why.empty())
-    return refuse(Refusal::too_weak, why);
-  if (request.catch_it) {
-    const double needed_mps2 = pa::kGravity_mps2 + config_.catching.a_max_mps2;
-    if (std::string why = thrust_shortfall(other(vehicle_of(request.thrower)), needed_mps2, "catch");
-        !why.empty())
-      return refuse(Refusal::too_weak, why);
-  }
+  const planning::ThrowTrajectory* flown = !request.target_xy_m ? &throws_.plan().trajectory
+                                           : target_throw       ? &target_throw->plan.plan.trajectory
+                                                                : nullptr;
+  std::optional<VehicleThrust> catcher;
+  if (request.catch_it) catcher = thrust_of(pa::other_vehicle(request.thrower));
+  if (Admission a = admit_vehicles(flown, thrust_of(request.thrower), catcher, thrust_admission(config_));
+      !a.admitted())
+    return refuse(std::move(a));
   refusal_kind_ = Refusal::none;
   refusal_.clear();
   target_throw_ = std::move(target_throw);

@@ -53,6 +53,7 @@
 #include "groundstation/model/vehicle_limits.hpp"
 #include "groundstation/planning/throw_book.hpp"
 #include "groundstation/runtime/attempt.hpp"
+#include "groundstation/runtime/attempt_admission.hpp"
 #include "groundstation/runtime/catch_coordinator.hpp"
 #include "groundstation/runtime/identification_flight.hpp"
 
@@ -239,8 +240,8 @@ class GroundStation {
   // a vehicle not of the act, when a throw to a target cannot be planned, or when a vehicle's
   // measured thrust gain leaves it short of what its part needs (see min_thrust_margin).
   bool request_attempt(const AttemptRequest& request);
-  enum class Refusal : std::uint8_t { none, busy, not_of_act, target_not_planned, too_weak };
-  static std::string_view refusal_name(Refusal refusal);
+  using Refusal = AttemptRefusal;  // runtime/attempt_admission.hpp
+  static std::string_view refusal_name(Refusal refusal) { return runtime::refusal_name(refusal); }
   Refusal refusal_kind() const { return refusal_kind_; }
   const std::string& refusal() const { return refusal_; }  // in words, with the numbers
 
@@ -301,8 +302,8 @@ class GroundStation {
   void measure_thrust_gain(Vehicle& v, double t_s, const estimation::MocapPose& pose);
   void identify_motors(Vehicle& v, double now_s);
   void send(Vehicle& v, model::VehicleInput u, double now_s);
-  // Empty if the vehicle's thrust suffices for `needed_mps2`, else why not.
-  std::string thrust_shortfall(const Vehicle& v, double needed_mps2, const char* part) const;
+  // Its motors as the attempt's admission checks them.
+  VehicleThrust thrust_of(pa::VehicleId vehicle) const;
   void enter(Vehicle& v, double now_s);
   std::optional<model::VehicleInput> control(Vehicle& v, double now_s, double dt_s);
   model::VehicleInput hover(Vehicle& v, const estimation::VehicleEstimate& e, double dt_s, bool integrate);

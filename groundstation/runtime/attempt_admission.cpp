@@ -1,0 +1,68 @@
+#include "groundstation/runtime/attempt_admission.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace gs::runtime {
+
+std::string_view refusal_name(AttemptRefusal refusal) {
+  switch (refusal) {
+    case AttemptRefusal::none: return "none";
+    case AttemptRefusal::busy: return "ground_station_busy";
+    case AttemptRefusal::not_of_act: return "not_of_act";
+    case AttemptRefusal::target_not_planned: return "target_throw_not_planned";
+    case AttemptRefusal::too_weak: return "vehicle_too_weak";
+  }
+  return "?";
+}
+
+Admission admit_request(bool attempt_running, pa::VehicleId thrower) {
+  if (attempt_running) return {AttemptRefusal::busy, "an attempt is running"};
+  if (!pa::is_act_vehicle(thrower))
+    return {AttemptRefusal::not_of_act, "vehicle " + std::to_string(thrower.node()) + " is not of the act"};
+  return {};
+}
+
+double peak_thrust_mps2(const planning::ThrowTrajectory& trajectory) {
+  double peak_mps2 = 0.0;
+  for (const model::PlanarInput<double>& u : trajectory.input)
+    peak_mps2 = std::max(peak_mps2, u(model::planar::kThrust));
+  return peak_mps2;
+}
+
+std::string thrust_shortfall(const VehicleThrust& vehicle, double needed_mps2, const char* part,
+                             const ThrustAdmission& settings) {
+  const double k = vehicle.gain;
+  const double volts = vehicle.battery_V;
+  // No voltage reported (0: none, or no compensation on board): the ceiling is k's alone.
+  const double sag =
+      volts > 0.0 ? std::min(1.0, std::pow(volts / settings.battery_reference_voltage_V, 2.0)) : 1.0;
+  const double most_mps2 = k * sag * settings.a_q_max_mps2;
+  if (most_mps2 >= settings.min_thrust_fraction * needed_mps2) return {};
+  char at[32] = "";
+  if (volts > 0.0) std::snprintf(at, sizeof at, " at %.2f V", volts);
+  char text[240];
+  std::snprintf(
+      text, sizeof text,
+      "vehicle %u is too weak to %s: thrust gain %.2f%s gives %.1f m/s^2 at most, the %s needs %.1f",
+      static_cast<unsigned>(vehicle.vehicle.node()), part, k, at, most_mps2, part,
+      settings.min_thrust_fraction * needed_mps2);
+  return text;
+}
+
+Admission admit_vehicles(const planning::ThrowTrajectory* flown, const VehicleThrust& thrower,
+                         const std::optional<VehicleThrust>& catcher, const ThrustAdmission& settings) {
+  if (flown == nullptr)
+    return {AttemptRefusal::target_not_planned, "the throw to the target cannot be planned"};
+  if (std::string why = thrust_shortfall(thrower, peak_thrust_mps2(*flown), "throw", settings); !why.empty())
+    return {AttemptRefusal::too_weak, why};
+  if (catcher) {
+    if (std::string why = thrust_shortfall(*catcher, settings.catch_peak_mps2, "catch", settings);
+        !why.empty())
+      return {AttemptRefusal::too_weak, why};
+  }
+  return {};
+}
+
+}  // namespace gs::runtime

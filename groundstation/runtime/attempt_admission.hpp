@@ -1,0 +1,60 @@
+// Whether the ground station takes an attempt (Section VII-B), as data: a refusal and its reason
+// in words, from what is known of the request, the throw it would fly and the vehicles' motors.
+// Pure functions, so that every refusal is tested on its own (attempt_admission_test.cpp); the
+// runtime plans a throw to a target (tens of milliseconds) only once the request's own checks
+// have passed.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "groundstation/planning/throw_trajectory.hpp"
+#include "pa/constants.hpp"
+#include "pa/vehicle_id.hpp"
+
+namespace gs::runtime {
+
+enum class AttemptRefusal : std::uint8_t { none, busy, not_of_act, target_not_planned, too_weak };
+std::string_view refusal_name(AttemptRefusal refusal);
+
+struct Admission {
+  AttemptRefusal refusal = AttemptRefusal::none;
+  std::string why;  // in words, with the numbers; empty when admitted
+  bool admitted() const { return refusal == AttemptRefusal::none; }
+};
+
+// A vehicle's motors as the ground station knows them.
+struct VehicleThrust {
+  pa::VehicleId vehicle{pa::proto::kGroundNode};
+  double gain = 1.0;       // its thrust gain k, measured in flight (estimation/thrust_gain.hpp)
+  double battery_V = 0.0;  // the pack's voltage it reports; 0: none reported
+};
+
+// See GroundStationConfig::min_thrust_fraction and battery_reference_voltage_V.
+struct ThrustAdmission {
+  double a_q_max_mps2 = 20.0;  // the commanded maximum (model::VehicleLimits)
+  double min_thrust_fraction = 0.9;
+  double battery_reference_voltage_V = 12.6;
+  double catch_peak_mps2 = pa::kGravity_mps2 + 4.19;  // g plus the catch manoeuvre's a_max
+};
+
+// Before anything is planned: one attempt at a time, thrown by a vehicle of the act.
+Admission admit_request(bool attempt_running, pa::VehicleId thrower);
+
+// The throw the attempt would fly (nullptr: the throw to its target could not be planned)
+// against the vehicles' thrust: the thrower's at the throw's peak, the catcher's (if one
+// catches) at the catch's.
+Admission admit_vehicles(const planning::ThrowTrajectory* flown, const VehicleThrust& thrower,
+                         const std::optional<VehicleThrust>& catcher, const ThrustAdmission& settings);
+
+// The highest collective thrust the trajectory commands.
+double peak_thrust_mps2(const planning::ThrowTrajectory& trajectory);
+
+// Empty if the vehicle's thrust at the commanded maximum, k a_q,max (V / V_ref)^2 (no sag without
+// a reported voltage), is at least min_thrust_fraction of `needed_mps2`, else why not.
+std::string thrust_shortfall(const VehicleThrust& vehicle, double needed_mps2, const char* part,
+                             const ThrustAdmission& settings);
+
+}  // namespace gs::runtime

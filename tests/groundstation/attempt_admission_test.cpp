@@ -1,0 +1,111 @@
+// The attempt's admission (groundstation/runtime/attempt_admission.hpp): each refusal on its own,
+// in the order the runtime checks them, with the numbers its reason gives.
+#include <catch2/catch.hpp>
+
+#include <string>
+
+#include "groundstation/runtime/attempt_admission.hpp"
+
+namespace {
+
+using gs::runtime::admit_request;
+using gs::runtime::admit_vehicles;
+using gs::runtime::AttemptRefusal;
+using gs::runtime::peak_thrust_mps2;
+using gs::runtime::refusal_name;
+using gs::runtime::thrust_shortfall;
+using gs::runtime::ThrustAdmission;
+using gs::runtime::VehicleThrust;
+
+// A throw whose thrust peaks at `peak_mps2` in the middle of three points.
+gs::planning::ThrowTrajectory throw_peaking_at(double peak_mps2) {
+  gs::planning::ThrowTrajectory t;
+  t.t_s = {0.0, 0.5, 1.0};
+  for (double a : {9.81, peak_mps2, 5.0}) {
+    gs::model::PlanarInput<double> u = gs::model::PlanarInput<double>::Zero();
+    u(gs::model::planar::kThrust) = a;
+    t.input.push_back(u);
+  }
+  return t;
+}
+
+// The defaults: a_q,max 20 m/s^2, 0.9 of the peak needed, V_ref 12.6 V, the catch's peak g + 4.19.
+const ThrustAdmission kSettings;
+
+}  // namespace
+
+TEST_CASE("The request's own refusals: one attempt at a time, a thrower of the act") {
+  CHECK(admit_request(false, pa::kVehicle1).admitted());
+  CHECK(admit_request(false, pa::kVehicle2).admitted());
+  const auto busy = admit_request(true, pa::kVehicle1);
+  CHECK(busy.refusal == AttemptRefusal::busy);
+  CHECK(busy.why == "an attempt is running");
+  const auto stranger = admit_request(false, pa::VehicleId(7));
+  CHECK(stranger.refusal == AttemptRefusal::not_of_act);
+  CHECK(stranger.why == "vehicle 7 is not of the act");
+  CHECK(admit_request(true, pa::VehicleId(7)).refusal == AttemptRefusal::busy);  // busy first
+}
+
+TEST_CASE("Every refusal has a name for the logs") {
+  CHECK(refusal_name(AttemptRefusal::none) == "none");
+  CHECK(refusal_name(AttemptRefusal::busy) == "ground_station_busy");
+  CHECK(refusal_name(AttemptRefusal::not_of_act) == "not_of_act");
+  CHECK(refusal_name(AttemptRefusal::target_not_planned) == "target_throw_not_planned");
+  CHECK(refusal_name(AttemptRefusal::too_weak) == "vehicle_too_weak");
+}
+
+TEST_CASE("A throw to a target that could not be planned is refused before any thrust is checked") {
+  const VehicleThrust weak{pa::kVehicle1, 0.1, 0.0};
+  const auto a = admit_vehicles(nullptr, weak, weak, kSettings);
+  CHECK(a.refusal == AttemptRefusal::target_not_planned);
+  CHECK(a.why == "the throw to the target cannot be planned");
+}
+
+TEST_CASE("The throw's peak is the trajectory's highest thrust") {
+  CHECK(peak_thrust_mps2(throw_peaking_at(17.1)) == 17.1);
+  CHECK(peak_thrust_mps2(gs::planning::ThrowTrajectory{}) == 0.0);
+}
+
+TEST_CASE("The thrower is refused below min_thrust_fraction of the throw's peak, exactly at the edge") {
+  const gs::planning::ThrowTrajectory flown = throw_peaking_at(20.0);  // 18 m/s^2 needed
+  VehicleThrust thrower{pa::kVehicle1, 0.9, 0.0};                      // 0.9 * 20 = 18: enough
+  CHECK(admit_vehicles(&flown, thrower, std::nullopt, kSettings).admitted());
+  thrower.gain = 0.89;
+  const auto a = admit_vehicles(&flown, thrower, std::nullopt, kSettings);
+  CHECK(a.refusal == AttemptRefusal::too_weak);
+  CHECK(a.why ==
+        "vehicle 1 is too weak to throw: thrust gain 0.89 gives 17.8 m/s^2 at most, the throw needs 18.0");
+}
+
+TEST_CASE("The catcher is checked only when one catches, against g plus the catch's a_max") {
+  const gs::planning::ThrowTrajectory flown = throw_peaking_at(10.0);
+  const VehicleThrust thrower{pa::kVehicle1, 1.0, 0.0};
+  // 0.9 (9.81 + 4.19) = 12.6 m/s^2 needed: k 0.63 gives exactly 12.6.
+  VehicleThrust catcher{pa::kVehicle2, 0.63, 0.0};
+  CHECK(admit_vehicles(&flown, thrower, catcher, kSettings).admitted());
+  catcher.gain = 0.6;
+  const auto a = admit_vehicles(&flown, thrower, catcher, kSettings);
+  CHECK(a.refusal == AttemptRefusal::too_weak);
+  CHECK(a.why ==
+        "vehicle 2 is too weak to catch: thrust gain 0.60 gives 12.0 m/s^2 at most, the catch needs 12.6");
+  CHECK(admit_vehicles(&flown, thrower, std::nullopt, kSettings).admitted());
+  // The thrower's shortfall is named first.
+  const VehicleThrust weak_thrower{pa::kVehicle1, 0.3, 0.0};
+  CHECK(admit_vehicles(&flown, weak_thrower, catcher, kSettings).why.find("vehicle 1") == 0);
+}
+
+TEST_CASE("A sagging pack lowers the ceiling by (V / V_ref)^2, never raises it") {
+  VehicleThrust v{pa::kVehicle1, 0.85, 11.0};
+  // 0.85 * (11 / 12.6)^2 * 20 = 12.96 m/s^2 against 0.9 * 17.1 = 15.4.
+  CHECK(thrust_shortfall(v, 17.1, "throw", kSettings) ==
+        "vehicle 1 is too weak to throw: thrust gain 0.85 at 11.00 V gives 13.0 m/s^2 at most, the throw "
+        "needs 15.4");
+  v.battery_V = 0.0;  // no voltage reported: k's ceiling alone, 17 m/s^2
+  CHECK(thrust_shortfall(v, 17.1, "throw", kSettings).empty());
+  // A pack above the reference: k's ceiling (17 m/s^2 against 0.9 * 19 = 17.1 needed), not the
+  // 19.5 m/s^2 an uncapped (13.5 / 12.6)^2 would promise.
+  v.battery_V = 13.5;
+  CHECK(thrust_shortfall(v, 19.0, "throw", kSettings) ==
+        "vehicle 1 is too weak to throw: thrust gain 0.85 at 13.50 V gives 17.0 m/s^2 at most, the throw "
+        "needs 17.1");
+}
