@@ -5,19 +5,13 @@
 #include <cstdio>
 #include <stdexcept>
 
-#include "groundstation/control/balancing_lqr.hpp"
-#include "groundstation/control/hover_lqr.hpp"
 #include "groundstation/planning/catching_instant.hpp"
-#include "groundstation/planning/throw_command.hpp"
 
 namespace gs::runtime {
 namespace {
 
 namespace c = mission::condition;
 using mission::Task;
-
-// The pole's tilt from the vertical (either end up).
-double tilt_rad(const model::PoleState& s) { return std::acos(std::min(1.0, std::abs(s.n.z()))); }
 
 // The pole's end nearest the plate, from the latest pose.
 double pole_end_from_plate_m(const estimation::MocapPose& pose, const Eigen::Vector3d& plate_m,
@@ -27,26 +21,8 @@ double pole_end_from_plate_m(const estimation::MocapPose& pose, const Eigen::Vec
   return std::min((a - plate_m).norm(), (b - plate_m).norm());
 }
 
-// Where the pole rests: its end at the plate (the on-vehicle filter estimates where on the plate
-// it landed), moving with the plate. A pole caught 1.6 cm off the plate's centre, balanced about
-// the centre, read as a 0.025 rad tilt, which the balancing LQR held against a 0.46 m position
-// error (measured: the catcher of a pass could not reach its throw's origin). The throw keeps
-// the plate's centre: its plan assumes the pole there, and the filter's offset moves while the
-// throw accelerates (flown about the resting end, the learnt throw's error after 10 throws was
-// 0.105 against 0.078, throw_learning_test).
-control::Pivot resting_pivot(const estimation::PlateKinematics& plate, const model::PoleState& pole,
-                             double half_length_m) {
-  const Eigen::Vector3d a = pole.p_m + half_length_m * pole.n, b = pole.p_m - half_length_m * pole.n;
-  return {(a - plate.p_m).norm() < (b - plate.p_m).norm() ? a : b, plate.v_mps};
-}
-
 planning::InputLimits input_limits(const model::VehicleLimits& l) {
   return {l.a_q_min_mps2, l.a_q_max_mps2, l.omega_max_radps};
-}
-
-control::LqrGain designed(const control::LqrGain& gain) {
-  if (!gain.ok) throw std::runtime_error("the LQR design failed");
-  return gain;
 }
 
 planning::PlanarLaunchState planned_launch(const planning::ThrowBook& throws) {
@@ -76,8 +52,7 @@ GroundStation::GroundStation(link::FrameBus& bus, const GroundStationConfig& con
       link_(bus, {pa::kActVehicles.begin(), pa::kActVehicles.end()}, config.link),
       estimator_(config.estimator),
       throws_(config.limits, config.throw_tracking),
-      hover_(designed(control::hover_lqr())),
-      balancing_(designed(control::balancing_lqr())),
+      tasks_(config.tasks, config.limits),
       learner_(make_learner(config, throws_)),
       catch_(config.catching, input_limits(config.limits)) {
   frame_ = throw_frame(pa::kVehicle1);
@@ -202,7 +177,7 @@ bool GroundStation::request_attempt(const AttemptRequest& request) {
   balanced_since_s_.reset();
   if (target_throw_) current_.target_m = target_throw_->target_m;
   Vehicle& thrower = vehicle_of(request.thrower);
-  thrower.target_m = throw_origin_target();
+  thrower.laws.target_m = throw_origin_target();
   if (request.catch_it) other(thrower).requests |= c::request_catch;
   return true;
 }
@@ -258,7 +233,7 @@ mission::ConditionFacts GroundStation::facts(const Vehicle& v, double now_s) con
   f.in_task_s = now_s - v.sequencer.task_since_s();
   f.estimated = estimator_.vehicle_initialised(v.id);
   f.since_pose_s = now_s - v.last_pose_s;
-  f.target_m = v.target_m;
+  f.target_m = v.laws.target_m;
   if (f.estimated) {
     const estimation::VehicleEstimate e = estimator_.vehicle(v.id);
     f.position_m = e.state.p_m;
@@ -291,17 +266,17 @@ mission::ConditionFacts GroundStation::facts(const Vehicle& v, double now_s) con
 void GroundStation::enter(Vehicle& v, double now_s) {
   const Task task = v.sequencer.task();
   const bool estimated = estimator_.vehicle_initialised(v.id);
-  const Eigen::Vector3d here = estimated ? estimator_.vehicle(v.id).state.p_m : v.target_m;
-  v.integral.setZero();
-  v.set_point.velocity_mps.setZero();
+  const Eigen::Vector3d here = estimated ? estimator_.vehicle(v.id).state.p_m : v.laws.target_m;
+  v.laws.integral.setZero();
+  v.laws.set_point.velocity_mps.setZero();
   // Hold where the vehicle is now.
   const auto hold_here = [&] {
-    v.set_point.position_m = here;
-    v.set_point.valid = true;
+    v.laws.set_point.position_m = here;
+    v.laws.set_point.valid = true;
   };
   switch (task) {
     case Task::parked:
-    case Task::failsafe: v.set_point.valid = false; break;
+    case Task::failsafe: v.laws.set_point.valid = false; break;
     case Task::arming: {
       v.requests &= ~c::request_take_off;
       v.command_failed = false;
@@ -312,19 +287,19 @@ void GroundStation::enter(Vehicle& v, double now_s) {
       break;
     }
     case Task::take_off:
-      v.take_off_ramp_mps2 = 0.0;
-      v.target_m = Eigen::Vector3d(here.x(), here.y(), config_.take_off_height_m);
+      v.laws.take_off_ramp_mps2 = 0.0;
+      v.laws.target_m = Eigen::Vector3d(here.x(), here.y(), config_.take_off_height_m);
       hold_here();
       break;
     case Task::hover:
-      if (!v.set_point.valid) hold_here();
+      if (!v.laws.set_point.valid) hold_here();
       if (config_.identify_motors && v.sequencer.last_reason() == mission::Reason::airborne)
         v.identification.start(now_s, v.equalised_s);
       break;
     case Task::balance:
       balanced_since_s_.reset();
-      if (!v.set_point.valid) v.set_point.position_m = here;
-      v.set_point.valid = true;
+      if (!v.laws.set_point.valid) v.laws.set_point.position_m = here;
+      v.laws.set_point.valid = true;
       break;
     case Task::throwing: {
       v.requests &= ~c::request_throw;
@@ -340,7 +315,7 @@ void GroundStation::enter(Vehicle& v, double now_s) {
     }
     case Task::release: v.requests &= ~c::request_abort; break;
     case Task::retreat:
-      v.target_m = throw_origin_target();
+      v.laws.target_m = throw_origin_target();
       hold_here();
       break;
     case Task::wait: break;
@@ -356,7 +331,7 @@ void GroundStation::enter(Vehicle& v, double now_s) {
     case Task::rebalance:
       // The ground station flies the caught pole from here: end the firmware's own reaction.
       v.pending = link_.send_command(v.id, pa::proto::CommandCode::catch_handled, 0, now_s);
-      v.target_m = here;
+      v.laws.target_m = here;
       hold_here();
       if (!current_.impact_s) {
         current_.impact_s = now_s;
@@ -368,8 +343,8 @@ void GroundStation::enter(Vehicle& v, double now_s) {
       // Sideways, away from where the pole comes down, at the same height.
       Eigen::Vector2d away = here.head<2>() - catch_.target_xy_m();
       if (away.norm() < 0.1) away = Eigen::Vector2d(0.0, 1.0);
-      v.target_m.head<2>() = here.head<2>() + config_.clear_distance_m * away.normalized();
-      v.target_m.z() = here.z();
+      v.laws.target_m.head<2>() = here.head<2>() + config_.clear_distance_m * away.normalized();
+      v.laws.target_m.z() = here.z();
       hold_here();
       break;
     }
@@ -389,121 +364,38 @@ void GroundStation::enter(Vehicle& v, double now_s) {
   }
 }
 
-void GroundStation::integrate(Vehicle& v, const estimation::VehicleEstimate& e, double dt_s) {
-  control::integrate_position_error(v.integral, v.set_point, v.target_m, e.state.p_m, dt_s,
-                                    config_.position_integral_limit_ms);
-}
-
-// The integral shifts the LQR's reference position (p_ref = set point + k_i int e): a constant
-// force offset then leaves no position error, whatever the controller (hover or balancing).
-model::VehicleInput GroundStation::hover(Vehicle& v, const estimation::VehicleEstimate& e, double dt_s,
-                                         bool integrate_error) {
-  if (integrate_error) integrate(v, e, dt_s);
-  control::HoverReference reference;
-  reference.position_m = v.set_point.position_m + config_.position_integral_gain * v.integral;
-  reference.velocity_mps = v.set_point.velocity_mps;
-  return control::hover_law(hover_, e.state, reference);
-}
-
-std::optional<model::VehicleInput> GroundStation::control(Vehicle& v, double now_s, double dt_s) {
+// A task's law on the estimate predicted to when the command acts (latency compensation).
+void GroundStation::fly(Vehicle& v, double now_s, double dt_s) {
   const Task task = v.sequencer.task();
-  if (task == Task::landing || task == Task::failsafe) return std::nullopt;
-  if (task == Task::parked || task == Task::arming) {
-    model::VehicleInput idle;
-    idle.a_q_mps2 = 0.0;  // ARM needs a zero-thrust setpoint (fw/supervisor.hpp)
-    return idle;
+  if (!flies_law(task)) {
+    if (const std::optional<model::VehicleInput> u = fixed_command(task)) send(v, *u, now_s);
+    return;
   }
-  if (!estimator_.vehicle_initialised(v.id)) return std::nullopt;
-  // Latency compensation: the state when this command acts.
-  const double t_act = std::max(estimator_.time(), now_s + config_.command_lead_s);
-  const estimation::VehicleEstimate e = ahead_->vehicle(v.id);
-  const estimation::PoleEstimate pole = ahead_->pole();
-  const estimation::PlateKinematics plate = ahead_->plate(v.id);
-  const double L = ahead_->pole_model().half_length_m;
-  const Eigen::Vector3d plate_offset = pa::kPlateHeightAboveCg_m * Eigen::Vector3d::UnitZ();
-  const auto clamped = [&](const model::VehicleInput& u) { return control::clamp_input(u, config_.limits); };
-
-  switch (task) {
-    case Task::take_off:
-    case Task::hover:
-    case Task::wait:
-    case Task::retreat:
-    case Task::clear:
-    case Task::rebalance: {
-      if (task == Task::wait) v.target_m = waiting_target();
-      control::move_set_point(v.set_point, v.target_m, e.state.p_m, dt_s, config_.carrot);
-      const bool on_floor = task == Task::take_off && e.state.p_m.z() <= config_.take_off_integral_height_m;
-      model::VehicleInput u = hover(v, e, dt_s, !on_floor);
-      if (task == Task::rebalance) u.a_q_mps2 += config_.pole_weight_mps2;
-      if (task == Task::take_off) {
-        // The ramp grows on the floor and gives way in the air to the integral and the measured
-        // thrust gain, which take over from it within a second.
-        const bool stuck = on_floor && now_s - v.sequencer.task_since_s() > config_.take_off_ramp_after_s;
-        v.take_off_ramp_mps2 =
-            std::clamp(v.take_off_ramp_mps2 + (stuck ? 1.0 : -1.0) * config_.take_off_ramp_mps3 * dt_s, 0.0,
-                       config_.limits.a_q_max_mps2);
-        u.a_q_mps2 += v.take_off_ramp_mps2;
-      }
-      return clamped(u);
-    }
-    case Task::balance: {
-      control::move_set_point(v.set_point, v.target_m, e.state.p_m, dt_s, config_.carrot);
-      if (pole.valid && tilt_rad(pole.state) < config_.balance_settled_rad) {
-        if (!balanced_since_s_) balanced_since_s_ = now_s;
-      } else {
-        balanced_since_s_.reset();
-      }
-      integrate(v, e, dt_s);
-      return clamped(control::balance_law(
-          balancing_, resting_pivot(plate, pole.state, L), e.state, pole.state, L,
-          v.set_point.position_m + plate_offset + config_.position_integral_gain * v.integral,
-          v.set_point.velocity_mps, config_.pole_weight_mps2));
-    }
-    case Task::throwing: {
-      const double duration_s = flown_throw().duration_s();
-      const double tau = std::min(t_act - v.sequencer.task_since_s(), duration_s);
-      // The learnt throw (throw_learning.hpp) is the Fig. 5 throw's only: a throw to a target is
-      // planned anew each time. Across the plane the pole is balanced about the end it rested on
-      // as the throw started: about the plate's centre, passes drifted sideways from throw to
-      // throw until one was dropped (hil fly --passes 100 --randomise, seeds 1 and 4: 37 and 7
-      // passes, then 84 and 92); taken as the throw starts, since the filter's estimate of it
-      // moves while the throw accelerates (the learnt throw's error grew, throw_learning_test).
-      const model::PlanarState<double> shift =
-          target_throw_ ? model::PlanarState<double>::Zero()
-                        : adaptation::reference_shift(learner_.throw_correction(), tau, duration_s);
-      const planning::ThrowStep step = planning::throw_step(
-          flown_tracker(), balancing_, tau, frame_, control::Pivot{plate.p_m, plate.v_mps}, resting_offset_m_,
-          e.state, pole.state, L, shift, config_.limits);
-      if (tau >= duration_s - config_.launch_state_window_s) throw_end_ = ThrowEnd{tau, step.state};
-      return clamped(step.input);
-    }
-    case Task::release: {
-      const Eigen::Vector3d pitch_back = frame_.body_rates_to_vehicle(
-          Eigen::Vector3d(0.0, flown_throw().input.back()(model::planar::kPitchRate), 0.0));
-      return clamped(control::release_law(e.state, t_act - v.sequencer.task_since_s(),
-                                          config_.release_pitch_s, pitch_back,
-                                          config_.release_level_gain_per_s, config_.limits.a_q_min_mps2));
-    }
-    case Task::catching: {
-      if (!catch_.trajectory()) return clamped(hover(v, e, dt_s, false));
-      const planning::CatchReference ref = catch_.trajectory()->reference(t_act - catch_.start_s());
-      // The hover LQR about the reference's state with its nominal inputs (46), (47) as feed
-      // forward: a time-varying reference tracked with the hover gains, which hold across the
-      // manoeuvre's tilts (at most atan(a_max / g) ~ 23 degrees plus the xy correction's). The
-      // integral learnt while waiting stays in force, frozen.
-      control::HoverReference reference;
-      reference.position_m = ref.position_m + config_.position_integral_gain * v.integral;
-      reference.velocity_mps = ref.velocity_mps;
-      reference.roll_rad = ref.roll_rad;
-      reference.pitch_rad = ref.pitch_rad;
-      reference.yaw_rad = ref.yaw_rad;
-      reference.thrust_mps2 = ref.thrust_mps2;
-      reference.body_rates_radps = ref.body_rates_radps;
-      v.set_point.position_m = ref.position_m;
-      return clamped(control::hover_law(hover_, e.state, reference));
-    }
-    default: return std::nullopt;
-  }
+  if (!estimator_.vehicle_initialised(v.id)) return;
+  TaskFrame f;
+  f.task = task;
+  f.now_s = now_s;
+  f.t_act_s = std::max(estimator_.time(), now_s + config_.command_lead_s);
+  f.dt_s = dt_s;
+  f.task_since_s = v.sequencer.task_since_s();
+  f.vehicle = ahead_->vehicle(v.id);
+  f.pole = ahead_->pole();
+  f.plate = ahead_->plate(v.id);
+  f.half_length_m = ahead_->pole_model().half_length_m;
+  if (task == Task::wait) f.waiting_target_m = waiting_target();
+  FlownThrow flown{&flown_throw(),
+                   &flown_tracker(),
+                   frame_,
+                   resting_offset_m_,
+                   target_throw_ ? nullptr : &learner_.throw_correction(),
+                   nullptr,
+                   catch_.start_s()};
+  if (catch_.trajectory()) flown.catch_trajectory = &*catch_.trajectory();
+  const TaskCommand command = tasks_.command(v.laws, f, flown);
+  if (command.pole_settled && !*command.pole_settled) balanced_since_s_.reset();
+  if (command.pole_settled && *command.pole_settled && !balanced_since_s_) balanced_since_s_ = now_s;
+  if (command.throw_end) throw_end_ = command.throw_end;
+  if (command.input) send(v, *command.input, now_s);
 }
 
 void GroundStation::on_mocap(const estimation::MocapFrame& frame, double now_s) {
@@ -531,8 +423,7 @@ void GroundStation::on_mocap(const estimation::MocapFrame& frame, double now_s) 
         events_.push_back({now_s, v.id, before, v.sequencer.task(), v.sequencer.last_reason()});
       enter(v, now_s);
     }
-    const std::optional<model::VehicleInput> u = control(v, now_s, dt_s);
-    if (u) send(v, *u, now_s);
+    fly(v, now_s, dt_s);
   }
 }
 
@@ -545,7 +436,7 @@ void GroundStation::measure_thrust_gain(Vehicle& v, double t_s, const estimation
   const Task task = v.sequencer.task();
   const bool steady = task == Task::take_off || task == Task::hover || task == Task::wait ||
                       task == Task::retreat || task == Task::clear || task == Task::balance;
-  const double load = task == Task::balance ? config_.pole_weight_mps2 : 0.0;
+  const double load = task == Task::balance ? config_.tasks.pole_weight_mps2 : 0.0;
   v.thrust_gain.pose(t_s, pose.p_m.z(), (pose.q * Eigen::Vector3d::UnitZ()).z(), load,
                      steady && pose.p_m.z() > config_.thrust_gain_min_height_m);
 }
@@ -616,8 +507,8 @@ void GroundStation::update_attempt(double now_s) {
   Vehicle& catcher = other(thrower);
   const estimation::PoleEstimate pole = estimator_.pole();
 
-  if (thrower.sequencer.task() == Task::balance && thrower.set_point.valid)
-    thrower.target_m = throw_origin_target();
+  if (thrower.sequencer.task() == Task::balance && thrower.laws.set_point.valid)
+    thrower.laws.target_m = throw_origin_target();
   // A catcher lost (no heartbeat, no pose) before the catch is in its failsafe: the catch is off.
   // Before the throw the attempt ends there (the thrower keeps balancing the pole); once thrown,
   // the pole comes down and ends it.
@@ -742,8 +633,8 @@ void GroundStation::end_attempt(double now_s) {
   phase_ = AttemptPhase::idle;
   catch_.reset();
   // Back to the start: the thrower to the throw's origin, the catcher to the next waiting point.
-  thrower.target_m = throw_origin_target();
-  catcher.target_m = waiting_target();
+  thrower.laws.target_m = throw_origin_target();
+  catcher.laws.target_m = waiting_target();
 }
 
 }  // namespace gs::runtime

@@ -56,6 +56,7 @@
 #include "groundstation/runtime/attempt_admission.hpp"
 #include "groundstation/runtime/catch_coordinator.hpp"
 #include "groundstation/runtime/identification_flight.hpp"
+#include "groundstation/runtime/task_control.hpp"
 
 namespace gs::runtime {
 
@@ -87,10 +88,9 @@ struct GroundStationConfig {
   // Where each vehicle stands on the floor before take-off (x, y), and the take-off height.
   std::array<Eigen::Vector2d, 2> home_xy_m{Eigen::Vector2d(-1.0, 0.0), Eigen::Vector2d(1.0, 0.0)};
   double take_off_height_m = 1.0;
-  // Carrot speed and acceleration: set points move towards their target at most this fast, so
-  // that the hover and balancing LQRs only ever see small position errors (they are linear
-  // designs), and brake to stop on it.
-  control::CarrotLimits carrot{1.0, 1.0};
+  // The task controllers' carrot, integral, take-off ramp, pole weight, release and throw
+  // window (runtime/task_control.hpp).
+  TaskControlSettings tasks;
   // When each condition bit holds (mission/condition_word.hpp). at_target: 5 cm and 0.1 m/s;
   // at_height 0.1 m below the target; a pole end within 8 cm of the plate (the plate's radius
   // 6 cm plus the pose noise) keeps the pole on it; upright below 0.5 rad (29 degrees); the
@@ -100,23 +100,6 @@ struct GroundStationConfig {
   // capture that hides a body for 100 ms, two or three times back to back, is predicted through
   // on the commanded inputs).
   mission::ConditionThresholds conditions;
-  // Integral action in hover, balance and the catch (1/s): the LQR's reference position is the
-  // set point plus this times the integral of (set point - position), so that a constant force
-  // offset (the motors' spread, the pole's weight, drag) leaves no position error. Slow beside
-  // the LQRs' position loops (about 1.5 rad/s), so it does not destabilise them. Each axis of
-  // the integral is bounded to +-1 m s (0.3 m of reference shift); it integrates in take-off
-  // only above 0.2 m, clear of the legs' ground contact, which holds the vehicle against it.
-  double position_integral_gain = 0.3;
-  double position_integral_limit_ms = 1.0;
-  double take_off_integral_height_m = 0.2;
-  // A vehicle still below that height this long into its take-off is weaker than its thrust gain
-  // says (the gain is measured only in flight): its thrust ramps up at this rate until it leaves
-  // the floor, as PX4's take-off ramp does. Measured: the vehicles of the airframe file pass 0.2 m
-  // within 0.6 s; one drawn from the envelope with k 0.78 sat on the floor at the commanded g.
-  // In the air the ramp falls back at the same rate.
-  double take_off_ramp_after_s = 1.0;
-  double take_off_ramp_mps3 = 3.0;
-  double pole_weight_mps2 = 0.03 * 9.81 / 0.52;  // m_p g / m_q (hil/config/plant.yaml values)
   // Each vehicle's thrust gain, measured in flight (estimation/thrust_gain.hpp) while it hovers,
   // waits, balances or flies clear, above this height (clear of the legs' ground contact); the
   // setpoints carry a_q / k, so that every law flies the vehicle it was designed for.
@@ -147,13 +130,6 @@ struct GroundStationConfig {
   // 0.925) was refused with k from the sag alone; compensated, its k read 0.88, the throws were
   // flown and the thrower crashed against its ceiling (hil fly --series paper --seed 1).
   double battery_reference_voltage_V = 12.6;
-  // The throw: balancing with the tilt below this first (see conditions).
-  double balance_settled_rad = 0.03;
-  // The release after T (Section VII-A leaves it open): minimum thrust for conditions.release_low_s
-  // with the plate pitching back at the launch rate for release_pitch_s, then level, roll and
-  // pitch brought back at 8 /s (a time constant of 0.125 s, inside the firmware's rate loop).
-  double release_pitch_s = 0.1;
-  double release_level_gain_per_s = 8.0;
   double launch_delay_s = 0.01;  // measured: the estimator calls the launch 10 ms after T
   // Only a call to free flight this close to the throw's end is its launch: during the throw's
   // fastest phase the mode call can flip for a frame (see the conditions' pole at the plate).
@@ -197,9 +173,6 @@ struct GroundStationConfig {
   // in-flight prediction (0.2 m, 0.1 s), odd throws (0.5 m, counted from the 3rd in a row), the
   // throw learnt from past trials (gain 0: not learnt).
   adaptation::LearnerSettings learning;
-  // The launch state is taken from a throw command at most this long before T (commands come
-  // with the motion capture, every 5 ms).
-  double launch_state_window_s = 0.012;
   // Start from what an earlier run learnt instead of the nominal throw's values.
   std::optional<adaptation::Learnt> learnt;
   // The durable adaptation store (adaptation/adaptation_store.hpp): every throw is recorded there
@@ -278,9 +251,7 @@ class GroundStation {
     explicit Vehicle(pa::VehicleId vehicle) : id(vehicle) {}
     pa::VehicleId id;
     mission::VehicleSequencer sequencer;
-    Eigen::Vector3d target_m = Eigen::Vector3d::Zero();  // where the task wants the CG
-    control::SetPoint set_point;                         // the carrot moving towards it
-    Eigen::Vector3d integral = Eigen::Vector3d::Zero();  // of the position error
+    TaskState laws;  // target, carrot, integral, take-off ramp
     std::uint32_t requests = 0;
     std::optional<link::CommandHandle> pending;  // ARM, DISARM or LAND in flight
     bool command_failed = false;
@@ -292,7 +263,6 @@ class GroundStation {
     double equalised_s = 0.0;                              // the firmware's equaliser, as acknowledged
     std::optional<link::CommandHandle> equaliser_command;  // SET_MOTOR_TIME_CONSTANT in flight
     double equaliser_sent_s = 0.0;                         // its argument
-    double take_off_ramp_mps2 = 0.0;                       // see take_off_ramp_mps3
   };
 
   Vehicle& vehicle_of(pa::VehicleId vehicle);  // std::out_of_range for a vehicle not of the act
@@ -305,9 +275,7 @@ class GroundStation {
   // Its motors as the attempt's admission checks them.
   VehicleThrust thrust_of(pa::VehicleId vehicle) const;
   void enter(Vehicle& v, double now_s);
-  std::optional<model::VehicleInput> control(Vehicle& v, double now_s, double dt_s);
-  model::VehicleInput hover(Vehicle& v, const estimation::VehicleEstimate& e, double dt_s, bool integrate);
-  void integrate(Vehicle& v, const estimation::VehicleEstimate& e, double dt_s);
+  void fly(Vehicle& v, double now_s, double dt_s);
   void update_attempt(double now_s);
   CatchView catch_view(const Vehicle& catcher) const;
   void end_attempt(double now_s);
@@ -327,8 +295,7 @@ class GroundStation {
   estimation::StateEstimator estimator_;
   std::array<Vehicle, 2> vehicles_{Vehicle(pa::kVehicle1), Vehicle(pa::kVehicle2)};  // by pa::act_slot()
   planning::ThrowBook throws_;
-  control::LqrGain hover_;
-  control::LqrGain balancing_;
+  TaskController tasks_;
   adaptation::Learner learner_;
   CatchCoordinator catch_;
   std::vector<MissionEvent> events_;
@@ -349,13 +316,8 @@ class GroundStation {
   Refusal refusal_kind_ = Refusal::none;  // why the last request_attempt() was refused
   std::string refusal_;
   std::optional<planning::TargetThrow> target_throw_;  // the attempt's, when it throws to a target
-  // The throw's last tracked state near its end (tau within launch_state_window_s of T).
-  struct ThrowEnd {
-    double tau_s = 0.0;
-    model::PlanarState<double> state;
-  };
-  std::optional<ThrowEnd> throw_end_;
-  std::vector<adaptation::TimedPoleState> flight_;  // the pole's, from the launch to the impact
+  std::optional<ThrowEnd> throw_end_;                  // the throw's last tracked state near its end
+  std::vector<adaptation::TimedPoleState> flight_;     // the pole's, from the launch to the impact
   // The pole's resting end from the plate's centre as the throw started (arena frame).
   Eigen::Vector3d resting_offset_m_ = Eigen::Vector3d::Zero();
   std::optional<double> balanced_since_s_;
