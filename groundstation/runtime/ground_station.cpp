@@ -266,92 +266,41 @@ mission::ConditionFacts GroundStation::facts(const Vehicle& v, double now_s) con
 void GroundStation::enter(Vehicle& v, double now_s) {
   const Task task = v.sequencer.task();
   const bool estimated = estimator_.vehicle_initialised(v.id);
-  const Eigen::Vector3d here = estimated ? estimator_.vehicle(v.id).state.p_m : v.laws.target_m;
-  v.laws.integral.setZero();
-  v.laws.set_point.velocity_mps.setZero();
-  // Hold where the vehicle is now.
-  const auto hold_here = [&] {
-    v.laws.set_point.position_m = here;
-    v.laws.set_point.valid = true;
-  };
-  switch (task) {
-    case Task::parked:
-    case Task::failsafe: v.laws.set_point.valid = false; break;
-    case Task::arming: {
-      v.requests &= ~c::request_take_off;
-      v.command_failed = false;
-      // A vehicle that landed (on command or in its failsafe) arms only from disarmed.
-      v.arm_after_disarm = link_.status(v.id).mode == pa::proto::Mode::landed;
-      v.pending = link_.send_command(
-          v.id, v.arm_after_disarm ? pa::proto::CommandCode::disarm : pa::proto::CommandCode::arm, 0, now_s);
-      break;
+  TaskEntryContext context;
+  context.reason = v.sequencer.last_reason();
+  context.here_m = estimated ? estimator_.vehicle(v.id).state.p_m : v.laws.target_m;
+  context.vehicle_mode = link_.status(v.id).mode;
+  context.retreat_target_m = throw_origin_target();
+  context.catch_target_xy_m = catch_.target_xy_m();
+  context.identify_motors = config_.identify_motors;
+  if (task == Task::catching) {
+    current_.catch_start_s = now_s;
+    context.catch_window_s = catch_.start(now_s, catch_height(), config_.catch_window_margin_s);
+  }
+  const TaskEntry entry =
+      enter_task(task, v.laws, v.requests, context, {config_.take_off_height_m, config_.clear_distance_m});
+  if (task == Task::arming) {
+    v.command_failed = false;
+    v.arm_after_disarm = entry.arm_after_disarm;
+  }
+  if (entry.command)
+    v.pending = link_.send_command(v.id, entry.command->code, entry.command->argument, now_s);
+  if (entry.start_identification) v.identification.start(now_s, v.equalised_s);
+  const Eigen::Vector3d& here = context.here_m;
+  if (task == Task::balance) balanced_since_s_.reset();
+  // Where on the plate the pole rests as the throw starts (see the throwing task's control).
+  if (task == Task::throwing) {
+    resting_offset_m_.setZero();
+    if (estimated && estimator_.pole().valid) {
+      const estimation::PlateKinematics plate = estimator_.plate(v.id);
+      resting_offset_m_ =
+          resting_pivot(plate, estimator_.pole().state, estimator_.pole_model().half_length_m).p_m -
+          plate.p_m;
     }
-    case Task::take_off:
-      v.laws.take_off_ramp_mps2 = 0.0;
-      v.laws.target_m = Eigen::Vector3d(here.x(), here.y(), config_.take_off_height_m);
-      hold_here();
-      break;
-    case Task::hover:
-      if (!v.laws.set_point.valid) hold_here();
-      if (config_.identify_motors && v.sequencer.last_reason() == mission::Reason::airborne)
-        v.identification.start(now_s, v.equalised_s);
-      break;
-    case Task::balance:
-      balanced_since_s_.reset();
-      if (!v.laws.set_point.valid) v.laws.set_point.position_m = here;
-      v.laws.set_point.valid = true;
-      break;
-    case Task::throwing: {
-      v.requests &= ~c::request_throw;
-      // Where on the plate the pole rests as the throw starts (see the throwing task's control).
-      resting_offset_m_.setZero();
-      if (estimated && estimator_.pole().valid) {
-        const estimation::PlateKinematics plate = estimator_.plate(v.id);
-        resting_offset_m_ =
-            resting_pivot(plate, estimator_.pole().state, estimator_.pole_model().half_length_m).p_m -
-            plate.p_m;
-      }
-      break;
-    }
-    case Task::release: v.requests &= ~c::request_abort; break;
-    case Task::retreat:
-      v.laws.target_m = throw_origin_target();
-      hold_here();
-      break;
-    case Task::wait: break;
-    case Task::catching: {
-      current_.catch_start_s = now_s;
-      const double window_s = catch_.start(now_s, catch_height(), config_.catch_window_margin_s);
-      // EXPECT_CATCH carries the window in milliseconds, 0.1-10 s (the firmware's bounds).
-      v.pending =
-          link_.send_command(v.id, pa::proto::CommandCode::expect_catch,
-                             static_cast<std::int32_t>(std::clamp(window_s, 0.1, 10.0) * 1000.0), now_s);
-      break;
-    }
-    case Task::rebalance:
-      // The ground station flies the caught pole from here: end the firmware's own reaction.
-      v.pending = link_.send_command(v.id, pa::proto::CommandCode::catch_handled, 0, now_s);
-      v.laws.target_m = here;
-      hold_here();
-      if (!current_.impact_s) {
-        current_.impact_s = now_s;
-        current_.catcher_at_impact_m = here;
-      }
-      break;
-    case Task::clear: {
-      v.requests &= ~(c::request_abort | c::request_catch);
-      // Sideways, away from where the pole comes down, at the same height.
-      Eigen::Vector2d away = here.head<2>() - catch_.target_xy_m();
-      if (away.norm() < 0.1) away = Eigen::Vector2d(0.0, 1.0);
-      v.laws.target_m.head<2>() = here.head<2>() + config_.clear_distance_m * away.normalized();
-      v.laws.target_m.z() = here.z();
-      hold_here();
-      break;
-    }
-    case Task::landing:
-      v.requests &= ~c::request_land;
-      v.pending = link_.send_command(v.id, pa::proto::CommandCode::land, 0, now_s);
-      break;
+  }
+  if (task == Task::rebalance && !current_.impact_s) {
+    current_.impact_s = now_s;
+    current_.catcher_at_impact_m = here;
   }
   // Whatever ended the throw and the catch is the attempt's account of them.
   if (phase_ != AttemptPhase::idle && v.id == request_.thrower && task == Task::release &&

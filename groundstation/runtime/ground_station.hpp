@@ -57,6 +57,7 @@
 #include "groundstation/runtime/catch_coordinator.hpp"
 #include "groundstation/runtime/identification_flight.hpp"
 #include "groundstation/runtime/task_control.hpp"
+#include "groundstation/runtime/task_entry.hpp"
 
 namespace gs::runtime {
 
