@@ -32,15 +32,7 @@ std::string_view condition_name(int bit) {
   return bit >= 0 && bit < condition::kCount ? kNames[static_cast<std::size_t>(bit)] : "?";
 }
 
-std::string condition_names(std::uint32_t word) {
-  std::string out;
-  for (int b = 0; b < condition::kCount; ++b) {
-    if ((word & (std::uint32_t{1} << b)) == 0) continue;
-    if (!out.empty()) out += '|';
-    out += condition_name(b);
-  }
-  return out.empty() ? "0" : out;
-}
+std::string condition_names(std::uint32_t word) { return bit_names(word, condition::kCount, condition_name); }
 
 std::string_view reason_name(Reason reason) {
   switch (reason) {
@@ -75,13 +67,7 @@ std::string_view reason_name(Reason reason) {
 }
 
 const Transition* find_transition(Task task, std::uint32_t conditions) {
-  for (const Transition& row : kTransitions) {
-    if ((row.from & task_bit(task)) == 0) continue;
-    if ((conditions & row.all) != row.all) continue;
-    if ((conditions & row.none) != 0) continue;
-    return &row;
-  }
-  return nullptr;
+  return first_matching_row(kTransitions, task_bit(task), conditions);
 }
 
 bool VehicleSequencer::step(std::uint32_t conditions, double now_s) {

@@ -20,6 +20,8 @@
 #include <string>
 #include <string_view>
 
+#include "groundstation/mission/transition_table.hpp"
+
 namespace gs::mission {
 
 enum class Task : std::uint8_t {
@@ -114,13 +116,7 @@ enum class Reason : std::uint8_t {
 };
 std::string_view reason_name(Reason reason);
 
-struct Transition {
-  TaskSet from;
-  std::uint32_t all;   // every one of these bits holds
-  std::uint32_t none;  // none of these bits holds
-  Task to;
-  Reason reason;
-};
+using Transition = TableRow<Task, Reason>;  // from: a TaskSet
 
 namespace c = condition;
 // Ordered by severity; the first row that matches the current task wins.

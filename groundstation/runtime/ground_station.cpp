@@ -252,7 +252,8 @@ mission::ConditionFacts GroundStation::facts(const Vehicle& v, double now_s) con
   // The pole on the floor ends an attempt's flight (before the launch it may lie there waiting
   // to be put on the thrower).
   const bool in_flight = phase_ == AttemptPhase::flight || phase_ == AttemptPhase::balancing;
-  f.pole_on_floor = in_flight && last_pole_seen_m_ && last_pole_seen_m_->z() < config_.pole_down_height_m;
+  f.pole_on_floor =
+      in_flight && last_pole_seen_m_ && last_pole_seen_m_->z() < config_.attempt.pole_down_height_m;
   f.throw_duration_s = flown_throw().duration_s();
   f.catcher = request_.catch_it && v.id != request_.thrower && phase_ != AttemptPhase::idle;
   f.catch_due = (phase_ == AttemptPhase::throwing || phase_ == AttemptPhase::flight) && catch_.due(now_s);
@@ -450,87 +451,80 @@ CatchView GroundStation::catch_view(const Vehicle& catcher) const {
   return view;
 }
 
+AttemptFacts GroundStation::attempt_facts(double now_s) const {
+  AttemptFacts f;
+  f.catch_it = request_.catch_it;
+  f.thrower_task = vehicle_of(request_.thrower).sequencer.task();
+  f.catcher_task = vehicle_of(pa::other_vehicle(request_.thrower)).sequencer.task();
+  f.impact = current_.impact_s.has_value();
+  f.catcher_end_noted = current_.catcher_end != mission::Reason::none;
+  f.now_s = now_s;
+  f.throw_start_s = current_.throw_start_s;
+  f.throw_duration_s = flown_throw().duration_s();
+  // The launch: the estimator's switch to free flight after the throw's manoeuvre began.
+  const std::optional<estimation::ModeSwitch> s = estimator_.last_switch();
+  if (s && s->to == estimation::PoleMode::free) f.free_flight_call_s = s->event_t_s;
+  f.catcher_balancing_since_s = balanced_on_catcher_s_;
+  if (last_pole_seen_m_) f.pole_seen_height_m = last_pole_seen_m_->z();
+  return f;
+}
+
 void GroundStation::update_attempt(double now_s) {
   if (phase_ == AttemptPhase::idle) return;
   Vehicle& thrower = vehicle_of(request_.thrower);
   Vehicle& catcher = other(thrower);
-  const estimation::PoleEstimate pole = estimator_.pole();
-
   if (thrower.sequencer.task() == Task::balance && thrower.laws.set_point.valid)
     thrower.laws.target_m = throw_origin_target();
+  AttemptFacts facts = attempt_facts(now_s);
+  const std::uint32_t conditions = attempt_conditions(facts, config_.attempt);
   // A catcher lost (no heartbeat, no pose) before the catch is in its failsafe: the catch is off.
-  // Before the throw the attempt ends there (the thrower keeps balancing the pole); once thrown,
-  // the pole comes down and ends it.
-  if (request_.catch_it && catcher.sequencer.task() == Task::failsafe && !current_.impact_s &&
-      current_.catcher_end == mission::Reason::none) {
-    current_.catcher_end = catcher.sequencer.last_reason();
-    if (phase_ == AttemptPhase::preparing) {
+  if (conditions & attempt_condition::catcher_lost) current_.catcher_end = catcher.sequencer.last_reason();
+  // Before the launch: one step.
+  if (phase_bit(phase_) & kBeforeLaunch) {
+    const AttemptTransition* row = find_attempt_transition(phase_, conditions);
+    if (row && row->to == AttemptPhase::idle) {
       end_attempt(now_s);
       return;
     }
-  }
-  switch (phase_) {
-    case AttemptPhase::preparing: {
-      const bool catcher_ready = !request_.catch_it || (catcher.sequencer.task() == Task::wait &&
-                                                        (catcher.sequencer.last_conditions() & c::at_target));
-      const bool thrower_at_origin = (thrower.sequencer.last_conditions() & c::at_target) != 0;
-      if (catcher_ready && thrower_at_origin) thrower.requests |= c::request_throw;
-      if (thrower.sequencer.task() == Task::throwing) {
-        phase_ = AttemptPhase::throwing;
-        current_.throw_start_s = thrower.sequencer.task_since_s();
-        current_.waiting_xy_m = waiting_xy() + request_.catch_offset_m;
-        current_.catch_height_m = catch_height();
-        const double catch_instant_s =
-            target_throw_ ? target_throw_->plan.catching_instant.t_s : learner_.catch_instant_s();
-        catch_.plan(current_, current_.throw_start_s + flown_throw().duration_s() + config_.launch_delay_s,
-                    catch_instant_s);
-      }
-      break;
+    const bool catcher_ready = !request_.catch_it || (catcher.sequencer.task() == Task::wait &&
+                                                      (catcher.sequencer.last_conditions() & c::at_target));
+    const bool thrower_at_origin = (thrower.sequencer.last_conditions() & c::at_target) != 0;
+    if (phase_ == AttemptPhase::preparing && catcher_ready && thrower_at_origin)
+      thrower.requests |= c::request_throw;
+    if (row) phase_ = row->to;
+    if (row && phase_ == AttemptPhase::throwing) {
+      current_.throw_start_s = thrower.sequencer.task_since_s();
+      current_.waiting_xy_m = waiting_xy() + request_.catch_offset_m;
+      current_.catch_height_m = catch_height();
+      const double catch_instant_s =
+          target_throw_ ? target_throw_->plan.catching_instant.t_s : learner_.catch_instant_s();
+      catch_.plan(current_, current_.throw_start_s + flown_throw().duration_s() + config_.launch_delay_s,
+                  catch_instant_s);
     }
-    case AttemptPhase::throwing: {
-      // The launch: the estimator's switch to free flight after the throw's manoeuvre began.
-      const std::optional<estimation::ModeSwitch> s = estimator_.last_switch();
-      // Only a call at the end of the throw (see the conditions on the flip-flops during it).
-      if (s && s->to == estimation::PoleMode::free &&
-          s->event_t_s > current_.throw_start_s + flown_throw().duration_s() - config_.launch_call_window_s) {
-        current_.launch_s = s->event_t_s;
-        phase_ = AttemptPhase::flight;
-      } else if (thrower.sequencer.task() != Task::throwing && thrower.sequencer.task() != Task::release &&
-                 !current_.launch_s) {
-        end_attempt(now_s);  // the throw was abandoned (aborted or the pole fell)
-        return;
-      }
-      break;
-    }
-    default: break;
+    if (row && phase_ == AttemptPhase::flight) current_.launch_s = facts.free_flight_call_s;
   }
   // The catch manoeuvre starts before the launch (T_z ~ 1.8 s against ~1.1 s of flight): plan
   // it from the throw's start on, from the waiting point until the pole flies.
   if (phase_ == AttemptPhase::flight) catch_.retime(now_s, catch_view(catcher), current_);
   if (request_.catch_it && phase_ != AttemptPhase::preparing)
     catch_.update(now_s, catch_view(catcher), current_);
-  if (phase_ == AttemptPhase::flight || phase_ == AttemptPhase::balancing) {
-    // The pole's free flight, from the launch to the impact, for the evaluation of (42).
-    if (pole.valid && pole.mode == estimation::PoleMode::free && current_.launch_s && !current_.impact_s &&
-        (flight_.empty() || pole.t_s > flight_.back().t_s))
-      flight_.push_back({pole.t_s, pole.state});
-    // The ends of an attempt.
-    if (catcher.sequencer.task() == Task::balance) {
-      phase_ = AttemptPhase::balancing;
-      if (!balanced_on_catcher_s_) balanced_on_catcher_s_ = now_s;
-      if (now_s - *balanced_on_catcher_s_ >= config_.caught_after_s) {
-        current_.caught = true;
-        end_attempt(now_s);
-        return;
-      }
-    } else {
-      balanced_on_catcher_s_.reset();
-    }
-    const bool down = last_pole_seen_m_ && last_pole_seen_m_->z() < config_.pole_down_height_m;
-    if (down || now_s - current_.throw_start_s > config_.attempt_timeout_s) {
-      end_attempt(now_s);
-      return;
-    }
+  if ((phase_bit(phase_) & kInFlight) == 0) return;
+  // The pole's free flight, from the launch to the impact, for the evaluation of (42).
+  const estimation::PoleEstimate pole = estimator_.pole();
+  if (pole.valid && pole.mode == estimation::PoleMode::free && current_.launch_s && !current_.impact_s &&
+      (flight_.empty() || pole.t_s > flight_.back().t_s))
+    flight_.push_back({pole.t_s, pole.state});
+  if (catcher.sequencer.task() != Task::balance) {
+    balanced_on_catcher_s_.reset();
+  } else if (!balanced_on_catcher_s_) {
+    balanced_on_catcher_s_ = now_s;
+  }
+  // In flight: steps until none applies.
+  facts = attempt_facts(now_s);
+  const AttemptTransition* row = settle_attempt(phase_, attempt_conditions(facts, config_.attempt));
+  if (row && row->to == AttemptPhase::idle) {
+    if (row->reason == AttemptEnd::caught) current_.caught = true;
+    end_attempt(now_s);
   }
 }
 

@@ -54,6 +54,7 @@
 #include "groundstation/planning/throw_book.hpp"
 #include "groundstation/runtime/attempt.hpp"
 #include "groundstation/runtime/attempt_admission.hpp"
+#include "groundstation/runtime/attempt_phases.hpp"
 #include "groundstation/runtime/catch_coordinator.hpp"
 #include "groundstation/runtime/identification_flight.hpp"
 #include "groundstation/runtime/task_control.hpp"
@@ -132,9 +133,6 @@ struct GroundStationConfig {
   // flown and the thrower crashed against its ceiling (hil fly --series paper --seed 1).
   double battery_reference_voltage_V = 12.6;
   double launch_delay_s = 0.01;  // measured: the estimator calls the launch 10 ms after T
-  // Only a call to free flight this close to the throw's end is its launch: during the throw's
-  // fastest phase the mode call can flip for a frame (see the conditions' pole at the plate).
-  double launch_call_window_s = 0.05;
   // The throw's TV-LQR weights: the planner's defaults but a pitch-rate input tolerance of
   // 0.25 rad/s (R 16 times heavier). With the defaults (2 rad/s) the gains are 240 rad/s per
   // rad of pole tilt and 70 per rad/s of its rate: right on the plant's truth, but flown on the
@@ -165,11 +163,11 @@ struct GroundStationConfig {
   double catch_window_margin_s = 1.0;
   // A catcher whose catch is aborted flies this far sideways, away from where the pole comes down.
   double clear_distance_m = 1.0;
-  // The pole balanced on the catcher this long: caught. An attempt ends this long after its
-  // throw started whatever happens (a pole lost from sight, a catcher hovering on).
-  double caught_after_s = 3.0;
-  double attempt_timeout_s = 15.0;
-  double pole_down_height_m = 0.25;  // the pole's centre below this: it lies on the floor
+  // When an attempt has launched, is caught or ends (runtime/attempt_phases.hpp): a call to free
+  // flight within 0.05 s of the throw's end is the launch; the pole balanced on the catcher for
+  // 3 s is caught; the pole's centre below 0.25 m lies on the floor; 15 s after the throw started
+  // the attempt ends whatever happens.
+  AttemptThresholds attempt;
   // What is learnt from attempt to attempt (adaptation/learner.hpp): the gate against the
   // in-flight prediction (0.2 m, 0.1 s), odd throws (0.5 m, counted from the 3rd in a row), the
   // throw learnt from past trials (gain 0: not learnt).
@@ -278,6 +276,7 @@ class GroundStation {
   void enter(Vehicle& v, double now_s);
   void fly(Vehicle& v, double now_s, double dt_s);
   void update_attempt(double now_s);
+  AttemptFacts attempt_facts(double now_s) const;
   CatchView catch_view(const Vehicle& catcher) const;
   void end_attempt(double now_s);
   // The catch point (lower end, x y) expected for the next throw, arena frame.
