@@ -205,18 +205,9 @@ void GroundStation::tick(double now_s) {
   link_.tick(now_s);
   for (Vehicle& v : vehicles_) identify_motors(v, now_s);
   for (Vehicle& v : vehicles_) {
-    if (!v.pending) continue;
-    const link::CommandState s = link_.command_state(*v.pending);
-    if (s == link::CommandState::pending) continue;
-    v.pending.reset();
-    if (s != link::CommandState::accepted) {
-      v.command_failed = true;
-      v.arm_after_disarm = false;
-    } else if (v.arm_after_disarm) {
-      v.arm_after_disarm = false;
-      if (v.sequencer.task() == Task::arming)
-        v.pending = link_.send_command(v.id, pa::proto::CommandCode::arm, 0, now_s);
-    }
+    if (v.commands.pending() &&
+        v.commands.settle(link_.command_state(*v.commands.pending()), v.sequencer.task() == Task::arming))
+      v.commands.sent(link_.send_command(v.id, pa::proto::CommandCode::arm, 0, now_s));
   }
 }
 
@@ -228,7 +219,7 @@ mission::ConditionFacts GroundStation::facts(const Vehicle& v, double now_s) con
   f.armed = status.armed;
   f.on_ground = status.mode == pa::proto::Mode::disarmed || status.mode == pa::proto::Mode::landed ||
                 status.mode == pa::proto::Mode::killed;
-  f.command_failed = v.command_failed;
+  f.command_failed = v.commands.failed();
   f.task = v.sequencer.task();
   f.in_task_s = now_s - v.sequencer.task_since_s();
   f.estimated = estimator_.vehicle_initialised(v.id);
@@ -280,12 +271,9 @@ void GroundStation::enter(Vehicle& v, double now_s) {
   }
   const TaskEntry entry =
       enter_task(task, v.laws, v.requests, context, {config_.take_off_height_m, config_.clear_distance_m});
-  if (task == Task::arming) {
-    v.command_failed = false;
-    v.arm_after_disarm = entry.arm_after_disarm;
-  }
+  if (task == Task::arming) v.commands.arming(entry.arm_after_disarm);
   if (entry.command)
-    v.pending = link_.send_command(v.id, entry.command->code, entry.command->argument, now_s);
+    v.commands.sent(link_.send_command(v.id, entry.command->code, entry.command->argument, now_s));
   if (entry.start_identification) v.identification.start(now_s, v.equalised_s);
   const Eigen::Vector3d& here = context.here_m;
   if (task == Task::balance) balanced_since_s_.reset();

@@ -48,6 +48,7 @@
 #include "groundstation/estimation/state_estimator.hpp"
 #include "groundstation/estimation/thrust_gain.hpp"
 #include "groundstation/link/ground_link.hpp"
+#include "groundstation/link/mission_commands.hpp"
 #include "groundstation/mission/condition_word.hpp"
 #include "groundstation/mission/vehicle_sequencer.hpp"
 #include "groundstation/model/vehicle_limits.hpp"
@@ -252,9 +253,7 @@ class GroundStation {
     mission::VehicleSequencer sequencer;
     TaskState laws;  // target, carrot, integral, take-off ramp
     std::uint32_t requests = 0;
-    std::optional<link::CommandHandle> pending;  // ARM, DISARM or LAND in flight
-    bool command_failed = false;
-    bool arm_after_disarm = false;  // a DISARM in flight clears `landed` for the ARM that follows
+    link::MissionCommands commands;  // ARM, DISARM, LAND, EXPECT_CATCH, CATCH_HANDLED
     double last_pose_s = -1e9;
     estimation::ThrustGainEstimator thrust_gain;
     IdentificationFlight identification;  // per take-off (identify_motors)
