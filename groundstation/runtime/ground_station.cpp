@@ -521,45 +521,15 @@ void GroundStation::end_attempt(double now_s) {
   Vehicle& catcher = other(thrower);
   catcher.requests &= ~c::request_catch;
   thrower.requests &= ~c::request_throw;
-  if (current_.launch_s && flight_.size() >= 2)
-    current_.optimal =
-        adaptation::evaluate_optimal_catch(flight_, *current_.launch_s, estimator_.pole_model());
-  if (current_.launch_s && throw_end_) {
-    // The state tracked last, carried to T along the plan (a few milliseconds of it).
-    const planning::ThrowTrajectory& plan = flown_throw();
-    const double T = plan.duration_s();
-    const model::PlanarState<double> at_t =
-        throw_end_->state + plan.state_at(T) - plan.state_at(throw_end_->tau_s);
-    current_.launch_flown = adaptation::launch_state_of(at_t);
-    current_.launch_error = adaptation::launch_vector(*current_.launch_flown) -
-                            adaptation::launch_vector(adaptation::launch_state_of(plan.state_at(T)));
-    if (!target_throw_) learner_.learn_launch(*current_.launch_flown);
-  }
-  adaptation::ThrowRecord record = record_of(request_, current_, frame_, catch_.target_xy_m(), now_s);
-  // The optimal catch evaluated after the throw counts only if it agrees with the one predicted
-  // in flight (adaptation/learner.hpp).
-  const bool agrees =
-      current_.optimal && learner_.evaluation_agrees(current_.optimal->point, current_.predicted_optimal);
-  if (target_throw_) {
-    // A throw to a target is not the Fig. 5 throw whose catch the adaptation learns (its catch
-    // point, height and instant are its plan's): its miss is learnt, the record kept, neither
-    // adapted nor stored.
-    if (agrees) {
-      const adaptation::OptimalCatch& o = current_.optimal->point;
-      const Eigen::Vector3d came_down(o.xy_m.x(), o.xy_m.y(), o.height_m);
-      learner_.learn_target_miss(frame_.to_frame(came_down) - frame_.to_frame(target_throw_->plan.target_m));
-    }
-    record.note = "a throw to a target: not adapted";
-    learner_.keep(record);
-  } else {
-    if (current_.optimal) {
-      adaptation::OptimalCatch o = current_.optimal->point;
-      o.height_m -= frame_.origin_m.z();
-      o.xy_m = frame_.to_frame_xy(o.xy_m);
-      learner_.learn_optimal_catch(record, o, agrees);
-    }
-    learner_.adapt(record);
-  }
+  AttemptFlight flight;
+  flight.plan = &flown_throw();
+  flight.target_throw = target_throw_ ? &*target_throw_ : nullptr;
+  flight.frame = frame_;
+  flight.throw_end = throw_end_;
+  flight.pole_flight = &flight_;
+  flight.pole_model = estimator_.pole_model();
+  flight.catch_target_xy_m = catch_.target_xy_m();
+  close_attempt(request_, current_, flight, now_s, learner_);
   reports_.push_back(current_);
   phase_ = AttemptPhase::idle;
   catch_.reset();

@@ -55,6 +55,7 @@
 #include "groundstation/planning/throw_book.hpp"
 #include "groundstation/runtime/attempt.hpp"
 #include "groundstation/runtime/attempt_admission.hpp"
+#include "groundstation/runtime/attempt_close.hpp"
 #include "groundstation/runtime/attempt_phases.hpp"
 #include "groundstation/runtime/catch_coordinator.hpp"
 #include "groundstation/runtime/identification_flight.hpp"
