@@ -13,14 +13,6 @@ namespace {
 namespace c = mission::condition;
 using mission::Task;
 
-// The pole's end nearest the plate, from the latest pose.
-double pole_end_from_plate_m(const estimation::MocapPose& pose, const Eigen::Vector3d& plate_m,
-                             double half_length_m) {
-  const Eigen::Vector3d n = pose.q * Eigen::Vector3d::UnitZ();
-  const Eigen::Vector3d a = pose.p_m + half_length_m * n, b = pose.p_m - half_length_m * n;
-  return std::min((a - plate_m).norm(), (b - plate_m).norm());
-}
-
 planning::InputLimits input_limits(const model::VehicleLimits& l) {
   return {l.a_q_min_mps2, l.a_q_max_mps2, l.omega_max_radps};
 }
@@ -212,47 +204,23 @@ void GroundStation::tick(double now_s) {
 }
 
 mission::ConditionFacts GroundStation::facts(const Vehicle& v, double now_s) const {
-  mission::ConditionFacts f;
-  f.requests = v.requests;
-  const link::VehicleLinkStatus& status = link_.status(v.id);
-  f.link_up = !status.lost && (status.flags & pa::proto::kFlagGroundHeartbeatOk) != 0;
-  f.armed = status.armed;
-  f.on_ground = status.mode == pa::proto::Mode::disarmed || status.mode == pa::proto::Mode::landed ||
-                status.mode == pa::proto::Mode::killed;
-  f.command_failed = v.commands.failed();
-  f.task = v.sequencer.task();
-  f.in_task_s = now_s - v.sequencer.task_since_s();
-  f.estimated = estimator_.vehicle_initialised(v.id);
-  f.since_pose_s = now_s - v.last_pose_s;
-  f.target_m = v.laws.target_m;
-  if (f.estimated) {
-    const estimation::VehicleEstimate e = estimator_.vehicle(v.id);
-    f.position_m = e.state.p_m;
-    f.velocity_mps = e.state.v_mps;
-  }
-  const bool holding = f.task == Task::throwing || f.task == Task::rebalance || f.task == Task::balance;
-  if (holding && last_pole_pose_ && f.estimated)
-    f.pole_end_from_plate_m = pole_end_from_plate_m(*last_pole_pose_, estimator_.plate(v.id).p_m,
-                                                    estimator_.pole_model().half_length_m);
-  const estimation::PoleEstimate pole = estimator_.pole();
-  if (pole.valid) {
-    f.pole_estimated_on_self = estimator_.mode() == estimation::on_vehicle_mode(v.id);
-    if (f.pole_estimated_on_self) f.pole_tilt_rad = tilt_rad(pole.state);
-    f.pole_estimated_free = estimator_.mode() == estimation::PoleMode::free;
-  }
-  // The pole on the floor ends an attempt's flight (before the launch it may lie there waiting
-  // to be put on the thrower).
-  const bool in_flight = phase_ == AttemptPhase::flight || phase_ == AttemptPhase::balancing;
-  f.pole_on_floor =
-      in_flight && last_pole_seen_m_ && last_pole_seen_m_->z() < config_.attempt.pole_down_height_m;
-  f.throw_duration_s = flown_throw().duration_s();
-  f.catcher = request_.catch_it && v.id != request_.thrower && phase_ != AttemptPhase::idle;
-  f.catch_due = (phase_ == AttemptPhase::throwing || phase_ == AttemptPhase::flight) && catch_.due(now_s);
-  f.catch_unreachable = catch_.unreachable();
-  f.catch_infeasible = catch_.infeasible();
-  f.catch_missed = catch_.missed();
-  if (balanced_since_s_) f.balanced_for_s = now_s - *balanced_since_s_;
-  return f;
+  const VehicleView vehicle{
+      v.id,          v.requests,     v.commands.failed(), v.sequencer.task(), v.sequencer.task_since_s(),
+      v.last_pose_s, v.laws.target_m};
+  AttemptView attempt;
+  attempt.phase = phase_;
+  attempt.thrower = request_.thrower;
+  attempt.catch_it = request_.catch_it;
+  attempt.throw_duration_s = flown_throw().duration_s();
+  attempt.catch_due = catch_.due(now_s);
+  attempt.catch_unreachable = catch_.unreachable();
+  attempt.catch_infeasible = catch_.infeasible();
+  attempt.catch_missed = catch_.missed();
+  attempt.balanced_since_s = balanced_since_s_;
+  if (last_pole_pose_) attempt.pole_seen_height_m = last_pole_pose_->p_m.z();
+  attempt.pole_pose = last_pole_pose_;
+  attempt.pole_down_height_m = config_.attempt.pole_down_height_m;
+  return condition_facts(vehicle, link_.status(v.id), estimator_, attempt, now_s);
 }
 
 void GroundStation::enter(Vehicle& v, double now_s) {
@@ -346,10 +314,7 @@ void GroundStation::on_mocap(const estimation::MocapFrame& frame, double now_s) 
     v.last_pose_s = now_s;
     measure_thrust_gain(v, now_s, *pose);
   }
-  if (frame.pole) {
-    last_pole_seen_m_ = frame.pole->p_m;
-    last_pole_pose_ = *frame.pole;
-  }
+  if (frame.pole) last_pole_pose_ = *frame.pole;
   // The estimator predicted, states only, to when the commands act (latency compensation).
   ahead_.emplace(estimator_.predicted(std::max(estimator_.time(), now_s + config_.command_lead_s)));
 
@@ -453,7 +418,7 @@ AttemptFacts GroundStation::attempt_facts(double now_s) const {
   const std::optional<estimation::ModeSwitch> s = estimator_.last_switch();
   if (s && s->to == estimation::PoleMode::free) f.free_flight_call_s = s->event_t_s;
   f.catcher_balancing_since_s = balanced_on_catcher_s_;
-  if (last_pole_seen_m_) f.pole_seen_height_m = last_pole_seen_m_->z();
+  if (last_pole_pose_) f.pole_seen_height_m = last_pole_pose_->p_m.z();
   return f;
 }
 

@@ -58,6 +58,7 @@
 #include "groundstation/runtime/attempt_close.hpp"
 #include "groundstation/runtime/attempt_phases.hpp"
 #include "groundstation/runtime/catch_coordinator.hpp"
+#include "groundstation/runtime/condition_facts.hpp"
 #include "groundstation/runtime/identification_flight.hpp"
 #include "groundstation/runtime/task_control.hpp"
 #include "groundstation/runtime/task_entry.hpp"
@@ -303,8 +304,7 @@ class GroundStation {
   // The estimator predicted to when this frame's commands act (latency compensation).
   std::optional<estimation::StateEstimator> ahead_;
   double last_mocap_s_ = -1e9;
-  std::optional<Eigen::Vector3d> last_pole_seen_m_;
-  std::optional<estimation::MocapPose> last_pole_pose_;
+  std::optional<estimation::MocapPose> last_pole_pose_;  // the pole's latest pose
 
   // The attempt.
   control::ThrowFrame frame_;  // its thrower's throw frame (the last attempt's when idle)
