@@ -330,26 +330,22 @@ void GroundStation::on_mocap(const estimation::MocapFrame& frame, double now_s) 
   }
 }
 
-// The thrust gain is measured while the vehicle flies on its thrust alone: not on the floor, not
-// throwing, releasing, catching or with a pole swinging up; balancing, the pole's weight is the
-// known extra load. Poses are stamped with the ground clock on arrival, the clock the commands
+// The thrust gain is measured while the vehicle flies on its thrust alone (thrust_gain_sample).
+// Poses are stamped with the ground clock on arrival, the clock the commands
 // are stamped with: the motion capture's own may be another (a plant slower than real time, an
 // arena's system), and its latency only shifts the window by tens of milliseconds of steady flight.
 void GroundStation::measure_thrust_gain(Vehicle& v, double t_s, const estimation::MocapPose& pose) {
-  const Task task = v.sequencer.task();
-  const bool steady = task == Task::take_off || task == Task::hover || task == Task::wait ||
-                      task == Task::retreat || task == Task::clear || task == Task::balance;
-  const double load = task == Task::balance ? config_.tasks.pole_weight_mps2 : 0.0;
-  v.thrust_gain.pose(t_s, pose.p_m.z(), (pose.q * Eigen::Vector3d::UnitZ()).z(), load,
-                     steady && pose.p_m.z() > config_.thrust_gain_min_height_m);
+  const ThrustGainSample sample = thrust_gain_sample(
+      v.sequencer.task(), pose.p_m.z(), config_.thrust_gain_min_height_m, config_.tasks.pole_weight_mps2);
+  v.thrust_gain.pose(t_s, pose.p_m.z(), (pose.q * Eigen::Vector3d::UnitZ()).z(), sample.load_mps2,
+                     sample.steady);
 }
 
 // The setpoint carries a_q / k (the vehicle delivers k a_q); the estimator's model is told what
 // the vehicle delivers, the thrust-gain estimator what it was commanded.
 void GroundStation::send(Vehicle& v, model::VehicleInput u, double now_s) {
   const double gain = config_.compensate_thrust_gain ? v.thrust_gain.gain() : 1.0;
-  if (u.a_q_mps2 > 0.0)
-    u.a_q_mps2 = std::clamp(u.a_q_mps2 / gain, config_.limits.a_q_min_mps2, config_.limits.a_q_max_mps2);
+  u.a_q_mps2 = compensated_thrust_mps2(u.a_q_mps2, gain, config_.limits);
   u.omega_radps.head<2>() += v.identification.excitation(now_s);
   model::VehicleInput sent = link_.send_setpoint(v.id, u);
   v.identification.command_sent(now_s, sent.omega_radps.head<2>());

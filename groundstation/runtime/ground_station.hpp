@@ -62,6 +62,7 @@
 #include "groundstation/runtime/identification_flight.hpp"
 #include "groundstation/runtime/task_control.hpp"
 #include "groundstation/runtime/task_entry.hpp"
+#include "groundstation/runtime/thrust_compensation.hpp"
 
 namespace gs::runtime {
 

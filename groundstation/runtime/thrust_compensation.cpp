@@ -1,0 +1,19 @@
+#include "groundstation/runtime/thrust_compensation.hpp"
+
+#include <algorithm>
+
+namespace gs::runtime {
+
+ThrustGainSample thrust_gain_sample(mission::Task task, double height_m, double min_height_m,
+                                    double pole_weight_mps2) {
+  using mission::Task;
+  const bool steady = task == Task::take_off || task == Task::hover || task == Task::wait ||
+                      task == Task::retreat || task == Task::clear || task == Task::balance;
+  return {steady && height_m > min_height_m, task == Task::balance ? pole_weight_mps2 : 0.0};
+}
+
+double compensated_thrust_mps2(double a_q_mps2, double gain, const model::VehicleLimits& limits) {
+  return a_q_mps2 > 0.0 ? std::clamp(a_q_mps2 / gain, limits.a_q_min_mps2, limits.a_q_max_mps2) : a_q_mps2;
+}
+
+}  // namespace gs::runtime

@@ -1,0 +1,26 @@
+// The measured thrust gain's part in a vehicle's setpoints (estimation/thrust_gain.hpp): when a
+// pose measures the gain (the vehicle flying on its thrust alone) and with what known extra load,
+// and the collective thrust a setpoint carries so that the vehicle, delivering k a_q, flies what
+// the law asked for. Pure functions (thrust_compensation_test.cpp).
+#pragma once
+
+#include "groundstation/mission/vehicle_sequencer.hpp"
+#include "groundstation/model/vehicle_limits.hpp"
+
+namespace gs::runtime {
+
+struct ThrustGainSample {
+  bool steady = false;     // the pose measures the gain
+  double load_mps2 = 0.0;  // the known extra load (the balanced pole's weight)
+};
+
+// Not on the floor (below `min_height_m`), not throwing, releasing, catching or with a pole
+// swinging up; balancing, the pole's weight is the known extra load.
+ThrustGainSample thrust_gain_sample(mission::Task task, double height_m, double min_height_m,
+                                    double pole_weight_mps2);
+
+// The setpoint's thrust for `a_q_mps2` on a vehicle with thrust gain `gain`: a_q / k within the
+// limits; zero stays zero (ARM wants a zero-thrust setpoint).
+double compensated_thrust_mps2(double a_q_mps2, double gain, const model::VehicleLimits& limits);
+
+}  // namespace gs::runtime
