@@ -8,7 +8,7 @@
 // reason"; the first matching row wins, one transition per step. The rows are ordered by
 // severity: losing the vehicle or its estimate first, then the operator's land and abort, then
 // the mission's own progress. The sequencer knows nothing of controllers: the runtime flies
-// each task with its controller (runtime/ground_station.hpp).
+// each task with its controller (runtime/task_control.hpp).
 //
 // One table serves the thrower and the catcher: which rows apply follows from the task the
 // vehicle is in (only the vehicle carrying the pole is ever asked to throw, only the other one

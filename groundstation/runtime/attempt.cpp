@@ -2,6 +2,23 @@
 
 namespace gs::runtime {
 
+void note_task_entry(const AttemptRequest& request, bool running, AttemptReport& report,
+                     pa::VehicleId vehicle, mission::Task task, mission::Reason reason, double now_s,
+                     const Eigen::Vector3d& here_m) {
+  using mission::Reason;
+  using mission::Task;
+  if (task == Task::rebalance && !report.impact_s) {
+    report.impact_s = now_s;
+    report.catcher_at_impact_m = here_m;
+  }
+  if (running && vehicle == request.thrower && task == Task::release && report.thrower_end == Reason::none)
+    report.thrower_end = reason;
+  if (request.catch_it && vehicle != request.thrower &&
+      (task == Task::clear || task == Task::rebalance || (task == Task::hover && report.catch_start_s)) &&
+      report.catcher_end == Reason::none)
+    report.catcher_end = reason;
+}
+
 adaptation::ThrowOutcome outcome_of(const AttemptRequest& request, const AttemptReport& report) {
   using adaptation::ThrowOutcome;
   using mission::Reason;

@@ -64,6 +64,14 @@ struct AttemptReport {
   std::optional<adaptation::CatchPoint> converged_prediction;
 };
 
+// What a vehicle entering `task` for `reason` at `now_s`, at `here_m`, tells the report: a
+// rebalance is the impact (the first one, wherever the vehicle); the thrower's release in a
+// running attempt says what ended the throw, and the catcher's clear, rebalance or hover after its
+// catch started what ended the catch (each noted once).
+void note_task_entry(const AttemptRequest& request, bool running, AttemptReport& report,
+                     pa::VehicleId vehicle, mission::Task task, mission::Reason reason, double now_s,
+                     const Eigen::Vector3d& here_m);
+
 // How the attempt ended, as the adaptation classes throws (throw_record.hpp): a throw without a
 // catch, caught, aborted (out of reach, or for any other reason of the catcher's), a practice
 // catch off the catch point, dropped after an impact, or missed.

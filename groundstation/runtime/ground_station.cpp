@@ -255,19 +255,8 @@ void GroundStation::enter(Vehicle& v, double now_s) {
           plate.p_m;
     }
   }
-  if (task == Task::rebalance && !current_.impact_s) {
-    current_.impact_s = now_s;
-    current_.catcher_at_impact_m = here;
-  }
-  // Whatever ended the throw and the catch is the attempt's account of them.
-  if (phase_ != AttemptPhase::idle && v.id == request_.thrower && task == Task::release &&
-      current_.thrower_end == mission::Reason::none)
-    current_.thrower_end = v.sequencer.last_reason();
-  if (request_.catch_it && v.id != request_.thrower &&
-      (task == Task::clear || task == Task::rebalance || (task == Task::hover && current_.catch_start_s)) &&
-      current_.catcher_end == mission::Reason::none) {
-    current_.catcher_end = v.sequencer.last_reason();
-  }
+  note_task_entry(request_, phase_ != AttemptPhase::idle, current_, v.id, task, v.sequencer.last_reason(),
+                  now_s, here);
 }
 
 // A task's law on the estimate predicted to when the command acts (latency compensation).

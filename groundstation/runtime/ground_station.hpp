@@ -1,12 +1,16 @@
 // The ground-station runtime: the one object that flies the mission, as a loop over named
-// pieces. It owns the estimator, the link, both vehicles' sequencers, the throw book, the catch
-// coordinator and the learner, and is driven from outside by three calls and nothing else:
+// pieces. It owns the estimator, the link, both vehicles' sequencers, the task controllers, the
+// throw book, the catch coordinator and the learner, and is driven from outside by three calls
+// and nothing else:
 //   on_mocap(frame, now)  a motion-capture frame arrived: estimator update, each vehicle's
-//                        thrust gain (estimation/thrust_gain.hpp), the attempt's progress, then
-//                        for each vehicle its condition word, its sequencer step and its task's
-//                        law (control/task_laws.hpp) to a setpoint, its thrust over the gain;
+//                        thrust-gain sample (thrust_compensation.hpp), the attempt's phases
+//                        (attempt_phases.hpp), then for each vehicle its condition facts and word
+//                        (condition_facts.hpp), its sequencer step, the new task's entry actions
+//                        (task_entry.hpp) and its task's law (task_control.hpp) to a setpoint,
+//                        its thrust over the gain;
 //   on_frame(frame, now)  a frame from the ground CAN bus (heartbeats, acks, IMPACT, TIMESYNC);
-//   tick(now)            link housekeeping (heartbeats, retries, TIMESYNC, lost vehicles).
+//   tick(now)            link housekeeping (heartbeats, retries, TIMESYNC, lost vehicles), the
+//                        mission commands (link/mission_commands.hpp), the motors' identification.
 // No clock, no thread: `now` is the ground clock, which is also the clock the motion capture
 // stamps its frames with (in simulation both are the plant's time). The same object runs in the
 // lockstep arena (hil/sil), in `hil run`'s plant exchange and in `groundstation run`
@@ -27,8 +31,9 @@
 // that it comes to rest at the catching height at the expected catching instant, re-plans its
 // xy correction to the latest catch-point prediction at every frame and tracks it in closed loop
 // (catch_coordinator.hpp); after the impact it holds still while the pole swings up, then
-// balances it. Throw by throw the learner (adaptation/learner.hpp, Section VI) moves the
-// catching height, the waiting point and the offset bias.
+// balances it. Attempts are admitted by attempt_admission.hpp and closed by attempt_close.hpp:
+// throw by throw the learner (adaptation/learner.hpp, Section VI) moves the catching height, the
+// waiting point and the offset bias.
 #pragma once
 
 #include <array>

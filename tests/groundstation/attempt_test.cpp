@@ -69,3 +69,46 @@ TEST_CASE("The record is the throw's, in its frame") {
   report.catcher_end = Reason::out_of_reach;
   CHECK_FALSE(record_of(request, report, frame, target, 30.0).catcher_at_impact_xy_m);
 }
+
+TEST_CASE("A task entered tells the report the impact and what ended the throw and the catch, once") {
+  using gs::mission::Task;
+  AttemptRequest request;  // vehicle 1 throws, vehicle 2 catches
+  AttemptReport report;
+  const Eigen::Vector3d here(3.4, 0.1, 1.5);
+  gs::runtime::note_task_entry(request, true, report, pa::kVehicle2, Task::rebalance, Reason::caught, 12.0,
+                               here);
+  CHECK(report.impact_s == 12.0);
+  CHECK(report.catcher_at_impact_m == here);
+  CHECK(report.catcher_end == Reason::caught);
+  gs::runtime::note_task_entry(request, true, report, pa::kVehicle2, Task::rebalance, Reason::caught, 13.0,
+                               Eigen::Vector3d::Zero());
+  CHECK(report.impact_s == 12.0);  // the first impact
+  gs::runtime::note_task_entry(request, true, report, pa::kVehicle2, Task::clear, Reason::pole_lost, 14.0,
+                               here);
+  CHECK(report.catcher_end == Reason::caught);  // noted once
+
+  AttemptReport throw_report;
+  gs::runtime::note_task_entry(request, false, throw_report, pa::kVehicle1, Task::release,
+                               Reason::throw_ended, 11.0, here);
+  CHECK(throw_report.thrower_end == Reason::none);  // no attempt running
+  gs::runtime::note_task_entry(request, true, throw_report, pa::kVehicle2, Task::release, Reason::throw_ended,
+                               11.0, here);
+  CHECK(throw_report.thrower_end == Reason::none);  // not the thrower
+  gs::runtime::note_task_entry(request, true, throw_report, pa::kVehicle1, Task::release,
+                               Reason::pole_left_early, 11.0, here);
+  CHECK(throw_report.thrower_end == Reason::pole_left_early);
+  // A catcher hovering again ends its catch only once the catch had started.
+  gs::runtime::note_task_entry(request, true, throw_report, pa::kVehicle2, Task::hover,
+                               Reason::abort_requested, 11.5, here);
+  CHECK(throw_report.catcher_end == Reason::none);
+  throw_report.catch_start_s = 11.2;
+  gs::runtime::note_task_entry(request, true, throw_report, pa::kVehicle2, Task::hover, Reason::pole_down,
+                               11.5, here);
+  CHECK(throw_report.catcher_end == Reason::pole_down);
+  // Without a catch, no catcher's end.
+  request.catch_it = false;
+  AttemptReport alone;
+  gs::runtime::note_task_entry(request, true, alone, pa::kVehicle2, Task::clear, Reason::out_of_reach, 11.5,
+                               here);
+  CHECK(alone.catcher_end == Reason::none);
+}
