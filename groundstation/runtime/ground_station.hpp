@@ -46,7 +46,6 @@
 #include <Eigen/Core>
 
 #include "groundstation/adaptation/learner.hpp"
-#include "groundstation/control/lqr.hpp"
 #include "groundstation/control/task_laws.hpp"
 #include "groundstation/control/throw_frame.hpp"
 #include "groundstation/estimation/rate_response.hpp"
@@ -105,7 +104,7 @@ struct GroundStationConfig {
   // When each condition bit holds (mission/condition_word.hpp). at_target: 5 cm and 0.1 m/s;
   // at_height 0.1 m below the target; a pole end within 8 cm of the plate (the plate's radius
   // 6 cm plus the pose noise) keeps the pole on it; upright below 0.5 rad (29 degrees); the
-  // release's minimum thrust 0.3 s; balancing 2 s with the tilt below balance_settled_rad for
+  // release's minimum thrust 0.3 s; balancing 2 s with the tilt below tasks.balance_settled_rad for
   // 1 s before a throw; a catcher clear of an aborted catch for 1 s. No pose of a vehicle for
   // 0.3 s: its estimate is lost (the link's rule, GroundLinkConfig::vehicle_timeout_s; motion
   // capture that hides a body for 100 ms, two or three times back to back, is predicted through
