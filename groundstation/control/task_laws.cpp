@@ -87,6 +87,21 @@ model::VehicleInput release_law(const model::VehicleState& vehicle, double since
   return u;
 }
 
+model::VehicleInput limit_tilt(model::VehicleInput u, const model::VehicleState& vehicle,
+                               const TiltLimit& limit) {
+  // Roll and pitch follow the body rates about x and y closely at these tilts with little yaw
+  // rate, so each axis is limited on its own.
+  const auto limit_axis = [&](double angle_rad, double& rate_radps) {
+    const double beyond = std::abs(angle_rad) - limit.max_tilt_rad;
+    if (beyond <= 0.0) return;
+    const double back = -std::copysign(limit.gain_per_s * beyond, angle_rad);
+    rate_radps = angle_rad > 0.0 ? std::min(rate_radps, back) : std::max(rate_radps, back);
+  };
+  limit_axis(vehicle.phi_rad, u.omega_radps.x());
+  limit_axis(vehicle.theta_rad, u.omega_radps.y());
+  return u;
+}
+
 model::VehicleInput clamp_input(model::VehicleInput u, const model::VehicleLimits& limits) {
   u.a_q_mps2 = std::clamp(u.a_q_mps2, limits.a_q_min_mps2, limits.a_q_max_mps2);
   for (int i = 0; i < 3; ++i)

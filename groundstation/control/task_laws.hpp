@@ -65,6 +65,19 @@ model::VehicleInput release_law(const model::VehicleState& vehicle, double since
                                 const Eigen::Vector3d& pitch_rates_radps, double level_gain_per_s,
                                 double thrust_mps2);
 
+// A vehicle balancing a pole it cannot hold: the LQR asks the tilt the pole needs, and a pole
+// landing with too much energy needs more than the vehicle can fly (measured on the arena
+// envelope: after such a catch the catcher's pitch rate sat at its 10 rad/s limit for 0.15 s,
+// the vehicle rolled over and fell). Beyond `max_tilt_rad` in roll or pitch the rate that tilts
+// it further is replaced by one bringing it back at `gain_per_s`: the pole may be lost, the
+// vehicle is not.
+struct TiltLimit {
+  double max_tilt_rad = 0.7;
+  double gain_per_s = 8.0;
+};
+model::VehicleInput limit_tilt(model::VehicleInput u, const model::VehicleState& vehicle,
+                               const TiltLimit& limit);
+
 // The inputs within the vehicle's limits (1), (2).
 model::VehicleInput clamp_input(model::VehicleInput u, const model::VehicleLimits& limits);
 

@@ -160,7 +160,7 @@ std::string GroundStation::thrust_shortfall(const Vehicle& v, double needed_mps2
   // No voltage reported (0: none, or no compensation on board): the ceiling is k's alone.
   const double sag =
       volts > 0.0 ? std::min(1.0, std::pow(volts / config_.battery_reference_voltage_V, 2.0)) : 1.0;
-  const double most_mps2 = k * sag * config_.limits.a_q_max_mps2;
+  const double most_mps2 = k * sag * config_.airframe_thrust_max_mps2;
   if (most_mps2 >= config_.min_thrust_fraction * needed_mps2) return {};
   char at[32] = "";
   if (volts > 0.0) std::snprintf(at, sizeof at, " at %.2f V", volts);
@@ -483,10 +483,12 @@ std::optional<model::VehicleInput> GroundStation::control(Vehicle& v, double now
         balanced_since_s_.reset();
       }
       integrate(v, e, dt_s);
-      return clamped(control::balance_law(
-          balancing_, resting_pivot(plate, pole.state, L), e.state, pole.state, L,
-          v.set_point.position_m + plate_offset + config_.position_integral_gain * v.integral,
-          v.set_point.velocity_mps, config_.pole_weight_mps2));
+      return clamped(control::limit_tilt(
+          control::balance_law(
+              balancing_, resting_pivot(plate, pole.state, L), e.state, pole.state, L,
+              v.set_point.position_m + plate_offset + config_.position_integral_gain * v.integral,
+              v.set_point.velocity_mps, config_.pole_weight_mps2),
+          e.state, config_.balance_tilt_limit));
     }
     case Task::throwing: {
       const double duration_s = flown_throw().duration_s();
@@ -583,8 +585,12 @@ void GroundStation::measure_thrust_gain(Vehicle& v, double t_s, const estimation
 // the vehicle delivers, the thrust-gain estimator what it was commanded.
 void GroundStation::send(Vehicle& v, model::VehicleInput u, double now_s) {
   const double gain = config_.compensate_thrust_gain ? v.thrust_gain.gain() : 1.0;
+  // The laws ask within a_q's limits of the vehicle as built; the setpoint asks its motors for it,
+  // up to their full thrust.
   if (u.a_q_mps2 > 0.0)
-    u.a_q_mps2 = std::clamp(u.a_q_mps2 / gain, config_.limits.a_q_min_mps2, config_.limits.a_q_max_mps2);
+    u.a_q_mps2 =
+        std::clamp(std::clamp(u.a_q_mps2, config_.limits.a_q_min_mps2, config_.limits.a_q_max_mps2) / gain,
+                   config_.limits.a_q_min_mps2, config_.airframe_thrust_max_mps2);
   u.omega_radps.head<2>() += v.identification.excitation(now_s);
   model::VehicleInput sent = link_.send_setpoint(v.id, u);
   v.identification.command_sent(now_s, sent.omega_radps.head<2>());

@@ -1,5 +1,6 @@
 // The runtime's task laws (groundstation/control/task_laws.hpp): the carrot's speed profile,
-// the position integral, the hover, balancing and release laws and the input clamp.
+// the position integral, the hover, balancing and release laws, the tilt limit and the input
+// clamp.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -121,6 +122,27 @@ TEST_CASE("The release pitches back first, then levels") {
   CHECK(then.omega_radps.x() == Approx(-0.8));
   CHECK(then.omega_radps.y() == Approx(1.6));
   CHECK(then.omega_radps.z() == 0.0);
+}
+
+TEST_CASE("Beyond the tilt limit no rate tilts the vehicle further; within it the law's rates pass") {
+  const TiltLimit limit{0.7, 8.0};
+  VehicleInput u;
+  u.a_q_mps2 = 12.0;
+  u.omega_radps = Eigen::Vector3d(3.0, -10.0, 0.5);
+  VehicleState s;
+  s.phi_rad = 0.5;
+  s.theta_rad = -0.6;
+  CHECK(limit_tilt(u, s, limit).omega_radps == u.omega_radps);  // within: untouched
+  s.phi_rad = 0.8;     // 0.1 beyond, rolling further at 3 rad/s: brought back at 0.8 rad/s
+  s.theta_rad = -0.9;  // 0.2 beyond, pitching further at -10 rad/s: brought back at 1.6 rad/s
+  const VehicleInput limited = limit_tilt(u, s, limit);
+  CHECK(limited.omega_radps.x() == Approx(-0.8));
+  CHECK(limited.omega_radps.y() == Approx(1.6));
+  CHECK(limited.omega_radps.z() == 0.5);
+  CHECK(limited.a_q_mps2 == 12.0);
+  // A rate already bringing it back faster is kept.
+  u.omega_radps = Eigen::Vector3d(-2.0, 4.0, 0.0);
+  CHECK(limit_tilt(u, s, limit).omega_radps == u.omega_radps);
 }
 
 TEST_CASE("The clamp keeps thrust and each body rate within the vehicle's limits") {
