@@ -90,12 +90,12 @@ model::VehicleInput release_law(const model::VehicleState& vehicle, double since
 model::VehicleInput limit_tilt(model::VehicleInput u, const model::VehicleState& vehicle,
                                const TiltLimit& limit) {
   // Roll and pitch follow the body rates about x and y closely at these tilts with little yaw
-  // rate, so each axis is limited on its own.
+  // rate, so each axis is limited on its own: towards the limit at most gain (limit - angle),
+  // so the tilt approaches the limit with time constant 1 / gain instead of overshooting it by
+  // the rate loop's and the motors' lag.
   const auto limit_axis = [&](double angle_rad, double& rate_radps) {
-    const double beyond = std::abs(angle_rad) - limit.max_tilt_rad;
-    if (beyond <= 0.0) return;
-    const double back = -std::copysign(limit.gain_per_s * beyond, angle_rad);
-    rate_radps = angle_rad > 0.0 ? std::min(rate_radps, back) : std::max(rate_radps, back);
+    rate_radps = std::clamp(rate_radps, -limit.gain_per_s * (limit.max_tilt_rad + angle_rad),
+                            limit.gain_per_s * (limit.max_tilt_rad - angle_rad));
   };
   limit_axis(vehicle.phi_rad, u.omega_radps.x());
   limit_axis(vehicle.theta_rad, u.omega_radps.y());

@@ -68,12 +68,13 @@ model::VehicleInput release_law(const model::VehicleState& vehicle, double since
 // A vehicle balancing a pole it cannot hold: the LQR asks the tilt the pole needs, and a pole
 // landing with too much energy needs more than the vehicle can fly (measured on the arena
 // envelope: after such a catch the catcher's pitch rate sat at its 10 rad/s limit for 0.15 s,
-// the vehicle rolled over and fell). Beyond `max_tilt_rad` in roll or pitch the rate that tilts
-// it further is replaced by one bringing it back at `gain_per_s`: the pole may be lost, the
-// vehicle is not.
+// the vehicle rolled over and fell). The roll and pitch rates are bounded so that the tilt
+// approaches `max_tilt_rad` at `gain_per_s` and never passes it (beyond it, the bound brings it
+// back): the pole may be lost, the vehicle is not. Level, the bound is 7 rad/s, more than a
+// balanced pole asks.
 struct TiltLimit {
   double max_tilt_rad = 0.7;
-  double gain_per_s = 8.0;
+  double gain_per_s = 10.0;
 };
 model::VehicleInput limit_tilt(model::VehicleInput u, const model::VehicleState& vehicle,
                                const TiltLimit& limit);

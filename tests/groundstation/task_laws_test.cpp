@@ -124,24 +124,29 @@ TEST_CASE("The release pitches back first, then levels") {
   CHECK(then.omega_radps.z() == 0.0);
 }
 
-TEST_CASE("Beyond the tilt limit no rate tilts the vehicle further; within it the law's rates pass") {
-  const TiltLimit limit{0.7, 8.0};
+TEST_CASE("The tilt limit bounds the rates towards it, and brings a vehicle beyond it back") {
+  const TiltLimit limit{0.7, 10.0};
   VehicleInput u;
   u.a_q_mps2 = 12.0;
-  u.omega_radps = Eigen::Vector3d(3.0, -10.0, 0.5);
+  u.omega_radps = Eigen::Vector3d(3.0, -2.0, 0.5);
   VehicleState s;
-  s.phi_rad = 0.5;
-  s.theta_rad = -0.6;
-  CHECK(limit_tilt(u, s, limit).omega_radps == u.omega_radps);  // within: untouched
-  s.phi_rad = 0.8;     // 0.1 beyond, rolling further at 3 rad/s: brought back at 0.8 rad/s
-  s.theta_rad = -0.9;  // 0.2 beyond, pitching further at -10 rad/s: brought back at 1.6 rad/s
-  const VehicleInput limited = limit_tilt(u, s, limit);
-  CHECK(limited.omega_radps.x() == Approx(-0.8));
-  CHECK(limited.omega_radps.y() == Approx(1.6));
+  CHECK(limit_tilt(u, s, limit).omega_radps == u.omega_radps);  // level: up to 7 rad/s pass
+  s.phi_rad = 0.5;     // 3 rad/s rolling on towards the limit: at most 10 (0.7 - 0.5) = 2
+  s.theta_rad = -0.6;  // -2 rad/s pitching on towards it: at least -10 (0.7 - 0.6) = -1
+  VehicleInput limited = limit_tilt(u, s, limit);
+  CHECK(limited.omega_radps.x() == Approx(2.0));
+  CHECK(limited.omega_radps.y() == Approx(-1.0));
   CHECK(limited.omega_radps.z() == 0.5);
   CHECK(limited.a_q_mps2 == 12.0);
-  // A rate already bringing it back faster is kept.
-  u.omega_radps = Eigen::Vector3d(-2.0, 4.0, 0.0);
+  s.phi_rad = 0.8;  // beyond: brought back at 1 rad/s at least
+  s.theta_rad = 0.0;
+  limited = limit_tilt(u, s, limit);
+  CHECK(limited.omega_radps.x() == Approx(-1.0));
+  CHECK(limited.omega_radps.y() == -2.0);
+  // Rates away from the limit pass.
+  u.omega_radps = Eigen::Vector3d(-5.0, 4.0, 0.0);
+  s.phi_rad = 0.5;
+  s.theta_rad = -0.6;
   CHECK(limit_tilt(u, s, limit).omega_radps == u.omega_radps);
 }
 
