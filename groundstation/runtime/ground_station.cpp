@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "groundstation/adaptation/throw_evaluation.hpp"
 #include "groundstation/control/balancing_lqr.hpp"
 #include "groundstation/control/hover_lqr.hpp"
 #include "groundstation/planning/catching_instant.hpp"
@@ -119,8 +120,20 @@ Eigen::Vector2d GroundStation::waiting_xy() const {
   return frame_.to_arena_xy(adaptation::compensate_offset_bias(adaptation().waiting_xy_m, adaptation()));
 }
 double GroundStation::catch_height() const {
-  if (target_throw_) return target_throw_->plan.target_m.z();
-  return frame_.origin_m.z() + adaptation().catch_height_m;
+  const double offset_m = catch_energy_.height_offset_m(pa::other_vehicle(request_.thrower));
+  if (target_throw_) return target_throw_->plan.target_m.z() + offset_m;
+  return frame_.origin_m.z() + adaptation().catch_height_m + offset_m;
+}
+
+// The pole's energy right after the impact on `catcher`'s plate (41), from its last free-flight
+// estimate and the plate's velocity; the catcher's catching height learns from it
+// (adaptation/catch_energy.hpp).
+void GroundStation::measure_impact_energy(const Vehicle& catcher) {
+  if (flight_.empty()) return;
+  const double energy_J = adaptation::post_impact_energy_J(
+      flight_.back().state, estimator_.plate(catcher.id).v_mps, estimator_.pole_model());
+  current_.energy_after_impact_J = energy_J;
+  catch_energy_.learn(catcher.id, energy_J, learner_.adaptation_settings().target_energy_J);
 }
 Eigen::Vector3d GroundStation::waiting_target() const {
   const Eigen::Vector2d xy = waiting_xy() + request_.catch_offset_m;
@@ -390,6 +403,7 @@ void GroundStation::enter(Vehicle& v, double now_s) {
       if (!current_.impact_s) {
         current_.impact_s = now_s;
         current_.catcher_at_impact_m = here;
+        measure_impact_energy(v);
       }
       break;
     case Task::clear: {

@@ -40,6 +40,7 @@
 
 #include <Eigen/Core>
 
+#include "groundstation/adaptation/catch_energy.hpp"
 #include "groundstation/adaptation/learner.hpp"
 #include "groundstation/control/lqr.hpp"
 #include "groundstation/control/task_laws.hpp"
@@ -158,6 +159,8 @@ struct GroundStationConfig {
   double balance_settled_rad = 0.03;
   // Balancing never tilts the vehicle beyond 0.7 rad (40 degrees; control/task_laws.hpp); the
   // catch manoeuvre tilts it up to ~23 degrees, a balanced pole a few.
+  // Each catcher's catching height corrected from the pole's energy after its impacts.
+  adaptation::CatchEnergySettings catch_energy;
   control::TiltLimit balance_tilt_limit;
   // The release after T (Section VII-A leaves it open): minimum thrust for conditions.release_low_s
   // with the plate pitching back at the launch rate for release_pitch_s, then level, roll and
@@ -311,6 +314,7 @@ class GroundStation {
   mission::ConditionFacts facts(const Vehicle& v, double now_s) const;
   void measure_thrust_gain(Vehicle& v, double t_s, const estimation::MocapPose& pose);
   void identify_motors(Vehicle& v, double now_s);
+  void measure_impact_energy(const Vehicle& catcher);
   void send(Vehicle& v, model::VehicleInput u, double now_s);
   // Empty if the vehicle's thrust suffices for `needed_mps2`, else why not.
   std::string thrust_shortfall(const Vehicle& v, double needed_mps2, const char* part) const;
@@ -340,6 +344,7 @@ class GroundStation {
   control::LqrGain hover_;
   control::LqrGain balancing_;
   adaptation::Learner learner_;
+  adaptation::CatchEnergyCorrection catch_energy_;
   CatchCoordinator catch_;
   std::vector<MissionEvent> events_;
   std::vector<link::ImpactReport> impacts_;
