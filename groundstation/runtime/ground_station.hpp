@@ -138,12 +138,13 @@ struct GroundStationConfig {
   // for a moment and is caught all the same. Measured (hil fly --throws 20): both vehicles' thrust
   // at 0.8 (k a_q,max = 16.0 m/s^2) 19 of 19 caught; at 0.77 the take-off fails. At 0.95 the
   // corner 10 % heavier at thrust 0.9 (k 0.818) was refused from throw 10 of 50 on (its k read
-  // 1 % low), every throw before it caught. So thrower k >= 0.77 and catcher k >= 0.63.
+  // 1 % low), every throw before it caught (both with a_q,max as the ceiling). With a_full: thrower
+  // k >= 0.62 and catcher k >= 0.51 at full charge.
   double min_thrust_fraction = 0.9;
   // The firmware's battery reference (fw::BatteryConfig, the arena's configuration): it scales its
   // commands by (V_ref / V)^2 as the pack sags (docs/plant.md), so k no longer shows the sag but
   // the motors' ceiling does: a vehicle reporting V in TELEMETRY_STATUS delivers at most
-  // k a_q,max (V / V_ref)^2. Measured: the corner with every range half way (85 % charge, thrust
+  // k a_full (V / V_ref)^2. Measured: the corner with every range half way (85 % charge, thrust
   // 0.925) was refused with k from the sag alone; compensated, its k read 0.88, the throws were
   // flown and the thrower crashed against its ceiling (hil fly --series paper --seed 1).
   double battery_reference_voltage_V = 12.6;
