@@ -87,6 +87,21 @@ model::VehicleInput release_law(const model::VehicleState& vehicle, double since
   return u;
 }
 
+model::VehicleInput limit_tilt(model::VehicleInput u, const model::VehicleState& vehicle,
+                               const TiltLimit& limit) {
+  // Roll and pitch follow the body rates about x and y closely at these tilts with little yaw
+  // rate, so each axis is limited on its own: towards the limit at most gain (limit - angle),
+  // so the tilt approaches the limit with time constant 1 / gain instead of overshooting it by
+  // the rate loop's and the motors' lag.
+  const auto limit_axis = [&](double angle_rad, double& rate_radps) {
+    rate_radps = std::clamp(rate_radps, -limit.gain_per_s * (limit.max_tilt_rad + angle_rad),
+                            limit.gain_per_s * (limit.max_tilt_rad - angle_rad));
+  };
+  limit_axis(vehicle.phi_rad, u.omega_radps.x());
+  limit_axis(vehicle.theta_rad, u.omega_radps.y());
+  return u;
+}
+
 model::VehicleInput clamp_input(model::VehicleInput u, const model::VehicleLimits& limits) {
   u.a_q_mps2 = std::clamp(u.a_q_mps2, limits.a_q_min_mps2, limits.a_q_max_mps2);
   for (int i = 0; i < 3; ++i)

@@ -65,6 +65,20 @@ model::VehicleInput release_law(const model::VehicleState& vehicle, double since
                                 const Eigen::Vector3d& pitch_rates_radps, double level_gain_per_s,
                                 double thrust_mps2);
 
+// A vehicle balancing a pole it cannot hold: the LQR asks the tilt the pole needs, and a pole
+// landing with too much energy needs more than the vehicle can fly (measured on the arena
+// envelope: after such a catch the catcher's pitch rate sat at its 10 rad/s limit for 0.15 s,
+// the vehicle rolled over and fell). The roll and pitch rates are bounded so that the tilt
+// approaches `max_tilt_rad` at `gain_per_s` and never passes it (beyond it, the bound brings it
+// back): the pole may be lost, the vehicle is not. Level, the bound is 7 rad/s, more than a
+// balanced pole asks.
+struct TiltLimit {
+  double max_tilt_rad = 0.7;
+  double gain_per_s = 10.0;
+};
+model::VehicleInput limit_tilt(model::VehicleInput u, const model::VehicleState& vehicle,
+                               const TiltLimit& limit);
+
 // The inputs within the vehicle's limits (1), (2).
 model::VehicleInput clamp_input(model::VehicleInput u, const model::VehicleLimits& limits);
 

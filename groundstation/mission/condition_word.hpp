@@ -50,6 +50,9 @@ struct ConditionThresholds {
   double at_target_speed_mps = 0.1;
   double pole_at_plate_m = 0.08;
   double upright_rad = 0.5;
+  // Beyond this a pole on the plate has fallen (vehicle_sequencer.hpp): measured on the arena
+  // envelope, a catcher still balancing a pole at 0.6-0.7 rad tilted itself over.
+  double fallen_rad = 0.6;
   double release_low_s = 0.3;
   double balance_settle_s = 2.0;
   double balanced_hold_s = 1.0;

@@ -28,7 +28,7 @@ std::string_view condition_name(int bit) {
       "at_height",        "at_target",     "pole_on_self", "pole_free",        "pole_down",
       "pole_upright",     "throw_over",    "release_over", "catch_due",        "catch_unreachable",
       "catch_infeasible", "catch_missed",  "settled",      "request_take_off", "request_throw",
-      "request_catch",    "request_abort", "request_land"};
+      "request_catch",    "request_abort", "request_land", "pole_fallen"};
   return bit >= 0 && bit < condition::kCount ? kNames[static_cast<std::size_t>(bit)] : "?";
 }
 
@@ -61,6 +61,7 @@ std::string_view reason_name(Reason reason) {
     case Reason::caught: return "caught";
     case Reason::missed: return "missed";
     case Reason::pole_upright: return "pole_upright";
+    case Reason::pole_fallen: return "pole_fallen";
     case Reason::pole_down: return "pole_down";
   }
   return "?";

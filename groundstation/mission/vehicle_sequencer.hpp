@@ -80,7 +80,10 @@ inline constexpr std::uint32_t request_throw = 1u << 19;
 inline constexpr std::uint32_t request_catch = 1u << 20;
 inline constexpr std::uint32_t request_abort = 1u << 21;
 inline constexpr std::uint32_t request_land = 1u << 22;
-inline constexpr int kCount = 23;
+// The pole on this plate tilted beyond what balancing recovers from (after the requests so that
+// the bits logged before it keep their numbers).
+inline constexpr std::uint32_t pole_fallen = 1u << 23;
+inline constexpr int kCount = 24;
 }  // namespace condition
 std::string_view condition_name(int bit);
 // The bits of a condition word by name, "vehicle_lost|armed", or "0" (for logs and tests).
@@ -113,6 +116,7 @@ enum class Reason : std::uint8_t {
   missed,
   pole_upright,
   pole_down,
+  pole_fallen,
 };
 std::string_view reason_name(Reason reason);
 
@@ -140,8 +144,12 @@ inline constexpr std::array kTransitions = {
                Reason::armed},
     Transition{tasks(Task::take_off), c::at_height, 0, Task::hover, Reason::airborne},
     // The pole on the plate: balance it; dropped: back to hover.
-    Transition{tasks(Task::hover), c::pole_on_self, 0, Task::balance, Reason::pole_placed},
+    // A pole fallen over on the plate is lost too: the vehicle levels in hover while it slides off
+    // rather than chase it (the tilt it would need rolls the vehicle over), and balances a pole
+    // only once it is upright.
+    Transition{tasks(Task::hover), c::pole_on_self | c::pole_upright, 0, Task::balance, Reason::pole_placed},
     Transition{tasks(Task::balance), 0, c::pole_on_self, Task::hover, Reason::pole_lost},
+    Transition{tasks(Task::balance), c::pole_on_self | c::pole_fallen, 0, Task::hover, Reason::pole_fallen},
     // The throw.
     Transition{tasks(Task::balance), c::request_throw | c::settled, 0, Task::throwing,
                Reason::throw_requested},

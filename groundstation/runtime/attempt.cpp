@@ -46,6 +46,7 @@ adaptation::ThrowRecord record_of(const AttemptRequest& request, const AttemptRe
   record.catch_height_used_m = report.catch_height_m - frame.origin_m.z();
   record.waiting_xy_m = frame.to_frame_xy(report.waiting_xy_m);
   if (report.catch_start_s) record.target_xy_m = frame.to_frame_xy(catch_target_xy_m);
+  record.energy_after_impact_J = report.energy_after_impact_J;
   if (report.impact_s && report.catcher_at_impact_m && adaptation::catcher_flew_to_target(record.outcome))
     record.catcher_at_impact_xy_m = frame.to_frame_xy(report.catcher_at_impact_m->head<2>());
   return record;

@@ -40,6 +40,7 @@ struct AttemptReport {
   std::optional<double> catch_start_s;                  // the z manoeuvre's start
   std::optional<double> impact_s;                       // the estimator's switch onto the catcher
   std::optional<Eigen::Vector3d> catcher_at_impact_m;   // its estimated position then
+  std::optional<double> energy_after_impact_J;          // the pole's then (41), estimated
   mission::Reason catcher_end = mission::Reason::none;  // what ended the catch (caught, out_of_reach...)
   // what ended the throw (throw_ended, pole_left_early...)
   mission::Reason thrower_end = mission::Reason::none;

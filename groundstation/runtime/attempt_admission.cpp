@@ -38,7 +38,7 @@ std::string thrust_shortfall(const VehicleThrust& vehicle, double needed_mps2, c
   // No voltage reported (0: none, or no compensation on board): the ceiling is k's alone.
   const double sag =
       volts > 0.0 ? std::min(1.0, std::pow(volts / settings.battery_reference_voltage_V, 2.0)) : 1.0;
-  const double most_mps2 = k * sag * settings.a_q_max_mps2;
+  const double most_mps2 = k * sag * settings.full_thrust_mps2;
   if (most_mps2 >= settings.min_thrust_fraction * needed_mps2) return {};
   char at[32] = "";
   if (volts > 0.0) std::snprintf(at, sizeof at, " at %.2f V", volts);

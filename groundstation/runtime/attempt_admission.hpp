@@ -34,7 +34,8 @@ struct VehicleThrust {
 
 // See GroundStationConfig::min_thrust_fraction and battery_reference_voltage_V.
 struct ThrustAdmission {
-  double a_q_max_mps2 = 20.0;  // the commanded maximum (model::VehicleLimits)
+  double full_thrust_mps2 =
+      4.0 * 3.2 / 0.52;  // a_full, the airframe's (GroundStationConfig::airframe_thrust_max_mps2)
   double min_thrust_fraction = 0.9;
   double battery_reference_voltage_V = 12.6;
   double catch_peak_mps2 = pa::kGravity_mps2 + 4.19;  // g plus the catch manoeuvre's a_max
@@ -52,7 +53,7 @@ Admission admit_vehicles(const planning::ThrowTrajectory* flown, const VehicleTh
 // The highest collective thrust the trajectory commands.
 double peak_thrust_mps2(const planning::ThrowTrajectory& trajectory);
 
-// Empty if the vehicle's thrust at the commanded maximum, k a_q,max (V / V_ref)^2 (no sag without
+// Empty if the vehicle's thrust at full command, k a_full (V / V_ref)^2 (no sag without
 // a reported voltage), is at least min_thrust_fraction of `needed_mps2`, else why not.
 std::string thrust_shortfall(const VehicleThrust& vehicle, double needed_mps2, const char* part,
                              const ThrustAdmission& settings);

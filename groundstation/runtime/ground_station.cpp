@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "groundstation/adaptation/throw_evaluation.hpp"
 #include "groundstation/planning/catching_instant.hpp"
 
 namespace gs::runtime {
@@ -32,7 +33,7 @@ adaptation::Learner make_learner(const GroundStationConfig& config, const planni
 }
 
 ThrustAdmission thrust_admission(const GroundStationConfig& config) {
-  return {config.limits.a_q_max_mps2, config.min_thrust_fraction, config.battery_reference_voltage_V,
+  return {config.airframe_thrust_max_mps2, config.min_thrust_fraction, config.battery_reference_voltage_V,
           pa::kGravity_mps2 + config.catching.a_max_mps2};
 }
 
@@ -90,8 +91,20 @@ Eigen::Vector2d GroundStation::waiting_xy() const {
   return frame_.to_arena_xy(adaptation::compensate_offset_bias(adaptation().waiting_xy_m, adaptation()));
 }
 double GroundStation::catch_height() const {
-  if (target_throw_) return target_throw_->plan.target_m.z();
-  return frame_.origin_m.z() + adaptation().catch_height_m;
+  const double offset_m = catch_energy_.height_offset_m(pa::other_vehicle(request_.thrower));
+  if (target_throw_) return target_throw_->plan.target_m.z() + offset_m;
+  return frame_.origin_m.z() + adaptation().catch_height_m + offset_m;
+}
+
+// The pole's energy right after the impact on `catcher`'s plate (41), from its last free-flight
+// estimate and the plate's velocity; the catcher's catching height learns from it
+// (adaptation/catch_energy.hpp).
+void GroundStation::measure_impact_energy(const Vehicle& catcher) {
+  if (flight_.empty()) return;
+  const double energy_J = adaptation::post_impact_energy_J(
+      flight_.back().state, estimator_.plate(catcher.id).v_mps, estimator_.pole_model());
+  current_.energy_after_impact_J = energy_J;
+  catch_energy_.learn(catcher.id, energy_J, learner_.adaptation_settings().target_energy_J);
 }
 Eigen::Vector3d GroundStation::waiting_target() const {
   const Eigen::Vector2d xy = waiting_xy() + request_.catch_offset_m;
@@ -254,6 +267,7 @@ void GroundStation::enter(Vehicle& v, double now_s) {
           plate.p_m;
     }
   }
+  if (task == Task::rebalance && !current_.impact_s) measure_impact_energy(v);  // the first impact
   note_task_entry(request_, phase_ != AttemptPhase::idle, current_, v.id, task, v.sequencer.last_reason(),
                   now_s, here);
 }
@@ -333,7 +347,7 @@ void GroundStation::measure_thrust_gain(Vehicle& v, double t_s, const estimation
 // the vehicle delivers, the thrust-gain estimator what it was commanded.
 void GroundStation::send(Vehicle& v, model::VehicleInput u, double now_s) {
   const double gain = config_.compensate_thrust_gain ? v.thrust_gain.gain() : 1.0;
-  u.a_q_mps2 = compensated_thrust_mps2(u.a_q_mps2, gain, config_.limits);
+  u.a_q_mps2 = compensated_thrust_mps2(u.a_q_mps2, gain, config_.limits, config_.airframe_thrust_max_mps2);
   u.omega_radps.head<2>() += v.identification.excitation(now_s);
   model::VehicleInput sent = link_.send_setpoint(v.id, u);
   v.identification.command_sent(now_s, sent.omega_radps.head<2>());

@@ -100,10 +100,11 @@ TaskCommand TaskController::command(TaskState& s, const TaskFrame& f, const Flow
       control::integrate_position_error(s.integral, s.set_point, s.target_m, e.state.p_m, f.dt_s,
                                         c.position_integral_limit_ms);
       const Eigen::Vector3d plate_offset = pa::kPlateHeightAboveCg_m * Eigen::Vector3d::UnitZ();
-      out.input = clamped(
+      out.input = clamped(control::limit_tilt(
           control::balance_law(balancing_, resting_pivot(f.plate, f.pole.state, L), e.state, f.pole.state, L,
                                s.set_point.position_m + plate_offset + c.position_integral_gain * s.integral,
-                               s.set_point.velocity_mps, c.pole_weight_mps2));
+                               s.set_point.velocity_mps, c.pole_weight_mps2),
+          e.state, c.balance_tilt_limit));
       break;
     }
     case Task::throwing: {

@@ -12,8 +12,11 @@ ThrustGainSample thrust_gain_sample(mission::Task task, double height_m, double 
   return {steady && height_m > min_height_m, task == Task::balance ? pole_weight_mps2 : 0.0};
 }
 
-double compensated_thrust_mps2(double a_q_mps2, double gain, const model::VehicleLimits& limits) {
-  return a_q_mps2 > 0.0 ? std::clamp(a_q_mps2 / gain, limits.a_q_min_mps2, limits.a_q_max_mps2) : a_q_mps2;
+double compensated_thrust_mps2(double a_q_mps2, double gain, const model::VehicleLimits& limits,
+                               double thrust_max_mps2) {
+  if (a_q_mps2 <= 0.0) return a_q_mps2;
+  return std::clamp(std::clamp(a_q_mps2, limits.a_q_min_mps2, limits.a_q_max_mps2) / gain,
+                    limits.a_q_min_mps2, thrust_max_mps2);
 }
 
 }  // namespace gs::runtime

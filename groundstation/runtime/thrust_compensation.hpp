@@ -19,8 +19,11 @@ struct ThrustGainSample {
 ThrustGainSample thrust_gain_sample(mission::Task task, double height_m, double min_height_m,
                                     double pole_weight_mps2);
 
-// The setpoint's thrust for `a_q_mps2` on a vehicle with thrust gain `gain`: a_q / k within the
-// limits; zero stays zero (ARM wants a zero-thrust setpoint).
-double compensated_thrust_mps2(double a_q_mps2, double gain, const model::VehicleLimits& limits);
+// The setpoint's thrust for `a_q_mps2` on a vehicle with thrust gain `gain`: the laws ask within
+// a_q's limits of the vehicle as built, the setpoint a_q / k asks its motors for it up to their
+// full thrust `thrust_max_mps2` (GroundStationConfig::airframe_thrust_max_mps2); zero stays zero
+// (ARM wants a zero-thrust setpoint).
+double compensated_thrust_mps2(double a_q_mps2, double gain, const model::VehicleLimits& limits,
+                               double thrust_max_mps2);
 
 }  // namespace gs::runtime

@@ -4,7 +4,9 @@
 // Reproducible from S whatever J is. Prints a progress line while it runs and a summary (the
 // catch rate with its 95% confidence interval, the failures by cause); writes DIR/throws.csv:
 // the columns of `hil fly` and then the drawn parameters of each attempt, and DIR/report.html
-// (hil/apps/report.hpp; not with --no-report).
+// (hil/apps/report.hpp; not with --no-report). With --replay K it flies attempt K alone, in the
+// open: the mission log, what the ground station identified beside the plant's truth, and
+// DIR/attempt_K.csv, to see why an attempt of a campaign failed.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -17,6 +19,7 @@
 
 #include "hil/apps/batch_options.hpp"
 #include "hil/apps/commands.hpp"
+#include "hil/apps/flight_output.hpp"
 #include "hil/apps/report.hpp"
 #include "hil/plant/plant_config.hpp"
 #include "hil/plant/randomisation.hpp"
@@ -27,7 +30,7 @@ namespace hil::apps {
 namespace {
 
 constexpr const char* kUsage =
-    "usage: hil campaign --attempts N --out DIR [--seed S] [--plant FILE] [--jobs J] [--no-report]";
+    "usage: hil campaign --attempts N --out DIR [--seed S] [--plant FILE] [--jobs J] [--no-report] [--replay K]";
 
 // Wilson's score interval for k successes in n trials at 95%: unlike the normal approximation
 // it stays inside [0, 1] and is honest near 100%, where a campaign's rate lies.
@@ -38,6 +41,26 @@ std::pair<double, double> wilson95(int k, int n) {
   const double centre = (p + z * z / (2.0 * n)) / d;
   const double half = z * std::sqrt(p * (1.0 - p) / n + z * z / (4.0 * n * n)) / d;
   return {std::max(0.0, centre - half), std::min(1.0, centre + half)};
+}
+
+// Flies attempt `k` of the campaign in this process, its mission log printed.
+int replay(const trials::CampaignConfig& campaign, int k, const std::string& out_dir) {
+  trials::SeriesConfig config =
+      trials::attempt_config(campaign, trials::warm_up(campaign.plant, campaign.seed), k);
+  config.record_time_series = true;
+  config.log = [](const std::string& line) { std::printf("%s\n", line.c_str()); };
+  trials::SeriesRunner runner(config);
+  const trials::AttemptResult r = runner.run({trials::AttemptPlan{}}).front();
+  std::printf("attempt %d (seed %llu): %s, flight %.3f s, energy error %.5f J%s%s%s\n", k,
+              static_cast<unsigned long long>(config.seed),
+              std::string(gs::adaptation::to_string(r.outcome)).c_str(), r.flight_s, r.energy_error_J,
+              r.abort_reason.empty() ? "" : ", ", r.abort_reason.c_str(),
+              r.vehicle_crashed ? " (vehicle crashed)" : "");
+  print_identification(runner.ground_station(), runner.arena().plant());
+  const std::string path = out_dir + "/attempt_" + std::to_string(k) + ".csv";
+  write_time_series(path, runner.time_series().front());
+  std::printf("wrote %s\n", path.c_str());
+  return 0;
 }
 
 }  // namespace
@@ -57,6 +80,10 @@ int cmd_campaign(int argc, char** argv) {
   BatchOptions batch;
   add_batch_options(app, batch, "throws.csv", "the draws and the noise");
   app.add_flag("--no-report", no_report, "the CSV file only, no report.html");
+  std::uint64_t replay_attempt = 0;
+  app.add_option("--replay", replay_attempt,
+                 "fly attempt K alone, its mission log printed; writes DIR/attempt_K.csv")
+      ->type_name("K");
   if (const std::optional<int> code = pa::cli::parse(app, argc, argv, std::cout, std::cerr)) return *code;
 
   trials::CampaignConfig config;
@@ -65,6 +92,14 @@ int cmd_campaign(int argc, char** argv) {
   const std::string& out_dir = batch.out_dir;
   config.seed = batch.seed;
   config.attempts = static_cast<int>(attempts);
+  if (replay_attempt > 0) {
+    if (replay_attempt > attempts) {
+      std::cerr << "hil campaign: --replay " << replay_attempt << " is not an attempt of " << attempts
+                << "\n";
+      return 2;
+    }
+    return replay(config, static_cast<int>(replay_attempt), out_dir);
+  }
 
   const auto start = std::chrono::steady_clock::now();
   std::vector<trials::CampaignAttempt> results;

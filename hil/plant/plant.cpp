@@ -150,6 +150,15 @@ MotorCommands Plant::hover_commands(pa::VehicleId vehicle) const {
   return c;
 }
 
+double Plant::true_thrust_gain(pa::VehicleId vehicle) const {
+  // The hover commands at the reference voltage: the airframe file's weight over the vehicle's,
+  // over the mean of the inverse motor gains (each motor holds a quarter of the weight).
+  const std::size_t v = slot(vehicle);
+  double inverse_gains = 0.0;
+  for (int i = 0; i < 4; ++i) inverse_gains += 0.25 / motor_gain_[v][i];
+  return config_.vehicle.mass_kg / (vehicle_mass_kg_[v] * inverse_gains);
+}
+
 Vec3 Plant::plate_centre_m(pa::VehicleId vehicle) const {
   const RigidBodyState& b = vehicles_[slot(vehicle)].body;
   return b.position_m + b.attitude * Vec3(0.0, 0.0, config_.vehicle.plate_height_m);

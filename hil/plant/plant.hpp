@@ -140,6 +140,12 @@ class Plant {
   // this plant's motor gains and its battery's voltage now (an oracle: a real controller does
   // not know them).
   MotorCommands hover_commands(pa::VehicleId vehicle) const;
+  // The thrust gain a ground station should measure of `vehicle` (an oracle, for tests and
+  // printouts): the collective it commands for a hover (the airframe file's weight) over the
+  // collective that holds the vehicle as built. The firmware takes the pack's sag out of its
+  // commands (fw/battery_compensation.hpp), so the gain is the motors', propellers' and mass's
+  // alone: the hover commands at the battery's voltage now, scaled back to the reference voltage.
+  double true_thrust_gain(pa::VehicleId vehicle) const;
   // `vehicle`'s mass and principal inertia as built (the airframe's times its scales).
   double vehicle_mass_kg(pa::VehicleId vehicle) const { return vehicle_mass_kg_[slot(vehicle)]; }
   const Vec3& vehicle_inertia_kgm2(pa::VehicleId vehicle) const {

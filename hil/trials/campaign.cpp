@@ -14,9 +14,8 @@ namespace {
 CampaignAttempt fly(const CampaignConfig& config, const gs::adaptation::Learnt& learnt, int attempt) {
   CampaignAttempt a;
   a.seed = attempt_seed(config.seed, attempt);
-  SeriesConfig series = trial_config(config.plant, a.seed, PlantDraw::drawn);
+  SeriesConfig series = attempt_config(config, learnt, attempt);
   a.plant = series.plant;
-  series.ground_station.learnt = learnt;
   SeriesRunner runner(series);
   a.result = runner.run({AttemptPlan{}}).front();
   a.result.throw_number = attempt;
@@ -24,6 +23,12 @@ CampaignAttempt fly(const CampaignConfig& config, const gs::adaptation::Learnt& 
 }
 
 }  // namespace
+
+SeriesConfig attempt_config(const CampaignConfig& config, const gs::adaptation::Learnt& learnt, int attempt) {
+  SeriesConfig series = trial_config(config.plant, attempt_seed(config.seed, attempt), PlantDraw::drawn);
+  series.ground_station.learnt = learnt;
+  return series;
+}
 
 gs::adaptation::Learnt warm_up(const PlantConfig& plant, std::uint64_t seed) {
   SeriesRunner runner(trial_config(plant, seed, PlantDraw::as_given));

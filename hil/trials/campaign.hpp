@@ -40,6 +40,10 @@ struct CampaignAttempt {
 // where a campaign's ground stations start.
 gs::adaptation::Learnt warm_up(const PlantConfig& plant, std::uint64_t seed);
 
+// Attempt `attempt` (1..N) of the campaign as a series of one throw from `learnt` (the warm-up's):
+// what a worker flies, and `hil campaign --replay` again in the open.
+SeriesConfig attempt_config(const CampaignConfig& config, const gs::adaptation::Learnt& learnt, int attempt);
+
 // Flies the campaign. `progress` is called in the calling process after each attempt with the
 // results so far (in order of completion). Throws std::runtime_error when a worker cannot be
 // started or dies without reporting its attempts.

@@ -30,7 +30,8 @@ gs::planning::ThrowTrajectory throw_peaking_at(double peak_mps2) {
 }
 
 // The defaults: a_q,max 20 m/s^2, 0.9 of the peak needed, V_ref 12.6 V, the catch's peak g + 4.19.
-const ThrustAdmission kSettings;
+// A 20 m/s^2 airframe, for round numbers.
+const ThrustAdmission kSettings{20.0};
 
 }  // namespace
 

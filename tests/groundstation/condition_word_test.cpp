@@ -92,6 +92,10 @@ TEST_CASE("The pole on the plate: the estimator's call, or an end at the plate w
   CHECK(added(f) == "pole_on_self|pole_upright");
   f.pole_tilt_rad = t.upright_rad;
   CHECK(added(f) == "pole_on_self");
+  f.pole_tilt_rad = t.fallen_rad;
+  CHECK(added(f) == "pole_on_self");
+  f.pole_tilt_rad = t.fallen_rad + 0.01;
+  CHECK(added(f) == "pole_on_self|pole_fallen");
   f = hovering();
   f.pole_end_from_plate_m = t.pole_at_plate_m - 0.001;  // the estimator calls it free: a flip
   f.pole_estimated_free = true;

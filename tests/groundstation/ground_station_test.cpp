@@ -46,13 +46,13 @@ TEST_CASE("An attempt is accepted once at a time, only for a vehicle of the act"
 TEST_CASE("A vehicle too weak for its part is refused the attempt, with the numbers") {
   gs::link::InMemoryFrameBus bus;
   GroundStationConfig config = keyed();
-  // Both vehicles start from a measured gain of 0.6: 12 m/s^2 at most, where the throw peaks at
-  // 17.1 m/s^2 (0.9 of it needed) and the catch needs 0.9 (g + a_max) = 12.6.
+  // Both vehicles start from a measured gain of 0.6: 0.6 a_full = 14.8 m/s^2 at most, where the
+  // throw peaks at 17.1 m/s^2 (0.9 of it needed: 15.4) and the catch needs 0.9 (g + a_max) = 12.6.
   config.thrust_gain.initial_gain = 0.6;
   GroundStation weak(bus, config);
   CHECK_FALSE(weak.request_attempt(AttemptRequest{}));
   CAPTURE(weak.refusal());
-  CHECK(weak.refusal().find("vehicle 1 is too weak to throw: thrust gain 0.60 gives 12.0 m/s^2 at most") !=
+  CHECK(weak.refusal().find("vehicle 1 is too weak to throw: thrust gain 0.60 gives 14.8 m/s^2 at most") !=
         std::string::npos);
   CHECK(weak.refusal_kind() == GroundStation::Refusal::too_weak);
   CHECK(GroundStation::refusal_name(weak.refusal_kind()) == "vehicle_too_weak");
@@ -62,14 +62,14 @@ TEST_CASE("A vehicle too weak for its part is refused the attempt, with the numb
   config.thrust_gain.initial_gain = 0.85;
   GroundStation able(bus, config);
   CHECK(able.request_attempt(AttemptRequest{}));
-  // The same gain on a pack sagged to 11 V: the motors' ceiling falls by (11 / 12.6)^2.
+  // The same gain on a pack sagged to 10.5 V: the motors' ceiling falls by (10.5 / 12.6)^2.
   GroundStation sagging(bus, config);
   pa::proto::Frame status;
-  REQUIRE(pa::proto::encode(pa::proto::TelemetryStatus{500, 11000, 0, 0, 0}, pa::kVehicle1.node(), status));
+  REQUIRE(pa::proto::encode(pa::proto::TelemetryStatus{500, 10500, 0, 0, 0}, pa::kVehicle1.node(), status));
   sagging.on_frame(status, 0.1);
   CHECK_FALSE(sagging.request_attempt(AttemptRequest{}));
   CAPTURE(sagging.refusal());
   CHECK(sagging.refusal().find(
-            "vehicle 1 is too weak to throw: thrust gain 0.85 at 11.00 V gives 13.0 m/s^2") !=
+            "vehicle 1 is too weak to throw: thrust gain 0.85 at 10.50 V gives 14.5 m/s^2") !=
         std::string::npos);
 }

@@ -8,6 +8,7 @@
 
 #include "fw/config.hpp"
 #include "groundstation/estimation/rate_response.hpp"
+#include "groundstation/runtime/ground_station.hpp"
 
 namespace {
 
@@ -175,7 +176,8 @@ TEST_CASE("the fit in slices of 20 replays comes to the fit at once") {
   CHECK(sliced.result()->identified->time_constant_high_s == whole.identified->time_constant_high_s);
 }
 
-TEST_CASE("the ground station's copy of the rate loop is the firmware's configuration") {
+TEST_CASE(
+    "the ground station's copies of the rate loop and the airframe's thrust are the firmware's configuration") {
   const RateLoopConfig loop;
   const fw::RateControllerConfig rate;
   for (int axis = 0; axis < 2; ++axis) {
@@ -185,4 +187,8 @@ TEST_CASE("the ground station's copy of the rate loop is the firmware's configur
   }
   CHECK(loop.rate_limit_radps == Approx(rate.rate_limit_radps));
   CHECK(loop.design_time_constant_s == Approx(fw::AirframeConfig{}.motor_time_constant_s));
+  // The ground station's ceiling of a vehicle's thrust is the airframe's.
+  const fw::AirframeConfig airframe;
+  CHECK(gs::runtime::GroundStationConfig{}.airframe_thrust_max_mps2 ==
+        Approx(4.0 * airframe.motor_thrust_max_N / airframe.mass_kg).epsilon(1e-6));
 }

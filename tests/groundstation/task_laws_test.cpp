@@ -1,5 +1,6 @@
 // The runtime's task laws (groundstation/control/task_laws.hpp): the carrot's speed profile,
-// the position integral, the hover, balancing and release laws and the input clamp.
+// the position integral, the hover, balancing and release laws, the tilt limit and the input
+// clamp.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -121,6 +122,32 @@ TEST_CASE("The release pitches back first, then levels") {
   CHECK(then.omega_radps.x() == Approx(-0.8));
   CHECK(then.omega_radps.y() == Approx(1.6));
   CHECK(then.omega_radps.z() == 0.0);
+}
+
+TEST_CASE("The tilt limit bounds the rates towards it, and brings a vehicle beyond it back") {
+  const TiltLimit limit{0.7, 10.0};
+  VehicleInput u;
+  u.a_q_mps2 = 12.0;
+  u.omega_radps = Eigen::Vector3d(3.0, -2.0, 0.5);
+  VehicleState s;
+  CHECK(limit_tilt(u, s, limit).omega_radps == u.omega_radps);  // level: up to 7 rad/s pass
+  s.phi_rad = 0.5;     // 3 rad/s rolling on towards the limit: at most 10 (0.7 - 0.5) = 2
+  s.theta_rad = -0.6;  // -2 rad/s pitching on towards it: at least -10 (0.7 - 0.6) = -1
+  VehicleInput limited = limit_tilt(u, s, limit);
+  CHECK(limited.omega_radps.x() == Approx(2.0));
+  CHECK(limited.omega_radps.y() == Approx(-1.0));
+  CHECK(limited.omega_radps.z() == 0.5);
+  CHECK(limited.a_q_mps2 == 12.0);
+  s.phi_rad = 0.8;  // beyond: brought back at 1 rad/s at least
+  s.theta_rad = 0.0;
+  limited = limit_tilt(u, s, limit);
+  CHECK(limited.omega_radps.x() == Approx(-1.0));
+  CHECK(limited.omega_radps.y() == -2.0);
+  // Rates away from the limit pass.
+  u.omega_radps = Eigen::Vector3d(-5.0, 4.0, 0.0);
+  s.phi_rad = 0.5;
+  s.theta_rad = -0.6;
+  CHECK(limit_tilt(u, s, limit).omega_radps == u.omega_radps);
 }
 
 TEST_CASE("The clamp keeps thrust and each body rate within the vehicle's limits") {

@@ -28,10 +28,13 @@ TEST_CASE("The gain is measured flying on thrust alone, above the floor; balanci
   }
 }
 
-TEST_CASE("The setpoint carries a_q / k within the limits; zero stays zero") {
-  CHECK(compensated_thrust_mps2(9.0, 0.9, kLimits) == Approx(10.0));
-  CHECK(compensated_thrust_mps2(9.81, 1.0, kLimits) == 9.81);
-  CHECK(compensated_thrust_mps2(19.0, 0.8, kLimits) == 20.0);  // the commanded maximum
-  CHECK(compensated_thrust_mps2(0.5, 1.2, kLimits) == 1.0);    // the minimum
-  CHECK(compensated_thrust_mps2(0.0, 0.8, kLimits) == 0.0);    // ARM's zero thrust
+TEST_CASE("The setpoint carries a_q / k: the laws' a_q within the limits, the motors up to full thrust") {
+  const double kFull = 24.6;
+  CHECK(compensated_thrust_mps2(9.0, 0.9, kLimits, kFull) == Approx(10.0));
+  CHECK(compensated_thrust_mps2(9.81, 1.0, kLimits, kFull) == 9.81);
+  CHECK(compensated_thrust_mps2(19.0, 0.8, kLimits, kFull) == Approx(23.75));  // beyond a_q,max: the motors'
+  CHECK(compensated_thrust_mps2(22.0, 0.8, kLimits, kFull) == kFull);          // a_full at most
+  CHECK(compensated_thrust_mps2(22.0, 1.0, kLimits, kFull) == 20.0);           // the laws ask a_q,max at most
+  CHECK(compensated_thrust_mps2(0.5, 1.2, kLimits, kFull) == 1.0);             // the minimum
+  CHECK(compensated_thrust_mps2(0.0, 0.8, kLimits, kFull) == 0.0);             // ARM's zero thrust
 }

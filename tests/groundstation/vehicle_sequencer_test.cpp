@@ -44,7 +44,7 @@ using gs::mission::VehicleSequencer;
 namespace c = gs::mission::condition;
 
 constexpr std::uint32_t kAllBits = (std::uint32_t{1} << c::kCount) - 1u;
-constexpr int kReasonCount = static_cast<int>(Reason::pole_down) + 1;
+constexpr int kReasonCount = static_cast<int>(Reason::pole_fallen) + 1;
 constexpr int kRowCount = static_cast<int>(kTransitions.size());
 
 std::vector<Task> all_tasks() {
@@ -218,6 +218,7 @@ TEST_CASE("condition names follow the bits they name", "[sequencer]") {
       {c::request_catch, "request_catch"},
       {c::request_abort, "request_abort"},
       {c::request_land, "request_land"},
+      {c::pole_fallen, "pole_fallen"},
   };
   REQUIRE(static_cast<int>(named.size()) == c::kCount);
   std::uint32_t seen = 0;
@@ -372,10 +373,14 @@ TEST_CASE("key transitions, written out", "[sequencer]") {
       {Task::release, c::release_over, Task::retreat, Reason::released},
       {Task::release, 0, Task::release, Reason::none},
       {Task::retreat, c::at_target, Task::hover, Reason::clear_of_pole},
-      {Task::hover, c::pole_on_self, Task::balance, Reason::pole_placed},
+      {Task::hover, c::pole_on_self | c::pole_upright, Task::balance, Reason::pole_placed},
+      {Task::hover, c::pole_on_self, Task::hover, Reason::none},  // fallen over: not balanced
+      {Task::balance, c::pole_on_self | c::pole_fallen, Task::hover, Reason::pole_fallen},
+      {Task::balance, c::pole_on_self | c::pole_fallen | c::request_throw | c::settled, Task::hover,
+       Reason::pole_fallen},
       // The catch.
       {Task::hover, c::request_catch, Task::wait, Reason::catch_requested},
-      {Task::hover, c::request_catch | c::pole_on_self, Task::balance, Reason::pole_placed},
+      {Task::hover, c::request_catch | c::pole_on_self | c::pole_upright, Task::balance, Reason::pole_placed},
       {Task::hover, c::request_abort, Task::hover, Reason::none},
       {Task::wait, c::catch_unreachable, Task::clear, Reason::out_of_reach},
       {Task::wait, c::catch_unreachable | c::request_catch, Task::clear, Reason::out_of_reach},
@@ -760,7 +765,7 @@ TEST_CASE("reset forces a task, restarts its clock and clears the reason", "[seq
   CHECK(s.task_since_s() == 5.0);
   CHECK(s.last_reason() == Reason::none);
   // The table runs from the forced task.
-  CHECK(s.step(c::armed | c::pole_on_self, 5.1));
+  CHECK(s.step(c::armed | c::pole_on_self | c::pole_upright, 5.1));
   CHECK(s.task() == Task::balance);
   CHECK(s.last_reason() == Reason::pole_placed);
 
@@ -788,7 +793,7 @@ TEST_CASE("a throw and a catch, step by step", "[sequencer]") {
         {up | c::on_ground, Task::take_off, Reason::armed},
         {up, Task::take_off, Reason::armed},
         {up | c::at_height, Task::hover, Reason::airborne},
-        {pole, Task::balance, Reason::pole_placed},
+        {pole | c::pole_upright, Task::balance, Reason::pole_placed},
         {pole | c::request_throw, Task::balance, Reason::pole_placed},
         {pole | c::request_throw | c::settled, Task::throwing, Reason::throw_requested},
         {pole, Task::throwing, Reason::throw_requested},

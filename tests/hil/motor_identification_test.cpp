@@ -12,28 +12,6 @@
 #include "hil/trials/series.hpp"
 #include "hil/trials/trial_config.hpp"
 
-namespace {
-
-// The thrust gain the ground station should measure: the collective it commands for a hover (the
-// airframe file's weight) over the collective that holds the vehicle as built. The firmware takes
-// the pack's sag out of its commands (fw/battery_compensation.hpp), so the gain is the motors',
-// propellers' and mass's alone: the plant's hover commands at the battery's voltage now, scaled
-// back to the reference voltage.
-double true_thrust_gain(const hil::Plant& plant, const hil::PlantConfig& config, pa::VehicleId v) {
-  const hil::MotorCommands hover = plant.hover_commands(v);
-  double mean = 0.0;
-  for (double c : hover.command) mean += 0.25 * c;
-  const double voltage_factor =
-      config.battery.enabled
-          ? hil::thrust_voltage_factor(plant.battery(v).voltage_V, config.battery.reference_voltage_V)
-          : 1.0;
-  const double commanded =
-      pa::kGravity_mps2 * config.vehicle.mass_kg / (4.0 * config.vehicle.motor_thrust_max_N);
-  return commanded / (mean * voltage_factor);
-}
-
-}  // namespace
-
 TEST_CASE("20 vehicles drawn from the envelope: motor lag within 10 %, thrust gain within 2 %") {
   hil::PlantConfig envelope;
   std::string error;
@@ -50,7 +28,7 @@ TEST_CASE("20 vehicles drawn from the envelope: motor lag within 10 %, thrust ga
       const std::size_t slot = pa::act_slot(v);
       const double lag_s =
           config.plant.vehicle.motor_time_constant_s * config.plant.vehicle.motor_time_constant_scale[slot];
-      const double k_true = true_thrust_gain(runner.arena().plant(), config.plant, v);
+      const double k_true = runner.arena().plant().true_thrust_gain(v);
       const auto& id = runner.ground_station().motor_identification(v);
       const double k = runner.ground_station().thrust_gain(v).gain();
       if (!id) {
