@@ -184,7 +184,8 @@ void write_identification_summary(std::ostream& out, const std::vector<VehicleId
     out << "  motor identifications: none\n";
     return;
   }
-  out << "  motor identifications (the lag each vehicle's equaliser is set to at arming):\n";
+  out << "  motor identifications (per vehicle the last accepted, set on board at arming when it "
+         "differs from the design lag):\n";
   for (const VehicleIdentifications& v : vehicles) {
     out << "    vehicle " << static_cast<int>(v.vehicle.node()) << ": ";
     if (const std::optional<StoredIdentification>& a = v.last_accepted) {
