@@ -2,9 +2,11 @@
 
 #include <sqlite3.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <string_view>
 #include <utility>
 
@@ -43,6 +45,15 @@ std::string file_name(const std::string& path) { return "'" + path + "'"; }
 
 [[noreturn]] void damaged(const Impl& s, const std::string& what) {
   throw StoreError("adaptation store " + file_name(s.path) + " is damaged: " + what);
+}
+
+// A record that fails its validate() is refused before anything is written.
+template <typename Record>
+void require_valid(const Impl& s, const Record& record, const char* what) {
+  if (const std::string problem = validate(record); !problem.empty()) {
+    throw StoreError("adaptation store " + file_name(s.path) + ": invalid " + what +
+                     ", nothing written: " + problem);
+  }
 }
 
 class Statement {
@@ -256,6 +267,108 @@ std::string create_throws_sql() {
   return sql;
 }
 
+// ---------------------------------------------------------------------------------------------
+// Schema 2: the motor identifications. A fit's columns are wholly present (identified) or wholly
+// NULL (refused).
+
+constexpr const char* kCreateIdentificationsHead = R"sql(
+CREATE TABLE identifications (
+  id INTEGER PRIMARY KEY,
+  vehicle INTEGER NOT NULL,
+  time_s REAL NOT NULL,
+  outcome TEXT NOT NULL,
+  time_constant_s REAL CHECK (time_constant_s > 0),
+  time_constant_low_s REAL CHECK (time_constant_low_s >= 0),
+  time_constant_high_s REAL CHECK (time_constant_high_s >= time_constant_s),
+  inertia_gain REAL CHECK (inertia_gain >= 0),
+  round_trip_s REAL CHECK (round_trip_s >= 0),
+  rms_radps REAL CHECK (rms_radps >= 0),
+  samples INTEGER CHECK (samples >= 0),
+  thrust_gain REAL CHECK (thrust_gain > 0),
+  CHECK ((outcome = 'identified') = (time_constant_s IS NOT NULL)),
+  CHECK ((time_constant_s IS NULL) = (time_constant_low_s IS NULL)
+     AND (time_constant_s IS NULL) = (time_constant_high_s IS NULL)
+     AND (time_constant_s IS NULL) = (inertia_gain IS NULL)
+     AND (time_constant_s IS NULL) = (round_trip_s IS NULL)
+     AND (time_constant_s IS NULL) = (rms_radps IS NULL)
+     AND (time_constant_s IS NULL) = (samples IS NULL)),
+)sql";
+
+constexpr const char* kIdentificationColumns =
+    "id, vehicle, time_s, outcome, time_constant_s, time_constant_low_s, time_constant_high_s, "
+    "inertia_gain, round_trip_s, rms_radps, samples, thrust_gain";
+
+std::string create_identifications_sql() {
+  std::string sql = kCreateIdentificationsHead;
+  sql += "  CHECK (vehicle BETWEEN " + std::to_string(pa::proto::kFirstVehicleNode) + " AND " +
+         std::to_string(pa::proto::kLastVehicleNode) + "),\n  CHECK (outcome IN ('identified'";
+  for (const estimation::IdentificationRefusal refusal : estimation::kAllIdentificationRefusals) {
+    sql += ", '";
+    sql += estimation::refusal_name(refusal);
+    sql += "'";
+  }
+  sql += "))\n) STRICT";
+  return sql;
+}
+
+constexpr const char* kCreateIdentificationsIndex =
+    "CREATE INDEX identifications_by_vehicle ON identifications (vehicle, id)";
+
+void bind_identification(Statement& st, std::int64_t id, const IdentificationRecord& r) {
+  const std::optional<estimation::MotorIdentification>& m = r.result.identified;
+  const auto fit = [&](double estimation::MotorIdentification::*field) {
+    return m ? std::optional<double>((*m).*field) : std::nullopt;
+  };
+  int i = 1;
+  st.bind(i++, id);
+  st.bind(i++, static_cast<std::int64_t>(r.vehicle.node()));
+  st.bind(i++, r.time_s);
+  st.bind(i++, outcome_name(r.result));
+  st.bind(i++, fit(&estimation::MotorIdentification::time_constant_s));
+  st.bind(i++, fit(&estimation::MotorIdentification::time_constant_low_s));
+  st.bind(i++, fit(&estimation::MotorIdentification::time_constant_high_s));
+  st.bind(i++, fit(&estimation::MotorIdentification::inertia_gain));
+  st.bind(i++, fit(&estimation::MotorIdentification::round_trip_s));
+  st.bind(i++, fit(&estimation::MotorIdentification::rms_radps));
+  if (m) {
+    st.bind(i++, static_cast<std::int64_t>(m->samples));
+  } else {
+    st.bind(i++, std::optional<double>());
+  }
+  st.bind(i++, r.thrust_gain);
+}
+
+StoredIdentification read_identification(const Impl& s, const Statement& st) {
+  StoredIdentification out;
+  IdentificationRecord& r = out.record;
+  out.id = st.integer(0);
+  const std::int64_t node = st.integer(1);
+  r.vehicle = pa::VehicleId(static_cast<std::uint8_t>(std::clamp<std::int64_t>(node, 0, 255)));
+  if (node != r.vehicle.node() || !r.vehicle.valid()) {
+    damaged(s, "identification " + std::to_string(out.id) + " names no vehicle (node " +
+                   std::to_string(node) + ")");
+  }
+  r.time_s = st.real(2);
+  const std::string outcome = st.text(3);
+  const std::optional<estimation::IdentificationRefusal> refusal = parse_identification_outcome(outcome);
+  if (!refusal)
+    damaged(s, "identification " + std::to_string(out.id) + " has unknown outcome '" + outcome + "'");
+  r.result.refusal = *refusal;
+  if (!st.isNull(4)) {
+    estimation::MotorIdentification m;
+    m.time_constant_s = st.real(4);
+    m.time_constant_low_s = st.real(5);
+    m.time_constant_high_s = st.real(6);
+    m.inertia_gain = st.real(7);
+    m.round_trip_s = st.real(8);
+    m.rms_radps = st.real(9);
+    m.samples = static_cast<int>(st.integer(10));
+    r.result.identified = m;
+  }
+  r.thrust_gain = st.optional_real(11);
+  return out;
+}
+
 std::optional<double> component(const std::optional<Eigen::Vector2d>& v, int i) {
   if (!v) return std::nullopt;
   return (*v)(i);
@@ -387,13 +500,35 @@ void write_snapshot(const Impl& s, const AdaptationState& a, std::int64_t last_t
   if (sqlite3_changes(s.db) != 1) damaged(s, "the adaptation row is missing");
 }
 
+// The rows of `select_from` (SELECT columns FROM table) read by `read`, with a WHERE, ORDER and
+// LIMIT clause and its one parameter.
+template <typename Read>
+auto read_rows(const Impl& s, const std::string& select_from, const char* where_order_limit,
+               std::optional<std::int64_t> parameter, Read read) {
+  Statement st(s, select_from + " " + where_order_limit);
+  if (parameter) st.bind(1, *parameter);
+  std::vector<decltype(read(s, st))> out;
+  while (st.step()) out.push_back(read(s, st));
+  return out;
+}
+
+// All rows in id order, or the last `last_n`.
+template <typename Read>
+auto last_rows(const Impl& s, const std::string& select_from, std::optional<std::int64_t> last_n, Read read) {
+  if (!last_n) return read_rows(s, select_from, "ORDER BY id", std::nullopt, read);
+  auto newest_first =
+      read_rows(s, select_from, "ORDER BY id DESC LIMIT ?1", std::max<std::int64_t>(*last_n, 0), read);
+  return decltype(newest_first)(newest_first.rbegin(), newest_first.rend());
+}
+
+std::string select_throws() { return std::string("SELECT ") + kThrowColumns + " FROM throws"; }
+std::string select_identifications() {
+  return std::string("SELECT ") + kIdentificationColumns + " FROM identifications";
+}
+
 std::vector<StoredThrow> read_throws(const Impl& s, const char* where_order_limit,
                                      std::optional<std::int64_t> parameter) {
-  Statement st(s, std::string("SELECT ") + kThrowColumns + " FROM throws " + where_order_limit);
-  if (parameter) st.bind(1, *parameter);
-  std::vector<StoredThrow> out;
-  while (st.step()) out.push_back(read_throw(s, st));
-  return out;
+  return read_rows(s, select_throws(), where_order_limit, parameter, read_throw);
 }
 
 bool is_empty_database(const Impl& s) {
@@ -410,6 +545,8 @@ void initialise(const Impl& s, const AdaptationSettings& settings) {
   exec(s, kCreateSettings);
   exec(s, kCreateAdaptation);
   exec(s, create_throws_sql().c_str());
+  exec(s, create_identifications_sql().c_str());
+  exec(s, kCreateIdentificationsIndex);
   {
     Statement st(s, "INSERT INTO settings (id, nominal_catch_height_m, nominal_waiting_x_m, "
                     "nominal_waiting_y_m, mean_window, target_energy_J) VALUES (1, ?1, ?2, ?3, ?4, ?5)");
@@ -431,7 +568,22 @@ void initialise(const Impl& s, const AdaptationSettings& settings) {
   tx.commit();
 }
 
-// Identity, version and a structural check of an opened file.
+// A file of an older schema brought to this one, in one transaction (another process may have
+// done it since the version was read: it is read again under the write lock). Schema 1 -> 2: the
+// identifications table.
+void migrate(const Impl& s) {
+  Transaction tx(s, true);
+  const std::int64_t version = query_integer(s, "PRAGMA user_version");
+  if (version >= kSchemaVersion) return;
+  if (version < 2) {
+    exec(s, create_identifications_sql().c_str());
+    exec(s, kCreateIdentificationsIndex);
+  }
+  exec(s, ("PRAGMA user_version = " + std::to_string(kSchemaVersion)).c_str());
+  tx.commit();
+}
+
+// Identity, version and a structural check of an opened file; an older schema is migrated.
 void check_identity(const Impl& s) {
   const std::int64_t application_id = query_integer(s, "PRAGMA application_id");
   const std::int64_t version = query_integer(s, "PRAGMA user_version");
@@ -460,6 +612,12 @@ void check_identity(const Impl& s) {
     }
   }
   for (const char* table : {"settings", "adaptation", "throws"}) {
+    Statement st(s, "SELECT count(*) FROM sqlite_schema WHERE type = 'table' AND name = ?1");
+    st.bind(1, std::string_view(table));
+    if (!st.step() || st.integer(0) != 1) damaged(s, std::string("the table ") + table + " is missing");
+  }
+  if (version < kSchemaVersion) migrate(s);
+  for (const char* table : {"identifications"}) {
     Statement st(s, "SELECT count(*) FROM sqlite_schema WHERE type = 'table' AND name = ?1");
     st.bind(1, std::string_view(table));
     if (!st.step() || st.integer(0) != 1) damaged(s, std::string("the table ") + table + " is missing");
@@ -526,10 +684,7 @@ AdaptationSnapshot AdaptationStore::adaptation() const {
 }
 
 StoredThrow AdaptationStore::record(const ThrowRecord& record) {
-  if (const std::string problem = validate(record); !problem.empty()) {
-    throw StoreError("adaptation store " + file_name(impl_->path) +
-                     ": invalid throw record, nothing written: " + problem);
-  }
+  require_valid(*impl_, record, "throw record");
   const Impl& s = *impl_;
   Transaction tx(s, true);
   const AdaptationSettings settings = read_settings(s);
@@ -569,14 +724,60 @@ void AdaptationStore::reset() {
 }
 
 std::vector<StoredThrow> AdaptationStore::history(std::optional<std::int64_t> last_n) const {
-  if (!last_n) return read_throws(*impl_, "ORDER BY id", std::nullopt);
-  std::vector<StoredThrow> newest_first =
-      read_throws(*impl_, "ORDER BY id DESC LIMIT ?1", std::max<std::int64_t>(*last_n, 0));
-  return {newest_first.rbegin(), newest_first.rend()};
+  return last_rows(*impl_, select_throws(), last_n, read_throw);
 }
 
 std::int64_t AdaptationStore::throw_count() const {
   return query_integer(*impl_, "SELECT count(*) FROM throws");
+}
+
+StoredIdentification AdaptationStore::record_identification(const IdentificationRecord& record) {
+  require_valid(*impl_, record, "identification");
+  const Impl& s = *impl_;
+  Transaction tx(s, true);
+  StoredIdentification stored;
+  stored.id = query_integer(s, "SELECT max(id) FROM identifications") + 1;
+  stored.record = record;
+  {
+    Statement st(s, std::string("INSERT INTO identifications (") + kIdentificationColumns +
+                        ") VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12)");
+    bind_identification(st, stored.id, record);
+    st.step();
+  }
+  tx.commit();
+  return stored;
+}
+
+std::optional<StoredIdentification> AdaptationStore::last_accepted_identification(
+    pa::VehicleId vehicle) const {
+  const std::vector<StoredIdentification> rows =
+      read_rows(*impl_, select_identifications(),
+                "WHERE vehicle = ?1 AND outcome = 'identified' ORDER BY id DESC LIMIT 1",
+                static_cast<std::int64_t>(vehicle.node()), read_identification);
+  if (rows.empty()) return std::nullopt;
+  return rows.front();
+}
+
+std::vector<StoredIdentification> AdaptationStore::identifications(std::optional<std::int64_t> last_n) const {
+  return last_rows(*impl_, select_identifications(), last_n, read_identification);
+}
+
+std::vector<VehicleIdentifications> AdaptationStore::identifications_by_vehicle() const {
+  std::map<std::uint8_t, VehicleIdentifications> by_node;
+  for (const StoredIdentification& row : identifications()) {
+    VehicleIdentifications& v = by_node.try_emplace(row.record.vehicle.node()).first->second;
+    v.vehicle = row.record.vehicle;
+    v.latest = row;  // rows come oldest first
+    if (row.accepted()) v.last_accepted = row;
+    ++v.count;
+  }
+  std::vector<VehicleIdentifications> out;
+  for (auto& [node, v] : by_node) out.push_back(std::move(v));
+  return out;
+}
+
+std::int64_t AdaptationStore::identification_count() const {
+  return query_integer(*impl_, "SELECT count(*) FROM identifications");
 }
 
 ConsistencyReport AdaptationStore::check_consistency() const {
@@ -630,6 +831,13 @@ ConsistencyReport AdaptationStore::check_consistency() const {
   if (!(report.recomputed == report.stored)) {
     report.problem = "the stored adapted values differ from those recomputed from the history";
     return report;
+  }
+  for (const StoredIdentification& i :
+       last_rows(s, select_identifications(), std::nullopt, read_identification)) {
+    if (const std::string problem = validate(i.record); !problem.empty()) {
+      report.problem = "identification " + std::to_string(i.id) + " is invalid: " + problem;
+      return report;
+    }
   }
   report.ok = true;
   return report;

@@ -16,12 +16,18 @@
 // database, another application's database, a newer schema or a damaged file throws StoreError
 // with a message that names the file and says which; nothing is modified.
 //
-// Schema 1:
+// Schema 2 (schema 1 without `identifications`; a schema-1 file gains the empty table, in one
+// transaction, when this program opens it, and is then schema 2: an older program refuses it as
+// newer):
 //   settings   (one row)  nominal catching height and waiting point, window, E*
 //   adaptation (one row)  the adapted values, their sample counts, the id of the last throw they
 //                         include and the first throw id since the last reset (the epoch)
 //   throws     (a row per throw, id = 1, 2, ... in recording order) the ThrowRecord fields,
 //                         NULL where a figure is absent, plus energy_error_J = |E - E*|
+//   identifications (a row per finished motor identification, id = 1, 2, ... over all vehicles)
+//                         the vehicle's node, the ground-station time, the outcome ("identified"
+//                         or the refusal's name), the fit (NULL when refused) and the thrust gain
+//                         at that moment (NULL when not measured); identification_record.hpp
 // The adapted values are a pure function of the settings and the throws since the epoch
 // (adaptation_law.hpp); check_consistency() verifies that bit for bit.
 #pragma once
@@ -34,12 +40,13 @@
 #include <vector>
 
 #include "groundstation/adaptation/adaptation_law.hpp"
+#include "groundstation/adaptation/identification_record.hpp"
 #include "groundstation/adaptation/throw_record.hpp"
 
 namespace gs::adaptation {
 
 inline constexpr std::int32_t kApplicationId = 0x50414144;  // "PAAD": pole acrobatics adaptation
-inline constexpr int kSchemaVersion = 1;
+inline constexpr int kSchemaVersion = 2;
 
 // Every failure of the store: a missing, foreign, newer, corrupt or unwritable file, an invalid
 // record. what() is a complete sentence naming the file.
@@ -59,6 +66,15 @@ struct AdaptationSnapshot {
   std::int64_t last_throw_id = 0;   // 0: no throw recorded yet
   std::int64_t epoch_first_id = 1;  // the values rest on the throws with id >= this
   std::int64_t throw_count = 0;     // rows in the history (all epochs)
+};
+
+// One vehicle's identifications: its latest, its last accepted (absent if it never had one) and
+// how many there are.
+struct VehicleIdentifications {
+  pa::VehicleId vehicle = pa::kVehicle1;
+  StoredIdentification latest;
+  std::optional<StoredIdentification> last_accepted;
+  std::int64_t count = 0;
 };
 
 struct ConsistencyReport {
@@ -95,8 +111,20 @@ class AdaptationStore {
   std::vector<StoredThrow> history(std::optional<std::int64_t> last_n = std::nullopt) const;
   std::int64_t throw_count() const;
 
+  // Appends a finished motor identification, accepted or refused, in one transaction. Rejects a
+  // record that fails validate() (identification_record.hpp) without writing. Returns the row.
+  StoredIdentification record_identification(const IdentificationRecord& record);
+  // The vehicle's last accepted identification: what it flies with while later fits are refused.
+  std::optional<StoredIdentification> last_accepted_identification(pa::VehicleId vehicle) const;
+  // The identifications in recording order: all, or the last `last_n`.
+  std::vector<StoredIdentification> identifications(std::optional<std::int64_t> last_n = std::nullopt) const;
+  // Per identified vehicle, in node order.
+  std::vector<VehicleIdentifications> identifications_by_vehicle() const;
+  std::int64_t identification_count() const;
+
   // SQLite's integrity check, the ids 1..n without gaps, the adaptation row pointing at the last
-  // throw, and the adapted values equal (exactly) to those recomputed from the history.
+  // throw, the adapted values equal (exactly) to those recomputed from the history, and every
+  // identification a valid one.
   ConsistencyReport check_consistency() const;
 
   struct Impl;  // the SQLite connection (opaque)

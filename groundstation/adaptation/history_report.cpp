@@ -78,13 +78,39 @@ std::string sample_summary(std::int64_t n, const char* what) {
   return n == 0 ? std::string("no ") + what + " yet" : std::to_string(n) + " " + what;
 }
 
+// One line of cells padded to their columns, without trailing blanks.
+template <std::size_t N>
+void write_line(std::ostream& out, const Column (&columns)[N], const std::string (&cells)[N]) {
+  std::string line;
+  for (std::size_t i = 0; i < N; ++i) line += pad(cells[i], columns[i].width);
+  while (!line.empty() && line.back() == ' ') line.pop_back();
+  out << line << "\n";
+}
+
+template <std::size_t N>
+void write_header(std::ostream& out, const Column (&columns)[N]) {
+  std::string titles[N];
+  for (std::size_t i = 0; i < N; ++i) titles[i] = columns[i].title;
+  write_line(out, columns, titles);
+}
+
+constexpr Column kIdentificationColumns[] = {
+    {"id", 5},      {"vehicle", 7},        {"time_s", 15},   {"outcome", 14}, {"lag ms", 6}, {"95 % ms", 11},
+    {"inertia", 7}, {"round trip ms", 13}, {"rms rad/s", 9}, {"samples", 7},  {"k", 0},
+};
+
+std::string optional_cell(const std::optional<double>& value, const char* fmt) {
+  return value ? format(fmt, *value) : "-";
+}
+
+std::string at_time(const StoredIdentification& i) {
+  return format("identification %lld at t %.3f s", static_cast<long long>(i.id), i.record.time_s);
+}
+
 }  // namespace
 
 void write_history_table(std::ostream& out, const std::vector<StoredThrow>& throws) {
-  std::string header;
-  for (const Column& c : kColumns) header += pad(c.title, c.width);
-  while (!header.empty() && header.back() == ' ') header.pop_back();
-  out << header << "\n";
+  write_header(out, kColumns);
   for (const StoredThrow& t : throws) {
     const ThrowRecord& r = t.record;
     std::string cells[std::size(kColumns)];
@@ -104,10 +130,79 @@ void write_history_table(std::ostream& out, const std::vector<StoredThrow>& thro
     cells[11] = bias ? format("%+.3f,%+.3f", bias->x(), bias->y()) : "-";
     cells[12] = t.energy_error_J ? format("%.4f", *t.energy_error_J) : "-";
     cells[13] = one_line(r.note);
-    std::string line;
-    for (std::size_t i = 0; i < std::size(kColumns); ++i) line += pad(cells[i], kColumns[i].width);
-    while (!line.empty() && line.back() == ' ') line.pop_back();
-    out << line << "\n";
+    write_line(out, kColumns, cells);
+  }
+}
+
+void write_identification_table(std::ostream& out, const std::vector<StoredIdentification>& identifications) {
+  write_header(out, kIdentificationColumns);
+  for (const StoredIdentification& i : identifications) {
+    const IdentificationRecord& r = i.record;
+    const std::optional<estimation::MotorIdentification>& m = r.result.identified;
+    std::string cells[std::size(kIdentificationColumns)];
+    cells[0] = std::to_string(i.id);
+    cells[1] = std::to_string(r.vehicle.node());
+    cells[2] = format("%.3f", r.time_s);
+    cells[3] = std::string(outcome_name(r.result));
+    cells[4] = m ? format("%.1f", 1e3 * m->time_constant_s) : "-";
+    cells[5] = m ? format("%.1f-%.1f", 1e3 * m->time_constant_low_s, 1e3 * m->time_constant_high_s) : "-";
+    cells[6] = m ? format("%.3f", m->inertia_gain) : "-";
+    cells[7] = m ? format("%.1f", 1e3 * m->round_trip_s) : "-";
+    cells[8] = m ? format("%.4f", m->rms_radps) : "-";
+    cells[9] = m ? std::to_string(m->samples) : "-";
+    cells[10] = optional_cell(r.thrust_gain, "%.4f");
+    write_line(out, kIdentificationColumns, cells);
+  }
+}
+
+std::string identification_csv_header() {
+  return "id,vehicle,time_s,outcome,time_constant_s,time_constant_low_s,time_constant_high_s,"
+         "inertia_gain,round_trip_s,rms_radps,samples,thrust_gain";
+}
+
+void write_identification_csv(std::ostream& out, const std::vector<StoredIdentification>& identifications) {
+  out << identification_csv_header() << "\n";
+  for (const StoredIdentification& i : identifications) {
+    const IdentificationRecord& r = i.record;
+    const std::optional<estimation::MotorIdentification>& m = r.result.identified;
+    const auto fit = [&](double estimation::MotorIdentification::*field) {
+      return csv_real(m ? std::optional<double>((*m).*field) : std::nullopt);
+    };
+    out << i.id << "," << static_cast<int>(r.vehicle.node()) << "," << csv_real(r.time_s) << ","
+        << outcome_name(r.result) << "," << fit(&estimation::MotorIdentification::time_constant_s) << ","
+        << fit(&estimation::MotorIdentification::time_constant_low_s) << ","
+        << fit(&estimation::MotorIdentification::time_constant_high_s) << ","
+        << fit(&estimation::MotorIdentification::inertia_gain) << ","
+        << fit(&estimation::MotorIdentification::round_trip_s) << ","
+        << fit(&estimation::MotorIdentification::rms_radps) << "," << (m ? std::to_string(m->samples) : "")
+        << "," << csv_real(r.thrust_gain) << "\n";
+  }
+}
+
+void write_identification_summary(std::ostream& out, const std::vector<VehicleIdentifications>& vehicles) {
+  if (vehicles.empty()) {
+    out << "  motor identifications: none\n";
+    return;
+  }
+  out << "  motor identifications (per vehicle the last accepted, set on board at arming when it "
+         "differs from the design lag):\n";
+  for (const VehicleIdentifications& v : vehicles) {
+    out << "    vehicle " << static_cast<int>(v.vehicle.node()) << ": ";
+    if (const std::optional<StoredIdentification>& a = v.last_accepted) {
+      const estimation::MotorIdentification& m = *a->record.result.identified;
+      out << format("lag %.1f ms (95 %%: %.1f-%.1f ms), inertia %.3f, round trip %.1f ms, thrust gain %s; ",
+                    1e3 * m.time_constant_s, 1e3 * m.time_constant_low_s, 1e3 * m.time_constant_high_s,
+                    m.inertia_gain, 1e3 * m.round_trip_s,
+                    optional_cell(a->record.thrust_gain, "%.4f").c_str())
+          << at_time(*a);
+    } else {
+      out << "no accepted identification (the firmware's design lag stays)";
+    }
+    out << " (" << v.count << (v.count == 1 ? " identification" : " identifications") << ")\n";
+    if (!v.latest.accepted()) {
+      out << "      latest refused: " << outcome_name(v.latest.record.result) << ", " << at_time(v.latest)
+          << (v.last_accepted ? "; the lag above is kept" : "") << "\n";
+    }
   }
 }
 

@@ -7,13 +7,14 @@
 namespace {
 
 constexpr pa::cli::Subcommand kSubcommands[] = {
-    {"adaptation", "show or reset the adapted catching height, waiting point and offset bias (VI)",
+    {"adaptation", "show or reset the adapted catch (VI); show the motor identifications",
      gs::apps::cmd_adaptation},
     {"catch-instant", "the optimal catching instant (42), catching height and catch point (III-B)",
      gs::apps::cmd_catch_instant},
     {"estimate", "replay a motion-capture log through the estimator (IV) and write the pole estimate",
      gs::apps::cmd_estimate},
-    {"history", "list the recorded throws of an adaptation store (table or CSV)", gs::apps::cmd_history},
+    {"history", "list the recorded throws and motor identifications of an adaptation store (table or CSV)",
+     gs::apps::cmd_history},
 #ifdef PA_GROUNDSTATION_SERVICE
     {"op", "send an operator command (take-off, land, abort, throw, kill) and print its answer",
      gs::apps::cmd_op},

@@ -84,6 +84,9 @@ enum class IdentificationRefusal : std::uint8_t {
   at_search_edge,  // the best lag is no propeller motor's (or the model does not explain it)
   not_confident,   // the 95 % interval is too wide
 };
+inline constexpr IdentificationRefusal kAllIdentificationRefusals[] = {
+    IdentificationRefusal::no_telemetry, IdentificationRefusal::saturated, IdentificationRefusal::no_motion,
+    IdentificationRefusal::at_search_edge, IdentificationRefusal::not_confident};
 std::string_view refusal_name(IdentificationRefusal refusal);
 
 struct IdentificationResult {

@@ -46,6 +46,8 @@ GroundStation::GroundStation(link::FrameBus& bus, const GroundStationConfig& con
       throws_(config.limits, config.throw_tracking),
       tasks_(config.tasks, config.limits),
       learner_(make_learner(config, throws_)),
+      identifications_({config.rate_loop.design_time_constant_s, config.motor_lag_tolerance_fraction},
+                       config.adaptation_store_path, learner_.adaptation_settings()),
       catch_(config.catching, input_limits(config.limits)) {
   frame_ = throw_frame(pa::kVehicle1);
   for (Vehicle& v : vehicles_) {
@@ -251,7 +253,12 @@ void GroundStation::enter(Vehicle& v, double now_s) {
   }
   const TaskEntry entry =
       enter_task(task, v.laws, v.requests, context, {config_.take_off_height_m, config_.clear_distance_m});
-  if (task == Task::arming) v.commands.arming(entry.arm_after_disarm);
+  if (task == Task::arming) {
+    v.commands.arming(entry.arm_after_disarm);
+    // The lag kept from the vehicle's last accepted identification, before this flight's own.
+    if (const std::optional<double> lag_s = identifications_.lag_at_arming(v.id))
+      set_motor_lag(v, *lag_s, now_s);
+  }
   if (entry.command)
     v.commands.sent(link_.send_command(v.id, entry.command->code, entry.command->argument, now_s));
   if (entry.start_identification) v.identification.start(now_s, v.equalised_s);
@@ -357,8 +364,8 @@ void GroundStation::send(Vehicle& v, model::VehicleInput u, double now_s) {
   estimator_.set_command(v.id, t_acts_s, sent);
 }
 
-// The identification flight's fit once it is over; a lag that differs from the equaliser's by more
-// than the fit's accuracy goes on board. A refused fit keeps what is set.
+// The identification flight's fit once it is over, recorded; a lag that differs from the
+// equaliser's by more than the fit's accuracy goes on board. A refused fit keeps what is set.
 void GroundStation::identify_motors(Vehicle& v, double now_s) {
   if (v.equaliser_command) {
     const link::CommandState s = link_.command_state(*v.equaliser_command);
@@ -370,12 +377,16 @@ void GroundStation::identify_motors(Vehicle& v, double now_s) {
   const std::optional<estimation::IdentificationResult> result = v.identification.finish(now_s);
   if (!result) return;
   v.identified = result;
-  if (!result->identified) return;
-  const double tau = result->identified->time_constant_s;
-  if (std::abs(tau - v.equalised_s) <= config_.motor_lag_tolerance_fraction * tau) return;
-  v.equaliser_sent_s = tau;
+  const std::optional<double> k =
+      v.thrust_gain.measurements() > 0 ? std::optional(v.thrust_gain.gain()) : std::nullopt;
+  if (const std::optional<double> lag_s = identifications_.finished(v.id, *result, k, now_s, v.equalised_s))
+    set_motor_lag(v, *lag_s, now_s);
+}
+
+void GroundStation::set_motor_lag(Vehicle& v, double lag_s, double now_s) {
+  v.equaliser_sent_s = lag_s;
   v.equaliser_command = link_.send_command(v.id, pa::proto::CommandCode::set_motor_time_constant,
-                                           static_cast<std::int32_t>(std::lround(tau * 1e6)), now_s);
+                                           static_cast<std::int32_t>(std::lround(lag_s * 1e6)), now_s);
 }
 
 std::vector<link::ImpactReport> GroundStation::take_impacts() {

@@ -46,6 +46,7 @@
 #include <Eigen/Core>
 
 #include "groundstation/adaptation/catch_energy.hpp"
+#include "groundstation/adaptation/identification_memory.hpp"
 #include "groundstation/adaptation/learner.hpp"
 #include "groundstation/control/task_laws.hpp"
 #include "groundstation/control/throw_frame.hpp"
@@ -121,7 +122,9 @@ struct GroundStationConfig {
   // (runtime/identification_flight.hpp, from the firmware's rate loop as configured on board) and
   // sets it on board for the firmware's equaliser when it differs from what is set there by more
   // than motor_lag_tolerance_fraction: the fit's own accuracy (rate_response_test), so a vehicle
-  // with the airframe's motors is left as it is.
+  // with the airframe's motors is left as it is. A refused fit keeps the last accepted one, which
+  // with a store (adaptation_store_path) may be an earlier run's: it is set on board at every
+  // arming, before the take-off's own fit (adaptation/identification_memory.hpp).
   bool identify_motors = true;
   estimation::RateLoopConfig rate_loop;
   estimation::RateResponseSettings rate_response;
@@ -194,8 +197,9 @@ struct GroundStationConfig {
   adaptation::LearnerSettings learning;
   // Start from what an earlier run learnt instead of the nominal throw's values.
   std::optional<adaptation::Learnt> learnt;
-  // The durable adaptation store (adaptation/adaptation_store.hpp): every throw is recorded there
-  // and the adapted values read back, so that they survive a restart. Empty: in memory only.
+  // The durable adaptation store (adaptation/adaptation_store.hpp): every throw and every motor
+  // identification is recorded there and the adapted values and each vehicle's last accepted
+  // identification read back, so that they survive a restart. Empty: in memory only.
   // A store overrides `learnt`; the catching instant is the mean over its history.
   std::string adaptation_store_path;
 };
@@ -251,9 +255,14 @@ class GroundStation {
   mission::Task task(pa::VehicleId vehicle) const;
   // The vehicle's thrust gain as measured in flight (1: the airframe file's).
   const estimation::ThrustGainEstimator& thrust_gain(pa::VehicleId vehicle) const;
-  // The vehicle's latest motor identification (none before its first take-off's is over), and the
-  // lag its firmware's equaliser is set to as far as the ground station knows (acknowledged).
+  // The vehicle's latest motor identification (none before its first take-off's is over; refused
+  // or not), the last accepted one (possibly from the store, an earlier run's), and the lag its
+  // firmware's equaliser is set to as far as the ground station knows (acknowledged).
   const std::optional<estimation::IdentificationResult>& motor_identification(pa::VehicleId vehicle) const;
+  const std::optional<estimation::MotorIdentification>& kept_motor_identification(
+      pa::VehicleId vehicle) const {
+    return identifications_.kept(vehicle);
+  }
   double equalised_motor_time_constant_s(pa::VehicleId vehicle) const;
   const estimation::StateEstimator& estimator() const { return estimator_; }
   const link::GroundLink& link() const { return link_; }
@@ -288,6 +297,7 @@ class GroundStation {
   mission::ConditionFacts facts(const Vehicle& v, double now_s) const;
   void measure_thrust_gain(Vehicle& v, double t_s, const estimation::MocapPose& pose);
   void identify_motors(Vehicle& v, double now_s);
+  void set_motor_lag(Vehicle& v, double lag_s, double now_s);  // COMMAND set_motor_time_constant
   void measure_impact_energy(const Vehicle& catcher);
   void send(Vehicle& v, model::VehicleInput u, double now_s);
   // Its motors as the attempt's admission checks them.
@@ -316,6 +326,7 @@ class GroundStation {
   planning::ThrowBook throws_;
   TaskController tasks_;
   adaptation::Learner learner_;
+  adaptation::IdentificationMemory identifications_;  // after learner_, which creates the store
   adaptation::CatchEnergyCorrection catch_energy_;
   CatchCoordinator catch_;
   std::vector<MissionEvent> events_;

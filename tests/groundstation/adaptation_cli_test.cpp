@@ -20,6 +20,7 @@
 namespace {
 
 using namespace gs::adaptation;
+using adaptation_test::make_identification;
 using adaptation_test::make_record;
 using adaptation_test::ScratchDir;
 
@@ -45,13 +46,7 @@ Run run(int (*command)(int, const char* const*, std::ostream&, std::ostream&),
 Run history(std::initializer_list<std::string> args) { return run(run_history_command, args); }
 Run adaptation_cmd(std::initializer_list<std::string> args) { return run(run_adaptation_command, args); }
 
-AdaptationSettings settings() {
-  AdaptationSettings s;
-  s.nominal_catch_height_m = 1.40;
-  s.nominal_waiting_xy_m = {0.70, 0.0};
-  s.target_energy_J = gs::model::upright_energy_J(gs::model::PoleParams{});
-  return s;
-}
+AdaptationSettings settings() { return adaptation_test::nominal_settings(); }
 
 // RFC 4180 records: fields split on commas outside quotes, records on line breaks outside quotes.
 std::vector<std::vector<std::string>> parse_csv(const std::string& text) {
@@ -219,4 +214,142 @@ TEST_CASE("adaptation prints the adapted values and resets only with --yes") {
   const AdaptationStore store = AdaptationStore::open_existing(path);
   CHECK(store.adaptation().state == initial_adaptation(settings()));
   CHECK(store.throw_count() == 14);
+}
+
+namespace {
+
+// The lines of `text` that start with `prefix`.
+std::vector<std::string> lines_starting(const std::string& text, const std::string& prefix) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind(prefix, 0) == 0) out.push_back(line);
+  }
+  return out;
+}
+
+std::string lag_ms(double s) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.1f", 1e3 * s);
+  return buffer;
+}
+
+}  // namespace
+
+TEST_CASE("history lists the motor identifications after the throws, or alone with --identifications") {
+  ScratchDir dir("adaptation-cli-identifications");
+  const std::string path = dir.file("store.sqlite");
+  {
+    AdaptationStore store = AdaptationStore::open_or_create(path, settings());
+    for (int id = 1; id <= 4; ++id) store.record(make_record(id));
+    const Run none = history({"history", "--db", path, "--identifications"});
+    CHECK(none.code == 0);
+    CHECK_THAT(none.out, Catch::Contains("no motor identifications recorded"));
+    // A store without identifications prints its throws as before.
+    CHECK(count_lines(history({"history", "--db", path}).out) == 1 + 4 + 1);
+    for (int id = 1; id <= 9; ++id) store.record_identification(make_identification(id));
+  }
+  const Run both = history({"history", "--db", path});
+  INFO(both.err);
+  REQUIRE(both.code == 0);
+  // The throws' table and count, a blank line, the identifications' table and count.
+  CHECK(count_lines(both.out) == (1 + 4 + 1) + 1 + (1 + 9 + 1));
+  CHECK_THAT(both.out, Catch::Contains("4 of 4 throws\n\nid    vehicle time_s"));
+  CHECK_THAT(both.out, Catch::EndsWith("9 of 9 motor identifications\n"));
+  for (int id = 1; id <= 9; ++id) {
+    const IdentificationRecord r = make_identification(id);
+    const std::vector<std::string> line = lines_starting(both.out, std::to_string(id) + "  ");
+    REQUIRE(line.size() == (id <= 4 ? 2u : 1u));  // ids 1-4 also start a throw's line
+    const std::string& l = line.back();
+    INFO(l);
+    CHECK_THAT(l, Catch::Contains(std::string(outcome_name(r.result))));
+    if (const auto& m = r.result.identified) {
+      CHECK_THAT(l,
+                 Catch::Contains(lag_ms(m->time_constant_s) + " ") &&
+                     Catch::Contains(lag_ms(m->time_constant_low_s) + "-" + lag_ms(m->time_constant_high_s)));
+    } else {
+      CHECK_THAT(l, Catch::Contains(" -  "));
+    }
+  }
+
+  const Run last = history({"history", "--db", path, "--last", "2"});
+  CHECK_THAT(last.out, Catch::Contains("2 of 4 throws") && Catch::Contains("2 of 9 motor identifications"));
+
+  const Run alone = history({"history", "--db", path, "--identifications"});
+  REQUIRE(alone.code == 0);
+  CHECK_THAT(alone.out, Catch::StartsWith("id    vehicle time_s"));
+  CHECK(count_lines(alone.out) == 1 + 9 + 1);
+
+  // --csv stays the throws' (one header row); with --identifications, every stored column exactly.
+  CHECK(parse_csv(history({"history", "--db", path, "--csv"}).out).size() == 1 + 4);
+  const Run csv = history({"history", "--db", path, "--identifications", "--csv"});
+  REQUIRE(csv.code == 0);
+  const auto rows = parse_csv(csv.out);
+  REQUIRE(rows.size() == 1 + 9);
+  const auto header = parse_csv(identification_csv_header() + "\n").front();
+  CHECK(rows.front() == header);
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    const IdentificationRecord r = make_identification(static_cast<std::int64_t>(i));
+    INFO("row " << i);
+    REQUIRE(rows[i].size() == header.size());
+    CHECK(rows[i][0] == std::to_string(i));
+    CHECK(rows[i][1] == std::to_string(r.vehicle.node()));
+    CHECK(std::strtod(rows[i][2].c_str(), nullptr) == r.time_s);
+    CHECK(rows[i][3] == outcome_name(r.result));
+    if (r.result.identified) {
+      CHECK(std::strtod(rows[i][4].c_str(), nullptr) == r.result.identified->time_constant_s);
+      CHECK(std::strtod(rows[i][6].c_str(), nullptr) == r.result.identified->time_constant_high_s);
+      CHECK(rows[i][10] == std::to_string(r.result.identified->samples));
+    } else {
+      CHECK(rows[i][4].empty());
+      CHECK(rows[i][10].empty());
+    }
+    CHECK(rows[i][11].empty() == !r.thrust_gain);
+    if (r.thrust_gain) CHECK(std::strtod(rows[i][11].c_str(), nullptr) == *r.thrust_gain);
+  }
+}
+
+TEST_CASE("adaptation prints each vehicle's last identification and a latest refusal") {
+  ScratchDir dir("adaptation-cli-identification-summary");
+  const std::string path = dir.file("store.sqlite");
+  AdaptationStore store = AdaptationStore::open_or_create(path, settings());
+  const Run none = adaptation_cmd({"adaptation", "--db", path});
+  REQUIRE(none.code == 0);
+  CHECK_THAT(none.out, Catch::Contains("motor identifications: none"));
+
+  for (int id = 1; id <= 9; ++id) store.record_identification(make_identification(id));
+  const Run shown = adaptation_cmd({"adaptation", "--db", path});
+  INFO(shown.out);
+  REQUIRE(shown.code == 0);
+  CHECK_THAT(shown.out, Catch::Contains("consistent with the history: yes"));
+  // Vehicle 1: identification 7 in force, 9 refused.
+  const IdentificationRecord seven = make_identification(7);
+  const auto& m = *seven.result.identified;
+  char expected[256];
+  std::snprintf(expected, sizeof expected,
+                "    vehicle 1: lag %.1f ms (95 %%: %.1f-%.1f ms), inertia %.3f, round trip %.1f ms, "
+                "thrust gain %.4f; identification 7 at t %.3f s (5 identifications)\n",
+                1e3 * m.time_constant_s, 1e3 * m.time_constant_low_s, 1e3 * m.time_constant_high_s,
+                m.inertia_gain, 1e3 * m.round_trip_s, *seven.thrust_gain, seven.time_s);
+  CHECK_THAT(shown.out, Catch::Contains(expected));
+  const IdentificationRecord nine = make_identification(9);
+  std::snprintf(expected, sizeof expected,
+                "      latest refused: %s, identification 9 at t %.3f s; the lag above is kept\n",
+                std::string(outcome_name(nine.result)).c_str(), nine.time_s);
+  CHECK_THAT(shown.out, Catch::Contains(expected));
+  // Vehicle 2: identification 8 in force and latest (measured without a thrust gain: "-").
+  const std::vector<std::string> two = lines_starting(shown.out, "    vehicle 2: ");
+  REQUIRE(two.size() == 1);
+  CHECK_THAT(two.front(), Catch::Contains("thrust gain -; identification 8 at t") &&
+                              Catch::EndsWith("(4 identifications)"));
+  CHECK(lines_starting(shown.out, "      latest refused").size() == 1);
+
+  // A vehicle only ever refused: the design lag stays.
+  IdentificationRecord refused = make_identification(3);
+  refused.vehicle = pa::VehicleId(3);
+  store.record_identification(refused);
+  const Run third = adaptation_cmd({"adaptation", "--db", path});
+  CHECK_THAT(third.out,
+             Catch::Contains("    vehicle 3: no accepted identification (the firmware's design lag "
+                             "stays) (1 identification)\n      latest refused: "));
 }

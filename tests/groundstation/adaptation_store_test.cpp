@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <random>
 #include <string>
 #include <thread>
@@ -26,7 +27,9 @@
 namespace {
 
 using namespace gs::adaptation;
+using adaptation_test::make_identification;
 using adaptation_test::make_record;
+using adaptation_test::same_identification;
 using adaptation_test::same_record;
 using adaptation_test::ScratchDir;
 
@@ -186,6 +189,160 @@ TEST_CASE("an invalid record is rejected and nothing is written") {
                   StoreError);
 }
 
+TEST_CASE("identifications are kept per vehicle, survive reopening, and the last accepted is found") {
+  ScratchDir dir("adaptation-identifications");
+  const std::string path = dir.file("store.sqlite");
+  std::vector<IdentificationRecord> records;
+  {
+    AdaptationStore store = AdaptationStore::open_or_create(path, test_settings());
+    CHECK(store.identification_count() == 0);
+    CHECK_FALSE(store.last_accepted_identification(pa::kVehicle1));
+    CHECK(store.identifications_by_vehicle().empty());
+    for (int id = 1; id <= 9; ++id) {
+      records.push_back(make_identification(id));
+      REQUIRE(store.record_identification(records.back()).id == id);
+    }
+    store.record(make_record(1));  // throws and identifications side by side
+  }
+  const AdaptationStore store = AdaptationStore::open_existing(path);
+  const std::vector<StoredIdentification> all = store.identifications();
+  REQUIRE(all.size() == records.size());
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    INFO("identification " << i + 1);
+    CHECK(all[i].id == static_cast<std::int64_t>(i + 1));
+    CHECK(same_identification(all[i].record, records[i]));
+  }
+  CHECK(store.identification_count() == 9);
+  CHECK(store.throw_count() == 1);
+  const std::vector<StoredIdentification> last = store.identifications(3);
+  REQUIRE(last.size() == 3);
+  CHECK(last.front().id == 7);
+  CHECK(last.back().id == 9);
+
+  // Vehicle 1's latest (9) was refused: its last accepted is 7. Vehicle 2's is 8.
+  REQUIRE_FALSE(all[8].accepted());
+  const std::optional<StoredIdentification> one = store.last_accepted_identification(pa::kVehicle1);
+  REQUIRE(one);
+  CHECK(one->id == 7);
+  CHECK(same_identification(one->record, records[6]));
+  CHECK(store.last_accepted_identification(pa::kVehicle2)->id == 8);
+  CHECK_FALSE(store.last_accepted_identification(pa::VehicleId(5)));
+
+  const std::vector<VehicleIdentifications> by_vehicle = store.identifications_by_vehicle();
+  REQUIRE(by_vehicle.size() == 2);
+  CHECK(by_vehicle[0].vehicle == pa::kVehicle1);
+  CHECK(by_vehicle[0].count == 5);
+  CHECK(by_vehicle[0].latest.id == 9);
+  CHECK(by_vehicle[0].last_accepted->id == 7);
+  CHECK(by_vehicle[1].vehicle == pa::kVehicle2);
+  CHECK(by_vehicle[1].count == 4);
+  CHECK(by_vehicle[1].latest.id == 8);
+  CHECK(by_vehicle[1].last_accepted->id == 8);
+
+  const ConsistencyReport report = store.check_consistency();
+  INFO(report.problem);
+  CHECK(report.ok);
+}
+
+TEST_CASE("an invalid identification is rejected with the reason and nothing is written") {
+  ScratchDir dir("adaptation-identification-invalid");
+  AdaptationStore store = AdaptationStore::open_or_create(dir.file("store.sqlite"), test_settings());
+  store.record_identification(make_identification(1));
+  const auto rejected = [&](IdentificationRecord r, const std::string& reason) {
+    INFO(reason);
+    CHECK_THROWS_WITH(store.record_identification(r), Catch::Contains(reason) &&
+                                                          Catch::Contains("nothing written") &&
+                                                          Catch::Contains("store.sqlite"));
+    CHECK(store.identification_count() == 1);
+  };
+  const IdentificationRecord good = make_identification(1);
+  REQUIRE(good.result.identified);
+  IdentificationRecord r = good;
+  r.result.identified->time_constant_s = std::nan("");
+  rejected(r, "time_constant_s is not finite");
+  r = good;
+  r.result.identified->round_trip_s = -0.001;
+  rejected(r, "round_trip_s is negative");
+  r = good;
+  r.result.identified->inertia_gain = std::numeric_limits<double>::infinity();
+  rejected(r, "inertia_gain is not finite");
+  r = good;
+  r.result.identified->time_constant_high_s = 0.5 * r.result.identified->time_constant_s;
+  rejected(r, "the 95 % interval does not hold time_constant_s");
+  r = good;
+  r.thrust_gain = -1.0;
+  rejected(r, "thrust_gain is negative");
+  r = good;
+  r.thrust_gain = std::nan("");
+  rejected(r, "thrust_gain is not finite");
+  r = good;
+  r.time_s = std::nan("");
+  rejected(r, "time_s is not finite");
+  r = good;
+  r.vehicle = pa::VehicleId(pa::proto::kGroundNode);
+  rejected(r, "is not a vehicle's node");
+  r = good;
+  r.result.refusal = gs::estimation::IdentificationRefusal::no_motion;
+  rejected(r, "a refused identification carries a fit");
+  r = good;
+  r.result.identified.reset();
+  rejected(r, "an accepted identification carries no fit");
+  CHECK(store.check_consistency().ok);
+}
+
+TEST_CASE("a schema-1 store opens, gains the identifications table and keeps everything else") {
+  ScratchDir dir("adaptation-migration");
+  for (const bool by_the_cli : {true, false}) {
+    INFO((by_the_cli ? "open_existing" : "open_or_create"));
+    const std::string path = dir.file(by_the_cli ? "cli.sqlite" : "mission.sqlite");
+    fill(path, 12);
+    // Schema 1 is schema 2 without the identifications.
+    raw_sql(path, "DROP TABLE identifications; PRAGMA user_version = 1");
+    const auto schema_has = [&](const char* name) {
+      sqlite3* db = nullptr;
+      REQUIRE(sqlite3_open(path.c_str(), &db) == SQLITE_OK);
+      sqlite3_stmt* st = nullptr;
+      REQUIRE(sqlite3_prepare_v2(db, "SELECT count(*) FROM sqlite_schema WHERE name = ?1", -1, &st,
+                                 nullptr) == SQLITE_OK);
+      sqlite3_bind_text(st, 1, name, -1, SQLITE_STATIC);
+      REQUIRE(sqlite3_step(st) == SQLITE_ROW);
+      const bool has = sqlite3_column_int(st, 0) == 1;
+      sqlite3_finalize(st);
+      sqlite3_close(db);
+      return has;
+    };
+    REQUIRE_FALSE(schema_has("identifications"));
+    const AdaptationSnapshot before = [&] {
+      // Read the old file's values with a store opened on a copy (opening migrates).
+      const std::string copy = path + ".copy";
+      std::filesystem::copy_file(path, copy);
+      return AdaptationStore::open_existing(copy).adaptation();
+    }();
+    {
+      AdaptationStore store = by_the_cli ? AdaptationStore::open_existing(path)
+                                         : AdaptationStore::open_or_create(path, test_settings());
+      CHECK(store.identification_count() == 0);
+      CHECK(store.throw_count() == 12);
+      CHECK(store.adaptation().state == before.state);
+      for (int id = 1; id <= 12; ++id) CHECK(same_record(store.history()[id - 1].record, make_record(id)));
+      store.record_identification(make_identification(1));
+      CHECK(store.check_consistency().ok);
+    }
+    CHECK(schema_has("identifications"));
+    CHECK(schema_has("identifications_by_vehicle"));
+    sqlite3* db = nullptr;
+    REQUIRE(sqlite3_open(path.c_str(), &db) == SQLITE_OK);
+    sqlite3_stmt* st = nullptr;
+    REQUIRE(sqlite3_prepare_v2(db, "PRAGMA user_version", -1, &st, nullptr) == SQLITE_OK);
+    REQUIRE(sqlite3_step(st) == SQLITE_ROW);
+    CHECK(sqlite3_column_int(st, 0) == kSchemaVersion);
+    sqlite3_finalize(st);
+    sqlite3_close(db);
+    // Reopened: migrated once, the identification kept.
+    CHECK(AdaptationStore::open_existing(path).identification_count() == 1);
+  }
+}
+
 TEST_CASE("missing, empty, foreign, newer and damaged files give a clear error, not a crash") {
   ScratchDir dir("adaptation-bad-files");
 
@@ -225,8 +382,9 @@ TEST_CASE("missing, empty, foreign, newer and damaged files give a clear error, 
   SECTION("a newer schema") {
     const std::string path = dir.file("newer.sqlite");
     fill(path, 3);
-    raw_sql(path, "PRAGMA user_version = 2");
-    CHECK_THAT(open_error(path), Catch::Contains("schema version 2") && Catch::Contains("newer"));
+    raw_sql(path, ("PRAGMA user_version = " + std::to_string(kSchemaVersion + 1)).c_str());
+    CHECK_THAT(open_error(path), Catch::Contains("schema version " + std::to_string(kSchemaVersion + 1)) &&
+                                     Catch::Contains("newer"));
   }
   SECTION("a missing table") {
     const std::string path = dir.file("no-table.sqlite");

@@ -11,7 +11,10 @@
 #include <random>
 #include <string>
 
+#include "groundstation/adaptation/adaptation_law.hpp"
+#include "groundstation/adaptation/identification_record.hpp"
 #include "groundstation/adaptation/throw_record.hpp"
+#include "groundstation/model/impact.hpp"
 
 namespace adaptation_test {
 
@@ -96,6 +99,58 @@ inline bool same_record(const ThrowRecord& a, const ThrowRecord& b) {
          same_point(a.predicted, b.predicted) && same_point(a.actual, b.actual) && optimal_same &&
          same(a.catcher_at_impact_xy_m, b.catcher_at_impact_xy_m) &&
          a.energy_after_impact_J == b.energy_after_impact_J && a.note == b.note;
+}
+
+// The nominal values of a store for the tests: catching height 1.40 m, waiting point (0.70, 0) m,
+// E* of the default pole.
+inline gs::adaptation::AdaptationSettings nominal_settings() {
+  gs::adaptation::AdaptationSettings s;
+  s.nominal_catch_height_m = 1.40;
+  s.nominal_waiting_xy_m = {0.70, 0.0};
+  s.target_energy_J = gs::model::upright_energy_J(gs::model::PoleParams{});
+  return s;
+}
+
+// Identification `id` (1, 2, ...): vehicles 1 and 2 in turn, every third refused (each refusal
+// in turn), every fourth without a thrust gain, figures from a seeded generator. Through id 9:
+// vehicle 1's last accepted is 7 and its latest (9) refused; vehicle 2's last accepted is 8.
+inline gs::adaptation::IdentificationRecord make_identification(std::int64_t id) {
+  std::mt19937_64 rng(static_cast<std::uint64_t>(id) * 0x9E3779B97F4A7C15ull + 5u);
+  std::normal_distribution<double> n(0.0, 1.0);
+  gs::adaptation::IdentificationRecord r;
+  r.vehicle = id % 2 == 1 ? pa::kVehicle1 : pa::kVehicle2;
+  r.time_s = 10.0 + 30.0 * static_cast<double>(id) + n(rng);
+  if (id % 3 == 0) {
+    const auto& refusals = gs::estimation::kAllIdentificationRefusals;
+    r.result.refusal = refusals[static_cast<std::size_t>(id / 3) % std::size(refusals)];
+  } else {
+    gs::estimation::MotorIdentification m;
+    m.time_constant_s = 0.03 + 0.01 * std::abs(n(rng));
+    m.time_constant_low_s = m.time_constant_s * (1.0 - 0.05 * std::abs(n(rng)));
+    m.time_constant_high_s = m.time_constant_s * (1.0 + 0.05 * std::abs(n(rng)));
+    m.inertia_gain = 1.0 + 0.1 * n(rng);
+    m.round_trip_s = 0.02 + 0.002 * std::abs(n(rng));
+    m.rms_radps = 0.05 + 0.01 * std::abs(n(rng));
+    m.samples = 250 + static_cast<int>(id);
+    r.result.identified = m;
+  }
+  if (id % 4 != 0) r.thrust_gain = 1.0 + 0.05 * n(rng);
+  return r;
+}
+
+// Field by field, exactly.
+inline bool same_identification(const gs::adaptation::IdentificationRecord& a,
+                                const gs::adaptation::IdentificationRecord& b) {
+  const auto& p = a.result.identified;
+  const auto& q = b.result.identified;
+  const bool fit_same =
+      p.has_value() == q.has_value() &&
+      (!p ||
+       (p->time_constant_s == q->time_constant_s && p->time_constant_low_s == q->time_constant_low_s &&
+        p->time_constant_high_s == q->time_constant_high_s && p->inertia_gain == q->inertia_gain &&
+        p->round_trip_s == q->round_trip_s && p->rms_radps == q->rms_radps && p->samples == q->samples));
+  return a.vehicle == b.vehicle && a.time_s == b.time_s && a.result.refusal == b.result.refusal && fit_same &&
+         a.thrust_gain == b.thrust_gain;
 }
 
 }  // namespace adaptation_test

@@ -1,12 +1,18 @@
 // Identification on vehicles drawn from the arena envelope (hil/config/envelope.yaml): each flies
 // its take-off in the lockstep arena with the ground-station runtime, which identifies its motors'
 // lag from the take-off's rate doublets and measures its thrust gain in hover, from frames and
-// poses alone; the assertions read the drawn plant's truth. Prints both, vehicle by vehicle.
+// poses alone; the assertions read the drawn plant's truth. Prints both, vehicle by vehicle. And a
+// stored identification set on board at arming (adaptation/identification_memory.hpp).
 #include <catch2/catch.hpp>
+
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <string>
+
+#include "groundstation/adaptation/adaptation_store.hpp"
 
 #include "hil/plant/plant_config.hpp"
 #include "hil/trials/series.hpp"
@@ -51,4 +57,50 @@ TEST_CASE("20 vehicles drawn from the envelope: motor lag within 10 %, thrust ga
     }
   }
   CHECK(vehicles == 20);
+}
+
+TEST_CASE("a stored identification is set on board at arming, before the take-off's own fit") {
+  // A store whose vehicle 1 was identified at 50 ms in an earlier run; the default plant's motors
+  // lag 30 ms. The ground station sets 50 ms as vehicle 1 arms, so its take-off's fit runs with
+  // the equaliser at 50 ms, finds the 30 ms, and sets that back; both are recorded.
+  const std::string path = (std::filesystem::temp_directory_path() /
+                            ("identification_at_arming_" + std::to_string(::getpid()) + ".sqlite"))
+                               .string();
+  std::filesystem::remove(path);
+  gs::adaptation::IdentificationRecord earlier;
+  earlier.vehicle = pa::kVehicle1;
+  earlier.time_s = 5.0;
+  earlier.result.identified = gs::estimation::MotorIdentification{0.05, 0.048, 0.052, 1.0, 0.02, 0.03, 300};
+  gs::adaptation::AdaptationStore::open_or_create(
+      path, gs::adaptation::nominal_adaptation_settings(gs::model::PoleParams{}))
+      .record_identification(earlier);
+
+  hil::trials::SeriesConfig config;
+  config.ground_station.adaptation_store_path = path;
+  double equalised_before_fit_s = 0.0;
+  config.on_step = [&](const hil::sil::Arena&, const gs::runtime::GroundStation& gs) {
+    if (!gs.motor_identification(pa::kVehicle1))
+      equalised_before_fit_s = gs.equalised_motor_time_constant_s(pa::kVehicle1);
+  };
+  {
+    hil::trials::SeriesRunner runner(config);
+    CHECK(runner.ground_station().kept_motor_identification(pa::kVehicle1)->time_constant_s == 0.05);
+    CHECK_FALSE(runner.ground_station().kept_motor_identification(pa::kVehicle2));
+    runner.run({});
+    runner.hover_for(3.0);
+    const auto& id = runner.ground_station().motor_identification(pa::kVehicle1);
+    REQUIRE(id);
+    REQUIRE(id->identified);
+    std::printf("equaliser before the fit %.1f ms; identified %.1f ms; equaliser after %.1f ms\n",
+                1e3 * equalised_before_fit_s, 1e3 * id->identified->time_constant_s,
+                1e3 * runner.ground_station().equalised_motor_time_constant_s(pa::kVehicle1));
+    CHECK(equalised_before_fit_s == 0.05);
+    CHECK(id->identified->time_constant_s == Approx(0.03).epsilon(0.1));
+    CHECK(runner.ground_station().equalised_motor_time_constant_s(pa::kVehicle1) ==
+          id->identified->time_constant_s);
+  }
+  const gs::adaptation::AdaptationStore store = gs::adaptation::AdaptationStore::open_existing(path);
+  CHECK(store.identification_count() == 3);  // the earlier one, then each vehicle's take-off
+  CHECK(store.last_accepted_identification(pa::kVehicle1)->id > 1);
+  std::filesystem::remove(path);
 }

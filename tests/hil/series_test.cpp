@@ -244,6 +244,17 @@ TEST_CASE("the adaptation store keeps what a series learnt for the next run", "[
   CHECK(restarted.adaptation() == learnt.state);
   CHECK(restarted.learnt().catch_instant_s == Approx(learnt.catch_instant_s));
   CHECK(restarted.throw_records().empty());
+  // Each take-off's motor identification was recorded, and the restarted ground station flies
+  // each vehicle with its last accepted one (adaptation/identification_memory.hpp).
+  const gs::adaptation::AdaptationStore store = gs::adaptation::AdaptationStore::open_existing(path);
+  CHECK(store.identification_count() >= 2);
+  for (const pa::VehicleId v : pa::kActVehicles) {
+    const std::optional<gs::adaptation::StoredIdentification> last = store.last_accepted_identification(v);
+    const std::optional<gs::estimation::MotorIdentification>& kept = restarted.kept_motor_identification(v);
+    INFO("vehicle " << int(v.node()));
+    REQUIRE(kept.has_value() == last.has_value());
+    if (kept) CHECK(kept->time_constant_s == last->record.result.identified->time_constant_s);
+  }
 }
 
 TEST_CASE("passes back and forth: vehicle 2 catches, balances and throws back to vehicle 1",
