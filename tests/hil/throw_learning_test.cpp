@@ -1,8 +1,9 @@
 // The throw learnt from past trials (groundstation/adaptation/throw_learning.hpp) in the closed
 // loop: vehicle 1's motors 5 % weak and the drag 30 % high (the vehicles' and the pole's), ten
 // throws without catches; the launch-state error the ground station measures (its estimate of
-// the thrower's end state against the plan's, |e| in SI units) falls to at most half the first
-// throw's by the 8th to 10th throws, and not without the learning. The correction's algebra is checked on its own first.
+// the thrower's end state against the plan's, |e| in SI units) by the 8th to 10th throws is at
+// most 0.6 of the same throws' without the learning, which stays above half the first throw's.
+// The correction's algebra is checked on its own first.
 #include "groundstation/adaptation/throw_learning.hpp"
 
 #include <catch2/catch.hpp>
@@ -75,7 +76,7 @@ TEST_CASE("a throw's launch error moves the correction against it, within bounds
   CHECK(gs::adaptation::reference_shift(once, 1.25, 2.5)(gs::model::planar::kVz) == Approx(0.05));
 }
 
-TEST_CASE("with weak motors and high drag the launch error after 10 throws is at most half the first's",
+TEST_CASE("with weak motors and high drag the learning takes 40 % off the launch error after 10 throws",
           "[hil][sil][runtime][throw_learning]") {
   const std::vector<LaunchVector> learning = launch_errors(0.5);
   const std::vector<LaunchVector> fixed = launch_errors(0.0);
@@ -90,7 +91,11 @@ TEST_CASE("with weak motors and high drag the launch error after 10 throws is at
   };
   std::printf("mean |e| of throws 8-10: %.3f learning, %.3f not (first throw %.3f)\n", late(learning),
               late(fixed), learning.front().norm());
-  CHECK(late(learning) <= 0.5 * learning.front().norm());
+  // Measured: 0.097 learning, 0.172 not. While the setpoints stopped at a_q,max (before the
+  // airframe's full thrust, GroundStationConfig::airframe_thrust_max_mps2), the weak motors fell
+  // short at the throw's peak and that repeated: 0.074 learning, 0.205 not. The thrust gain now
+  // gives them what they miss, so less of the error repeats and the learning has less to take.
+  CHECK(late(learning) <= 0.6 * late(fixed));
   // Without the learning the error stays: what the learning removed was the plant's, not chance.
   CHECK(late(fixed) > 0.5 * fixed.front().norm());
 }
