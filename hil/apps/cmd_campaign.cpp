@@ -225,10 +225,15 @@ int cmd_campaign(int argc, char** argv) {
     const long caught = std::count_if(flown.begin(), flown.end(), [](const trials::AttemptResult& r) {
       return r.outcome == gs::adaptation::ThrowOutcome::caught;
     });
-    std::printf("shard %s of a campaign of %d attempts (seed %llu): attempts %d-%d, %ld caught; %d worker "
-                "processes, wall time %.1f s; %s\n",
-                shard_text.c_str(), config.attempts, static_cast<unsigned long long>(config.seed),
-                range.first, range.last, caught, config.jobs, wall_s, out_dir.c_str());
+    // More shards than attempts leaves some empty: harmless, merged like any other.
+    const std::string flew = share < 1
+                                 ? "no attempts"
+                                 : "attempts " + std::to_string(range.first) + "-" +
+                                       std::to_string(range.last) + ", " + std::to_string(caught) + " caught";
+    std::printf(
+        "shard %s of a campaign of %d attempts (seed %llu): %s; %d worker processes, wall time %.1f s; %s\n",
+        shard_text.c_str(), config.attempts, static_cast<unsigned long long>(config.seed), flew.c_str(),
+        config.jobs, wall_s, out_dir.c_str());
     return 0;
   }
   if (!trials::write_campaign(out_dir, config, flown, error)) {

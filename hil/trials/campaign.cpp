@@ -90,7 +90,7 @@ std::vector<CampaignAttempt> run_campaign(
   const gs::adaptation::Learnt learnt = warm_up(config.plant, config.seed);
 
   // The plants are drawn here too (a draw is cheap and deterministic): the workers report only
-  // the referee's results. Item j (1..count) of the pool is attempt range.first + j - 1.
+  // the referee's results.
   std::vector<CampaignAttempt> attempts(static_cast<std::size_t>(count));
   for (int i = range.first; i <= range.last; ++i) {
     CampaignAttempt& a = attempts[static_cast<std::size_t>(i - range.first)];
@@ -98,21 +98,20 @@ std::vector<CampaignAttempt> run_campaign(
     a.plant = trial_config(config.plant, a.seed, PlantDraw::drawn).plant;
     a.result.throw_number = i;
   }
-  const auto attempt_of = [&](int item) { return range.first + item - 1; };
   std::vector<const CampaignAttempt*> done;
   run_on_workers(
-      count, config.jobs, [&](int j) { return encode_result(fly(config, learnt, attempt_of(j)).result); },
-      [&](int j, const std::string& report) {
+      count, config.jobs, [&](int i) { return encode_result(fly(config, learnt, i).result); },
+      [&](int i, const std::string& report) {
         AttemptResult r;
         if (!decode_result(report, r))
           throw std::runtime_error("a worker reported an unreadable result: '" + report + "'");
-        r.throw_number = attempt_of(j);
-        CampaignAttempt& a = attempts[static_cast<std::size_t>(j - 1)];
+        r.throw_number = i;
+        CampaignAttempt& a = attempts[static_cast<std::size_t>(i - range.first)];
         a.result = r;
         done.push_back(&a);
         if (progress) progress(done);
       },
-      "attempt");
+      "attempt", range.first);
   return attempts;
 }
 
