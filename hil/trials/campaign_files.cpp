@@ -256,6 +256,11 @@ bool read_shard(const std::string& dir, ShardFolder& shard, std::string& error) 
     error = plant_error;
     return false;
   }
+  // Canonical, as write_shard() wrote it: a file edited since (even to the same values) is not the shard's.
+  if (format_plant_config(shard.config.plant) != text) {
+    error = "'" + plant_path + "' is not the canonical plant file its shard wrote (edited since?)";
+    return false;
+  }
   if (plant_hash(shard.config.plant) != shard.plant_hash) {
     error = "'" + plant_path + "' is not the plant of its manifest (hash " + plant_hash(shard.config.plant) +
             ", the manifest says " + shard.plant_hash + ")";
