@@ -225,6 +225,10 @@ bool read_shard(const std::string& dir, ShardFolder& shard, std::string& error) 
   const std::optional<std::string> fields = hash ? entry("fields") : std::nullopt;
   const std::optional<std::string> shard_text = fields ? entry("shard") : std::nullopt;
   if (!shard_text) return false;
+  if (*attempts < 1) {
+    error = "'" + manifest_path + "': a campaign of no attempts";
+    return false;
+  }
   const std::optional<CampaignShard> split = parse_shard(*shard_text);
   if (!split) {
     error = "'" + manifest_path + "': 'shard' is not K/N: '" + *shard_text + "'";
