@@ -20,6 +20,8 @@ packages=(
   python3 python3-matplotlib
   # the report's check in a browser (tests/report/check_report.py --chromium)
   chromium
+  # campaigns on a Slurm cluster: the test starts a one-node Slurm with munge (scripts/slurm-campaign.sh)
+  slurm-wlm munge
 )
 
 # Every preset of make test writes about 5 GB under build/ (measured 4.6 GB; docs/architecture.md):

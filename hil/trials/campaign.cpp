@@ -55,36 +55,63 @@ Schema<CampaignAttempt> campaign_throws_columns(const PlantConfig& plant) {
   return out;
 }
 
+AttemptRange shard_attempts(int attempts, CampaignShard shard) {
+  if (attempts < 1 || shard.count < 1 || shard.index < 1 || shard.index > shard.count) return {};
+  const auto edge = [&](int k) {
+    return static_cast<int>(static_cast<long long>(attempts) * k / shard.count);
+  };
+  return {edge(shard.index - 1) + 1, edge(shard.index)};
+}
+
+std::optional<CampaignShard> parse_shard(const std::string& text) {
+  const std::size_t slash = text.find('/');
+  if (slash == std::string::npos) return std::nullopt;
+  const auto number = [](const std::string& digits) -> std::optional<int> {
+    if (digits.empty() || digits.size() > 6 || digits.find_first_not_of("0123456789") != std::string::npos)
+      return std::nullopt;
+    return std::stoi(digits);
+  };
+  const std::optional<int> k = number(text.substr(0, slash));
+  const std::optional<int> n = number(text.substr(slash + 1));
+  if (!k || !n || *k < 1 || *k > *n || *n > 100000) return std::nullopt;
+  return CampaignShard{*k, *n};
+}
+
 std::vector<CampaignAttempt> run_campaign(
     const CampaignConfig& config,
     const std::function<void(const std::vector<const CampaignAttempt*>&)>& progress) {
   if (config.attempts < 1 || config.jobs < 1)
     throw std::runtime_error("a campaign needs attempts and jobs >= 1");
+  if (config.shard.count < 1 || config.shard.index < 1 || config.shard.index > config.shard.count)
+    throw std::runtime_error("a shard is K of N with 1 <= K <= N");
+  const AttemptRange range = shard_attempts(config.attempts, config.shard);
+  const int count = range.last - range.first + 1;
+  if (count < 1) return {};
   const gs::adaptation::Learnt learnt = warm_up(config.plant, config.seed);
 
   // The plants are drawn here too (a draw is cheap and deterministic): the workers report only
   // the referee's results.
-  std::vector<CampaignAttempt> attempts(static_cast<std::size_t>(config.attempts));
-  for (int i = 1; i <= config.attempts; ++i) {
-    CampaignAttempt& a = attempts[static_cast<std::size_t>(i - 1)];
+  std::vector<CampaignAttempt> attempts(static_cast<std::size_t>(count));
+  for (int i = range.first; i <= range.last; ++i) {
+    CampaignAttempt& a = attempts[static_cast<std::size_t>(i - range.first)];
     a.seed = attempt_seed(config.seed, i);
     a.plant = trial_config(config.plant, a.seed, PlantDraw::drawn).plant;
     a.result.throw_number = i;
   }
   std::vector<const CampaignAttempt*> done;
   run_on_workers(
-      config.attempts, config.jobs, [&](int i) { return encode_result(fly(config, learnt, i).result); },
+      count, config.jobs, [&](int i) { return encode_result(fly(config, learnt, i).result); },
       [&](int i, const std::string& report) {
         AttemptResult r;
         if (!decode_result(report, r))
           throw std::runtime_error("a worker reported an unreadable result: '" + report + "'");
         r.throw_number = i;
-        CampaignAttempt& a = attempts[static_cast<std::size_t>(i - 1)];
+        CampaignAttempt& a = attempts[static_cast<std::size_t>(i - range.first)];
         a.result = r;
         done.push_back(&a);
         if (progress) progress(done);
       },
-      "attempt");
+      "attempt", range.first);
   return attempts;
 }
 

@@ -11,10 +11,15 @@
 //
 // The attempts run on worker processes (worker_pool.hpp); the parent collects the results in
 // order of completion (for the progress line) and returns them in attempt order.
+//
+// Shards. Shard K of N flies only its block of the attempts (shard_attempts()), with the same
+// seeds and the same warm-up as the whole campaign, so that the shards' results together are the
+// whole campaign's, attempt for attempt; campaign_files.hpp writes a shard and merges shards.
 #pragma once
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,12 +28,32 @@
 
 namespace hil::trials {
 
+// Shard `index` of `count` (1..count); 1 of 1 is the whole campaign.
+struct CampaignShard {
+  int index = 1;
+  int count = 1;
+};
+
 struct CampaignConfig {
   PlantConfig plant;       // the nominal plant; its randomisation ranges are drawn from
   std::uint64_t seed = 1;  // of the warm-up and of every attempt's draw
   int attempts = 100;
-  int jobs = 1;  // worker processes
+  int jobs = 1;         // worker processes
+  CampaignShard shard;  // the share of the attempts flown here
 };
+
+// Attempts first..last (1-based, inclusive; empty when last < first).
+struct AttemptRange {
+  int first = 1;
+  int last = 0;
+};
+
+// The attempts shard K of N flies: the K-th of N contiguous blocks covering 1..attempts, their
+// sizes differing by at most one (a block is empty when N > attempts).
+AttemptRange shard_attempts(int attempts, CampaignShard shard);
+
+// "K/N" as a shard of 1 <= K <= N <= 100000; nullopt for any other text.
+std::optional<CampaignShard> parse_shard(const std::string& text);
 
 struct CampaignAttempt {
   AttemptResult result;
@@ -44,9 +69,10 @@ gs::adaptation::Learnt warm_up(const PlantConfig& plant, std::uint64_t seed);
 // what a worker flies, and `hil campaign --replay` again in the open.
 SeriesConfig attempt_config(const CampaignConfig& config, const gs::adaptation::Learnt& learnt, int attempt);
 
-// Flies the campaign. `progress` is called in the calling process after each attempt with the
-// results so far (in order of completion). Throws std::runtime_error when a worker cannot be
-// started or dies without reporting its attempts.
+// Flies the campaign's share config.shard (all of it by default), returned in attempt order.
+// `progress` is called in the calling process after each attempt with the results so far (in
+// order of completion). Throws std::runtime_error for a shard that is not K of N with
+// 1 <= K <= N, when a worker cannot be started or dies without reporting its attempts.
 std::vector<CampaignAttempt> run_campaign(
     const CampaignConfig& config,
     const std::function<void(const std::vector<const CampaignAttempt*>& done)>& progress = {});

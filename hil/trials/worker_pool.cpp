@@ -25,11 +25,12 @@ bool write_all(int fd, const std::string& text) {
   return true;
 }
 
-// A worker: runs items k, k + jobs, ... and writes "<item>\t<report>\n" for each.
-[[noreturn]] void work(int items, int jobs, int k, int fd, const std::function<std::string(int)>& run) {
+// A worker: runs the k-th item, the (k + jobs)-th, ... and writes "<item>\t<report>\n" for each.
+[[noreturn]] void work(int first, int items, int jobs, int k, int fd,
+                       const std::function<std::string(int)>& run) {
   int status = 0;
   try {
-    for (int i = k; i <= items && status == 0; i += jobs) {
+    for (int i = first + k - 1; i < first + items && status == 0; i += jobs) {
       if (!write_all(fd, std::to_string(i) + "\t" + run(i) + "\n")) status = 1;
     }
   } catch (...) {
@@ -43,7 +44,8 @@ bool write_all(int fd, const std::string& text) {
 }  // namespace
 
 void run_on_workers(int items, int jobs, const std::function<std::string(int)>& run,
-                    const std::function<void(int, const std::string&)>& on_report, const std::string& noun) {
+                    const std::function<void(int, const std::string&)>& on_report, const std::string& noun,
+                    int first) {
   if (items < 1 || jobs < 1) throw std::runtime_error("the workers need " + noun + "s and jobs >= 1");
   jobs = std::min(jobs, items);
   struct Worker {
@@ -62,7 +64,7 @@ void run_on_workers(int items, int jobs, const std::function<std::string(int)>& 
     if (pid == 0) {
       ::close(fds[0]);
       for (int j = 0; j < k - 1; ++j) ::close(workers[static_cast<std::size_t>(j)].fd);
-      work(items, jobs, k, fds[1], run);
+      work(first, items, jobs, k, fds[1], run);
     }
     ::close(fds[1]);
     workers[static_cast<std::size_t>(k - 1)] = Worker{pid, fds[0], {}};
@@ -98,9 +100,10 @@ void run_on_workers(int items, int jobs, const std::function<std::string(int)>& 
         w.pending.erase(0, eol + 1);
         const std::size_t tab = line.find('\t');
         int i = 0;
-        if (tab == std::string::npos || std::sscanf(line.c_str(), "%d", &i) != 1 || i < 1 || i > items)
+        if (tab == std::string::npos || std::sscanf(line.c_str(), "%d", &i) != 1 || i < first ||
+            i >= first + items)
           throw std::runtime_error("a worker reported an unreadable result: '" + line + "'");
-        reported[static_cast<std::size_t>(i - 1)] = true;
+        reported[static_cast<std::size_t>(i - first)] = true;
         on_report(i, line.substr(tab + 1));
       }
     }
@@ -113,7 +116,8 @@ void run_on_workers(int items, int jobs, const std::function<std::string(int)>& 
   }
   for (std::size_t i = 0; i < reported.size(); ++i) {
     if (!reported[i])
-      throw std::runtime_error("a worker died without reporting " + noun + " " + std::to_string(i + 1));
+      throw std::runtime_error("a worker died without reporting " + noun + " " +
+                               std::to_string(first + static_cast<int>(i)));
   }
   if (!workers_ok) throw std::runtime_error("a worker failed after reporting its " + noun + "s");
 }
