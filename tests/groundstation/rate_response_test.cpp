@@ -190,5 +190,6 @@ TEST_CASE(
   // The ground station's ceiling of a vehicle's thrust is the airframe's.
   const fw::AirframeConfig airframe;
   CHECK(gs::runtime::GroundStationConfig{}.airframe_thrust_max_mps2 ==
-        Approx(4.0 * airframe.motor_thrust_max_N / airframe.mass_kg).epsilon(1e-6));
+        Approx(4.0 * static_cast<double>(airframe.motor_thrust_max_N) / static_cast<double>(airframe.mass_kg))
+            .epsilon(1e-6));
 }
