@@ -186,12 +186,12 @@ TEST_CASE("the CSV files keep their columns and formats", "[hil][trials]") {
   const auto columns = hil::trials::campaign_throws_columns(a.plant);
   const std::string header = hil::trials::csv_header(columns);
   CHECK(header.rfind("throw,outcome,flight_s,catch_height_m,catch_x_m,catch_y_m,travel_m,energy_error_J,"
-                     "abort_reason,seed,",
+                     "abort_reason,vehicle_crashed,seed,",
                      0) == 0);
-  CHECK(
-      hil::trials::csv_row(columns, a)
-          .rfind("7,aborted_out_of_reach,1.0123,2.0123,3.6000,-0.0100,0.0700,-0.00312,out_of_reach,1000004,",
-                 0) == 0);
+  CHECK(hil::trials::csv_row(columns, a)
+            .rfind(
+                "7,aborted_out_of_reach,1.0123,2.0123,3.6000,-0.0100,0.0700,-0.00312,out_of_reach,1,1000004,",
+                0) == 0);
 
   const hil::trials::CutResult cut = distinct_cut();
   const auto cut_columns = hil::trials::cuts_csv_columns();
