@@ -310,6 +310,31 @@ TEST_CASE("an upward bump is never a catch", "[impact]") {
   CHECK(reports[1].event.classification == ImpactClass::unexpected_impact);
 }
 
+TEST_CASE("a pole caught askew, pushing sideways through the plate's friction, is a catch", "[impact]") {
+  // Met at 50-60 degrees of tilt, a pole pushes the plate down and sideways by up to the plate's
+  // friction (0.7 here): the lateral part alone (35 m/s^2) is above crash_lateral_mps2.
+  ImpactDetector detector = make_detector();
+  Sim sim(8);
+  Pulse p;
+  p.onset_s = 0.3;
+  p.duration_s = 0.008;
+  p.peak_mps2 = 50;
+  p.direction = D3{0.7, 0.0, -1.0};
+  p.rate_change_radps = D3{0, 3, 0};
+  sim.pulses.push_back(p);
+  SECTION("in a catch window: a catch") {
+    sim.catch_expected = [](double) { return true; };
+    const std::vector<Report> reports = sim.run(detector, 0.5);
+    REQUIRE(reports.size() == 2);
+    CHECK(reports[1].event.classification == ImpactClass::catch_impact);
+  }
+  SECTION("outside one: a crash, as any strong sideways push") {
+    const std::vector<Report> reports = sim.run(detector, 0.5);
+    REQUIRE(reports.size() == 2);
+    CHECK(reports[1].event.classification == ImpactClass::crash);
+  }
+}
+
 TEST_CASE("crashes are told apart from catches", "[impact]") {
   ImpactDetector detector = make_detector();
   Sim sim(7);

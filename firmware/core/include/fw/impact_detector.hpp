@@ -138,6 +138,7 @@ class ImpactDetector {
   void accumulate(std::size_t oldest_age, const Sample& reference, Accumulator& acc, RisingEdge& edge) const;
   bool triggered(const Vec3& change_mps2, bool crash_level_only) const;
   bool touchdown(const Accumulator& acc) const;  // a landing expected and the push up the body z-axis
+  bool downward(const Accumulator& acc) const;   // the push down the body z-axis, as a pole's
   bool crash_seen(const Accumulator& acc, float peak_mps2) const;
   pa::proto::ImpactClass classify(const Accumulator& acc, float peak_mps2) const;
   float refined_peak() const;
