@@ -24,6 +24,8 @@ std::uint32_t condition_word(const ConditionFacts& f, const ConditionThresholds&
     w |= c::pole_on_self;
     if (f.pole_tilt_rad < t.upright_rad) w |= c::pole_upright;
     if (f.pole_tilt_rad > t.fallen_rad) w |= c::pole_fallen;
+    if (f.estimated && f.task == Task::balance && (f.position_m - f.set_point_m).norm() > t.runaway_m)
+      w |= c::pole_fallen;
   }
   if (f.pole_estimated_free) w |= c::pole_free;
   if (f.pole_on_floor) w |= c::pole_down;

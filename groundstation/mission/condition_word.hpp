@@ -28,7 +28,8 @@ struct ConditionFacts {
   double since_pose_s = 0.0;  // since its latest motion-capture pose
   Eigen::Vector3d position_m = Eigen::Vector3d::Zero();
   Eigen::Vector3d velocity_mps = Eigen::Vector3d::Zero();
-  Eigen::Vector3d target_m = Eigen::Vector3d::Zero();  // where the task wants the centre of gravity
+  Eigen::Vector3d target_m = Eigen::Vector3d::Zero();     // where the task wants the centre of gravity
+  Eigen::Vector3d set_point_m = Eigen::Vector3d::Zero();  // the carrot its law flies about now
   // The pole: the latest pose's end nearest this vehicle's plate, from the plate (set while the
   // vehicle holds the pole: throwing, rebalance, balance); the estimator's mode call.
   std::optional<double> pole_end_from_plate_m;
@@ -53,6 +54,11 @@ struct ConditionThresholds {
   // Beyond this a pole on the plate has fallen (vehicle_sequencer.hpp): measured on the arena
   // envelope, a catcher still balancing a pole at 0.6-0.7 rad tilted itself over.
   double fallen_rad = 0.6;
+  // A balancing vehicle this far from its set point is chasing a pole it cannot hold: the pole
+  // has fallen as surely. Measured on the envelope: a catcher chased a pole leaning 20-35 degrees
+  // for 3.6 m at 38 degrees of tilt, reaching 5 m/s; balancing that recovered over-energetic
+  // catches ran up to 2.1 m (at 1 m, 12 of 300 such catches were let go).
+  double runaway_m = 3.0;
   double release_low_s = 0.3;
   double balance_settle_s = 2.0;
   double balanced_hold_s = 1.0;

@@ -29,6 +29,7 @@ mission::ConditionFacts condition_facts(const VehicleView& v, const link::Vehicl
   f.estimated = estimator.vehicle_initialised(v.id);
   f.since_pose_s = now_s - v.last_pose_s;
   f.target_m = v.target_m;
+  f.set_point_m = v.set_point_m;
   if (f.estimated) {
     const estimation::VehicleEstimate e = estimator.vehicle(v.id);
     f.position_m = e.state.p_m;

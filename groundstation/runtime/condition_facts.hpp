@@ -26,6 +26,7 @@ struct VehicleView {
   double task_since_s = 0.0;
   double last_pose_s = -1e9;  // its latest motion-capture pose's arrival
   Eigen::Vector3d target_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d set_point_m = Eigen::Vector3d::Zero();
 };
 
 // The attempt as the vehicles' conditions see it.

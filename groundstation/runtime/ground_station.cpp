@@ -218,9 +218,14 @@ void GroundStation::tick(double now_s) {
 }
 
 mission::ConditionFacts GroundStation::facts(const Vehicle& v, double now_s) const {
-  const VehicleView vehicle{
-      v.id,          v.requests,     v.commands.failed(), v.sequencer.task(), v.sequencer.task_since_s(),
-      v.last_pose_s, v.laws.target_m};
+  const VehicleView vehicle{v.id,
+                            v.requests,
+                            v.commands.failed(),
+                            v.sequencer.task(),
+                            v.sequencer.task_since_s(),
+                            v.last_pose_s,
+                            v.laws.target_m,
+                            v.laws.set_point.position_m};
   AttemptView attempt;
   attempt.phase = phase_;
   attempt.thrower = request_.thrower;

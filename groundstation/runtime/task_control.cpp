@@ -91,7 +91,7 @@ TaskCommand TaskController::command(TaskState& s, const TaskFrame& f, const Flow
                        limits_.a_q_max_mps2);
         u.a_q_mps2 += s.take_off_ramp_mps2;
       }
-      out.input = clamped(u);
+      out.input = clamped(control::limit_tilt(u, e.state, c.tilt_limit));
       break;
     }
     case Task::balance: {
@@ -104,7 +104,7 @@ TaskCommand TaskController::command(TaskState& s, const TaskFrame& f, const Flow
           control::balance_law(balancing_, resting_pivot(f.plate, f.pole.state, L), e.state, f.pole.state, L,
                                s.set_point.position_m + plate_offset + c.position_integral_gain * s.integral,
                                s.set_point.velocity_mps, c.pole_weight_mps2),
-          e.state, c.balance_tilt_limit));
+          e.state, c.tilt_limit));
       break;
     }
     case Task::throwing: {

@@ -27,6 +27,7 @@ ConditionFacts hovering() {
   f.since_pose_s = 0.005;
   f.position_m = Eigen::Vector3d(0.0, 0.0, 1.0);
   f.target_m = f.position_m;
+  f.set_point_m = f.position_m;
   f.throw_duration_s = 2.5;
   return f;
 }
@@ -96,6 +97,15 @@ TEST_CASE("The pole on the plate: the estimator's call, or an end at the plate w
   CHECK(added(f) == "pole_on_self");
   f.pole_tilt_rad = t.fallen_rad + 0.01;
   CHECK(added(f) == "pole_on_self|pole_fallen");
+  // Balancing, a vehicle led away from its set point has lost the pole, however it leans.
+  f.pole_tilt_rad = 0.3;
+  f.task = Task::balance;
+  f.set_point_m = f.position_m + Eigen::Vector3d(t.runaway_m, 0.0, 0.0);
+  CHECK(added(f) == "pole_on_self|pole_upright");
+  f.set_point_m.x() += 0.01;
+  CHECK(added(f) == "pole_on_self|pole_upright|pole_fallen");
+  f.task = Task::hover;  // another task flies no balance to run away with
+  CHECK(added(f) == "pole_on_self|pole_upright");
   f = hovering();
   f.pole_end_from_plate_m = t.pole_at_plate_m - 0.001;  // the estimator calls it free: a flip
   f.pole_estimated_free = true;

@@ -100,6 +100,23 @@ TEST_CASE("Hovering below its set point: the integral grows and the thrust rises
   CHECK(c.input->a_q_mps2 > pa::kGravity_mps2);
 }
 
+TEST_CASE("Hovering, however far its set point, never tilts on towards more than the tilt limit") {
+  // A vehicle already at the limit (0.7 rad of pitch), moving away from its set point at 5 m/s:
+  // the hover law alone would pitch on to brake; the limit lets it pitch only back.
+  const TaskController control(kSettings, kLimits);
+  TaskState s = holding(Eigen::Vector3d(0.0, 0.0, 3.0));
+  for (const Task task : {Task::hover, Task::wait, Task::retreat, Task::clear, Task::rebalance}) {
+    TaskFrame f = at_rest(task, Eigen::Vector3d(3.6, 0.0, 3.0));
+    f.waiting_target_m = s.target_m;
+    f.vehicle.state.v_mps = Eigen::Vector3d(5.0, 0.0, 0.0);
+    f.vehicle.state.theta_rad = -kSettings.tilt_limit.max_tilt_rad;
+    const TaskCommand braking = control.command(s, f, {});
+    CHECK(braking.input->omega_radps.y() >= 0.0);
+    f.vehicle.state.theta_rad = 0.0;  // level, it may tilt to brake
+    CHECK(control.command(s, f, {}).input->omega_radps.y() < 0.0);
+  }
+}
+
 TEST_CASE("Waiting flies to the waiting point the frame gives") {
   const TaskController control(kSettings, kLimits);
   TaskState s = holding(Eigen::Vector3d(0.0, 0.0, 1.0));
