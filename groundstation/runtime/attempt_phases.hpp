@@ -119,4 +119,11 @@ struct AttemptThresholds {
 
 std::uint32_t attempt_conditions(const AttemptFacts& facts, const AttemptThresholds& thresholds);
 
+// The runtime's clocks of a state that must last (the pole balanced on a vehicle): `since_s` is
+// when `holds` last became true, none while it does not hold.
+inline void hold_since(std::optional<double>& since_s, bool holds, double now_s) {
+  if (!holds) since_s.reset();
+  else if (!since_s) since_s = now_s;
+}
+
 }  // namespace gs::runtime

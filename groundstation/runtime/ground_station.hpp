@@ -41,6 +41,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -65,7 +66,8 @@
 #include "groundstation/runtime/attempt_phases.hpp"
 #include "groundstation/runtime/catch_coordinator.hpp"
 #include "groundstation/runtime/condition_facts.hpp"
-#include "groundstation/runtime/identification_flight.hpp"
+#include "groundstation/runtime/frame_interval.hpp"
+#include "groundstation/runtime/motor_equaliser.hpp"
 #include "groundstation/runtime/task_control.hpp"
 #include "groundstation/runtime/task_entry.hpp"
 #include "groundstation/runtime/thrust_compensation.hpp"
@@ -88,6 +90,9 @@ struct GroundStationConfig {
   // (8 + 1 ms on average in the default arena), up to one firmware tick until the vehicle's link
   // guard starts checking it, and the two more ticks its check takes (docs/security.md).
   double command_lead_s = 0.012;
+  // The task laws' time step from the frames' arrivals: at most 0.05 s after a gap, 0.005 s (one
+  // 200 Hz frame) for the first (runtime/frame_interval.hpp).
+  FrameIntervalSettings frame_interval;
   // The throw's origin: where the thrower's plate centre hovers before the throw. The plan dips
   // 1.1 m below it, and the vehicle's feet hang 0.2 m below its centre; from 1.5 m the feet
   // touched the floor at the bottom of the dip (measured), so 2 m.
@@ -252,18 +257,24 @@ class GroundStation {
   // The throw records the adaptation took, oldest first (relative to the throw's origin).
   const std::vector<adaptation::ThrowRecord>& throw_records() const { return learner_.records(); }
 
-  mission::Task task(pa::VehicleId vehicle) const;
+  mission::Task task(pa::VehicleId vehicle) const { return vehicle_of(vehicle).sequencer.task(); }
   // The vehicle's thrust gain as measured in flight (1: the airframe file's).
-  const estimation::ThrustGainEstimator& thrust_gain(pa::VehicleId vehicle) const;
+  const estimation::ThrustGainEstimator& thrust_gain(pa::VehicleId vehicle) const {
+    return vehicle_of(vehicle).thrust_gain;
+  }
   // The vehicle's latest motor identification (none before its first take-off's is over; refused
   // or not), the last accepted one (possibly from the store, an earlier run's), and the lag its
   // firmware's equaliser is set to as far as the ground station knows (acknowledged).
-  const std::optional<estimation::IdentificationResult>& motor_identification(pa::VehicleId vehicle) const;
+  const std::optional<estimation::IdentificationResult>& motor_identification(pa::VehicleId vehicle) const {
+    return vehicle_of(vehicle).motors.identified();
+  }
   const std::optional<estimation::MotorIdentification>& kept_motor_identification(
       pa::VehicleId vehicle) const {
     return identifications_.kept(vehicle);
   }
-  double equalised_motor_time_constant_s(pa::VehicleId vehicle) const;
+  double equalised_motor_time_constant_s(pa::VehicleId vehicle) const {
+    return vehicle_of(vehicle).motors.equalised_s();
+  }
   const estimation::StateEstimator& estimator() const { return estimator_; }
   const link::GroundLink& link() const { return link_; }
   const adaptation::AdaptationState& adaptation() const { return learner_.state(); }
@@ -284,18 +295,16 @@ class GroundStation {
     link::MissionCommands commands;  // ARM, DISARM, LAND, EXPECT_CATCH, CATCH_HANDLED
     double last_pose_s = -1e9;
     estimation::ThrustGainEstimator thrust_gain;
-    IdentificationFlight identification;  // per take-off (identify_motors)
-    std::optional<estimation::IdentificationResult> identified;
-    double equalised_s = 0.0;                              // the firmware's equaliser, as acknowledged
-    std::optional<link::CommandHandle> equaliser_command;  // SET_MOTOR_TIME_CONSTANT in flight
-    double equaliser_sent_s = 0.0;                         // its argument
+    MotorEqualiser motors;  // each take-off's identification, the lag set on board
   };
 
-  Vehicle& vehicle_of(pa::VehicleId vehicle);  // std::out_of_range for a vehicle not of the act
+  // std::out_of_range for a vehicle not of the act.
   const Vehicle& vehicle_of(pa::VehicleId vehicle) const;
+  Vehicle& vehicle_of(pa::VehicleId vehicle) {
+    return const_cast<Vehicle&>(std::as_const(*this).vehicle_of(vehicle));
+  }
   Vehicle& other(const Vehicle& v) { return vehicle_of(pa::other_vehicle(v.id)); }
   mission::ConditionFacts facts(const Vehicle& v, double now_s) const;
-  void measure_thrust_gain(Vehicle& v, double t_s, const estimation::MocapPose& pose);
   void identify_motors(Vehicle& v, double now_s);
   void set_motor_lag(Vehicle& v, double lag_s, double now_s);  // COMMAND set_motor_time_constant
   void measure_impact_energy(const Vehicle& catcher);
@@ -333,7 +342,7 @@ class GroundStation {
   std::vector<link::ImpactReport> impacts_;
   // The estimator predicted to when this frame's commands act (latency compensation).
   std::optional<estimation::StateEstimator> ahead_;
-  double last_mocap_s_ = -1e9;
+  std::optional<double> last_mocap_s_;                   // the last frame's arrival
   std::optional<estimation::MocapPose> last_pole_pose_;  // the pole's latest pose
 
   // The attempt.
