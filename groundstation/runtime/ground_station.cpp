@@ -64,22 +64,15 @@ const GroundStation::Vehicle& GroundStation::vehicle_of(pa::VehicleId id) const 
 }
 
 control::ThrowFrame GroundStation::throw_frame(pa::VehicleId thrower) const {
-  const control::ThrowFrame first{config_.throw_origin_m, config_.throw_yaw_rad};
-  if (vehicle_of(thrower).id == pa::kVehicle1) return first;
-  const Eigen::Vector2d back = first.to_arena_xy(adaptation().waiting_xy_m);
-  return {Eigen::Vector3d(back.x(), back.y(), config_.throw_origin_m.z()), config_.throw_yaw_rad + M_PI};
+  return throw_frame_of(vehicle_of(thrower).id, config_.throw_origin_m, config_.throw_yaw_rad, adaptation());
 }
-
-// The adaptation's values are the throw's (its frame's); the runtime flies in the arena's. A
-// throw to a target comes down on the target.
-Eigen::Vector2d GroundStation::waiting_xy() const {
-  if (target_throw_) return target_throw_->plan.target_m.head<2>();
-  return frame_.to_arena_xy(adaptation::compensate_offset_bias(adaptation().waiting_xy_m, adaptation()));
+std::optional<Eigen::Vector3d> GroundStation::aimed_m() const {
+  return target_throw_ ? std::optional(target_throw_->plan.target_m) : std::nullopt;
 }
+Eigen::Vector2d GroundStation::waiting_xy() const { return catch_point_xy(frame_, adaptation(), aimed_m()); }
 double GroundStation::catch_height() const {
-  const double offset_m = catch_energy_.height_offset_m(pa::other_vehicle(request_.thrower));
-  if (target_throw_) return target_throw_->plan.target_m.z() + offset_m;
-  return frame_.origin_m.z() + adaptation().catch_height_m + offset_m;
+  return catch_height_m(frame_, adaptation(), aimed_m(),
+                        catch_energy_.height_offset_m(pa::other_vehicle(request_.thrower)));
 }
 
 // The pole's energy right after the impact on `catcher`'s plate (41), from its last free-flight
@@ -96,9 +89,7 @@ Eigen::Vector3d GroundStation::waiting_target() const {
   const Eigen::Vector2d xy = waiting_xy() + request_.catch_offset_m;
   return Eigen::Vector3d(xy.x(), xy.y(), catch_.z_manoeuvre(catch_height()).start_height_m());
 }
-Eigen::Vector3d GroundStation::throw_origin_target() const {
-  return frame_.origin_m - pa::kPlateHeightAboveCg_m * Eigen::Vector3d::UnitZ();
-}
+Eigen::Vector3d GroundStation::throw_origin_target() const { return throw_start_m(frame_); }
 const planning::ThrowTrajectory& GroundStation::flown_throw() const {
   return target_throw_ ? target_throw_->plan.plan.trajectory : throws_.plan().trajectory;
 }
@@ -106,14 +97,8 @@ const planning::ThrowTracker& GroundStation::flown_tracker() const {
   return target_throw_ ? target_throw_->tracker : throws_.tracker();
 }
 
-void GroundStation::request_take_off() {
-  for (Vehicle& v : vehicles_) v.requests |= c::request_take_off;
-}
-void GroundStation::request_land() {
-  for (Vehicle& v : vehicles_) v.requests |= c::request_land;
-}
-void GroundStation::request_abort() {
-  for (Vehicle& v : vehicles_) v.requests |= c::request_abort;
+void GroundStation::request_all(std::uint32_t request) {
+  for (Vehicle& v : vehicles_) v.requests |= request;
 }
 void GroundStation::request_kill(std::optional<pa::VehicleId> vehicle, pa::proto::KillReason reason) {
   if (vehicle) {
@@ -242,15 +227,11 @@ void GroundStation::enter(Vehicle& v, double now_s) {
   const Eigen::Vector3d& here = context.here_m;
   if (task == Task::balance) balanced_since_s_.reset();
   // Where on the plate the pole rests as the throw starts (see the throwing task's control).
-  if (task == Task::throwing) {
-    resting_offset_m_.setZero();
-    if (estimated && estimator_.pole().valid) {
-      const estimation::PlateKinematics plate = estimator_.plate(v.id);
-      resting_offset_m_ =
-          resting_pivot(plate, estimator_.pole().state, estimator_.pole_model().half_length_m).p_m -
-          plate.p_m;
-    }
-  }
+  if (task == Task::throwing)
+    resting_offset_m_ = estimated && estimator_.pole().valid
+                            ? resting_offset_m(estimator_.plate(v.id), estimator_.pole().state,
+                                               estimator_.pole_model().half_length_m)
+                            : Eigen::Vector3d::Zero();
   if (task == Task::rebalance && !current_.impact_s) measure_impact_energy(v);  // the first impact
   note_task_entry(request_, phase_ != AttemptPhase::idle, current_, v.id, task, v.sequencer.last_reason(),
                   now_s, here);
@@ -348,18 +329,6 @@ void GroundStation::set_motor_lag(Vehicle& v, double lag_s, double now_s) {
                                           motor_lag_argument_us(lag_s), now_s));
 }
 
-std::vector<link::ImpactReport> GroundStation::take_impacts() {
-  std::vector<link::ImpactReport> out;
-  out.swap(impacts_);
-  return out;
-}
-
-std::vector<MissionEvent> GroundStation::take_events() {
-  std::vector<MissionEvent> out;
-  out.swap(events_);
-  return out;
-}
-
 CatchView GroundStation::catch_view(const Vehicle& catcher) const {
   CatchView view;
   view.catcher_task = catcher.sequencer.task();
@@ -407,10 +376,8 @@ void GroundStation::update_attempt(double now_s) {
       end_attempt(now_s);
       return;
     }
-    const bool catcher_ready = !request_.catch_it || (catcher.sequencer.task() == Task::wait &&
-                                                      (catcher.sequencer.last_conditions() & c::at_target));
-    const bool thrower_at_origin = (thrower.sequencer.last_conditions() & c::at_target) != 0;
-    if (phase_ == AttemptPhase::preparing && catcher_ready && thrower_at_origin)
+    if (throw_due(phase_, request_.catch_it, thrower.sequencer.last_conditions(), catcher.sequencer.task(),
+                  catcher.sequencer.last_conditions()))
       thrower.requests |= c::request_throw;
     if (row) phase_ = row->to;
     if (row && phase_ == AttemptPhase::throwing) {

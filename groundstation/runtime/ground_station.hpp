@@ -2,15 +2,18 @@
 // pieces. It owns the estimator, the link, both vehicles' sequencers, the task controllers, the
 // throw book, the catch coordinator and the learner, and is driven from outside by three calls
 // and nothing else:
-//   on_mocap(frame, now)  a motion-capture frame arrived: estimator update, each vehicle's
-//                        thrust-gain sample (thrust_compensation.hpp), the attempt's phases
+//   on_mocap(frame, now)  a motion-capture frame arrived: the laws' time step
+//                        (frame_interval.hpp), estimator update, each vehicle's thrust-gain
+//                        sample (thrust_compensation.hpp), the attempt's phases
 //                        (attempt_phases.hpp), then for each vehicle its condition facts and word
 //                        (condition_facts.hpp), its sequencer step, the new task's entry actions
 //                        (task_entry.hpp) and its task's law (task_control.hpp) to a setpoint,
 //                        its thrust over the gain;
-//   on_frame(frame, now)  a frame from the ground CAN bus (heartbeats, acks, IMPACT, TIMESYNC);
+//   on_frame(frame, now)  a frame from the ground CAN bus (heartbeats, acks, IMPACT, TIMESYNC),
+//                        decoded once by the link, the rates routed to the identification;
 //   tick(now)            link housekeeping (heartbeats, retries, TIMESYNC, lost vehicles), the
-//                        mission commands (link/mission_commands.hpp), the motors' identification.
+//                        mission commands (link/mission_commands.hpp), the motors' identification
+//                        and the lag set on board (motor_equaliser.hpp).
 // No clock, no thread: `now` is the ground clock, which is also the clock the motion capture
 // stamps its frames with (in simulation both are the plant's time). The same object runs in the
 // lockstep arena (hil/sil), in `hil run`'s plant exchange and in `groundstation run`
@@ -70,6 +73,7 @@
 #include "groundstation/runtime/motor_equaliser.hpp"
 #include "groundstation/runtime/task_control.hpp"
 #include "groundstation/runtime/task_entry.hpp"
+#include "groundstation/runtime/throw_geometry.hpp"
 #include "groundstation/runtime/thrust_compensation.hpp"
 
 namespace gs::runtime {
@@ -231,9 +235,9 @@ class GroundStation {
   void tick(double now_s);
 
   // Operator requests.
-  void request_take_off();
-  void request_land();
-  void request_abort();
+  void request_take_off() { request_all(mission::condition::request_take_off); }
+  void request_land() { request_all(mission::condition::request_land); }
+  void request_abort() { request_all(mission::condition::request_abort); }
   // KILL (motors off at once, latched on board) to one vehicle of the act, or to both (nullopt),
   // whatever the mission is doing: never gated. std::out_of_range for a vehicle not of the act.
   void request_kill(std::optional<pa::VehicleId> vehicle, pa::proto::KillReason reason);
@@ -251,9 +255,9 @@ class GroundStation {
   const std::vector<AttemptReport>& attempts() const { return reports_; }
   const AttemptReport& current_attempt() const { return current_; }
   // The mission events since the last call, oldest first (at most kEventLogCapacity).
-  std::vector<MissionEvent> take_events();
+  std::vector<MissionEvent> take_events() { return std::exchange(events_, {}); }
   // The vehicles' IMPACT reports since the last call, oldest first (at most kEventLogCapacity).
-  std::vector<link::ImpactReport> take_impacts();
+  std::vector<link::ImpactReport> take_impacts() { return std::exchange(impacts_, {}); }
   // The throw records the adaptation took, oldest first (relative to the throw's origin).
   const std::vector<adaptation::ThrowRecord>& throw_records() const { return learner_.records(); }
 
@@ -304,6 +308,7 @@ class GroundStation {
     return const_cast<Vehicle&>(std::as_const(*this).vehicle_of(vehicle));
   }
   Vehicle& other(const Vehicle& v) { return vehicle_of(pa::other_vehicle(v.id)); }
+  void request_all(std::uint32_t request);  // to both vehicles' sequencers
   mission::ConditionFacts facts(const Vehicle& v, double now_s) const;
   void identify_motors(Vehicle& v, double now_s);
   void set_motor_lag(Vehicle& v, double lag_s, double now_s);  // COMMAND set_motor_time_constant
@@ -317,8 +322,9 @@ class GroundStation {
   AttemptFacts attempt_facts(double now_s) const;
   CatchView catch_view(const Vehicle& catcher) const;
   void end_attempt(double now_s);
-  // The catch point (lower end, x y) expected for the next throw, arena frame.
+  // The catch point (lower end, x y) expected for the next throw, arena frame (throw_geometry.hpp).
   Eigen::Vector2d waiting_xy() const;
+  std::optional<Eigen::Vector3d> aimed_m() const;  // the target throw's aim, if the attempt has one
   // The catcher's waiting point for the next throw: above the catch point, at the height the z
   // manoeuvre starts from (eq. (49)).
   Eigen::Vector3d waiting_target() const;
