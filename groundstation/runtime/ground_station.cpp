@@ -26,7 +26,8 @@ adaptation::Learner make_learner(const GroundStationConfig& config, const planni
   const planning::CatchingInstant nominal = planning::find_catching_instant(
       planning::pole_state_at_launch(planning::fig5_launch_state(), pole), pole);
   return adaptation::Learner(config.learning, adaptation::nominal_adaptation_settings(pole),
-                             nominal.found ? nominal.t_s : 0.8, planned_launch(throws),
+                             nominal.found ? nominal.t_s : config.fallback_catch_instant_s,
+                             planned_launch(throws),
                              adaptation::damped_inverse(adaptation::throw_sensitivity(throws.tracker()),
                                                         config.learning.throw_learning.damping),
                              config.learnt, config.adaptation_store_path);
