@@ -18,7 +18,6 @@
 #pragma once
 
 #include <array>
-#include <optional>
 
 #include "pa/vehicle_id.hpp"
 

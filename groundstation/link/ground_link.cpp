@@ -149,25 +149,25 @@ bool GroundLink::due(bool& started, double& next_s, double period_s, double now_
 // ---------------------------------------------------------------------------------------
 // Receiving
 // ---------------------------------------------------------------------------------------
-void GroundLink::on_frame(const Frame& frame, double now_s) {
+std::optional<Message> GroundLink::on_frame(const Frame& frame, double now_s) {
   require_finite(now_s, "on_frame");
   ++counters_.frames_received;
   Message m;
   switch (decode(frame, m)) {
     case DecodeStatus::ok: break;
-    case DecodeStatus::unknown_type: ++counters_.unknown_type; return;
-    case DecodeStatus::wrong_length: ++counters_.wrong_length; return;
-    case DecodeStatus::out_of_range: ++counters_.out_of_range; return;
+    case DecodeStatus::unknown_type: ++counters_.unknown_type; return std::nullopt;
+    case DecodeStatus::wrong_length: ++counters_.wrong_length; return std::nullopt;
+    case DecodeStatus::out_of_range: ++counters_.out_of_range; return std::nullopt;
   }
   // decode() succeeded, so the type is in the catalogue.
   if (find_type(static_cast<std::uint8_t>(m.type))->direction != Direction::vehicle_to_ground) {
     ++counters_.wrong_direction;
-    return;
+    return std::nullopt;
   }
   const int i = index_of(m.node);
   if (i < 0) {
     ++counters_.foreign_node;
-    return;
+    return std::nullopt;
   }
   Vehicle& v = vehicles_[static_cast<std::size_t>(i)];
   ++v.status.frames_received;
@@ -185,8 +185,12 @@ void GroundLink::on_frame(const Frame& frame, double now_s) {
     case Type::link_session: on_link_session(v, m.link_session); break;
     default: used = false; break;  // no other vehicle-to-ground type exists
   }
-  if (used) ++counters_.accepted;
-  else ++counters_.stale;
+  if (!used) {
+    ++counters_.stale;
+    return std::nullopt;
+  }
+  ++counters_.accepted;
+  return m;
 }
 
 bool GroundLink::on_heartbeat(Vehicle& v, const VehicleHeartbeat& hb, double now_s) {

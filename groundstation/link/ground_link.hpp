@@ -56,6 +56,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "groundstation/link/frame_bus.hpp"
@@ -200,8 +201,10 @@ class GroundLink {
   // unprovisioned key, or a bad configuration.
   GroundLink(FrameBus& bus, std::vector<pa::VehicleId> vehicles, const GroundLinkConfig& config = {});
 
-  // Decode one frame read from the ground bus at ground time now_s.
-  void on_frame(const pa::proto::Frame& frame, double now_s);
+  // Decode one frame read from the ground bus at ground time now_s. Returns the message when the
+  // link used it (valid, from one of its vehicles, not stale), so that whoever routes it further
+  // (the runtime's rates to the motors' identification) does not decode it again.
+  std::optional<pa::proto::Message> on_frame(const pa::proto::Frame& frame, double now_s);
   // The periodic work: GS_HEARTBEAT when due (the first on the first call), TIMESYNC requests
   // when due (to each vehicle once it has been heard), COMMAND retries and time-outs, KILL
   // repeats, lost detection, link quality.

@@ -2,6 +2,13 @@
 
 namespace gs::runtime {
 
+void record_free_flight(std::vector<adaptation::TimedPoleState>& flight, const estimation::PoleEstimate& pole,
+                        const AttemptReport& report) {
+  if (pole.valid && pole.mode == estimation::PoleMode::free && report.launch_s && !report.impact_s &&
+      (flight.empty() || pole.t_s > flight.back().t_s))
+    flight.push_back({pole.t_s, pole.state});
+}
+
 void close_attempt(const AttemptRequest& request, AttemptReport& report, const AttemptFlight& flight,
                    double now_s, adaptation::Learner& learner) {
   const control::ThrowFrame& frame = flight.frame;

@@ -13,6 +13,7 @@
 
 #include "groundstation/adaptation/learner.hpp"
 #include "groundstation/control/throw_frame.hpp"
+#include "groundstation/estimation/state_estimator.hpp"
 #include "groundstation/planning/throw_book.hpp"
 #include "groundstation/planning/throw_trajectory.hpp"
 #include "groundstation/runtime/attempt.hpp"
@@ -30,6 +31,11 @@ struct AttemptFlight {
   model::PoleParams pole_model;
   Eigen::Vector2d catch_target_xy_m = Eigen::Vector2d::Zero();  // the catch manoeuvre's last target
 };
+
+// The pole's free flight as the evaluation of (42) takes it: each new free-flight estimate from
+// the launch until the impact, in time order (an estimate no newer than the last is skipped).
+void record_free_flight(std::vector<adaptation::TimedPoleState>& flight, const estimation::PoleEstimate& pole,
+                        const AttemptReport& report);
 
 // Fills the report's evaluation and launch, and gives the learner the throw at `now_s`.
 void close_attempt(const AttemptRequest& request, AttemptReport& report, const AttemptFlight& flight,

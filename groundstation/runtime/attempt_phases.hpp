@@ -20,6 +20,7 @@
 #include <string_view>
 
 #include "groundstation/mission/transition_table.hpp"
+#include "groundstation/mission/vehicle_sequencer.hpp"
 #include "groundstation/runtime/attempt.hpp"
 
 namespace gs::runtime {
@@ -118,5 +119,22 @@ struct AttemptThresholds {
 };
 
 std::uint32_t attempt_conditions(const AttemptFacts& facts, const AttemptThresholds& thresholds);
+
+// Preparing, the thrower is asked to throw once it is at the throw's origin and the catcher, if
+// the attempt has one, waits at its waiting point (both at_target in their last condition words).
+inline bool throw_due(AttemptPhase phase, bool catch_it, std::uint32_t thrower_conditions,
+                      mission::Task catcher_task, std::uint32_t catcher_conditions) {
+  const bool catcher_ready = !catch_it || (catcher_task == mission::Task::wait &&
+                                           (catcher_conditions & mission::condition::at_target));
+  const bool thrower_at_origin = (thrower_conditions & mission::condition::at_target) != 0;
+  return phase == AttemptPhase::preparing && catcher_ready && thrower_at_origin;
+}
+
+// The runtime's clocks of a state that must last (the pole balanced on a vehicle): `since_s` is
+// when `holds` last became true, none while it does not hold.
+inline void hold_since(std::optional<double>& since_s, bool holds, double now_s) {
+  if (!holds) since_s.reset();
+  else if (!since_s) since_s = now_s;
+}
 
 }  // namespace gs::runtime

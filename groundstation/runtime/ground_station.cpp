@@ -26,7 +26,8 @@ adaptation::Learner make_learner(const GroundStationConfig& config, const planni
   const planning::CatchingInstant nominal = planning::find_catching_instant(
       planning::pole_state_at_launch(planning::fig5_launch_state(), pole), pole);
   return adaptation::Learner(config.learning, adaptation::nominal_adaptation_settings(pole),
-                             nominal.found ? nominal.t_s : 0.8, planned_launch(throws),
+                             nominal.found ? nominal.t_s : config.fallback_catch_instant_s,
+                             planned_launch(throws),
                              adaptation::damped_inverse(adaptation::throw_sensitivity(throws.tracker()),
                                                         config.learning.throw_learning.damping),
                              config.learnt, config.adaptation_store_path);
@@ -52,50 +53,27 @@ GroundStation::GroundStation(link::FrameBus& bus, const GroundStationConfig& con
   frame_ = throw_frame(pa::kVehicle1);
   for (Vehicle& v : vehicles_) {
     v.thrust_gain = estimation::ThrustGainEstimator(config_.thrust_gain);
-    v.identification =
-        IdentificationFlight(estimation::RateResponseIdentifier(config_.rate_loop, config_.rate_response));
-    v.equalised_s = config_.rate_loop.design_time_constant_s;
+    v.motors = MotorEqualiser(
+        IdentificationFlight(estimation::RateResponseIdentifier(config_.rate_loop, config_.rate_response)),
+        config_.rate_loop.design_time_constant_s);
   }
 }
 
-GroundStation::Vehicle& GroundStation::vehicle_of(pa::VehicleId id) {
-  if (!pa::is_act_vehicle(id)) throw std::out_of_range("no vehicle with node " + std::to_string(id.node()));
-  return vehicles_[pa::act_slot(id)];
-}
 const GroundStation::Vehicle& GroundStation::vehicle_of(pa::VehicleId id) const {
   if (!pa::is_act_vehicle(id)) throw std::out_of_range("no vehicle with node " + std::to_string(id.node()));
   return vehicles_[pa::act_slot(id)];
 }
 
-mission::Task GroundStation::task(pa::VehicleId id) const { return vehicle_of(id).sequencer.task(); }
-const estimation::ThrustGainEstimator& GroundStation::thrust_gain(pa::VehicleId id) const {
-  return vehicle_of(id).thrust_gain;
-}
-const std::optional<estimation::IdentificationResult>& GroundStation::motor_identification(
-    pa::VehicleId id) const {
-  return vehicle_of(id).identified;
-}
-double GroundStation::equalised_motor_time_constant_s(pa::VehicleId id) const {
-  return vehicle_of(id).equalised_s;
-}
-
 control::ThrowFrame GroundStation::throw_frame(pa::VehicleId thrower) const {
-  const control::ThrowFrame first{config_.throw_origin_m, config_.throw_yaw_rad};
-  if (vehicle_of(thrower).id == pa::kVehicle1) return first;
-  const Eigen::Vector2d back = first.to_arena_xy(adaptation().waiting_xy_m);
-  return {Eigen::Vector3d(back.x(), back.y(), config_.throw_origin_m.z()), config_.throw_yaw_rad + M_PI};
+  return throw_frame_of(vehicle_of(thrower).id, config_.throw_origin_m, config_.throw_yaw_rad, adaptation());
 }
-
-// The adaptation's values are the throw's (its frame's); the runtime flies in the arena's. A
-// throw to a target comes down on the target.
-Eigen::Vector2d GroundStation::waiting_xy() const {
-  if (target_throw_) return target_throw_->plan.target_m.head<2>();
-  return frame_.to_arena_xy(adaptation::compensate_offset_bias(adaptation().waiting_xy_m, adaptation()));
+std::optional<Eigen::Vector3d> GroundStation::aimed_m() const {
+  return target_throw_ ? std::optional(target_throw_->plan.target_m) : std::nullopt;
 }
+Eigen::Vector2d GroundStation::waiting_xy() const { return catch_point_xy(frame_, adaptation(), aimed_m()); }
 double GroundStation::catch_height() const {
-  const double offset_m = catch_energy_.height_offset_m(pa::other_vehicle(request_.thrower));
-  if (target_throw_) return target_throw_->plan.target_m.z() + offset_m;
-  return frame_.origin_m.z() + adaptation().catch_height_m + offset_m;
+  return catch_height_m(frame_, adaptation(), aimed_m(),
+                        catch_energy_.height_offset_m(pa::other_vehicle(request_.thrower)));
 }
 
 // The pole's energy right after the impact on `catcher`'s plate (41), from its last free-flight
@@ -112,9 +90,7 @@ Eigen::Vector3d GroundStation::waiting_target() const {
   const Eigen::Vector2d xy = waiting_xy() + request_.catch_offset_m;
   return Eigen::Vector3d(xy.x(), xy.y(), catch_.z_manoeuvre(catch_height()).start_height_m());
 }
-Eigen::Vector3d GroundStation::throw_origin_target() const {
-  return frame_.origin_m - pa::kPlateHeightAboveCg_m * Eigen::Vector3d::UnitZ();
-}
+Eigen::Vector3d GroundStation::throw_origin_target() const { return throw_start_m(frame_); }
 const planning::ThrowTrajectory& GroundStation::flown_throw() const {
   return target_throw_ ? target_throw_->plan.plan.trajectory : throws_.plan().trajectory;
 }
@@ -122,14 +98,8 @@ const planning::ThrowTracker& GroundStation::flown_tracker() const {
   return target_throw_ ? target_throw_->tracker : throws_.tracker();
 }
 
-void GroundStation::request_take_off() {
-  for (Vehicle& v : vehicles_) v.requests |= c::request_take_off;
-}
-void GroundStation::request_land() {
-  for (Vehicle& v : vehicles_) v.requests |= c::request_land;
-}
-void GroundStation::request_abort() {
-  for (Vehicle& v : vehicles_) v.requests |= c::request_abort;
+void GroundStation::request_all(std::uint32_t request) {
+  for (Vehicle& v : vehicles_) v.requests |= request;
 }
 void GroundStation::request_kill(std::optional<pa::VehicleId> vehicle, pa::proto::KillReason reason) {
   if (vehicle) {
@@ -189,17 +159,10 @@ bool GroundStation::request_attempt(const AttemptRequest& request) {
 }
 
 void GroundStation::on_frame(const pa::proto::Frame& frame, double now_s) {
-  link_.on_frame(frame, now_s);
-  // The rates each vehicle reports, for its identification flight.
-  const std::uint8_t node = pa::proto::id_node(frame.id);
-  pa::proto::Message m;
-  if (pa::proto::id_type(frame.id) == static_cast<std::uint8_t>(pa::proto::Type::telemetry_rates) &&
-      pa::is_act_vehicle(pa::VehicleId(node)) && pa::proto::decode(frame, m) == pa::proto::DecodeStatus::ok) {
-    const pa::proto::TelemetryRates& r = m.telemetry_rates;
-    vehicle_of(pa::VehicleId(node))
-        .identification.telemetry(now_s, Eigen::Vector2d(r.rate_radps[0], r.rate_radps[1]),
-                                  (r.saturation & 3u) != 0);
-  }
+  // The rates each vehicle reports, for its identification flight (the link's vehicles are the act's).
+  const std::optional<pa::proto::Message> m = link_.on_frame(frame, now_s);
+  if (m && m->type == pa::proto::Type::telemetry_rates)
+    vehicle_of(pa::VehicleId(m->node)).motors.flight().telemetry(now_s, m->telemetry_rates);
   for (const link::ImpactReport& r : link_.take_impacts()) {
     if (impacts_.size() < kEventLogCapacity) impacts_.push_back(r);
     if (pa::is_act_vehicle(r.vehicle)) estimator_.report_impact(r.vehicle, r.t_s);
@@ -266,19 +229,15 @@ void GroundStation::enter(Vehicle& v, double now_s) {
   }
   if (entry.command)
     v.commands.sent(link_.send_command(v.id, entry.command->code, entry.command->argument, now_s));
-  if (entry.start_identification) v.identification.start(now_s, v.equalised_s);
+  if (entry.start_identification) v.motors.start_identification(now_s);
   const Eigen::Vector3d& here = context.here_m;
   if (task == Task::balance) balanced_since_s_.reset();
   // Where on the plate the pole rests as the throw starts (see the throwing task's control).
-  if (task == Task::throwing) {
-    resting_offset_m_.setZero();
-    if (estimated && estimator_.pole().valid) {
-      const estimation::PlateKinematics plate = estimator_.plate(v.id);
-      resting_offset_m_ =
-          resting_pivot(plate, estimator_.pole().state, estimator_.pole_model().half_length_m).p_m -
-          plate.p_m;
-    }
-  }
+  if (task == Task::throwing)
+    resting_offset_m_ = estimated && estimator_.pole().valid
+                            ? resting_offset_m(estimator_.plate(v.id), estimator_.pole().state,
+                                               estimator_.pole_model().half_length_m)
+                            : Eigen::Vector3d::Zero();
   if (task == Task::rebalance && !current_.impact_s) measure_impact_energy(v);  // the first impact
   note_task_entry(request_, phase_ != AttemptPhase::idle, current_, v.id, task, v.sequencer.last_reason(),
                   now_s, here);
@@ -312,21 +271,21 @@ void GroundStation::fly(Vehicle& v, double now_s, double dt_s) {
                    catch_.start_s()};
   if (catch_.trajectory()) flown.catch_trajectory = &*catch_.trajectory();
   const TaskCommand command = tasks_.command(v.laws, f, flown);
-  if (command.pole_settled && !*command.pole_settled) balanced_since_s_.reset();
-  if (command.pole_settled && *command.pole_settled && !balanced_since_s_) balanced_since_s_ = now_s;
+  if (command.pole_settled) hold_since(balanced_since_s_, *command.pole_settled, now_s);
   if (command.throw_end) throw_end_ = command.throw_end;
   if (command.input) send(v, *command.input, now_s);
 }
 
 void GroundStation::on_mocap(const estimation::MocapFrame& frame, double now_s) {
-  const double dt_s = last_mocap_s_ > -1e8 ? std::clamp(now_s - last_mocap_s_, 0.0, 0.05) : 0.005;
+  const double dt_s = frame_interval_s(last_mocap_s_, now_s, config_.frame_interval);
   last_mocap_s_ = now_s;
   estimator_.update(frame);
   for (Vehicle& v : vehicles_) {
     const std::optional<estimation::MocapPose>& pose = frame.vehicle[pa::act_slot(v.id)];
     if (!pose) continue;
     v.last_pose_s = now_s;
-    measure_thrust_gain(v, now_s, *pose);
+    measure_thrust_gain(v.thrust_gain, v.sequencer.task(), now_s, *pose, config_.thrust_gain_min_height_m,
+                        config_.tasks.pole_weight_mps2);
   }
   if (frame.pole) last_pole_pose_ = *frame.pole;
   // The estimator predicted, states only, to when the commands act (latency compensation).
@@ -344,25 +303,14 @@ void GroundStation::on_mocap(const estimation::MocapFrame& frame, double now_s) 
   }
 }
 
-// The thrust gain is measured while the vehicle flies on its thrust alone (thrust_gain_sample).
-// Poses are stamped with the ground clock on arrival, the clock the commands
-// are stamped with: the motion capture's own may be another (a plant slower than real time, an
-// arena's system), and its latency only shifts the window by tens of milliseconds of steady flight.
-void GroundStation::measure_thrust_gain(Vehicle& v, double t_s, const estimation::MocapPose& pose) {
-  const ThrustGainSample sample = thrust_gain_sample(
-      v.sequencer.task(), pose.p_m.z(), config_.thrust_gain_min_height_m, config_.tasks.pole_weight_mps2);
-  v.thrust_gain.pose(t_s, pose.p_m.z(), (pose.q * Eigen::Vector3d::UnitZ()).z(), sample.load_mps2,
-                     sample.steady);
-}
-
 // The setpoint carries a_q / k (the vehicle delivers k a_q); the estimator's model is told what
 // the vehicle delivers, the thrust-gain estimator what it was commanded.
 void GroundStation::send(Vehicle& v, model::VehicleInput u, double now_s) {
   const double gain = config_.compensate_thrust_gain ? v.thrust_gain.gain() : 1.0;
   u.a_q_mps2 = compensated_thrust_mps2(u.a_q_mps2, gain, config_.limits, config_.airframe_thrust_max_mps2);
-  u.omega_radps.head<2>() += v.identification.excitation(now_s);
+  u.omega_radps.head<2>() += v.motors.flight().excitation(now_s);
   model::VehicleInput sent = link_.send_setpoint(v.id, u);
-  v.identification.command_sent(now_s, sent.omega_radps.head<2>());
+  v.motors.flight().command_sent(now_s, sent.omega_radps.head<2>());
   const double t_acts_s = now_s + config_.command_lead_s;
   v.thrust_gain.command(t_acts_s, sent.a_q_mps2);
   sent.a_q_mps2 *= gain;
@@ -372,38 +320,19 @@ void GroundStation::send(Vehicle& v, model::VehicleInput u, double now_s) {
 // The identification flight's fit once it is over, recorded; a lag that differs from the
 // equaliser's by more than the fit's accuracy goes on board. A refused fit keeps what is set.
 void GroundStation::identify_motors(Vehicle& v, double now_s) {
-  if (v.equaliser_command) {
-    const link::CommandState s = link_.command_state(*v.equaliser_command);
-    if (s != link::CommandState::pending) {
-      if (s == link::CommandState::accepted) v.equalised_s = v.equaliser_sent_s;
-      v.equaliser_command.reset();
-    }
-  }
-  const std::optional<estimation::IdentificationResult> result = v.identification.finish(now_s);
+  if (v.motors.pending()) v.motors.settle(link_.command_state(*v.motors.pending()));
+  const std::optional<estimation::IdentificationResult> result = v.motors.finish(now_s);
   if (!result) return;
-  v.identified = result;
   const std::optional<double> k =
       v.thrust_gain.measurements() > 0 ? std::optional(v.thrust_gain.gain()) : std::nullopt;
-  if (const std::optional<double> lag_s = identifications_.finished(v.id, *result, k, now_s, v.equalised_s))
+  if (const std::optional<double> lag_s =
+          identifications_.finished(v.id, *result, k, now_s, v.motors.equalised_s()))
     set_motor_lag(v, *lag_s, now_s);
 }
 
 void GroundStation::set_motor_lag(Vehicle& v, double lag_s, double now_s) {
-  v.equaliser_sent_s = lag_s;
-  v.equaliser_command = link_.send_command(v.id, pa::proto::CommandCode::set_motor_time_constant,
-                                           static_cast<std::int32_t>(std::lround(lag_s * 1e6)), now_s);
-}
-
-std::vector<link::ImpactReport> GroundStation::take_impacts() {
-  std::vector<link::ImpactReport> out;
-  out.swap(impacts_);
-  return out;
-}
-
-std::vector<MissionEvent> GroundStation::take_events() {
-  std::vector<MissionEvent> out;
-  out.swap(events_);
-  return out;
+  v.motors.sent(lag_s, link_.send_command(v.id, pa::proto::CommandCode::set_motor_time_constant,
+                                          motor_lag_argument_us(lag_s), now_s));
 }
 
 CatchView GroundStation::catch_view(const Vehicle& catcher) const {
@@ -453,10 +382,8 @@ void GroundStation::update_attempt(double now_s) {
       end_attempt(now_s);
       return;
     }
-    const bool catcher_ready = !request_.catch_it || (catcher.sequencer.task() == Task::wait &&
-                                                      (catcher.sequencer.last_conditions() & c::at_target));
-    const bool thrower_at_origin = (thrower.sequencer.last_conditions() & c::at_target) != 0;
-    if (phase_ == AttemptPhase::preparing && catcher_ready && thrower_at_origin)
+    if (throw_due(phase_, request_.catch_it, thrower.sequencer.last_conditions(), catcher.sequencer.task(),
+                  catcher.sequencer.last_conditions()))
       thrower.requests |= c::request_throw;
     if (row) phase_ = row->to;
     if (row && phase_ == AttemptPhase::throwing) {
@@ -477,15 +404,8 @@ void GroundStation::update_attempt(double now_s) {
     catch_.update(now_s, catch_view(catcher), current_);
   if ((phase_bit(phase_) & kInFlight) == 0) return;
   // The pole's free flight, from the launch to the impact, for the evaluation of (42).
-  const estimation::PoleEstimate pole = estimator_.pole();
-  if (pole.valid && pole.mode == estimation::PoleMode::free && current_.launch_s && !current_.impact_s &&
-      (flight_.empty() || pole.t_s > flight_.back().t_s))
-    flight_.push_back({pole.t_s, pole.state});
-  if (catcher.sequencer.task() != Task::balance) {
-    balanced_on_catcher_s_.reset();
-  } else if (!balanced_on_catcher_s_) {
-    balanced_on_catcher_s_ = now_s;
-  }
+  record_free_flight(flight_, estimator_.pole(), current_);
+  hold_since(balanced_on_catcher_s_, catcher.sequencer.task() == Task::balance, now_s);
   // In flight: steps until none applies.
   facts = attempt_facts(now_s);
   const AttemptTransition* row = settle_attempt(phase_, attempt_conditions(facts, config_.attempt));

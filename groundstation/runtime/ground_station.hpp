@@ -2,15 +2,18 @@
 // pieces. It owns the estimator, the link, both vehicles' sequencers, the task controllers, the
 // throw book, the catch coordinator and the learner, and is driven from outside by three calls
 // and nothing else:
-//   on_mocap(frame, now)  a motion-capture frame arrived: estimator update, each vehicle's
-//                        thrust-gain sample (thrust_compensation.hpp), the attempt's phases
+//   on_mocap(frame, now)  a motion-capture frame arrived: the laws' time step
+//                        (frame_interval.hpp), estimator update, each vehicle's thrust-gain
+//                        sample (thrust_compensation.hpp), the attempt's phases
 //                        (attempt_phases.hpp), then for each vehicle its condition facts and word
 //                        (condition_facts.hpp), its sequencer step, the new task's entry actions
 //                        (task_entry.hpp) and its task's law (task_control.hpp) to a setpoint,
 //                        its thrust over the gain;
-//   on_frame(frame, now)  a frame from the ground CAN bus (heartbeats, acks, IMPACT, TIMESYNC);
+//   on_frame(frame, now)  a frame from the ground CAN bus (heartbeats, acks, IMPACT, TIMESYNC),
+//                        decoded once by the link, the rates routed to the identification;
 //   tick(now)            link housekeeping (heartbeats, retries, TIMESYNC, lost vehicles), the
-//                        mission commands (link/mission_commands.hpp), the motors' identification.
+//                        mission commands (link/mission_commands.hpp), the motors' identification
+//                        and the lag set on board (motor_equaliser.hpp).
 // No clock, no thread: `now` is the ground clock, which is also the clock the motion capture
 // stamps its frames with (in simulation both are the plant's time). The same object runs in the
 // lockstep arena (hil/sil), in `hil run`'s plant exchange and in `groundstation run`
@@ -41,6 +44,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -65,9 +69,11 @@
 #include "groundstation/runtime/attempt_phases.hpp"
 #include "groundstation/runtime/catch_coordinator.hpp"
 #include "groundstation/runtime/condition_facts.hpp"
-#include "groundstation/runtime/identification_flight.hpp"
+#include "groundstation/runtime/frame_interval.hpp"
+#include "groundstation/runtime/motor_equaliser.hpp"
 #include "groundstation/runtime/task_control.hpp"
 #include "groundstation/runtime/task_entry.hpp"
+#include "groundstation/runtime/throw_geometry.hpp"
 #include "groundstation/runtime/thrust_compensation.hpp"
 
 namespace gs::runtime {
@@ -88,6 +94,9 @@ struct GroundStationConfig {
   // (8 + 1 ms on average in the default arena), up to one firmware tick until the vehicle's link
   // guard starts checking it, and the two more ticks its check takes (docs/security.md).
   double command_lead_s = 0.012;
+  // The task laws' time step from the frames' arrivals: at most 0.05 s after a gap, 0.005 s (one
+  // 200 Hz frame) for the first (runtime/frame_interval.hpp).
+  FrameIntervalSettings frame_interval;
   // The throw's origin: where the thrower's plate centre hovers before the throw. The plan dips
   // 1.1 m below it, and the vehicle's feet hang 0.2 m below its centre; from 1.5 m the feet
   // touched the floor at the bottom of the dip (measured), so 2 m.
@@ -195,6 +204,10 @@ struct GroundStationConfig {
   // in-flight prediction (0.2 m, 0.1 s), odd throws (0.5 m, counted from the 3rd in a row), the
   // throw learnt from past trials (gain 0: not learnt).
   adaptation::LearnerSettings learning;
+  // The catching instant the learner starts from when (42) finds none for the nominal throw with
+  // the configured pole (it finds one for the paper's: 0.812 s after the launch, as the paper
+  // measured; this is that, rounded), so that a learner always exists.
+  double fallback_catch_instant_s = 0.8;
   // Start from what an earlier run learnt instead of the nominal throw's values.
   std::optional<adaptation::Learnt> learnt;
   // The durable adaptation store (adaptation/adaptation_store.hpp): every throw and every motor
@@ -226,9 +239,9 @@ class GroundStation {
   void tick(double now_s);
 
   // Operator requests.
-  void request_take_off();
-  void request_land();
-  void request_abort();
+  void request_take_off() { request_all(mission::condition::request_take_off); }
+  void request_land() { request_all(mission::condition::request_land); }
+  void request_abort() { request_all(mission::condition::request_abort); }
   // KILL (motors off at once, latched on board) to one vehicle of the act, or to both (nullopt),
   // whatever the mission is doing: never gated. std::out_of_range for a vehicle not of the act.
   void request_kill(std::optional<pa::VehicleId> vehicle, pa::proto::KillReason reason);
@@ -246,24 +259,30 @@ class GroundStation {
   const std::vector<AttemptReport>& attempts() const { return reports_; }
   const AttemptReport& current_attempt() const { return current_; }
   // The mission events since the last call, oldest first (at most kEventLogCapacity).
-  std::vector<MissionEvent> take_events();
+  std::vector<MissionEvent> take_events() { return std::exchange(events_, {}); }
   // The vehicles' IMPACT reports since the last call, oldest first (at most kEventLogCapacity).
-  std::vector<link::ImpactReport> take_impacts();
+  std::vector<link::ImpactReport> take_impacts() { return std::exchange(impacts_, {}); }
   // The throw records the adaptation took, oldest first (relative to the throw's origin).
   const std::vector<adaptation::ThrowRecord>& throw_records() const { return learner_.records(); }
 
-  mission::Task task(pa::VehicleId vehicle) const;
+  mission::Task task(pa::VehicleId vehicle) const { return vehicle_of(vehicle).sequencer.task(); }
   // The vehicle's thrust gain as measured in flight (1: the airframe file's).
-  const estimation::ThrustGainEstimator& thrust_gain(pa::VehicleId vehicle) const;
+  const estimation::ThrustGainEstimator& thrust_gain(pa::VehicleId vehicle) const {
+    return vehicle_of(vehicle).thrust_gain;
+  }
   // The vehicle's latest motor identification (none before its first take-off's is over; refused
   // or not), the last accepted one (possibly from the store, an earlier run's), and the lag its
   // firmware's equaliser is set to as far as the ground station knows (acknowledged).
-  const std::optional<estimation::IdentificationResult>& motor_identification(pa::VehicleId vehicle) const;
+  const std::optional<estimation::IdentificationResult>& motor_identification(pa::VehicleId vehicle) const {
+    return vehicle_of(vehicle).motors.identified();
+  }
   const std::optional<estimation::MotorIdentification>& kept_motor_identification(
       pa::VehicleId vehicle) const {
     return identifications_.kept(vehicle);
   }
-  double equalised_motor_time_constant_s(pa::VehicleId vehicle) const;
+  double equalised_motor_time_constant_s(pa::VehicleId vehicle) const {
+    return vehicle_of(vehicle).motors.equalised_s();
+  }
   const estimation::StateEstimator& estimator() const { return estimator_; }
   const link::GroundLink& link() const { return link_; }
   const adaptation::AdaptationState& adaptation() const { return learner_.state(); }
@@ -284,18 +303,17 @@ class GroundStation {
     link::MissionCommands commands;  // ARM, DISARM, LAND, EXPECT_CATCH, CATCH_HANDLED
     double last_pose_s = -1e9;
     estimation::ThrustGainEstimator thrust_gain;
-    IdentificationFlight identification;  // per take-off (identify_motors)
-    std::optional<estimation::IdentificationResult> identified;
-    double equalised_s = 0.0;                              // the firmware's equaliser, as acknowledged
-    std::optional<link::CommandHandle> equaliser_command;  // SET_MOTOR_TIME_CONSTANT in flight
-    double equaliser_sent_s = 0.0;                         // its argument
+    MotorEqualiser motors;  // each take-off's identification, the lag set on board
   };
 
-  Vehicle& vehicle_of(pa::VehicleId vehicle);  // std::out_of_range for a vehicle not of the act
+  // std::out_of_range for a vehicle not of the act.
   const Vehicle& vehicle_of(pa::VehicleId vehicle) const;
+  Vehicle& vehicle_of(pa::VehicleId vehicle) {
+    return const_cast<Vehicle&>(std::as_const(*this).vehicle_of(vehicle));
+  }
   Vehicle& other(const Vehicle& v) { return vehicle_of(pa::other_vehicle(v.id)); }
+  void request_all(std::uint32_t request);  // to both vehicles' sequencers
   mission::ConditionFacts facts(const Vehicle& v, double now_s) const;
-  void measure_thrust_gain(Vehicle& v, double t_s, const estimation::MocapPose& pose);
   void identify_motors(Vehicle& v, double now_s);
   void set_motor_lag(Vehicle& v, double lag_s, double now_s);  // COMMAND set_motor_time_constant
   void measure_impact_energy(const Vehicle& catcher);
@@ -308,8 +326,9 @@ class GroundStation {
   AttemptFacts attempt_facts(double now_s) const;
   CatchView catch_view(const Vehicle& catcher) const;
   void end_attempt(double now_s);
-  // The catch point (lower end, x y) expected for the next throw, arena frame.
+  // The catch point (lower end, x y) expected for the next throw, arena frame (throw_geometry.hpp).
   Eigen::Vector2d waiting_xy() const;
+  std::optional<Eigen::Vector3d> aimed_m() const;  // the target throw's aim, if the attempt has one
   // The catcher's waiting point for the next throw: above the catch point, at the height the z
   // manoeuvre starts from (eq. (49)).
   Eigen::Vector3d waiting_target() const;
@@ -333,7 +352,7 @@ class GroundStation {
   std::vector<link::ImpactReport> impacts_;
   // The estimator predicted to when this frame's commands act (latency compensation).
   std::optional<estimation::StateEstimator> ahead_;
-  double last_mocap_s_ = -1e9;
+  std::optional<double> last_mocap_s_;                   // the last frame's arrival
   std::optional<estimation::MocapPose> last_pole_pose_;  // the pole's latest pose
 
   // The attempt.

@@ -28,6 +28,10 @@ void IdentificationFlight::telemetry(double now_s, const Eigen::Vector2d& rate_r
     telemetry_.push_back({now_s, rate_radps, saturated});
 }
 
+void IdentificationFlight::telemetry(double now_s, const pa::proto::TelemetryRates& rates) {
+  telemetry(now_s, Eigen::Vector2d(rates.rate_radps[0], rates.rate_radps[1]), (rates.saturation & 3u) != 0);
+}
+
 bool IdentificationFlight::recording(double now_s) const {
   return start_s_ && !fit_ && now_s >= *start_s_ &&
          now_s < *start_s_ + identifier_.excitation_duration_s() + kSettle_s;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "groundstation/estimation/rate_response.hpp"
+#include "pa/protocol.hpp"
 
 namespace gs::runtime {
 
@@ -27,6 +28,8 @@ class IdentificationFlight {
   Eigen::Vector2d excitation(double now_s) const;
   void command_sent(double now_s, const Eigen::Vector2d& rate_radps);
   void telemetry(double now_s, const Eigen::Vector2d& rate_radps, bool saturated);
+  // A TELEMETRY_RATES as received: roll and pitch, saturated when either was not fully allocated.
+  void telemetry(double now_s, const pa::proto::TelemetryRates& rates);
 
   // Once the excitation and the responses' way back are over, the fit, kReplaysPerCall replays a
   // call (the runtime's tick), so that no frame waits for it: its result when in, and the flight

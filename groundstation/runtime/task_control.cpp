@@ -46,6 +46,11 @@ control::Pivot resting_pivot(const estimation::PlateKinematics& plate, const mod
   return {(a - plate.p_m).norm() < (b - plate.p_m).norm() ? a : b, plate.v_mps};
 }
 
+Eigen::Vector3d resting_offset_m(const estimation::PlateKinematics& plate, const model::PoleState& pole,
+                                 double half_length_m) {
+  return resting_pivot(plate, pole, half_length_m).p_m - plate.p_m;
+}
+
 TaskController::TaskController(const TaskControlSettings& settings, const model::VehicleLimits& limits)
     : settings_(settings),
       limits_(limits),

@@ -127,6 +127,11 @@ double tilt_rad(const model::PoleState& pole);
 control::Pivot resting_pivot(const estimation::PlateKinematics& plate, const model::PoleState& pole,
                              double half_length_m);
 
+// The pole's resting end from the plate's centre (arena frame), which the throw keeps fixed on the
+// plate as it started (FlownThrow::resting_offset_m).
+Eigen::Vector3d resting_offset_m(const estimation::PlateKinematics& plate, const model::PoleState& pole,
+                                 double half_length_m);
+
 class TaskController {
  public:
   // Throws std::runtime_error when an LQR design fails.

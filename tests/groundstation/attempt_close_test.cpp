@@ -108,3 +108,35 @@ TEST_CASE("An attempt that never launched is recorded at its end, without a laun
   CHECK(l.records()[0].time_s == 12.5);
   CHECK(l.records()[0].outcome == ThrowOutcome::throw_only);
 }
+
+TEST_CASE("The free flight is recorded from the launch to the impact, free-flight estimates in time order") {
+  std::vector<gs::adaptation::TimedPoleState> flight;
+  AttemptReport report;
+  gs::estimation::PoleEstimate pole;
+  pole.valid = true;
+  pole.mode = gs::estimation::PoleMode::free;
+  pole.t_s = 1.0;
+  record_free_flight(flight, pole, report);
+  CHECK(flight.empty());  // not launched
+  report.launch_s = 0.9;
+  record_free_flight(flight, pole, report);
+  REQUIRE(flight.size() == 1);
+  record_free_flight(flight, pole, report);  // the same estimate again
+  CHECK(flight.size() == 1);
+  pole.t_s = 1.005;
+  pole.mode = gs::estimation::PoleMode::on_vehicle1;
+  record_free_flight(flight, pole, report);
+  CHECK(flight.size() == 1);  // not free
+  pole.mode = gs::estimation::PoleMode::free;
+  pole.valid = false;
+  record_free_flight(flight, pole, report);
+  CHECK(flight.size() == 1);  // not seen
+  pole.valid = true;
+  record_free_flight(flight, pole, report);
+  CHECK(flight.size() == 2);
+  CHECK(flight.back().t_s == 1.005);
+  report.impact_s = 1.01;
+  pole.t_s = 1.02;
+  record_free_flight(flight, pole, report);
+  CHECK(flight.size() == 2);  // after the impact
+}

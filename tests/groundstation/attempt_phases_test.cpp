@@ -218,3 +218,31 @@ TEST_CASE("Balanced long, the pole down and the time up, each at its threshold")
   f.now_s = f.throw_start_s + t.attempt_timeout_s + 0.001;
   CHECK((attempt_conditions(f, t) & ac::timed_out) != 0);
 }
+
+TEST_CASE("hold_since: when the state last began to hold, none while it does not") {
+  std::optional<double> since;
+  gs::runtime::hold_since(since, false, 1.0);
+  CHECK_FALSE(since);
+  gs::runtime::hold_since(since, true, 2.0);
+  REQUIRE(since);
+  CHECK(*since == 2.0);
+  gs::runtime::hold_since(since, true, 3.0);
+  CHECK(*since == 2.0);  // still the start
+  gs::runtime::hold_since(since, false, 4.0);
+  CHECK_FALSE(since);
+  gs::runtime::hold_since(since, true, 5.0);
+  CHECK(*since == 5.0);
+}
+
+TEST_CASE("throw_due: preparing, the thrower at the origin and the catcher waiting at its point") {
+  namespace cond = gs::mission::condition;
+  using gs::runtime::throw_due;
+  CHECK(throw_due(AttemptPhase::preparing, true, cond::at_target, Task::wait, cond::at_target));
+  CHECK_FALSE(throw_due(AttemptPhase::preparing, true, 0, Task::wait, cond::at_target));
+  CHECK_FALSE(throw_due(AttemptPhase::preparing, true, cond::at_target, Task::wait, 0));
+  CHECK_FALSE(throw_due(AttemptPhase::preparing, true, cond::at_target, Task::hover, cond::at_target));
+  CHECK(throw_due(AttemptPhase::preparing, false, cond::at_target, Task::hover, 0));  // no catch
+  for (AttemptPhase p :
+       {AttemptPhase::idle, AttemptPhase::throwing, AttemptPhase::flight, AttemptPhase::balancing})
+    CHECK_FALSE(throw_due(p, true, cond::at_target, Task::wait, cond::at_target));
+}

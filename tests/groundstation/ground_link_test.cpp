@@ -719,6 +719,25 @@ TEST_CASE("malformed, unknown, foreign and wrong-direction frames are counted an
   CHECK(c.frames_sent == 0);
 }
 
+TEST_CASE("on_frame returns the message it used, and nothing for a frame it dropped") {
+  InMemoryFrameBus bus;
+  GroundLink link(bus, ids_of({1, 2}), keyed({}, {1, 2}));
+  const TelemetryRates rates{{0.5f, -0.25f, 0.0f}, 9.81f, 0x2};
+  const std::optional<Message> used = link.on_frame(encoded(rates, 2), 1.0);
+  REQUIRE(used);
+  CHECK(used->type == Type::telemetry_rates);
+  CHECK(used->node == 2);
+  CHECK(used->telemetry_rates.rate_radps[0] == 0.5f);
+  CHECK(used->telemetry_rates.saturation == 0x2);
+  CHECK_FALSE(link.on_frame(encoded(rates, 3), 1.0));                           // foreign
+  CHECK_FALSE(link.on_frame(encoded(RateThrust{{0, 0, 0}, 5.0f, 1}, 1), 1.0));  // wrong direction
+  Frame short_frame = encoded(rates, 1);
+  short_frame.len = 3;
+  CHECK_FALSE(link.on_frame(short_frame, 1.0));                      // undecodable
+  CHECK_FALSE(link.on_frame(encoded(TimesyncReply{5, 6}, 1), 1.0));  // stale
+  CHECK(link.counters().accepted == 1);
+}
+
 TEST_CASE("the bus refusing a frame is counted") {
   InMemoryFrameBus bus(2);
   GroundLink link(bus, ids_of({1}), keyed({}, {1}));

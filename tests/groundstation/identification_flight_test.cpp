@@ -32,3 +32,21 @@ TEST_CASE("a flight whose vehicle sent no rates ends refused, and the next take-
   flight.start(5.0, 0.03);
   CHECK(flight.running());
 }
+
+TEST_CASE("a TELEMETRY_RATES counts as saturated when roll or pitch was not fully allocated") {
+  for (std::uint8_t bits : {0x1, 0x2, 0x3, 0x4, 0x8, 0x0}) {
+    CAPTURE(int{bits});
+    IdentificationFlight flight;
+    flight.start(0.0, 0.03);
+    for (double t = 0.0; t < 1.6; t += 0.005) {
+      flight.command_sent(t, flight.excitation(t));
+      flight.telemetry(t, pa::proto::TelemetryRates{{0.0f, 0.0f, 0.0f}, 9.81f, bits});
+    }
+    std::optional<gs::estimation::IdentificationResult> result;
+    for (int i = 0; i < 100 && !result; ++i) result = flight.finish(2.0);
+    REQUIRE(result);
+    // Not saturated, rates that never moved are no motion.
+    CHECK(result->refusal ==
+          ((bits & 3u) ? IdentificationRefusal::saturated : IdentificationRefusal::no_motion));
+  }
+}

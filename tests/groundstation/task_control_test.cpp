@@ -79,6 +79,17 @@ TEST_CASE("The pole's tilt either end up, and the end it rests on") {
   CHECK(pivot.v_mps == plate.v_mps);
 }
 
+TEST_CASE("The resting offset: from the plate's centre to the pole's nearer end") {
+  gs::estimation::PlateKinematics plate;
+  plate.p_m = Eigen::Vector3d(1.0, 2.0, 1.0);
+  gs::model::PoleState pole;
+  pole.n = -Eigen::Vector3d::UnitZ();  // either end up
+  pole.p_m = Eigen::Vector3d(1.02, 2.0, 1.26);
+  CHECK(gs::runtime::resting_offset_m(plate, pole, 0.26).isApprox(Eigen::Vector3d(0.02, 0.0, 0.0)));
+  pole.p_m = Eigen::Vector3d(1.0, 1.97, 0.74);  // hanging below the plate: its upper end
+  CHECK(gs::runtime::resting_offset_m(plate, pole, 0.26).isApprox(Eigen::Vector3d(0.0, -0.03, 0.0)));
+}
+
 TEST_CASE("Hovering on its target at rest: g, level, and the integral untouched") {
   const TaskController control(kSettings, kLimits);
   const Eigen::Vector3d p(0.0, 0.0, 1.0);

@@ -8,6 +8,7 @@ namespace {
 
 using gs::mission::Task;
 using gs::runtime::compensated_thrust_mps2;
+using gs::runtime::measure_thrust_gain;
 using gs::runtime::thrust_gain_sample;
 
 const gs::model::VehicleLimits kLimits{1.0, 20.0, 10.0};
@@ -26,6 +27,38 @@ TEST_CASE("The gain is measured flying on thrust alone, above the floor; balanci
     CAPTURE(gs::mission::task_name(t));
     CHECK_FALSE(thrust_gain_sample(t, 1.0, 0.3, 0.57).steady);
   }
+}
+
+namespace {
+
+// A vehicle holding 1 m on a_q for 2 s in `task`, its poses to measure_thrust_gain: its gain as
+// estimated.
+gs::estimation::ThrustGainEstimator hold(Task task, double a_q_mps2, double height_m = 1.0) {
+  gs::estimation::ThrustGainEstimator gain;
+  gs::estimation::MocapPose pose;
+  pose.p_m.z() = height_m;
+  for (int i = 0; i < 400; ++i) {
+    const double t = 0.005 * i;
+    gain.command(t, a_q_mps2);
+    measure_thrust_gain(gain, task, t, pose, 0.3, 0.57);
+  }
+  return gain;
+}
+
+}  // namespace
+
+TEST_CASE("Poses measure the gain as thrust_gain_sample says, with the balanced pole's load") {
+  // Hovering on g / 0.8 the vehicle delivers 0.8 of what it is commanded.
+  const auto hovering = hold(Task::hover, 9.81 / 0.8);
+  CHECK(hovering.measurements() > 0);
+  CHECK(hovering.gain() < 0.9);
+  // Balancing, the same command also holds the pole's weight: a gain nearer 1 + 0.57 / 9.81.
+  const auto balancing = hold(Task::balance, 9.81 / 0.8);
+  CHECK(balancing.measurements() > 0);
+  CHECK(balancing.gain() > hovering.gain());
+  // Throwing, or on the floor: no measurement.
+  CHECK(hold(Task::throwing, 9.81 / 0.8).measurements() == 0);
+  CHECK(hold(Task::hover, 9.81 / 0.8, 0.2).measurements() == 0);
 }
 
 TEST_CASE("The setpoint carries a_q / k: the laws' a_q within the limits, the motors up to full thrust") {

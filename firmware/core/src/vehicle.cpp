@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "fw/crash_policy.hpp"
 #include "fw/float_ops.hpp"
 #include "fw/saturating.hpp"
 #include "pa/constants.hpp"
@@ -40,6 +41,7 @@ Vehicle::Vehicle(const VehicleConfig& config)
       equaliser_(config.airframe.motor_time_constant_s),
       mixer_(config.airframe),
       battery_(config.battery),
+      catch_(config.catch_reaction),
       // The static task table. Phases keep the heavier frames on different ticks.
       tasks_{{
           task(&Vehicle::send_telemetry_rates, ticks_for(config.link.telemetry_rates_period_us), 0),
@@ -133,7 +135,7 @@ TickOutput Vehicle::tick(const ImuSample& imu) {
   ImpactEvent event{};
   // The failsafe descent expects the floor: its touchdown is not a crash by its peak alone.
   const bool landing = supervisor_.mode() == Mode::failsafe_descent;
-  const ImpactInput input{now_us, accel_mps2_, gyro_radps_, thrust_applied_mps2_, catch_expected_, landing};
+  const ImpactInput input{now_us, accel_mps2_, gyro_radps_, thrust_applied_mps2_, catch_.expected(), landing};
   if (!impacts_.update(input, event)) return false;
   const bool final = event.stage == ImpactStage::classified;
   link_.send_message(Impact{event.t_us, event.peak_mps2, event.classification, final, event.count});
@@ -142,11 +144,7 @@ TickOutput Vehicle::tick(const ImuSample& imu) {
   // accelerometer's bias) restarts from zero, and the descent law's thrust falls under the
   // floor's support, which the ground-contact detector then sees.
   if (event.touchdown && final) failsafe_.on_touchdown();
-  if (event.classification == ImpactClass::catch_impact && !reaction_active_) {
-    reaction_active_ = true;
-    reaction_started_us_ = now_us;
-    catch_expected_ = false;  // one catch per window
-  }
+  if (event.classification == ImpactClass::catch_impact) catch_.on_catch(now_us);
   return event.classification == ImpactClass::crash && crash_kills_;
 }
 
@@ -164,12 +162,8 @@ TickOutput Vehicle::tick(const ImuSample& imu) {
     link_.send_message(TimesyncReply{request.ground_time_us, received_us});
   }
 
-  // The catch window closes by itself.
-  if (catch_expected_ && pa::elapsed_us(now_us, catch_expected_until_us_) > 0) catch_expected_ = false;
-  // The on-board reaction ends when the ground takes over (CATCH_HANDLED) or times out.
-  if (reaction_active_ && pa::elapsed_us(now_us, reaction_started_us_) >=
-                              static_cast<std::int32_t>(config_.catch_reaction.duration_us))
-    reaction_active_ = false;
+  // The catch window closes, and the on-board reaction times out, by themselves.
+  catch_.update(now_us);
 
   // Only a vehicle on the ground with its motors off, disarmed or landed (a landing ends there,
   // and a failsafe after its ground station died), may follow a new ground station session: a
@@ -204,13 +198,12 @@ void Vehicle::handle_command(const Command& command, std::uint32_t now_us, bool 
       } else if (supervisor_.mode() != Mode::flying && supervisor_.mode() != Mode::hold) {
         acknowledge(command, AckResult::refused, RefuseReason::not_flying);
       } else {
-        catch_expected_ = true;
-        catch_expected_until_us_ = now_us + static_cast<std::uint32_t>(command.argument) * 1000u;
+        catch_.expect(now_us, static_cast<std::uint32_t>(command.argument));
         acknowledge(command, AckResult::accepted, RefuseReason::none);
       }
       return;
     case CommandCode::catch_handled:
-      reaction_active_ = false;
+      catch_.handled();
       acknowledge(command, AckResult::accepted, RefuseReason::none);
       return;
     case CommandCode::set_motor_time_constant: {
@@ -253,17 +246,11 @@ void Vehicle::acknowledge(const Command& command, AckResult result, RefuseReason
 // off the ticks that send telemetry, which with the link guard's step are the longest.
 void Vehicle::track_flight(std::uint32_t) {
   const Mode mode = supervisor_.mode();
+  crash_kills_ = crash_stops_motors(mode, attitude_.tilt_cos(), FailsafeController::kMinTiltCos);
   if (mode == Mode::disarmed || mode == Mode::armed || mode == Mode::landed || mode == Mode::killed) {
     inertial_.rest(attitude_.quaternion());
-    crash_kills_ = true;
     return;
   }
-  // In a failsafe the ground no longer steers: a crash class there is mostly the pole landing on
-  // a plate cut during its catch manoeuvre, or the floor met askew. A vehicle still upright
-  // keeps levelling and descending (the floor then lands it, motors off) rather than falling
-  // from the height of a catch; one that tumbles is stopped. (Decided here, at 200 Hz, to keep
-  // the impact's tick short.)
-  crash_kills_ = mode == Mode::flying || attitude_.tilt_cos() <= FailsafeController::kMinTiltCos;
   if (mode != Mode::flying) {
     inertial_.follow_vz(failsafe_.vz_mps());
     if (!inertial_.rest_tilt_corrected()) inertial_.correct_rest_tilt(attitude_);
@@ -304,9 +291,9 @@ void Vehicle::track_flight(std::uint32_t) {
       const RateThrust& sp = link_.setpoint();
       rate_radps = sp.rate_radps;
       thrust_mps2 = sp.thrust_mps2;
-      if (reaction_active_) {
-        thrust_mps2 += config_.catch_reaction.thrust_add_mps2;
-        if (config_.catch_reaction.hold_level) rate_radps = failsafe_.levelling_rates(attitude_.up_in_body());
+      if (catch_.active()) {
+        thrust_mps2 += catch_.thrust_add_mps2();
+        if (catch_.hold_level()) rate_radps = failsafe_.levelling_rates(attitude_.up_in_body());
       }
       return;
     }
@@ -319,7 +306,7 @@ void Vehicle::track_flight(std::uint32_t) {
   const Vec3 up = attitude_.up_in_body();
   const float specific_up_mps2 = inertial_.up_accel_mps2(accel_mps2_, up);
   if (imu_ok_) failsafe_.integrate(specific_up_mps2, dt_s);
-  if (catch_expected_ && supervisor_.mode() == Mode::hold) {
+  if (catch_.expected() && supervisor_.mode() == Mode::hold) {
     // A hold inside a catch window: the plate stays where the ground station was taking it
     // (attitude held, the last thrust) rather than levelling, which would tip it off the pole's
     // path just before the pole arrives. The window is the expected-catch one, and the hold
@@ -401,8 +388,8 @@ void Vehicle::send_heartbeat(std::uint32_t now_us) {
   if (imu_ok_) flags |= kFlagImuOk;
   if (inputs_.heartbeat_live) flags |= kFlagGroundHeartbeatOk;  // this tick's (same clock)
   if (inputs_.setpoint_fresh) flags |= kFlagSetpointFresh;
-  if (catch_expected_) flags |= kFlagCatchExpected;
-  if (reaction_active_) flags |= kFlagImpactReaction;
+  if (catch_.expected()) flags |= kFlagCatchExpected;
+  if (catch_.active()) flags |= kFlagImpactReaction;
   if (saturation_ != 0) flags |= kFlagSaturated;
   const VehicleHeartbeat hb{now_us / 1000u,
                             mode,

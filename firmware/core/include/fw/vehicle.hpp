@@ -10,6 +10,7 @@
 
 #include "fw/attitude_estimator.hpp"
 #include "fw/battery_compensation.hpp"
+#include "fw/catch_reaction.hpp"
 #include "fw/command_link.hpp"
 #include "fw/config.hpp"
 #include "fw/failsafe_controller.hpp"
@@ -61,7 +62,7 @@ class Vehicle {
   std::uint8_t saturation() const { return saturation_; }
   // The motors' lag as the ground station identified it (the airframe's until then).
   float motor_time_constant_s() const { return equaliser_.motor_time_constant_s(); }
-  bool catch_reaction_active() const { return reaction_active_; }
+  bool catch_reaction_active() const { return catch_.active(); }
   // The accelerometer's bias along up, learnt at rest on the floor; the failsafe removes it.
   float accel_bias_up_mps2() const { return inertial_.accel_bias_up_mps2(); }
   const Vec3& gyro_bias_radps() const { return inertial_.gyro_bias_radps(); }  // learnt at rest
@@ -117,6 +118,7 @@ class Vehicle {
   MotorLagEqualiser equaliser_;
   Mixer mixer_;
   BatteryCompensation battery_;
+  CatchReaction catch_;  // the window in which an impact is a catch, and the on-board reaction
   static constexpr std::size_t kTelemetryTasks = 6;  // the first six send frames
   std::array<PeriodicTask, kTelemetryTasks + 1> tasks_;
 
@@ -132,12 +134,6 @@ class Vehicle {
   float thrust_applied_mps2_ = 0;
   std::uint8_t saturation_ = 0;
   Motors motor_command_{};
-
-  // Catch handling: the window in which an impact is a catch, and the on-board reaction.
-  std::uint32_t catch_expected_until_us_ = 0;
-  bool catch_expected_ = false;
-  bool reaction_active_ = false;
-  std::uint32_t reaction_started_us_ = 0;
 
   bool crash_kills_ = true;  // whether an impact classed a crash stops the motors (track_flight)
   pa::proto::Mode last_mode_ = pa::proto::Mode::disarmed;

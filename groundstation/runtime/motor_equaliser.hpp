@@ -1,0 +1,55 @@
+// One vehicle's motor lag as the ground station manages it: each take-off's identification flight
+// (identification_flight.hpp), its latest fit, and the lag the firmware's equaliser is set to as
+// far as the ground station knows. A SET_MOTOR_TIME_CONSTANT counts only once acknowledged: a
+// refused or lost one leaves the lag the vehicle had, which the next fit is compared against.
+// It sends nothing itself: the runtime sends the command and hands over its handle
+// (motor_equaliser_test.cpp).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+
+#include "groundstation/estimation/rate_response.hpp"
+#include "groundstation/link/ground_link.hpp"
+#include "groundstation/runtime/identification_flight.hpp"
+
+namespace gs::runtime {
+
+// SET_MOTOR_TIME_CONSTANT's argument for `lag_s`: microseconds, rounded.
+std::int32_t motor_lag_argument_us(double lag_s);
+
+class MotorEqualiser {
+ public:
+  MotorEqualiser() : MotorEqualiser(IdentificationFlight{}, 0.0) {}
+  // `design_lag_s`: what the firmware's equaliser starts from (its rate loop's design time constant).
+  MotorEqualiser(const IdentificationFlight& flight, double design_lag_s)
+      : flight_(flight), equalised_s_(design_lag_s) {}
+
+  IdentificationFlight& flight() { return flight_; }
+  // Starts this take-off's identification flight against the lag set on board.
+  void start_identification(double now_s) { flight_.start(now_s, equalised_s_); }
+
+  // SET_MOTOR_TIME_CONSTANT for `lag_s` was sent as `handle`.
+  void sent(double lag_s, const link::CommandHandle& handle) {
+    sent_s_ = lag_s;
+    pending_ = handle;
+  }
+  const std::optional<link::CommandHandle>& pending() const { return pending_; }
+  // The command in flight has come to `state` (as the link knows it): accepted, its lag is set.
+  void settle(link::CommandState state);
+
+  // The identification flight's fit once it is over (kept as identified()), else nothing.
+  std::optional<estimation::IdentificationResult> finish(double now_s);
+
+  const std::optional<estimation::IdentificationResult>& identified() const { return identified_; }
+  double equalised_s() const { return equalised_s_; }
+
+ private:
+  IdentificationFlight flight_;
+  std::optional<estimation::IdentificationResult> identified_;
+  double equalised_s_ = 0.0;                    // as acknowledged
+  std::optional<link::CommandHandle> pending_;  // SET_MOTOR_TIME_CONSTANT in flight
+  double sent_s_ = 0.0;                         // its argument
+};
+
+}  // namespace gs::runtime

@@ -1,0 +1,70 @@
+// One vehicle's motor lag on the ground (groundstation/runtime/motor_equaliser.hpp): the lag set on
+// board changes only when its SET_MOTOR_TIME_CONSTANT is acknowledged, a refused or lost one
+// keeps the old, and each take-off's fit is kept as the latest identification.
+#include <catch2/catch.hpp>
+
+#include "groundstation/runtime/motor_equaliser.hpp"
+
+namespace {
+
+using gs::estimation::IdentificationRefusal;
+using gs::link::CommandHandle;
+using gs::link::CommandState;
+using gs::runtime::motor_lag_argument_us;
+using gs::runtime::MotorEqualiser;
+
+MotorEqualiser equaliser() { return MotorEqualiser(gs::runtime::IdentificationFlight{}, 0.03); }
+
+}  // namespace
+
+TEST_CASE("The command's argument is the lag in microseconds, rounded") {
+  CHECK(motor_lag_argument_us(0.03) == 30000);
+  CHECK(motor_lag_argument_us(0.0421234) == 42123);
+  CHECK(motor_lag_argument_us(0.0421236) == 42124);
+  CHECK(motor_lag_argument_us(0.0) == 0);
+}
+
+TEST_CASE("The design lag until a command is acknowledged; accepted, the lag sent") {
+  MotorEqualiser e = equaliser();
+  CHECK(e.equalised_s() == 0.03);
+  CHECK_FALSE(e.pending());
+  e.settle(CommandState::accepted);  // nothing in flight: nothing changes
+  CHECK(e.equalised_s() == 0.03);
+  e.sent(0.045, CommandHandle{pa::kVehicle1, 7, 7});
+  REQUIRE(e.pending());
+  CHECK(e.pending()->serial == 7);
+  e.settle(CommandState::pending);
+  CHECK(e.pending());
+  CHECK(e.equalised_s() == 0.03);
+  e.settle(CommandState::accepted);
+  CHECK_FALSE(e.pending());
+  CHECK(e.equalised_s() == 0.045);
+}
+
+TEST_CASE("A refused or lost command keeps the lag on board") {
+  for (CommandState failure : {CommandState::refused, CommandState::timed_out}) {
+    MotorEqualiser e = equaliser();
+    e.sent(0.045, CommandHandle{pa::kVehicle1, 1, 1});
+    e.settle(failure);
+    CHECK_FALSE(e.pending());
+    CHECK(e.equalised_s() == 0.03);
+  }
+}
+
+TEST_CASE("The flight's fit is kept as the latest identification, and fitted against the lag on board") {
+  MotorEqualiser e = equaliser();
+  CHECK_FALSE(e.identified());
+  CHECK_FALSE(e.finish(100.0));  // no flight
+  e.start_identification(10.0);
+  CHECK(e.flight().running());
+  for (double t = 10.0; t < 11.5; t += 0.005) e.flight().command_sent(t, e.flight().excitation(t));
+  std::optional<gs::estimation::IdentificationResult> result;
+  for (int i = 0; i < 10 && !result; ++i) result = e.finish(12.0);
+  REQUIRE(result);
+  CHECK(result->refusal == IdentificationRefusal::no_telemetry);
+  REQUIRE(e.identified());
+  CHECK(e.identified()->refusal == IdentificationRefusal::no_telemetry);
+  CHECK_FALSE(e.flight().running());
+  CHECK_FALSE(e.finish(13.0));
+  CHECK(e.identified());  // kept after the flight
+}
