@@ -319,7 +319,7 @@ TEST_CASE("the failsafe removes the tilt the accelerometer's bias gave the estim
   CHECK(tilt() == Approx(lean).epsilon(0.05));
   for (int i = 0; i < 100; ++i) b.tick(true, -1);  // the setpoint stream stops: a hold, levelled
   REQUIRE(b.vehicle.mode() == Mode::hold);
-  CHECK(tilt() < 0.05 * lean);
+  CHECK(static_cast<double>(tilt()) < 0.05 * lean);
 }
 
 TEST_CASE("the vehicle reports itself: heartbeats, telemetry and time-sync replies") {
@@ -384,5 +384,5 @@ TEST_CASE("the scripted self-test flight passes on the host") {
   CHECK(r.impact_detection_latency_ms <= 5.0f);
   CHECK(r.failsafe_hover_after_ms <= 25.0f);
   const fw::SupervisorConfig sup{};
-  CHECK(r.descent_after_ms == Approx((sup.hold_max_us + sup.hover_before_descent_us) / 1000.0f).margin(2.0f));
+  CHECK(r.descent_after_ms == Approx(static_cast<double>(sup.hold_max_us + sup.hover_before_descent_us) / 1000.0).margin(2.0f));
 }
