@@ -321,6 +321,10 @@ void GroundStation::send(Vehicle& v, model::VehicleInput u, double now_s) {
 // equaliser's by more than the fit's accuracy goes on board. A refused fit keeps what is set.
 void GroundStation::identify_motors(Vehicle& v, double now_s) {
   if (v.motors.pending()) v.motors.settle(link_.command_state(*v.motors.pending()));
+  // The gentler flight after a saturated one, only while the vehicle hovers without the pole.
+  const Task task = v.sequencer.task();
+  if (task != Task::hover && task != Task::take_off) v.motors.cancel_gentle_identification();
+  if (task == Task::hover && v.motors.gentle_flight_due()) v.motors.start_gentle_identification(now_s);
   const std::optional<estimation::IdentificationResult> result = v.motors.finish(now_s);
   if (!result) return;
   const std::optional<double> k =

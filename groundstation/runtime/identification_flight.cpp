@@ -4,7 +4,13 @@
 
 namespace gs::runtime {
 
-void IdentificationFlight::start(double now_s, double equalised_s) {
+void IdentificationFlight::start(double now_s, double equalised_s, double amplitude_scale) {
+  estimation::RateResponseSettings settings = designed_.settings();
+  // Judged by the same rates as the designed flight: the residual a fit leaves is the vehicle's
+  // disturbances', which a smaller excitation does not shrink.
+  settings.amplitude_radps *= amplitude_scale;
+  settings.min_response_fraction /= amplitude_scale;
+  identifier_ = estimation::RateResponseIdentifier(designed_.loop(), settings);
   start_s_ = now_s;
   equalised_s_ = equalised_s;
   fit_.reset();
@@ -12,6 +18,13 @@ void IdentificationFlight::start(double now_s, double equalised_s) {
   telemetry_.clear();
   commands_.reserve(kMaxSamples);
   telemetry_.reserve(kMaxSamples);
+}
+
+void IdentificationFlight::stop() {
+  start_s_.reset();
+  fit_.reset();
+  commands_.clear();
+  telemetry_.clear();
 }
 
 Eigen::Vector2d IdentificationFlight::excitation(double now_s) const {

@@ -18,11 +18,14 @@ class IdentificationFlight {
   IdentificationFlight()
       : IdentificationFlight(estimation::RateResponseIdentifier{estimation::RateLoopConfig{}}) {}
   explicit IdentificationFlight(const estimation::RateResponseIdentifier& identifier)
-      : identifier_(identifier) {}
+      : designed_(identifier), identifier_(identifier) {}
 
-  // Starts the excitation at `now_s` with the firmware's equaliser set to `equalised_s`.
-  void start(double now_s, double equalised_s);
+  // Starts the excitation at `now_s` with the firmware's equaliser set to `equalised_s`, its
+  // doublets `amplitude_scale` times the designed amplitude.
+  void start(double now_s, double equalised_s, double amplitude_scale = 1.0);
   bool running() const { return start_s_.has_value(); }
+  // Ends a flight before its fit: no excitation from now, nothing recorded, no result.
+  void stop();
 
   // The roll and pitch rates to add to the command sent at `now_s`.
   Eigen::Vector2d excitation(double now_s) const;
@@ -46,7 +49,8 @@ class IdentificationFlight {
   // What one flight keeps of each (a flight records ~260 of each at the radio's 200 Hz): a vehicle
   // flooding its telemetry costs no memory beyond it.
   static constexpr std::size_t kMaxSamples = 1024;
-  estimation::RateResponseIdentifier identifier_;
+  estimation::RateResponseIdentifier designed_;    // at the designed amplitude
+  estimation::RateResponseIdentifier identifier_;  // this flight's
   std::optional<double> start_s_;
   double equalised_s_ = 0.0;
   std::vector<estimation::RateCommandSample> commands_;

@@ -14,9 +14,28 @@ void MotorEqualiser::settle(link::CommandState state) {
   pending_.reset();
 }
 
+void MotorEqualiser::start_identification(double now_s) {
+  gentle_ = gentle_due_ = false;
+  flight_.start(now_s, equalised_s_);
+}
+
+void MotorEqualiser::start_gentle_identification(double now_s) {
+  gentle_ = true;
+  gentle_due_ = false;
+  flight_.start(now_s, equalised_s_, kGentleAmplitude);
+}
+
+void MotorEqualiser::cancel_gentle_identification() {
+  gentle_due_ = false;
+  if (gentle_ && flight_.running()) flight_.stop();
+  gentle_ = false;
+}
+
 std::optional<estimation::IdentificationResult> MotorEqualiser::finish(double now_s) {
   std::optional<estimation::IdentificationResult> result = flight_.finish(now_s);
-  if (result) identified_ = result;
+  if (!result) return result;
+  identified_ = result;
+  gentle_due_ = !gentle_ && result->refusal == estimation::IdentificationRefusal::saturated;
   return result;
 }
 

@@ -3,6 +3,8 @@
 // keeps the old, and each take-off's fit is kept as the latest identification.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+
 #include "groundstation/runtime/motor_equaliser.hpp"
 
 namespace {
@@ -67,4 +69,56 @@ TEST_CASE("The flight's fit is kept as the latest identification, and fitted aga
   CHECK_FALSE(e.flight().running());
   CHECK_FALSE(e.finish(13.0));
   CHECK(e.identified());  // kept after the flight
+}
+
+namespace {
+
+// Flies `e`'s running flight from `t0_s` to its fit with every rate report saturated or not.
+std::optional<gs::estimation::IdentificationResult> fly(MotorEqualiser& e, double t0_s, bool saturated) {
+  for (double t = t0_s; t < t0_s + 1.6; t += 0.005) {
+    e.flight().command_sent(t, e.flight().excitation(t));
+    e.flight().telemetry(t, e.flight().excitation(t), saturated);
+  }
+  std::optional<gs::estimation::IdentificationResult> result;
+  for (int i = 0; i < 200 && !result; ++i) result = e.finish(t0_s + 2.0);
+  return result;
+}
+
+double peak_excitation(MotorEqualiser& e, double t0_s) {
+  double peak = 0.0;
+  for (double t = t0_s; t < t0_s + 1.6; t += 0.001)
+    peak = std::max(peak, e.flight().excitation(t).cwiseAbs().maxCoeff());
+  return peak;
+}
+
+}  // namespace
+
+TEST_CASE("A flight the motors saturated is flown once more, gently; stopped when the pole comes") {
+  MotorEqualiser e = equaliser();
+  e.start_identification(10.0);
+  const double designed = peak_excitation(e, 10.0);
+  const auto saturated = fly(e, 10.0, true);
+  REQUIRE(saturated);
+  CHECK(saturated->refusal == IdentificationRefusal::saturated);
+  REQUIRE(e.gentle_flight_due());
+  e.start_gentle_identification(20.0);
+  CHECK_FALSE(e.gentle_flight_due());
+  CHECK(peak_excitation(e, 20.0) == Approx(MotorEqualiser::kGentleAmplitude * designed));
+  const auto again = fly(e, 20.0, true);
+  REQUIRE(again);
+  CHECK_FALSE(e.gentle_flight_due());  // once only
+
+  SECTION("stopped when the vehicle takes the pole") {
+    e.start_identification(30.0);
+    fly(e, 30.0, true);
+    e.start_gentle_identification(40.0);
+    e.cancel_gentle_identification();
+    CHECK_FALSE(e.flight().running());
+    CHECK(e.flight().excitation(40.5).isZero());
+  }
+  SECTION("a take-off's flight is not stopped by it") {
+    e.start_identification(30.0);
+    e.cancel_gentle_identification();
+    CHECK(e.flight().running());
+  }
 }
