@@ -22,6 +22,10 @@ bool flying(const estimation::PoleEstimate& pole, const AttemptReport& report) {
 
 }  // namespace
 
+double floored_catch_height_m(double height_m, const CatchSettings& settings) {
+  return std::max(height_m, settings.min_height_m);
+}
+
 void CatchCoordinator::reset() {
   trajectory_.reset();
   unreachable_ = infeasible_ = missed_ = false;
@@ -59,8 +63,10 @@ void CatchCoordinator::retime(double now_s, const CatchView& view, AttemptReport
   if (!optimal.found) return;
   report.predicted_optimal = adaptation::OptimalCatch{pole.t_s + optimal.t_s - *report.launch_s,
                                                       optimal.catch_height_m, optimal.catch_point_m};
-  report.catch_height_m = adapted_height_m_ + std::clamp(optimal.catch_height_m - adapted_height_m_,
-                                                         -settings_.retime_max_m, settings_.retime_max_m);
+  report.catch_height_m =
+      floored_catch_height_m(adapted_height_m_ + std::clamp(optimal.catch_height_m - adapted_height_m_,
+                                                            -settings_.retime_max_m, settings_.retime_max_m),
+                             settings_);
   const double end_s = planned_start_s_ + z_manoeuvre(adapted_height_m_).duration_s();
   start_s_ = planned_start_s_ +
              std::clamp(pole.t_s + optimal.t_s - end_s, -settings_.retime_max_s, settings_.retime_max_s);

@@ -30,7 +30,15 @@ struct CatchSettings {
   double retime_max_m = 0.5;
   double retime_max_s = 0.15;
   double missed_margin_m = 0.15;  // the lower end this far below the catching height, free: missed
+  // No catch lower than this, whatever (42) and the learning say: a slowly turning pole (strong
+  // rotational drag, a weak thrower) meets (42) a metre or more below the usual height, and the
+  // learnt height followed it down to 1.0 m, where the catcher then met the floor
+  // (hil fly --throws 50 --plant hil/config/envelope/half_extremes.yaml).
+  double min_height_m = 2.0;
 };
+
+// `height_m` raised to the settings' floor.
+double floored_catch_height_m(double height_m, const CatchSettings& settings);
 
 // What the catch sees of the world at a frame.
 struct CatchView {

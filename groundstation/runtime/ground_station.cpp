@@ -72,8 +72,10 @@ std::optional<Eigen::Vector3d> GroundStation::aimed_m() const {
 }
 Eigen::Vector2d GroundStation::waiting_xy() const { return catch_point_xy(frame_, adaptation(), aimed_m()); }
 double GroundStation::catch_height() const {
-  return catch_height_m(frame_, adaptation(), aimed_m(),
-                        catch_energy_.height_offset_m(pa::other_vehicle(request_.thrower)));
+  return floored_catch_height_m(
+      catch_height_m(frame_, adaptation(), aimed_m(),
+                     catch_energy_.height_offset_m(pa::other_vehicle(request_.thrower))),
+      config_.catching);
 }
 
 // The pole's energy right after the impact on `catcher`'s plate (41), from its last free-flight

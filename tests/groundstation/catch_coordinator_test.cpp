@@ -136,6 +136,7 @@ TEST_CASE("The retiming moves the catch's end to this flight's (42), within its 
   const Throw t;
   CatchSettings s;
   s.retime_max_m = 0.1;
+  s.min_height_m = 0.0;  // the Fig. 5 throw's heights, from its origin: no floor in the way
   CatchCoordinator c(s, {});
   AttemptReport r = waiting(t, 0.0);
   r.catch_height_m += 0.3;  // the adapted height 0.3 m above this flight's
@@ -151,4 +152,19 @@ TEST_CASE("The retiming moves the catch's end to this flight's (42), within its 
   const double height = r.catch_height_m;
   c.retime(t.launch_s + s.retime_s + 0.01, view(t, Task::wait, 0.0), r);
   CHECK(r.catch_height_m == height);
+}
+
+TEST_CASE("No catch is planned below the floor, however low this flight's (42) lies") {
+  const Throw t;
+  CatchSettings s;
+  s.min_height_m = t.optimal.catch_height_m + 0.2;  // (42) lies below the floor
+  CHECK(gs::runtime::floored_catch_height_m(s.min_height_m - 1.0, s) == s.min_height_m);
+  CHECK(gs::runtime::floored_catch_height_m(s.min_height_m + 1.0, s) == s.min_height_m + 1.0);
+  CatchCoordinator c(s, {});
+  AttemptReport r = waiting(t, 0.0);
+  r.catch_height_m = s.min_height_m + 0.1;
+  c.plan(r, t.launch_s, t.optimal.t_s);
+  r.launch_s = t.launch_s;
+  c.retime(t.launch_s + 0.1, view(t, Task::wait, 0.0), r);
+  CHECK(r.catch_height_m == s.min_height_m);  // down to (42) by the bound, held at the floor
 }
