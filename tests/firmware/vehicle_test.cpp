@@ -384,5 +384,6 @@ TEST_CASE("the scripted self-test flight passes on the host") {
   CHECK(r.impact_detection_latency_ms <= 5.0f);
   CHECK(r.failsafe_hover_after_ms <= 25.0f);
   const fw::SupervisorConfig sup{};
-  CHECK(r.descent_after_ms == Approx(static_cast<double>(sup.hold_max_us + sup.hover_before_descent_us) / 1000.0).margin(2.0f));
+  CHECK(r.descent_after_ms ==
+        Approx(static_cast<double>(sup.hold_max_us + sup.hover_before_descent_us) / 1000.0).margin(2.0f));
 }
