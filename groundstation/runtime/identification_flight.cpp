@@ -55,10 +55,7 @@ std::optional<estimation::IdentificationResult> IdentificationFlight::finish(dou
   if (!fit_) fit_.emplace(identifier_, std::move(commands_), std::move(telemetry_), equalised_s_);
   if (!fit_->advance(kReplaysPerCall)) return std::nullopt;
   std::optional<estimation::IdentificationResult> result = fit_->result();
-  fit_.reset();
-  start_s_.reset();
-  commands_.clear();
-  telemetry_.clear();
+  stop();
   return result;
 }
 
