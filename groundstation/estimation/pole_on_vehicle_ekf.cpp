@@ -18,6 +18,13 @@ double pole_normal_force_per_mass_mps2(const model::PoleOnVehicleState& pole,
   return (0.25 * specific_force_mps2 + mu * r).dot(plate_normal);
 }
 
+double pole_measurement_sigma(double motor_lag_s, const PoleTrustByMotorLag& trust) {
+  if (!(motor_lag_s > trust.fast_lag_s)) return trust.fast_sigma;  // NaN: the airframe's
+  if (motor_lag_s >= trust.slow_lag_s) return trust.slow_sigma;
+  const double f = (motor_lag_s - trust.fast_lag_s) / (trust.slow_lag_s - trust.fast_lag_s);
+  return trust.fast_sigma + f * (trust.slow_sigma - trust.fast_sigma);
+}
+
 PoleOnVehicleEkf::PoleOnVehicleEkf(const PoleOnVehicleEkfParams& params) : params_(params) {}
 
 void PoleOnVehicleEkf::reset(const StateVector& state, const StateCovariance& covariance,

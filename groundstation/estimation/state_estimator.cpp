@@ -118,6 +118,12 @@ void StateEstimator::drop_old_commands(double t_s) {
   }
 }
 
+void StateEstimator::set_pole_measurement_sigma(pa::VehicleId vehicle, double position_m,
+                                                double direction_rad) {
+  if (!pa::is_act_vehicle(vehicle) || !(position_m > 0.0) || !(direction_rad > 0.0)) return;
+  on_[pa::act_slot(vehicle)].set_measurement_sigma(position_m, direction_rad);
+}
+
 void StateEstimator::report_impact(pa::VehicleId vehicle, double t_s) {
   if (!pa::is_act_vehicle(vehicle) || !std::isfinite(t_s)) return;
   impact_report_t_s_[pa::act_slot(vehicle)] = t_s;

@@ -63,6 +63,8 @@ struct VehicleObserverParams {
   // 1 / (2 sqrt(kp tau_m)).
   Eigen::Vector3d rate_natural_frequency_radps{36.5, 36.5, 20.0};
   Eigen::Vector3d rate_damping{0.46, 0.46, 0.83};
+  // The poses' standard deviations: an arena's typical 1 mm / 1 mrad. The ground station flies
+  // with more (GroundStationConfig::estimator).
   double mocap_position_sigma_m = 1e-3;
   double mocap_attitude_sigma_rad = 1e-3;
   VehicleProcessNoise commanded;  // a command drives the model

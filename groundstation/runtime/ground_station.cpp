@@ -337,6 +337,8 @@ void GroundStation::identify_motors(Vehicle& v, double now_s) {
 }
 
 void GroundStation::set_motor_lag(Vehicle& v, double lag_s, double now_s) {
+  const double sigma = estimation::pole_measurement_sigma(lag_s, config_.pole_trust);
+  estimator_.set_pole_measurement_sigma(v.id, sigma, sigma);
   v.motors.sent(lag_s, link_.send_command(v.id, pa::proto::CommandCode::set_motor_time_constant,
                                           motor_lag_argument_us(lag_s), now_s));
 }

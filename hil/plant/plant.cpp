@@ -186,8 +186,9 @@ void Plant::set_vehicle(pa::VehicleId vehicle, const VehicleState& state) {
 }
 
 void Plant::place_pole_on(pa::VehicleId vehicle) {
-  const double L = config_.pole.half_length_m;
-  set_pole(make_pole(plate_centre_m(vehicle) + L * Vec3::UnitZ(), Vec3::UnitZ(),
+  // End 0 on the plate, the pole upright.
+  const double above_plate_m = -config_.pole.end_along_axis_m(0);
+  set_pole(make_pole(plate_centre_m(vehicle) + above_plate_m * Vec3::UnitZ(), Vec3::UnitZ(),
                      this->vehicle(vehicle).body.velocity_mps, Vec3::Zero()));
 }
 
@@ -266,8 +267,7 @@ Plant::Kinematics Plant::kinematics(const Bodies& b) const {
   k.pole_rotation = pole.attitude.toRotationMatrix();
   k.pole_rate = times(k.pole_rotation, pole.rate_body_radps);
   for (int e = 0; e < 2; ++e) {
-    const Vec3 r =
-        (e == 0 ? -config_.pole.half_length_m : config_.pole.half_length_m) * k.pole_rotation.col(2);
+    const Vec3 r = config_.pole.end_along_axis_m(e) * k.pole_rotation.col(2);
     k.point[e] = pole.position_m + r;
     k.lever[e] = r;
   }
@@ -469,15 +469,15 @@ double Plant::contact_rate_per_s(int pair, const PairGeometry& g, const Vec3& po
                                  bool worst_case) const {
   const PoleConfig& pc = config_.pole;
   const double inertia = pole_transverse_inertia_kgm2();
-  // A pole end at L n pushed along d: 1/m_eff = 1/m + |L n x d|^2 / I (the axial inertia plays
+  // A pole end at s n pushed along d: 1/m_eff = 1/m + |s n x d|^2 / I (the axial inertia plays
   // no part: the lever is along the axis). Across the pole this is largest (m_eff about m/4).
-  const double across_inverse = 1.0 / pc.mass_kg + pc.half_length_m * pc.half_length_m / inertia;
+  const double lever_m = pc.longest_lever_m();  // the same bound for both ends
+  const double across_inverse = 1.0 / pc.mass_kg + lever_m * lever_m / inertia;
   double normal_inverse = across_inverse;
   double tangential_inverse = across_inverse;
   const Surface surface = pair_surface(pair);
   if (!worst_case) {
-    normal_inverse =
-        1.0 / pc.mass_kg + (pc.half_length_m * pole_axis).cross(g.normal).squaredNorm() / inertia;
+    normal_inverse = 1.0 / pc.mass_kg + (lever_m * pole_axis).cross(g.normal).squaredNorm() / inertia;
     if (surface != Surface::floor) {  // the plate's vehicle moves too
       const int v = surface == Surface::plate1 ? 0 : 1;
       const Vec3& I = vehicle_inertia_kgm2_[v];
@@ -740,7 +740,10 @@ void Plant::sample_imu() {
 }
 
 void Plant::capture_mocap() {
-  mocap_.capture(mocap_index_, t_s(), {vehicles_[0].body, vehicles_[1].body, pole_.body}, losses_active());
+  // The pole's markers give its middle, which the ground station takes as the centre of mass.
+  RigidBodyState pole_markers = pole_.body;
+  pole_markers.position_m = pole_.point_m(-config_.pole.centre_of_mass_offset_m);
+  mocap_.capture(mocap_index_, t_s(), {vehicles_[0].body, vehicles_[1].body, pole_markers}, losses_active());
   ++mocap_index_;
 }
 
@@ -797,8 +800,10 @@ std::vector<PoleContactEvent> Plant::take_contact_events() {
 
 double Plant::pole_transverse_inertia_kgm2() const {
   const PoleConfig& p = config_.pole;
-  // A thin-walled tube of length 2L and radius r about a transverse axis through its centre.
-  return p.mass_kg * (p.half_length_m * p.half_length_m / 3.0 + p.radius_m * p.radius_m / 2.0);
+  // A thin-walled tube of length 2L and radius r about a transverse axis through its middle,
+  // moved to the centre of mass d off it (parallel axes: I_cm = I_middle - m d^2).
+  const double d = p.centre_of_mass_offset_m;
+  return p.mass_kg * (p.half_length_m * p.half_length_m / 3.0 + p.radius_m * p.radius_m / 2.0 - d * d);
 }
 
 double Plant::pole_axial_inertia_kgm2() const {

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -27,7 +28,22 @@ struct PoleConfig {
   double drag_normal_kgpm2 = 3.5e-3;      // c_xy
   double drag_rotational_kgpm2 = 2.1e-3;  // c_rot
   int drag_segments = 20;                 // quadrature segments along the pole
+  // The centre of mass along n from the middle, towards end 1: end caps and absorbers differ.
+  // The motion capture's markers give the middle; the ground station takes it as the centre.
+  double centre_of_mass_offset_m = 0.0;
+
+  // Where end `end` lies along n from the centre of mass (end 0 below it on a balanced pole).
+  double end_along_axis_m(int end) const {
+    return (end == 0 ? -half_length_m : half_length_m) - centre_of_mass_offset_m;
+  }
+  // The longer of the two levers from the centre of mass to an end.
+  double longest_lever_m() const { return half_length_m + std::abs(centre_of_mass_offset_m); }
 };
+
+// Pole end `end` of `pole`.
+inline Vec3 pole_end_m(const PoleState& pole, const PoleConfig& config, int end) {
+  return pole.point_m(config.end_along_axis_m(end));
+}
 
 struct VehicleConfig {
   double mass_kg = 0.52;
@@ -151,7 +167,8 @@ struct EnvelopeConfig {
   double pole_drag_fraction = 0.4;  // each pole drag coefficient
   double pole_length_fraction = 0.03;
   double pole_mass_fraction = 0.05;
-  double latency_min_s = 0.005;  // motion capture
+  double pole_centre_of_mass_max_m = 0.01;  // the offset drawn from U(-max, max)
+  double latency_min_s = 0.005;             // motion capture
   double latency_max_s = 0.04;
   double jitter_max_s = 0.004;  // jitter drawn from U(0, max)
   double position_noise_min_m = 0.0005;

@@ -13,6 +13,8 @@ Wrench pole_drag(const PoleConfig& pole, const Vec3& velocity_mps, const Vec3& r
   const int segments = pole.drag_segments > 0 ? pole.drag_segments : 1;
   const double length_m = 2.0 * pole.half_length_m;
   const double dxi_m = length_m / segments;
+  // xi runs from end 0 to end 1, measured from the centre of mass (it need not be the middle).
+  const double end0_xi_m = pole.end_along_axis_m(0);
   // v(xi) = v_p + xi (omega x n) (12), and omega x n is across the pole: the axial part (13) is
   // the same at every point, and only the part across, a + xi s, varies along it. The midpoint
   // rule then needs two square roots per segment on scalars instead of vector norms.
@@ -31,7 +33,7 @@ Wrench pole_drag(const PoleConfig& pole, const Vec3& velocity_mps, const Vec3& r
   // then add the even and the odd segments apart, which moves them by rounding only (the test
   // against the point-by-point rule holds them to 1e-12 of the wrench's scale).
   {
-    const __m128d half_length = _mm_set1_pd(-pole.half_length_m);
+    const __m128d end0_xi = _mm_set1_pd(end0_xi_m);
     const __m128d step = _mm_set1_pd(dxi_m);
     const __m128d zero = _mm_setzero_pd();
     const __m128d aa2 = _mm_set1_pd(aa), as22 = _mm_set1_pd(as2), ss2 = _mm_set1_pd(ss);
@@ -40,7 +42,7 @@ Wrench pole_drag(const PoleConfig& pole, const Vec3& velocity_mps, const Vec3& r
     const __m128d two = _mm_set1_pd(2.0);
     __m128d r_sum = zero, xi_r_sum = zero, xi_speed_sum = zero, xi2_speed_sum = zero;
     for (; j + 1 < segments; j += 2) {
-      const __m128d xi = _mm_add_pd(half_length, _mm_mul_pd(index, step));
+      const __m128d xi = _mm_add_pd(end0_xi, _mm_mul_pd(index, step));
       const __m128d across_sq =
           _mm_max_pd(_mm_add_pd(aa2, _mm_mul_pd(xi, _mm_add_pd(as22, _mm_mul_pd(xi, ss2)))), zero);
       const __m128d r = _mm_sqrt_pd(across_sq);
@@ -59,7 +61,7 @@ Wrench pole_drag(const PoleConfig& pole, const Vec3& velocity_mps, const Vec3& r
   }
 #endif
   for (; j < segments; ++j) {
-    const double xi_m = -pole.half_length_m + (j + 0.5) * dxi_m;
+    const double xi_m = end0_xi_m + (j + 0.5) * dxi_m;
     const double across_sq = std::max(0.0, aa + xi_m * (as2 + xi_m * ss));  // |v_across(xi)|^2
     const double r = std::sqrt(across_sq);
     const double speed = std::sqrt(across_sq + axial_sq);  // |v(xi)|

@@ -70,6 +70,8 @@ PlantConfig envelope_randomised(const PlantConfig& nominal, std::uint64_t seed) 
   c.mocap.attitude_noise_rad = rng.uniform(e.attitude_noise_min_rad, e.attitude_noise_max_rad);
   scale_imu_noise(rng, c.imu, r.noise_fraction);
   c.radio_loss_probability = rng.uniform(0.0, e.radio_loss_max);
+  // Drawn last, so that adding it left every earlier draw of a seed as it was.
+  c.pole.centre_of_mass_offset_m = rng.uniform(-e.pole_centre_of_mass_max_m, e.pole_centre_of_mass_max_m);
   return c;
 }
 
@@ -81,6 +83,7 @@ std::vector<DrawnParameter> envelope_drawn_parameters(const PlantConfig& c) {
       {"pole_drag_rotational_kgpm2", c.pole.drag_rotational_kgpm2},
       {"pole_mass_kg", c.pole.mass_kg},
       {"pole_half_length_m", c.pole.half_length_m},
+      {"pole_centre_of_mass_offset_m", c.pole.centre_of_mass_offset_m},
   };
   static constexpr std::string_view kKeys[2][5] = {
       {"vehicle1_thrust_scale", "vehicle1_mass_scale", "vehicle1_inertia_scale",

@@ -19,9 +19,9 @@ namespace hil {
 // U(latency_min_s, latency_max_s), the radio loss from U(radio_loss_min, radio_loss_max).
 // Everything else is copied unchanged. With random_profile 1, the arena envelope instead
 // (EnvelopeConfig): each vehicle's thrust scale, mass, inertia, motor time constant and
-// battery's starting charge, the pole's drag, length and mass, the motion capture's latency,
-// jitter and noise and the radios' loss over its ranges; the motor mismatch, the vehicles' drag,
-// the friction and the IMU's noise with the spreads above.
+// battery's starting charge, the pole's drag, length, mass and centre of mass, the motion
+// capture's latency, jitter and noise and the radios' loss over its ranges; the motor mismatch,
+// the vehicles' drag, the friction and the IMU's noise with the spreads above.
 PlantConfig randomised(const PlantConfig& nominal, std::uint64_t seed);
 
 // The parameters randomised() draws, by their configuration keys (plant_config.hpp), in the

@@ -31,12 +31,15 @@ bool find_catch_point(const PlantConfig& config, const Scenario& s, Vec3& out, s
   probe.set_vehicle(pa::kVehicle1, probe.parked_vehicle(-1e4, 0.0, 0.0));
   probe.set_vehicle(pa::kVehicle2, probe.parked_vehicle(1e4, 0.0, 0.0, pa::kVehicle2));
   probe.set_pole(launch_state(s));
-  const double L = config.pole.half_length_m;
-  std::array<Vec3, 2> previous{probe.pole().end_m(0, L), probe.pole().end_m(1, L)};
+  auto ends = [&] {
+    return std::array<Vec3, 2>{pole_end_m(probe.pole(), config.pole, 0),
+                               pole_end_m(probe.pole(), config.pole, 1)};
+  };
+  std::array<Vec3, 2> previous = ends();
   const MotorCommands off{};
   for (int k = 0; k < 20000; ++k) {
     probe.step(0.001, off, off);
-    const std::array<Vec3, 2> now{probe.pole().end_m(0, L), probe.pole().end_m(1, L)};
+    const std::array<Vec3, 2> now = ends();
     const int low = now[0].z() < now[1].z() ? 0 : 1;
     const double h = s.catch_height_m;
     if (previous[low].z() > h && now[low].z() <= h) {
@@ -58,7 +61,7 @@ VehicleState carrying(const Plant& plant, const PoleState& pole, double yaw_rad)
   const PlantConfig& c = plant.config();
   VehicleState v;
   v.body.attitude = Quat(Eigen::AngleAxisd(yaw_rad, Vec3::UnitZ()));
-  const Vec3 end = pole.end_m(0, c.pole.half_length_m);
+  const Vec3 end = pole_end_m(pole, c.pole, 0);
   v.body.position_m = end - Vec3(0.0, 0.0, c.vehicle.plate_height_m);
   v.body.velocity_mps =
       pole.body.velocity_mps + pole.body.rate_inertial_radps().cross(end - pole.body.position_m);
@@ -74,7 +77,6 @@ bool run(const Scenario& s, ScenarioResult& out, std::string& error) {
   Plant plant(config, s.seed);
   const double dt = 1.0 / config.imu.rate_Hz;
   out.tick_s = dt;
-  const double L = config.pole.half_length_m;
   const bool launching = s.pole_start == PoleStart::launch;
   const PoleState launch = launching ? launch_state(s) : PoleState{};
 
@@ -117,7 +119,8 @@ bool run(const Scenario& s, ScenarioResult& out, std::string& error) {
   } else {
     const pa::VehicleId v = s.balance_vehicle;
     const Vec3 axis(std::sin(s.balance_tilt_rad), 0.0, std::cos(s.balance_tilt_rad));
-    plant.set_pole(Plant::make_pole(plant.plate_centre_m(v) + L * axis, axis, Vec3::Zero(), Vec3::Zero()));
+    plant.set_pole(Plant::make_pole(plant.plate_centre_m(v) - config.pole.end_along_axis_m(0) * axis, axis,
+                                    Vec3::Zero(), Vec3::Zero()));
   }
 
   std::array<VehicleController, 2> controllers{VehicleController(s.plant.vehicle, s.plant.gravity_mps2),
@@ -200,7 +203,7 @@ bool run(const Scenario& s, ScenarioResult& out, std::string& error) {
 }  // namespace
 
 PoleState launch_state(const Scenario& s) {
-  const double L = s.plant.pole.half_length_m;
+  const double lower_end_m = -s.plant.pole.end_along_axis_m(0);  // end 0 to the centre of mass
   const double a = s.pole_tilt_rad;
   const double h = s.pole_tilt_heading_rad;
   const Vec3 heading(std::cos(h), std::sin(h), 0.0);
@@ -210,8 +213,8 @@ PoleState launch_state(const Scenario& s) {
   Vec3 centre = s.pole_position_m;
   Vec3 velocity = s.pole_velocity_mps;
   if (s.launch_reference == LaunchReference::lower_end) {
-    centre += L * axis;
-    velocity += rate.cross(L * axis);
+    centre += lower_end_m * axis;
+    velocity += rate.cross(lower_end_m * axis);
   }
   return Plant::make_pole(centre, axis, velocity, rate);
 }

@@ -50,14 +50,12 @@ struct VehicleState {
 };
 
 // The pole: a rod whose centre of mass is body.position_m and whose axis is the body z-axis.
-// End 0 lies at -L n and end 1 at +L n.
+// A point s along n from the centre of mass lies at p + s n (the ends: PoleConfig).
 struct PoleState {
   RigidBodyState body;
 
   Vec3 axis() const { return body.attitude * Vec3::UnitZ(); }  // n
-  Vec3 end_m(int end, double half_length_m) const {
-    return body.position_m + (end == 0 ? -half_length_m : half_length_m) * axis();
-  }
+  Vec3 point_m(double along_axis_m) const { return body.position_m + along_axis_m * axis(); }
 };
 
 // The three bodies the motion capture sees.

@@ -157,7 +157,6 @@ void SeriesRunner::step() {
 
 TimeSample SeriesRunner::time_sample(double now) const {
   const Plant& p = arena_.plant();
-  const double half_length_m = p.config().pole.half_length_m;
   TimeSample s{now,
                p.vehicle(pa::kVehicle1).body.position_m,
                p.vehicle(pa::kVehicle2).body.position_m,
@@ -174,7 +173,7 @@ TimeSample SeriesRunner::time_sample(double now) const {
     const std::size_t i = pa::act_slot(vehicle);
     s.plate_m[i] = p.plate_centre_m(vehicle);
     s.plate_normal[i] = p.plate_normal(vehicle);
-    s.pole_end_m[i] = p.pole().end_m(static_cast<int>(i), half_length_m);
+    s.pole_end_m[i] = pole_end_m(p.pole(), p.config().pole, static_cast<int>(i));
     const pa::proto::RateThrust& cmd = arena_.vehicle(vehicle).firmware().link().setpoint();
     s.thrust_cmd_mps2[i] = cmd.thrust_mps2;
     s.rate_cmd_radps[i] = Vec3(cmd.rate_radps[0], cmd.rate_radps[1], cmd.rate_radps[2]);
@@ -249,10 +248,8 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
   }
   Plant& plant = arena_.plant();
   const PlantConfig& pc = plant.config();
-  const double L = pc.pole.half_length_m;
   const double m = pc.pole.mass_kg;
   const double theta_pole = plant.pole_transverse_inertia_kgm2();
-  const double e_star = m * pc.gravity_mps2 * L;
   plant.take_contact_events();
 
   const pa::VehicleId thrower = plan.thrower;
@@ -308,7 +305,7 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
         launch_s = e.t_s;
       if (launch_s && !impact_s && e.begins && e.surface == plate_of(catcher)) {
         impact_s = e.t_s;
-        const Vec3 end = plant.pole().end_m(e.end, L);
+        const Vec3 end = pole_end_m(plant.pole(), pc.pole, e.end);
         r.impact = true;
         r.catch_height_m = end.z();
         r.catch_x_m = end.x();
@@ -319,19 +316,22 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
     }
     if (launch_s && !impact_s && !floor_s) {
       const PoleState& pole = plant.pole();
-      const Vec3 a = pole.end_m(0, L), b = pole.end_m(1, L);
+      const Vec3 a = pole_end_m(pole, pc.pole, 0), b = pole_end_m(pole, pc.pole, 1);
       lower_end_m.push_back(a.z() < b.z() ? a : b);
     }
     // The energy right after the impact (30 ms: the plate's shock absorber has taken the blow).
     if (impact_s && r.energy_error_J == 0.0 && t >= *impact_s + 0.03) {
       const PoleState& pole = plant.pole();
       const Vec3 n = pole.axis();
-      const Vec3 end = pole.end_m(0, L).z() < pole.end_m(1, L).z() ? pole.end_m(0, L) : pole.end_m(1, L);
+      const int low = pole_end_m(pole, pc.pole, 0).z() < pole_end_m(pole, pc.pole, 1).z() ? 0 : 1;
+      const Vec3 end = pole_end_m(pole, pc.pole, low);
+      // About the lower end, s from the centre of mass: E* = m g s, the pole at rest upright on it.
+      const double s = std::abs(pc.pole.end_along_axis_m(low));
       const Vec3 w = pole.body.rate_inertial_radps();
       const Vec3 w_perp = w - w.dot(n) * n;
       const double e = m * pc.gravity_mps2 * (pole.body.position_m.z() - end.z()) +
-                       0.5 * (m * L * L + theta_pole) * w_perp.squaredNorm();
-      r.energy_error_J = e - e_star;
+                       0.5 * (m * s * s + theta_pole) * w_perp.squaredNorm();
+      r.energy_error_J = e - m * pc.gravity_mps2 * s;
     }
     // Caught: on the catcher's plate within 5 degrees of upright for 3 s.
     if (impact_s && plant.pole_contact() == contact_of(plate_of(catcher)) &&

@@ -111,8 +111,9 @@ class CatchCheck {
 
   // After each plant step at time t_s: the first downward crossing of the pole's lower end,
   // once the pole has been launched.
-  void watch(const hil::Plant& plant, double t_s, double half_length_m, bool launched) {
-    const hil::Vec3 a = plant.pole().end_m(0, half_length_m), b = plant.pole().end_m(1, half_length_m);
+  void watch(const hil::Plant& plant, double t_s, bool launched) {
+    const hil::PoleConfig& pole = plant.config().pole;
+    const hil::Vec3 a = hil::pole_end_m(plant.pole(), pole, 0), b = hil::pole_end_m(plant.pole(), pole, 1);
     const hil::Vec3 low = a.z() < b.z() ? a : b;
     if (launched && !crossing_t_s_ && previous_low_ && previous_low_->z() > height_m_ &&
         low.z() <= height_m_) {

@@ -309,3 +309,42 @@ TEST_CASE("mode conversions round-trip and the impact seed is the impact map", "
   CHECK(impact.state(3) == Approx(r.on_vehicle.b_dot_mps));
   CHECK(impact.covariance(2, 2) > 0.2 * 0.2);
 }
+
+TEST_CASE("a vehicle with slower motors trusts the poses less, linearly between the lags", "[estimation]") {
+  const gs::estimation::PoleTrustByMotorLag trust;
+  using gs::estimation::pole_measurement_sigma;
+  CHECK(pole_measurement_sigma(0.020, trust) == trust.fast_sigma);
+  CHECK(pole_measurement_sigma(trust.fast_lag_s, trust) == trust.fast_sigma);
+  const double middle_s = 0.5 * (trust.fast_lag_s + trust.slow_lag_s);
+  CHECK(pole_measurement_sigma(middle_s, trust) == Approx(0.5 * (trust.fast_sigma + trust.slow_sigma)));
+  CHECK(pole_measurement_sigma(trust.slow_lag_s, trust) == trust.slow_sigma);
+  CHECK(pole_measurement_sigma(0.080, trust) == trust.slow_sigma);
+  CHECK(pole_measurement_sigma(std::nan(""), trust) == trust.fast_sigma);
+}
+
+TEST_CASE("an on-vehicle EKF that trusts the poses less moves less towards one", "[estimation]") {
+  // Both filters start from the same upright pole; one pose 5 mm aside pulls each.
+  gs::estimation::PlateKinematics plate;
+  plate.p_m = Eigen::Vector3d(0.0, 0.0, 1.0);
+  PoleState s;
+  s.n = Eigen::Vector3d::UnitZ();
+  s.p_m = plate.p_m + PoleParams{}.half_length_m * s.n;
+  const auto seed = gs::estimation::on_vehicle_seed_from_free_flight(
+      s, diagonal_covariance(1e-3, 0.1, 1e-3, 0.1), plate, PoleParams{}, {});
+  REQUIRE(seed);
+  PoleOnVehicleEkf trusting;
+  PoleOnVehicleEkf wary;
+  wary.set_measurement_sigma(3e-3, 3e-3);
+  CHECK(wary.params().mocap_position_sigma_m == 3e-3);
+  CHECK(wary.params().mocap_direction_sigma_rad == 3e-3);
+  trusting.reset(seed->state, seed->covariance, seed->direction_sign);
+  wary.reset(seed->state, seed->covariance, seed->direction_sign);
+  PoleMeasurement m{s.p_m, s.n};
+  m.p_m.x() += 0.005;
+  trusting.update(m, plate);
+  wary.update(m, plate);
+  const double moved_trusting = (trusting.state() - seed->state).norm();
+  const double moved_wary = (wary.state() - seed->state).norm();
+  CHECK(moved_trusting > 0.0);
+  CHECK(moved_wary < 0.5 * moved_trusting);
+}

@@ -114,7 +114,7 @@ Flight fly_throw(const gs::planning::ThrowPlan& plan, double yaw_rad, double cat
           flight.launch_state = planar_state(plant, yaw_rad);
         }
       }
-      catches.watch(plant, plant.t_s(), L, flight.launch_t_s.has_value());
+      catches.watch(plant, plant.t_s(), flight.launch_t_s.has_value());
     }
 
     hil::MocapFrame f;

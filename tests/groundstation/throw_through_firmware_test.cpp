@@ -286,7 +286,7 @@ Flight fly_throw_through_firmware(double catch_height_m) {
           flight.launch_state = planar_state(plant);
         }
       }
-      catches.watch(plant, plan_t, L, flight.launch_t_s.has_value());
+      catches.watch(plant, plan_t, flight.launch_t_s.has_value());
     }
 
     hil::MocapFrame f;

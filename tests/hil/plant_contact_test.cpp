@@ -83,7 +83,7 @@ TEST_CASE("the plate is 0.12 m across: an end just inside its rim lands, one jus
     for (int k = 0; k < 4000; ++k) {
       plant.step(0.001, kOff, plant.hover_commands(pa::kVehicle2));
       touched_plate = touched_plate || plant.pole_end_contact(0) == Contact::vehicle2;
-      lowest_end_z = std::min(lowest_end_z, plant.pole().end_m(0, 0.665).z());
+      lowest_end_z = std::min(lowest_end_z, hil::pole_end_m(plant.pole(), plant.config().pole, 0).z());
     }
     INFO("offset " << offset_m);
     if (offset_m < 0.06) {
@@ -152,7 +152,8 @@ TEST_CASE("in a plate impact under gravity and hover thrust, momentum changes on
   plant.set_pole(pole_above_plate(plant, Vec3::Zero(), 0.3, 0.0));
   const MotorCommands hover = plant.hover_commands(pa::kVehicle2);
   // Until just before the impact: only the pole falls.
-  while (plant.pole().end_m(0, 0.665).z() > plant.plate_centre_m(pa::kVehicle2).z() + 0.005)
+  while (hil::pole_end_m(plant.pole(), plant.config().pole, 0).z() >
+         plant.plate_centre_m(pa::kVehicle2).z() + 0.005)
     plant.step(0.001, kOff, hover);
   const double t0 = plant.t_s();
   const Vec3 p0 = plant.pole_momentum_Ns() + plant.vehicle_momentum_Ns(pa::kVehicle2);
@@ -227,7 +228,8 @@ TEST_CASE("the floor stops a falling pole, which ends up lying on it") {
   double lowest = 10.0;
   for (int k = 0; k < 5000; ++k) {
     plant.step(0.001, kOff, kOff);
-    lowest = std::min({lowest, plant.pole().end_m(0, 0.665).z(), plant.pole().end_m(1, 0.665).z()});
+    lowest = std::min({lowest, hil::pole_end_m(plant.pole(), plant.config().pole, 0).z(),
+                       hil::pole_end_m(plant.pole(), plant.config().pole, 1).z()});
   }
   CHECK(plant.pole_contact() == Contact::floor);
   CHECK(plant.pole_end_contact(0) == Contact::floor);

@@ -300,10 +300,10 @@ TEST_CASE(
   hold(offset, 0.1);
   CHECK(exchange.poles_handed() == 1);
   const hil::Vec3 plate_m = origin + offset;
-  const double half_length_m = exchange.plant().config().pole.half_length_m;
+  const hil::PoleConfig& pole_config = exchange.plant().config().pole;
   const hil::PoleState& pole = exchange.plant().pole();
-  CHECK(std::min((pole.end_m(0, half_length_m) - plate_m).norm(),
-                 (pole.end_m(1, half_length_m) - plate_m).norm()) < 0.01);
+  CHECK(std::min((hil::pole_end_m(pole, pole_config, 0) - plate_m).norm(),
+                 (hil::pole_end_m(pole, pole_config, 1) - plate_m).norm()) < 0.01);
   exchange.step();
   CHECK(exchange.poles_handed() == 1);  // once per request
 }
