@@ -18,11 +18,18 @@ double pole_normal_force_per_mass_mps2(const model::PoleOnVehicleState& pole,
   return (0.25 * specific_force_mps2 + mu * r).dot(plate_normal);
 }
 
-double pole_measurement_sigma(double motor_lag_s, const PoleTrustByMotorLag& trust) {
-  if (!(motor_lag_s > trust.fast_lag_s)) return trust.fast_sigma;  // NaN: the airframe's
-  if (motor_lag_s >= trust.slow_lag_s) return trust.slow_sigma;
-  const double f = (motor_lag_s - trust.fast_lag_s) / (trust.slow_lag_s - trust.fast_lag_s);
-  return trust.fast_sigma + f * (trust.slow_sigma - trust.fast_sigma);
+namespace {
+// 0 up to `low`, 1 from `high`, linear between; 0 for NaN.
+double ramp(double x, double low, double high) {
+  if (!(x > low)) return 0.0;
+  return x >= high ? 1.0 : (x - low) / (high - low);
+}
+}  // namespace
+
+double pole_measurement_sigma(double motor_lag_s, double mocap_noise, const PoleTrust& trust) {
+  const double f = std::max(ramp(motor_lag_s, trust.fast_lag_s, trust.slow_lag_s),
+                            ramp(mocap_noise, trust.quiet_noise, trust.noisy_noise));
+  return trust.trusting_sigma + f * (trust.wary_sigma - trust.trusting_sigma);
 }
 
 PoleOnVehicleEkf::PoleOnVehicleEkf(const PoleOnVehicleEkfParams& params) : params_(params) {}

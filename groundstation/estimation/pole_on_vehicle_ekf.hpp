@@ -39,8 +39,8 @@ struct PoleOnVehicleEkfParams {
   double acceleration_psd = 0.05;  // white noise on a'', b'': pivot acceleration error, drag
   double offset_psd = 1e-4;        // random walk of o, m^2 / s (slip on the plate, ~1 cm/s)
   double max_step_s = 0.005;
-  // An arena's typical 1 mm / 1 mrad; a vehicle with slow motors trusts the poses less
-  // (PoleTrustByMotorLag).
+  // An arena's typical 1 mm / 1 mrad; a vehicle with slow motors or in noisy poses trusts
+  // them less (PoleTrust).
   double mocap_position_sigma_m = 1e-3;
   double mocap_direction_sigma_rad = 1e-3;
   // The filter gives up (valid() false) when the pole tilts this close to the horizontal:
@@ -48,20 +48,28 @@ struct PoleOnVehicleEkfParams {
   double max_tilt_rad = 1.35;
 };
 
-// How much the pole filter of a vehicle trusts the motion capture, by the vehicle's identified
-// motor time constant: fast_sigma up to fast_lag_s, slow_sigma from slow_lag_s, linear between.
-// Measured (`hil campaign --attempts 300 --plant hil/config/envelope.yaml`, the vehicles at
-// 5 mm): a thrower up to 30 ms caught 79 % at 1 mm and 74 % at 3 mm, one at 30-42 ms 72 % and
-// 81 %, one above 42 ms 40 % and 62 %; at 1 mm on the built-in plant 400 of 400, at 3 mm 388.
-// Slow motors follow the balance and the throw's commands late, and a filter that trusts the
-// model more feeds them less of the poses' noise to chase.
-struct PoleTrustByMotorLag {
+// How much a vehicle's pole filter trusts the motion capture: trusting_sigma for a vehicle with
+// motors up to fast_lag_s in an arena whose poses are no noisier than quiet_noise (the larger of
+// metres and radians), wary_sigma from slow_lag_s or noisy_noise, linear between; the larger of
+// the two. Measured (`hil campaign --attempts 300 --plant hil/config/envelope.yaml`, the
+// vehicles at 5 mm), caught at 1 mm and at 3 mm, by the larger noise and the thrower's lag:
+//   noise below 1.5 mm, thrower up to 42 ms: 27 of 29 and 21 of 29
+//   noise below 1.5 mm, thrower above 42 ms: 16 of 27 and 23 of 27
+//   noise above 1.5 mm, thrower up to 42 ms: 101 of 141 and 111 of 141
+//   noise above 1.5 mm, thrower above 42 ms: 36 of 103 and 58 of 103
+// and on the built-in plant 400 of 400 at 1 mm, 388 at 3 mm. Slow motors follow the balance and
+// the throw late, and noisy poses make the controllers chase noise: a filter that trusts the
+// model more gives them less of it.
+struct PoleTrust {
   double fast_lag_s = 0.035;
   double slow_lag_s = 0.045;
-  double fast_sigma = 1e-3;  // m and rad
-  double slow_sigma = 3e-3;
+  double quiet_noise = 1.5e-3;  // above the built-in plant's 0.5-1.5 mm: at 1-1.5 mm it lost 5 of 400
+  double noisy_noise = 2.0e-3;
+  double trusting_sigma = 1e-3;  // m and rad
+  double wary_sigma = 3e-3;
 };
-double pole_measurement_sigma(double motor_lag_s, const PoleTrustByMotorLag& trust);
+// `motor_lag_s` NaN: the airframe's; `mocap_noise` NaN: not yet measured (quiet).
+double pole_measurement_sigma(double motor_lag_s, double mocap_noise, const PoleTrust& trust);
 
 struct NormalForceEstimate {
   double value_mps2 = 0.0;  // F_N / m_p

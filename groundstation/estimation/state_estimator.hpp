@@ -144,7 +144,7 @@ class StateEstimator {
   void set_command(pa::VehicleId vehicle, double t_s, const model::VehicleInput& input);
   // An impact the vehicle's firmware reported, at t_s on the estimator's clock.
   void report_impact(pa::VehicleId vehicle, double t_s);
-  // How far the pole filter on `vehicle` trusts the motion capture (PoleTrustByMotorLag).
+  // How far the pole filter on `vehicle` trusts the motion capture (PoleTrust).
   void set_pole_measurement_sigma(pa::VehicleId vehicle, double position_m, double direction_rad);
   // Processes a frame; frames older than the estimator's time are counted and ignored.
   void update(const MocapFrame& frame);

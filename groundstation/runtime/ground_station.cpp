@@ -286,6 +286,13 @@ void GroundStation::on_mocap(const estimation::MocapFrame& frame, double now_s) 
     const std::optional<estimation::MocapPose>& pose = frame.vehicle[pa::act_slot(v.id)];
     if (!pose) continue;
     v.last_pose_s = now_s;
+    const Task task = v.sequencer.task();
+    v.noise.add(frame.t_s, *pose,
+                task == Task::parked || task == Task::hover || task == Task::balance || task == Task::wait);
+    if (now_s - v.pole_trust_s >= 1.0) {
+      v.pole_trust_s = now_s;
+      judge_pole_trust(v);
+    }
     measure_thrust_gain(v.thrust_gain, v.sequencer.task(), now_s, *pose, config_.thrust_gain_min_height_m,
                         config_.tasks.pole_weight_mps2);
   }
@@ -336,9 +343,17 @@ void GroundStation::identify_motors(Vehicle& v, double now_s) {
     set_motor_lag(v, *lag_s, now_s);
 }
 
-void GroundStation::set_motor_lag(Vehicle& v, double lag_s, double now_s) {
-  const double sigma = estimation::pole_measurement_sigma(lag_s, config_.pole_trust);
+void GroundStation::judge_pole_trust(Vehicle& v) {
+  const std::optional<estimation::MocapNoise> noise = v.noise.noise();
+  const double sigma =
+      estimation::pole_measurement_sigma(v.motors.equalised_s(),
+                                         noise ? std::max(noise->position_sigma_m, noise->attitude_sigma_rad)
+                                               : std::numeric_limits<double>::quiet_NaN(),
+                                         config_.pole_trust);
   estimator_.set_pole_measurement_sigma(v.id, sigma, sigma);
+}
+
+void GroundStation::set_motor_lag(Vehicle& v, double lag_s, double now_s) {
   v.motors.sent(lag_s, link_.send_command(v.id, pa::proto::CommandCode::set_motor_time_constant,
                                           motor_lag_argument_us(lag_s), now_s));
 }

@@ -54,6 +54,7 @@
 #include "groundstation/adaptation/learner.hpp"
 #include "groundstation/control/task_laws.hpp"
 #include "groundstation/control/throw_frame.hpp"
+#include "groundstation/estimation/mocap_noise.hpp"
 #include "groundstation/estimation/rate_response.hpp"
 #include "groundstation/estimation/state_estimator.hpp"
 #include "groundstation/estimation/thrust_gain.hpp"
@@ -148,8 +149,10 @@ struct GroundStationConfig {
   estimation::RateLoopConfig rate_loop;
   estimation::RateResponseSettings rate_response;
   double motor_lag_tolerance_fraction = 0.1;
-  // With its motor lag set on board, the vehicle's pole filter trusts the poses accordingly.
-  estimation::PoleTrustByMotorLag pole_trust;
+  // Each vehicle's pole filter trusts the poses by its motor lag as set on board and by the
+  // noise measured on its own poses while it holds still or hovers (estimation::PoleTrust),
+  // re-judged once a second.
+  estimation::PoleTrust pole_trust;
   // A vehicle flies its part of an attempt only if its thrust at full command, k a_full (V/V_ref)^2
   // (below), is at least this fraction of what the part needs at its peak: the throw's planned peak thrust
   // (17.1 m/s^2) for the thrower, g plus the catch's a_max for the catcher; the throw saturates
@@ -316,6 +319,8 @@ class GroundStation {
     double last_pose_s = -1e9;
     estimation::ThrustGainEstimator thrust_gain;
     MotorEqualiser motors;  // each take-off's identification, the lag set on board
+    estimation::MocapNoiseMeter noise;
+    double pole_trust_s = -1e9;  // when its pole filter's trust was last judged
   };
 
   // std::out_of_range for a vehicle not of the act.
@@ -328,6 +333,7 @@ class GroundStation {
   mission::ConditionFacts facts(const Vehicle& v, double now_s) const;
   void identify_motors(Vehicle& v, double now_s);
   void set_motor_lag(Vehicle& v, double lag_s, double now_s);  // COMMAND set_motor_time_constant
+  void judge_pole_trust(Vehicle& v);
   void measure_impact_energy(const Vehicle& catcher);
   void send(Vehicle& v, model::VehicleInput u, double now_s);
   // Its motors as the attempt's admission checks them.

@@ -310,16 +310,26 @@ TEST_CASE("mode conversions round-trip and the impact seed is the impact map", "
   CHECK(impact.covariance(2, 2) > 0.2 * 0.2);
 }
 
-TEST_CASE("a vehicle with slower motors trusts the poses less, linearly between the lags", "[estimation]") {
-  const gs::estimation::PoleTrustByMotorLag trust;
+TEST_CASE("a vehicle with slower motors or in noisier poses trusts them less", "[estimation]") {
+  const gs::estimation::PoleTrust trust;
   using gs::estimation::pole_measurement_sigma;
-  CHECK(pole_measurement_sigma(0.020, trust) == trust.fast_sigma);
-  CHECK(pole_measurement_sigma(trust.fast_lag_s, trust) == trust.fast_sigma);
+  const double nan = std::nan("");
+  const double quiet = 0.5e-3;
+  // By the lag, in quiet poses.
+  CHECK(pole_measurement_sigma(0.020, quiet, trust) == trust.trusting_sigma);
+  CHECK(pole_measurement_sigma(trust.fast_lag_s, quiet, trust) == trust.trusting_sigma);
   const double middle_s = 0.5 * (trust.fast_lag_s + trust.slow_lag_s);
-  CHECK(pole_measurement_sigma(middle_s, trust) == Approx(0.5 * (trust.fast_sigma + trust.slow_sigma)));
-  CHECK(pole_measurement_sigma(trust.slow_lag_s, trust) == trust.slow_sigma);
-  CHECK(pole_measurement_sigma(0.080, trust) == trust.slow_sigma);
-  CHECK(pole_measurement_sigma(std::nan(""), trust) == trust.fast_sigma);
+  const double halfway = 0.5 * (trust.trusting_sigma + trust.wary_sigma);
+  CHECK(pole_measurement_sigma(middle_s, quiet, trust) == Approx(halfway));
+  CHECK(pole_measurement_sigma(trust.slow_lag_s, quiet, trust) == trust.wary_sigma);
+  CHECK(pole_measurement_sigma(0.080, quiet, trust) == trust.wary_sigma);
+  // By the noise, with fast motors; the larger of the two wins.
+  CHECK(pole_measurement_sigma(0.030, 0.5 * (trust.quiet_noise + trust.noisy_noise), trust) ==
+        Approx(halfway));
+  CHECK(pole_measurement_sigma(0.030, trust.noisy_noise, trust) == trust.wary_sigma);
+  CHECK(pole_measurement_sigma(middle_s, trust.noisy_noise, trust) == trust.wary_sigma);
+  // Unknown lag or noise: trusted.
+  CHECK(pole_measurement_sigma(nan, nan, trust) == trust.trusting_sigma);
 }
 
 TEST_CASE("an on-vehicle EKF that trusts the poses less moves less towards one", "[estimation]") {
