@@ -17,10 +17,11 @@ Eigen::VectorXd lateral_balancing_state(const Eigen::VectorXd& balancing_state) 
 
 model::VehicleInput throw_command(const ThrowTracker& tracker, const control::LqrGain& balancing, double t_s,
                                   const model::PlanarState<double>& planar_state,
-                                  const Eigen::VectorXd& balancing_state,
-                                  const model::VehicleLimits& limits) {
+                                  const Eigen::VectorXd& balancing_state, const model::VehicleLimits& limits,
+                                  double feedforward_lead_s) {
   namespace bal = control::balancing;
-  const model::PlanarInput<double> planar = saturate(tracker.command(t_s, planar_state), limits);
+  const model::PlanarInput<double> planar =
+      saturate(tracker.command(t_s, planar_state, feedforward_lead_s), limits);
   const Eigen::VectorXd lateral = -balancing.K * lateral_balancing_state(balancing_state);
   const double omega_max = limits.omega_max_radps;
   model::VehicleInput u;
@@ -35,7 +36,8 @@ ThrowStep throw_step(const ThrowTracker& tracker, const control::LqrGain& balanc
                      const control::ThrowFrame& frame, const control::Pivot& plate,
                      const Eigen::Vector3d& resting_offset_m, const model::VehicleState& vehicle,
                      const model::PoleState& pole, double half_length_m,
-                     const model::PlanarState<double>& reference_shift, const model::VehicleLimits& limits) {
+                     const model::PlanarState<double>& reference_shift, const model::VehicleLimits& limits,
+                     double feedforward_lead_s) {
   const control::Pivot pivot = frame.to_frame(plate);
   const model::VehicleState vehicle_in_frame = frame.to_frame(vehicle);
   const model::PoleState pole_in_frame = frame.to_frame(pole);
@@ -44,7 +46,8 @@ ThrowStep throw_step(const ThrowTracker& tracker, const control::LqrGain& balanc
   const control::Pivot resting{plate.p_m + resting_offset_m, plate.v_mps};
   const Eigen::VectorXd b = control::balancing_state(frame.to_frame(resting), vehicle_in_frame, pole_in_frame,
                                                      half_length_m, Eigen::Vector3d::Zero());
-  step.input = throw_command(tracker, balancing, t_s, step.state - reference_shift, b, limits);
+  step.input =
+      throw_command(tracker, balancing, t_s, step.state - reference_shift, b, limits, feedforward_lead_s);
   step.input.omega_radps = frame.body_rates_to_vehicle(step.input.omega_radps);
   return step;
 }

@@ -28,7 +28,8 @@ namespace gs::planning {
 // box of eq. (1), (2). Precondition: tracker.valid(), balancing.K is 4 x 13.
 model::VehicleInput throw_command(const ThrowTracker& tracker, const control::LqrGain& balancing, double t_s,
                                   const model::PlanarState<double>& planar_state,
-                                  const Eigen::VectorXd& balancing_state, const model::VehicleLimits& limits);
+                                  const Eigen::VectorXd& balancing_state, const model::VehicleLimits& limits,
+                                  double feedforward_lead_s = 0.0);
 
 // s_qp with the throw plane's components (x, z, vx, vz, pitch, a, a') set to zero: what the
 // lateral balancing sees.
@@ -40,6 +41,17 @@ Eigen::VectorXd lateral_balancing_state(const Eigen::VectorXd& balancing_state);
 // the pole balanced across the plane about its resting end `resting_offset_m` from the plate's
 // centre (arena frame: about the centre, a pole resting 1-2 cm off it reads as a tilt, which the
 // lateral LQR flies as a sideways push), and the body rates turned back to the vehicle's.
+//
+// `feedforward_lead_s`: how much longer than the design's the vehicle's motors lag (identified).
+// The firmware's equaliser makes a slow motor respond as the design's with a lead-lag
+// (fw/motor_lag_equaliser.hpp), except where the lead saturates: at the throw's end the plan cuts
+// the thrust from ~23 m/s^2 to its minimum within 50 ms, the lead asks for less than nothing, and
+// the thrust falls at the motor's own pace, pushing the pole on for the lag's difference. The pole
+// left faster and turning more, its (42) up to 1.5 m above the learnt catch (envelope attempts with
+// a 50-60 ms thrower: 56 % and 32 % caught against 85 % below 35 ms, `hil campaign --attempts 1000
+// --plant hil/config/envelope.yaml`). Read that much ahead, the plan's feed-forward cuts the thrust
+// that much earlier; elsewhere the plan's inputs change slowly (~13 m/s^3 of thrust while it
+// climbs: 0.35 m/s^2 over 27 ms), which the feedback absorbs.
 struct ThrowStep {
   model::VehicleInput input;         // clamped as throw_command()'s
   model::PlanarState<double> state;  // the throw's planar state, unshifted
@@ -48,6 +60,7 @@ ThrowStep throw_step(const ThrowTracker& tracker, const control::LqrGain& balanc
                      const control::ThrowFrame& frame, const control::Pivot& plate,
                      const Eigen::Vector3d& resting_offset_m, const model::VehicleState& vehicle,
                      const model::PoleState& pole, double half_length_m,
-                     const model::PlanarState<double>& reference_shift, const model::VehicleLimits& limits);
+                     const model::PlanarState<double>& reference_shift, const model::VehicleLimits& limits,
+                     double feedforward_lead_s = 0.0);
 
 }  // namespace gs::planning

@@ -36,8 +36,10 @@ Eigen::Matrix<double, 2, 7> ThrowTracker::gain(double t_s) const {
   return gains_.gain(t_s);
 }
 
-model::PlanarInput<double> ThrowTracker::command(double t_s, const model::PlanarState<double>& s) const {
-  return reference_.input_at(t_s) - gain(t_s) * (s - reference_.state_at(t_s));
+model::PlanarInput<double> ThrowTracker::command(double t_s, const model::PlanarState<double>& s,
+                                                 double feedforward_lead_s) const {
+  const double ahead_s = std::min(t_s + std::max(feedforward_lead_s, 0.0), reference_.duration_s());
+  return reference_.input_at(ahead_s) - gain(t_s) * (s - reference_.state_at(t_s));
 }
 
 model::PlanarInput<double> saturate(const model::PlanarInput<double>& u, const model::VehicleLimits& limits) {

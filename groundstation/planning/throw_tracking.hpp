@@ -44,8 +44,10 @@ class ThrowTracker {
   const control::TvLqrGains& gains() const { return gains_; }
   // K(t), 2 x 7: rows (a_q, Omega_y), columns the state order of planar_pole_vehicle.hpp.
   Eigen::Matrix<double, 2, 7> gain(double t_s) const;
-  // u_ref(t) - K(t) (s - s_ref(t)), not saturated.
-  model::PlanarInput<double> command(double t_s, const model::PlanarState<double>& s) const;
+  // u_ref(t + lead) - K(t) (s - s_ref(t)), not saturated; the feed-forward is read
+  // `feedforward_lead_s` ahead (held at T), see ThrowFeedforwardLead.
+  model::PlanarInput<double> command(double t_s, const model::PlanarState<double>& s,
+                                     double feedforward_lead_s = 0.0) const;
 
  private:
   ThrowTrajectory reference_;

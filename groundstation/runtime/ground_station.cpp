@@ -264,6 +264,7 @@ void GroundStation::fly(Vehicle& v, double now_s, double dt_s) {
   f.plate = ahead_->plate(v.id);
   f.half_length_m = ahead_->pole_model().half_length_m;
   if (task == Task::wait) f.waiting_target_m = waiting_target();
+  f.motor_lead_s = std::max(0.0, v.motors.equalised_s() - config_.rate_loop.design_time_constant_s);
   FlownThrow flown{&flown_throw(),
                    &flown_tracker(),
                    frame_,

@@ -84,6 +84,9 @@ struct TaskFrame {
   estimation::PlateKinematics plate;
   double half_length_m = 0.0;
   Eigen::Vector3d waiting_target_m = Eigen::Vector3d::Zero();  // the wait task's target
+  // How much longer than the design's its motors lag, as identified (0 for faster ones): the
+  // throw's feed-forward leads by it (planning::throw_step).
+  double motor_lead_s = 0.0;
 };
 
 // The attempt's throw as the throwing and release tasks fly it, and its catch.

@@ -15,6 +15,7 @@ const Schema<AttemptResult>& attempt_schema() {
       field("energy_error_J", &R::energy_error_J, "%.5f"),
       field("abort_reason", &R::abort_reason),
       field("planned_height_m", &R::planned_height_m, "%.4f"),
+      field("optimal_height_m", &R::optimal_height_m, "%.4f"),
       field("impact", &R::impact),
       field("vehicle_crashed", &R::vehicle_crashed),
       field("predicted_target_miss_m", &R::predicted_target_miss_m, "%.4f"),
@@ -26,7 +27,7 @@ const Schema<AttemptResult>& attempt_schema() {
 Schema<AttemptResult> fly_throws_columns() {
   return columns(attempt_schema(),
                  {"throw", "outcome", "flight_s", "catch_height_m", "catch_x_m", "catch_y_m", "travel_m",
-                  "energy_error_J", "abort_reason", "planned_height_m"});
+                  "energy_error_J", "abort_reason", "planned_height_m", "optimal_height_m"});
 }
 
 std::string encode_result(const AttemptResult& r) { return encode(attempt_schema(), r); }

@@ -23,7 +23,10 @@ struct AttemptResult {
   bool impact = false;
   std::string abort_reason;        // the ground station's, for an aborted catch
   double planned_height_m = -1.0;  // the ground station's catching height for the throw (-1: none)
-  bool vehicle_crashed = false;    // a vehicle touched the floor at speed or was killed
+  // This throw's optimal catching height (42) as the ground station predicted it in flight, which
+  // the planned height follows within CatchSettings' bounds (-1: none).
+  double optimal_height_m = -1.0;
+  bool vehicle_crashed = false;  // a vehicle touched the floor at speed or was killed
   // A throw to a target: how far from it (horizontally) the ground station's converged
   // catch-point prediction and the true impact were (-1: none).
   double predicted_target_miss_m = -1.0;

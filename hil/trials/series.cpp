@@ -403,6 +403,7 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
   }
   if (!r.impact) r.energy_error_J = 0.0;
   if (report) r.planned_height_m = report->catch_height_m;
+  if (report && report->predicted_optimal) r.optimal_height_m = report->predicted_optimal->height_m;
   if (report)
     r.travel_m =
         required_travel(report->waiting_xy_m, lower_end_m, report->catch_height_m, plan.catch_offset_m, r);

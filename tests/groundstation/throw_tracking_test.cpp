@@ -95,6 +95,28 @@ TEST_CASE("on the nominal start the tracker reproduces the planned inputs", "[th
   }
 }
 
+TEST_CASE("a feed-forward lead reads the planned inputs ahead, held at the throw's end", "[throw_tracking]") {
+  REQUIRE(paper_plan().success);
+  const gs::planning::ThrowTracker tracker(paper_plan().trajectory);
+  REQUIRE(tracker.valid());
+  const auto& ref = tracker.reference();
+  const double T = ref.duration_s();
+  const double lead = 0.03;
+  // On the reference the feedback is zero: the command is the plan's input `lead` later.
+  for (double t : {0.0, 0.7, 1.3, 2.2}) {
+    CHECK((tracker.command(t, ref.state_at(t), lead) - ref.input_at(t + lead)).norm() < 1e-12);
+  }
+  // Within `lead` of T it is the plan's last input: the thrust cut comes `lead` earlier.
+  CHECK((tracker.command(T - 0.01, ref.state_at(T - 0.01), lead) - ref.input_at(T)).norm() < 1e-12);
+  CHECK(ref.input_at(T)(planar::kThrust) < ref.input_at(T - 0.1)(planar::kThrust) - 5.0);
+  // The feedback is the same with and without it; a negative lead counts as none.
+  PlanarState<double> off = ref.state_at(1.3);
+  off(0) += 0.05;
+  const PlanarInput<double> feedback = tracker.command(1.3, off) - ref.input_at(1.3);
+  CHECK((tracker.command(1.3, off, lead) - ref.input_at(1.3 + lead) - feedback).norm() < 1e-12);
+  CHECK(tracker.command(1.3, off, -lead) == tracker.command(1.3, off));
+}
+
 TEST_CASE("the TV-LQR brings a perturbed throw to the launch state", "[throw_tracking]") {
   const ThrowProblem problem;
   REQUIRE(paper_plan().success);

@@ -30,6 +30,7 @@ AttemptResult distinct_result() {
   r.impact = true;
   r.abort_reason = "out_of_reach";
   r.planned_height_m = 1.9876543210987654;
+  r.optimal_height_m = 2.1234567890123456;
   r.vehicle_crashed = true;
   r.predicted_target_miss_m = 0.0123;
   r.target_miss_m = 0.0456;
@@ -48,6 +49,7 @@ void check_same(const AttemptResult& a, const AttemptResult& b) {
   CHECK(a.impact == b.impact);
   CHECK(a.abort_reason == b.abort_reason);
   CHECK(a.planned_height_m == b.planned_height_m);
+  CHECK(a.optimal_height_m == b.optimal_height_m);
   CHECK(a.vehicle_crashed == b.vehicle_crashed);
   CHECK(a.predicted_target_miss_m == b.predicted_target_miss_m);
   CHECK(a.target_miss_m == b.target_miss_m);
@@ -128,7 +130,7 @@ TEST_CASE("a worker's report carries every field of an attempt's result exactly"
   const std::vector<std::string> mine = hil::trials::split(hil::trials::encode_result(r), '\t');
   REQUIRE(defaults.size() == schema.size());
   REQUIRE(mine.size() == schema.size());
-  CHECK(schema.size() == 14);  // a field added to AttemptResult belongs in its schema
+  CHECK(schema.size() == 15);  // a field added to AttemptResult belongs in its schema
   for (std::size_t i = 0; i < schema.size(); ++i) {
     INFO(schema[i].name);
     CHECK(mine[i] != defaults[i]);
@@ -177,8 +179,8 @@ TEST_CASE("the CSV files keep their columns and formats", "[hil][trials]") {
                          std::vector<AttemptResult>{distinct_result()});
   CHECK(fly.str() ==
         "throw,outcome,flight_s,catch_height_m,catch_x_m,catch_y_m,travel_m,energy_error_J,abort_reason,"
-        "planned_height_m\n"
-        "7,aborted_out_of_reach,1.0123,2.0123,3.6000,-0.0100,0.0700,-0.00312,out_of_reach,1.9877\n");
+        "planned_height_m,optimal_height_m\n"
+        "7,aborted_out_of_reach,1.0123,2.0123,3.6000,-0.0100,0.0700,-0.00312,out_of_reach,1.9877,2.1235\n");
 
   hil::trials::CampaignAttempt a;
   a.result = distinct_result();
@@ -186,12 +188,14 @@ TEST_CASE("the CSV files keep their columns and formats", "[hil][trials]") {
   const auto columns = hil::trials::campaign_throws_columns(a.plant);
   const std::string header = hil::trials::csv_header(columns);
   CHECK(header.rfind("throw,outcome,flight_s,catch_height_m,catch_x_m,catch_y_m,travel_m,energy_error_J,"
-                     "abort_reason,vehicle_crashed,seed,",
+                     "abort_reason,vehicle_crashed,planned_height_m,optimal_height_m,seed,",
                      0) == 0);
-  CHECK(hil::trials::csv_row(columns, a)
-            .rfind(
-                "7,aborted_out_of_reach,1.0123,2.0123,3.6000,-0.0100,0.0700,-0.00312,out_of_reach,1,1000004,",
-                0) == 0);
+  CHECK(
+      hil::trials::csv_row(columns, a)
+          .rfind(
+              "7,aborted_out_of_reach,1.0123,2.0123,3.6000,-0.0100,0.0700,-0.00312,out_of_reach,1,1.9877,2.1235,"
+              "1000004,",
+              0) == 0);
 
   const hil::trials::CutResult cut = distinct_cut();
   const auto cut_columns = hil::trials::cuts_csv_columns();
