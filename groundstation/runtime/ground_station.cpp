@@ -273,6 +273,7 @@ void GroundStation::fly(Vehicle& v, double now_s, double dt_s) {
                    nullptr,
                    catch_.start_s()};
   if (catch_.trajectory()) flown.catch_trajectory = &*catch_.trajectory();
+  flown.catch_height_shift = &catch_.height_shift();
   const TaskCommand command = tasks_.command(v.laws, f, flown);
   if (command.pole_settled) hold_since(balanced_since_s_, *command.pole_settled, now_s);
   if (command.throw_end) throw_end_ = command.throw_end;

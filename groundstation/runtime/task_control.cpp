@@ -143,7 +143,8 @@ TaskCommand TaskController::command(TaskState& s, const TaskFrame& f, const Flow
         out.input = clamped(hover(s, f, false));
         break;
       }
-      const planning::CatchReference ref = flown.catch_trajectory->reference(f.t_act_s - flown.catch_start_s);
+      planning::CatchReference ref = flown.catch_trajectory->reference(f.t_act_s - flown.catch_start_s);
+      if (flown.catch_height_shift) ref = planning::shifted(ref, flown.catch_height_shift->at(f.t_act_s));
       // The hover LQR about the reference's state with its nominal inputs (46), (47) as feed
       // forward: a time-varying reference tracked with the hover gains, which hold across the
       // manoeuvre's tilts (at most atan(a_max / g) ~ 23 degrees plus the xy correction's). The

@@ -20,6 +20,7 @@
 #include "groundstation/mission/vehicle_sequencer.hpp"
 #include "groundstation/model/vehicle_limits.hpp"
 #include "groundstation/planning/catch_trajectory.hpp"
+#include "groundstation/planning/height_shift.hpp"
 #include "groundstation/planning/throw_tracking.hpp"
 #include "groundstation/planning/throw_trajectory.hpp"
 
@@ -101,6 +102,7 @@ struct FlownThrow {
   const adaptation::ThrowCorrection* correction = nullptr;
   const planning::CatchTrajectory* catch_trajectory = nullptr;  // none yet: hover where it is
   double catch_start_s = 0.0;
+  const planning::HeightShift* catch_height_shift = nullptr;  // added to its z (none: 0)
 };
 
 // The throw's tracked state near its end (tau within launch_state_window_s of T).

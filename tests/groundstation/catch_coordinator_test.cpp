@@ -5,6 +5,7 @@
 
 #include "groundstation/planning/catching_instant.hpp"
 #include "groundstation/runtime/catch_coordinator.hpp"
+#include "pa/constants.hpp"
 
 namespace {
 
@@ -132,7 +133,7 @@ TEST_CASE("Nothing is judged for a catcher that is neither waiting nor catching"
   CHECK_FALSE(c.unreachable());
 }
 
-TEST_CASE("The retiming moves the catch's end to this flight's (42), within its bounds") {
+TEST_CASE("The retiming moves the catch's end height to this flight's (42), within its bounds") {
   const Throw t;
   CatchSettings s;
   s.retime_max_m = 0.1;
@@ -140,17 +141,34 @@ TEST_CASE("The retiming moves the catch's end to this flight's (42), within its 
   CatchCoordinator c(s, {});
   AttemptReport r = waiting(t, 0.0);
   r.catch_height_m += 0.3;  // the adapted height 0.3 m above this flight's
+  const double adapted = r.catch_height_m;
   c.plan(r, t.launch_s, t.optimal.t_s);
   r.launch_s = t.launch_s;
   const double planned = c.start_s();
-  c.retime(t.launch_s + 0.1, view(t, Task::wait, 0.0), r);
+  const double end_s = planned + c.z_manoeuvre(adapted).duration_s();
+  // Until the prediction has settled the (42) is noted, the height not yet moved.
+  c.retime(t.launch_s + 0.5 * s.verdict_delay_s, view(t, Task::catching, 0.0), r);
   REQUIRE(r.predicted_optimal);
   CHECK(r.predicted_optimal->height_m == Approx(t.optimal.catch_height_m).margin(0.01));
-  CHECK(r.catch_height_m == Approx(t.optimal.catch_height_m + 0.3 - s.retime_max_m));
-  CHECK(std::abs(c.start_s() - planned) <= s.retime_max_s + 1e-12);
+  CHECK(r.catch_height_m == adapted);
+  CHECK(c.height_shift().target_m() == 0.0);
+  const double now = t.launch_s + s.verdict_delay_s + 0.01;
+  c.retime(now, view(t, Task::catching, 0.0), r);
+  CHECK(r.catch_height_m == Approx(adapted - s.retime_max_m));
+  CHECK(c.height_shift().target_m() == Approx(-s.retime_max_m));
+  // The end keeps its time; the shift starts from rest where it was and ends at rest at the end.
+  CHECK(c.start_s() == planned);
+  CHECK(c.height_shift().at(now).z_m == Approx(0.0).margin(1e-12));
+  CHECK(c.height_shift().at(now).dz_mps == Approx(0.0).margin(1e-12));
+  CHECK(c.height_shift().at(end_s).z_m == Approx(-s.retime_max_m));
+  CHECK(c.height_shift().at(end_s - 1e-6).dz_mps == Approx(0.0).margin(1e-4));
+  // The trajectory flown is the adapted one: the shift carries the difference.
+  c.update(now, view(t, Task::catching, 0.0), r);
+  REQUIRE(c.trajectory());
+  CHECK(c.trajectory()->params().catch_height_m == Approx(adapted - pa::kPlateHeightAboveCg_m));
   // After retime_s it holds.
   const double height = r.catch_height_m;
-  c.retime(t.launch_s + s.retime_s + 0.01, view(t, Task::wait, 0.0), r);
+  c.retime(t.launch_s + s.retime_s + 0.01, view(t, Task::catching, 0.0), r);
   CHECK(r.catch_height_m == height);
 }
 
@@ -165,6 +183,6 @@ TEST_CASE("No catch is planned below the floor, however low this flight's (42) l
   r.catch_height_m = s.min_height_m + 0.1;
   c.plan(r, t.launch_s, t.optimal.t_s);
   r.launch_s = t.launch_s;
-  c.retime(t.launch_s + 0.1, view(t, Task::wait, 0.0), r);
-  CHECK(r.catch_height_m == s.min_height_m);  // down to (42) by the bound, held at the floor
+  c.retime(t.launch_s + 0.2, view(t, Task::catching, 0.0), r);
+  CHECK(r.catch_height_m == Approx(s.min_height_m));  // down to (42) by the bound, held at the floor
 }
