@@ -45,7 +45,7 @@ class ThrowTracker {
   // K(t), 2 x 7: rows (a_q, Omega_y), columns the state order of planar_pole_vehicle.hpp.
   Eigen::Matrix<double, 2, 7> gain(double t_s) const;
   // u_ref(t + lead) - K(t) (s - s_ref(t)), not saturated; the feed-forward is read
-  // `feedforward_lead_s` ahead (held at T), see ThrowFeedforwardLead.
+  // `feedforward_lead_s` ahead (held at T; planning::throw_step in throw_command.hpp says why).
   model::PlanarInput<double> command(double t_s, const model::PlanarState<double>& s,
                                      double feedforward_lead_s = 0.0) const;
 
