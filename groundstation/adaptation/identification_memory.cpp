@@ -1,5 +1,6 @@
 #include "groundstation/adaptation/identification_memory.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -35,6 +36,15 @@ std::optional<double> IdentificationMemory::lag_at_arming(pa::VehicleId vehicle)
   const std::optional<estimation::MotorIdentification>& k = kept(vehicle);
   if (!k || !differs(k->time_constant_s, settings_.design_time_constant_s)) return std::nullopt;
   return k->time_constant_s;
+}
+
+std::optional<double> IdentificationMemory::inertia_scale_to_set(pa::VehicleId vehicle,
+                                                                 double on_board) const {
+  const std::optional<estimation::MotorIdentification>& k = kept(vehicle);
+  if (!k || !(k->inertia_gain > 0.0)) return std::nullopt;
+  const double scale = std::min(1.0 / k->inertia_gain, settings_.max_inertia_scale);
+  if (!differs(scale, on_board)) return std::nullopt;
+  return scale;
 }
 
 std::optional<double> IdentificationMemory::finished(pa::VehicleId vehicle,

@@ -21,7 +21,7 @@ struct Replay {
 };
 Replay replay(const RateLoopConfig& loop, const std::vector<RateCommandSample>& commands,
               const std::vector<RateTelemetrySample>& telemetry, double equalised_time_constant_s,
-              double time_constant_s, double inertia_gain, double round_trip_s) {
+              double time_constant_s, double inertia_gain, double round_trip_s, double inertia_scale) {
   Replay out;
   if (commands.empty() || telemetry.empty()) return out;
   const double ratio = equalised_time_constant_s / loop.design_time_constant_s;
@@ -49,7 +49,8 @@ Replay replay(const RateLoopConfig& loop, const std::vector<RateCommandSample>& 
       integral = (integral + ki * e * kStep_s).cwiseMax(-limit).cwiseMin(limit);
       // The firmware's command from this sample drives the motors from the next (its tick).
       delivered += motor * (motor_command - delivered);
-      rate += inertia_gain * delivered * kStep_s;
+      // The loop's torque is J_file s (kp e + I), the vehicle's J_true turns it: g s (kp e + I).
+      rate += inertia_gain * inertia_scale * delivered * kStep_s;
       const Eigen::Array2d request = kp * e + integral;
       equaliser += lowpass * (request - equaliser);
       motor_command = ratio * request + (1.0 - ratio) * equaliser;
@@ -100,16 +101,18 @@ Eigen::Vector2d RateResponseIdentifier::excitation(double elapsed_s) const {
 double RateResponseIdentifier::squared_error(const std::vector<RateCommandSample>& commands,
                                              const std::vector<RateTelemetrySample>& telemetry,
                                              double equalised_time_constant_s, double time_constant_s,
-                                             double inertia_gain, double round_trip_s) const {
+                                             double inertia_gain, double round_trip_s,
+                                             double inertia_scale) const {
   return replay(loop_, commands, telemetry, equalised_time_constant_s, time_constant_s, inertia_gain,
-                round_trip_s)
+                round_trip_s, inertia_scale)
       .squared_error;
 }
 
 IdentificationResult RateResponseIdentifier::fit(const std::vector<RateCommandSample>& commands,
                                                  const std::vector<RateTelemetrySample>& telemetry,
-                                                 double equalised_time_constant_s) const {
-  RateResponseFit fit(*this, commands, telemetry, equalised_time_constant_s);
+                                                 double equalised_time_constant_s,
+                                                 double inertia_scale) const {
+  RateResponseFit fit(*this, commands, telemetry, equalised_time_constant_s, inertia_scale);
   while (!fit.advance(std::numeric_limits<int>::max())) {
   }
   return *fit.result();
@@ -117,11 +120,13 @@ IdentificationResult RateResponseIdentifier::fit(const std::vector<RateCommandSa
 
 RateResponseFit::RateResponseFit(const RateResponseIdentifier& identifier,
                                  std::vector<RateCommandSample> commands,
-                                 std::vector<RateTelemetrySample> telemetry, double equalised_time_constant_s)
+                                 std::vector<RateTelemetrySample> telemetry, double equalised_time_constant_s,
+                                 double inertia_scale)
     : identifier_(identifier),
       commands_(std::move(commands)),
       telemetry_(std::move(telemetry)),
-      equalised_s_(equalised_time_constant_s) {
+      equalised_s_(equalised_time_constant_s),
+      inertia_scale_(inertia_scale) {
   const RateResponseSettings& settings = identifier_.settings();
   const double expected = identifier_.excitation_duration_s() * kTelemetryRate_Hz;
   IdentificationResult refused;
@@ -181,7 +186,8 @@ bool RateResponseFit::advance(int replays) {
     if (next_ < queue_.size()) {
       if (replays-- <= 0) return false;
       const Eigen::Vector3d& c = queue_[next_++];
-      const double e = identifier_.squared_error(commands_, telemetry_, equalised_s_, c[0], c[1], c[2]);
+      const double e =
+          identifier_.squared_error(commands_, telemetry_, equalised_s_, c[0], c[1], c[2], inertia_scale_);
       if (stage_ < kProfileStage) {
         if (e < best_error_) best_ = c, best_error_ = e;
       } else {
@@ -219,9 +225,9 @@ void RateResponseFit::finish() {
       (profile_low_ + profile_high_ - 2.0 * best_error_) / (2.0 * kProfileStep_s * kProfileStep_s);
   // Var(tau) = sigma^2 / curvature for white residuals, times (1 + rho) / (1 - rho) for residuals
   // correlated from sample to sample with rho (what the model misses is slow, not white).
-  const double lag_product =
-      replay(identifier_.loop(), commands_, telemetry_, equalised_s_, best_[0], best_[1], best_[2])
-          .lag_product;
+  const double lag_product = replay(identifier_.loop(), commands_, telemetry_, equalised_s_, best_[0],
+                                    best_[1], best_[2], inertia_scale_)
+                                 .lag_product;
   const double rho = std::clamp(lag_product / best_error_, 0.0, 0.95);
   const double variance = best_error_ / std::max(1, n - 3) * (1.0 + rho) / (1.0 - rho);
   const double half_width =

@@ -11,7 +11,7 @@
 // integrated, in its noise. The collective's lag shows in z only as a delay, inseparable from
 // the radio's and the motion capture's. The firmware's loop is the arena's own configuration
 // (its gains), so the response is modelled exactly, with three unknowns: the lag tau, the
-// inertia's error g = J_configured / J_true (the airframe file's inertia is off by up to 20 %),
+// inertia's error g = J_file / J_true (the airframe file's inertia is off by up to 20 %),
 // and the round trip D (the command's way up plus the telemetry's way down, which the radio's
 // jitter blurs).
 //
@@ -70,7 +70,8 @@ struct MotorIdentification {
   double time_constant_s = 0.0;
   double time_constant_low_s = 0.0;  // the 95 % interval
   double time_constant_high_s = 0.0;
-  double inertia_gain = 1.0;  // J_configured / J_true
+  double inertia_gain =
+      1.0;  // J_file / J_true: the airframe file's roll and pitch inertia over the vehicle's
   double round_trip_s = 0.0;
   double rms_radps = 0.0;  // the fit's residual
   int samples = 0;         // telemetry samples fitted
@@ -115,11 +116,12 @@ class RateResponseIdentifier {
   double excitation_duration_s() const;
 
   // Fits the samples recorded from the excitation's start (commands sent and telemetry received
-  // from then on, in time order) with the equaliser set to `equalised_time_constant_s`, at once
-  // (RateResponseFit in one slice).
+  // from then on, in time order) with the equaliser set to `equalised_time_constant_s` and the
+  // rate loop's inertia to `inertia_scale` of the airframe file's, at once (RateResponseFit in one
+  // slice). The fit is of the vehicle, whatever is set on board: its inertia gain is J_file / J_true.
   IdentificationResult fit(const std::vector<RateCommandSample>& commands,
                            const std::vector<RateTelemetrySample>& telemetry,
-                           double equalised_time_constant_s) const;
+                           double equalised_time_constant_s, double inertia_scale = 1.0) const;
 
   const RateLoopConfig& loop() const { return loop_; }
   const RateResponseSettings& settings() const { return settings_; }
@@ -127,7 +129,8 @@ class RateResponseIdentifier {
   // The squared error of one candidate (for tests and the fit's refinement).
   double squared_error(const std::vector<RateCommandSample>& commands,
                        const std::vector<RateTelemetrySample>& telemetry, double equalised_time_constant_s,
-                       double time_constant_s, double inertia_gain, double round_trip_s) const;
+                       double time_constant_s, double inertia_gain, double round_trip_s,
+                       double inertia_scale = 1.0) const;
 
  private:
   RateLoopConfig loop_;
@@ -140,7 +143,8 @@ class RateResponseIdentifier {
 class RateResponseFit {
  public:
   RateResponseFit(const RateResponseIdentifier& identifier, std::vector<RateCommandSample> commands,
-                  std::vector<RateTelemetrySample> telemetry, double equalised_time_constant_s);
+                  std::vector<RateTelemetrySample> telemetry, double equalised_time_constant_s,
+                  double inertia_scale = 1.0);
   // Runs at most `replays` more replays; true once the result is in.
   bool advance(int replays);
   const std::optional<IdentificationResult>& result() const { return result_; }
@@ -157,6 +161,7 @@ class RateResponseFit {
   std::vector<RateCommandSample> commands_;
   std::vector<RateTelemetrySample> telemetry_;
   double equalised_s_;
+  double inertia_scale_;
   std::vector<Eigen::Vector3d> queue_;  // candidates (tau, g, D) of the stage
   std::size_t next_ = 0;
   int stage_ = 0;

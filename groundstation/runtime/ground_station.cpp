@@ -228,6 +228,8 @@ void GroundStation::enter(Vehicle& v, double now_s) {
     // The lag kept from the vehicle's last accepted identification, before this flight's own.
     if (const std::optional<double> lag_s = identifications_.lag_at_arming(v.id))
       set_motor_lag(v, *lag_s, now_s);
+    if (const std::optional<double> scale = identifications_.inertia_scale_to_set(v.id, 1.0))
+      set_inertia_scale(v, *scale, now_s);
   }
   if (entry.command)
     v.commands.sent(link_.send_command(v.id, entry.command->code, entry.command->argument, now_s));
@@ -331,7 +333,8 @@ void GroundStation::send(Vehicle& v, model::VehicleInput u, double now_s) {
 // The identification flight's fit once it is over, recorded; a lag that differs from the
 // equaliser's by more than the fit's accuracy goes on board. A refused fit keeps what is set.
 void GroundStation::identify_motors(Vehicle& v, double now_s) {
-  if (v.motors.pending()) v.motors.settle(link_.command_state(*v.motors.pending()));
+  for (OnBoardSetting* s : {&v.motors.lag(), &v.motors.inertia()})
+    if (s->pending()) s->settle(link_.command_state(*s->pending()));
   // The gentler flight after a saturated one, only while the vehicle hovers without the pole.
   const Task task = v.sequencer.task();
   if (task != Task::hover && task != Task::take_off) v.motors.cancel_gentle_identification();
@@ -343,6 +346,10 @@ void GroundStation::identify_motors(Vehicle& v, double now_s) {
   if (const std::optional<double> lag_s =
           identifications_.finished(v.id, *result, k, now_s, v.motors.equalised_s()))
     set_motor_lag(v, *lag_s, now_s);
+  if (!result->identified) return;
+  if (const std::optional<double> scale =
+          identifications_.inertia_scale_to_set(v.id, v.motors.inertia_scale()))
+    set_inertia_scale(v, *scale, now_s);
 }
 
 void GroundStation::judge_pole_trust(Vehicle& v) {
@@ -356,8 +363,12 @@ void GroundStation::judge_pole_trust(Vehicle& v) {
 }
 
 void GroundStation::set_motor_lag(Vehicle& v, double lag_s, double now_s) {
-  v.motors.sent(lag_s, link_.send_command(v.id, pa::proto::CommandCode::set_motor_time_constant,
-                                          motor_lag_argument_us(lag_s), now_s));
+  v.motors.lag().sent(lag_s, link_.send_command(v.id, pa::proto::CommandCode::set_motor_time_constant,
+                                                motor_lag_argument_us(lag_s), now_s));
+}
+void GroundStation::set_inertia_scale(Vehicle& v, double scale, double now_s) {
+  v.motors.inertia().sent(scale, link_.send_command(v.id, pa::proto::CommandCode::set_inertia_scale,
+                                                    inertia_scale_argument(scale), now_s));
 }
 
 CatchView GroundStation::catch_view(const Vehicle& catcher) const {

@@ -298,6 +298,9 @@ class GroundStation {
   double equalised_motor_time_constant_s(pa::VehicleId vehicle) const {
     return vehicle_of(vehicle).motors.equalised_s();
   }
+  double on_board_inertia_scale(pa::VehicleId vehicle) const {
+    return vehicle_of(vehicle).motors.inertia_scale();
+  }
   const estimation::StateEstimator& estimator() const { return estimator_; }
   const link::GroundLink& link() const { return link_; }
   const adaptation::AdaptationState& adaptation() const { return learner_.state(); }
@@ -332,7 +335,8 @@ class GroundStation {
   void request_all(std::uint32_t request);  // to both vehicles' sequencers
   mission::ConditionFacts facts(const Vehicle& v, double now_s) const;
   void identify_motors(Vehicle& v, double now_s);
-  void set_motor_lag(Vehicle& v, double lag_s, double now_s);  // COMMAND set_motor_time_constant
+  void set_motor_lag(Vehicle& v, double lag_s, double now_s);      // COMMAND set_motor_time_constant
+  void set_inertia_scale(Vehicle& v, double scale, double now_s);  // COMMAND set_inertia_scale
   void judge_pole_trust(Vehicle& v);
   void measure_impact_energy(const Vehicle& catcher);
   void send(Vehicle& v, model::VehicleInput u, double now_s);

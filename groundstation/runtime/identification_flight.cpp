@@ -4,7 +4,8 @@
 
 namespace gs::runtime {
 
-void IdentificationFlight::start(double now_s, double equalised_s, double amplitude_scale) {
+void IdentificationFlight::start(double now_s, double equalised_s, double inertia_scale,
+                                 double amplitude_scale) {
   estimation::RateResponseSettings settings = designed_.settings();
   // Judged by the same rates as the designed flight: the residual a fit leaves is the vehicle's
   // disturbances', which a smaller excitation does not shrink.
@@ -13,6 +14,7 @@ void IdentificationFlight::start(double now_s, double equalised_s, double amplit
   identifier_ = estimation::RateResponseIdentifier(designed_.loop(), settings);
   start_s_ = now_s;
   equalised_s_ = equalised_s;
+  inertia_scale_ = inertia_scale;
   fit_.reset();
   commands_.clear();
   telemetry_.clear();
@@ -52,7 +54,8 @@ bool IdentificationFlight::recording(double now_s) const {
 
 std::optional<estimation::IdentificationResult> IdentificationFlight::finish(double now_s) {
   if (!start_s_ || now_s < *start_s_ + identifier_.excitation_duration_s() + kSettle_s) return std::nullopt;
-  if (!fit_) fit_.emplace(identifier_, std::move(commands_), std::move(telemetry_), equalised_s_);
+  if (!fit_)
+    fit_.emplace(identifier_, std::move(commands_), std::move(telemetry_), equalised_s_, inertia_scale_);
   if (!fit_->advance(kReplaysPerCall)) return std::nullopt;
   std::optional<estimation::IdentificationResult> result = fit_->result();
   stop();

@@ -20,9 +20,10 @@ class IdentificationFlight {
   explicit IdentificationFlight(const estimation::RateResponseIdentifier& identifier)
       : designed_(identifier), identifier_(identifier) {}
 
-  // Starts the excitation at `now_s` with the firmware's equaliser set to `equalised_s`, its
-  // doublets `amplitude_scale` times the designed amplitude.
-  void start(double now_s, double equalised_s, double amplitude_scale = 1.0);
+  // Starts the excitation at `now_s` with the firmware's equaliser set to `equalised_s` and its
+  // rate loop's inertia to `inertia_scale` of the airframe file's, its doublets `amplitude_scale`
+  // times the designed amplitude.
+  void start(double now_s, double equalised_s, double inertia_scale = 1.0, double amplitude_scale = 1.0);
   bool running() const { return start_s_.has_value(); }
   // Ends a flight before its fit: no excitation from now, nothing recorded, no result.
   void stop();
@@ -53,6 +54,7 @@ class IdentificationFlight {
   estimation::RateResponseIdentifier identifier_;  // this flight's
   std::optional<double> start_s_;
   double equalised_s_ = 0.0;
+  double inertia_scale_ = 1.0;
   std::vector<estimation::RateCommandSample> commands_;
   std::vector<estimation::RateTelemetrySample> telemetry_;
   std::optional<estimation::RateResponseFit> fit_;

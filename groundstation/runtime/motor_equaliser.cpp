@@ -8,21 +8,25 @@ std::int32_t motor_lag_argument_us(double lag_s) {
   return static_cast<std::int32_t>(std::lround(lag_s * 1e6));
 }
 
-void MotorEqualiser::settle(link::CommandState state) {
+std::int32_t inertia_scale_argument(double scale) {
+  return static_cast<std::int32_t>(std::lround(scale * 1e3));
+}
+
+void OnBoardSetting::settle(link::CommandState state) {
   if (!pending_ || state == link::CommandState::pending) return;
-  if (state == link::CommandState::accepted) equalised_s_ = sent_s_;
+  if (state == link::CommandState::accepted) value_ = sent_;
   pending_.reset();
 }
 
 void MotorEqualiser::start_identification(double now_s) {
   gentle_ = gentle_due_ = false;
-  flight_.start(now_s, equalised_s_);
+  flight_.start(now_s, lag_.value(), inertia_.value());
 }
 
 void MotorEqualiser::start_gentle_identification(double now_s) {
   gentle_ = true;
   gentle_due_ = false;
-  flight_.start(now_s, equalised_s_, kGentleAmplitude);
+  flight_.start(now_s, lag_.value(), inertia_.value(), kGentleAmplitude);
 }
 
 void MotorEqualiser::cancel_gentle_identification() {

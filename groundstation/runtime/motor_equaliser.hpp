@@ -1,7 +1,9 @@
-// One vehicle's motor lag as the ground station manages it: each take-off's identification flight
-// (identification_flight.hpp), its latest fit, and the lag the firmware's equaliser is set to as
-// far as the ground station knows. A SET_MOTOR_TIME_CONSTANT counts only once acknowledged: a
-// refused or lost one leaves the lag the vehicle had, which the next fit is compared against.
+// One vehicle's rate response as the ground station manages it: each take-off's identification
+// flight (identification_flight.hpp), its latest fit, and what the firmware is set to as far as
+// the ground station knows: its equaliser's motor lag and its rate loop's inertia (over the
+// airframe file's). A SET_MOTOR_TIME_CONSTANT or SET_INERTIA_SCALE counts only once acknowledged:
+// a refused or lost one leaves what the vehicle had, which the next fit is flown and compared
+// against.
 // It sends nothing itself: the runtime sends the command and hands over its handle
 // (motor_equaliser_test.cpp).
 #pragma once
@@ -17,13 +19,35 @@ namespace gs::runtime {
 
 // SET_MOTOR_TIME_CONSTANT's argument for `lag_s`: microseconds, rounded.
 std::int32_t motor_lag_argument_us(double lag_s);
+// SET_INERTIA_SCALE's argument for `scale`: per mille, rounded.
+std::int32_t inertia_scale_argument(double scale);
+
+// A value set on board by a command: what the vehicle acknowledged, and the command in flight.
+class OnBoardSetting {
+ public:
+  explicit OnBoardSetting(double value) : value_(value) {}
+  // The command setting `value` was sent as `handle`.
+  void sent(double value, const link::CommandHandle& handle) {
+    sent_ = value;
+    pending_ = handle;
+  }
+  const std::optional<link::CommandHandle>& pending() const { return pending_; }
+  // The command in flight has come to `state` (as the link knows it): accepted, its value is set.
+  void settle(link::CommandState state);
+  double value() const { return value_; }
+
+ private:
+  double value_;                                // as acknowledged
+  std::optional<link::CommandHandle> pending_;  // in flight
+  double sent_ = 0.0;                           // its value
+};
 
 class MotorEqualiser {
  public:
   MotorEqualiser() : MotorEqualiser(IdentificationFlight{}, 0.0) {}
   // `design_lag_s`: what the firmware's equaliser starts from (its rate loop's design time constant).
   MotorEqualiser(const IdentificationFlight& flight, double design_lag_s)
-      : flight_(flight), equalised_s_(design_lag_s) {}
+      : flight_(flight), lag_(design_lag_s), inertia_(1.0) {}
 
   IdentificationFlight& flight() { return flight_; }
   // Starts this take-off's identification flight against the lag set on board.
@@ -38,28 +62,24 @@ class MotorEqualiser {
   void cancel_gentle_identification();
   static constexpr double kGentleAmplitude = 0.5;
 
-  // SET_MOTOR_TIME_CONSTANT for `lag_s` was sent as `handle`.
-  void sent(double lag_s, const link::CommandHandle& handle) {
-    sent_s_ = lag_s;
-    pending_ = handle;
-  }
-  const std::optional<link::CommandHandle>& pending() const { return pending_; }
-  // The command in flight has come to `state` (as the link knows it): accepted, its lag is set.
-  void settle(link::CommandState state);
+  // The equaliser's lag (SET_MOTOR_TIME_CONSTANT) and the rate loop's inertia scale
+  // (SET_INERTIA_SCALE) on board.
+  OnBoardSetting& lag() { return lag_; }
+  OnBoardSetting& inertia() { return inertia_; }
 
   // The identification flight's fit once it is over (kept as identified()), else nothing.
   std::optional<estimation::IdentificationResult> finish(double now_s);
 
   const std::optional<estimation::IdentificationResult>& identified() const { return identified_; }
-  double equalised_s() const { return equalised_s_; }
+  double equalised_s() const { return lag_.value(); }
+  double inertia_scale() const { return inertia_.value(); }
 
  private:
   IdentificationFlight flight_;
   std::optional<estimation::IdentificationResult> identified_;
-  double equalised_s_ = 0.0;                    // as acknowledged
-  std::optional<link::CommandHandle> pending_;  // SET_MOTOR_TIME_CONSTANT in flight
-  double sent_s_ = 0.0;                         // its argument
-  bool gentle_ = false;                         // the flight running is the gentler one
+  OnBoardSetting lag_;
+  OnBoardSetting inertia_;
+  bool gentle_ = false;  // the flight running is the gentler one
   bool gentle_due_ = false;
 };
 

@@ -60,10 +60,11 @@ void print_identification(const gs::runtime::GroundStation& gs, const Plant& tru
                   1e3 * id.time_constant_s, 1e3 * id.time_constant_low_s, 1e3 * id.time_constant_high_s,
                   id.inertia_gain, 1e3 * id.round_trip_s, id.rms_radps);
     }
-    std::printf("; equalised to %.1f ms; thrust gain %.3f; the plant's lag %.1f ms, inertia gain %.2f, "
-                "thrust gain %.3f\n",
-                1e3 * gs.equalised_motor_time_constant_s(v), gs.thrust_gain(v).gain(), 1e3 * truth_s,
-                1.0 / plant.vehicle.inertia_scale[slot], truth.true_thrust_gain(v));
+    std::printf(
+        "; equalised to %.1f ms, inertia %.2f of the file's; thrust gain %.3f; the plant's lag %.1f ms, "
+        "inertia gain %.2f, thrust gain %.3f\n",
+        1e3 * gs.equalised_motor_time_constant_s(v), gs.on_board_inertia_scale(v), gs.thrust_gain(v).gain(),
+        1e3 * truth_s, 1.0 / plant.vehicle.inertia_scale[slot], truth.true_thrust_gain(v));
   }
 }
 

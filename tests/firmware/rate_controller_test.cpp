@@ -215,3 +215,26 @@ TEST_CASE("rate controller: reset clears the integrators and the held output") {
   const Vec3 tau = rc.update({1.0f, 0.0f, 0.0f}, {}, kDt_s, 0);
   CHECK(tau[0] == Approx(inertia(0) * kRate.kp_per_s[0]));
 }
+
+TEST_CASE("rate controller: the identified inertia scales roll and pitch, never yaw, within range") {
+  RateController rc(kRate, kAirframe);
+  CHECK(rc.inertia_scale() == 1.0f);
+  REQUIRE(rc.set_inertia_scale(0.8f));
+  const Vec3 setpoint{1.0f, -1.0f, 1.0f};
+  const Vec3 tau = rc.update(setpoint, Vec3{}, kDt_s, 0);
+  CHECK(tau[0] == Approx(0.8f * inertia(0) * kRate.kp_per_s[0]).epsilon(1e-6));
+  CHECK(tau[1] == Approx(-0.8f * inertia(1) * kRate.kp_per_s[1]).epsilon(1e-6));
+  CHECK(tau[2] == Approx(inertia(2) * kRate.kp_per_s[2]).epsilon(1e-6));
+  // Out of range or not a number: refused, the scale kept.
+  for (float bad :
+       {0.4f, 2.5f, -1.0f, std::numeric_limits<float>::quiet_NaN(), std::numeric_limits<float>::infinity()})
+    CHECK_FALSE(rc.set_inertia_scale(bad));
+  CHECK(rc.inertia_scale() == 0.8f);
+  // Back to the file's: the law is the airframe's again, bit for bit.
+  REQUIRE(rc.set_inertia_scale(1.0f));
+  RateController fresh(kRate, kAirframe);
+  rc.reset();
+  const Vec3 a = rc.update(setpoint, Vec3{}, kDt_s, 0);
+  const Vec3 b = fresh.update(setpoint, Vec3{}, kDt_s, 0);
+  for (int i = 0; i < 3; ++i) CHECK(a[i] == b[i]);
+}

@@ -228,6 +228,22 @@ TEST_CASE("the motors' identified lag is taken in any mode within a motor's rang
   CHECK(b.vehicle.motor_time_constant_s() == Approx(0.055f));
 }
 
+TEST_CASE("the vehicle's identified inertia is taken in any mode within range") {
+  Bench b;
+  b.settle(50);
+  CHECK(b.vehicle.inertia_scale() == 1.0f);
+  b.command(CommandCode::set_inertia_scale, 800);
+  b.settle(2);
+  CHECK(b.last_ack()->result == AckResult::accepted);
+  CHECK(b.vehicle.inertia_scale() == Approx(0.8f));
+  for (std::int32_t bad : {0, 499, 2001, -800}) {
+    b.command(CommandCode::set_inertia_scale, bad);
+    b.settle(2);
+    CHECK(b.last_ack()->reason == RefuseReason::bad_argument);
+  }
+  CHECK(b.vehicle.inertia_scale() == Approx(0.8f));
+}
+
 namespace {
 // Arm and fly a hover stream; the IMU reads the hover's specific force.
 void take_off(Bench& b) {

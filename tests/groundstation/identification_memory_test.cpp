@@ -36,6 +36,12 @@ IdentificationResult accepted(double lag_s) {
 
 IdentificationResult refused(IdentificationRefusal why) { return {why, std::nullopt}; }
 
+IdentificationResult with_inertia_gain(double g) {
+  IdentificationResult r = accepted(kDesign_s);
+  r.identified->inertia_gain = g;
+  return r;
+}
+
 }  // namespace
 
 TEST_CASE("an accepted fit replaces the kept one, a refused fit leaves it in place") {
@@ -125,4 +131,24 @@ TEST_CASE("a fit that cannot be stored is neither kept nor set; a vehicle that i
   CHECK(AdaptationStore::open_existing(path).identification_count() == 1);
   CHECK_THROWS_AS(memory.kept(pa::VehicleId(15)), std::out_of_range);
   CHECK_THROWS_AS(memory.lag_at_arming(pa::VehicleId(0)), std::out_of_range);
+}
+
+TEST_CASE("the rate loop's inertia is lowered to a lighter vehicle's, never raised, beyond the tolerance") {
+  IdentificationMemory memory(settings(), "", adaptation_settings());
+  CHECK_FALSE(memory.inertia_scale_to_set(pa::kVehicle1, 1.0));  // nothing kept
+  memory.finished(pa::kVehicle1, with_inertia_gain(1.25), std::nullopt, 1.0, kDesign_s);
+  REQUIRE(memory.inertia_scale_to_set(pa::kVehicle1, 1.0));
+  CHECK(*memory.inertia_scale_to_set(pa::kVehicle1, 1.0) == Approx(0.8));
+  CHECK_FALSE(memory.inertia_scale_to_set(pa::kVehicle1, 0.82));  // set already, within 10 %
+  // Within the fit's accuracy of the file's: nothing to set.
+  memory.finished(pa::kVehicle1, with_inertia_gain(1.05), std::nullopt, 2.0, kDesign_s);
+  CHECK_FALSE(memory.inertia_scale_to_set(pa::kVehicle1, 1.0));
+  CHECK(*memory.inertia_scale_to_set(pa::kVehicle1, 0.8) == Approx(1.0 / 1.05));  // back up
+  // A heavier vehicle keeps the file's inertia on board.
+  memory.finished(pa::kVehicle2, with_inertia_gain(0.8), std::nullopt, 3.0, kDesign_s);
+  CHECK_FALSE(memory.inertia_scale_to_set(pa::kVehicle2, 1.0));
+  CHECK(*memory.inertia_scale_to_set(pa::kVehicle2, 0.8) == Approx(1.0));
+  // A refused fit leaves the kept one.
+  memory.finished(pa::kVehicle1, refused(IdentificationRefusal::no_motion), std::nullopt, 4.0, kDesign_s);
+  CHECK(*memory.inertia_scale_to_set(pa::kVehicle1, 0.8) == Approx(1.0 / 1.05));
 }

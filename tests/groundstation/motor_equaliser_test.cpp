@@ -29,26 +29,42 @@ TEST_CASE("The command's argument is the lag in microseconds, rounded") {
 TEST_CASE("The design lag until a command is acknowledged; accepted, the lag sent") {
   MotorEqualiser e = equaliser();
   CHECK(e.equalised_s() == 0.03);
-  CHECK_FALSE(e.pending());
-  e.settle(CommandState::accepted);  // nothing in flight: nothing changes
+  CHECK_FALSE(e.lag().pending());
+  e.lag().settle(CommandState::accepted);  // nothing in flight: nothing changes
   CHECK(e.equalised_s() == 0.03);
-  e.sent(0.045, CommandHandle{pa::kVehicle1, 7, 7});
-  REQUIRE(e.pending());
-  CHECK(e.pending()->serial == 7);
-  e.settle(CommandState::pending);
-  CHECK(e.pending());
+  e.lag().sent(0.045, CommandHandle{pa::kVehicle1, 7, 7});
+  REQUIRE(e.lag().pending());
+  CHECK(e.lag().pending()->serial == 7);
+  e.lag().settle(CommandState::pending);
+  CHECK(e.lag().pending());
   CHECK(e.equalised_s() == 0.03);
-  e.settle(CommandState::accepted);
-  CHECK_FALSE(e.pending());
+  e.lag().settle(CommandState::accepted);
+  CHECK_FALSE(e.lag().pending());
   CHECK(e.equalised_s() == 0.045);
+}
+
+TEST_CASE("The inertia on board is the file's until SET_INERTIA_SCALE is acknowledged, in per mille") {
+  CHECK(gs::runtime::inertia_scale_argument(0.8) == 800);
+  CHECK(gs::runtime::inertia_scale_argument(1.0 / 1.17) == 855);
+  MotorEqualiser e = equaliser();
+  CHECK(e.inertia_scale() == 1.0);
+  e.inertia().sent(0.8, CommandHandle{pa::kVehicle1, 3, 3});
+  e.inertia().settle(CommandState::pending);
+  CHECK(e.inertia_scale() == 1.0);
+  e.inertia().settle(CommandState::accepted);
+  CHECK(e.inertia_scale() == 0.8);
+  CHECK(e.equalised_s() == 0.03);  // the lag untouched
+  e.inertia().sent(0.7, CommandHandle{pa::kVehicle1, 4, 4});
+  e.inertia().settle(CommandState::refused);
+  CHECK(e.inertia_scale() == 0.8);
 }
 
 TEST_CASE("A refused or lost command keeps the lag on board") {
   for (CommandState failure : {CommandState::refused, CommandState::timed_out}) {
     MotorEqualiser e = equaliser();
-    e.sent(0.045, CommandHandle{pa::kVehicle1, 1, 1});
-    e.settle(failure);
-    CHECK_FALSE(e.pending());
+    e.lag().sent(0.045, CommandHandle{pa::kVehicle1, 1, 1});
+    e.lag().settle(failure);
+    CHECK_FALSE(e.lag().pending());
     CHECK(e.equalised_s() == 0.03);
   }
 }

@@ -23,6 +23,7 @@ struct Vehicle {
   double inertia_gain = 1.0;  // J_configured / J_true
   double equalised_s = 0.03;  // what the firmware's equaliser is set to
   double disturbance_radps2 = 0.0;
+  double inertia_scale = 1.0;  // what the firmware's rate loop takes for J, over the file's
 };
 
 struct Recording {
@@ -76,7 +77,7 @@ Recording fly(const Vehicle& v, const RateResponseIdentifier& id, std::uint32_t 
       achieved[1] += pitch_sign[m] * motors[m];
     }
     for (int a = 0; a < 2; ++a) {
-      rate[a] += (v.inertia_gain * achieved[a] + v.disturbance_radps2) * dt;
+      rate[a] += (v.inertia_gain * v.inertia_scale * achieved[a] + v.disturbance_radps2) * dt;
       attitude[a] += rate[a] * dt;
     }
     if (k % 5 == 0 && t >= start)
@@ -121,6 +122,20 @@ TEST_CASE("identified with the equaliser already set, the motors' own lag comes 
   const auto result = id.fit(r.commands, r.telemetry, v.equalised_s);
   REQUIRE(result.identified);
   CHECK(result.identified->time_constant_s == Approx(0.055).epsilon(0.1));
+}
+
+TEST_CASE("identified with the rate loop's inertia already set, the vehicle's own inertia comes out") {
+  const RateResponseIdentifier id{RateLoopConfig{}};
+  Vehicle v{0.04, 1.25, 0.04, 0.0};
+  v.inertia_scale = 0.8;  // J_file / 1.25 on board: the loop is the design's
+  const Recording r = fly(v, id, 11);
+  const auto result = id.fit(r.commands, r.telemetry, v.equalised_s, v.inertia_scale);
+  REQUIRE(result.identified);
+  CHECK(result.identified->inertia_gain == Approx(1.25).epsilon(0.1));
+  // Fitted as if the file's inertia were on board, the gain would read the loop's, near 1.
+  const auto unaware = id.fit(r.commands, r.telemetry, v.equalised_s);
+  REQUIRE(unaware.identified);
+  CHECK(unaware.identified->inertia_gain == Approx(1.0).epsilon(0.1));
 }
 
 TEST_CASE("a fit without the data it needs is refused with the reason") {

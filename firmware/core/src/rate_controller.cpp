@@ -6,7 +6,17 @@ namespace fw {
 
 RateController::RateController(const RateControllerConfig& config, const AirframeConfig& airframe)
     : config_(config),
-      inertia_kgm2_{airframe.inertia_kgm2[0], airframe.inertia_kgm2[1], airframe.inertia_kgm2[2]} {}
+      airframe_inertia_kgm2_{airframe.inertia_kgm2[0], airframe.inertia_kgm2[1], airframe.inertia_kgm2[2]},
+      inertia_kgm2_(airframe_inertia_kgm2_) {}
+
+bool RateController::set_inertia_scale(float scale) {
+  // The comparisons are false for NaN.
+  if (!(scale >= kMinInertiaScale && scale <= kMaxInertiaScale)) return false;
+  inertia_scale_ = scale;
+  inertia_kgm2_[0] = airframe_inertia_kgm2_[0] * scale;
+  inertia_kgm2_[1] = airframe_inertia_kgm2_[1] * scale;
+  return true;
+}
 
 // One axis of the law (written out per axis rather than looped, which the compiler would not
 // unroll): returns the torque and advances the axis' integrator unless it is frozen.

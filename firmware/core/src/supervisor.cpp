@@ -126,7 +126,8 @@ CommandResult Supervisor::handle_command(CommandCode code, const SupervisorInput
 
     case CommandCode::expect_catch:
     case CommandCode::catch_handled:
-    case CommandCode::set_motor_time_constant: break;
+    case CommandCode::set_motor_time_constant:
+    case CommandCode::set_inertia_scale: break;
   }
   return refuse(RefuseReason::bad_argument);
 }

@@ -212,6 +212,12 @@ void Vehicle::handle_command(const Command& command, std::uint32_t now_us, bool 
                   set ? RefuseReason::none : RefuseReason::bad_argument);
       return;
     }
+    case CommandCode::set_inertia_scale: {
+      const bool set = rate_controller_.set_inertia_scale(static_cast<float>(command.argument) * 1e-3f);
+      acknowledge(command, set ? AckResult::accepted : AckResult::refused,
+                  set ? RefuseReason::none : RefuseReason::bad_argument);
+      return;
+    }
   }
 }
 

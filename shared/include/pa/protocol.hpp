@@ -149,8 +149,11 @@ enum class CommandCode : std::uint8_t {
   // argument: the motors' identified time constant in us (10000..100000), which the firmware
   // equalises to its airframe's (fw/motor_lag_equaliser.hpp); any mode
   set_motor_time_constant = 6,
+  // argument: the vehicle's roll and pitch inertia over its airframe file's, identified, in per
+  // mille (500..2000), which the rate loop takes as its inertia (fw/rate_controller.hpp); any mode
+  set_inertia_scale = 7,
 };
-inline constexpr std::uint8_t kCommandCodeMax = 6;
+inline constexpr std::uint8_t kCommandCodeMax = 7;
 
 enum class AckResult : std::uint8_t { accepted = 0, refused = 1, duplicate = 2 };
 inline constexpr std::uint8_t kAckResultMax = 2;

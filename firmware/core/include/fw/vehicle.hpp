@@ -62,6 +62,7 @@ class Vehicle {
   std::uint8_t saturation() const { return saturation_; }
   // The motors' lag as the ground station identified it (the airframe's until then).
   float motor_time_constant_s() const { return equaliser_.motor_time_constant_s(); }
+  float inertia_scale() const { return rate_controller_.inertia_scale(); }
   bool catch_reaction_active() const { return catch_.active(); }
   // The accelerometer's bias along up, learnt at rest on the floor; the failsafe removes it.
   float accel_bias_up_mps2() const { return inertial_.accel_bias_up_mps2(); }
