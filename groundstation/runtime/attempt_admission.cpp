@@ -31,14 +31,25 @@ double peak_thrust_mps2(const planning::ThrowTrajectory& trajectory) {
   return peak_mps2;
 }
 
-std::string thrust_shortfall(const VehicleThrust& vehicle, double needed_mps2, const char* part,
-                             const ThrustAdmission& settings) {
-  const double k = vehicle.gain;
+double thrust_ceiling_mps2(const VehicleThrust& vehicle, const ThrustAdmission& settings) {
   const double volts = vehicle.battery_V;
   // No voltage reported (0: none, or no compensation on board): the ceiling is k's alone.
   const double sag =
       volts > 0.0 ? std::min(1.0, std::pow(volts / settings.battery_reference_voltage_V, 2.0)) : 1.0;
-  const double most_mps2 = k * sag * settings.full_thrust_mps2;
+  return vehicle.gain * sag * settings.full_thrust_mps2;
+}
+
+pa::VehicleId stronger_thrower(const VehicleThrust& first, const VehicleThrust& second,
+                               const ThrustAdmission& settings) {
+  return thrust_ceiling_mps2(second, settings) > thrust_ceiling_mps2(first, settings) ? second.vehicle
+                                                                                      : first.vehicle;
+}
+
+std::string thrust_shortfall(const VehicleThrust& vehicle, double needed_mps2, const char* part,
+                             const ThrustAdmission& settings) {
+  const double k = vehicle.gain;
+  const double volts = vehicle.battery_V;
+  const double most_mps2 = thrust_ceiling_mps2(vehicle, settings);
   if (most_mps2 >= settings.min_thrust_fraction * needed_mps2) return {};
   char at[32] = "";
   if (volts > 0.0) std::snprintf(at, sizeof at, " at %.2f V", volts);

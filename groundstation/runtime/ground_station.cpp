@@ -117,6 +117,11 @@ VehicleThrust GroundStation::thrust_of(pa::VehicleId vehicle) const {
           status.vehicle_status.valid ? 1e-3 * status.vehicle_status.value.battery_mv : 0.0};
 }
 
+pa::VehicleId GroundStation::stronger_thrower(pa::VehicleId preferred) const {
+  return runtime::stronger_thrower(thrust_of(preferred), thrust_of(pa::other_vehicle(preferred)),
+                                   thrust_admission(config_));
+}
+
 bool GroundStation::request_attempt(const AttemptRequest& request) {
   const auto refuse = [&](Admission admission) {
     refusal_kind_ = admission.refusal;

@@ -264,6 +264,9 @@ class GroundStation {
   // a vehicle not of the act, when a throw to a target cannot be planned, or when a vehicle's
   // measured thrust gain leaves it short of what its part needs (see min_thrust_margin).
   bool request_attempt(const AttemptRequest& request);
+  // Of `preferred` and the other vehicle of the act, the one with the higher thrust ceiling as
+  // measured now, `preferred` on a tie (attempt_admission.hpp): the one to throw when either may.
+  pa::VehicleId stronger_thrower(pa::VehicleId preferred) const;
   using Refusal = AttemptRefusal;  // runtime/attempt_admission.hpp
   static std::string_view refusal_name(Refusal refusal) { return runtime::refusal_name(refusal); }
   Refusal refusal_kind() const { return refusal_kind_; }

@@ -126,7 +126,7 @@ int replay(const trials::CampaignConfig& campaign, int k, const std::string& out
   config.record_time_series = true;
   config.log = [](const std::string& line) { std::printf("%s\n", line.c_str()); };
   trials::SeriesRunner runner(config);
-  const trials::AttemptResult r = runner.run({trials::AttemptPlan{}}).front();
+  const trials::AttemptResult r = runner.run({trials::campaign_attempt_plan()}).front();
   std::printf("attempt %d (seed %llu): %s, flight %.3f s, energy error %.5f J%s%s%s\n", k,
               static_cast<unsigned long long>(config.seed),
               std::string(gs::adaptation::to_string(r.outcome)).c_str(), r.flight_s, r.energy_error_J,

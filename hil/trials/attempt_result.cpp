@@ -20,6 +20,7 @@ const Schema<AttemptResult>& attempt_schema() {
       field("vehicle_crashed", &R::vehicle_crashed),
       field("predicted_target_miss_m", &R::predicted_target_miss_m, "%.4f"),
       field("target_miss_m", &R::target_miss_m, "%.4f"),
+      field("thrower", &R::thrower),
   };
   return schema;
 }

@@ -13,6 +13,7 @@ namespace hil::trials {
 // The columns of throws.csv are its fields' CSV names (docs/report.md).
 struct AttemptResult {
   int throw_number = 0;
+  int thrower = 1;  // the throwing vehicle's node
   // caught, dropped, missed, aborted (abort_reason says why), offset_practice or throw_only
   gs::adaptation::ThrowOutcome outcome = gs::adaptation::ThrowOutcome::aborted;
   double flight_s = -1.0;        // launch to impact (or to the catch height's crossing)

@@ -17,12 +17,18 @@ CampaignAttempt fly(const CampaignConfig& config, const gs::adaptation::Learnt& 
   SeriesConfig series = attempt_config(config, learnt, attempt);
   a.plant = series.plant;
   SeriesRunner runner(series);
-  a.result = runner.run({AttemptPlan{}}).front();
+  a.result = runner.run({campaign_attempt_plan()}).front();
   a.result.throw_number = attempt;
   return a;
 }
 
 }  // namespace
+
+AttemptPlan campaign_attempt_plan() {
+  AttemptPlan plan;
+  plan.stronger_throws = true;
+  return plan;
+}
 
 SeriesConfig attempt_config(const CampaignConfig& config, const gs::adaptation::Learnt& learnt, int attempt) {
   SeriesConfig series = trial_config(config.plant, attempt_seed(config.seed, attempt), PlantDraw::drawn);
@@ -40,9 +46,9 @@ Schema<CampaignAttempt> campaign_throws_columns(const PlantConfig& plant) {
   Schema<CampaignAttempt> out;
   const auto result = [](const CampaignAttempt& a) -> const AttemptResult& { return a.result; };
   for (const Field<AttemptResult>& f :
-       columns(attempt_schema(),
-               {"throw", "outcome", "flight_s", "catch_height_m", "catch_x_m", "catch_y_m", "travel_m",
-                "energy_error_J", "abort_reason", "vehicle_crashed", "planned_height_m", "optimal_height_m"}))
+       columns(attempt_schema(), {"throw", "outcome", "flight_s", "catch_height_m", "catch_x_m", "catch_y_m",
+                                  "travel_m", "energy_error_J", "abort_reason", "vehicle_crashed",
+                                  "planned_height_m", "optimal_height_m", "thrower"}))
     out.push_back(column_of<CampaignAttempt>(f, result));
   out.push_back(field("seed", &CampaignAttempt::seed));
   const std::vector<DrawnParameter> drawn = drawn_parameters(plant);

@@ -65,6 +65,11 @@ struct CampaignAttempt {
 // where a campaign's ground stations start.
 gs::adaptation::Learnt warm_up(const PlantConfig& plant, std::uint64_t seed);
 
+// The one attempt each campaign attempt flies: the person places the pole, either vehicle may
+// throw and the one with the higher thrust ceiling does, as an arena would choose
+// (GroundStation::stronger_thrower); the other catches.
+AttemptPlan campaign_attempt_plan();
+
 // Attempt `attempt` (1..N) of the campaign as a series of one throw from `learnt` (the warm-up's):
 // what a worker flies, and `hil campaign --replay` again in the open.
 SeriesConfig attempt_config(const CampaignConfig& config, const gs::adaptation::Learnt& learnt, int attempt);

@@ -252,21 +252,23 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
   const double theta_pole = plant.pole_transverse_inertia_kgm2();
   plant.take_contact_events();
 
-  const pa::VehicleId thrower = plan.thrower;
-  const pa::VehicleId catcher = pa::other_vehicle(thrower);
   // A pass needs the pole balanced on the thrower, where the last attempt left it.
-  if (!plan.place_pole && plant.pole_contact() != contact_of(plate_of(thrower))) {
+  if (!plan.place_pole && plant.pole_contact() != contact_of(plate_of(plan.thrower))) {
     r.outcome = ThrowOutcome::aborted;
     r.abort_reason = "pole_not_on_thrower";
     recording_ = nullptr;
     return r;
   }
   gs::runtime::AttemptRequest request;
-  request.thrower = thrower;
+  request.thrower =
+      plan.stronger_throws && plan.place_pole ? gs_.stronger_thrower(plan.thrower) : plan.thrower;
   request.catch_it = plan.catch_it;
   request.catch_offset_m = plan.catch_offset_m;
   request.target_xy_m = plan.target_xy_m;
   const std::size_t reports_before = gs_.attempts().size();
+  const pa::VehicleId thrower = request.thrower;
+  const pa::VehicleId catcher = pa::other_vehicle(thrower);
+  r.thrower = thrower.node();
   if (!gs_.request_attempt(request)) {
     r.outcome = ThrowOutcome::aborted;
     r.abort_reason = std::string(gs::runtime::GroundStation::refusal_name(gs_.refusal_kind()));

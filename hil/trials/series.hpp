@@ -39,6 +39,9 @@ struct AttemptPlan {
   Eigen::Vector2d catch_offset_m = Eigen::Vector2d::Zero();  // practice: catch this far off
   double push_sideways_m = 0.0;           // the person pushes the thrower this far in y during the throw
   pa::VehicleId thrower = pa::kVehicle1;  // the other vehicle catches
+  // The ground station chooses: of `thrower` and the other, the one with the higher thrust
+  // ceiling (GroundStation::stronger_thrower). Only where the person places the pole.
+  bool stronger_throws = false;
   // The person puts the pole on the thrower if it is not there (a pass: it must be there already,
   // caught and balanced in the attempt before; if it is not, the attempt is not flown).
   bool place_pole = true;

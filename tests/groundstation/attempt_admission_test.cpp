@@ -2,6 +2,7 @@
 // in the order the runtime checks them, with the numbers its reason gives.
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <string>
 
 #include "groundstation/runtime/attempt_admission.hpp"
@@ -13,6 +14,8 @@ using gs::runtime::admit_vehicles;
 using gs::runtime::AttemptRefusal;
 using gs::runtime::peak_thrust_mps2;
 using gs::runtime::refusal_name;
+using gs::runtime::stronger_thrower;
+using gs::runtime::thrust_ceiling_mps2;
 using gs::runtime::thrust_shortfall;
 using gs::runtime::ThrustAdmission;
 using gs::runtime::VehicleThrust;
@@ -109,4 +112,18 @@ TEST_CASE("A sagging pack lowers the ceiling by (V / V_ref)^2, never raises it")
   CHECK(thrust_shortfall(v, 19.0, "throw", kSettings) ==
         "vehicle 1 is too weak to throw: thrust gain 0.85 at 13.50 V gives 17.0 m/s^2 at most, the throw "
         "needs 17.1");
+}
+
+TEST_CASE("Of two vehicles the one with the higher ceiling throws, the preferred on a tie") {
+  const VehicleThrust strong{pa::kVehicle1, 1.0, 12.0};
+  const VehicleThrust weak_pack{pa::kVehicle2, 1.0, 11.0};
+  CHECK(thrust_ceiling_mps2(strong, kSettings) == Approx(20.0 * std::pow(12.0 / 12.6, 2.0)));
+  CHECK(stronger_thrower(strong, weak_pack, kSettings) == pa::kVehicle1);
+  CHECK(stronger_thrower(weak_pack, strong, kSettings) == pa::kVehicle1);
+  // A higher gain outweighs a lower voltage when its ceiling is higher: 1.1 (11.5 / 12.6)^2 > (12 / 12.6)^2.
+  const VehicleThrust strong_motors{pa::kVehicle2, 1.1, 11.5};
+  CHECK(stronger_thrower(strong, strong_motors, kSettings) == pa::kVehicle2);
+  const VehicleThrust twin{pa::kVehicle2, 1.0, 12.0};
+  CHECK(stronger_thrower(strong, twin, kSettings) == pa::kVehicle1);
+  CHECK(stronger_thrower(twin, strong, kSettings) == pa::kVehicle2);
 }

@@ -34,6 +34,7 @@ AttemptResult distinct_result() {
   r.vehicle_crashed = true;
   r.predicted_target_miss_m = 0.0123;
   r.target_miss_m = 0.0456;
+  r.thrower = 2;
   return r;
 }
 
@@ -53,6 +54,7 @@ void check_same(const AttemptResult& a, const AttemptResult& b) {
   CHECK(a.vehicle_crashed == b.vehicle_crashed);
   CHECK(a.predicted_target_miss_m == b.predicted_target_miss_m);
   CHECK(a.target_miss_m == b.target_miss_m);
+  CHECK(a.thrower == b.thrower);
 }
 
 hil::trials::CutResult distinct_cut() {
@@ -130,7 +132,7 @@ TEST_CASE("a worker's report carries every field of an attempt's result exactly"
   const std::vector<std::string> mine = hil::trials::split(hil::trials::encode_result(r), '\t');
   REQUIRE(defaults.size() == schema.size());
   REQUIRE(mine.size() == schema.size());
-  CHECK(schema.size() == 15);  // a field added to AttemptResult belongs in its schema
+  CHECK(schema.size() == 16);  // a field added to AttemptResult belongs in its schema
   for (std::size_t i = 0; i < schema.size(); ++i) {
     INFO(schema[i].name);
     CHECK(mine[i] != defaults[i]);
@@ -188,12 +190,12 @@ TEST_CASE("the CSV files keep their columns and formats", "[hil][trials]") {
   const auto columns = hil::trials::campaign_throws_columns(a.plant);
   const std::string header = hil::trials::csv_header(columns);
   CHECK(header.rfind("throw,outcome,flight_s,catch_height_m,catch_x_m,catch_y_m,travel_m,energy_error_J,"
-                     "abort_reason,vehicle_crashed,planned_height_m,optimal_height_m,seed,",
+                     "abort_reason,vehicle_crashed,planned_height_m,optimal_height_m,thrower,seed,",
                      0) == 0);
   CHECK(
       hil::trials::csv_row(columns, a)
           .rfind(
-              "7,aborted_out_of_reach,1.0123,2.0123,3.6000,-0.0100,0.0700,-0.00312,out_of_reach,1,1.9877,2.1235,"
+              "7,aborted_out_of_reach,1.0123,2.0123,3.6000,-0.0100,0.0700,-0.00312,out_of_reach,1,1.9877,2.1235,2,"
               "1000004,",
               0) == 0);
 
