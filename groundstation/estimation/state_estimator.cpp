@@ -232,11 +232,16 @@ void StateEstimator::step_pole(double h, const std::array<PlateKinematics, 2>& b
     on_[j] = start;
     on_[j].predict(frac * h, 0.5 * (before[j].a_mps2 + after[j].a_mps2), propagation_);
     const PlateKinematics plate = interpolate(before[j], after[j], frac);
-    const FreeFlightSeed seed = free_flight_seed_from_on_vehicle(on_[j], plate);
+    FreeFlightSeed seed = free_flight_seed_from_on_vehicle(on_[j], plate);
+    const double sw = config_.launch_rate_sigma_radps;
+    seed.covariance.block<3, 3>(PoleFreeFlightEkf::kW, PoleFreeFlightEkf::kW) +=
+        sw * sw * Eigen::Matrix3d::Identity();
     free_.reset(seed.state, seed.covariance, drag_scale_, config_.drag_scale_sigma);
     free_.predict((1.0 - frac) * h, propagation_);
     switch_to(PoleMode::free, lost_geometry ? SwitchReason::filter_invalid : SwitchReason::contact_force,
               t_s_ + frac * h, t_s_ + h);
+    launched_from_ = j;
+    launch_t_s_ = t_s_ + frac * h;
     reseed_candidates();
     return;
   }
@@ -441,6 +446,9 @@ void StateEstimator::update_pole(const PoleMeasurement& m) {
     inn[k] = v < 0 ? free_.innovation(m) : on_[v].innovation(m, plates[v]);
     if (inn[k].valid) ll[k] = inn[k].log_likelihood;
     if (v >= 0) favoured[k] = impact_report_pending(v);
+  }
+  if (active == PoleMode::free && launched_from_ >= 0 && t_s_ - launch_t_s_ < config_.launch_hold_off_s) {
+    ll[mode_index(on_vehicle_mode(pa::kActVehicles[launched_from_]))].reset();
   }
   // A pose that no filter explains: a glitch, or (if it persists) a pole that is elsewhere.
   bool explained = false;
