@@ -67,6 +67,9 @@ struct PoleTrust {
   double noisy_noise = 2.0e-3;
   double trusting_sigma = 1e-3;  // m and rad
   double wary_sigma = 3e-3;
+  // Judged again this often: the noise meter's estimate, over its 3-8 s window of poses
+  // (mocap_noise.hpp), moves slowly.
+  double judge_period_s = 1.0;
 };
 // `motor_lag_s` NaN: the airframe's; `mocap_noise` NaN: not yet measured (quiet).
 double pole_measurement_sigma(double motor_lag_s, double mocap_noise, const PoleTrust& trust);

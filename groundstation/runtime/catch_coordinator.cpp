@@ -66,8 +66,8 @@ void CatchCoordinator::retime(double now_s, const CatchView& view, AttemptReport
   const estimation::PoleEstimate& pole = view.pole;
   if (!flying(pole, report) || now_s - *report.launch_s > settings_.retime_s) return;
   planning::CatchingInstantOptions options;
-  options.step_s = 0.01;
-  options.horizon_s = 2.0;
+  options.step_s = settings_.retime_step_s;
+  options.horizon_s = settings_.retime_horizon_s;
   const planning::CatchingInstant optimal =
       planning::find_catching_instant(pole.state, view.pole_model, options);
   if (!optimal.found) return;

@@ -39,6 +39,10 @@ struct CatchSettings {
   // acceleration stays within this: the dive's deceleration already asks g + a_max = 14 m/s^2 of
   // a thrust limited to 20 (5: 256 of the 300 attempts above, 8: 259).
   double shift_max_accel_mps2 = 6.0;
+  // The search for this throw's (42) at every frame of the retiming: twice the planner's RK4
+  // step (planning::CatchingInstantOptions), and a horizon beyond any flight the act throws.
+  double retime_step_s = 0.01;
+  double retime_horizon_s = 2.0;
 };
 
 // `height_m` raised to the settings' floor.

@@ -298,7 +298,7 @@ void GroundStation::on_mocap(const estimation::MocapFrame& frame, double now_s) 
     const Task task = v.sequencer.task();
     v.noise.add(frame.t_s, *pose,
                 task == Task::parked || task == Task::hover || task == Task::balance || task == Task::wait);
-    if (now_s - v.pole_trust_s >= 1.0) {
+    if (now_s - v.pole_trust_s >= config_.pole_trust.judge_period_s) {
       v.pole_trust_s = now_s;
       judge_pole_trust(v);
     }
@@ -336,7 +336,8 @@ void GroundStation::send(Vehicle& v, model::VehicleInput u, double now_s) {
 }
 
 // The identification flight's fit once it is over, recorded; a lag that differs from the
-// equaliser's by more than the fit's accuracy goes on board. A refused fit keeps what is set.
+// equaliser's by more than the fit's accuracy goes on board, and so does a lighter inertia for
+// the rate loop (IdentificationMemory::inertia_scale_to_set). A refused fit keeps what is set.
 void GroundStation::identify_motors(Vehicle& v, double now_s) {
   for (OnBoardSetting* s : {&v.motors.lag(), &v.motors.inertia()})
     if (s->pending()) s->settle(link_.command_state(*s->pending()));

@@ -13,12 +13,12 @@ MocapModel::MocapModel(const MocapConfig& config, std::uint64_t seed)
 
 void MocapModel::capture(std::uint64_t index, double t_s, const std::array<RigidBodyState, 3>& truth,
                          bool dropouts_active) {
-  MocapFrame frame;
+  CapturedFrame frame;
   frame.index = index;
   frame.capture_t_s = t_s;
   // The draw order is fixed (per body: dropout, position, attitude) so frames are reproducible.
   for (std::size_t b = 0; b < truth.size(); ++b) {
-    MocapPose& pose = frame.pose[b];
+    CapturedPose& pose = frame.pose[b];
     const double draw = rng_.uniform();
     const bool lost = dropouts_active &&
                       (config_.dropout_outage_s > 0.0 ? outages_[b].out(t_s, [&] { return rng_.uniform(); })
@@ -41,7 +41,7 @@ void MocapModel::capture(std::uint64_t index, double t_s, const std::array<Rigid
   if (queue_.size() > kQueueLimit) queue_.pop_front();
 }
 
-bool MocapModel::pop(double now_s, MocapFrame& out) {
+bool MocapModel::pop(double now_s, CapturedFrame& out) {
   // A tolerance well below any frame period absorbs the rounding of times built from ticks.
   if (queue_.empty() || queue_.front().delivery_t_s > now_s + 1e-9) return false;
   out = queue_.front();

@@ -17,17 +17,20 @@
 
 namespace hil {
 
-struct MocapPose {
+// What the motion-capture system captured, on the plant's side (truth plus its noise, with the
+// capture and delivery times); the ground station's input is gs::estimation::MocapFrame, made
+// from it in hil/sil/ground_station_frame.hpp.
+struct CapturedPose {
   bool seen = false;  // false: the body was not found in this frame (dropout)
   Vec3 position_m = Vec3::Zero();
   Quat attitude = Quat::Identity();  // body -> inertial; for the pole, body z is n
 };
 
-struct MocapFrame {
-  std::uint64_t index = 0;          // capture count; capture_t_s = index / rate
-  double capture_t_s = 0.0;         // when the poses were true
-  double delivery_t_s = 0.0;        // when the frame becomes visible
-  std::array<MocapPose, 3> pose{};  // indexed by Body
+struct CapturedFrame {
+  std::uint64_t index = 0;             // capture count; capture_t_s = index / rate
+  double capture_t_s = 0.0;            // when the poses were true
+  double delivery_t_s = 0.0;           // when the frame becomes visible
+  std::array<CapturedPose, 3> pose{};  // indexed by Body
 };
 
 class MocapModel {
@@ -39,7 +42,7 @@ class MocapModel {
   void capture(std::uint64_t index, double t_s, const std::array<RigidBodyState, 3>& truth,
                bool dropouts_active = true);
   // The oldest frame delivered by now_s, if any.
-  bool pop(double now_s, MocapFrame& out);
+  bool pop(double now_s, CapturedFrame& out);
   std::size_t in_flight() const { return queue_.size(); }
 
   // Frames older than this many are dropped when nobody reads them.
@@ -49,7 +52,7 @@ class MocapModel {
   MocapConfig config_;
   Random rng_;
   std::array<OutageSchedule, 3> outages_;  // per body, with dropout_outage_s
-  std::deque<MocapFrame> queue_;
+  std::deque<CapturedFrame> queue_;
   double last_delivery_t_s_ = -1e300;
 };
 

@@ -109,7 +109,7 @@ class Plant {
   // always, or with losses_only_in_pole_flight while the pole touches nothing.
   bool losses_active() const;
   // The next motion-capture frame delivered by now (capture time + latency <= t_s()).
-  bool pop_mocap(MocapFrame& out) { return mocap_.pop(t_s(), out); }
+  bool pop_mocap(CapturedFrame& out) { return mocap_.pop(t_s(), out); }
   static constexpr std::size_t kImuQueueLimit = 100000;
 
   // --- truth diagnostics (noise-free) -------------------------------------------------------

@@ -163,10 +163,10 @@ bool run(const Scenario& s, ScenarioResult& out, std::string& error) {
     // and is exactly in the launch state at the launch.
     if (launching && plant.t_s() < s.launch_time_s + 1e-9) carry(plant.t_s());
 
-    MocapFrame frame;
+    CapturedFrame frame;
     while (plant.pop_mocap(frame)) {
       for (int b = 0; b < 3; ++b) {
-        const MocapPose& pose = frame.pose[b];
+        const CapturedPose& pose = frame.pose[b];
         if (!pose.seen) continue;
         out.mocap.push_back(MocapRow{frame.delivery_t_s, frame.capture_t_s, static_cast<Body>(b),
                                      pose.position_m, canonical(pose.attitude)});

@@ -225,7 +225,7 @@ class Runner {
   // the clock's present. Whatever the plant's time lags behind the clock, the ground station sees
   // the motion capture's own latency.
   void publish_mocap(std::int64_t now_ns) {
-    for (const MocapFrame& m : exchange_.take_mocap()) {
+    for (const CapturedFrame& m : exchange_.take_mocap()) {
       gs::estimation::MocapFrame frame = sil::to_ground_station_frame(m);
       frame.t_s = options_.ground_clock
                       ? m.capture_t_s

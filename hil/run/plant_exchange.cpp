@@ -217,7 +217,7 @@ void PlantExchange::step() {
       ++l.counters.downlink_delivered;
     }
   }
-  MocapFrame m;
+  CapturedFrame m;
   while (plant_.pop_mocap(m)) {
     mocap_.push_back(m);
     ++mocap_delivered_;
@@ -236,6 +236,6 @@ std::vector<Frame> PlantExchange::take_vehicle_frames(pa::VehicleId vehicle) {
 
 std::vector<Frame> PlantExchange::take_ground_frames() { return std::exchange(ground_, {}); }
 
-std::vector<MocapFrame> PlantExchange::take_mocap() { return std::exchange(mocap_, {}); }
+std::vector<CapturedFrame> PlantExchange::take_mocap() { return std::exchange(mocap_, {}); }
 
 }  // namespace hil::run

@@ -152,7 +152,7 @@ class PlantExchange {
   // What to write on the ground bus, oldest first.
   std::vector<pa::proto::Frame> take_ground_frames();
   // Motion-capture frames delivered since the last call, in capture order.
-  std::vector<MocapFrame> take_mocap();
+  std::vector<CapturedFrame> take_mocap();
 
   // Throws std::out_of_range for a vehicle without firmware here.
   VehicleExchangeCounters counters(pa::VehicleId vehicle) const;
@@ -181,7 +181,7 @@ class PlantExchange {
   std::array<MotorCommands, 2> motors_{};
   std::array<VehicleTruthSummary, 2> truth_{};
   std::vector<pa::proto::Frame> ground_;
-  std::vector<MocapFrame> mocap_;
+  std::vector<CapturedFrame> mocap_;
   std::uint64_t mocap_delivered_ = 0;
   std::uint64_t steps_ = 0;
   std::uint64_t ground_not_carried_ = 0;

@@ -111,7 +111,7 @@ class Arena {
   // node 1's radio before node 2's).
   std::vector<pa::proto::Frame> take_ground_frames() { return exchange_.take_ground_frames(); }
   // Motion-capture frames delivered since the last call, in capture order.
-  std::vector<MocapFrame> take_mocap() { return exchange_.take_mocap(); }
+  std::vector<CapturedFrame> take_mocap() { return exchange_.take_mocap(); }
 
  private:
   run::PlantExchange exchange_;

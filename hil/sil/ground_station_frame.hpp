@@ -9,10 +9,10 @@
 
 namespace hil::sil {
 
-inline gs::estimation::MocapFrame to_ground_station_frame(const MocapFrame& f) {
+inline gs::estimation::MocapFrame to_ground_station_frame(const CapturedFrame& f) {
   gs::estimation::MocapFrame out;
   out.t_s = f.capture_t_s;
-  auto pose = [](const MocapPose& p) {
+  auto pose = [](const CapturedPose& p) {
     gs::estimation::MocapPose q;
     q.p_m = p.position_m;
     q.q = p.attitude;

@@ -91,7 +91,7 @@ void SeriesRunner::step() {
   }
   const double now = arena_.t_s();
   for (const pa::proto::Frame& f : arena_.take_ground_frames()) gs_.on_frame(f, now);
-  for (const MocapFrame& m : arena_.take_mocap()) {
+  for (const CapturedFrame& m : arena_.take_mocap()) {
     const gs::estimation::MocapFrame frame = sil::to_ground_station_frame(m);
     if (!config_.time_ground_station) {
       gs_.on_mocap(frame, now);

@@ -10,26 +10,26 @@
 namespace {
 
 using fw::AttitudeEstimator;
-using fw::Vec3;
+using fw::Vec3f;
 
 constexpr float kG = pa::kGravityFloat_mps2;
 constexpr float kDt_s = 0.001f;
 
 // Specific force at rest: g times inertial up expressed in the body.
-Vec3 rest_accel(const Vec3& up_body) { return {kG * up_body[0], kG * up_body[1], kG * up_body[2]}; }
+Vec3f rest_accel(const Vec3f& up_body) { return {kG * up_body[0], kG * up_body[1], kG * up_body[2]}; }
 
 // Inertial up seen from a body rolled by phi (about x) or pitched by theta (about y).
-Vec3 up_rolled(double phi) { return {0.0f, float(std::sin(phi)), float(std::cos(phi))}; }
-Vec3 up_pitched(double theta) { return {float(-std::sin(theta)), 0.0f, float(std::cos(theta))}; }
+Vec3f up_rolled(double phi) { return {0.0f, float(std::sin(phi)), float(std::cos(phi))}; }
+Vec3f up_pitched(double theta) { return {float(-std::sin(theta)), 0.0f, float(std::cos(theta))}; }
 
-Vec3 normalised(const Vec3& v) {
+Vec3f normalised(const Vec3f& v) {
   const double x = v[0], y = v[1], z = v[2];
   const double n = std::sqrt(x * x + y * y + z * z);
   return {float(x / n), float(y / n), float(z / n)};
 }
 
 // Angle between two unit vectors, rad.
-double angle(const Vec3& a, const Vec3& b) {
+double angle(const Vec3f& a, const Vec3f& b) {
   const double ax = a[0], ay = a[1], az = a[2], bx = b[0], by = b[1], bz = b[2];
   const double c = ax * bx + ay * by + az * bz;
   const double cx = ay * bz - az * by;
@@ -43,7 +43,7 @@ double quat_norm(const fw::Quaternion& q) {
   return std::sqrt(w * w + x * x + y * y + z * z);
 }
 
-void run(AttitudeEstimator& est, const Vec3& gyro, const Vec3& accel, double duration_s) {
+void run(AttitudeEstimator& est, const Vec3f& gyro, const Vec3f& accel, double duration_s) {
   const int n = int(duration_s / double(kDt_s) + 0.5);
   for (int k = 0; k < n; ++k) est.update(gyro, accel, kDt_s);
 }
@@ -64,7 +64,7 @@ TEST_CASE("attitude estimator: level at rest stays level") {
 TEST_CASE("attitude estimator: the first usable accelerometer sample aligns the tilt") {
   SECTION("tilted") {
     AttitudeEstimator est;
-    const Vec3 accel{1.3f, -2.1f, 9.4f};
+    const Vec3f accel{1.3f, -2.1f, 9.4f};
     est.update({0.0f, 0.0f, 0.0f}, accel, kDt_s);
     REQUIRE(est.aligned());
     CHECK(angle(est.up_in_body(), normalised(accel)) < 1e-5);
@@ -143,7 +143,7 @@ TEST_CASE("attitude estimator: a constant rotation integrates to the right angle
 TEST_CASE("attitude estimator: a misinitialised estimate converges to the accelerometer's tilt") {
   AttitudeEstimator est;                    // default gain 2 / s
   est.update({}, {0.0f, 0.0f, kG}, kDt_s);  // believes it is level
-  const Vec3 up_true = normalised({0.3f, -0.4f, 1.0f});
+  const Vec3f up_true = normalised({0.3f, -0.4f, 1.0f});
   const double err0 = angle(est.up_in_body(), up_true);
   // Small gain: a single sample barely moves it (a throw or a bump cannot flip the estimate) ...
   run(est, {}, rest_accel(up_true), 0.1);
@@ -154,9 +154,9 @@ TEST_CASE("attitude estimator: a misinitialised estimate converges to the accele
 }
 
 TEST_CASE("attitude estimator: a gyro bias leaves only a bounded tilt error") {
-  const Vec3 bias{0.02f, -0.01f, 0.0f};
+  const Vec3f bias{0.02f, -0.01f, 0.0f};
   const double bias_radps = std::sqrt(0.02 * 0.02 + 0.01 * 0.01);
-  const Vec3 level{0.0f, 0.0f, kG};
+  const Vec3f level{0.0f, 0.0f, kG};
 
   AttitudeEstimator est;  // gain 2 / s
   est.update({}, level, kDt_s);
@@ -247,12 +247,12 @@ TEST_CASE("attitude estimator: a tilt error known from elsewhere is removed in t
   const fw::Quaternion rest = est.quaternion();
   run(est, {0.0f, 0.0f, float(M_PI / 2.0)}, {0.0f, 0.0f, kG}, 1.0);
   // The correction computed from the rest attitude and the bias puts up back on body z.
-  const Vec3 lean_inertial = AttitudeEstimator::rotate_to_inertial(rest, {bias_mps2 / kG, 0.0f, 0.0f});
+  const Vec3f lean_inertial = AttitudeEstimator::rotate_to_inertial(rest, {bias_mps2 / kG, 0.0f, 0.0f});
   est.correct_tilt({-lean_inertial[0], -lean_inertial[1], 1.0f});
   CHECK(angle(est.up_in_body(), {0.0f, 0.0f, 1.0f}) < 2e-3 * lean);
   CHECK(quat_norm(est.quaternion()) == Approx(1.0).margin(1e-6));
   SECTION("the yaw is kept") {
-    const Vec3 forward = est.to_inertial({1.0f, 0.0f, 0.0f});
+    const Vec3f forward = est.to_inertial({1.0f, 0.0f, 0.0f});
     CHECK(std::atan2(forward[1], forward[0]) == Approx(M_PI / 2.0).margin(5e-3));
   }
   SECTION("a vector that is not finite or points down changes nothing") {

@@ -9,11 +9,11 @@
 namespace {
 
 using fw::FailsafeController;
-using fw::Vec3;
+using fw::Vec3f;
 
 constexpr float kG = pa::kGravityFloat_mps2;
 constexpr float kDt_s = 0.001f;
-const Vec3 kLevel{0.0f, 0.0f, 1.0f};
+const Vec3f kLevel{0.0f, 0.0f, 1.0f};
 
 fw::SupervisorConfig config() { return fw::SupervisorConfig{}; }
 
@@ -24,17 +24,17 @@ TEST_CASE("the levelling law turns the measured up towards the body z-axis") {
   const FailsafeController f(c);
   const float k = c.level_gain_per_s;
   // Up leans towards body +x (the vehicle pitched nose-down about y): pitch back, at k per radian.
-  const Vec3 up{std::sin(0.1f), 0.0f, std::cos(0.1f)};
-  const Vec3 w = f.levelling_rates(up);
+  const Vec3f up{std::sin(0.1f), 0.0f, std::cos(0.1f)};
+  const Vec3f w = f.levelling_rates(up);
   CHECK(w[0] == 0.0f);
   CHECK(w[1] == k * up[0]);
   CHECK(w[2] == 0.0f);
   // u' = -w x u: the x component of up shrinks.
   CHECK(-(w[1] * up[2] - w[2] * up[1]) < 0.0f);
-  const Vec3 w2 = f.levelling_rates(Vec3{0.0f, 0.2f, 0.98f});
+  const Vec3f w2 = f.levelling_rates(Vec3f{0.0f, 0.2f, 0.98f});
   CHECK(w2[0] == -k * 0.2f);
   CHECK(w2[1] == 0.0f);
-  CHECK(f.levelling_rates(kLevel) == Vec3{-0.0f, 0.0f, 0.0f});
+  CHECK(f.levelling_rates(kLevel) == Vec3f{-0.0f, 0.0f, 0.0f});
 }
 
 TEST_CASE("the levelled hover holds zero vertical speed, compensating tilt up to 60 degrees") {
@@ -44,9 +44,9 @@ TEST_CASE("the levelled hover holds zero vertical speed, compensating tilt up to
   CHECK(f.vz_mps() == -0.5f);
   CHECK(f.hover_thrust_mps2(kLevel) == Approx(kG + FailsafeController::kVerticalGain_per_s * 0.5f));
   f.start(0.0f);
-  CHECK(f.hover_thrust_mps2(Vec3{0.6f, 0.0f, 0.8f}) == Approx(kG / 0.8f));
+  CHECK(f.hover_thrust_mps2(Vec3f{0.6f, 0.0f, 0.8f}) == Approx(kG / 0.8f));
   // Beyond 60 degrees the compensation stops at 1 / kMinTiltCos.
-  CHECK(f.hover_thrust_mps2(Vec3{0.95f, 0.0f, 0.3f}) == Approx(kG / FailsafeController::kMinTiltCos));
+  CHECK(f.hover_thrust_mps2(Vec3f{0.95f, 0.0f, 0.3f}) == Approx(kG / FailsafeController::kMinTiltCos));
 }
 
 TEST_CASE("the vertical speed integrates the specific force less g, with the step clamped") {

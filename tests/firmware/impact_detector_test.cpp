@@ -557,7 +557,7 @@ TEST_CASE("reset forgets the signal but keeps the count since boot", "[impact]")
   detector.reset();
   CHECK_FALSE(detector.in_event());
   CHECK(detector.count() == 1);
-  CHECK(detector.residual_mps2() == fw::Vec3{});
+  CHECK(detector.residual_mps2() == fw::Vec3f{});
   // A new stream from scratch: the next impact is number 2.
   Sim again(13);
   again.pulses.push_back(p);
@@ -572,7 +572,7 @@ TEST_CASE("the expected thrust follows the command through the motor lag", "[imp
   ImpactDetector detector(fw::ImpactDetectorConfig{}, airframe);
   ImpactEvent e;
   ImpactInput in;
-  in.accel_mps2 = fw::Vec3{0, 0, 0};
+  in.accel_mps2 = fw::Vec3f{0, 0, 0};
   in.commanded_thrust_mps2 = 0;
   detector.update(in, e);
   in.commanded_thrust_mps2 = 10;

@@ -14,7 +14,7 @@ using fw::Mixer;
 using fw::MixerInput;
 using fw::MixerOutput;
 using fw::Motors;
-using fw::Vec3;
+using fw::Vec3f;
 namespace sat = fw::saturation;
 
 constexpr float kTolThrust_N = 1e-4f;
@@ -73,7 +73,7 @@ void require_unallocated_consistent(const MixerInput& in, const MixerOutput& out
   }
 }
 
-MixerOutput mix(float thrust_N, Vec3 torque_Nm) {
+MixerOutput mix(float thrust_N, Vec3f torque_Nm) {
   const Mixer mixer(kAirframe);
   const MixerInput in{thrust_N, torque_Nm};
   const MixerOutput out = mixer.mix(in);
@@ -133,7 +133,7 @@ TEST_CASE("mixer: collective high keeps the torques and flags only collective_hi
     CHECK(out.thrust_unallocated_N == Approx(20.0f - 4.0f * hi_N()).margin(kTolThrust_N));
   }
   SECTION("with roll and pitch: torques exact, the busiest motor at maximum") {
-    const Vec3 tau{0.2f, -0.1f, 0.0f};
+    const Vec3f tau{0.2f, -0.1f, 0.0f};
     const MixerOutput out = mix(20.0f, tau);
     CHECK(int(out.saturation) == sat::collective_high);
     const MixerInput got = wrench(out.thrust_N);
@@ -153,7 +153,7 @@ TEST_CASE("mixer: collective low keeps the torques and flags only collective_low
     CHECK(out.thrust_unallocated_N == Approx(-4.0f * lo_N()).margin(kTolThrust_N));
   }
   SECTION("negative thrust request with roll: roll exact, thrust raised") {
-    const Vec3 tau{-0.3f, 0.0f, 0.0f};
+    const Vec3f tau{-0.3f, 0.0f, 0.0f};
     const MixerOutput out = mix(-3.0f, tau);
     CHECK(int(out.saturation) == sat::collective_low);
     const MixerInput got = wrench(out.thrust_N);
@@ -179,7 +179,7 @@ TEST_CASE("mixer: a single axis beyond the span is cut to the largest torque the
                         {1, 1.0f, sat::pitch_pos},
                         {1, -1.0f, sat::pitch_neg}};
   for (const Case& c : cases) {
-    Vec3 tau{0.0f, 0.0f, 0.0f};
+    Vec3f tau{0.0f, 0.0f, 0.0f};
     tau[c.axis] = c.sign * 3.0f * full_Nm;
     const MixerOutput out = mix(mid_thrust_N, tau);
     INFO("axis " << c.axis << " sign " << c.sign);
@@ -209,7 +209,7 @@ TEST_CASE("mixer: roll before collective at hover thrust") {
 }
 
 TEST_CASE("mixer: roll and pitch together beyond the span keep their direction") {
-  const Vec3 tau{1.0f, -0.6f, 0.0f};
+  const Vec3f tau{1.0f, -0.6f, 0.0f};
   const MixerOutput out = mix(2.0f * (lo_N() + hi_N()), tau);
   CHECK((out.saturation & (sat::roll_pos | sat::roll_neg | sat::pitch_pos | sat::pitch_neg)) ==
         int(sat::roll_pos | sat::pitch_neg));
@@ -226,7 +226,7 @@ TEST_CASE("mixer: roll and pitch together beyond the span keep their direction")
 TEST_CASE("mixer: yaw saturates last and keeps roll, pitch and collective") {
   for (float sign : {1.0f, -1.0f}) {
     INFO("yaw sign " << sign);
-    const Vec3 tau{0.1f, 0.05f, sign * 0.5f};
+    const Vec3f tau{0.1f, 0.05f, sign * 0.5f};
     const MixerOutput out = mix(hover_N(), tau);
     CHECK(int(out.saturation) == (sign > 0.0f ? sat::yaw_pos : sat::yaw_neg));
     const MixerInput got = wrench(out.thrust_N);
@@ -266,7 +266,7 @@ TEST_CASE("mixer: combined corners") {
   SECTION("low collective with moderate torques: only the collective is raised") {
     // Motor 0 sits at idle after the collective is raised just enough for roll and pitch;
     // negative yaw lifts it, so all of this yaw fits.
-    const Vec3 tau{0.02f, 0.02f, -0.005f};
+    const Vec3f tau{0.02f, 0.02f, -0.005f};
     const MixerOutput out = mix(0.1f, tau);
     CHECK(int(out.saturation) == sat::collective_low);
     const MixerInput got = wrench(out.thrust_N);
@@ -275,7 +275,7 @@ TEST_CASE("mixer: combined corners") {
   SECTION("collective is not raised further to make room for yaw") {
     // The same request with positive yaw would push idle motor 0 lower: yaw is cut, the
     // collective stays at the lowest value roll and pitch need.
-    const Vec3 tau{0.02f, 0.02f, 0.005f};
+    const Vec3f tau{0.02f, 0.02f, 0.005f};
     const MixerOutput low = mix(0.1f, tau);
     const MixerOutput ref = mix(0.1f, {0.02f, 0.02f, 0.0f});
     CHECK(int(low.saturation) == (sat::collective_low | sat::yaw_pos));

@@ -13,11 +13,11 @@ namespace {
 
 namespace board = fw::drivers::omnibus_f4;
 namespace mpu = fw::drivers::mpu6000;
-using fw::Vec3;
+using fw::Vec3f;
 using fw::drivers::AxisMap;
 
 // A burst as the chip would send it, from values in the chip's own axes.
-std::array<std::uint8_t, 14> burst_from_chip(const Vec3& accel_mps2, const Vec3& gyro_radps) {
+std::array<std::uint8_t, 14> burst_from_chip(const Vec3f& accel_mps2, const Vec3f& gyro_radps) {
   std::array<std::uint8_t, 14> b{};
   const float a_lsb = 1.0f / mpu::accel_mps2_per_lsb(board::kImuRange.accel_g);
   const float g_lsb = 1.0f / mpu::gyro_radps_per_lsb(board::kImuRange.gyro_dps);
@@ -40,7 +40,7 @@ fw::ImuSample decode(const std::array<std::uint8_t, 14>& burst, const AxisMap& m
   return mpu::to_sample(raw, board::kImuRange, mounting, 0);
 }
 
-void check_vec(const Vec3& got, const Vec3& want, float tol) {
+void check_vec(const Vec3f& got, const Vec3f& want, float tol) {
   for (int i = 0; i < 3; ++i) {
     INFO("axis " << i);
     CHECK(got[i] == Approx(want[i]).margin(tol));

@@ -10,7 +10,7 @@
 namespace {
 
 using fw::RateController;
-using fw::Vec3;
+using fw::Vec3f;
 namespace sat = fw::saturation;
 
 const fw::RateControllerConfig kRate{};
@@ -23,9 +23,9 @@ float inertia(int axis) { return kAirframe.inertia_kgm2[axis]; }
 
 TEST_CASE("rate controller: proportional response has the right sign and size") {
   RateController rc(kRate, kAirframe);
-  const Vec3 setpoint{1.0f, -0.5f, 0.25f};
-  const Vec3 gyro{0.2f, 0.0f, 0.5f};
-  const Vec3 tau = rc.update(setpoint, gyro, kDt_s, 0);
+  const Vec3f setpoint{1.0f, -0.5f, 0.25f};
+  const Vec3f gyro{0.2f, 0.0f, 0.5f};
+  const Vec3f tau = rc.update(setpoint, gyro, kDt_s, 0);
   for (int a = 0; a < 3; ++a) {
     const float e = setpoint[a] - gyro[a];
     CHECK(tau[a] == Approx(inertia(a) * kRate.kp_per_s[a] * e).epsilon(1e-6));
@@ -37,13 +37,13 @@ TEST_CASE("rate controller: proportional response has the right sign and size") 
 
 TEST_CASE("rate controller: the integrator accumulates ki e dt and feeds the next output") {
   RateController rc(kRate, kAirframe);
-  const Vec3 setpoint{1.0f, 0.0f, -2.0f};
-  const Vec3 gyro{};
+  const Vec3f setpoint{1.0f, 0.0f, -2.0f};
+  const Vec3f gyro{};
   rc.update(setpoint, gyro, kDt_s, 0);
   for (int a = 0; a < 3; ++a) {
     CHECK(rc.integrator()[a] == Approx(kRate.ki_per_s2[a] * setpoint[a] * kDt_s).margin(1e-7));
   }
-  const Vec3 tau = rc.update(setpoint, gyro, kDt_s, 0);
+  const Vec3f tau = rc.update(setpoint, gyro, kDt_s, 0);
   for (int a = 0; a < 3; ++a) {
     const float expected =
         inertia(a) * (kRate.kp_per_s[a] * setpoint[a] + kRate.ki_per_s2[a] * setpoint[a] * kDt_s);
@@ -55,13 +55,13 @@ namespace {
 
 // Closed loop on a rigid body, J w_dot = torque + disturbance, 1 kHz, explicit Euler.
 // Returns the final rate error per axis.
-Vec3 run_closed_loop(const fw::RateControllerConfig& config, const Vec3& setpoint, const Vec3& disturbance_Nm,
-                     float duration_s, Vec3* integrator_out) {
+Vec3f run_closed_loop(const fw::RateControllerConfig& config, const Vec3f& setpoint,
+                      const Vec3f& disturbance_Nm, float duration_s, Vec3f* integrator_out) {
   RateController rc(config, kAirframe);
-  Vec3 w{};
+  Vec3f w{};
   const int steps = static_cast<int>(duration_s / kDt_s);
   for (int k = 0; k < steps; ++k) {
-    const Vec3 tau = rc.update(setpoint, w, kDt_s, 0);
+    const Vec3f tau = rc.update(setpoint, w, kDt_s, 0);
     for (int a = 0; a < 3; ++a) w[a] += (tau[a] + disturbance_Nm[a]) / inertia(a) * kDt_s;
   }
   if (integrator_out != nullptr) *integrator_out = rc.integrator();
@@ -71,11 +71,11 @@ Vec3 run_closed_loop(const fw::RateControllerConfig& config, const Vec3& setpoin
 }  // namespace
 
 TEST_CASE("rate controller: the integrator removes a constant disturbance in closed loop") {
-  const Vec3 setpoint{0.5f, -0.3f, 0.2f};
-  const Vec3 disturbance{0.02f, -0.015f, 0.008f};  // e.g. an off-centre pole and a yaw drag bias
+  const Vec3f setpoint{0.5f, -0.3f, 0.2f};
+  const Vec3f disturbance{0.02f, -0.015f, 0.008f};  // e.g. an off-centre pole and a yaw drag bias
 
-  Vec3 integrator{};
-  const Vec3 err = run_closed_loop(kRate, setpoint, disturbance, 8.0f, &integrator);
+  Vec3f integrator{};
+  const Vec3f err = run_closed_loop(kRate, setpoint, disturbance, 8.0f, &integrator);
   for (int a = 0; a < 3; ++a) {
     INFO("axis " << a);
     CHECK(std::fabs(err[a]) < 1e-3f);
@@ -86,7 +86,7 @@ TEST_CASE("rate controller: the integrator removes a constant disturbance in clo
   // Without the integral the same loop keeps the proportional droop d / (J kp).
   fw::RateControllerConfig p_only = kRate;
   for (float& ki : p_only.ki_per_s2) ki = 0.0f;
-  const Vec3 droop = run_closed_loop(p_only, setpoint, disturbance, 8.0f, nullptr);
+  const Vec3f droop = run_closed_loop(p_only, setpoint, disturbance, 8.0f, nullptr);
   for (int a = 0; a < 3; ++a) {
     INFO("axis " << a);
     CHECK(droop[a] == Approx(-disturbance[a] / (inertia(a) * kRate.kp_per_s[a])).epsilon(1e-2));
@@ -95,8 +95,8 @@ TEST_CASE("rate controller: the integrator removes a constant disturbance in clo
 }
 
 TEST_CASE("rate controller: dt is clamped into [dt_min_s, dt_max_s]") {
-  const Vec3 setpoint{1.0f, 1.0f, 1.0f};
-  const Vec3 gyro{};
+  const Vec3f setpoint{1.0f, 1.0f, 1.0f};
+  const Vec3f gyro{};
   const auto step_with = [&](float dt_s) {
     RateController rc(kRate, kAirframe);
     rc.update(setpoint, gyro, dt_s, 0);
@@ -114,13 +114,13 @@ TEST_CASE("rate controller: non-finite input holds the last output and the integ
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const float inf = std::numeric_limits<float>::infinity();
   RateController rc(kRate, kAirframe);
-  const Vec3 setpoint{1.0f, -1.0f, 0.5f};
+  const Vec3f setpoint{1.0f, -1.0f, 0.5f};
   rc.update(setpoint, {}, kDt_s, 0);
-  const Vec3 held = rc.update(setpoint, {}, kDt_s, 0);
-  const Vec3 integrator = rc.integrator();
+  const Vec3f held = rc.update(setpoint, {}, kDt_s, 0);
+  const Vec3f integrator = rc.integrator();
 
   struct Bad {
-    Vec3 setpoint, gyro;
+    Vec3f setpoint, gyro;
     float dt_s;
   };
   const Bad bad[] = {{{nan, 0.0f, 0.0f}, {}, kDt_s},
@@ -131,14 +131,14 @@ TEST_CASE("rate controller: non-finite input holds the last output and the integ
                      // finite but so large that the torque overflows
                      {setpoint, {3e38f, 0.0f, 0.0f}, kDt_s}};
   for (const Bad& b : bad) {
-    const Vec3 tau = rc.update(b.setpoint, b.gyro, b.dt_s, 0);
+    const Vec3f tau = rc.update(b.setpoint, b.gyro, b.dt_s, 0);
     for (int a = 0; a < 3; ++a) {
       CHECK(tau[a] == held[a]);
       CHECK(rc.integrator()[a] == integrator[a]);
     }
   }
   // A valid sample afterwards continues from the held integrators.
-  const Vec3 tau = rc.update(setpoint, {}, kDt_s, 0);
+  const Vec3f tau = rc.update(setpoint, {}, kDt_s, 0);
   for (int a = 0; a < 3; ++a) CHECK(std::isfinite(tau[a]));
   CHECK(rc.integrator()[0] > integrator[0]);
 }
@@ -148,15 +148,15 @@ TEST_CASE("rate controller: anti-windup freezes each axis only in its saturated 
     INFO("axis " << axis);
     const int other = (axis + 1) % 3;
     RateController rc(kRate, kAirframe);
-    Vec3 up{};
+    Vec3f up{};
     up[axis] = 1.0f;
     up[other] = 1.0f;
-    Vec3 down{};
+    Vec3f down{};
     down[axis] = -1.0f;
     down[other] = 1.0f;
     // Some integral to start from.
     for (int k = 0; k < 10; ++k) rc.update(up, {}, kDt_s, 0);
-    const Vec3 start = rc.integrator();
+    const Vec3f start = rc.integrator();
 
     // Saturated positive: growth blocked on this axis, other axes keep integrating.
     rc.update(up, {}, kDt_s, sat::positive(axis));
@@ -191,15 +191,15 @@ TEST_CASE("rate controller: the integrator is bounded") {
 TEST_CASE("rate controller: setpoints are clamped to the rate limit") {
   const float limit = kRate.rate_limit_radps;
   RateController a(kRate, kAirframe), b(kRate, kAirframe);
-  const Vec3 tau_over = a.update({100.0f, -100.0f, 3.0f * limit}, {}, kDt_s, 0);
-  const Vec3 tau_at = b.update({limit, -limit, limit}, {}, kDt_s, 0);
+  const Vec3f tau_over = a.update({100.0f, -100.0f, 3.0f * limit}, {}, kDt_s, 0);
+  const Vec3f tau_at = b.update({limit, -limit, limit}, {}, kDt_s, 0);
   for (int ax = 0; ax < 3; ++ax) {
     CHECK(tau_over[ax] == Approx(tau_at[ax]));
     CHECK(a.integrator()[ax] == Approx(b.integrator()[ax]));
   }
   // The gyro is not clamped: a vehicle spinning beyond the limit is braked in full.
   RateController c(kRate, kAirframe);
-  const Vec3 tau_fast = c.update({}, {2.0f * limit, 0.0f, 0.0f}, kDt_s, 0);
+  const Vec3f tau_fast = c.update({}, {2.0f * limit, 0.0f, 0.0f}, kDt_s, 0);
   CHECK(tau_fast[0] == Approx(-inertia(0) * kRate.kp_per_s[0] * 2.0f * limit));
 }
 
@@ -209,10 +209,10 @@ TEST_CASE("rate controller: reset clears the integrators and the held output") {
   REQUIRE(rc.integrator()[0] != 0.0f);
   rc.reset();
   for (int a = 0; a < 3; ++a) CHECK(rc.integrator()[a] == 0.0f);
-  const Vec3 held = rc.update({std::numeric_limits<float>::quiet_NaN(), 0.0f, 0.0f}, {}, kDt_s, 0);
+  const Vec3f held = rc.update({std::numeric_limits<float>::quiet_NaN(), 0.0f, 0.0f}, {}, kDt_s, 0);
   for (int a = 0; a < 3; ++a) CHECK(held[a] == 0.0f);
   // After reset the first output is purely proportional again.
-  const Vec3 tau = rc.update({1.0f, 0.0f, 0.0f}, {}, kDt_s, 0);
+  const Vec3f tau = rc.update({1.0f, 0.0f, 0.0f}, {}, kDt_s, 0);
   CHECK(tau[0] == Approx(inertia(0) * kRate.kp_per_s[0]));
 }
 
@@ -220,8 +220,8 @@ TEST_CASE("rate controller: the identified inertia scales roll and pitch, never 
   RateController rc(kRate, kAirframe);
   CHECK(rc.inertia_scale() == 1.0f);
   REQUIRE(rc.set_inertia_scale(0.8f));
-  const Vec3 setpoint{1.0f, -1.0f, 1.0f};
-  const Vec3 tau = rc.update(setpoint, Vec3{}, kDt_s, 0);
+  const Vec3f setpoint{1.0f, -1.0f, 1.0f};
+  const Vec3f tau = rc.update(setpoint, Vec3f{}, kDt_s, 0);
   CHECK(tau[0] == Approx(0.8f * inertia(0) * kRate.kp_per_s[0]).epsilon(1e-6));
   CHECK(tau[1] == Approx(-0.8f * inertia(1) * kRate.kp_per_s[1]).epsilon(1e-6));
   CHECK(tau[2] == Approx(inertia(2) * kRate.kp_per_s[2]).epsilon(1e-6));
@@ -234,7 +234,7 @@ TEST_CASE("rate controller: the identified inertia scales roll and pitch, never 
   REQUIRE(rc.set_inertia_scale(1.0f));
   RateController fresh(kRate, kAirframe);
   rc.reset();
-  const Vec3 a = rc.update(setpoint, Vec3{}, kDt_s, 0);
-  const Vec3 b = fresh.update(setpoint, Vec3{}, kDt_s, 0);
+  const Vec3f a = rc.update(setpoint, Vec3f{}, kDt_s, 0);
+  const Vec3f b = fresh.update(setpoint, Vec3f{}, kDt_s, 0);
   for (int i = 0; i < 3; ++i) CHECK(a[i] == b[i]);
 }

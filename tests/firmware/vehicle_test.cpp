@@ -33,8 +33,8 @@ struct Bench {
   std::uint32_t now_us = 0;
   std::uint8_t sp_seq = 0, hb_seq = 0, cmd_seq = 0;
   std::vector<Message> sent;
-  fw::Vec3 gyro_radps{};       // what the gyro reads at rest (a bias)
-  fw::Vec3 accel_bias_mps2{};  // what the accelerometer reads more than the specific force
+  fw::Vec3f gyro_radps{};       // what the gyro reads at rest (a bias)
+  fw::Vec3f accel_bias_mps2{};  // what the accelerometer reads more than the specific force
 
   Bench() : vehicle(config) { signer.start_session(kNonce, 0); }
 
@@ -57,7 +57,7 @@ struct Bench {
   void heartbeat(std::uint16_t token = kToken) {
     queue(GsHeartbeat{now_us / 1000, token, GroundState::active, hb_seq++});
   }
-  void setpoint(float thrust, fw::Vec3 rates = {}) {
+  void setpoint(float thrust, fw::Vec3f rates = {}) {
     sp_seq = static_cast<std::uint8_t>((sp_seq + 1) & 0x0F);
     queue(RateThrust{rates, thrust, sp_seq});
   }

@@ -1,6 +1,7 @@
-// One vehicle's motor lag on the ground (groundstation/runtime/motor_equaliser.hpp): the lag set on
-// board changes only when its SET_MOTOR_TIME_CONSTANT is acknowledged, a refused or lost one
-// keeps the old, and each take-off's fit is kept as the latest identification.
+// One vehicle's motor lag and rate-loop inertia on the ground (groundstation/runtime/motor_equaliser.hpp):
+// what is set on board changes only when its SET_MOTOR_TIME_CONSTANT or SET_INERTIA_SCALE
+// is acknowledged, a refused or lost one keeps the old, and each take-off's fit is kept as the
+// latest identification.
 #include <catch2/catch.hpp>
 
 #include <algorithm>

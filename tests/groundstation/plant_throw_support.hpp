@@ -98,7 +98,7 @@ inline Eigen::VectorXd balancing_state(const hil::Plant& plant, double half_leng
 }
 
 // The motion-capture frame as the estimator takes it (the arena's own adapter).
-inline gs::estimation::MocapFrame to_estimator_frame(const hil::MocapFrame& f) {
+inline gs::estimation::MocapFrame to_estimator_frame(const hil::CapturedFrame& f) {
   return hil::sil::to_ground_station_frame(f);
 }
 

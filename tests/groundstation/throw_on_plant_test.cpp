@@ -117,7 +117,7 @@ Flight fly_throw(const gs::planning::ThrowPlan& plan, double yaw_rad, double cat
       catches.watch(plant, plant.t_s(), flight.launch_t_s.has_value());
     }
 
-    hil::MocapFrame f;
+    hil::CapturedFrame f;
     while (plant.pop_mocap(f)) {
       est.update(to_estimator_frame(f));
       if (flight.launch_t_s && est.mode() == gs::estimation::PoleMode::free) {

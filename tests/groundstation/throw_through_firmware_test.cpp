@@ -289,7 +289,7 @@ Flight fly_throw_through_firmware(double catch_height_m) {
       catches.watch(plant, plan_t, flight.launch_t_s.has_value());
     }
 
-    hil::MocapFrame f;
+    hil::CapturedFrame f;
     while (plant.pop_mocap(f)) {
       est.update(to_estimator_frame(f));
       if (flight.launch_t_s && est.mode() == gs::estimation::PoleMode::free) {

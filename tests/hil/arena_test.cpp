@@ -270,10 +270,10 @@ TEST_CASE("arena: motion capture at its rate and latency, with both vehicles and
   plant.mocap.jitter_s = 0.0;
   plant.mocap.dropout_probability = 0.0;
   Arena arena(plant, exact_radio(), 8);
-  std::vector<std::pair<double, hil::MocapFrame>> got;
+  std::vector<std::pair<double, hil::CapturedFrame>> got;
   for (int k = 0; k < 1000; ++k) {
     arena.step();
-    for (const hil::MocapFrame& m : arena.take_mocap()) got.emplace_back(arena.t_s(), m);
+    for (const hil::CapturedFrame& m : arena.take_mocap()) got.emplace_back(arena.t_s(), m);
   }
   // Captured every 5 ms from t = 0; delivered 13 ms later: the last one by 1 s was captured at 985 ms.
   REQUIRE(got.size() == 198);
@@ -303,7 +303,7 @@ namespace {
 // Everything the ground sees of a run, and the plant's end state.
 struct Run {
   std::vector<Arrival> ground;
-  std::vector<hil::MocapFrame> mocap;
+  std::vector<hil::CapturedFrame> mocap;
   std::vector<std::uint64_t> lost1, lost2;  // per step, each radio's losses so far (both ways)
   std::array<hil::VehicleState, 2> vehicles;
   hil::PoleState pole;
@@ -328,7 +328,7 @@ Run fly(std::uint64_t seed) {
       ground.rate_radps = {0.1f, -0.1f, 0.0f};
     }
     ground.tick();
-    for (const hil::MocapFrame& m : arena.take_mocap()) run.mocap.push_back(m);
+    for (const hil::CapturedFrame& m : arena.take_mocap()) run.mocap.push_back(m);
     const hil::run::VehicleExchangeCounters r1 = arena.exchange().counters(pa::kVehicle1),
                                             r2 = arena.exchange().counters(pa::kVehicle2);
     run.lost1.push_back(r1.uplink_lost + r1.downlink_lost);
@@ -366,7 +366,7 @@ bool same_ground(const Run& a, const Run& b) {
 bool same_mocap(const Run& a, const Run& b) {
   if (a.mocap.size() != b.mocap.size()) return false;
   for (std::size_t i = 0; i < a.mocap.size(); ++i) {
-    const hil::MocapFrame &x = a.mocap[i], &y = b.mocap[i];
+    const hil::CapturedFrame &x = a.mocap[i], &y = b.mocap[i];
     if (x.index != y.index || x.delivery_t_s != y.delivery_t_s) return false;
     for (std::size_t p = 0; p < 3; ++p)
       if (x.pose[p].seen != y.pose[p].seen || x.pose[p].position_m != y.pose[p].position_m ||

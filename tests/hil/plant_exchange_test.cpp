@@ -359,7 +359,7 @@ class Flight {
       const double ground_now = ground_per_plant_ * plant_now;
       for (const Frame& f : rig_.at_ground) station_->on_frame(f, ground_now);
       rig_.at_ground.clear();
-      for (const hil::MocapFrame& m : rig_.exchange.take_mocap()) {
+      for (const hil::CapturedFrame& m : rig_.exchange.take_mocap()) {
         // Stamped as hil run stamps it: as long before the ground's now as before the plant's.
         gs::estimation::MocapFrame frame = hil::sil::to_ground_station_frame(m);
         frame.t_s = ground_now - (plant_now - m.capture_t_s);

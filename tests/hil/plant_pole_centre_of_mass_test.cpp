@@ -46,14 +46,14 @@ TEST_CASE("a pole handed up rests with end 0 on the plate and the motion capture
     CHECK((hil::pole_end_m(plant.pole(), plant.config().pole, 0) - plate).norm() < 1e-12);
     CHECK(plant.pole().body.position_m.z() == Approx(plate.z() + L + d));
     // The first frame is captured at t = 0; run past the motion capture's latency.
-    hil::MocapFrame frame;
+    hil::CapturedFrame frame;
     bool seen = false;
     for (int k = 0; k < 100 && !seen; ++k) {
       plant.step(0.001, {}, {});
       seen = plant.pop_mocap(frame);
     }
     REQUIRE(seen);
-    const hil::MocapPose& pole = frame.pose[static_cast<std::size_t>(hil::Body::pole)];
+    const hil::CapturedPose& pole = frame.pose[static_cast<std::size_t>(hil::Body::pole)];
     REQUIRE(pole.seen);
     // Captured at t = 0, before the pole moved: the middle, L above the plate.
     CHECK(pole.position_m.z() == Approx(plate.z() + L).margin(1e-9));

@@ -30,7 +30,7 @@ Trace run(const PlantConfig& c, std::uint64_t seed) {
     while (plant.pop_imu(pa::kVehicle1, s)) {
       for (int i = 0; i < 3; ++i) t.numbers.push_back(s.accel_mps2[i]);
     }
-    hil::MocapFrame f;
+    hil::CapturedFrame f;
     while (plant.pop_mocap(f)) {
       for (const auto& p : f.pose) {
         for (int i = 0; i < 3; ++i) t.numbers.push_back(p.position_m[i]);

@@ -108,12 +108,12 @@ TEST_CASE("motion capture: 200 Hz frames of the true poses, delivered after the 
   // A tumbling pole: the frame must hold its pose at the capture time, not at delivery.
   plant.set_pole(Plant::make_pole(Vec3(0, 0, 20), Vec3(0.2, 0.1, 1.0), Vec3(0.3, 0, 4), Vec3(1.0, 3.0, 0.5)));
   std::vector<hil::PoleState> truth{plant.pole()};  // at t = k ms
-  std::vector<hil::MocapFrame> frames;
+  std::vector<hil::CapturedFrame> frames;
   std::vector<double> seen_at;
   for (int k = 0; k < 1000; ++k) {
     plant.step(0.001, plant.hover_commands(pa::kVehicle1), kOff);
     truth.push_back(plant.pole());
-    hil::MocapFrame f;
+    hil::CapturedFrame f;
     while (plant.pop_mocap(f)) {
       frames.push_back(f);
       seen_at.push_back(plant.t_s());
@@ -121,7 +121,7 @@ TEST_CASE("motion capture: 200 Hz frames of the true poses, delivered after the 
   }
   REQUIRE(frames.size() >= 195);
   for (std::size_t i = 0; i < frames.size(); ++i) {
-    const hil::MocapFrame& f = frames[i];
+    const hil::CapturedFrame& f = frames[i];
     INFO("frame " << i);
     CHECK(f.index == i);
     CHECK(f.capture_t_s == Approx(0.005 * static_cast<double>(i)).margin(1e-12));
@@ -130,12 +130,12 @@ TEST_CASE("motion capture: 200 Hz frames of the true poses, delivered after the 
     CHECK(seen_at[i] >= f.delivery_t_s - 1e-12);
     CHECK(seen_at[i] < f.delivery_t_s + 0.001);
     const hil::PoleState& p = truth[static_cast<std::size_t>(std::llround(f.capture_t_s * 1000))];
-    const hil::MocapPose& pose = f.pose[static_cast<int>(hil::Body::pole)];
+    const hil::CapturedPose& pose = f.pose[static_cast<int>(hil::Body::pole)];
     CHECK(pose.seen);
     CHECK((pose.position_m - p.body.position_m).norm() < 1e-12);
     // The pole's quaternion turns body z into the pole's axis n.
     CHECK((pose.attitude * Vec3::UnitZ() - p.axis()).norm() < 1e-12);
-    const hil::MocapPose& v1 = f.pose[static_cast<int>(hil::Body::vehicle1)];
+    const hil::CapturedPose& v1 = f.pose[static_cast<int>(hil::Body::vehicle1)];
     CHECK((v1.position_m - Vec3(0.1, 0.2, 1.0)).norm() < 1e-9);
   }
 }
@@ -151,9 +151,9 @@ TEST_CASE("motion capture noise has the configured size") {
   std::vector<double> angle2;
   for (int k = 0; k < 10000; ++k) {
     plant.step(0.001, kOff, kOff);
-    hil::MocapFrame f;
+    hil::CapturedFrame f;
     while (plant.pop_mocap(f)) {
-      const hil::MocapPose& p = f.pose[0];
+      const hil::CapturedPose& p = f.pose[0];
       dx.push_back(p.position_m.x() - truth.position_m.x());
       const double a = p.attitude.angularDistance(truth.attitude);
       angle2.push_back(a * a);
@@ -176,12 +176,12 @@ TEST_CASE("motion capture loses bodies at the dropout rate, and jitter keeps fra
   bool in_order = true;
   for (int k = 0; k < 10000; ++k) {
     plant.step(0.001, kOff, kOff);
-    hil::MocapFrame f;
+    hil::CapturedFrame f;
     while (plant.pop_mocap(f)) {
       in_order = in_order && f.delivery_t_s >= last_delivery;
       last_delivery = f.delivery_t_s;
       CHECK(f.delivery_t_s >= f.capture_t_s + c.mocap.latency_s);
-      for (const hil::MocapPose& p : f.pose) {
+      for (const hil::CapturedPose& p : f.pose) {
         ++bodies;
         if (!p.seen) ++lost;
       }
@@ -193,11 +193,11 @@ TEST_CASE("motion capture loses bodies at the dropout rate, and jitter keeps fra
   c.mocap.dropout_probability = 1.0;
   Plant blind(c, 3);
   for (int k = 0; k < 100; ++k) blind.step(0.001, kOff, kOff);
-  hil::MocapFrame f;
+  hil::CapturedFrame f;
   int frames = 0;
   while (blind.pop_mocap(f)) {
     ++frames;
-    for (const hil::MocapPose& p : f.pose) CHECK_FALSE(p.seen);
+    for (const hil::CapturedPose& p : f.pose) CHECK_FALSE(p.seen);
   }
   CHECK(frames > 10);
 }
@@ -211,7 +211,7 @@ TEST_CASE("motion capture with dropout outages hides each body for 100 ms stretc
   int frames = 0;
   for (int k = 0; k < 60000; ++k) {
     plant.step(0.001, kOff, kOff);
-    hil::MocapFrame f;
+    hil::CapturedFrame f;
     while (plant.pop_mocap(f)) {
       ++frames;
       for (std::size_t b = 0; b < 3; ++b) {

@@ -31,7 +31,7 @@ void AttitudeEstimator::reset_level() {
   aligned_ = false;
 }
 
-void AttitudeEstimator::correct_tilt(const Vec3& true_up) {
+void AttitudeEstimator::correct_tilt(const Vec3f& true_up) {
   const float n2 = true_up[0] * true_up[0] + true_up[1] * true_up[1] + true_up[2] * true_up[2];
   if (!(n2 > 0.0f) || !(true_up[2] > 0.0f) || !std::isfinite(n2)) return;
   const float inv = 1.0f / std::sqrt(n2);
@@ -44,7 +44,7 @@ void AttitudeEstimator::correct_tilt(const Vec3& true_up) {
   if (normalise(q)) q_ = q;
 }
 
-void AttitudeEstimator::update(const Vec3& gyro_radps, const Vec3& accel_mps2, float dt_s) {
+void AttitudeEstimator::update(const Vec3f& gyro_radps, const Vec3f& accel_mps2, float dt_s) {
   if (!(nonfinite_marker(gyro_radps) + nonfinite_marker(dt_s) == 0.0f)) return;
   const float dt_clamped_s = clampf(dt_s, 0.0f, kDtMax_s);
 
@@ -52,7 +52,7 @@ void AttitudeEstimator::update(const Vec3& gyro_radps, const Vec3& accel_mps2, f
   // and while the correction has a gain (the vehicle sets none in flight), and a zero gain
   // would add nothing below.
   bool accel_usable = false;
-  Vec3 up_meas{};
+  Vec3f up_meas{};
   if (!aligned_ || accel_gain_per_s_ > 0.0f) {
     const float n2 =
         accel_mps2[0] * accel_mps2[0] + accel_mps2[1] * accel_mps2[1] + accel_mps2[2] * accel_mps2[2];
@@ -77,7 +77,7 @@ void AttitudeEstimator::update(const Vec3& gyro_radps, const Vec3& accel_mps2, f
     return;
   }
 
-  Vec3 omega_radps = gyro_radps;
+  Vec3f omega_radps = gyro_radps;
   if (!all_within(omega_radps, kGyroLimit_radps)) {  // inside the range (as usual) the clamp changes nothing
     for (float& w : omega_radps) w = clampf(w, -kGyroLimit_radps, kGyroLimit_radps);
   }
@@ -87,13 +87,13 @@ void AttitudeEstimator::update(const Vec3& gyro_radps, const Vec3& accel_mps2, f
     // accelerometer belongs to the end of this step, so it is compared with the estimate
     // predicted over the step (to first order); comparing it with the start of the step would
     // leave a steady lead of omega dt while rotating.
-    const Vec3 up_prev = up_in_body();
+    const Vec3f up_prev = up_in_body();
     const float g0 = omega_radps[0] * dt_clamped_s;
     const float g1 = omega_radps[1] * dt_clamped_s;
     const float g2 = omega_radps[2] * dt_clamped_s;
-    const Vec3 up_est{up_prev[0] + (up_prev[1] * g2 - up_prev[2] * g1),
-                      up_prev[1] + (up_prev[2] * g0 - up_prev[0] * g2),
-                      up_prev[2] + (up_prev[0] * g1 - up_prev[1] * g0)};
+    const Vec3f up_est{up_prev[0] + (up_prev[1] * g2 - up_prev[2] * g1),
+                       up_prev[1] + (up_prev[2] * g0 - up_prev[0] * g2),
+                       up_prev[2] + (up_prev[0] * g1 - up_prev[1] * g0)};
     const float k = accel_gain_per_s_;
     omega_radps[0] += k * (up_meas[1] * up_est[2] - up_meas[2] * up_est[1]);
     omega_radps[1] += k * (up_meas[2] * up_est[0] - up_meas[0] * up_est[2]);

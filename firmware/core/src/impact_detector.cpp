@@ -11,11 +11,11 @@ using pa::proto::ImpactClass;
 
 namespace {
 
-[[gnu::always_inline]] inline Vec3 minus(const Vec3& a, const Vec3& b) {
-  return Vec3{a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+[[gnu::always_inline]] inline Vec3f minus(const Vec3f& a, const Vec3f& b) {
+  return Vec3f{a[0] - b[0], a[1] - b[1], a[2] - b[2]};
 }
 
-[[gnu::always_inline]] inline float norm(const Vec3& v) {
+[[gnu::always_inline]] inline float norm(const Vec3f& v) {
   return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
 }
 
@@ -70,7 +70,7 @@ void ImpactDetector::reset() {
   settled_us_ = 0;
 }
 
-Vec3 ImpactDetector::residual_mps2() const { return filled_ == 0 ? Vec3{} : history(0).residual_mps2; }
+Vec3f ImpactDetector::residual_mps2() const { return filled_ == 0 ? Vec3f{} : history(0).residual_mps2; }
 
 [[gnu::always_inline]] inline const ImpactDetector::Sample& ImpactDetector::history(
     std::size_t samples_ago) const {
@@ -111,7 +111,7 @@ bool ImpactDetector::update(const ImpactInput& in, ImpactEvent& out) {
   newest_ = (newest_ + 1) % kHistory;
   Sample& s = history_[newest_];
   s.t_us = in.t_us;
-  s.residual_mps2 = Vec3{in.accel_mps2[0], in.accel_mps2[1], in.accel_mps2[2] - expected_mps2_};
+  s.residual_mps2 = Vec3f{in.accel_mps2[0], in.accel_mps2[1], in.accel_mps2[2] - expected_mps2_};
   s.gyro_radps = in.gyro_radps;
   if (filled_ < kHistory) ++filled_;
 
@@ -186,7 +186,7 @@ bool ImpactDetector::update(const ImpactInput& in, ImpactEvent& out) {
   return true;
 }
 
-[[gnu::always_inline]] inline bool ImpactDetector::triggered(const Vec3& change_mps2,
+[[gnu::always_inline]] inline bool ImpactDetector::triggered(const Vec3f& change_mps2,
                                                              bool crash_level_only) const {
   const float total2 =
       change_mps2[0] * change_mps2[0] + change_mps2[1] * change_mps2[1] + change_mps2[2] * change_mps2[2];
@@ -197,7 +197,7 @@ bool ImpactDetector::update(const ImpactInput& in, ImpactEvent& out) {
 
 [[gnu::always_inline]] inline float ImpactDetector::add(Accumulator& acc, const Sample& s,
                                                         const Sample& reference) {
-  const Vec3 d = minus(s.residual_mps2, reference.residual_mps2);
+  const Vec3f d = minus(s.residual_mps2, reference.residual_mps2);
   const float m = norm(d);
   if (m > acc.peak_mps2) {
     acc.before_peak_mps2 = acc.last_mps2;

@@ -12,9 +12,9 @@ namespace fw {
 void InertialReference::correct_rest_tilt(AttitudeEstimator& attitude) {
   rest_tilt_corrected_ = true;
   constexpr float inv_g = 1.0f / pa::kGravityFloat_mps2;
-  const Vec3 lean = AttitudeEstimator::rotate_to_inertial(
-      rest_attitude_, Vec3{flight_accel_x_mps2_ * inv_g, flight_accel_y_mps2_ * inv_g, 0.0f});
-  attitude.correct_tilt(Vec3{-lean[0], -lean[1], 1.0f});
+  const Vec3f lean = AttitudeEstimator::rotate_to_inertial(
+      rest_attitude_, Vec3f{flight_accel_x_mps2_ * inv_g, flight_accel_y_mps2_ * inv_g, 0.0f});
+  attitude.correct_tilt(Vec3f{-lean[0], -lean[1], 1.0f});
   accel_bias_up_mps2_ -= 0.5f * pa::kGravityFloat_mps2 * (lean[0] * lean[0] + lean[1] * lean[1]);
 }
 

@@ -45,21 +45,21 @@ void RateController::reset() {
   last_torque_Nm_ = {};
 }
 
-Vec3 RateController::update(const Vec3& rate_setpoint_radps, const Vec3& gyro_radps, float dt_s,
-                            std::uint8_t saturation_flags) {
+Vec3f RateController::update(const Vec3f& rate_setpoint_radps, const Vec3f& gyro_radps, float dt_s,
+                             std::uint8_t saturation_flags) {
   if (!(nonfinite_marker(rate_setpoint_radps) + nonfinite_marker(gyro_radps) + nonfinite_marker(dt_s) ==
         0.0f)) {
     return last_torque_Nm_;
   }
   const float dt_clamped_s = clampf(dt_s, config_.dt_min_s, config_.dt_max_s);
 
-  Vec3 integrator_radps2 = integrator_radps2_;
-  const Vec3 torque_Nm{axis_step(0, rate_setpoint_radps[0], gyro_radps[0], dt_clamped_s, saturation_flags,
-                                 integrator_radps2[0]),
-                       axis_step(1, rate_setpoint_radps[1], gyro_radps[1], dt_clamped_s, saturation_flags,
-                                 integrator_radps2[1]),
-                       axis_step(2, rate_setpoint_radps[2], gyro_radps[2], dt_clamped_s, saturation_flags,
-                                 integrator_radps2[2])};
+  Vec3f integrator_radps2 = integrator_radps2_;
+  const Vec3f torque_Nm{axis_step(0, rate_setpoint_radps[0], gyro_radps[0], dt_clamped_s, saturation_flags,
+                                  integrator_radps2[0]),
+                        axis_step(1, rate_setpoint_radps[1], gyro_radps[1], dt_clamped_s, saturation_flags,
+                                  integrator_radps2[1]),
+                        axis_step(2, rate_setpoint_radps[2], gyro_radps[2], dt_clamped_s, saturation_flags,
+                                  integrator_radps2[2])};
 
   if (!(nonfinite_marker(torque_Nm) + nonfinite_marker(integrator_radps2) == 0.0f)) return last_torque_Nm_;
   integrator_radps2_ = integrator_radps2;

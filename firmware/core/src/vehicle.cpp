@@ -107,7 +107,7 @@ TickOutput Vehicle::tick(const ImuSample& imu) {
   const bool crash = detect_impact(now_us);
   supervise(crash);
 
-  Vec3 rate_radps{};
+  Vec3f rate_radps{};
   float thrust_mps2 = 0;
   choose_setpoint(dt_s, rate_radps, thrust_mps2);
   const TickOutput out = control_and_mix(dt_s, rate_radps, thrust_mps2);
@@ -284,13 +284,13 @@ void Vehicle::track_flight(std::uint32_t) {
   if (mode != Mode::failsafe_descent) failsafe_.clear_ground_contact();
 }
 
-[[gnu::always_inline]] inline void Vehicle::choose_setpoint(float dt_s, Vec3& rate_radps,
+[[gnu::always_inline]] inline void Vehicle::choose_setpoint(float dt_s, Vec3f& rate_radps,
                                                             float& thrust_mps2) {
   const Action action = supervisor_.action();
   switch (action) {
     case Action::motors_off:
     case Action::idle:
-      rate_radps = Vec3{};
+      rate_radps = Vec3f{};
       thrust_mps2 = 0;
       return;
     case Action::track_setpoints: {
@@ -309,7 +309,7 @@ void Vehicle::track_flight(std::uint32_t) {
 
   // On board (fw/failsafe_controller.hpp): level, hold (or sink at) the vertical speed
   // integrated on board.
-  const Vec3 up = attitude_.up_in_body();
+  const Vec3f up = attitude_.up_in_body();
   const float specific_up_mps2 = inertial_.up_accel_mps2(accel_mps2_, up);
   if (imu_ok_) failsafe_.integrate(specific_up_mps2, dt_s);
   if (catch_.expected() && supervisor_.mode() == Mode::hold) {
@@ -317,7 +317,7 @@ void Vehicle::track_flight(std::uint32_t) {
     // (attitude held, the last thrust) rather than levelling, which would tip it off the pole's
     // path just before the pole arrives. The window is the expected-catch one, and the hold
     // still becomes the levelled failsafe hover at hold_max_us, from the speed integrated here.
-    rate_radps = Vec3{};
+    rate_radps = Vec3f{};
     thrust_mps2 = link_.setpoint().thrust_mps2;
     return;
   }
@@ -326,7 +326,7 @@ void Vehicle::track_flight(std::uint32_t) {
   else thrust_mps2 = failsafe_.descend(up, specific_up_mps2, thrust_applied_mps2_, dt_s);
 }
 
-[[gnu::always_inline]] inline TickOutput Vehicle::control_and_mix(float dt_s, const Vec3& rate_radps,
+[[gnu::always_inline]] inline TickOutput Vehicle::control_and_mix(float dt_s, const Vec3f& rate_radps,
                                                                   float thrust_mps2) {
   TickOutput out{};
   if (!supervisor_.motors_enabled()) {
@@ -341,7 +341,7 @@ void Vehicle::track_flight(std::uint32_t) {
   // gyro bias, the floor's tilt) would wind the integrators up and kick the vehicle at lift-off:
   // they learn in flight only (PX4 resets them while landed).
   if (supervisor_.action() == Action::idle) rate_controller_.reset();
-  const Vec3 torque = rate_controller_.update(rate_radps, gyro_radps_, dt_s, saturation_);
+  const Vec3f torque = rate_controller_.update(rate_radps, gyro_radps_, dt_s, saturation_);
   const float mass = config_.airframe.mass_kg;
   const float thrust_N = thrust_mps2 * mass;
   MixerInput request{thrust_N, torque};

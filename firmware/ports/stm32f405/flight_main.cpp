@@ -118,7 +118,7 @@ class Line {
     return u32(v < 0 ? 0u - static_cast<std::uint32_t>(v) : static_cast<std::uint32_t>(v));
   }
   // Three values scaled to whole units (centimetres, milliradians), for the console.
-  Line& vec(const fw::Vec3& v, float scale) {
+  Line& vec(const fw::Vec3f& v, float scale) {
     for (std::size_t i = 0; i < 3; ++i) {
       const float x = v[i] * scale;
       const float clamped = x > 1e9f ? 1e9f : x < -1e9f ? -1e9f : x;  // NaN stays NaN, then 0

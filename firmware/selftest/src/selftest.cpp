@@ -67,7 +67,7 @@ struct Ground {
     if (encode(GsHeartbeat{tick, kSession, GroundState::active, heartbeat_seq++}, kNode, f))
       send(v, f, tick * 1000u);
   }
-  void setpoint(Vehicle& v, std::uint32_t tick, const Vec3& rate, float thrust, bool fresh) {
+  void setpoint(Vehicle& v, std::uint32_t tick, const Vec3f& rate, float thrust, bool fresh) {
     if (fresh) {
       setpoint_seq = static_cast<std::uint8_t>((setpoint_seq + 1) & 0x0F);
       last_fresh_setpoint_tick = tick;
@@ -85,8 +85,8 @@ struct Ground {
 // it with rate and thrust setpoints, as the real one does: a height loop (1 m above the floor),
 // a levelling loop, rate sines for the manoeuvre, and a deliberate roll before the link loss
 // so that the on-board failsafe has a tilt to level.
-void script_setpoint(std::uint32_t tick, const SyntheticVehicle& plant, Vec3& rate, float& thrust) {
-  rate = Vec3{};
+void script_setpoint(std::uint32_t tick, const SyntheticVehicle& plant, Vec3f& rate, float& thrust) {
+  rate = Vec3f{};
   thrust = 0;
   if (tick < kClimbAt) return;
   constexpr float kHeight_m = 1.0f;
@@ -94,8 +94,8 @@ void script_setpoint(std::uint32_t tick, const SyntheticVehicle& plant, Vec3& ra
   thrust =
       (pa::kGravityFloat_mps2 + 4.0f * (kHeight_m - plant.position_m()[2]) - 3.0f * plant.velocity_mps()[2]) /
       tilt_cos;
-  const Vec3 up = plant.up_in_body();
-  rate = Vec3{-3.0f * up[1], 3.0f * up[0], 0.0f};  // level
+  const Vec3f up = plant.up_in_body();
+  rate = Vec3f{-3.0f * up[1], 3.0f * up[0], 0.0f};  // level
   if (tick >= kManoeuvreAt && tick < kManoeuvreEnd) {
     // One period of a 1 Hz sine on roll and pitch rates: the angles return to level.
     const float phase = 6.2831853f * static_cast<float>(tick - kManoeuvreAt) / 1000.0f;
@@ -103,7 +103,7 @@ void script_setpoint(std::uint32_t tick, const SyntheticVehicle& plant, Vec3& ra
     rate[0] = 1.5f * s;
     rate[1] = -1.0f * s;
   }
-  if (tick >= kTiltAt && tick < kLinkLossAt) rate = Vec3{tick < kTiltAt + 100 ? 1.5f : 0.0f, 0.0f, 0.0f};
+  if (tick >= kTiltAt && tick < kLinkLossAt) rate = Vec3f{tick < kTiltAt + 100 ? 1.5f : 0.0f, 0.0f, 0.0f};
 }
 
 }  // namespace
@@ -135,7 +135,7 @@ Result run(TickProbe* probe) {
     // Ground station: heartbeats throughout, setpoints at 200 Hz, commands at their times.
     if (tick % kHeartbeatPeriod == 0) ground.heartbeat(vehicle, tick);
     if (tick % kBatteryPeriod == 0) vehicle.note_battery_mv(kBattery_mv);
-    Vec3 rate{};
+    Vec3f rate{};
     float thrust = 0;
     script_setpoint(tick, plant, rate, thrust);
     if (tick % kSetpointPeriod == 0) ground.setpoint(vehicle, tick, rate, thrust, tick < kLinkLossAt);
@@ -144,7 +144,7 @@ Result run(TickProbe* probe) {
     if (tick == kHandledAt) ground.command(vehicle, tick, CommandCode::catch_handled, 0);
 
     // The pole: a half-sine contact pulse, then its weight rests on the plate.
-    Vec3 external{};
+    Vec3f external{};
     if (tick >= kImpactAt && tick < kImpactAt + kImpactPulse) {
       const float phase =
           3.14159265f * static_cast<float>(tick - kImpactAt) / static_cast<float>(kImpactPulse);

@@ -111,8 +111,8 @@ class Flight {
     arena_.step();
     const double now = arena_.t_s();
     for (const pa::proto::Frame& f : arena_.take_ground_frames()) process_.on_frame(f, now);
-    const std::vector<hil::MocapFrame> frames = arena_.take_mocap();
-    for (const hil::MocapFrame& m : frames) {
+    const std::vector<hil::CapturedFrame> frames = arena_.take_mocap();
+    for (const hil::CapturedFrame& m : frames) {
       gs::dds::mocap_frame_to_dds(hil::sil::to_ground_station_frame(m), ++frame_number_, message_);
       const std::uint64_t taken = process_.counters().mocap_frames;
       bus_.arm();

@@ -49,20 +49,20 @@ class AttitudeEstimator {
   // expressed in the estimated inertial frame (near +z); the estimated frame is turned so that
   // it becomes +z, yaw unchanged to first order. A vector that is not finite or points down
   // changes nothing.
-  void correct_tilt(const Vec3& true_up);
+  void correct_tilt(const Vec3f& true_up);
 
   // One IMU sample. gyro_radps: body rates; accel_mps2: specific force in the body frame.
   // The first sample with a finite accelerometer inside the gate aligns the tilt to it (zero
   // yaw) instead of integrating; until then the gyro is integrated from level.
   // A non-finite gyro or dt rejects the whole sample; a non-finite accelerometer only skips
   // the correction.
-  void update(const Vec3& gyro_radps, const Vec3& accel_mps2, float dt_s);
+  void update(const Vec3f& gyro_radps, const Vec3f& accel_mps2, float dt_s);
 
   const Quaternion& quaternion() const { return q_; }
 
   // Unit inertial-up vector expressed in the body frame: the third row of the body-to-inertial
   // rotation matrix of q. (Inline: the failsafe reads it every tick.)
-  Vec3 up_in_body() const {
+  Vec3f up_in_body() const {
     const float w = q_[0], x = q_[1], y = q_[2], z = q_[3];
     return {2.0f * (x * z - w * y), 2.0f * (y * z + w * x), 1.0f - 2.0f * (x * x + y * y)};
   }
@@ -71,8 +71,8 @@ class AttitudeEstimator {
   float tilt_cos() const { return 1.0f - 2.0f * (q_[1] * q_[1] + q_[2] * q_[2]); }
 
   // A body vector in the estimated inertial frame.
-  Vec3 to_inertial(const Vec3& v) const { return rotate_to_inertial(q_, v); }
-  static Vec3 rotate_to_inertial(const Quaternion& q, const Vec3& v) {
+  Vec3f to_inertial(const Vec3f& v) const { return rotate_to_inertial(q_, v); }
+  static Vec3f rotate_to_inertial(const Quaternion& q, const Vec3f& v) {
     const float w = q[0], x = q[1], y = q[2], z = q[3];
     // v + 2 w (r x v) + 2 r x (r x v), r = (x, y, z)
     const float cx = y * v[2] - z * v[1], cy = z * v[0] - x * v[2], cz = x * v[1] - y * v[0];

@@ -20,9 +20,9 @@ class FailsafeController {
 
   // Levelling law: body rates that turn the measured "up" towards the body z-axis.
   // For an inertial vector seen from the body, u' = -w x u; with w = k (e_z x u) the tilt decays.
-  Vec3 levelling_rates(const Vec3& up_in_body) const {
+  Vec3f levelling_rates(const Vec3f& up_in_body) const {
     const float k = level_gain_per_s_;
-    return Vec3{-k * up_in_body[1], k * up_in_body[0], 0.0f};
+    return Vec3f{-k * up_in_body[1], k * up_in_body[0], 0.0f};
   }
 
   // On-board flight begins: from the vertical speed estimated in flight, on no ground yet.
@@ -43,12 +43,12 @@ class FailsafeController {
     vz_mps_ += (specific_up_mps2 - pa::kGravityFloat_mps2) * clamped_dt;
   }
   // The levelled hover's collective thrust: hold the vertical speed at zero.
-  float hover_thrust_mps2(const Vec3& up_in_body) const {
+  float hover_thrust_mps2(const Vec3f& up_in_body) const {
     return (pa::kGravityFloat_mps2 + kVerticalGain_per_s * (0.0f - vz_mps_)) / tilt_cos(up_in_body);
   }
   // The descent's collective thrust (sink at descent_rate_mps), and the ground contact: the floor
   // holds the vehicle up although the thrust applied last tick asks it to sink.
-  float descend(const Vec3& up_in_body, float specific_up_mps2, float thrust_applied_mps2, float dt_s) {
+  float descend(const Vec3f& up_in_body, float specific_up_mps2, float thrust_applied_mps2, float dt_s) {
     const float target = -descent_rate_mps_;
     float thrust_mps2 =
         (pa::kGravityFloat_mps2 + kVerticalGain_per_s * (target - vz_mps_)) / tilt_cos(up_in_body);
@@ -64,7 +64,7 @@ class FailsafeController {
   float vz_mps() const { return vz_mps_; }
 
  private:
-  static float tilt_cos(const Vec3& up_in_body) {
+  static float tilt_cos(const Vec3f& up_in_body) {
     return up_in_body[2] < kMinTiltCos ? kMinTiltCos : up_in_body[2];
   }
 

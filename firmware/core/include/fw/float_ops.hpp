@@ -23,14 +23,14 @@ namespace fw {
 // value on the Cortex-M4). This needs IEEE semantics: never build the firmware with
 // -ffinite-math-only (or -ffast-math), which would fold x * 0 to 0.
 [[gnu::always_inline]] inline float nonfinite_marker(float v) { return v * 0.0f; }
-[[gnu::always_inline]] inline float nonfinite_marker(const Vec3& v) {
+[[gnu::always_inline]] inline float nonfinite_marker(const Vec3f& v) {
   return v[0] * 0.0f + v[1] * 0.0f + v[2] * 0.0f;
 }
 
 // |v[i]| <= limit for every component; false for NaN and the infinities, so it is also the
 // finiteness check. A sum inside the limit decides the usual case with one comparison (each
 // magnitude is at most the rounded sum of the non-negative magnitudes).
-[[gnu::always_inline]] inline bool all_within(const Vec3& v, float limit) {
+[[gnu::always_inline]] inline bool all_within(const Vec3f& v, float limit) {
   if (std::fabs(v[0]) + std::fabs(v[1]) + std::fabs(v[2]) <= limit) return true;
   return std::fabs(v[0]) <= limit && std::fabs(v[1]) <= limit && std::fabs(v[2]) <= limit;
 }

@@ -58,8 +58,8 @@ namespace fw {
 
 struct ImpactInput {
   std::uint32_t t_us = 0;              // vehicle clock of the IMU sample
-  Vec3 accel_mps2{};                   // specific force, body frame (+g on z when level at rest)
-  Vec3 gyro_radps{};                   // body rates
+  Vec3f accel_mps2{};                  // specific force, body frame (+g on z when level at rest)
+  Vec3f gyro_radps{};                  // body rates
   float commanded_thrust_mps2 = 0.0f;  // collective applied to the motors over the interval ending here
   bool catch_expected = false;         // inside a catch window (EXPECT_CATCH)
   bool landing_expected = false;       // descending to land: the floor may push up
@@ -98,7 +98,7 @@ class ImpactDetector {
   std::uint8_t count() const { return count_; }  // events detected since boot, wrapping
   bool in_event() const { return phase_ != Phase::idle; }
   float expected_thrust_mps2() const { return expected_mps2_; }  // the motor-lag model's output
-  Vec3 residual_mps2() const;  // latest specific force minus the expected thrust (zero before any sample)
+  Vec3f residual_mps2() const;  // latest specific force minus the expected thrust (zero before any sample)
 
  private:
   // idle: watching; pending: above the trigger, not yet confirmed; active: confirmed, not yet
@@ -106,8 +106,8 @@ class ImpactDetector {
   enum class Phase : std::uint8_t { idle, pending, active, tail };
   struct Sample {
     std::uint32_t t_us = 0;
-    Vec3 residual_mps2{};
-    Vec3 gyro_radps{};
+    Vec3f residual_mps2{};
+    Vec3f gyro_radps{};
   };
   // What an event has shown so far, against the frozen reference.
   struct Accumulator {
@@ -136,7 +136,7 @@ class ImpactDetector {
   void begin_event(std::size_t delay);  // the reference delay samples ago and the samples since
   // add() the samples from oldest_age to the latest, following the rising edge.
   void accumulate(std::size_t oldest_age, const Sample& reference, Accumulator& acc, RisingEdge& edge) const;
-  bool triggered(const Vec3& change_mps2, bool crash_level_only) const;
+  bool triggered(const Vec3f& change_mps2, bool crash_level_only) const;
   bool touchdown(const Accumulator& acc) const;  // a landing expected and the push up the body z-axis
   bool downward(const Accumulator& acc) const;   // the push down the body z-axis, as a pole's
   bool crash_seen(const Accumulator& acc, float peak_mps2) const;

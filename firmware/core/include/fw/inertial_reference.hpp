@@ -32,13 +32,13 @@ class InertialReference {
   // against the drag of a manoeuvre, short against the hover before a throw.
   static constexpr float kFlightAccelMean_s = 2.0f;
 
-  static float dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+  static float dot(const Vec3f& a, const Vec3f& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
   // One sample at rest on the floor. There the accelerometer reads g exactly, so what it reads
   // more is its bias (along up: the x and y biases only tilt the measured up, second order in its
   // length). The failsafe integrates its vertical speed from the accelerometer; without this the
   // speed drifted by bias * time, from 4.9 m enough to stall the descent and climb.
-  void learn_at_rest(const Vec3& gyro_radps, const Vec3& accel_mps2) {
+  void learn_at_rest(const Vec3f& gyro_radps, const Vec3f& accel_mps2) {
     if (dot(gyro_radps, gyro_radps) > kBiasStillRate2_radps2) return;
     const float excess_mps2 = std::sqrt(dot(accel_mps2, accel_mps2)) - pa::kGravityFloat_mps2;
     if (std::fabs(excess_mps2) > kBiasMax_mps2) return;
@@ -47,12 +47,12 @@ class InertialReference {
     // At rest the gyro reads its bias (the Earth's rate, 7e-5 rad/s, is below its noise).
     for (int i = 0; i < 3; ++i) gyro_bias_radps_[i] += (gyro_radps[i] - gyro_bias_radps_[i]) / bias_samples_;
   }
-  Vec3 unbiased_rate_radps(const Vec3& gyro_radps) const {
-    return Vec3{gyro_radps[0] - gyro_bias_radps_[0], gyro_radps[1] - gyro_bias_radps_[1],
-                gyro_radps[2] - gyro_bias_radps_[2]};
+  Vec3f unbiased_rate_radps(const Vec3f& gyro_radps) const {
+    return Vec3f{gyro_radps[0] - gyro_bias_radps_[0], gyro_radps[1] - gyro_bias_radps_[1],
+                 gyro_radps[2] - gyro_bias_radps_[2]};
   }
   // The specific force along the estimated up, less the bias learnt at rest.
-  float up_accel_mps2(const Vec3& accel_mps2, const Vec3& up_in_body) const {
+  float up_accel_mps2(const Vec3f& accel_mps2, const Vec3f& up_in_body) const {
     return dot(accel_mps2, up_in_body) - accel_bias_up_mps2_;
   }
 
@@ -65,7 +65,7 @@ class InertialReference {
   }
   // In flight, every kTrackPeriod_ticks: a cut stream can find the vehicle moving (a catch
   // manoeuvre descends, a throw climbs), so the failsafe starts from the speed integrated here.
-  void track_flight(float up_accel_mps2, const Vec3& accel_mps2) {
+  void track_flight(float up_accel_mps2, const Vec3f& accel_mps2) {
     constexpr float h = kTrackPeriod_s;
     flight_vz_mps_ += (up_accel_mps2 - pa::kGravityFloat_mps2 - flight_vz_mps_ / kFlightVzLeak_s) * h;
     constexpr float a = h / kFlightAccelMean_s;
@@ -81,13 +81,13 @@ class InertialReference {
   void correct_rest_tilt(AttitudeEstimator& attitude);
 
   float accel_bias_up_mps2() const { return accel_bias_up_mps2_; }
-  const Vec3& gyro_bias_radps() const { return gyro_bias_radps_; }
+  const Vec3f& gyro_bias_radps() const { return gyro_bias_radps_; }
   float flight_vz_mps() const { return flight_vz_mps_; }
 
  private:
   float accel_bias_up_mps2_ = 0;
   float bias_samples_ = 0;
-  Vec3 gyro_bias_radps_{};
+  Vec3f gyro_bias_radps_{};
   float flight_vz_mps_ = 0;
   // The attitude at rest's last periodic sample, and the bias as the mean body x/y reading in
   // flight.

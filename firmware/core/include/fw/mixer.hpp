@@ -34,14 +34,14 @@ namespace fw {
 
 struct MixerInput {
   float thrust_N = 0.0f;  // collective thrust along body +z
-  Vec3 torque_Nm{};       // body torques about x, y, z
+  Vec3f torque_Nm{};      // body torques about x, y, z
 };
 
 struct MixerOutput {
   Motors thrust_N{};                  // per motor, always within [motor_thrust_min_N, the ceiling]
   Motors command{};                   // thrust_N / the ceiling (set_command_factor): normalised
   std::uint8_t saturation = 0;        // fw::saturation bits: what could not be allocated, by direction
-  Vec3 torque_unallocated_Nm{};       // requested minus achieved torque
+  Vec3f torque_unallocated_Nm{};      // requested minus achieved torque
   float thrust_unallocated_N = 0.0f;  // requested minus achieved collective thrust
 };
 

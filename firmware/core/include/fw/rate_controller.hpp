@@ -37,8 +37,8 @@ class RateController {
   // A non-finite setpoint, gyro or dt is rejected: the previous valid output is returned and the
   // integrators are left untouched. The same holds if the result itself would be non-finite.
   // saturation_flags are the mixer's fw::saturation bits from the previous tick.
-  Vec3 update(const Vec3& rate_setpoint_radps, const Vec3& gyro_radps, float dt_s,
-              std::uint8_t saturation_flags);
+  Vec3f update(const Vec3f& rate_setpoint_radps, const Vec3f& gyro_radps, float dt_s,
+               std::uint8_t saturation_flags);
 
   // Clears the integrators and the held output (e.g. on arming).
   void reset();
@@ -51,18 +51,18 @@ class RateController {
   float inertia_scale() const { return inertia_scale_; }
 
   // The integral term I per axis, in rad/s^2 (angular acceleration, before the inertia).
-  const Vec3& integrator() const { return integrator_radps2_; }
+  const Vec3f& integrator() const { return integrator_radps2_; }
 
  private:
   float axis_step(int axis, float setpoint_radps, float gyro_radps, float dt_s, std::uint8_t saturation_flags,
                   float& integrator_radps2) const;
 
   RateControllerConfig config_;
-  Vec3 airframe_inertia_kgm2_{};
-  Vec3 inertia_kgm2_{};  // the one the law uses
+  Vec3f airframe_inertia_kgm2_{};
+  Vec3f inertia_kgm2_{};  // the one the law uses
   float inertia_scale_ = 1.0f;
-  Vec3 integrator_radps2_{};
-  Vec3 last_torque_Nm_{};
+  Vec3f integrator_radps2_{};
+  Vec3f last_torque_Nm_{};
 };
 
 }  // namespace fw

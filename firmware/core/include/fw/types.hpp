@@ -6,15 +6,15 @@
 
 namespace fw {
 
-using Vec3 = std::array<float, 3>;        // x, y, z (body frame unless a name says otherwise)
+using Vec3f = std::array<float, 3>;       // x, y, z (body frame unless a name says otherwise)
 using Motors = std::array<float, 4>;      // one value per motor, order in mixer.hpp
 using Quaternion = std::array<float, 4>;  // w, x, y, z; rotates body vectors into the inertial frame
 
 // One IMU sample: the event that runs the 1 kHz loop.
 struct ImuSample {
   std::uint32_t t_us = 0;  // vehicle clock
-  Vec3 gyro_radps{};       // body rates
-  Vec3 accel_mps2{};       // specific force in the body frame (reads +g on z when level at rest)
+  Vec3f gyro_radps{};      // body rates
+  Vec3f accel_mps2{};      // specific force in the body frame (reads +g on z when level at rest)
 };
 
 // Saturation flags reported by the mixer, one bit per axis and direction. The rate

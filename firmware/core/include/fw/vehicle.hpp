@@ -66,7 +66,7 @@ class Vehicle {
   bool catch_reaction_active() const { return catch_.active(); }
   // The accelerometer's bias along up, learnt at rest on the floor; the failsafe removes it.
   float accel_bias_up_mps2() const { return inertial_.accel_bias_up_mps2(); }
-  const Vec3& gyro_bias_radps() const { return inertial_.gyro_bias_radps(); }  // learnt at rest
+  const Vec3f& gyro_bias_radps() const { return inertial_.gyro_bias_radps(); }  // learnt at rest
   float flight_vz_mps() const { return inertial_.flight_vz_mps(); }  // the failsafe's starting speed
   std::uint8_t impact_count() const { return impacts_.count(); }
   std::uint32_t ticks() const { return ticks_; }
@@ -89,8 +89,8 @@ class Vehicle {
   bool detect_impact(std::uint32_t now_us);  // true when the impact was a crash
   void estimate(float dt_s);
   void supervise(bool crash);
-  void choose_setpoint(float dt_s, Vec3& rate_radps, float& thrust_mps2);
-  TickOutput control_and_mix(float dt_s, const Vec3& rate_radps, float thrust_mps2);
+  void choose_setpoint(float dt_s, Vec3f& rate_radps, float& thrust_mps2);
+  TickOutput control_and_mix(float dt_s, const Vec3f& rate_radps, float thrust_mps2);
   void run_periodic_tasks(std::uint32_t now_us);
 
   // `killed_this_tick`: a KILL was taken in this tick (ARM is refused then).
@@ -128,8 +128,8 @@ class Vehicle {
   std::uint32_t ticks_ = 0;
   bool imu_ok_ = false;
   SupervisorInputs inputs_{};  // this tick's, from the start of tick()
-  Vec3 gyro_radps_{};
-  Vec3 accel_mps2_{};
+  Vec3f gyro_radps_{};
+  Vec3f accel_mps2_{};
 
   // Applied control of the last tick, for the detectors and telemetry.
   float thrust_applied_mps2_ = 0;

@@ -21,33 +21,33 @@ class SyntheticVehicle {
   // Advance by dt with the given normalised motor commands (zero when off) and an external
   // force on the vehicle in the inertial frame (N). A small constant torque (a centre of
   // gravity slightly off the thrust axis) acts in flight, so the rate loop's integrators work.
-  void step(const Motors& command, const Vec3& external_force_N, float dt_s);
+  void step(const Motors& command, const Vec3f& external_force_N, float dt_s);
 
   // The IMU sample at the current state (deterministic pseudo-noise of a few mrad/s).
   ImuSample imu(std::uint32_t t_us);
 
-  const Vec3& position_m() const { return p_; }
-  const Vec3& velocity_mps() const { return v_; }
-  const Vec3& rate_radps() const { return w_; }
+  const Vec3f& position_m() const { return p_; }
+  const Vec3f& velocity_mps() const { return v_; }
+  const Vec3f& rate_radps() const { return w_; }
   bool on_floor() const { return on_floor_; }
   // Cosine of the tilt of the body z-axis from the vertical, and inertial up in the body frame.
   float tilt_cos() const;
-  Vec3 up_in_body() const;
+  Vec3f up_in_body() const;
 
  private:
   float noise();
 
   AirframeConfig airframe_;
   Mixer geometry_;
-  Vec3 p_{};
-  Vec3 v_{};
+  Vec3f p_{};
+  Vec3f v_{};
   Quaternion q_{1, 0, 0, 0};  // body to inertial
-  Vec3 w_{};                  // body rates
+  Vec3f w_{};                 // body rates
   Motors thrust_N_{};
-  Vec3 specific_force_body_{0, 0, pa::kGravityFloat_mps2};
+  Vec3f specific_force_body_{0, 0, pa::kGravityFloat_mps2};
   bool on_floor_ = true;
   std::uint32_t rng_ = 12345u;
-  Vec3 disturbance_Nm_{0.002f, -0.0015f, 0.0005f};
+  Vec3f disturbance_Nm_{0.002f, -0.0015f, 0.0005f};
 };
 
 }  // namespace fw::selftest

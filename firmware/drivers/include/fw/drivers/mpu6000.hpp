@@ -195,7 +195,7 @@ constexpr ImuSample to_sample(const Raw& raw, const Range& range, const AxisMap&
                               std::uint32_t t_us) {
   const float g_scale = gyro_radps_per_lsb(range.gyro_dps);
   const float a_scale = accel_mps2_per_lsb(range.accel_g);
-  Vec3 gyro{}, accel{};
+  Vec3f gyro{}, accel{};
   for (int i = 0; i < 3; ++i) {
     gyro[i] = static_cast<float>(raw.gyro[i]) * g_scale;
     accel[i] = static_cast<float>(raw.accel[i]) * a_scale;

@@ -33,8 +33,8 @@ constexpr bool is_rotation(const AxisMap& m) {
   return parity * m.sign[0] * m.sign[1] * m.sign[2] == 1;
 }
 
-constexpr Vec3 to_body(const AxisMap& m, const Vec3& sensor) {
-  Vec3 body{};
+constexpr Vec3f to_body(const AxisMap& m, const Vec3f& sensor) {
+  Vec3f body{};
   for (int i = 0; i < 3; ++i) body[i] = m.sign[i] > 0 ? sensor[m.sensor_axis[i]] : -sensor[m.sensor_axis[i]];
   return body;
 }
