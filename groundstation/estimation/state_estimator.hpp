@@ -242,7 +242,7 @@ class StateEstimator {
   double drag_scale_ = 1.0;  // seed of k at the next launch
   double mode_since_s_ = 0.0;
   double last_switch_detected_s_ = -1e300;
-  int launched_from_ = -1;  // the slot whose plate the pole last left (contact force), or -1
+  int launched_from_ = -1;  // the slot whose plate the pole last left (by force or lost geometry), or -1
   double launch_t_s_ = -1e300;
   // Health and the switch log (fixed size, so that a copy for prediction is cheap).
   std::array<BodyHealthTracker, 2> vehicle_health_;
