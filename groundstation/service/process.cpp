@@ -1,5 +1,7 @@
 #include "groundstation/service/process.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <string_view>
 
@@ -177,24 +179,43 @@ void Process::answer(const pa_arena_OperatorCommand& command, bool accepted, con
 
 void Process::take_mocap(double now_s) {
   // The topic keeps the newest frame only: at most one is waiting.
-  while (const pa_arena_MocapFrame* m = mocap_.take()) on_mocap(*m, now_s);
+  while (const dds::NamedPoseArray* m = mocap_.take()) on_mocap(*m, now_s);
 }
 
 bool Process::await_mocap(std::uint64_t frames, double now_s, std::chrono::nanoseconds timeout) {
   const auto end = std::chrono::steady_clock::now() + timeout;
-  while (frames > 0 && (!newest_mocap_ || *newest_mocap_ + 1 < frames)) {
+  while (mocap_counted_ < frames) {
     const auto left = end - std::chrono::steady_clock::now();
-    if (left <= std::chrono::nanoseconds::zero()) return false;
-    if (const pa_arena_MocapFrame* m = mocap_.wait_take(left)) on_mocap(*m, now_s);
+    if (left <= std::chrono::nanoseconds::zero()) {
+      mocap_counted_ = frames;
+      return false;
+    }
+    if (const dds::NamedPoseArray* m = mocap_.wait_take(left)) on_mocap(*m, now_s);
   }
   return true;
 }
 
-void Process::on_mocap(const pa_arena_MocapFrame& message, double now_s) {
-  const dds::MocapFrameIn in = dds::mocap_frame_from_dds(message);
+void Process::on_mocap(const dds::NamedPoseArray& message, double now_s) {
+  dds::MocapFrameIn in = dds::mocap_frame_from_dds(message, config_.mocap.names);
   counters_.mocap_unknown_bodies += in.unknown_bodies;
+  counters_.mocap_invalid_poses += in.invalid_poses;
+  counters_.mocap_duplicate_bodies += in.duplicate_bodies;
+  counters_.mocap_excess_poses += in.excess_poses;
+  if (first_unknown_body_.empty() && !in.first_unknown.empty()) first_unknown_body_ = in.first_unknown;
   ++counters_.mocap_frames;
-  newest_mocap_ = message.frame_number;
+  ++mocap_counted_;
+  // The stamp on the ground clock, and how long the frame took from the node to here.
+  const double stamp_s = dds::to_seconds(in.stamp_ns - stamp_offset_ns_);
+  const double delay_s = now_s - stamp_s;
+  if (std::isfinite(delay_s) && delay_s >= -config_.mocap.max_stamp_lead_s &&
+      delay_s <= config_.mocap.max_stamp_age_s) {
+    counters_.mocap_delay_sum_s += delay_s;
+    counters_.mocap_delay_max_s = std::max(counters_.mocap_delay_max_s, delay_s);
+    in.frame.t_s = stamp_s - config_.mocap.latency_s;
+  } else {
+    ++counters_.mocap_implausible_stamps;
+    in.frame.t_s = now_s - config_.mocap.latency_s;
+  }
   station_.on_mocap(in.frame, now_s);
 }
 
@@ -288,23 +309,36 @@ void Process::publish(pa_arena_EventKind kind, std::optional<pa::VehicleId> vehi
 
 std::string Process::summary() const {
   const link::GroundLinkCounters& l = station_.link().counters();
-  char text[512];
-  std::snprintf(
-      text, sizeof text,
-      "CAN frames received %llu, sent %llu (refused by the bus %llu, unsigned dropped %llu)\n"
-      "motion-capture frames %llu (unknown bodies %llu)\n"
-      "operator commands accepted %llu, refused %llu, kills %llu\n"
-      "attempts completed %zu, telemetry samples %llu, events %llu\n",
-      static_cast<unsigned long long>(counters_.can_frames), static_cast<unsigned long long>(l.frames_sent),
-      static_cast<unsigned long long>(l.send_refused), static_cast<unsigned long long>(l.unsigned_dropped),
-      static_cast<unsigned long long>(counters_.mocap_frames),
-      static_cast<unsigned long long>(counters_.mocap_unknown_bodies),
-      static_cast<unsigned long long>(counters_.commands_accepted),
-      static_cast<unsigned long long>(counters_.commands_refused),
-      static_cast<unsigned long long>(counters_.kills), station_.attempts().size(),
-      static_cast<unsigned long long>(counters_.telemetry_published),
-      static_cast<unsigned long long>(counters_.events_published));
-  return text;
+  const ProcessCounters& c = counters_;
+  const auto u = [](std::uint64_t n) { return static_cast<unsigned long long>(n); };
+  const std::uint64_t timed = c.mocap_frames - c.mocap_implausible_stamps;
+  char text[1024];
+  std::snprintf(text, sizeof text,
+                "CAN frames received %llu, sent %llu (refused by the bus %llu, unsigned dropped %llu)\n"
+                "motion-capture frames %llu on rt/poses (unknown bodies %llu, invalid poses %llu, duplicate "
+                "bodies %llu, poses beyond %zu %llu)\n"
+                "motion-capture stamp to arrival: mean %.2f ms, max %.2f ms over %llu frames; implausible "
+                "stamps %llu\n"
+                "operator commands accepted %llu, refused %llu, kills %llu\n"
+                "attempts completed %zu, telemetry samples %llu, events %llu\n",
+                u(c.can_frames), u(l.frames_sent), u(l.send_refused), u(l.unsigned_dropped),
+                u(c.mocap_frames), u(c.mocap_unknown_bodies), u(c.mocap_invalid_poses),
+                u(c.mocap_duplicate_bodies), dds::kMaxPoses, u(c.mocap_excess_poses),
+                timed > 0 ? 1e3 * c.mocap_delay_sum_s / static_cast<double>(timed) : 0.0,
+                1e3 * c.mocap_delay_max_s, u(timed), u(c.mocap_implausible_stamps), u(c.commands_accepted),
+                u(c.commands_refused), u(c.kills), station_.attempts().size(), u(c.telemetry_published),
+                u(c.events_published));
+  std::string out = text;
+  if (!first_unknown_body_.empty())
+    out += "motion capture: body '" + first_unknown_body_ + "' is none of vehicle 1 ('" +
+           config_.mocap.names.vehicle1 + "'), vehicle 2 ('" + config_.mocap.names.vehicle2 +
+           "') or the pole ('" + config_.mocap.names.pole +
+           "'): ignored (--mocap-vehicle1, --mocap-vehicle2, --mocap-pole)\n";
+  if (c.mocap_implausible_stamps > 0)
+    out +=
+        "motion capture: stamps the clocks cannot explain (in the future or older than the limit): are the "
+        "motion-capture host's and this host's clocks synchronised? Those frames were timed by arrival\n";
+  return out;
 }
 
 }  // namespace gs::service

@@ -6,8 +6,22 @@
 //   step(now)             operator commands (KILL first, never gated by the mission), the newest
 //                         motion-capture frame, the runtime's tick, telemetry when due (fixed
 //                         rate), and events for what changed since the last step.
-// `now` is the ground clock, the one the motion capture stamps its frames with (on one host,
-// CLOCK_MONOTONIC).
+// `now` is the ground clock (CLOCK_MONOTONIC in `groundstation run`, the plant's time with
+// --hil-clock).
+//
+// Motion capture comes in as ROS 2's NamedPoseArray on rt/poses (mocap_conversion.hpp). Its
+// header stamp is the time the frame reached the motion-capture node, on that node's clock (the
+// system clock, CLOCK_REALTIME, unless it runs on simulated time), not the capture time. The
+// estimator wants the capture time on the ground clock, so each frame is placed at
+//   stamp - system_offset - latency_s
+// where system_offset (set_stamp_offset: the stamp clock minus the ground clock, read by the
+// loop) moves the stamp onto the ground clock, and latency_s is what the stamp cannot show: the
+// motion-capture system's own latency from exposure to its node (cameras, processing, its SDK),
+// told in configuration. The rest, from the node to here (DDS, the network, this loop's step), is
+// then in the estimator's prediction to now + command_lead_s like any other delay, and measured
+// per frame (stamp to arrival, in the summary). A stamp that the clocks cannot explain (in the
+// future, or older than max_stamp_age_s: the two hosts' clocks are not synchronised) is counted,
+// and the frame is placed at its arrival time less latency_s instead.
 //
 // Operator commands (pa_operator_commands): take_off, land and abort act on both vehicles (target
 // 0); throw starts an attempt with the target (default vehicle 1) as the thrower; kill goes to
@@ -24,19 +38,37 @@
 #include <string>
 
 #include "groundstation/dds/dds.hpp"
+#include "groundstation/dds/mocap_conversion.hpp"
 #include "groundstation/link/frame_bus.hpp"
 #include "groundstation/runtime/ground_station.hpp"
 
 namespace gs::service {
 
+struct MocapInputConfig {
+  dds::MocapBodyNames names;
+  // Exposure to the node's stamp. The HIL's motion capture stamps 10 ms after the capture (its
+  // default latency, hil/plant/plant_config.hpp); camera systems at 200 Hz report a few ms
+  // (Vicon's SDK: GetLatencyTotal; OptiTrack's: the frame's latency field): measure the arena's.
+  double latency_s = 0.010;
+  double max_stamp_age_s = 0.5;
+  double max_stamp_lead_s = 0.005;  // a stamp this far ahead of arrival is still believed
+};
+
 struct ProcessConfig {
   double telemetry_period_s = 0.02;  // vehicle and pole telemetry at 50 Hz
+  MocapInputConfig mocap;
 };
 
 struct ProcessCounters {
   std::uint64_t can_frames = 0;
   std::uint64_t mocap_frames = 0;
-  std::uint64_t mocap_unknown_bodies = 0;
+  std::uint64_t mocap_unknown_bodies = 0;    // names none of MocapBodyNames (or overlong)
+  std::uint64_t mocap_invalid_poses = 0;     // non-finite, NaN or non-unit quaternions
+  std::uint64_t mocap_duplicate_bodies = 0;  // a body twice in a frame
+  std::uint64_t mocap_excess_poses = 0;      // beyond dds::kMaxPoses in a frame
+  std::uint64_t mocap_implausible_stamps = 0;
+  double mocap_delay_sum_s = 0.0;  // stamp to arrival, over the frames whose stamp was believed
+  double mocap_delay_max_s = 0.0;
   std::uint64_t commands_accepted = 0;
   std::uint64_t commands_refused = 0;
   std::uint64_t kills = 0;
@@ -52,11 +84,15 @@ class Process {
           const runtime::GroundStationConfig& config, const ProcessConfig& process = {});
 
   void on_frame(const pa::proto::Frame& frame, double now_s);
+  // The motion-capture stamps' clock minus the ground clock, in nanoseconds (0 when the stamps
+  // are on the ground clock, as the HIL plant's are with --hil-clock).
+  void set_stamp_offset(std::int64_t offset_ns) { stamp_offset_ns_ = offset_ns; }
   void step(double now_s);
   // On the plant's clock (groundstation run --hil-clock): takes motion-capture frames, waiting up
-  // to `timeout` on the wall clock, until it has the one numbered `frames` - 1 or a later one
-  // (none for 0), so that a step acts on the frames the plant delivered by then whatever DDS's
-  // delivery took. False when it did not come in time.
+  // to `timeout` on the wall clock, until `frames` of them have come, so that a step acts on the
+  // frames the plant delivered by then whatever DDS's delivery took. NamedPoseArray has no frame
+  // number, so frames are counted; false when they did not come in time, and the count then
+  // takes the plant's (a frame lost, or sent before this reader matched, costs one wait).
   bool await_mocap(std::uint64_t frames, double now_s, std::chrono::nanoseconds timeout);
 
   const runtime::GroundStation& ground_station() const { return station_; }
@@ -76,7 +112,7 @@ class Process {
   void answer(const pa_arena_OperatorCommand& command, bool accepted, const std::string& detail,
               double now_s);
   void take_mocap(double now_s);
-  void on_mocap(const pa_arena_MocapFrame& message, double now_s);
+  void on_mocap(const dds::NamedPoseArray& message, double now_s);
   void publish_telemetry(double now_s);
   void publish_changes(double now_s);
   void publish(pa_arena_EventKind kind, std::optional<pa::VehicleId> vehicle, const std::string& detail,
@@ -85,17 +121,19 @@ class Process {
 
   runtime::GroundStation station_;
   ProcessConfig config_;
-  dds::Reader<pa_arena_MocapFrame> mocap_;
+  dds::Reader<dds::NamedPoseArray> mocap_;
   dds::Reader<pa_arena_OperatorCommand> commands_;
   dds::Writer<pa_arena_VehicleTelemetry> vehicle_telemetry_;
   dds::Writer<pa_arena_PoleTelemetry> pole_telemetry_;
   dds::Writer<pa_arena_Event> events_;
 
   std::optional<double> next_telemetry_s_;
-  std::optional<std::uint64_t> newest_mocap_;  // the latest frame number taken
-  pa::VehicleId thrower_ = pa::kVehicle1;      // of the latest attempt
-  std::array<VehicleSeen, 2> seen_{};          // by pa::act_slot()
-  int launch_published_ = 0;                   // the attempt number whose launch was published
+  std::uint64_t mocap_counted_ = 0;  // frames taken, for await_mocap
+  std::int64_t stamp_offset_ns_ = 0;
+  std::string first_unknown_body_;
+  pa::VehicleId thrower_ = pa::kVehicle1;  // of the latest attempt
+  std::array<VehicleSeen, 2> seen_{};      // by pa::act_slot()
+  int launch_published_ = 0;               // the attempt number whose launch was published
   std::size_t attempts_published_ = 0;
   // The latest sequence numbers acted on (a ring): an operator console's retry is not acted on twice.
   std::array<std::uint32_t, 64> recent_{};

@@ -44,6 +44,17 @@ double monotonic_s() {
   return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
+// CLOCK_REALTIME minus CLOCK_MONOTONIC: ROS stamps are on the system clock, the loop runs on the
+// monotonic one. Read at every step, so that a system clock that NTP steps or slews moves with it.
+std::int64_t system_minus_monotonic_ns() {
+  timespec real{};
+  timespec mono{};
+  clock_gettime(CLOCK_REALTIME, &real);
+  clock_gettime(CLOCK_MONOTONIC, &mono);
+  return (static_cast<std::int64_t>(real.tv_sec) - static_cast<std::int64_t>(mono.tv_sec)) * 1'000'000'000 +
+         (static_cast<std::int64_t>(real.tv_nsec) - static_cast<std::int64_t>(mono.tv_nsec));
+}
+
 void add_domain_option(CLI::App& app, unsigned& domain) {
   app.add_option("--domain", domain, "the DDS domain id of the arena, 0..230")
       ->type_name("D")
@@ -69,6 +80,7 @@ int run_on_monotonic_clock(service::SocketCanBus& bus, service::Process& process
     }
     const double now_s = monotonic_s();
     if (now_s < next_step_s) continue;
+    process.set_stamp_offset(system_minus_monotonic_ns());
     process.step(now_s);
     next_step_s += kStepPeriodMs * 1e-3;
     if (next_step_s < now_s) next_step_s = now_s;  // after a stall, no burst of steps
@@ -129,12 +141,15 @@ int cmd_run(int argc, char** argv) {
   std::string store_path;
   double telemetry_hz = 50.0;
   bool hil_clock = false;
+  service::MocapInputConfig mocap;
   CLI::App app("", "groundstation run");
   pa::cli::describe(
       app,
-      "usage: groundstation run --can IFACE --domain D --key1 FILE --key2 FILE [--store FILE] [--hil-clock]",
-      "Runs the ground station: the vehicles on the ground CAN bus, the motion capture, operator\n"
-      "commands, telemetry and events on the arena's DDS domain (docs/groundstation.md).\n"
+      "usage: groundstation run --can IFACE --domain D --key1 FILE --key2 FILE [--store FILE] [--hil-clock]\n"
+      "       [--mocap-vehicle1 NAME] [--mocap-vehicle2 NAME] [--mocap-pole NAME] [--mocap-latency S]",
+      "Runs the ground station: the vehicles on the ground CAN bus, the motion capture (ROS 2's\n"
+      "NamedPoseArray on /poses, as motion_capture_tracking publishes it), operator commands,\n"
+      "telemetry and events on the arena's DDS domain (docs/groundstation.md).\n"
       "Ctrl-C ends it with a summary.",
       "Exit codes: 0 ended by a signal, 1 failed (no CAN socket, a DDS error), 2 bad arguments.");
   app.add_option("--can", interface_name, "the ground SocketCAN bus (for example can0, vcan0)")
@@ -155,11 +170,28 @@ int cmd_run(int argc, char** argv) {
   app.add_option("--telemetry-hz", telemetry_hz, "telemetry rate (default 50)")
       ->type_name("HZ")
       ->check(pa::cli::number_in(1.0, 200.0, "needs a rate 1..200 Hz"));
+  const auto body_name = [&app](const char* flag, std::string& name, const char* what) {
+    app.add_option(flag, name,
+                   std::string("the motion-capture body name of ") + what + " (default " + name + ")")
+        ->type_name("NAME")
+        ->check(pa::cli::non_empty("needs a body name"));
+  };
+  body_name("--mocap-vehicle1", mocap.names.vehicle1, "vehicle 1");
+  body_name("--mocap-vehicle2", mocap.names.vehicle2, "vehicle 2");
+  body_name("--mocap-pole", mocap.names.pole, "the pole (its body z-axis along the pole)");
+  app.add_option("--mocap-latency", mocap.latency_s,
+                 "seconds from a frame's exposure to its stamp at the motion-capture node (default 0.010)")
+      ->type_name("S")
+      ->check(pa::cli::number_in(0.0, 0.2, "needs 0..0.2 s"));
   app.add_flag("--hil-clock", hil_clock,
                "run on a HIL plant's time, a step per HIL_CLOCK frame (hil run --ground-clock), not on "
                "CLOCK_MONOTONIC");
   if (const std::optional<int> code = pa::cli::parse(app, argc, argv, std::cout, std::cerr)) return *code;
 
+  if (const std::string problem = dds::check_body_names(mocap.names); !problem.empty()) {
+    std::fprintf(stderr, "groundstation run: error: %s\n", problem.c_str());
+    return 2;
+  }
   runtime::GroundStationConfig config;
   config.adaptation_store_path = store_path;
   for (const pa::VehicleId v : pa::kActVehicles) {
@@ -185,12 +217,18 @@ int cmd_run(int argc, char** argv) {
     const dds::Participant participant(dds_domain);
     service::ProcessConfig process_config;
     process_config.telemetry_period_s = 1.0 / telemetry_hz;
+    process_config.mocap = mocap;
     service::Process process(bus, participant, config, process_config);
 
     std::signal(SIGINT, on_signal);
     std::signal(SIGTERM, on_signal);
     std::printf("groundstation run: on %s, DDS domain %u, %s\n", interface_name.c_str(), domain,
                 hil_clock ? "on the HIL plant's clock" : "on CLOCK_MONOTONIC");
+    std::printf(
+        "groundstation run: motion capture from %s: vehicle 1 '%s', vehicle 2 '%s', pole '%s', latency to "
+        "the stamp %.1f ms\n",
+        dds::Topic<dds::NamedPoseArray>::kName, mocap.names.vehicle1.c_str(), mocap.names.vehicle2.c_str(),
+        mocap.names.pole.c_str(), 1e3 * mocap.latency_s);
     std::fflush(stdout);
 
     std::uint64_t late_mocap = 0;

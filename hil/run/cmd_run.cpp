@@ -55,6 +55,7 @@ std::int64_t clock_ns(clockid_t clock) {
   return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
 }
 std::int64_t monotonic_ns() { return clock_ns(CLOCK_MONOTONIC); }
+std::int64_t realtime_ns() { return clock_ns(CLOCK_REALTIME); }
 
 // One bus this process touches, and its candump-format log (what candump -L writes: the wall
 // clock, the interface, ID#DATA), replayable with canplayer.
@@ -110,7 +111,7 @@ struct Options {
 class Runner {
  public:
   Runner(const Options& options, PlantExchange& exchange, std::vector<std::unique_ptr<Bus>>& buses,
-         gs::dds::Writer<pa_arena_MocapFrame>& mocap, gs::dds::Reader<pa_arena_Event>& events,
+         gs::dds::Writer<gs::dds::NamedPoseArray>& mocap, gs::dds::Reader<pa_arena_Event>& events,
          std::ofstream* truth)
       : options_(options), exchange_(exchange), buses_(buses), mocap_(mocap), events_(events), truth_(truth) {
     for (const auto& bus : buses_) fds_.push_back(pollfd{bus->can.fd(), POLLIN, 0});
@@ -176,7 +177,7 @@ class Runner {
     write_vehicle_frames();
     // The motion capture before the ground bus, whose last frame is the HIL_CLOCK that has the
     // ground station wait for it.
-    publish_mocap(now_ns);
+    publish_mocap();
     write_ground_frames();
     if (exchange_.t_s() >= next_progress_s_ - 1e-9) report_progress(now_ns);
     if (truth_ != nullptr && ++steps_ % 5 == 0) {  // the truth at the motion capture's 200 Hz
@@ -220,17 +221,18 @@ class Runner {
       for (const Frame& f : exchange_.take_vehicle_frames(pa::kActVehicles[i])) buses_[1 + i]->write(f);
   }
 
-  // The capture time on the ground's clock: with --ground-clock the plant's time itself;
-  // otherwise CLOCK_MONOTONIC, how long before the plant's present the poses were true, back from
-  // the clock's present. Whatever the plant's time lags behind the clock, the ground station sees
-  // the motion capture's own latency.
-  void publish_mocap(std::int64_t now_ns) {
+  // As motion_capture_tracking publishes: a NamedPoseArray on rt/poses stamped when the frame
+  // reached its node, i.e. at its delivery (the capture plus the plant's motion-capture latency),
+  // the ground station being told that latency (groundstation run --mocap-latency). The stamp's
+  // clock: with --ground-clock the plant's time itself (as ROS's simulated time); otherwise the
+  // system clock, as a ROS node's, that long before the clock's present the frame was delivered
+  // in the plant, whatever the plant's time lags behind the clock.
+  void publish_mocap() {
     for (const CapturedFrame& m : exchange_.take_mocap()) {
-      gs::estimation::MocapFrame frame = sil::to_ground_station_frame(m);
-      frame.t_s = options_.ground_clock
-                      ? m.capture_t_s
-                      : static_cast<double>(now_ns) * 1e-9 - (exchange_.t_s() - m.capture_t_s);
-      gs::dds::mocap_frame_to_dds(frame, m.index, message_);
+      const std::int64_t stamp_ns =
+          options_.ground_clock ? gs::dds::to_nanoseconds(m.delivery_t_s)
+                                : realtime_ns() - gs::dds::to_nanoseconds(exchange_.t_s() - m.delivery_t_s);
+      gs::dds::mocap_frame_to_dds(sil::to_ground_station_frame(m), stamp_ns, body_names_, message_);
       mocap_.write(message_.message());
       ++mocap_published_;
     }
@@ -322,11 +324,12 @@ class Runner {
   const Options& options_;
   PlantExchange& exchange_;
   std::vector<std::unique_ptr<Bus>>& buses_;
-  gs::dds::Writer<pa_arena_MocapFrame>& mocap_;
+  gs::dds::Writer<gs::dds::NamedPoseArray>& mocap_;
   gs::dds::Reader<pa_arena_Event>& events_;
   std::ofstream* truth_;
   std::vector<pollfd> fds_;
   gs::dds::MocapMessage message_;
+  const gs::dds::MocapBodyNames body_names_;  // the ground station's defaults
   static constexpr double kProgressEvery_s = 5.0;
   std::int64_t start_ns_ = 0;
   std::int64_t progress_ns_ = 0;
@@ -509,7 +512,7 @@ int cmd_run(int argc, char** argv) {
     if (o.ground_clock) exchange.join_ground_clock();
     const gs::dds::Domain domain(static_cast<dds_domainid_t>(o.domain));
     const gs::dds::Participant participant(domain);
-    gs::dds::Writer<pa_arena_MocapFrame> mocap(participant);
+    gs::dds::Writer<gs::dds::NamedPoseArray> mocap(participant);
     gs::dds::Reader<pa_arena_Event> events(participant);
 
     std::signal(SIGINT, on_signal);

@@ -1,13 +1,14 @@
 // Two processes on the loopback configuration (docs/dds.md, "Running on one machine"): this
 // test and dds_loopback_peer, a miniature motion-capture bridge, find each other by unicast
 // discovery on 127.0.0.1 without multicast, and samples cross in both directions: the peer's
-// best-effort mocap frames to here, a reliable operator command back. Another run on this host
+// best-effort NamedPoseArray frames to here, a reliable operator command back. Another run on this host
 // may share the domain; this run's samples are told apart by a tag made of its process id.
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <string>
 
 #include "groundstation/dds/dds.hpp"
+#include "groundstation/dds/mocap_conversion.hpp"
 #include "peer_process.hpp"
 
 using namespace std::chrono_literals;
@@ -24,7 +25,7 @@ TEST_CASE("A mocap bridge in another process is heard on loopback and hears a co
 
   gs::dds::Domain domain(kDomain, gs::dds::loopback_config());
   gs::dds::Participant participant(domain);
-  gs::dds::Reader<pa_arena_MocapFrame> mocap(participant);
+  gs::dds::Reader<gs::dds::NamedPoseArray> mocap(participant);
   gs::dds::Writer<pa_arena_OperatorCommand> commands(participant);
 
   const pid_t child = dds_test::start_peer({std::to_string(kDomain), tag, std::to_string(sequence)});
@@ -34,17 +35,16 @@ TEST_CASE("A mocap bridge in another process is heard on loopback and hears a co
   bool heard = false;
   const auto end = std::chrono::steady_clock::now() + 15s;
   while (!heard && std::chrono::steady_clock::now() < end) {
-    const pa_arena_MocapFrame* frame = mocap.wait_take(100ms);
-    if (frame == nullptr || frame->bodies._length != 1) continue;
-    const pa_arena_RigidBody& body = frame->bodies._buffer[0];
+    const gs::dds::NamedPoseArray* frame = mocap.wait_take(100ms);
+    if (frame == nullptr || frame->poses._length != 1) continue;
+    const gs::dds::NamedPose& body = frame->poses._buffer[0];
     if (std::string(body.name) != tag) continue;
     heard = true;
-    CHECK(frame->capture_time_ns == static_cast<std::int64_t>(frame->frame_number) * 5'000'000);
-    CHECK(body.tracked);
-    CHECK(body.position_m.x == 1.0);
-    CHECK(body.position_m.y == 2.0);
-    CHECK(body.position_m.z == 3.0);
-    CHECK(body.attitude.w == 1.0);
+    CHECK(gs::dds::stamp_nanoseconds(frame->header.stamp) % 5'000'000 == 0);
+    CHECK(body.pose.position.x == 1.0);
+    CHECK(body.pose.position.y == 2.0);
+    CHECK(body.pose.position.z == 3.0);
+    CHECK(body.pose.orientation.w == 1.0);
   }
   CHECK(heard);
 

@@ -78,13 +78,12 @@ pa_arena_Event event(std::int64_t time_ns, pa_arena_EventKind kind, std::uint8_t
 
 }  // namespace
 
-TEST_CASE("A mocap frame of three bodies arrives whole", "[dds]") {
-  Link<pa_arena_MocapFrame> link(101);
+TEST_CASE("A NamedPoseArray of three bodies arrives whole on rt/poses", "[dds]") {
+  Link<gs::dds::NamedPoseArray> link(101);
   auto& writer = link.writer;
   auto& reader = link.reader;
 
   gs::estimation::MocapFrame frame;
-  frame.t_s = 3.25;
   gs::estimation::MocapPose pose;
   pose.p_m = Eigen::Vector3d(0.5, -0.25, 2.0);
   pose.q = Eigen::Quaterniond(Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 1, 0).normalized()));
@@ -92,21 +91,28 @@ TEST_CASE("A mocap frame of three bodies arrives whole", "[dds]") {
   frame.vehicle[1] = pose;
   frame.pole = pose;
   gs::dds::MocapMessage message;
-  gs::dds::mocap_frame_to_dds(frame, 650, message);
+  gs::dds::mocap_frame_to_dds(frame, 3'250'000'000, gs::dds::MocapBodyNames{}, message);
   writer.write(message.message());
 
-  const pa_arena_MocapFrame* got = reader.wait_take(kWait);
+  const gs::dds::NamedPoseArray* got = reader.wait_take(kWait);
   REQUIRE(got != nullptr);
-  CHECK(got->frame_number == 650);
-  CHECK(got->capture_time_ns == 3'250'000'000);
-  REQUIRE(got->bodies._length == 3);
-  CHECK(std::string(got->bodies._buffer[2].name) == "pole");
+  CHECK(got->header.stamp.sec == 3);
+  CHECK(got->header.stamp.nanosec == 250'000'000u);
+  CHECK(std::string(got->header.frame_id) == "world");
+  REQUIRE(got->poses._length == 3);
+  CHECK(std::string(got->poses._buffer[2].name) == "pole");
 
-  const auto in = gs::dds::mocap_frame_from_dds(*got);
+  const auto in = gs::dds::mocap_frame_from_dds(*got, gs::dds::MocapBodyNames{});
   REQUIRE(in.frame.pole);
   CHECK(in.frame.pole->p_m == pose.p_m);
-  CHECK(in.frame.pole->q.coeffs() == pose.q.coeffs());
+  CHECK(in.frame.pole->q.isApprox(pose.q, 1e-14));
   CHECK(in.frame.vehicle[0]->p_m == pose.p_m);
+}
+
+TEST_CASE("The motion-capture topic has ROS 2's names", "[dds]") {
+  CHECK(std::string(gs::dds::Topic<gs::dds::NamedPoseArray>::kName) == "rt/poses");
+  CHECK(std::string(gs::dds::Topic<gs::dds::NamedPoseArray>::descriptor()->m_typename) ==
+        "motion_capture_tracking_interfaces::msg::dds_::NamedPoseArray_");
 }
 
 TEST_CASE("Vehicle telemetry arrives whole", "[dds]") {
@@ -200,24 +206,25 @@ TEST_CASE("An operator command arrives whole", "[dds]") {
 }
 
 TEST_CASE("A mocap reader keeps only the latest frame", "[dds]") {
-  Link<pa_arena_MocapFrame> link(106);
+  Link<gs::dds::NamedPoseArray> link(106);
   auto& writer = link.writer;
   auto& reader = link.reader;
 
+  // The frames told apart by their stamps, 1..5 ns.
   gs::dds::MocapMessage message;
-  for (std::uint64_t n = 1; n <= 5; ++n) {
-    gs::dds::mocap_frame_to_dds(gs::estimation::MocapFrame{}, n, message);
+  for (std::int64_t n = 1; n <= 5; ++n) {
+    gs::dds::mocap_frame_to_dds(gs::estimation::MocapFrame{}, n, gs::dds::MocapBodyNames{}, message);
     writer.write(message.message());
   }
   // Keep last 1: frames 1..4 were replaced in the reader's cache. Frame 5 is the newest
   // written, so once it is there nothing else can follow it.
-  std::uint64_t last = 0;
+  std::int64_t last = 0;
   int taken = 0;
   while (last != 5) {
     const auto* got = reader.wait_take(kWait);
     REQUIRE(got != nullptr);
-    CHECK(got->frame_number > last);
-    last = got->frame_number;
+    CHECK(gs::dds::stamp_nanoseconds(got->header.stamp) > last);
+    last = gs::dds::stamp_nanoseconds(got->header.stamp);
     ++taken;
   }
   CHECK(reader.take() == nullptr);
@@ -227,22 +234,27 @@ TEST_CASE("A mocap reader keeps only the latest frame", "[dds]") {
 }
 
 TEST_CASE("A mocap reader takes into the same sequence buffer frame after frame", "[dds]") {
-  // No heap churn per frame: Cyclone allocates the reader's sequence on the first frame and
-  // reuses it for frames of no more bodies.
-  Link<pa_arena_MocapFrame> link(113);
+  // No heap churn for the poses per frame: Cyclone allocates the reader's sequence on the first
+  // frame and reuses it for frames of no more bodies.
+  Link<gs::dds::NamedPoseArray> link(113);
+  gs::estimation::MocapFrame frame;
+  frame.vehicle[0] = gs::estimation::MocapPose{};
+  frame.vehicle[1] = gs::estimation::MocapPose{};
+  frame.pole = gs::estimation::MocapPose{};
   gs::dds::MocapMessage message;
-  gs::dds::mocap_frame_to_dds(gs::estimation::MocapFrame{}, 1, message);
+  gs::dds::mocap_frame_to_dds(frame, 1, gs::dds::MocapBodyNames{}, message);
   link.writer.write(message.message());
-  const pa_arena_MocapFrame* first = link.reader.wait_take(kWait);
+  const gs::dds::NamedPoseArray* first = link.reader.wait_take(kWait);
   REQUIRE(first != nullptr);
-  const pa_arena_RigidBody* buffer = first->bodies._buffer;
-  for (std::uint64_t n = 2; n <= 4; ++n) {
-    gs::dds::mocap_frame_to_dds(gs::estimation::MocapFrame{}, n, message);
+  const gs::dds::NamedPose* buffer = first->poses._buffer;
+  for (std::int64_t n = 2; n <= 4; ++n) {
+    gs::dds::mocap_frame_to_dds(frame, n, gs::dds::MocapBodyNames{}, message);
     link.writer.write(message.message());
-    const pa_arena_MocapFrame* got = link.reader.wait_take(kWait);
+    const gs::dds::NamedPoseArray* got = link.reader.wait_take(kWait);
     REQUIRE(got != nullptr);
-    CHECK(got->frame_number == n);
-    CHECK(got->bodies._buffer == buffer);
+    CHECK(gs::dds::stamp_nanoseconds(got->header.stamp) == n);
+    CHECK(got->poses._buffer == buffer);
+    CHECK(std::string(got->poses._buffer[1].name) == "vehicle2");
   }
 }
 

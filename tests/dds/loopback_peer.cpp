@@ -1,8 +1,8 @@
 // The other process of dds_loopback_test and of bench_dds's cross-process benchmark: a
 // motion-capture bridge in miniature. It joins the domain with the loopback configuration,
-// publishes a pa_mocap frame every PERIOD_US (10 ms by default) with one body named after its
-// tag, and exits 0 when an operator command with the given sequence number arrives (1 when none
-// did within 20 s). Its capture times are n * 5 ms for frame n, or with STAMP the steady clock
+// publishes a NamedPoseArray on rt/poses every PERIOD_US (10 ms by default) with one body named
+// after its tag, and exits 0 when an operator command with the given sequence number arrives (1
+// when none did within 20 s). Its stamps are n * 5 ms for frame n, or with STAMP the steady clock
 // (CLOCK_MONOTONIC, which every process on the host shares) when the frame is written.
 // Usage: dds_loopback_peer DOMAIN TAG SEQUENCE [PERIOD_US [STAMP]]
 #include <chrono>
@@ -23,7 +23,7 @@ int main(int argc, char** argv) {
 
   gs::dds::Domain domain(domain_id, gs::dds::loopback_config());
   gs::dds::Participant participant(domain);
-  gs::dds::Writer<pa_arena_MocapFrame> mocap(participant);
+  gs::dds::Writer<gs::dds::NamedPoseArray> mocap(participant);
   gs::dds::Reader<pa_arena_OperatorCommand> commands(participant);
 
   gs::estimation::MocapPose pose;
@@ -31,11 +31,11 @@ int main(int argc, char** argv) {
   gs::dds::MocapMessage message;
   const auto end = std::chrono::steady_clock::now() + 20s;
   for (std::uint64_t n = 1; std::chrono::steady_clock::now() < end; ++n) {
-    const std::int64_t capture_ns = stamp ? std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                                std::chrono::steady_clock::now().time_since_epoch())
-                                                .count()
-                                          : static_cast<std::int64_t>(n) * 5'000'000;
-    message.clear(n, capture_ns);
+    const std::int64_t stamp_ns = stamp ? std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                              std::chrono::steady_clock::now().time_since_epoch())
+                                              .count()
+                                        : static_cast<std::int64_t>(n) * 5'000'000;
+    message.clear(stamp_ns);
     message.add(tag, pose);
     mocap.write(message.message());
     if (const auto* c = commands.wait_take(period); c != nullptr && c->sequence_number == sequence) return 0;

@@ -1,12 +1,13 @@
 // The ground station's process core (groundstation/service/process.hpp) with an in-memory CAN
 // bus and real Cyclone DDS kept inside this process: operator commands and their answers, KILL on
 // the bus, motion capture in, telemetry and events out. Each test case has its own domain id
-// (122-126, 129); every wait is bounded.
+// (122-126, 129, 130, 132-134); every wait is bounded.
 #include "groundstation/service/process.hpp"
 
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <cstring>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -213,32 +214,134 @@ TEST_CASE("Unknown commands and malformed targets are refused with a reason, nev
   CHECK(rig.sent_of_type(pa::proto::Type::kill).empty());
 }
 
-TEST_CASE("Motion-capture frames published on DDS reach the runtime's estimator") {
-  Rig rig(125);
-  gs::dds::Writer<pa_arena_MocapFrame> mocap(rig.console_side);
-  REQUIRE(mocap.wait_for_readers(1, kWait));
+namespace {
 
+// Steps the rig until `frames` motion-capture frames were taken (or the wait ends).
+void step_until_mocap(Rig& rig, std::uint64_t frames) {
+  const auto end = std::chrono::steady_clock::now() + kWait;
+  while (rig.process.counters().mocap_frames < frames && std::chrono::steady_clock::now() < end) {
+    rig.process.step(rig.now_s);
+    rig.now_s += 0.005;
+  }
+}
+
+gs::estimation::MocapFrame both_vehicles() {
   gs::estimation::MocapFrame frame;
-  frame.t_s = rig.now_s;
   gs::estimation::MocapPose pose;
   pose.p_m = Eigen::Vector3d(-1.0, 0.0, 0.1);
   frame.vehicle[0] = pose;
   pose.p_m = Eigen::Vector3d(1.0, 0.0, 0.1);
   frame.vehicle[1] = pose;
+  return frame;
+}
+
+}  // namespace
+
+TEST_CASE("Motion-capture frames published on rt/poses reach the runtime's estimator") {
+  Rig rig(125);
+  gs::dds::Writer<gs::dds::NamedPoseArray> mocap(rig.console_side);
+  REQUIRE(mocap.wait_for_readers(1, kWait));
+
   gs::dds::MocapMessage message;
-  gs::dds::mocap_frame_to_dds(frame, 1, message);
-  REQUIRE(message.add("wand", pose));
+  gs::dds::mocap_frame_to_dds(both_vehicles(), gs::dds::to_nanoseconds(rig.now_s), gs::dds::MocapBodyNames{},
+                              message);
+  REQUIRE(message.add("wand", gs::estimation::MocapPose{}));
   mocap.write(message.message());
 
-  const auto end = std::chrono::steady_clock::now() + kWait;
-  while (rig.process.counters().mocap_frames == 0 && std::chrono::steady_clock::now() < end) {
-    rig.process.step(rig.now_s);
-    rig.now_s += 0.005;
-  }
+  step_until_mocap(rig, 1);
   CHECK(rig.process.counters().mocap_frames == 1);
   CHECK(rig.process.counters().mocap_unknown_bodies == 1);
   CHECK(rig.process.ground_station().estimator().vehicle_initialised(pa::kVehicle1));
   CHECK(rig.process.ground_station().estimator().vehicle_initialised(pa::kVehicle2));
+  CHECK(rig.process.summary().find("body 'wand' is none of vehicle 1 ('vehicle1')") != std::string::npos);
+}
+
+TEST_CASE("A stamp on the system clock is placed on the ground clock less the capture latency") {
+  gs::service::ProcessConfig config;
+  config.mocap.names = {"cf1", "cf2", "stick"};
+  config.mocap.latency_s = 0.008;
+  Rig rig(132, config);
+  // The system clock 1.7e9 s ahead of the ground clock, as CLOCK_REALTIME is of CLOCK_MONOTONIC.
+  const std::int64_t offset_ns = 1'700'000'000'000'000'000;
+  rig.process.set_stamp_offset(offset_ns);
+  gs::dds::Writer<gs::dds::NamedPoseArray> mocap(rig.console_side);
+  REQUIRE(mocap.wait_for_readers(1, kWait));
+
+  // Stamped 3 ms before the step that takes it: the node's clock reads ground time + offset.
+  const double stamp_ground_s = rig.now_s - 0.003;
+  gs::dds::MocapMessage message;
+  gs::dds::mocap_frame_to_dds(both_vehicles(), offset_ns + gs::dds::to_nanoseconds(stamp_ground_s),
+                              config.mocap.names, message);
+  mocap.write(message.message());
+  step_until_mocap(rig, 1);
+  REQUIRE(rig.process.counters().mocap_frames == 1);
+  CHECK(rig.process.counters().mocap_unknown_bodies == 0);
+  CHECK(rig.process.counters().mocap_implausible_stamps == 0);
+  CHECK(rig.process.ground_station().estimator().vehicle_initialised(pa::kVehicle2));
+  // The estimator took the frame at its capture: the stamp on the ground clock less 8 ms.
+  CHECK(rig.process.ground_station().estimator().time() == Approx(stamp_ground_s - 0.008).margin(1e-6));
+  CHECK(rig.process.counters().mocap_delay_max_s >= 0.003 - 1e-6);
+
+  // A stamp an hour off (the hosts' clocks not synchronised): counted, timed by its arrival.
+  gs::dds::mocap_frame_to_dds(both_vehicles(), offset_ns + gs::dds::to_nanoseconds(rig.now_s + 3600.0),
+                              config.mocap.names, message);
+  mocap.write(message.message());
+  step_until_mocap(rig, 2);
+  REQUIRE(rig.process.counters().mocap_frames == 2);
+  CHECK(rig.process.counters().mocap_implausible_stamps == 1);
+  CHECK(rig.process.ground_station().estimator().time() < rig.now_s);
+  CHECK(rig.process.summary().find("synchronised") != std::string::npos);
+}
+
+TEST_CASE("Malformed pose arrays are counted and never crash the process") {
+  Rig rig(133);
+  gs::dds::Writer<gs::dds::NamedPoseArray> mocap(rig.console_side);
+  REQUIRE(mocap.wait_for_readers(1, kWait));
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+
+  gs::dds::MocapMessage message;
+  // NaN orientation (a position-only body), a zero quaternion, a NaN position, a duplicate, an
+  // overlong name; then an empty array.
+  message.clear(gs::dds::to_nanoseconds(rig.now_s));
+  REQUIRE(message.add("vehicle1", gs::estimation::MocapPose{}));
+  message.back().pose.orientation = {nan, nan, nan, nan};
+  REQUIRE(message.add("vehicle2", gs::estimation::MocapPose{}));
+  message.back().pose.orientation = {0.0, 0.0, 0.0, 0.0};
+  REQUIRE(message.add("pole", gs::estimation::MocapPose{}));
+  message.back().pose.position.x = nan;
+  REQUIRE(message.add("pole", gs::estimation::MocapPose{}));
+  REQUIRE(message.add(std::string(200, 'z'), gs::estimation::MocapPose{}));
+  mocap.write(message.message());
+  step_until_mocap(rig, 1);
+  message.clear(gs::dds::to_nanoseconds(rig.now_s));
+  mocap.write(message.message());
+  step_until_mocap(rig, 2);
+
+  const gs::service::ProcessCounters& c = rig.process.counters();
+  CHECK(c.mocap_frames == 2);
+  CHECK(c.mocap_invalid_poses == 3);
+  CHECK(c.mocap_duplicate_bodies == 1);
+  CHECK(c.mocap_unknown_bodies == 1);
+  CHECK_FALSE(rig.process.ground_station().estimator().vehicle_initialised(pa::kVehicle1));
+  CHECK_FALSE(rig.process.ground_station().estimator().vehicle_initialised(pa::kVehicle2));
+}
+
+TEST_CASE("On the plant's clock the process waits for the frames the plant counted") {
+  Rig rig(134);
+  gs::dds::Writer<gs::dds::NamedPoseArray> mocap(rig.console_side);
+  REQUIRE(mocap.wait_for_readers(1, kWait));
+  gs::dds::MocapMessage message;
+  gs::dds::mocap_frame_to_dds(both_vehicles(), gs::dds::to_nanoseconds(0.010), gs::dds::MocapBodyNames{},
+                              message);
+  mocap.write(message.message());
+  CHECK(rig.process.await_mocap(1, 0.010, kWait));
+  CHECK(rig.process.counters().mocap_frames == 1);
+  // The second frame never comes: a bounded wait, then the count takes the plant's, so that one
+  // lost frame costs one wait, not one per step after it.
+  CHECK_FALSE(rig.process.await_mocap(2, 0.015, 50ms));
+  const auto start = std::chrono::steady_clock::now();
+  CHECK(rig.process.await_mocap(2, 0.020, kWait));
+  CHECK(std::chrono::steady_clock::now() - start < 10ms);
 }
 
 TEST_CASE("Telemetry is published at its rate, for both vehicles and the pole") {

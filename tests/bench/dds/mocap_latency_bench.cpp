@@ -1,6 +1,6 @@
 // Motion-capture delivery latency through Cyclone DDS (groundstation/dds): a writer publishes a
-// pa_mocap frame of three rigid bodies (both vehicles and the pole) stamped with the steady clock
-// as its capture time; a reader thread, blocked on a waitset, takes it and records now minus
+// NamedPoseArray (rt/poses) of three bodies (both vehicles and the pole) stamped with the steady
+// clock; a reader thread, blocked on a waitset, takes it and records now minus
 // that stamp. Both participants are in this process and one domain, so Cyclone delivers within
 // the process (no sockets); the figure is the DDS stack's own cost plus a thread wake-up, the
 // floor under what a bridge in another process adds with the loopback's UDP.
@@ -53,8 +53,8 @@ void BM_MocapDeliveryLatency(benchmark::State& state) {
   gs::dds::Domain domain(120, gs::dds::in_process_config());
   gs::dds::Participant publisher(domain);
   gs::dds::Participant subscriber(domain);
-  gs::dds::Writer<pa_arena_MocapFrame> writer(publisher);
-  gs::dds::Reader<pa_arena_MocapFrame> reader(subscriber);
+  gs::dds::Writer<gs::dds::NamedPoseArray> writer(publisher);
+  gs::dds::Reader<gs::dds::NamedPoseArray> reader(subscriber);
   if (!writer.wait_for_readers(1, 5s)) {
     state.SkipWithError("the reader did not match");
     return;
@@ -62,31 +62,31 @@ void BM_MocapDeliveryLatency(benchmark::State& state) {
 
   std::vector<double> latency_us;
   latency_us.reserve(static_cast<std::size_t>(state.max_iterations));
-  std::atomic<std::uint64_t> taken{0};
+  std::atomic<std::int64_t> taken{0};  // the stamp of the frame taken last
   std::atomic<bool> stop{false};
   std::thread reading([&] {
     while (!stop.load()) {
-      const pa_arena_MocapFrame* frame = reader.wait_take(100ms);
+      const gs::dds::NamedPoseArray* frame = reader.wait_take(100ms);
       if (frame == nullptr) continue;
-      latency_us.push_back(1e-3 * static_cast<double>(steady_ns() - frame->capture_time_ns));
-      taken.store(frame->frame_number);
+      const std::int64_t stamp_ns = gs::dds::stamp_nanoseconds(frame->header.stamp);
+      latency_us.push_back(1e-3 * static_cast<double>(steady_ns() - stamp_ns));
+      taken.store(stamp_ns);
     }
   });
 
   gs::estimation::MocapPose pose;
   pose.p_m = Eigen::Vector3d(0.5, -0.25, 2.0);
   gs::dds::MocapMessage message;
-  std::uint64_t number = 0;
+  const gs::dds::MocapBodyNames names;
   bool lost = false;
   for (auto _ : state) {
-    ++number;
-    message.clear(number, steady_ns());
-    for (const pa::VehicleId vehicle : pa::kActVehicles)
-      message.add(gs::dds::vehicle_body_name(vehicle), pose);
-    message.add(gs::dds::kPoleBody, pose);
+    const std::int64_t stamp_ns = steady_ns();
+    message.clear(stamp_ns);
+    for (const pa::VehicleId vehicle : pa::kActVehicles) message.add(names.vehicle(vehicle), pose);
+    message.add(names.pole, pose);
     writer.write(message.message());
     const auto give_up = std::chrono::steady_clock::now() + 1s;
-    while (taken.load() != number) {
+    while (taken.load() != stamp_ns) {
       if (std::chrono::steady_clock::now() > give_up) {
         lost = true;
         break;
@@ -108,7 +108,7 @@ BENCHMARK(BM_MocapDeliveryLatency)->Unit(benchmark::kMicrosecond)->Iterations(20
 void BM_MocapDeliveryLatencyAcrossProcesses(benchmark::State& state) {
   gs::dds::Domain domain(121, gs::dds::loopback_config());
   gs::dds::Participant participant(domain);
-  gs::dds::Reader<pa_arena_MocapFrame> reader(participant);
+  gs::dds::Reader<gs::dds::NamedPoseArray> reader(participant);
   gs::dds::Writer<pa_arena_OperatorCommand> commands(participant);
 
   const std::string tag = "bench" + std::to_string(getpid());
@@ -118,12 +118,11 @@ void BM_MocapDeliveryLatencyAcrossProcesses(benchmark::State& state) {
     return;
   }
   // Takes the run's next frame; nullptr when none came within 5 s (the first: discovery).
-  const auto next = [&]() -> const pa_arena_MocapFrame* {
+  const auto next = [&]() -> const gs::dds::NamedPoseArray* {
     const auto end = std::chrono::steady_clock::now() + 5s;
     while (std::chrono::steady_clock::now() < end) {
-      const pa_arena_MocapFrame* frame = reader.wait_take(100ms);
-      if (frame != nullptr && frame->bodies._length == 1 && tag == frame->bodies._buffer[0].name)
-        return frame;
+      const gs::dds::NamedPoseArray* frame = reader.wait_take(100ms);
+      if (frame != nullptr && frame->poses._length == 1 && tag == frame->poses._buffer[0].name) return frame;
     }
     return nullptr;
   };
@@ -133,12 +132,13 @@ void BM_MocapDeliveryLatencyAcrossProcesses(benchmark::State& state) {
   bool lost = next() == nullptr;
   if (!lost) {
     for (auto _ : state) {
-      const pa_arena_MocapFrame* frame = next();
+      const gs::dds::NamedPoseArray* frame = next();
       if (frame == nullptr) {
         lost = true;
         break;
       }
-      latency_us.push_back(1e-3 * static_cast<double>(steady_ns() - frame->capture_time_ns));
+      latency_us.push_back(
+          1e-3 * static_cast<double>(steady_ns() - gs::dds::stamp_nanoseconds(frame->header.stamp)));
     }
   }
   pa_arena_OperatorCommand stop{};

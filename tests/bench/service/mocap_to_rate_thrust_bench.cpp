@@ -113,7 +113,10 @@ class Flight {
     for (const pa::proto::Frame& f : arena_.take_ground_frames()) process_.on_frame(f, now);
     const std::vector<hil::CapturedFrame> frames = arena_.take_mocap();
     for (const hil::CapturedFrame& m : frames) {
-      gs::dds::mocap_frame_to_dds(hil::sil::to_ground_station_frame(m), ++frame_number_, message_);
+      // Stamped at delivery, as motion_capture_tracking stamps arrival at its node.
+      gs::dds::mocap_frame_to_dds(hil::sil::to_ground_station_frame(m),
+                                  gs::dds::to_nanoseconds(m.delivery_t_s), gs::dds::MocapBodyNames{},
+                                  message_);
       const std::uint64_t taken = process_.counters().mocap_frames;
       bus_.arm();
       const Clock::time_point published = Clock::now();
@@ -146,10 +149,9 @@ class Flight {
   hil::sil::Arena arena_;
   StampingBus bus_;
   gs::service::Process process_;
-  gs::dds::Writer<pa_arena_MocapFrame> mocap_;
+  gs::dds::Writer<gs::dds::NamedPoseArray> mocap_;
   gs::dds::Writer<pa_arena_OperatorCommand> commands_;
   gs::dds::MocapMessage message_;
-  std::uint64_t frame_number_ = 0;
   std::uint64_t not_taken_ = 0;
   std::uint64_t without_rate_thrust_ = 0;
 };
