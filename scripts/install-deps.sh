@@ -10,6 +10,9 @@ packages=(
   catch2 libbenchmark-dev libeigen3-dev
   cyclonedds-dev cyclonedds-tools coinor-libipopt-dev libsqlite3-dev libsodium-dev
   libcli11-dev libyaml-cpp-dev clang-format
+  # Fast DDS, ROS 2's default middleware, the second DDS implementation the tests talk to
+  # (tests/fastdds): the library and its code generator, which runs on Java
+  libfastrtps-dev fastddsgen default-jre-headless
   # the fuzz preset: clang and libFuzzer's runtime (only recommended by clang, so named here)
   clang libclang-rt-14-dev
   gcc-arm-none-eabi binutils-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib
