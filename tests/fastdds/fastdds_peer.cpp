@@ -14,6 +14,13 @@
 //     seconds) every P ms (default 5). Exits 0 once sent, 1 when no reader matched within S
 //     seconds (default 20), 2 on bad arguments.
 //
+//   fastdds_peer relay-poses --from-domain A --domain D [--qos sensor|reliable] [--seconds S]
+//     a motion-capture node whose cameras are another program: every NamedPoseArray it reads on
+//     rt/poses in domain A (best effort, keep last 1, as a ROS 2 subscriber of /poses) it
+//     publishes on rt/poses in domain D, as publish-poses does. So a test that steps a plant
+//     feeds the ground station through Fast DDS, and Fast DDS reads what Cyclone wrote. Runs
+//     until SIGTERM or S seconds (default 60); exits 0.
+//
 // Discovery: UDP on 127.0.0.1 only (no shared memory, no multicast, which a container's loopback
 // lacks), the initial peers the well-known unicast discovery ports of participant indices 0..20
 // on 127.0.0.1, which is where Cyclone's loopback configuration (gs::dds::loopback_config())
@@ -25,10 +32,17 @@
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+#include <fastdds/dds/subscriber/Subscriber.hpp>
+#include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
+#include <atomic>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
@@ -46,9 +60,13 @@ namespace dds = eprosima::fastdds::dds;
 namespace ros = motion_capture_tracking_interfaces::msg::dds_;
 using Clock = std::chrono::steady_clock;
 
+std::atomic<bool> g_stop{false};
+void on_signal(int) { g_stop = true; }
+
 struct Options {
   std::string mode;
   int domain = -1;
+  int from_domain = -1;
   bool reliable = false;
   std::vector<std::string> names{"vehicle1", "vehicle2", "pole"};
   long frames = 0;
@@ -58,10 +76,12 @@ struct Options {
 };
 
 int usage(const char* problem) {
-  std::fprintf(stderr,
-               "fastdds_peer: %s\nusage: fastdds_peer publish-poses --domain D [--qos sensor|reliable] "
-               "[--names V1,V2,POLE] [--frames N] [--period-ms P] [--junk] [--seconds S]\n",
-               problem);
+  std::fprintf(
+      stderr,
+      "fastdds_peer: %s\nusage: fastdds_peer publish-poses --domain D [--qos sensor|reliable] "
+      "[--names V1,V2,POLE] [--frames N] [--period-ms P] [--junk] [--seconds S]\n"
+      "       fastdds_peer relay-poses --from-domain A --domain D [--qos sensor|reliable] [--seconds S]\n",
+      problem);
   return 2;
 }
 
@@ -80,6 +100,7 @@ bool parse(int argc, char** argv, Options& o) {
     const std::string flag = argv[i];
     const auto value = [&]() -> std::string { return i + 1 < argc ? argv[++i] : std::string(); };
     if (flag == "--domain") o.domain = std::atoi(value().c_str());
+    else if (flag == "--from-domain") o.from_domain = std::atoi(value().c_str());
     else if (flag == "--qos") o.reliable = value() == "reliable";
     else if (flag == "--names") o.names = split(value());
     else if (flag == "--frames") o.frames = std::atol(value().c_str());
@@ -88,7 +109,8 @@ bool parse(int argc, char** argv, Options& o) {
     else if (flag == "--seconds") o.seconds = std::atof(value().c_str());
     else return false;
   }
-  return o.mode == "publish-poses" && o.domain >= 0 && o.domain <= 230 && o.names.size() == 3 &&
+  const bool relay = o.mode == "relay-poses" && o.from_domain >= 0 && o.from_domain <= 230;
+  return (o.mode == "publish-poses" || relay) && o.domain >= 0 && o.domain <= 230 && o.names.size() == 3 &&
          o.period_ms > 0 && o.seconds > 0.0;
 }
 
@@ -146,58 +168,137 @@ ros::NamedPoseArray_ frame(long k, const Options& o) {
   return m;
 }
 
-int publish_poses(const Options& o) {
-  const Clock::time_point end =
-      Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(o.seconds));
-  dds::DomainParticipantFactory* factory = dds::DomainParticipantFactory::get_instance();
-  dds::DomainParticipant* participant =
-      factory->create_participant(static_cast<dds::DomainId_t>(o.domain), loopback_qos(o.domain));
-  if (participant == nullptr) {
-    std::fprintf(stderr, "fastdds_peer: cannot create a participant on domain %d\n", o.domain);
-    return 1;
+Clock::time_point deadline(double seconds) {
+  return Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
+}
+
+// A participant on `domain` with the NamedPoseArray type registered and its rt/poses topic; the
+// factory deletes what it holds when the program ends.
+struct PosesParticipant {
+  explicit PosesParticipant(int domain) : type(new ros::NamedPoseArray_PubSubType()) {
+    participant = dds::DomainParticipantFactory::get_instance()->create_participant(
+        static_cast<dds::DomainId_t>(domain), loopback_qos(domain));
+    if (participant == nullptr) return;
+    type.register_type(participant);
+    topic = participant->create_topic("rt/poses", type.get_type_name(), dds::TOPIC_QOS_DEFAULT);
   }
-  dds::TypeSupport type(new ros::NamedPoseArray_PubSubType());
-  type.register_type(participant);
-  dds::Topic* topic = participant->create_topic("rt/poses", type.get_type_name(), dds::TOPIC_QOS_DEFAULT);
-  dds::Publisher* publisher = participant->create_publisher(dds::PUBLISHER_QOS_DEFAULT);
-  // motion_capture_tracking's two publishers (its topics.poses.qos.mode).
+  PosesParticipant(const PosesParticipant&) = delete;
+  PosesParticipant& operator=(const PosesParticipant&) = delete;
+  ~PosesParticipant() {
+    if (participant == nullptr) return;
+    participant->delete_contained_entities();
+    dds::DomainParticipantFactory::get_instance()->delete_participant(participant);
+  }
+  bool ok() const { return participant != nullptr && topic != nullptr; }
+
+  dds::TypeSupport type;
+  dds::DomainParticipant* participant = nullptr;
+  dds::Topic* topic = nullptr;
+};
+
+// motion_capture_tracking's two publishers (its topics.poses.qos.mode): "sensor" is ROS 2's
+// sensor-data profile with depth 1 and a deadline (10 ms at its default 100 Hz), "none" ROS 2's
+// default profile with depth 1.
+dds::DataWriter* create_pose_writer(PosesParticipant& p, bool reliable) {
+  dds::Publisher* publisher = p.participant->create_publisher(dds::PUBLISHER_QOS_DEFAULT);
+  if (publisher == nullptr) return nullptr;
   dds::DataWriterQos qos = dds::DATAWRITER_QOS_DEFAULT;
-  qos.reliability().kind = o.reliable ? dds::RELIABLE_RELIABILITY_QOS : dds::BEST_EFFORT_RELIABILITY_QOS;
+  qos.reliability().kind = reliable ? dds::RELIABLE_RELIABILITY_QOS : dds::BEST_EFFORT_RELIABILITY_QOS;
   qos.history().kind = dds::KEEP_LAST_HISTORY_QOS;
   qos.history().depth = 1;
   qos.durability().kind = dds::VOLATILE_DURABILITY_QOS;
-  if (!o.reliable) qos.deadline().period = eprosima::fastrtps::Duration_t(0, 10'000'000);  // 100 Hz
-  qos.data_sharing().off();
-  dds::DataWriter* writer = publisher->create_datawriter(topic, qos);
-  if (topic == nullptr || writer == nullptr) {
-    std::fprintf(stderr, "fastdds_peer: cannot create the rt/poses writer\n");
-    return 1;
-  }
-  std::printf("fastdds_peer: publishing %s on rt/poses, domain %d, %s QoS\n", type.get_type_name().c_str(),
-              o.domain, o.reliable ? "reliable" : "sensor");
-  std::fflush(stdout);
+  if (!reliable) qos.deadline().period = eprosima::fastrtps::Duration_t(0, 10'000'000);
+  qos.data_sharing().off();  // Fast DDS's shared-memory delivery, which Cyclone does not speak
+  return publisher->create_datawriter(p.topic, qos);
+}
 
-  int code = 0;
+// Waits for a matched reader; false when none matched by `end`.
+bool wait_for_reader(dds::DataWriter* writer, Clock::time_point end) {
   dds::PublicationMatchedStatus matched;
   while (writer->get_publication_matched_status(matched), matched.current_count == 0) {
-    if (Clock::now() > end) {
-      std::fprintf(stderr, "fastdds_peer: no reader of rt/poses matched within %.1f s\n", o.seconds);
-      code = 1;
-      break;
-    }
+    if (Clock::now() > end || g_stop) return false;
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
+  return true;
+}
+
+int publish_poses(const Options& o) {
+  const Clock::time_point end = deadline(o.seconds);
+  PosesParticipant p(o.domain);
+  dds::DataWriter* writer = p.ok() ? create_pose_writer(p, o.reliable) : nullptr;
+  if (writer == nullptr) {
+    std::fprintf(stderr, "fastdds_peer: cannot create the rt/poses writer on domain %d\n", o.domain);
+    return 1;
+  }
+  std::printf("fastdds_peer: publishing %s on rt/poses, domain %d, %s QoS\n", p.type.get_type_name().c_str(),
+              o.domain, o.reliable ? "reliable" : "sensor");
+  std::fflush(stdout);
+  if (!wait_for_reader(writer, end)) {
+    std::fprintf(stderr, "fastdds_peer: no reader of rt/poses matched within %.1f s\n", o.seconds);
+    return 1;
+  }
   long sent = 0;
-  for (long k = 0; code == 0 && (o.frames == 0 || k < o.frames) && Clock::now() < end; ++k) {
+  for (long k = 0; (o.frames == 0 || k < o.frames) && Clock::now() < end && !g_stop; ++k) {
     ros::NamedPoseArray_ m = frame(k, o);
     writer->write(&m);
     ++sent;
     std::this_thread::sleep_for(std::chrono::milliseconds(o.period_ms));
   }
-  if (code == 0) std::printf("fastdds_peer: sent %ld frames\n", sent);
-  participant->delete_contained_entities();
-  factory->delete_participant(participant);
-  return code;
+  std::printf("fastdds_peer: sent %ld frames\n", sent);
+  return 0;
+}
+
+// Takes every sample as it arrives (on Fast DDS's receive thread) and writes it on.
+class Relay final : public dds::DataReaderListener {
+ public:
+  explicit Relay(dds::DataWriter* writer) : writer_(writer) {}
+  void on_data_available(dds::DataReader* reader) override {
+    dds::SampleInfo info;
+    while (reader->take_next_sample(&sample_, &info) == eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
+      if (!info.valid_data) continue;
+      writer_->write(&sample_);
+      ++relayed_;
+    }
+  }
+  long relayed() const { return relayed_; }
+
+ private:
+  dds::DataWriter* writer_;
+  ros::NamedPoseArray_ sample_;
+  std::atomic<long> relayed_{0};
+};
+
+int relay_poses(const Options& o) {
+  const Clock::time_point end = deadline(o.seconds);
+  PosesParticipant out(o.domain);
+  dds::DataWriter* writer = out.ok() ? create_pose_writer(out, o.reliable) : nullptr;
+  PosesParticipant in(o.from_domain);
+  dds::Subscriber* subscriber =
+      in.ok() ? in.participant->create_subscriber(dds::SUBSCRIBER_QOS_DEFAULT) : nullptr;
+  if (writer == nullptr || subscriber == nullptr) {
+    std::fprintf(stderr, "fastdds_peer: cannot create the relay's participants on domains %d and %d\n",
+                 o.from_domain, o.domain);
+    return 1;
+  }
+  Relay relay(writer);
+  // A ROS 2 subscriber of /poses with the sensor-data profile: best effort, keep last 1.
+  dds::DataReaderQos qos = dds::DATAREADER_QOS_DEFAULT;
+  qos.reliability().kind = dds::BEST_EFFORT_RELIABILITY_QOS;
+  qos.history().kind = dds::KEEP_LAST_HISTORY_QOS;
+  qos.history().depth = 1;
+  qos.durability().kind = dds::VOLATILE_DURABILITY_QOS;
+  qos.data_sharing().off();
+  if (subscriber->create_datareader(in.topic, qos, &relay) == nullptr) {
+    std::fprintf(stderr, "fastdds_peer: cannot create the rt/poses reader on domain %d\n", o.from_domain);
+    return 1;
+  }
+  std::printf("fastdds_peer: relaying rt/poses from domain %d to domain %d, %s QoS\n", o.from_domain,
+              o.domain, o.reliable ? "reliable" : "sensor");
+  std::fflush(stdout);
+  while (!g_stop && Clock::now() < end) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  in.participant->delete_contained_entities();  // no more callbacks into the relay
+  std::printf("fastdds_peer: relayed %ld frames\n", relay.relayed());
+  return 0;
 }
 
 }  // namespace
@@ -205,5 +306,7 @@ int publish_poses(const Options& o) {
 int main(int argc, char** argv) {
   Options o;
   if (!parse(argc, argv, o)) return usage("bad arguments");
-  return publish_poses(o);
+  std::signal(SIGTERM, on_signal);
+  std::signal(SIGINT, on_signal);
+  return o.mode == "relay-poses" ? relay_poses(o) : publish_poses(o);
 }
