@@ -10,6 +10,11 @@
 //                         of motion_capture_tracking's publishers, "sensor" (best effort, keep
 //                         last 1, a deadline) and "none" (reliable, keep last 1); requesting a
 //                         deadline would refuse the latter, which offers none.
+//   rt/pa/.../pose        ROS 2's PoseStamped (ros2_telemetry.hpp), a topic per body: reliable,
+//                         keep last 1, volatile. Reliable because a reliable writer serves every
+//                         ROS 2 subscriber (rviz2's and ros2 topic echo's default is reliable; a
+//                         best-effort one matches it too); keep last 1 so that it never blocks
+//                         or queues behind a slow tool.
 //   pa_vehicle_telemetry  best effort, keep last 1 per vehicle (keyed by vehicle): the latest
 //                         state of each vehicle, one vehicle's updates never push out the other's.
 //   pa_pole_telemetry     best effort, keep last 1: as the mocap.
@@ -126,6 +131,12 @@ struct Topic<motion_capture_tracking_interfaces_msg_dds__NamedPoseArray_> {
     return &motion_capture_tracking_interfaces_msg_dds__NamedPoseArray__desc;
   }
 };
+// One type on several topics: no fixed name (Writer's constructor takes it).
+template <>
+struct Topic<geometry_msgs_msg_dds__PoseStamped_> {
+  static constexpr TopicQos kQos{Delivery::command, 1};
+  static const dds_topic_descriptor_t* descriptor() { return &geometry_msgs_msg_dds__PoseStamped__desc; }
+};
 template <>
 struct Topic<pa_arena_VehicleTelemetry> {
   static constexpr const char* kName = "pa_vehicle_telemetry";
@@ -199,8 +210,10 @@ class ReaderCore {
 template <class T>
 class Writer {
  public:
-  explicit Writer(const Participant& participant)
-      : topic_(detail::create_topic(participant, Topic<T>::kName, Topic<T>::descriptor(), Topic<T>::kQos)),
+  explicit Writer(const Participant& participant) : Writer(participant, Topic<T>::kName) {}
+  // On a topic of T's type and QoS under another name (a type on several topics).
+  Writer(const Participant& participant, const char* name)
+      : topic_(detail::create_topic(participant, name, Topic<T>::descriptor(), Topic<T>::kQos)),
         writer_(detail::create_writer(participant, topic_, Topic<T>::kQos)) {}
 
   void write(const T& sample) { detail::write(writer_, &sample); }
@@ -222,8 +235,9 @@ class Writer {
 template <class T>
 class Reader {
  public:
-  explicit Reader(const Participant& participant)
-      : topic_(detail::create_topic(participant, Topic<T>::kName, Topic<T>::descriptor(), Topic<T>::kQos)),
+  explicit Reader(const Participant& participant) : Reader(participant, Topic<T>::kName) {}
+  Reader(const Participant& participant, const char* name)
+      : topic_(detail::create_topic(participant, name, Topic<T>::descriptor(), Topic<T>::kQos)),
         core_(participant, detail::create_reader(participant, topic_, Topic<T>::kQos), Topic<T>::descriptor(),
               &sample_) {}
   Reader(const Reader&) = delete;

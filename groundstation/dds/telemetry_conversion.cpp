@@ -12,12 +12,16 @@ Eigen::Vector3d vec3(const pa_arena_Vec3& v) { return {v.x, v.y, v.z}; }
 
 }  // namespace
 
+Eigen::Quaterniond vehicle_attitude(const model::VehicleState& s) {
+  // ^I_B R = Rz(psi) Ry(theta) Rx(phi) (estimation/mocap_pose.hpp).
+  return Eigen::AngleAxisd(s.psi_rad, Eigen::Vector3d::UnitZ()) *
+         Eigen::AngleAxisd(s.theta_rad, Eigen::Vector3d::UnitY()) *
+         Eigen::AngleAxisd(s.phi_rad, Eigen::Vector3d::UnitX());
+}
+
 pa_arena_Estimate vehicle_estimate_to_dds(const estimation::VehicleEstimate& estimate) {
   const model::VehicleState& s = estimate.state;
-  // ^I_B R = Rz(psi) Ry(theta) Rx(phi) (estimation/mocap_pose.hpp).
-  const Eigen::Quaterniond q = Eigen::AngleAxisd(s.psi_rad, Eigen::Vector3d::UnitZ()) *
-                               Eigen::AngleAxisd(s.theta_rad, Eigen::Vector3d::UnitY()) *
-                               Eigen::AngleAxisd(s.phi_rad, Eigen::Vector3d::UnitX());
+  const Eigen::Quaterniond q = vehicle_attitude(s);
   pa_arena_Estimate out{};
   out.position_m = vec3(s.p_m);
   out.velocity_mps = vec3(s.v_mps);

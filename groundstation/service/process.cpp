@@ -60,7 +60,11 @@ Process::Process(link::FrameBus& bus, const dds::Participant& participant,
       commands_(participant),
       vehicle_telemetry_(participant),
       pole_telemetry_(participant),
-      events_(participant) {}
+      events_(participant),
+      vehicle_poses_{
+          dds::Writer<dds::PoseStamped>(participant, dds::vehicle_pose_topic(pa::kVehicle1).c_str()),
+          dds::Writer<dds::PoseStamped>(participant, dds::vehicle_pose_topic(pa::kVehicle2).c_str())},
+      pole_pose_(participant, dds::kPolePoseTopic) {}
 
 void Process::on_frame(const pa::proto::Frame& frame, double now_s) {
   ++counters_.can_frames;
@@ -240,6 +244,17 @@ void Process::publish_telemetry(double now_s) {
   }
   pole_telemetry_.write(dds::pole_telemetry_to_dds(estimator.pole(), now_s, forecast));
   ++counters_.telemetry_published;
+  // The same estimates as ROS 2 poses, stamped with ROS's time (the stamps' clock).
+  const std::int64_t stamp_ns = dds::to_nanoseconds(now_s) + stamp_offset_ns_;
+  for (const pa::VehicleId v : pa::kActVehicles) {
+    if (!estimator.vehicle_initialised(v)) continue;
+    vehicle_poses_[pa::act_slot(v)].write(dds::vehicle_pose_to_ros(estimator.vehicle(v), stamp_ns));
+    ++counters_.ros_poses_published;
+  }
+  if (const estimation::PoleEstimate pole = estimator.pole(); pole.valid) {
+    pole_pose_.write(dds::pole_pose_to_ros(pole.state, stamp_ns));
+    ++counters_.ros_poses_published;
+  }
 }
 
 void Process::publish_changes(double now_s) {
@@ -320,14 +335,14 @@ std::string Process::summary() const {
                 "motion-capture stamp to arrival: mean %.2f ms, max %.2f ms over %llu frames; implausible "
                 "stamps %llu\n"
                 "operator commands accepted %llu, refused %llu, kills %llu\n"
-                "attempts completed %zu, telemetry samples %llu, events %llu\n",
+                "attempts completed %zu, telemetry samples %llu (ROS 2 poses %llu), events %llu\n",
                 u(c.can_frames), u(l.frames_sent), u(l.send_refused), u(l.unsigned_dropped),
                 u(c.mocap_frames), u(c.mocap_unknown_bodies), u(c.mocap_invalid_poses),
                 u(c.mocap_duplicate_bodies), dds::kMaxPoses, u(c.mocap_excess_poses),
                 timed > 0 ? 1e3 * c.mocap_delay_sum_s / static_cast<double>(timed) : 0.0,
                 1e3 * c.mocap_delay_max_s, u(timed), u(c.mocap_implausible_stamps), u(c.commands_accepted),
                 u(c.commands_refused), u(c.kills), station_.attempts().size(), u(c.telemetry_published),
-                u(c.events_published));
+                u(c.ros_poses_published), u(c.events_published));
   std::string out = text;
   if (!first_unknown_body_.empty())
     out += "motion capture: body '" + first_unknown_body_ + "' is none of vehicle 1 ('" +

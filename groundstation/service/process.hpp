@@ -39,6 +39,7 @@
 
 #include "groundstation/dds/dds.hpp"
 #include "groundstation/dds/mocap_conversion.hpp"
+#include "groundstation/dds/ros2_telemetry.hpp"
 #include "groundstation/link/frame_bus.hpp"
 #include "groundstation/runtime/ground_station.hpp"
 
@@ -73,6 +74,7 @@ struct ProcessCounters {
   std::uint64_t commands_refused = 0;
   std::uint64_t kills = 0;
   std::uint64_t telemetry_published = 0;  // samples, vehicles and pole
+  std::uint64_t ros_poses_published = 0;  // PoseStamped on rt/pa/.../pose
   std::uint64_t events_published = 0;
 };
 
@@ -85,7 +87,8 @@ class Process {
 
   void on_frame(const pa::proto::Frame& frame, double now_s);
   // The motion-capture stamps' clock minus the ground clock, in nanoseconds (0 when the stamps
-  // are on the ground clock, as the HIL plant's are with --hil-clock).
+  // are on the ground clock, as the HIL plant's are with --hil-clock). ROS's time: the ROS 2
+  // topics the process publishes are stamped on the same clock.
   void set_stamp_offset(std::int64_t offset_ns) { stamp_offset_ns_ = offset_ns; }
   void step(double now_s);
   // On the plant's clock (groundstation run --hil-clock): takes motion-capture frames, waiting up
@@ -126,6 +129,8 @@ class Process {
   dds::Writer<pa_arena_VehicleTelemetry> vehicle_telemetry_;
   dds::Writer<pa_arena_PoleTelemetry> pole_telemetry_;
   dds::Writer<pa_arena_Event> events_;
+  std::array<dds::Writer<dds::PoseStamped>, 2> vehicle_poses_;  // by pa::act_slot()
+  dds::Writer<dds::PoseStamped> pole_pose_;
 
   std::optional<double> next_telemetry_s_;
   std::uint64_t mocap_counted_ = 0;  // frames taken, for await_mocap

@@ -98,15 +98,18 @@ TEST_CASE("The ground station flies an attempt on poses Fast DDS publishes", "[f
   REQUIRE(commands.wait_for_readers(1, 20s));
 
   // Until the relay's writer has matched the Process's reader, frames fall on the floor: an
-  // empty frame (no bodies: nothing for the estimator) until one comes through.
+  // empty frame (no bodies: nothing for the estimator) until one comes through. Counted as the
+  // plant counts its frames: await_mocap takes the count it is given after a frame that did not
+  // come, so that the count stays the number published.
   gs::dds::MocapMessage message;
+  std::uint64_t published = 0;
   const auto matched_by = std::chrono::steady_clock::now() + 20s;
   while (process.counters().mocap_frames == 0 && std::chrono::steady_clock::now() < matched_by) {
     message.clear(0);
     cameras.write(message.message());
-    process.await_mocap(1, 0.0, 50ms);
+    process.await_mocap(++published, 0.0, 50ms);
   }
-  REQUIRE(process.counters().mocap_frames == 1);
+  REQUIRE(process.counters().mocap_frames >= 1);
 
   const auto command = [&](pa_arena_CommandKind kind, std::uint8_t target, std::uint32_t sequence) {
     pa_arena_OperatorCommand c{};
@@ -117,7 +120,6 @@ TEST_CASE("The ground station flies an attempt on poses Fast DDS publishes", "[f
   };
   command(pa_arena_command_take_off, 0, 1);
 
-  std::uint64_t published = process.counters().mocap_frames;
   std::uint64_t late = 0;
   bool throw_sent = false;
   std::optional<bool> caught;

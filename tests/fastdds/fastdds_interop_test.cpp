@@ -5,7 +5,10 @@
 // type and topic match across implementations (nothing arrives otherwise), every field arrives
 // bit for bit (names, positions, ROS's (x, y, z, w) quaternions, the stamp), names map to
 // vehicles as configured, and an arena's junk (unknown and overlong names, a NaN orientation)
-// is counted and skipped. Then the ground station's process core takes the same frames.
+// is counted and skipped. Then the ground station's process core takes the same frames. And
+// back: a Fast DDS subscriber, as rviz2 would be, receives the ground station's ROS 2 poses
+// (geometry_msgs/PoseStamped on rt/pa/vehicle2/pose and rt/pa/pole/pose), which it matches only
+// if the topic names, type name and QoS agree across the implementations.
 //
 // Domains 140-149, with the loopback configuration, so another run on this host could share
 // them: this run's frames are told apart by body names made of its process id. Every wait is
@@ -14,6 +17,8 @@
 
 #include <catch2/catch.hpp>
 #include <chrono>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -182,4 +187,129 @@ TEST_CASE("The ground station's process flies on Fast DDS's poses", "[fastdds]")
   CHECK(estimator.vehicle(pa::kVehicle1).state.p_m.y() == Approx(-2.0).margin(0.05));
   std::printf("%s", process.summary().c_str());
   CHECK(dds_test::wait_exit(peer, 20s) == 0);
+}
+
+namespace {
+
+// A line of fastdds_peer subscribe-pose's file.
+struct ReceivedPose {
+  std::string frame_id;
+  std::int64_t stamp_ns = 0;
+  Eigen::Vector3d p_m = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
+};
+
+std::vector<ReceivedPose> read_poses(const std::string& path) {
+  std::vector<ReceivedPose> poses;
+  std::ifstream in(path);
+  for (std::string line; std::getline(in, line);) {
+    std::istringstream fields(line);
+    ReceivedPose r;
+    long long sec = 0;
+    unsigned long nanosec = 0;
+    double qx = 0, qy = 0, qz = 0, qw = 0;
+    if (!(fields >> r.frame_id >> sec >> nanosec >> r.p_m.x() >> r.p_m.y() >> r.p_m.z() >> qx >> qy >> qz >>
+          qw))
+      continue;
+    r.stamp_ns = sec * 1'000'000'000 + static_cast<long long>(nanosec);
+    r.q = Eigen::Quaterniond(qw, qx, qy, qz);
+    poses.push_back(r);
+  }
+  return poses;
+}
+
+gs::estimation::MocapPose mocap_pose(const Eigen::Vector3d& p, const Eigen::Quaterniond& q) {
+  gs::estimation::MocapPose pose;
+  pose.p_m = p;
+  pose.q = q;
+  return pose;
+}
+
+}  // namespace
+
+TEST_CASE("Fast DDS receives the ground station's poses as ROS 2 PoseStamped", "[fastdds]") {
+  gs::runtime::GroundStationConfig station;
+  for (const pa::VehicleId v : pa::kActVehicles) {
+    gs::link::VehicleKey key{v, {}};
+    key.key.fill(static_cast<std::uint8_t>(0x30 + v.node()));
+    station.link.keys.push_back(key);
+  }
+  gs::link::InMemoryFrameBus bus;
+  gs::dds::Domain domain(145, gs::dds::loopback_config());
+  gs::dds::Participant station_side(domain);
+  gs::dds::Participant cameras_side(domain);
+  gs::service::Process process(bus, station_side, station);
+  gs::dds::Writer<gs::dds::NamedPoseArray> cameras(cameras_side);
+
+  const std::string tag = std::to_string(getpid());
+  const std::string vehicle_file = "fastdds_vehicle2_pose_" + tag + ".txt";
+  const std::string pole_file = "fastdds_pole_pose_" + tag + ".txt";
+  // Vehicle 2's as rviz2 subscribes (reliable), the pole's as a sensor-data subscriber.
+  const pid_t vehicle_peer = dds_test::start_peer(
+      {"subscribe-pose", "--domain", "145", "--topic", gs::dds::vehicle_pose_topic(pa::kVehicle2), "--qos",
+       "reliable", "--out", vehicle_file, "--frames", "10", "--seconds", "20"});
+  const pid_t pole_peer =
+      dds_test::start_peer({"subscribe-pose", "--domain", "145", "--topic", gs::dds::kPolePoseTopic, "--qos",
+                            "sensor", "--out", pole_file, "--frames", "10", "--seconds", "20"});
+  REQUIRE(vehicle_peer > 0);
+  REQUIRE(pole_peer > 0);
+  REQUIRE(cameras.wait_for_readers(1, 5s));
+
+  // Vehicle 2 parked at (1, 2, 0.1) facing 0.5 rad; the pole upright-ish at (0, 0, 1).
+  const Eigen::Vector3d vehicle_p(1.0, 2.0, 0.1);
+  const Eigen::Quaterniond vehicle_q(Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()));
+  const Eigen::Vector3d pole_p(0.0, 0.0, 1.0);
+  const Eigen::Quaterniond pole_q(Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitX()));
+  const std::int64_t started_ns = realtime_ns();
+  gs::dds::MocapMessage message;
+  int exits = 0, vehicle_exit = -1, pole_exit = -1;
+  const auto end = std::chrono::steady_clock::now() + kDiscovery;
+  while (exits < 2 && std::chrono::steady_clock::now() < end) {
+    const std::int64_t offset_ns = realtime_ns() - gs::dds::to_nanoseconds(monotonic_s());
+    process.set_stamp_offset(offset_ns);
+    gs::estimation::MocapFrame frame;
+    frame.vehicle[pa::act_slot(pa::kVehicle2)] = mocap_pose(vehicle_p, vehicle_q);
+    frame.pole = mocap_pose(pole_p, pole_q);
+    gs::dds::mocap_frame_to_dds(frame, realtime_ns(), gs::dds::MocapBodyNames{}, message);
+    cameras.write(message.message());
+    std::this_thread::sleep_for(5ms);
+    process.step(monotonic_s());
+    int status = 0;
+    if (vehicle_exit < 0 && waitpid(vehicle_peer, &status, WNOHANG) == vehicle_peer) {
+      vehicle_exit = WIFEXITED(status) ? WEXITSTATUS(status) : 100;
+      ++exits;
+    }
+    if (pole_exit < 0 && waitpid(pole_peer, &status, WNOHANG) == pole_peer) {
+      pole_exit = WIFEXITED(status) ? WEXITSTATUS(status) : 100;
+      ++exits;
+    }
+  }
+  if (vehicle_exit < 0) vehicle_exit = dds_test::wait_exit(vehicle_peer, 1s);
+  if (pole_exit < 0) pole_exit = dds_test::wait_exit(pole_peer, 1s);
+  CHECK(vehicle_exit == 0);
+  CHECK(pole_exit == 0);
+  CHECK(process.counters().ros_poses_published > 0);
+
+  const std::vector<ReceivedPose> vehicle = read_poses(vehicle_file);
+  const std::vector<ReceivedPose> pole = read_poses(pole_file);
+  std::remove(vehicle_file.c_str());
+  std::remove(pole_file.c_str());
+  REQUIRE(vehicle.size() == 10);
+  REQUIRE(pole.size() == 10);
+  for (const ReceivedPose& r : vehicle) {
+    CHECK(r.frame_id == "world");
+    CHECK(r.stamp_ns >= started_ns);
+    CHECK(r.stamp_ns <= realtime_ns());
+    CHECK((r.p_m - vehicle_p).norm() < 0.05);
+    CHECK(r.q.norm() == Approx(1.0).margin(1e-9));
+    CHECK(r.q.angularDistance(vehicle_q) < 0.05);
+  }
+  for (const ReceivedPose& r : pole) {
+    CHECK(r.frame_id == "world");
+    CHECK((r.p_m - pole_p).norm() < 0.1);
+    // The pose's z-axis is the pole's axis.
+    CHECK((r.q * Eigen::Vector3d::UnitZ() - pole_q * Eigen::Vector3d::UnitZ()).norm() < 0.05);
+  }
+  // Stamped in order, at the telemetry's 50 Hz.
+  for (std::size_t i = 1; i < vehicle.size(); ++i) CHECK(vehicle[i].stamp_ns > vehicle[i - 1].stamp_ns);
 }

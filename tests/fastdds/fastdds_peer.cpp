@@ -21,6 +21,13 @@
 //     feeds the ground station through Fast DDS, and Fast DDS reads what Cyclone wrote. Runs
 //     until SIGTERM or S seconds (default 60); exits 0.
 //
+//   fastdds_peer subscribe-pose --domain D --topic T --out FILE [--qos sensor|reliable]
+//                [--frames N] [--seconds S]
+//     a ROS 2 subscriber of geometry_msgs/PoseStamped on topic T (rt/pa/vehicle1/pose, ...),
+//     reliable (ROS 2's default; rviz2's) or best effort: writes a line per sample to FILE,
+//     "frame_id sec nanosec px py pz qx qy qz qw", and exits 0 after N samples (default 10), 1
+//     when they did not come within S seconds (default 20).
+//
 // Discovery: UDP on 127.0.0.1 only (no shared memory, no multicast, which a container's loopback
 // lacks), the initial peers the well-known unicast discovery ports of participant indices 0..20
 // on 127.0.0.1, which is where Cyclone's loopback configuration (gs::dds::loopback_config())
@@ -67,6 +74,8 @@ struct Options {
   std::string mode;
   int domain = -1;
   int from_domain = -1;
+  std::string topic;
+  std::string out;
   bool reliable = false;
   std::vector<std::string> names{"vehicle1", "vehicle2", "pole"};
   long frames = 0;
@@ -101,6 +110,8 @@ bool parse(int argc, char** argv, Options& o) {
     const auto value = [&]() -> std::string { return i + 1 < argc ? argv[++i] : std::string(); };
     if (flag == "--domain") o.domain = std::atoi(value().c_str());
     else if (flag == "--from-domain") o.from_domain = std::atoi(value().c_str());
+    else if (flag == "--topic") o.topic = value();
+    else if (flag == "--out") o.out = value();
     else if (flag == "--qos") o.reliable = value() == "reliable";
     else if (flag == "--names") o.names = split(value());
     else if (flag == "--frames") o.frames = std::atol(value().c_str());
@@ -109,9 +120,11 @@ bool parse(int argc, char** argv, Options& o) {
     else if (flag == "--seconds") o.seconds = std::atof(value().c_str());
     else return false;
   }
+  if (o.mode == "subscribe-pose" && o.frames == 0) o.frames = 10;
   const bool relay = o.mode == "relay-poses" && o.from_domain >= 0 && o.from_domain <= 230;
-  return (o.mode == "publish-poses" || relay) && o.domain >= 0 && o.domain <= 230 && o.names.size() == 3 &&
-         o.period_ms > 0 && o.seconds > 0.0;
+  const bool subscribe = o.mode == "subscribe-pose" && !o.topic.empty() && !o.out.empty();
+  return (o.mode == "publish-poses" || relay || subscribe) && o.domain >= 0 && o.domain <= 230 &&
+         o.names.size() == 3 && o.period_ms > 0 && o.seconds > 0.0;
 }
 
 // UDP on 127.0.0.1 only, discovery by unicast to the loopback's well-known ports.
@@ -172,19 +185,20 @@ Clock::time_point deadline(double seconds) {
   return Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
 }
 
-// A participant on `domain` with the NamedPoseArray type registered and its rt/poses topic; the
-// factory deletes what it holds when the program ends.
-struct PosesParticipant {
-  explicit PosesParticipant(int domain) : type(new ros::NamedPoseArray_PubSubType()) {
+// A participant on `domain` with PubSub's type registered and a topic of it; the participant
+// deletes what it holds when this ends.
+template <class PubSub>
+struct TypedParticipant {
+  TypedParticipant(int domain, const std::string& topic_name) : type(new PubSub()) {
     participant = dds::DomainParticipantFactory::get_instance()->create_participant(
         static_cast<dds::DomainId_t>(domain), loopback_qos(domain));
     if (participant == nullptr) return;
     type.register_type(participant);
-    topic = participant->create_topic("rt/poses", type.get_type_name(), dds::TOPIC_QOS_DEFAULT);
+    topic = participant->create_topic(topic_name, type.get_type_name(), dds::TOPIC_QOS_DEFAULT);
   }
-  PosesParticipant(const PosesParticipant&) = delete;
-  PosesParticipant& operator=(const PosesParticipant&) = delete;
-  ~PosesParticipant() {
+  TypedParticipant(const TypedParticipant&) = delete;
+  TypedParticipant& operator=(const TypedParticipant&) = delete;
+  ~TypedParticipant() {
     if (participant == nullptr) return;
     participant->delete_contained_entities();
     dds::DomainParticipantFactory::get_instance()->delete_participant(participant);
@@ -194,6 +208,10 @@ struct PosesParticipant {
   dds::TypeSupport type;
   dds::DomainParticipant* participant = nullptr;
   dds::Topic* topic = nullptr;
+};
+
+struct PosesParticipant : TypedParticipant<ros::NamedPoseArray_PubSubType> {
+  explicit PosesParticipant(int domain) : TypedParticipant(domain, "rt/poses") {}
 };
 
 // motion_capture_tracking's two publishers (its topics.poses.qos.mode): "sensor" is ROS 2's
@@ -301,6 +319,49 @@ int relay_poses(const Options& o) {
   return 0;
 }
 
+int subscribe_pose(const Options& o) {
+  const Clock::time_point end = deadline(o.seconds);
+  TypedParticipant<geometry_msgs::msg::dds_::PoseStamped_PubSubType> p(o.domain, o.topic);
+  dds::Subscriber* subscriber =
+      p.ok() ? p.participant->create_subscriber(dds::SUBSCRIBER_QOS_DEFAULT) : nullptr;
+  dds::DataReaderQos qos = dds::DATAREADER_QOS_DEFAULT;
+  qos.reliability().kind = o.reliable ? dds::RELIABLE_RELIABILITY_QOS : dds::BEST_EFFORT_RELIABILITY_QOS;
+  qos.history().kind = dds::KEEP_LAST_HISTORY_QOS;
+  qos.history().depth = 10;  // ROS 2's default depth
+  qos.durability().kind = dds::VOLATILE_DURABILITY_QOS;
+  qos.data_sharing().off();
+  dds::DataReader* reader = subscriber != nullptr ? subscriber->create_datareader(p.topic, qos) : nullptr;
+  std::FILE* out = std::fopen(o.out.c_str(), "w");
+  if (reader == nullptr || out == nullptr) {
+    std::fprintf(stderr, "fastdds_peer: cannot read %s on domain %d into %s\n", o.topic.c_str(), o.domain,
+                 o.out.c_str());
+    if (out != nullptr) std::fclose(out);
+    return 1;
+  }
+  std::printf("fastdds_peer: subscribed to %s (%s) on domain %d\n", o.topic.c_str(),
+              p.type.get_type_name().c_str(), o.domain);
+  std::fflush(stdout);
+  long received = 0;
+  while (received < o.frames && Clock::now() < end && !g_stop) {
+    if (!reader->wait_for_unread_message(eprosima::fastrtps::Duration_t(0, 100'000'000))) continue;
+    geometry_msgs::msg::dds_::PoseStamped_ m;
+    dds::SampleInfo info;
+    while (received < o.frames &&
+           reader->take_next_sample(&m, &info) == eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
+      if (!info.valid_data) continue;
+      const auto& q = m.pose().orientation();
+      const auto& x = m.pose().position();
+      std::fprintf(out, "%s %d %u %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n", m.header().frame_id().c_str(),
+                   m.header().stamp().sec(), m.header().stamp().nanosec(), x.x(), x.y(), x.z(), q.x(), q.y(),
+                   q.z(), q.w());
+      ++received;
+    }
+  }
+  std::fclose(out);
+  std::printf("fastdds_peer: received %ld of %ld samples\n", received, o.frames);
+  return received >= o.frames ? 0 : 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -308,5 +369,7 @@ int main(int argc, char** argv) {
   if (!parse(argc, argv, o)) return usage("bad arguments");
   std::signal(SIGTERM, on_signal);
   std::signal(SIGINT, on_signal);
-  return o.mode == "relay-poses" ? relay_poses(o) : publish_poses(o);
+  if (o.mode == "relay-poses") return relay_poses(o);
+  if (o.mode == "subscribe-pose") return subscribe_pose(o);
+  return publish_poses(o);
 }
