@@ -248,6 +248,9 @@ class Reader {
     return core_.wait_take(timeout) ? &sample_ : nullptr;
   }
   std::uint32_t matched_writers() const { return detail::matched_writers(core_.reader()); }
+  // The reader's handle, for Cyclone's calls this class does not wrap (what discovery says of
+  // the matched writers: dds_get_matched_publication_data).
+  dds_entity_t handle() const { return core_.reader().get(); }
   bool wait_for_writers(std::uint32_t count, std::chrono::nanoseconds timeout) const {
     return detail::wait_until_matched([this] { return matched_writers(); }, count, timeout);
   }

@@ -52,7 +52,10 @@ struct MocapInputConfig {
   // (Vicon's SDK: GetLatencyTotal; OptiTrack's: the frame's latency field): measure the arena's.
   double latency_s = 0.010;
   double max_stamp_age_s = 0.5;
-  double max_stamp_lead_s = 0.005;  // a stamp this far ahead of arrival is still believed
+  // A stamp this far after the step's time is still believed: a frame can arrive between the
+  // loop's reading of the clock and its take (a descheduled loop: in a slow HIL guest, measured
+  // up to tens of ms), while clocks that disagree are off by far more.
+  double max_stamp_lead_s = 0.050;
 };
 
 struct ProcessConfig {

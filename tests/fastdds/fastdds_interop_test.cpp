@@ -15,6 +15,7 @@
 // bounded, and the peer is killed if it outlives its wait.
 #include <time.h>
 
+#include <array>
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <fstream>
@@ -129,6 +130,25 @@ void receive_from_fast_dds(dds_domainid_t domain, const char* qos) {
     CHECK_FALSE(marker.frame.vehicle[1]);
   }
   CHECK(heard);
+
+  // What discovery says of the Fast DDS writer, not this project's strings: ROS 2's topic and
+  // type names, and motion_capture_tracking's QoS in the mode asked for.
+  std::array<dds_instance_handle_t, 4> writers{};
+  const dds_return_t n = dds_get_matched_publications(reader.handle(), writers.data(), writers.size());
+  REQUIRE(n == 1);
+  dds_builtintopic_endpoint_t* writer = dds_get_matched_publication_data(reader.handle(), writers[0]);
+  REQUIRE(writer != nullptr);
+  CHECK(std::string(writer->topic_name) == "rt/poses");
+  CHECK(std::string(writer->type_name) == "motion_capture_tracking_interfaces::msg::dds_::NamedPoseArray_");
+  dds_reliability_kind_t reliability{};
+  dds_duration_t blocking = 0;
+  REQUIRE(dds_qget_reliability(writer->qos, &reliability, &blocking));
+  const bool sensor = std::string(qos) == "sensor";
+  CHECK(reliability == (sensor ? DDS_RELIABILITY_BEST_EFFORT : DDS_RELIABILITY_RELIABLE));
+  dds_duration_t deadline = 0;
+  if (dds_qget_deadline(writer->qos, &deadline)) CHECK(deadline == (sensor ? DDS_MSECS(10) : DDS_INFINITY));
+  dds_builtintopic_free_endpoint(writer);
+
   // The peer ends on its own once its 20 s are up; it has done its part, so it is ended now.
   kill(peer, SIGTERM);
   dds_test::wait_exit(peer, 5s);
