@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <optional>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -218,4 +220,60 @@ TEST_CASE("A message holds at most its capacity of poses and truncates long name
   CHECK_FALSE(message.add("pole", MocapPose{}));
   CHECK(message.message().poses._length == MocapMessage::kCapacity);
   CHECK(std::strlen(message.message().poses._buffer[0].name) == gs::dds::kMaxBodyName);
+}
+
+TEST_CASE("Any pose array converts without trusting a bad pose, and every pose is accounted for", "[dds]") {
+  // Seeded random arrays: names known, unknown, repeated, overlong and null; positions and
+  // quaternions finite, NaN, infinite, huge, zero or off unit. Whatever comes in, what reaches
+  // the estimator is finite with a unit quaternion, and each pose is counted exactly once.
+  std::mt19937_64 random(26);
+  const std::vector<std::string> pool = {
+      "vehicle1",           "vehicle2",           "pole", "wand", "", std::string(63, 'v'),
+      std::string(64, 'v'), std::string(300, 'p')};
+  const double specials[] = {
+      0.0, -0.0, 1.0, -1.0, 1e308, -1e308, 1e-310, kNaN, std::numeric_limits<double>::infinity()};
+  const auto value = [&]() {
+    std::uniform_int_distribution<int> pick(0, 3);
+    if (pick(random) == 0) return specials[std::uniform_int_distribution<std::size_t>(0, 8)(random)];
+    return std::uniform_real_distribution<double>(-2.0, 2.0)(random);
+  };
+  for (int trial = 0; trial < 2000; ++trial) {
+    const std::size_t length = std::uniform_int_distribution<std::size_t>(0, gs::dds::kMaxPoses + 8)(random);
+    std::vector<std::string> names(length);
+    std::vector<gs::dds::NamedPose> poses(length);
+    for (std::size_t i = 0; i < length; ++i) {
+      names[i] = pool[std::uniform_int_distribution<std::size_t>(0, pool.size() - 1)(random)];
+      poses[i].name = std::uniform_int_distribution<int>(0, 20)(random) == 0 ? nullptr : names[i].data();
+      poses[i].pose.position = {value(), value(), value()};
+      if (std::uniform_int_distribution<int>(0, 1)(random) == 0) {
+        // A unit quaternion, as a camera system sends it, perhaps rounded.
+        Eigen::Quaterniond q(Eigen::Vector4d(value(), value(), value(), value()));
+        if (!std::isfinite(q.norm()) || q.norm() == 0.0) q = Eigen::Quaterniond::Identity();
+        q.normalize();
+        poses[i].pose.orientation = {q.x(), q.y(), q.z(), q.w() * (1.0 + 1e-7)};
+      } else {
+        poses[i].pose.orientation = {value(), value(), value(), value()};
+      }
+    }
+    gs::dds::NamedPoseArray m{};
+    m.poses._buffer = poses.data();
+    m.poses._length = static_cast<std::uint32_t>(length);
+    m.poses._maximum = m.poses._length;
+    m.header.stamp =
+        gs::dds::ros_time(std::uniform_int_distribution<std::int64_t>(-(1LL << 62), 1LL << 62)(random));
+
+    const gs::dds::MocapFrameIn in = gs::dds::mocap_frame_from_dds(m, MocapBodyNames{});
+    std::size_t valid = 0;
+    const auto check_pose = [&](const std::optional<MocapPose>& p) {
+      if (!p) return;
+      ++valid;
+      CHECK(p->p_m.allFinite());
+      CHECK(std::abs(p->q.norm() - 1.0) < 1e-12);
+    };
+    check_pose(in.frame.vehicle[0]);
+    check_pose(in.frame.vehicle[1]);
+    check_pose(in.frame.pole);
+    CHECK(valid + in.unknown_bodies + in.invalid_poses + in.duplicate_bodies + in.excess_poses == length);
+    CHECK(in.excess_poses == (length > gs::dds::kMaxPoses ? length - gs::dds::kMaxPoses : 0));
+  }
 }
