@@ -236,9 +236,11 @@ template <class T>
 class Reader {
  public:
   explicit Reader(const Participant& participant) : Reader(participant, Topic<T>::kName) {}
-  Reader(const Participant& participant, const char* name)
+  // On another name, and with another QoS of the reader's own (a deeper history: a reader that
+  // must count every sample); the topic keeps T's.
+  Reader(const Participant& participant, const char* name, const TopicQos& qos = Topic<T>::kQos)
       : topic_(detail::create_topic(participant, name, Topic<T>::descriptor(), Topic<T>::kQos)),
-        core_(participant, detail::create_reader(participant, topic_, Topic<T>::kQos), Topic<T>::descriptor(),
+        core_(participant, detail::create_reader(participant, topic_, qos), Topic<T>::descriptor(),
               &sample_) {}
   Reader(const Reader&) = delete;
   Reader& operator=(const Reader&) = delete;

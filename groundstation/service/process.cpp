@@ -56,7 +56,8 @@ Process::Process(link::FrameBus& bus, const dds::Participant& participant,
                  const runtime::GroundStationConfig& config, const ProcessConfig& process)
     : station_(bus, config),
       config_(process),
-      mocap_(participant),
+      mocap_(participant, dds::Topic<dds::NamedPoseArray>::kName,
+             dds::TopicQos{dds::Topic<dds::NamedPoseArray>::kQos.delivery, process.mocap.history}),
       commands_(participant),
       vehicle_telemetry_(participant),
       pole_telemetry_(participant),
@@ -182,19 +183,31 @@ void Process::answer(const pa_arena_OperatorCommand& command, bool accepted, con
 }
 
 void Process::take_mocap(double now_s) {
-  // The topic keeps the newest frame only: at most one is waiting.
+  // At an arena the reader keeps the newest frame only: at most one is waiting.
   while (const dds::NamedPoseArray* m = mocap_.take()) on_mocap(*m, now_s);
 }
 
 bool Process::await_mocap(std::uint64_t frames, double now_s, std::chrono::nanoseconds timeout) {
+  // A frame stamped after this clock's time was published after it, and one writer's frames
+  // arrive in order: every frame this clock counts is in (or was lost), and the frames newer
+  // than the clock are counted beyond it. The count stays right through a restart or a release
+  // by the plant, when frames from after a stale clock are already waiting.
+  constexpr double kSlack_s = 1e-6;  // stamps and clock times are both whole plant steps
+  std::uint64_t newer = 0;
   const auto end = std::chrono::steady_clock::now() + timeout;
   while (mocap_counted_ < frames) {
     const auto left = end - std::chrono::steady_clock::now();
     if (left <= std::chrono::nanoseconds::zero()) {
-      mocap_counted_ = frames;
+      mocap_counted_ = frames + newer;
       return false;
     }
-    if (const dds::NamedPoseArray* m = mocap_.wait_take(left)) on_mocap(*m, now_s);
+    const dds::NamedPoseArray* m = mocap_.wait_take(left);
+    if (m == nullptr) continue;
+    on_mocap(*m, now_s);
+    if (last_stamp_s_ > now_s + kSlack_s) {
+      ++newer;
+      mocap_counted_ = std::max(mocap_counted_, frames + newer);
+    }
   }
   return true;
 }
@@ -210,6 +223,7 @@ void Process::on_mocap(const dds::NamedPoseArray& message, double now_s) {
   ++mocap_counted_;
   // The stamp on the ground clock, and how long the frame took from the node to here.
   const double stamp_s = dds::to_seconds(in.stamp_ns - stamp_offset_ns_);
+  last_stamp_s_ = stamp_s;
   const double delay_s = now_s - stamp_s;
   if (std::isfinite(delay_s) && delay_s >= -config_.mocap.max_stamp_lead_s &&
       delay_s <= config_.mocap.max_stamp_age_s) {

@@ -51,6 +51,12 @@ struct MocapInputConfig {
   // default latency, hil/plant/plant_config.hpp); camera systems at 200 Hz report a few ms
   // (Vicon's SDK: GetLatencyTotal; OptiTrack's: the frame's latency field): measure the arena's.
   double latency_s = 0.010;
+  // Frames the reader keeps until taken. At an arena 1: only the newest pose matters. On the
+  // plant's clock (--hil-clock) every frame must be counted (await_mocap: NamedPoseArray has no
+  // frame number), and a reader that kept only the newest would lose count of the frames it
+  // replaced while the loop was not taking (a restart, a release by the plant), then wait in
+  // vain at every step after; there 1024, 5 s of frames at 200 Hz.
+  std::int32_t history = 1;
   double max_stamp_age_s = 0.5;
   // A stamp this far after the step's time is still believed: a frame can arrive between the
   // loop's reading of the clock and its take (a descheduled loop: in a slow HIL guest, measured
@@ -97,8 +103,9 @@ class Process {
   // On the plant's clock (groundstation run --hil-clock): takes motion-capture frames, waiting up
   // to `timeout` on the wall clock, until `frames` of them have come, so that a step acts on the
   // frames the plant delivered by then whatever DDS's delivery took. NamedPoseArray has no frame
-  // number, so frames are counted; false when they did not come in time, and the count then
-  // takes the plant's (a frame lost, or sent before this reader matched, costs one wait).
+  // number, so frames are counted, and the stamps (the plant's time there) tell a frame published
+  // after this clock: taking one ends the wait, as all before it are in. False when they did not
+  // come in time, and the count then takes the plant's (a frame lost costs one wait).
   bool await_mocap(std::uint64_t frames, double now_s, std::chrono::nanoseconds timeout);
 
   const runtime::GroundStation& ground_station() const { return station_; }
@@ -137,6 +144,7 @@ class Process {
 
   std::optional<double> next_telemetry_s_;
   std::uint64_t mocap_counted_ = 0;  // frames taken, for await_mocap
+  double last_stamp_s_ = 0.0;        // the latest frame's stamp on the ground clock
   std::int64_t stamp_offset_ns_ = 0;
   std::string first_unknown_body_;
   pa::VehicleId thrower_ = pa::kVehicle1;  // of the latest attempt

@@ -1,7 +1,7 @@
 // The ground station's process core (groundstation/service/process.hpp) with an in-memory CAN
 // bus and real Cyclone DDS kept inside this process: operator commands and their answers, KILL on
 // the bus, motion capture in, telemetry and events out. Each test case has its own domain id
-// (122-126, 129, 130, 132-134); every wait is bounded.
+// (122-126, 129, 130, 132-136); every wait is bounded.
 #include "groundstation/service/process.hpp"
 
 #include <catch2/catch.hpp>
@@ -324,6 +324,60 @@ TEST_CASE("Malformed pose arrays are counted and never crash the process") {
   CHECK(c.mocap_unknown_bodies == 1);
   CHECK_FALSE(rig.process.ground_station().estimator().vehicle_initialised(pa::kVehicle1));
   CHECK_FALSE(rig.process.ground_station().estimator().vehicle_initialised(pa::kVehicle2));
+}
+
+namespace {
+
+// A process on the plant's clock (groundstation run --hil-clock) and the plant's motion capture.
+struct PlantClockRig {
+  explicit PlantClockRig(dds_domainid_t id) : rig(id, config()), mocap(rig.console_side) {
+    REQUIRE(mocap.wait_for_readers(1, kWait));
+  }
+  static gs::service::ProcessConfig config() {
+    gs::service::ProcessConfig c;
+    c.mocap.history = 1024;
+    return c;
+  }
+  // Frames of both vehicles stamped first_s, first_s + 5 ms, ... (the plant's time).
+  void publish(int count, double first_s) {
+    for (int n = 0; n < count; ++n) {
+      gs::dds::mocap_frame_to_dds(both_vehicles(), gs::dds::to_nanoseconds(first_s + 0.005 * n),
+                                  gs::dds::MocapBodyNames{}, message);
+      mocap.write(message.message());
+    }
+  }
+  Rig rig;
+  gs::dds::Writer<gs::dds::NamedPoseArray> mocap;
+  gs::dds::MocapMessage message;
+};
+
+}  // namespace
+
+TEST_CASE("On the plant's clock a burst of frames is counted whole") {
+  // The plant stepped on without the ground station (a restart, a release): frames pile up
+  // unread. With the HIL's history every one is counted, so the next clock's count is met at
+  // once; keeping only the newest, as at an arena, would have lost count of four.
+  PlantClockRig plant(135);
+  plant.publish(5, 0.005);
+  CHECK(plant.rig.process.await_mocap(5, 0.025, kWait));
+  CHECK(plant.rig.process.counters().mocap_frames == 5);
+}
+
+TEST_CASE("On the plant's clock a frame newer than the clock ends the wait, and is counted beyond it") {
+  // A ground station started while the plant ran on without it: the plant has counted 100
+  // frames, this one saw none of them, and the frames waiting are from after the clock it reads.
+  PlantClockRig plant(136);
+  Process& process = plant.rig.process;
+  plant.publish(3, 0.505);
+  const auto start = std::chrono::steady_clock::now();
+  CHECK(process.await_mocap(100, 0.500, kWait));
+  CHECK(std::chrono::steady_clock::now() - start < 1s);
+  // The plant's next clocks count those three: no wait for frames already taken.
+  CHECK(process.await_mocap(103, 0.515, 50ms));
+  CHECK(process.counters().mocap_frames == 3);
+  plant.publish(1, 0.520);
+  CHECK(process.await_mocap(104, 0.520, kWait));
+  CHECK(process.counters().mocap_frames == 4);
 }
 
 TEST_CASE("On the plant's clock the process waits for the frames the plant counted") {
