@@ -56,8 +56,7 @@ Process::Process(link::FrameBus& bus, const dds::Participant& participant,
                  const runtime::GroundStationConfig& config, const ProcessConfig& process)
     : station_(bus, config),
       config_(process),
-      mocap_(participant, dds::Topic<dds::NamedPoseArray>::kName,
-             dds::TopicQos{dds::Topic<dds::NamedPoseArray>::kQos.delivery, process.mocap.history}),
+      mocap_(participant),
       commands_(participant),
       vehicle_telemetry_(participant),
       pole_telemetry_(participant),
@@ -183,19 +182,27 @@ void Process::answer(const pa_arena_OperatorCommand& command, bool accepted, con
 }
 
 void Process::take_mocap(double now_s) {
-  // At an arena the reader keeps the newest frame only: at most one is waiting.
+  // The reader keeps the newest frame only: at most one is waiting.
   while (const dds::NamedPoseArray* m = mocap_.take()) on_mocap(*m, now_s);
 }
 
 bool Process::await_mocap(std::uint64_t frames, double now_s, std::chrono::nanoseconds timeout) {
-  // A frame stamped after this clock's time was published after it, and one writer's frames
-  // arrive in order: every frame this clock counts is in (or was lost), and the frames newer
-  // than the clock are counted beyond it. The count stays right through a restart or a release
-  // by the plant, when frames from after a stale clock are already waiting.
-  constexpr double kSlack_s = 1e-6;  // stamps and clock times are both whole plant steps
+  // Frames are counted, and the stamps (the plant's time there) say more: the plant publishes a
+  // frame in the first step at or after its delivery, and one writer's frames arrive in order.
+  // So once a frame stamped within this clock's step or later has been taken, every frame this
+  // clock counts is in, and the count is set right: the clock's, plus the frames taken that were
+  // published after it. That keeps the count true through a restart or a release by the plant,
+  // when frames from after a stale clock are waiting and others were never delivered.
+  constexpr double kSlack_s = 1e-6;  // stamps and clock times are both plant time, rounded
+  const double step_start_s = now_s - config_.mocap.clock_step_s + kSlack_s;
   std::uint64_t newer = 0;
   const auto end = std::chrono::steady_clock::now() + timeout;
-  while (mocap_counted_ < frames) {
+  for (;;) {
+    if (last_stamp_s_ && *last_stamp_s_ > step_start_s) {
+      mocap_counted_ = frames + newer;
+      return true;
+    }
+    if (mocap_counted_ >= frames) return true;
     const auto left = end - std::chrono::steady_clock::now();
     if (left <= std::chrono::nanoseconds::zero()) {
       mocap_counted_ = frames + newer;
@@ -204,12 +211,8 @@ bool Process::await_mocap(std::uint64_t frames, double now_s, std::chrono::nanos
     const dds::NamedPoseArray* m = mocap_.wait_take(left);
     if (m == nullptr) continue;
     on_mocap(*m, now_s);
-    if (last_stamp_s_ > now_s + kSlack_s) {
-      ++newer;
-      mocap_counted_ = std::max(mocap_counted_, frames + newer);
-    }
+    if (*last_stamp_s_ > now_s + kSlack_s) ++newer;
   }
-  return true;
 }
 
 void Process::on_mocap(const dds::NamedPoseArray& message, double now_s) {

@@ -51,12 +51,7 @@ struct MocapInputConfig {
   // default latency, hil/plant/plant_config.hpp); camera systems at 200 Hz report a few ms
   // (Vicon's SDK: GetLatencyTotal; OptiTrack's: the frame's latency field): measure the arena's.
   double latency_s = 0.010;
-  // Frames the reader keeps until taken. At an arena 1: only the newest pose matters. On the
-  // plant's clock (--hil-clock) every frame must be counted (await_mocap: NamedPoseArray has no
-  // frame number), and a reader that kept only the newest would lose count of the frames it
-  // replaced while the loop was not taking (a restart, a release by the plant), then wait in
-  // vain at every step after; there 1024, 5 s of frames at 200 Hz.
-  std::int32_t history = 1;
+  double clock_step_s = 0.001;  // --hil-clock: the plant's step, one HIL_CLOCK each
   double max_stamp_age_s = 0.5;
   // A stamp this far after the step's time is still believed: a frame can arrive between the
   // loop's reading of the clock and its take (a descheduled loop: in a slow HIL guest, measured
@@ -104,8 +99,9 @@ class Process {
   // to `timeout` on the wall clock, until `frames` of them have come, so that a step acts on the
   // frames the plant delivered by then whatever DDS's delivery took. NamedPoseArray has no frame
   // number, so frames are counted, and the stamps (the plant's time there) tell a frame published
-  // after this clock: taking one ends the wait, as all before it are in. False when they did not
-  // come in time, and the count then takes the plant's (a frame lost costs one wait).
+  // at this clock's step or after: taking one ends the wait, as all before it are in, and sets
+  // the count right. False when they did not come in time, and the count then takes the plant's
+  // (a frame lost costs one wait).
   bool await_mocap(std::uint64_t frames, double now_s, std::chrono::nanoseconds timeout);
 
   const runtime::GroundStation& ground_station() const { return station_; }
@@ -143,8 +139,8 @@ class Process {
   dds::Writer<dds::PoseStamped> pole_pose_;
 
   std::optional<double> next_telemetry_s_;
-  std::uint64_t mocap_counted_ = 0;  // frames taken, for await_mocap
-  double last_stamp_s_ = 0.0;        // the latest frame's stamp on the ground clock
+  std::uint64_t mocap_counted_ = 0;     // frames taken, for await_mocap
+  std::optional<double> last_stamp_s_;  // the latest frame's stamp on the ground clock
   std::int64_t stamp_offset_ns_ = 0;
   std::string first_unknown_body_;
   pa::VehicleId thrower_ = pa::kVehicle1;  // of the latest attempt

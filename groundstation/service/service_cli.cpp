@@ -218,7 +218,7 @@ int cmd_run(int argc, char** argv) {
     service::ProcessConfig process_config;
     process_config.telemetry_period_s = 1.0 / telemetry_hz;
     process_config.mocap = mocap;
-    if (hil_clock) process_config.mocap.history = 1024;
+    if (hil_clock) process_config.mocap.clock_step_s = 1.0 / pa::kImuRate_Hz;  // run_on_plant_clock's step
     service::Process process(bus, participant, config, process_config);
 
     std::signal(SIGINT, on_signal);
