@@ -129,7 +129,7 @@ TEST_CASE("The ground station flies an attempt on poses Fast DDS publishes", "[f
     arena.step();
     const double now = arena.t_s();
     for (const pa::proto::Frame& f : arena.take_ground_frames()) process.on_frame(f, now);
-    for (const hil::MocapFrame& m : arena.take_mocap()) {
+    for (const hil::CapturedFrame& m : arena.take_mocap()) {
       gs::dds::mocap_frame_to_dds(hil::sil::to_ground_station_frame(m),
                                   gs::dds::to_nanoseconds(m.delivery_t_s), gs::dds::MocapBodyNames{},
                                   message);
