@@ -98,7 +98,19 @@ line=$(grep "hil run: vehicle 1 truth:" "$out/hil_run.txt")
 check 'echo "$line" | grep -q "on the floor, motors off"' "vehicle 1 did not end on the floor with its motors off: $line"
 line=$(grep "hil run: vehicle 2 truth:" "$out/hil_run.txt")
 check 'echo "$line" | grep -q "on the floor, motors off"' "vehicle 2 (its firmware killed) is not on the floor with its motors off: $line"
-check 'grep -q "hil run: ground clock: .* released 1 times" "$out/hil_run.txt"' "the plant did not let the killed ground station go once"
+# The plant lets the killed ground station go where it was killed: its first release is at most
+# 0.1 s of plant time before vehicle 1's hold (25 ms after the last setpoint). Under a loaded
+# emulator a living ground station can also be silent past the plant's 1 s of the clock (seen once
+# at 0.07 of real time, just after the restart): the plant lets it go and awaits it again when it
+# answers, so later releases are reported, not failed.
+released_at_kill() {
+  first=$(sed -n 's/^hil run: \([0-9.]*\) s: the ground station has not answered.*/\1/p' "$out/hil_run.txt" | head -n 1)
+  hold1=$(sed -n 's/^fw_vehicle: \([0-9.]*\) s: mode flying -> hold.*/\1/p' "$out/fw_vehicle1.txt" | head -n 1)
+  say "the ground station first let go at ${first:-never} s, vehicle 1's hold at ${hold1:-never} s"
+  [ -n "$first" ] && [ -n "$hold1" ] && awk -v r="$first" -v h="$hold1" 'BEGIN { exit !(r <= h && h - r < 0.1) }'
+}
+check released_at_kill "the plant did not let the killed ground station go where it was killed"
+grep "hil run: ground clock:" "$out/hil_run.txt"
 check 'grep -q "hil run: vehicle 2 on .* released 1 times" "$out/hil_run.txt"' "the plant did not let the killed firmware go once"
 check 'grep -q "^fw_vehicle: stopped" "$out/fw_vehicle1.txt"' "vehicle 1's firmware did not stop cleanly"
 check 'grep -q "^groundstation run: stopped" "$out/groundstation2.txt"' "the second ground station did not stop cleanly"
