@@ -233,6 +233,15 @@ CREATE TABLE throws (
   energy_J REAL,
   energy_error_J REAL,
   note TEXT NOT NULL,
+)sql";
+
+// Schema 3: the throwing vehicle, NULL in throws stored before it (a column constraint, so that
+// the migration adds it as it is created).
+const std::string kThrowerColumn = "thrower INTEGER CHECK (thrower IS NULL OR thrower BETWEEN " +
+                                   std::to_string(pa::proto::kFirstVehicleNode) + " AND " +
+                                   std::to_string(pa::proto::kLastVehicleNode) + ")";
+
+constexpr const char* kCreateThrowsChecks = R"sql(
   CHECK ((target_x_m IS NULL) = (target_y_m IS NULL)),
   CHECK ((predicted_x_m IS NULL) = (predicted_y_m IS NULL)
      AND (predicted_x_m IS NULL) = (predicted_t_s IS NULL)),
@@ -251,11 +260,11 @@ constexpr const char* kThrowColumns =
     "launch_vz_mps, launch_alpha_rad, launch_alpha_dot_radps, catch_height_used_m, waiting_x_m, "
     "waiting_y_m, target_x_m, target_y_m, predicted_x_m, predicted_y_m, predicted_t_s, "
     "actual_x_m, actual_y_m, actual_t_s, optimal_t_s, optimal_height_m, optimal_x_m, "
-    "optimal_y_m, catcher_x_m, catcher_y_m, energy_J, energy_error_J, note";
-constexpr int kThrowColumnCount = 31;
+    "optimal_y_m, catcher_x_m, catcher_y_m, energy_J, energy_error_J, note, thrower";
+constexpr int kThrowColumnCount = 32;
 
 std::string create_throws_sql() {
-  std::string sql = kCreateThrowsHead;
+  std::string sql = std::string(kCreateThrowsHead) + "  " + kThrowerColumn + "," + kCreateThrowsChecks;
   bool first = true;
   for (const ThrowOutcome outcome : kAllThrowOutcomes) {
     sql += first ? "'" : ", '";
@@ -411,6 +420,11 @@ void bind_throw(Statement& st, std::int64_t id, const ThrowRecord& r,
   st.bind(i++, r.energy_after_impact_J);
   st.bind(i++, energy_error_J);
   st.bind(i++, std::string_view(r.note));
+  if (r.thrower) {
+    st.bind(i++, static_cast<std::int64_t>(r.thrower->node()));
+  } else {
+    st.bind(i++, std::optional<double>());
+  }
 }
 
 std::optional<Eigen::Vector2d> read_pair(const Statement& st, int column) {
@@ -445,6 +459,14 @@ StoredThrow read_throw(const Impl& s, const Statement& st) {
   r.energy_after_impact_J = st.optional_real(28);
   out.energy_error_J = st.optional_real(29);
   r.note = st.text(30);
+  if (!st.isNull(31)) {
+    const std::int64_t node = st.integer(31);
+    const pa::VehicleId thrower(static_cast<std::uint8_t>(std::clamp<std::int64_t>(node, 0, 255)));
+    if (node != thrower.node() || !thrower.valid())
+      damaged(s, "throw " + std::to_string(out.id) + " names no vehicle as its thrower (node " +
+                     std::to_string(node) + ")");
+    r.thrower = thrower;
+  }
   return out;
 }
 
@@ -570,7 +592,7 @@ void initialise(const Impl& s, const AdaptationSettings& settings) {
 
 // A file of an older schema brought to this one, in one transaction (another process may have
 // done it since the version was read: it is read again under the write lock). Schema 1 -> 2: the
-// identifications table.
+// identifications table; 2 -> 3: the throws' thrower.
 void migrate(const Impl& s) {
   Transaction tx(s, true);
   const std::int64_t version = query_integer(s, "PRAGMA user_version");
@@ -579,6 +601,7 @@ void migrate(const Impl& s) {
     exec(s, create_identifications_sql().c_str());
     exec(s, kCreateIdentificationsIndex);
   }
+  if (version < 3) exec(s, ("ALTER TABLE throws ADD COLUMN " + kThrowerColumn).c_str());
   exec(s, ("PRAGMA user_version = " + std::to_string(kSchemaVersion)).c_str());
   tx.commit();
 }
@@ -704,8 +727,8 @@ StoredThrow AdaptationStore::record(const ThrowRecord& record) {
     Statement st(s, std::string("INSERT INTO throws (") + kThrowColumns +
                         ") VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, "
                         "?15, ?16, ?17, ?18, ?19, ?20, ?21, ?22, ?23, ?24, ?25, ?26, ?27, ?28, "
-                        "?29, ?30, ?31)");
-    static_assert(kThrowColumnCount == 31);
+                        "?29, ?30, ?31, ?32)");
+    static_assert(kThrowColumnCount == 32);
     bind_throw(st, stored.id, record, stored.energy_error_J);
     st.step();
   }

@@ -46,7 +46,7 @@
 namespace gs::adaptation {
 
 inline constexpr std::int32_t kApplicationId = 0x50414144;  // "PAAD": pole acrobatics adaptation
-inline constexpr int kSchemaVersion = 2;
+inline constexpr int kSchemaVersion = 3;
 
 // Every failure of the store: a missing, foreign, newer, corrupt or unwritable file, an invalid
 // record. what() is a complete sentence naming the file.

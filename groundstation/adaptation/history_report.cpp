@@ -207,7 +207,7 @@ void write_identification_summary(std::ostream& out, const std::vector<VehicleId
 }
 
 std::string history_csv_header() {
-  return "id,time_s,outcome,launch_x_m,launch_y_m,launch_z_m,launch_vx_mps,launch_vy_mps,"
+  return "id,time_s,outcome,thrower,launch_x_m,launch_y_m,launch_z_m,launch_vx_mps,launch_vy_mps,"
          "launch_vz_mps,launch_alpha_rad,launch_alpha_dot_radps,catch_height_used_m,waiting_x_m,"
          "waiting_y_m,target_x_m,target_y_m,predicted_x_m,predicted_y_m,predicted_t_s,"
          "actual_x_m,actual_y_m,actual_t_s,optimal_t_s,optimal_height_m,optimal_x_m,optimal_y_m,"
@@ -257,7 +257,8 @@ void write_history_csv(std::ostream& out, const std::vector<StoredThrow>& throws
         t.energy_error_J,
     };
     out << t.id;
-    out << "," << csv_real(fields[0]) << "," << to_string(r.outcome);
+    out << "," << csv_real(fields[0]) << "," << to_string(r.outcome) << ","
+        << (r.thrower ? std::to_string(r.thrower->node()) : std::string());
     for (std::size_t i = 1; i < std::size(fields); ++i) out << "," << csv_real(fields[i]);
     out << "," << csv_text(r.note) << "\n";
   }

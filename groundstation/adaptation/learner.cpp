@@ -18,7 +18,7 @@ Learner::Learner(const LearnerSettings& settings, const AdaptationSettings& adap
     state_ = learnt->state;
     catch_instant_s_ = learnt->catch_instant_s;
     catch_instant_samples_ = learnt->catch_instant_samples;
-    throw_correction_ = learnt->throw_correction;
+    throw_corrections_ = learnt->throw_corrections;
   }
   if (store_path.empty()) return;
   store_.emplace(AdaptationStore::open_or_create(store_path, adaptation_));
@@ -29,7 +29,8 @@ Learner::Learner(const LearnerSettings& settings, const AdaptationSettings& adap
     if (t.id < snapshot.epoch_first_id) continue;
     // The throw's correction is the sum of the epoch's launch errors (throw_learning.hpp); a
     // throw without a launch keeps the zero state (no vehicle launches from the origin at rest).
-    if (launch_vector(t.record.launch) != LaunchVector::Zero()) learn_launch(t.record.launch);
+    if (launch_vector(t.record.launch) != LaunchVector::Zero())
+      learn_launch(t.record.thrower.value_or(pa::kVehicle1), t.record.launch);
     if (!t.record.optimal) continue;
     ++catch_instant_samples_;
     catch_instant_s_ += (t.record.optimal->t_s - catch_instant_s_) / catch_instant_samples_;
@@ -48,10 +49,11 @@ bool Learner::evaluation_agrees(const OptimalCatch& o, const std::optional<Optim
          (o.xy_m - p.xy_m).norm() < settings_.gate_m && std::abs(o.t_s - p.t_s) < settings_.gate_s;
 }
 
-void Learner::learn_launch(const planning::PlanarLaunchState& flown) {
-  if (settings_.throw_learning.gain <= 0.0) return;
-  throw_correction_ = learn_from_throw(throw_correction_, flown, planned_launch_, settings_.throw_learning,
-                                       inverse_sensitivity_);
+void Learner::learn_launch(pa::VehicleId thrower, const planning::PlanarLaunchState& flown) {
+  if (settings_.throw_learning.gain <= 0.0 || !pa::is_act_vehicle(thrower)) return;
+  ThrowCorrection& correction = throw_corrections_[pa::act_slot(thrower)];
+  correction =
+      learn_from_throw(correction, flown, planned_launch_, settings_.throw_learning, inverse_sensitivity_);
 }
 
 // A sound evaluation of a throw far from all the others (the thrower pushed aside, a gust) is

@@ -15,6 +15,7 @@
 #include <string_view>
 
 #include "groundstation/planning/catching_instant.hpp"
+#include "pa/vehicle_id.hpp"
 
 namespace gs::adaptation {
 
@@ -66,6 +67,9 @@ struct OptimalCatch {
 struct ThrowRecord {
   double time_s = 0.0;  // ground-station time of the launch
   ThrowOutcome outcome = ThrowOutcome::throw_only;
+  // The throwing vehicle: each learns its own throw (throw_learning.hpp). Absent in throws stored
+  // before schema 3, which the learner takes as vehicle 1's (the only thrower before passes).
+  std::optional<pa::VehicleId> thrower;
 
   // The throwing vehicle and the pole at the launch (the end state of the throw, Fig. 5), plus the
   // lateral position and velocity out of the throw plane, which the planar state cannot hold.

@@ -43,6 +43,7 @@ adaptation::ThrowRecord record_of(const AttemptRequest& request, const AttemptRe
   record.time_s = report.launch_s.value_or(now_s);
   if (report.launch_flown) record.launch = *report.launch_flown;
   record.outcome = outcome_of(request, report);
+  record.thrower = request.thrower;
   record.catch_height_used_m = report.catch_height_m - frame.origin_m.z();
   record.waiting_xy_m = frame.to_frame_xy(report.waiting_xy_m);
   if (report.catch_start_s) record.target_xy_m = frame.to_frame_xy(catch_target_xy_m);

@@ -24,7 +24,7 @@ void close_attempt(const AttemptRequest& request, AttemptReport& report, const A
     report.launch_flown = adaptation::launch_state_of(at_t);
     report.launch_error = adaptation::launch_vector(*report.launch_flown) -
                           adaptation::launch_vector(adaptation::launch_state_of(plan.state_at(T)));
-    if (!flight.target_throw) learner.learn_launch(*report.launch_flown);
+    if (!flight.target_throw) learner.learn_launch(request.thrower, *report.launch_flown);
   }
   adaptation::ThrowRecord record = record_of(request, report, frame, flight.catch_target_xy_m, now_s);
   // The optimal catch evaluated after the throw counts only if it agrees with the one predicted

@@ -153,7 +153,7 @@ bool GroundStation::request_attempt(const AttemptRequest& request) {
   phase_ = AttemptPhase::preparing;
   current_ = AttemptReport{};
   current_.number = ++attempt_count_;
-  current_.throw_correction = learner_.throw_correction().end_shift;
+  current_.throw_correction = learner_.throw_correction(request.thrower).end_shift;
   throw_end_.reset();
   flight_.clear();
   catch_.reset();
@@ -276,7 +276,7 @@ void GroundStation::fly(Vehicle& v, double now_s, double dt_s) {
                    &flown_tracker(),
                    frame_,
                    resting_offset_m_,
-                   target_throw_ ? nullptr : &learner_.throw_correction(),
+                   target_throw_ ? nullptr : &learner_.throw_correction(request_.thrower),
                    nullptr,
                    catch_.start_s()};
   if (catch_.trajectory()) flown.catch_trajectory = &*catch_.trajectory();

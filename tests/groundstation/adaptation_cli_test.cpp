@@ -163,6 +163,7 @@ TEST_CASE("history prints a table, the last N, or CSV with a header row and exac
     REQUIRE(rows[i].size() == header.size());
     CHECK(rows[i][column("id")] == std::to_string(i));
     CHECK(rows[i][column("outcome")] == to_string(r.outcome));
+    CHECK(rows[i][column("thrower")] == (r.thrower ? std::to_string(r.thrower->node()) : ""));
     CHECK(std::strtod(rows[i][column("time_s")].c_str(), nullptr) == r.time_s);
     CHECK(std::strtod(rows[i][column("launch_alpha_dot_radps")].c_str(), nullptr) ==
           r.launch.alpha_dot_radps);

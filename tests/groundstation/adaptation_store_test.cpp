@@ -290,14 +290,22 @@ TEST_CASE("an invalid identification is rejected with the reason and nothing is 
   CHECK(store.check_consistency().ok);
 }
 
+// make_record(id) as a store before schema 3 kept it: without its thrower.
+ThrowRecord without_thrower(std::int64_t id) {
+  ThrowRecord r = make_record(id);
+  r.thrower.reset();
+  return r;
+}
+
 TEST_CASE("a schema-1 store opens, gains the identifications table and keeps everything else") {
   ScratchDir dir("adaptation-migration");
   for (const bool by_the_cli : {true, false}) {
     INFO((by_the_cli ? "open_existing" : "open_or_create"));
     const std::string path = dir.file(by_the_cli ? "cli.sqlite" : "mission.sqlite");
     fill(path, 12);
-    // Schema 1 is schema 2 without the identifications.
-    raw_sql(path, "DROP TABLE identifications; PRAGMA user_version = 1");
+    // Schema 1 is schema 2 without the identifications, schema 2 schema 3 without the thrower.
+    raw_sql(path,
+            "DROP TABLE identifications; ALTER TABLE throws DROP COLUMN thrower; PRAGMA user_version = 1");
     const auto schema_has = [&](const char* name) {
       sqlite3* db = nullptr;
       REQUIRE(sqlite3_open(path.c_str(), &db) == SQLITE_OK);
@@ -324,8 +332,11 @@ TEST_CASE("a schema-1 store opens, gains the identifications table and keeps eve
       CHECK(store.identification_count() == 0);
       CHECK(store.throw_count() == 12);
       CHECK(store.adaptation().state == before.state);
-      for (int id = 1; id <= 12; ++id) CHECK(same_record(store.history()[id - 1].record, make_record(id)));
+      for (int id = 1; id <= 12; ++id)
+        CHECK(same_record(store.history()[id - 1].record, without_thrower(id)));
       store.record_identification(make_identification(1));
+      store.record(make_record(13));  // now with its thrower
+      CHECK(same_record(store.history().back().record, make_record(13)));
       CHECK(store.check_consistency().ok);
     }
     CHECK(schema_has("identifications"));

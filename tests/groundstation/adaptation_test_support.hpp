@@ -72,6 +72,7 @@ inline ThrowRecord make_record(std::int64_t id) {
   }
   if (id % 7 != 3) r.catcher_at_impact_xy_m = Eigen::Vector2d(0.64 + 0.15 * n(rng), 0.13 * n(rng));
   if (id % 2 == 0) r.energy_after_impact_J = 0.196 + 0.01 * n(rng);
+  if (id % 9 != 4) r.thrower = pa::kActVehicles[static_cast<std::size_t>(id) % 2];
   r.note = (id % 8 == 0) ? "pilot's note, with \"quotes\", a comma\nand a line break"
                          : "throw " + std::to_string(id);
   return r;
@@ -95,7 +96,7 @@ inline bool same_record(const ThrowRecord& a, const ThrowRecord& b) {
          a.launch.vz_mps == b.launch.vz_mps && a.launch.alpha_rad == b.launch.alpha_rad &&
          a.launch.alpha_dot_radps == b.launch.alpha_dot_radps && a.launch_y_m == b.launch_y_m &&
          a.launch_vy_mps == b.launch_vy_mps && a.catch_height_used_m == b.catch_height_used_m &&
-         a.waiting_xy_m == b.waiting_xy_m && same(a.target_xy_m, b.target_xy_m) &&
+         a.waiting_xy_m == b.waiting_xy_m && same(a.target_xy_m, b.target_xy_m) && a.thrower == b.thrower &&
          same_point(a.predicted, b.predicted) && same_point(a.actual, b.actual) && optimal_same &&
          same(a.catcher_at_impact_xy_m, b.catcher_at_impact_xy_m) &&
          a.energy_after_impact_J == b.energy_after_impact_J && a.note == b.note;

@@ -73,8 +73,8 @@ TEST_CASE("The launch flown is the last tracked state carried to T; a Fig. 5 thr
   c2.flight.pole_flight = &c2.pole_flight;
   close_attempt(c2.request, c2.report, c2.flight, 12.0, off);
   CHECK(c2.report.launch_error->norm() == Approx(0.02));
-  CHECK(off.throw_correction().end_shift.norm() > 0.0);  // learnt from
-  CHECK(l.throw_correction().end_shift.norm() == Approx(0.0).margin(1e-12));
+  CHECK(off.throw_correction(pa::kVehicle1).end_shift.norm() > 0.0);  // learnt from
+  CHECK(l.throw_correction(pa::kVehicle1).end_shift.norm() == Approx(0.0).margin(1e-12));
 }
 
 TEST_CASE("A throw to a target is kept, noted, and teaches neither the launch nor the adaptation") {
@@ -90,7 +90,7 @@ TEST_CASE("A throw to a target is kept, noted, and teaches neither the launch no
   close_attempt(c.request, c.report, c.flight, 12.0, l);
   REQUIRE(l.records().size() == 1);
   CHECK(l.records()[0].note == "a throw to a target: not adapted");
-  CHECK(l.throw_correction().end_shift.norm() == Approx(0.0).margin(1e-12));
+  CHECK(l.throw_correction(pa::kVehicle1).end_shift.norm() == Approx(0.0).margin(1e-12));
   CHECK(l.state().catch_height_m == before.catch_height_m);
   CHECK(l.target_miss_m().isZero());  // no agreed evaluation: no miss learnt
 }

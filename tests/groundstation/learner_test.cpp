@@ -116,12 +116,44 @@ TEST_CASE("The launch error is learnt only with a gain, against the error") {
   Learner none = learner(off);
   gs::planning::PlanarLaunchState flown = kPlanned;
   flown.x_m += 0.05;
-  none.learn_launch(flown);
-  CHECK(none.throw_correction().end_shift.isZero());
+  none.learn_launch(pa::kVehicle1, flown);
+  CHECK(none.throw_correction(pa::kVehicle1).end_shift.isZero());
   Learner l = learner();
-  l.learn_launch(flown);
-  CHECK(l.throw_correction().throws == 1);
-  CHECK(l.throw_correction().end_shift(0) < 0.0);
+  l.learn_launch(pa::kVehicle1, flown);
+  CHECK(l.throw_correction(pa::kVehicle1).throws == 1);
+  CHECK(l.throw_correction(pa::kVehicle1).end_shift(0) < 0.0);
+}
+
+TEST_CASE("Each vehicle learns its own throw, and a restart rebuilds both from the store") {
+  adaptation_test::ScratchDir dir("learner_throwers");
+  const std::string path = dir.file("store.db");
+  gs::planning::PlanarLaunchState short_throw = kPlanned;
+  short_throw.vz_mps -= 0.3;
+  gs::planning::PlanarLaunchState long_throw = kPlanned;
+  long_throw.vz_mps += 0.2;
+  Learnt before;
+  {
+    Learner l = learner({}, path);
+    for (int i = 0; i < 2; ++i) {
+      ThrowRecord r = caught(catch_at(-0.6, 3.5, 0.8));
+      r.thrower = pa::kActVehicles[i];
+      r.launch = i == 0 ? short_throw : long_throw;
+      l.learn_launch(*r.thrower, r.launch);
+      l.adapt(r);
+    }
+    // Vehicle 1 threw short and vehicle 2 long: their corrections pull opposite ways.
+    CHECK(l.throw_correction(pa::kVehicle1).throws == 1);
+    CHECK(l.throw_correction(pa::kVehicle2).throws == 1);
+    CHECK(l.throw_correction(pa::kVehicle1).end_shift(3) > 0.0);
+    CHECK(l.throw_correction(pa::kVehicle2).end_shift(3) < 0.0);
+    before = l.learnt();
+  }
+  const Learner restarted = learner({}, path);
+  for (const pa::VehicleId v : pa::kActVehicles) {
+    CHECK(restarted.throw_correction(v).throws == 1);
+    CHECK(restarted.throw_correction(v).end_shift.isApprox(
+        before.throw_corrections[pa::act_slot(v)].end_shift));
+  }
 }
 
 TEST_CASE("The miss of throws to targets is their mean, outliers aside") {
@@ -141,7 +173,7 @@ TEST_CASE("A learner on a store continues after a restart where the last one sto
     throw_with(l, catch_at(-0.6, 3.5, 0.9));
     gs::planning::PlanarLaunchState flown = kPlanned;
     flown.z_m -= 0.04;
-    l.learn_launch(flown);
+    l.learn_launch(pa::kVehicle1, flown);
     ThrowRecord r = throw_with(l, catch_at(-0.5, 3.6, 1.0));
     before = l.learnt();
     CHECK(before.state.catch_point_samples == 2);
