@@ -17,6 +17,7 @@
 #include "groundstation/apps/commands.hpp"
 #include "groundstation/model/vehicle_limits.hpp"
 #include "groundstation/planning/throw_planner.hpp"
+#include "groundstation/planning/throw_reach.hpp"
 #include "groundstation/planning/throw_tracking.hpp"
 #include "pa/command_line.hpp"
 
@@ -206,6 +207,11 @@ int run(int argc, char** argv) {
   std::printf("  inputs: a_q in [%.3f, %.3f] m/s^2, max |Omega_y| %.3f rad/s;"
               " min F_N/m_p before T %.3f m/s^2\n",
               a_min, a_max, omega_max, fn_min_interior);
+  const planning::ThrowReach reach = planning::throw_reach(traj, model::PoleParams{});
+  std::printf(
+      "  reach (the arena's volume must hold it): x %.2f to %.2f m, z %.2f to %.2f m from the "
+      "start, the thrower's path and the pole drag-free; the pole's end at most %.2f m above the start\n",
+      reach.min_m.x(), reach.max_m.x(), reach.min_m.z(), reach.max_m.z(), reach.pole_apex_m);
   std::printf("  limits (%s): a_q in [%.3f, %.3f] m/s^2, |Omega| <= %.3f rad/s\n", limits_source.c_str(),
               problem.limits.a_q_min_mps2, problem.limits.a_q_max_mps2, problem.limits.omega_max_radps);
   std::printf("  input slew limits (not in (34), so that a vehicle can fly the plan): |a_q'| <= %g "

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 namespace gs::runtime {
 
@@ -13,6 +14,7 @@ std::string_view refusal_name(AttemptRefusal refusal) {
     case AttemptRefusal::not_of_act: return "not_of_act";
     case AttemptRefusal::target_not_planned: return "target_throw_not_planned";
     case AttemptRefusal::too_weak: return "vehicle_too_weak";
+    case AttemptRefusal::outside_volume: return "outside_arena_volume";
   }
   return "?";
 }
@@ -73,6 +75,50 @@ Admission admit_vehicles(const planning::ThrowTrajectory* flown, const VehicleTh
         !why.empty())
       return {AttemptRefusal::too_weak, why};
   }
+  return {};
+}
+
+namespace {
+
+// Empty if `lo`..`hi` (arena coordinates) lies inside the volume by its margin, else which wall
+// and by how much.
+std::string breach(const char* what, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+                   const ArenaVolume& volume) {
+  static constexpr const char* kAxes = "xyz";
+  for (int i = 0; i < 3; ++i) {
+    const double below = volume.min_m(i) + volume.margin_m - lo(i);
+    const double above = hi(i) - (volume.max_m(i) - volume.margin_m);
+    if (below <= 0.0 && above <= 0.0) continue;
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "%s reaches %c = %.2f m, %.2f m beyond the arena's %s %.2f m (margin %.2f m)", what,
+                  kAxes[i], below > 0.0 ? lo(i) : hi(i), below > 0.0 ? below : above,
+                  below > 0.0 ? "lower bound" : "upper bound",
+                  below > 0.0 ? volume.min_m(i) : volume.max_m(i), volume.margin_m);
+    return text;
+  }
+  return {};
+}
+
+}  // namespace
+
+Admission admit_volume(const planning::ThrowReach& reach, const control::ThrowFrame& frame,
+                       const Eigen::Vector3d& catch_point_m, const ArenaVolume& volume) {
+  // The frame's box turned into the arena: the bounds of its eight corners.
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d hi = -lo;
+  for (int corner = 0; corner < 8; ++corner) {
+    const Eigen::Vector3d c((corner & 1) ? reach.max_m.x() : reach.min_m.x(),
+                            (corner & 2) ? reach.max_m.y() : reach.min_m.y(),
+                            (corner & 4) ? reach.max_m.z() : reach.min_m.z());
+    const Eigen::Vector3d a = frame.to_arena(c);
+    lo = lo.cwiseMin(a);
+    hi = hi.cwiseMax(a);
+  }
+  if (std::string why = breach("the throw", lo, hi, volume); !why.empty())
+    return {AttemptRefusal::outside_volume, why};
+  if (std::string why = breach("the catch", catch_point_m, catch_point_m, volume); !why.empty())
+    return {AttemptRefusal::outside_volume, why};
   return {};
 }
 

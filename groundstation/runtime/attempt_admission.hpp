@@ -10,13 +10,24 @@
 #include <string>
 #include <string_view>
 
+#include <Eigen/Core>
+
+#include "groundstation/control/throw_frame.hpp"
+#include "groundstation/planning/throw_reach.hpp"
 #include "groundstation/planning/throw_trajectory.hpp"
 #include "pa/constants.hpp"
 #include "pa/vehicle_id.hpp"
 
 namespace gs::runtime {
 
-enum class AttemptRefusal : std::uint8_t { none, busy, not_of_act, target_not_planned, too_weak };
+enum class AttemptRefusal : std::uint8_t {
+  none,
+  busy,
+  not_of_act,
+  target_not_planned,
+  too_weak,
+  outside_volume
+};
 std::string_view refusal_name(AttemptRefusal refusal);
 
 struct Admission {
@@ -49,6 +60,20 @@ Admission admit_request(bool attempt_running, pa::VehicleId thrower);
 // catches) at the catch's.
 Admission admit_vehicles(const planning::ThrowTrajectory* flown, const VehicleThrust& thrower,
                          const std::optional<VehicleThrust>& catcher, const ThrustAdmission& settings);
+
+// The arena's volume, from its configuration: a box in arena coordinates that whatever is flown
+// stays inside, `margin_m` from its walls, floor and ceiling (a vehicle's arms and propellers, the
+// tracking's error).
+struct ArenaVolume {
+  Eigen::Vector3d min_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d max_m = Eigen::Vector3d::Zero();
+  double margin_m = 0.3;
+};
+
+// The throw's reach (in `frame`: the thrower's path and the pole's highest point) and the catch
+// point (arena coordinates: where the catcher's plate meets the pole) against the volume.
+Admission admit_volume(const planning::ThrowReach& reach, const control::ThrowFrame& frame,
+                       const Eigen::Vector3d& catch_point_m, const ArenaVolume& volume);
 
 // The highest collective thrust the trajectory commands.
 double peak_thrust_mps2(const planning::ThrowTrajectory& trajectory);

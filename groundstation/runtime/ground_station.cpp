@@ -145,6 +145,19 @@ bool GroundStation::request_attempt(const AttemptRequest& request) {
   if (Admission a = admit_vehicles(flown, thrust_of(request.thrower), catcher, thrust_admission(config_));
       !a.admitted())
     return refuse(std::move(a));
+  if (config_.arena_volume) {
+    const std::optional<Eigen::Vector3d> aimed =
+        target_throw ? std::optional<Eigen::Vector3d>(target_throw->target_m) : std::nullopt;
+    const control::ThrowFrame flown_frame =
+        target_throw ? control::ThrowFrame{frame.origin_m, target_throw->plan.yaw_rad} : frame;
+    const Eigen::Vector2d catch_xy = catch_point_xy(flown_frame, adaptation(), aimed);
+    const Eigen::Vector3d catch_point(catch_xy.x(), catch_xy.y(),
+                                      catch_height_m(flown_frame, adaptation(), aimed, 0.0));
+    if (Admission a = admit_volume(planning::throw_reach(*flown, estimator_.pole_model()), flown_frame,
+                                   catch_point, *config_.arena_volume);
+        !a.admitted())
+      return refuse(std::move(a));
+  }
   refusal_kind_ = Refusal::none;
   refusal_.clear();
   target_throw_ = std::move(target_throw);

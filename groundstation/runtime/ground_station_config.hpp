@@ -21,6 +21,7 @@
 #include "groundstation/model/planar_pole_vehicle.hpp"
 #include "groundstation/model/vehicle_limits.hpp"
 #include "groundstation/planning/throw_tracking.hpp"
+#include "groundstation/runtime/attempt_admission.hpp"
 #include "groundstation/runtime/attempt_phases.hpp"
 #include "groundstation/runtime/catch_coordinator.hpp"
 #include "groundstation/runtime/frame_interval.hpp"
@@ -112,6 +113,9 @@ struct GroundStationConfig {
   // 1 % low), every throw before it caught (both with a_q,max as the ceiling). With a_full: thrower
   // k >= 0.62 and catcher k >= 0.51 at full charge.
   double min_thrust_fraction = 0.9;
+  // The arena's volume (runtime/attempt_admission.hpp): a throw whose path, pole or catch point
+  // leaves it is refused before it is flown (`outside_arena_volume`). None: not checked.
+  std::optional<ArenaVolume> arena_volume;
   // The firmware's battery reference (fw::BatteryConfig, the arena's configuration): it scales its
   // commands by (V_ref / V)^2 as the pack sags (docs/plant.md), so k no longer shows the sag but
   // the motors' ceiling does: a vehicle reporting V in TELEMETRY_STATUS delivers at most

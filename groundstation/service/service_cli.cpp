@@ -13,6 +13,7 @@
 #include <iostream>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "groundstation/apps/commands.hpp"
 #include "groundstation/service/process.hpp"
@@ -146,7 +147,8 @@ int cmd_run(int argc, char** argv) {
   pa::cli::describe(
       app,
       "usage: groundstation run --can IFACE --domain D --key1 FILE --key2 FILE [--store FILE] [--hil-clock]\n"
-      "       [--mocap-vehicle1 NAME] [--mocap-vehicle2 NAME] [--mocap-pole NAME] [--mocap-latency S]",
+      "       [--mocap-vehicle1 NAME] [--mocap-vehicle2 NAME] [--mocap-pole NAME] [--mocap-latency S]\n"
+      "       [--arena-volume XMIN YMIN ZMIN XMAX YMAX ZMAX]",
       "Runs the ground station: the vehicles on the ground CAN bus, the motion capture (ROS 2's\n"
       "NamedPoseArray on /poses, as motion_capture_tracking publishes it), operator commands,\n"
       "telemetry and events on the arena's DDS domain (docs/groundstation.md).\n"
@@ -183,6 +185,13 @@ int cmd_run(int argc, char** argv) {
                  "seconds from a frame's exposure to its stamp at the motion-capture node (default 0.010)")
       ->type_name("S")
       ->check(pa::cli::number_in(0.0, 0.2, "needs 0..0.2 s"));
+  std::vector<double> volume;
+  app.add_option(
+         "--arena-volume", volume,
+         "the arena's volume, a box in the motion capture's coordinates: XMIN YMIN ZMIN XMAX YMAX ZMAX "
+         "(m); throws that would leave it are refused (default: not checked)")
+      ->expected(6)
+      ->type_name("M");
   app.add_flag("--hil-clock", hil_clock,
                "run on a HIL plant's time, a step per HIL_CLOCK frame (hil run --ground-clock), not on "
                "CLOCK_MONOTONIC");
@@ -194,6 +203,20 @@ int cmd_run(int argc, char** argv) {
   }
   runtime::GroundStationConfig config;
   config.adaptation_store_path = store_path;
+  if (!volume.empty()) {
+    runtime::ArenaVolume box;
+    box.min_m = Eigen::Vector3d(volume[0], volume[1], volume[2]);
+    box.max_m = Eigen::Vector3d(volume[3], volume[4], volume[5]);
+    const Eigen::Vector3d inner = box.max_m - box.min_m - 2.0 * box.margin_m * Eigen::Vector3d::Ones();
+    if (!box.min_m.allFinite() || !box.max_m.allFinite() || (inner.array() <= 0.0).any()) {
+      std::fprintf(stderr,
+                   "groundstation run: error: --arena-volume needs XMIN YMIN ZMIN XMAX YMAX ZMAX with each "
+                   "maximum more than %.1f m above its minimum (the margin from each wall)\n",
+                   2.0 * box.margin_m);
+      return 2;
+    }
+    config.arena_volume = box;
+  }
   for (const pa::VehicleId v : pa::kActVehicles) {
     link::VehicleKey key{v, {}};
     std::string error;

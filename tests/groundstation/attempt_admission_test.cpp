@@ -56,6 +56,44 @@ TEST_CASE("Every refusal has a name for the logs") {
   CHECK(refusal_name(AttemptRefusal::not_of_act) == "not_of_act");
   CHECK(refusal_name(AttemptRefusal::target_not_planned) == "target_throw_not_planned");
   CHECK(refusal_name(AttemptRefusal::too_weak) == "vehicle_too_weak");
+  CHECK(refusal_name(AttemptRefusal::outside_volume) == "outside_arena_volume");
+}
+
+TEST_CASE("The arena's volume: the throw's reach, turned into the arena, and the catch point inside it") {
+  gs::runtime::ArenaVolume volume;
+  volume.min_m = Eigen::Vector3d(-2.0, -3.0, 0.0);
+  volume.max_m = Eigen::Vector3d(6.0, 3.0, 8.0);
+  volume.margin_m = 0.3;
+  gs::planning::ThrowReach reach;
+  reach.min_m = Eigen::Vector3d(-0.2, -0.7, -0.1);
+  reach.max_m = Eigen::Vector3d(2.5, 0.7, 5.5);
+  reach.pole_apex_m = 5.5;
+  gs::control::ThrowFrame frame;
+  frame.origin_m = Eigen::Vector3d(0.0, 0.0, 1.0);
+  const Eigen::Vector3d catch_point(4.0, 0.0, 3.0);
+  CHECK(gs::runtime::admit_volume(reach, frame, catch_point, volume).admitted());
+
+  // Under a 6.6 m ceiling the pole's end (5.5 m above the 1 m origin) is 0.2 m into the margin.
+  volume.max_m.z() = 6.6;
+  const auto low = gs::runtime::admit_volume(reach, frame, catch_point, volume);
+  CHECK(low.refusal == AttemptRefusal::outside_volume);
+  CHECK(low.why ==
+        "the throw reaches z = 6.50 m, 0.20 m beyond the arena's upper bound 6.60 m (margin 0.30 m)");
+  volume.max_m.z() = 8.0;
+
+  // Thrown the other way (yaw pi), the frame's x runs towards -x: 2.5 m of it passes -2 + 0.3.
+  frame.yaw_rad = M_PI;
+  const auto back = gs::runtime::admit_volume(reach, frame, catch_point, volume);
+  CHECK(back.refusal == AttemptRefusal::outside_volume);
+  CHECK(back.why ==
+        "the throw reaches x = -2.50 m, 0.80 m beyond the arena's lower bound -2.00 m (margin 0.30 m)");
+  frame.yaw_rad = 0.0;
+
+  // A catch point by the wall.
+  const auto wall = gs::runtime::admit_volume(reach, frame, Eigen::Vector3d(4.0, 2.9, 3.0), volume);
+  CHECK(wall.refusal == AttemptRefusal::outside_volume);
+  CHECK(wall.why ==
+        "the catch reaches y = 2.90 m, 0.20 m beyond the arena's upper bound 3.00 m (margin 0.30 m)");
 }
 
 TEST_CASE("A throw to a target that could not be planned is refused before any thrust is checked") {

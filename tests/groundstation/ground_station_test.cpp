@@ -73,3 +73,24 @@ TEST_CASE("A vehicle too weak for its part is refused the attempt, with the numb
             "vehicle 1 is too weak to throw: thrust gain 0.85 at 10.50 V gives 14.5 m/s^2") !=
         std::string::npos);
 }
+
+TEST_CASE("A throw that would leave the arena's volume is refused before it is flown") {
+  gs::link::InMemoryFrameBus bus;
+  GroundStationConfig config = keyed();
+  // The Fig. 5 throw from the configured origin: the thrower dips about 1.1 m and the pole's end
+  // rises at most 4.4 m above the origin (`groundstation plan-throw` prints the reach).
+  gs::runtime::ArenaVolume volume;
+  volume.min_m = Eigen::Vector3d(-4.0, -4.0, 0.0);
+  volume.max_m = Eigen::Vector3d(8.0, 4.0, 9.0);
+  config.arena_volume = volume;
+  GroundStation roomy(bus, config);
+  CHECK(roomy.request_attempt(AttemptRequest{}));
+
+  config.arena_volume->max_m.z() = config.throw_origin_m.z() + 4.0;
+  GroundStation low(bus, config);
+  CHECK_FALSE(low.request_attempt(AttemptRequest{}));
+  CAPTURE(low.refusal());
+  CHECK(low.refusal_kind() == GroundStation::Refusal::outside_volume);
+  CHECK(low.refusal().find("the throw reaches z = ") == 0);
+  CHECK(low.current_attempt().number == 0);
+}
