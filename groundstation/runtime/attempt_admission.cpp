@@ -102,6 +102,10 @@ std::string breach(const char* what, const Eigen::Vector3d& lo, const Eigen::Vec
 
 }  // namespace
 
+bool outside_volume(const Eigen::Vector3d& p_m, const ArenaVolume& volume) {
+  return (p_m.array() < volume.min_m.array()).any() || (p_m.array() > volume.max_m.array()).any();
+}
+
 Admission admit_volume(const planning::ThrowReach& reach, const control::ThrowFrame& frame,
                        const Eigen::Vector3d& catch_point_m, const ArenaVolume& volume) {
   // The frame's box turned into the arena: the bounds of its eight corners.

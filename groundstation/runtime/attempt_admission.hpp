@@ -70,6 +70,10 @@ struct ArenaVolume {
   double margin_m = 0.3;
 };
 
+// Whether a point (arena coordinates) lies beyond the volume's walls, floor or ceiling (not
+// its margin, which is for what is planned).
+bool outside_volume(const Eigen::Vector3d& p_m, const ArenaVolume& volume);
+
 // The throw's reach (in `frame`: the thrower's path and the pole's highest point) and the catch
 // point (arena coordinates: where the catcher's plate meets the pole) against the volume.
 Admission admit_volume(const planning::ThrowReach& reach, const control::ThrowFrame& frame,

@@ -323,6 +323,7 @@ void GroundStation::on_mocap(const estimation::MocapFrame& frame, double now_s) 
   ahead_.emplace(estimator_.predicted(std::max(estimator_.time(), now_s + config_.command_lead_s)));
 
   update_attempt(now_s);
+  for (Vehicle& v : vehicles_) keep_inside_volume(v);
   for (Vehicle& v : vehicles_) {
     const Task before = v.sequencer.task();
     if (v.sequencer.step(mission::condition_word(facts(v, now_s), config_.conditions), now_s)) {
@@ -332,6 +333,18 @@ void GroundStation::on_mocap(const estimation::MocapFrame& frame, double now_s) 
     }
     fly(v, now_s, dt_s);
   }
+}
+
+// A flying vehicle found beyond the arena's walls, floor or ceiling lands where it is, as if the
+// operator had asked: landing is the mission table's one way down under control, entered only on
+// a land request (vehicle_sequencer_test), and landing clears the request.
+void GroundStation::keep_inside_volume(Vehicle& v) {
+  if (!config_.arena_volume || !estimator_.vehicle_initialised(v.id)) return;
+  if ((mission::kAirborne & mission::task_bit(v.sequencer.task())) == 0 || (v.requests & c::request_land))
+    return;
+  if (!outside_volume(estimator_.vehicle(v.id).state.p_m, *config_.arena_volume)) return;
+  v.requests |= c::request_land;
+  ++volume_breaches_;
 }
 
 // The setpoint carries a_q / k (the vehicle delivers k a_q); the estimator's model is told what

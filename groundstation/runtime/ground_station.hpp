@@ -118,6 +118,8 @@ class GroundStation {
   using Refusal = AttemptRefusal;  // runtime/attempt_admission.hpp
   static std::string_view refusal_name(Refusal refusal) { return runtime::refusal_name(refusal); }
   Refusal refusal_kind() const { return refusal_kind_; }
+  // How often a flying vehicle was found outside the arena's volume and sent to land.
+  std::uint64_t volume_breaches() const { return volume_breaches_; }
   const std::string& refusal() const { return refusal_; }  // in words, with the numbers
 
   AttemptPhase attempt_phase() const { return phase_; }
@@ -189,6 +191,7 @@ class GroundStation {
   void set_motor_lag(Vehicle& v, double lag_s, double now_s);      // COMMAND set_motor_time_constant
   void set_inertia_scale(Vehicle& v, double scale, double now_s);  // COMMAND set_inertia_scale
   void judge_pole_trust(Vehicle& v);
+  void keep_inside_volume(Vehicle& v);
   void measure_impact_energy(const Vehicle& catcher);
   void send(Vehicle& v, model::VehicleInput u, double now_s);
   // Its motors as the attempt's admission checks them.
@@ -235,6 +238,7 @@ class GroundStation {
   AttemptReport current_;
   std::vector<AttemptReport> reports_;
   int attempt_count_ = 0;
+  std::uint64_t volume_breaches_ = 0;
   Refusal refusal_kind_ = Refusal::none;  // why the last request_attempt() was refused
   std::string refusal_;
   std::optional<planning::TargetThrow> target_throw_;  // the attempt's, when it throws to a target

@@ -366,6 +366,9 @@ std::string Process::summary() const {
            config_.mocap.names.vehicle1 + "'), vehicle 2 ('" + config_.mocap.names.vehicle2 +
            "') or the pole ('" + config_.mocap.names.pole +
            "'): ignored (--mocap-vehicle1, --mocap-vehicle2, --mocap-pole)\n";
+  if (station_.volume_breaches() > 0)
+    out += "arena volume: a flying vehicle was found outside it " +
+           std::to_string(station_.volume_breaches()) + " times and sent to land\n";
   if (c.mocap_implausible_stamps > 0)
     out +=
         "motion capture: stamps the clocks cannot explain (in the future or older than the limit): are the "

@@ -165,3 +165,15 @@ TEST_CASE("Of two vehicles the one with the higher ceiling throws, the preferred
   CHECK(stronger_thrower(strong, twin, kSettings) == pa::kVehicle1);
   CHECK(stronger_thrower(twin, strong, kSettings) == pa::kVehicle2);
 }
+
+TEST_CASE("A point is outside the volume beyond its walls, floor or ceiling, not within its margin") {
+  gs::runtime::ArenaVolume volume;
+  volume.min_m = Eigen::Vector3d(-2.0, -3.0, 0.0);
+  volume.max_m = Eigen::Vector3d(6.0, 3.0, 8.0);
+  CHECK_FALSE(gs::runtime::outside_volume(Eigen::Vector3d(0.0, 0.0, 2.0), volume));
+  CHECK_FALSE(gs::runtime::outside_volume(Eigen::Vector3d(5.9, 2.9, 7.9), volume));  // in the margin
+  CHECK(gs::runtime::outside_volume(Eigen::Vector3d(6.1, 0.0, 2.0), volume));
+  CHECK(gs::runtime::outside_volume(Eigen::Vector3d(0.0, -3.1, 2.0), volume));
+  CHECK(gs::runtime::outside_volume(Eigen::Vector3d(0.0, 0.0, 8.1), volume));
+  CHECK(gs::runtime::outside_volume(Eigen::Vector3d(0.0, 0.0, -0.1), volume));
+}

@@ -362,3 +362,28 @@ TEST_CASE("radio outages and motion-capture dropouts while the pole flies: holds
   CHECK(s.results[0].outcome == ThrowOutcome::throw_only);
   for (std::size_t i = 1; i < s.results.size(); ++i) CHECK(s.results[i].outcome == ThrowOutcome::caught);
 }
+
+TEST_CASE("a vehicle that leaves the arena's volume lands where it is", "[hil][sil][runtime]") {
+  // A ceiling at 0.8 m, below the take-off height (1.0 m): both vehicles cross it climbing and
+  // are sent to land.
+  Run r;
+  hil::trials::SeriesConfig config;
+  config.seed = 3;
+  config.log = [&r](const std::string& line) { r.log.push_back(line); };
+  gs::runtime::ArenaVolume volume;
+  volume.min_m = Eigen::Vector3d(-4.0, -4.0, 0.0);
+  volume.max_m = Eigen::Vector3d(8.0, 4.0, 0.8);
+  config.ground_station.arena_volume = volume;
+  hil::trials::SeriesRunner runner(config);
+  runner.run({});
+  runner.hover_for(8.0);
+  INFO(joined(r.log));
+  CHECK(runner.ground_station().volume_breaches() == 2);
+  for (const pa::VehicleId v : pa::kActVehicles) {
+    const std::string name = "vehicle " + std::to_string(v.node());
+    CHECK(logged(r, name + ": take_off -> landing (land_requested)"));
+    CHECK(logged(r, name + ": landing -> parked"));
+    // The plant's truth: down on the floor.
+    CHECK(runner.arena().plant().vehicle(v).body.position_m.z() < 0.2);
+  }
+}
