@@ -17,11 +17,6 @@ planning::PlanarLaunchState launch_state(const LaunchVector& v) {
   return {v(0), v(1), v(2), v(3), v(4), v(5)};
 }
 
-planning::PlanarLaunchState launch_state_of(const model::PlanarState<double>& s) {
-  return {s(planar::kX),  s(planar::kZ),     s(planar::kVx),
-          s(planar::kVz), s(planar::kAlpha), s(planar::kAlphaDot)};
-}
-
 namespace {
 
 // The launch components' places in the planar state.

@@ -51,8 +51,6 @@ using LaunchVector = Eigen::Matrix<double, 6, 1>;
 using LaunchMatrix = Eigen::Matrix<double, 6, 6>;
 LaunchVector launch_vector(const planning::PlanarLaunchState& s);
 planning::PlanarLaunchState launch_state(const LaunchVector& v);
-// The launch components of a planar state (theta and its absence aside).
-planning::PlanarLaunchState launch_state_of(const model::PlanarState<double>& s);
 
 struct ThrowCorrection {
   LaunchVector end_shift = LaunchVector::Zero();  // c

@@ -78,7 +78,8 @@ struct StateEstimatorConfig {
   // and the plate's push may go on after the launch is detected. With the hold-off, a launch
   // detected 70 ms before the push ended put the catch point 0.18 m off 0.1 s after the release,
   // with this 0.09 m (throw_through_firmware_test; 1 rad/s: 0.08 m, but on the arena envelope 7
-  // catches judged out of reach at 0.1 s after the launch against 1).
+  // catches judged out of reach at 0.1 s after the launch against 1). A launch found because the
+  // on-vehicle filter lost its geometry gets the same: that filter's rate is no better then.
   double launch_rate_sigma_radps = 0.1;
   double max_step_s = 0.005;
   double command_timeout_s = 0.2;  // an older command no longer drives a vehicle's model

@@ -157,6 +157,12 @@ LaunchStateLoad load_throw_csv_launch_state(const std::string& path) {
   return parse_throw_csv_launch_state(buffer.str(), path);
 }
 
+PlanarLaunchState launch_state_of(const model::PlanarState<double>& s) {
+  namespace planar = model::planar;
+  return {s(planar::kX),  s(planar::kZ),     s(planar::kVx),
+          s(planar::kVz), s(planar::kAlpha), s(planar::kAlphaDot)};
+}
+
 PlanarLaunchState fig5_launch_state() { return {1.5, 2.0, 0.3, 5.5, 0.48, 2.5}; }
 
 // Eq. (23), (26), (27) in the plane; the same as model::free_flight_state_from_pole_on_vehicle() with

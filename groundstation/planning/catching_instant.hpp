@@ -11,6 +11,7 @@
 
 #include <Eigen/Dense>
 
+#include "groundstation/model/planar_pole_vehicle.hpp"
 #include "groundstation/model/pole_free_flight.hpp"
 
 namespace gs::planning {
@@ -26,6 +27,9 @@ struct PlanarLaunchState {
   double alpha_rad = 0.0;
   double alpha_dot_radps = 0.0;
 };
+
+// The launch components of a planar state (theta aside): the vehicle and pole at a throw's end.
+PlanarLaunchState launch_state_of(const model::PlanarState<double>& s);
 
 // The end state printed with Fig. 5: (x, z) = (1.5, 2.0) m, (x', z') = (0.3, 5.5) m/s,
 // alpha = 0.48 rad, alpha' = 2.5 rad/s.

@@ -17,15 +17,7 @@ ThrowReach throw_reach(const ThrowTrajectory& trajectory, const model::PoleParam
     reach.min_m = reach.min_m.cwiseMin(at(s));
     reach.max_m = reach.max_m.cwiseMax(at(s));
   }
-  const model::PlanarState<double>& end = trajectory.state.back();
-  PlanarLaunchState launch;
-  launch.x_m = end(model::planar::kX);
-  launch.z_m = end(model::planar::kZ);
-  launch.vx_mps = end(model::planar::kVx);
-  launch.vz_mps = end(model::planar::kVz);
-  launch.alpha_rad = end(model::planar::kAlpha);
-  launch.alpha_dot_radps = end(model::planar::kAlphaDot);
-  const model::PoleState p = pole_state_at_launch(launch, pole);
+  const model::PoleState p = pole_state_at_launch(launch_state_of(trajectory.state.back()), pole);
   // The centre's drag-free apex, reached after vz / g; the pole's end up to L above it.
   const double rise_s = std::max(p.v_mps.z(), 0.0) / pole.gravity_mps2;
   const Eigen::Vector3d apex =

@@ -21,9 +21,9 @@ void close_attempt(const AttemptRequest& request, AttemptReport& report, const A
     const double T = plan.duration_s();
     const model::PlanarState<double> at_t =
         flight.throw_end->state + plan.state_at(T) - plan.state_at(flight.throw_end->tau_s);
-    report.launch_flown = adaptation::launch_state_of(at_t);
+    report.launch_flown = planning::launch_state_of(at_t);
     report.launch_error = adaptation::launch_vector(*report.launch_flown) -
-                          adaptation::launch_vector(adaptation::launch_state_of(plan.state_at(T)));
+                          adaptation::launch_vector(planning::launch_state_of(plan.state_at(T)));
     if (!flight.target_throw) learner.learn_launch(request.thrower, *report.launch_flown);
   }
   adaptation::ThrowRecord record = record_of(request, report, frame, flight.catch_target_xy_m, now_s);

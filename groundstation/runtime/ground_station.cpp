@@ -18,7 +18,7 @@ planning::InputLimits input_limits(const model::VehicleLimits& l) {
 }
 
 planning::PlanarLaunchState planned_launch(const planning::ThrowBook& throws) {
-  return adaptation::launch_state_of(throws.plan().trajectory.state_at(throws.problem().duration_s));
+  return planning::launch_state_of(throws.plan().trajectory.state_at(throws.problem().duration_s));
 }
 
 adaptation::Learner make_learner(const GroundStationConfig& config, const planning::ThrowBook& throws) {
@@ -140,6 +140,9 @@ bool GroundStation::request_attempt(const AttemptRequest& request) {
   const planning::ThrowTrajectory* flown = !request.target_xy_m ? &throws_.plan().trajectory
                                            : target_throw       ? &target_throw->plan.plan.trajectory
                                                                 : nullptr;
+  // A target throw turns the frame to its own heading.
+  const control::ThrowFrame flown_frame =
+      target_throw ? control::ThrowFrame{frame.origin_m, target_throw->plan.yaw_rad} : frame;
   std::optional<VehicleThrust> catcher;
   if (request.catch_it) catcher = thrust_of(pa::other_vehicle(request.thrower));
   if (Admission a = admit_vehicles(flown, thrust_of(request.thrower), catcher, thrust_admission(config_));
@@ -148,8 +151,6 @@ bool GroundStation::request_attempt(const AttemptRequest& request) {
   if (config_.arena_volume) {
     const std::optional<Eigen::Vector3d> aimed =
         target_throw ? std::optional<Eigen::Vector3d>(target_throw->target_m) : std::nullopt;
-    const control::ThrowFrame flown_frame =
-        target_throw ? control::ThrowFrame{frame.origin_m, target_throw->plan.yaw_rad} : frame;
     const Eigen::Vector2d catch_xy = catch_point_xy(flown_frame, adaptation(), aimed);
     const Eigen::Vector3d catch_point(catch_xy.x(), catch_xy.y(),
                                       catch_height_m(flown_frame, adaptation(), aimed, 0.0));
@@ -161,7 +162,7 @@ bool GroundStation::request_attempt(const AttemptRequest& request) {
   refusal_kind_ = Refusal::none;
   refusal_.clear();
   target_throw_ = std::move(target_throw);
-  frame_ = target_throw_ ? control::ThrowFrame{frame.origin_m, target_throw_->plan.yaw_rad} : frame;
+  frame_ = flown_frame;
   request_ = request;
   phase_ = AttemptPhase::preparing;
   current_ = AttemptReport{};

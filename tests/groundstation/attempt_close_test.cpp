@@ -26,7 +26,7 @@ Learner learner() {
   gs::adaptation::LearnerSettings settings;
   settings.throw_learning.gain = 0.5;  // the launch is learnt
   const gs::planning::ThrowTrajectory& plan = book().plan().trajectory;
-  return Learner(settings, s, 0.8, gs::adaptation::launch_state_of(plan.state_at(plan.duration_s())),
+  return Learner(settings, s, 0.8, gs::planning::launch_state_of(plan.state_at(plan.duration_s())),
                  gs::adaptation::LaunchMatrix::Identity(), std::nullopt, "");
 }
 
