@@ -92,8 +92,11 @@ void ThrustGainEstimator::measure() {
   const double accel = 2.0 * coefficients(2);
   const double t_s = window_.back().t_s;
   // The random walk since the last measurement.
-  if (updated_)
-    variance_ += config_.drift_per_sqrt_s * config_.drift_per_sqrt_s * std::max(0.0, t_s - last_update_s_);
+  if (updated_) {
+    const double drift =
+        voltage_compensated_ ? config_.compensated_drift_per_sqrt_s : config_.drift_per_sqrt_s;
+    variance_ += drift * drift * std::max(0.0, t_s - last_update_s_);
+  }
   last_update_s_ = t_s;
   updated_ = true;
   const double y = accel + pa::kGravity_mps2 + load;  // = k * thrust

@@ -38,14 +38,13 @@ ThrowStep throw_step(const ThrowTracker& tracker, const control::LqrGain& balanc
                      const model::PoleState& pole, double half_length_m,
                      const model::PlanarState<double>& reference_shift, const model::VehicleLimits& limits,
                      double feedforward_lead_s) {
-  const control::Pivot pivot = frame.to_frame(plate);
+  const control::Pivot resting = frame.to_frame(control::Pivot{plate.p_m + resting_offset_m, plate.v_mps});
   const model::VehicleState vehicle_in_frame = frame.to_frame(vehicle);
   const model::PoleState pole_in_frame = frame.to_frame(pole);
   ThrowStep step;
-  step.state = control::planar_throw_state(pivot, vehicle_in_frame, pole_in_frame, Eigen::Vector3d::Zero());
-  const control::Pivot resting{plate.p_m + resting_offset_m, plate.v_mps};
-  const Eigen::VectorXd b = control::balancing_state(frame.to_frame(resting), vehicle_in_frame, pole_in_frame,
-                                                     half_length_m, Eigen::Vector3d::Zero());
+  step.state = control::planar_throw_state(resting, vehicle_in_frame, pole_in_frame, Eigen::Vector3d::Zero());
+  const Eigen::VectorXd b = control::balancing_state(resting, vehicle_in_frame, pole_in_frame, half_length_m,
+                                                     Eigen::Vector3d::Zero());
   step.input =
       throw_command(tracker, balancing, t_s, step.state - reference_shift, b, limits, feedforward_lead_s);
   step.input.omega_radps = frame.body_rates_to_vehicle(step.input.omega_radps);

@@ -358,6 +358,7 @@ void GroundStation::send(Vehicle& v, model::VehicleInput u, double now_s) {
   v.motors.flight().command_sent(now_s, sent.omega_radps.head<2>());
   const double t_acts_s = now_s + config_.command_lead_s;
   v.thrust_gain.command(t_acts_s, sent.a_q_mps2);
+  v.thrust_gain.set_voltage_compensated(thrust_of(v.id).battery_V > 0.0);
   sent.a_q_mps2 *= gain;
   estimator_.set_command(v.id, t_acts_s, sent);
 }

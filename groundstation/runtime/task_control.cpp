@@ -36,9 +36,9 @@ double tilt_rad(const model::PoleState& s) { return std::acos(std::min(1.0, std:
 
 // A pole caught 1.6 cm off the plate's centre, balanced about the centre, read as a 0.025 rad
 // tilt, which the balancing LQR held against a 0.46 m position error (measured: the catcher of a
-// pass could not reach its throw's origin). The throw keeps the plate's centre: its plan assumes
-// the pole there, and the filter's offset moves while the throw accelerates (flown about the
-// resting end, the learnt throw's error after 10 throws was 0.105 against 0.078,
+// pass could not reach its throw's origin). The throw flies about the end where it rested as the
+// throw started, carried with the plate (the filter's offset moves while the throw accelerates:
+// flown about the moving end, the learnt throw's error after 10 throws was 0.105 against 0.078,
 // throw_learning_test).
 control::Pivot resting_pivot(const estimation::PlateKinematics& plate, const model::PoleState& pole,
                              double half_length_m) {
@@ -48,7 +48,7 @@ control::Pivot resting_pivot(const estimation::PlateKinematics& plate, const mod
 
 Eigen::Vector3d resting_offset_m(const estimation::PlateKinematics& plate, const model::PoleState& pole,
                                  double half_length_m) {
-  return resting_pivot(plate, pole, half_length_m).p_m - plate.p_m;
+  return plate.inertial_from_body.transpose() * (resting_pivot(plate, pole, half_length_m).p_m - plate.p_m);
 }
 
 TaskController::TaskController(const TaskControlSettings& settings, const model::VehicleLimits& limits)
@@ -116,17 +116,17 @@ TaskCommand TaskController::command(TaskState& s, const TaskFrame& f, const Flow
       const double duration_s = flown.trajectory->duration_s();
       const double tau = std::min(f.t_act_s - f.task_since_s, duration_s);
       // The learnt throw (throw_learning.hpp) is the Fig. 5 throw's only: a throw to a target is
-      // planned anew each time. Across the plane the pole is balanced about the end it rested on
-      // as the throw started: about the plate's centre, passes drifted sideways from throw to
-      // throw until one was dropped (hil fly --passes 100 --randomise, seeds 1 and 4: 37 and 7
-      // passes, then 84 and 92); taken as the throw starts, since the filter's estimate of it
-      // moves while the throw accelerates (the learnt throw's error grew, throw_learning_test).
+      // planned anew each time. The pole is flown about the end it rested on as the throw
+      // started, turned with the plate (planning/throw_command.hpp says what the plate's centre
+      // cost); taken as the throw starts, since the filter's estimate of it moves while the
+      // throw accelerates (the learnt throw's error grew, throw_learning_test).
       const model::PlanarState<double> shift =
           flown.correction ? adaptation::reference_shift(*flown.correction, tau, duration_s)
                            : model::PlanarState<double>::Zero();
       const planning::ThrowStep step = planning::throw_step(
           *flown.tracker, balancing_, tau, flown.frame, control::Pivot{f.plate.p_m, f.plate.v_mps},
-          flown.resting_offset_m, e.state, f.pole.state, L, shift, limits_, f.motor_lead_s);
+          f.plate.inertial_from_body * flown.resting_offset_m, e.state, f.pole.state, L, shift, limits_,
+          f.motor_lead_s);
       if (tau >= duration_s - c.launch_state_window_s) out.throw_end = ThrowEnd{tau, step.state};
       out.input = clamped(step.input);
       break;

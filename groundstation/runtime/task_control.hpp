@@ -95,7 +95,7 @@ struct FlownThrow {
   const planning::ThrowTrajectory* trajectory = nullptr;
   const planning::ThrowTracker* tracker = nullptr;
   control::ThrowFrame frame;
-  // The pole's resting end from the plate's centre as the throw started (arena frame).
+  // The pole's resting end from the plate's centre as the throw started, in the plate's axes.
   Eigen::Vector3d resting_offset_m = Eigen::Vector3d::Zero();
   // The learnt throw's correction (throw_learning.hpp); none for a throw to a target, which is
   // planned anew each time.
@@ -132,8 +132,8 @@ double tilt_rad(const model::PoleState& pole);
 control::Pivot resting_pivot(const estimation::PlateKinematics& plate, const model::PoleState& pole,
                              double half_length_m);
 
-// The pole's resting end from the plate's centre (arena frame), which the throw keeps fixed on the
-// plate as it started (FlownThrow::resting_offset_m).
+// The pole's resting end from the plate's centre in the plate's axes, which the throw keeps fixed
+// on the plate as it started (FlownThrow::resting_offset_m).
 Eigen::Vector3d resting_offset_m(const estimation::PlateKinematics& plate, const model::PoleState& pole,
                                  double half_length_m);
 

@@ -88,6 +88,11 @@ TEST_CASE("The resting offset: from the plate's centre to the pole's nearer end"
   CHECK(gs::runtime::resting_offset_m(plate, pole, 0.26).isApprox(Eigen::Vector3d(0.02, 0.0, 0.0)));
   pole.p_m = Eigen::Vector3d(1.0, 1.97, 0.74);  // hanging below the plate: its upper end
   CHECK(gs::runtime::resting_offset_m(plate, pole, 0.26).isApprox(Eigen::Vector3d(0.0, -0.03, 0.0)));
+  // In the plate's axes: a plate pitched 0.3 rad with the pole's end 2 cm along its own x.
+  plate.inertial_from_body = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  pole.n = plate.inertial_from_body.col(2);
+  pole.p_m = plate.p_m + plate.inertial_from_body * Eigen::Vector3d(0.02, 0.0, 0.0) + 0.26 * pole.n;
+  CHECK(gs::runtime::resting_offset_m(plate, pole, 0.26).isApprox(Eigen::Vector3d(0.02, 0.0, 0.0)));
 }
 
 TEST_CASE("Hovering on its target at rest: g, level, and the integral untouched") {

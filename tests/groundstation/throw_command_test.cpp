@@ -99,6 +99,38 @@ TEST_CASE("the lateral rates are clamped into the rate limit", "[throw_command]"
   CHECK(gs::planning::lateral_balancing_state(fallen) == fallen);
 }
 
+TEST_CASE("a throw step flies the pole about the end it rests on, not the plate's centre",
+          "[throw_command]") {
+  const Setup& s = setup();
+  const double L = 0.665;
+  // The throw's start: the pole upright, its end resting 4 cm ahead of the plate's centre and
+  // 1 cm to the side.
+  const gs::model::PlanarState<double> x = s.tracker.reference().state_at(0.0);
+  const Eigen::Vector3d offset(0.04, 0.01, 0.0);
+  const gs::control::Pivot plate{Eigen::Vector3d(x(planar::kX), 0.0, x(planar::kZ)), Eigen::Vector3d::Zero()};
+  gs::model::VehicleState vehicle;
+  vehicle.p_m = plate.p_m - Eigen::Vector3d(0.0, 0.0, 0.03);
+  gs::model::PoleState pole;
+  pole.p_m = plate.p_m + offset + L * pole.n;
+  const gs::model::PlanarState<double> none = gs::model::PlanarState<double>::Zero();
+  const gs::control::ThrowFrame here{};
+  const gs::planning::ThrowStep step = gs::planning::throw_step(
+      s.tracker, s.balancing, 0.0, here, plate, offset, vehicle, pole, L, none, s.problem.limits);
+  // Upright about its end: no tilt, and the pivot where the end is.
+  CHECK(step.state(planar::kAlpha) == Approx(0.0).margin(1e-12));
+  CHECK(step.state(planar::kX) == Approx(x(planar::kX) + 0.04));
+  // The same as a pole resting on the centre of a plate moved to where the end is.
+  const gs::control::Pivot moved{plate.p_m + offset, plate.v_mps};
+  gs::model::VehicleState moved_vehicle = vehicle;
+  moved_vehicle.p_m += offset;
+  const gs::planning::ThrowStep centred =
+      gs::planning::throw_step(s.tracker, s.balancing, 0.0, here, moved, Eigen::Vector3d::Zero(),
+                               moved_vehicle, pole, L, none, s.problem.limits);
+  CHECK((step.state - centred.state).norm() < 1e-12);
+  CHECK(step.input.a_q_mps2 == Approx(centred.input.a_q_mps2));
+  CHECK((step.input.omega_radps - centred.input.omega_radps).norm() < 1e-9);
+}
+
 TEST_CASE("a throw step does not depend on where in the arena or towards where it is flown",
           "[throw_command]") {
   const Setup& s = setup();

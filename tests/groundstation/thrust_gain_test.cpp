@@ -24,11 +24,13 @@ struct Flight {
   std::function<bool(double)> usable = [](double) { return true; };
   std::function<double(double)> push = [](double) { return 0.0; };  // unknown external m/s^2
   double climb_mps = 0.0;                                           // a steady climb
+  bool voltage_compensated = false;  // the vehicle reports its pack's voltage and compensates for it
 };
 
 // Flies `seconds` and returns the estimator; the controller compensates with its estimate.
 ThrustGainEstimator fly(const Flight& f, double seconds, std::uint64_t seed = 1) {
   ThrustGainEstimator estimator;
+  estimator.set_voltage_compensated(f.voltage_compensated);
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> noise(0.0, f.pose_noise_m);
   const double dt = 0.001, lead = 0.012;
@@ -80,6 +82,18 @@ TEST_CASE("A draining pack is followed within 2 % throughout") {
     CAPTURE(t, e.gain(), f.gain(t));
     CHECK(std::abs(e.gain() - f.gain(t)) < 0.02 * f.gain(t));
   }
+}
+
+TEST_CASE("A vehicle that compensates its pack's voltage is taken to drift less, so k is held steadier") {
+  Flight f;
+  f.gain = [](double) { return 0.9; };
+  const ThrustGainEstimator plain = fly(f, 120.0, 3);
+  f.voltage_compensated = true;
+  const ThrustGainEstimator compensated = fly(f, 120.0, 3);
+  CAPTURE(plain.gain(), plain.sigma(), compensated.gain(), compensated.sigma());
+  CHECK(std::abs(compensated.gain() - 0.9) < 0.01 * 0.9);
+  // The steady uncertainty goes with the square root of the drift (1e-3 against 3e-3).
+  CHECK(compensated.sigma() < 0.7 * plain.sigma());
 }
 
 TEST_CASE("Tilt, a known load and motors slower than the airframe file's are accounted for") {
