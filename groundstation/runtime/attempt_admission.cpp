@@ -41,6 +41,11 @@ double thrust_ceiling_mps2(const VehicleThrust& vehicle, const ThrustAdmission& 
   return vehicle.gain * sag * settings.full_thrust_mps2;
 }
 
+bool pack_spent(const VehicleThrust& vehicle, double needed_mps2, double margin,
+                const ThrustAdmission& settings) {
+  return vehicle.battery_V > 0.0 && thrust_ceiling_mps2(vehicle, settings) < margin * needed_mps2;
+}
+
 pa::VehicleId stronger_thrower(const VehicleThrust& first, const VehicleThrust& second,
                                const ThrustAdmission& settings) {
   return thrust_ceiling_mps2(second, settings) > thrust_ceiling_mps2(first, settings) ? second.vehicle

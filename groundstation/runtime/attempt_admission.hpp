@@ -95,6 +95,12 @@ double thrust_ceiling_mps2(const VehicleThrust& vehicle, const ThrustAdmission& 
 pa::VehicleId stronger_thrower(const VehicleThrust& first, const VehicleThrust& second,
                                const ThrustAdmission& settings);
 
+// Whether the vehicle's pack is spent for a part whose peak is `needed_mps2`: its thrust ceiling at
+// the voltage it reports below `margin` times that. False without a reported voltage (nothing to
+// judge the pack by).
+bool pack_spent(const VehicleThrust& vehicle, double needed_mps2, double margin,
+                const ThrustAdmission& settings);
+
 // Empty if the vehicle's thrust ceiling is at least min_thrust_fraction of `needed_mps2`, else
 // why not.
 std::string thrust_shortfall(const VehicleThrust& vehicle, double needed_mps2, const char* part,

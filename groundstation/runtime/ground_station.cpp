@@ -122,6 +122,11 @@ pa::VehicleId GroundStation::stronger_thrower(pa::VehicleId preferred) const {
                                    thrust_admission(config_));
 }
 
+bool GroundStation::pack_spent(pa::VehicleId vehicle) const {
+  return runtime::pack_spent(thrust_of(vehicle), peak_thrust_mps2(throws_.plan().trajectory),
+                             config_.pack_swap_margin, thrust_admission(config_));
+}
+
 bool GroundStation::request_attempt(const AttemptRequest& request) {
   const auto refuse = [&](Admission admission) {
     refusal_kind_ = admission.refusal;

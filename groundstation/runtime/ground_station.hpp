@@ -105,6 +105,13 @@ class GroundStation {
   void request_take_off() { request_all(mission::condition::request_take_off); }
   void request_land() { request_all(mission::condition::request_land); }
   void request_abort() { request_all(mission::condition::request_abort); }
+  // The same for one vehicle of the act (std::out_of_range for another): a pack swap lands one.
+  void request_take_off(pa::VehicleId vehicle) {
+    vehicle_of(vehicle).requests |= mission::condition::request_take_off;
+  }
+  void request_land(pa::VehicleId vehicle) {
+    vehicle_of(vehicle).requests |= mission::condition::request_land;
+  }
   // KILL (motors off at once, latched on board) to one vehicle of the act, or to both (nullopt),
   // whatever the mission is doing: never gated. std::out_of_range for a vehicle not of the act.
   void request_kill(std::optional<pa::VehicleId> vehicle, pa::proto::KillReason reason);
@@ -115,6 +122,9 @@ class GroundStation {
   // Of `preferred` and the other vehicle of the act, the one with the higher thrust ceiling as
   // measured now, `preferred` on a tie (attempt_admission.hpp): the one to throw when either may.
   pa::VehicleId stronger_thrower(pa::VehicleId preferred) const;
+  // Whether `vehicle`'s pack no longer gives the Fig. 5 throw its margin
+  // (GroundStationConfig::pack_swap_margin): land it and put in a fresh one before it throws.
+  bool pack_spent(pa::VehicleId vehicle) const;
   using Refusal = AttemptRefusal;  // runtime/attempt_admission.hpp
   static std::string_view refusal_name(Refusal refusal) { return runtime::refusal_name(refusal); }
   Refusal refusal_kind() const { return refusal_kind_; }

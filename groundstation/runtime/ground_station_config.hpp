@@ -113,6 +113,13 @@ struct GroundStationConfig {
   // 1 % low), every throw before it caught (both with a_q,max as the ceiling). With a_full: thrower
   // k >= 0.62 and catcher k >= 0.51 at full charge.
   double min_thrust_fraction = 0.9;
+  // A pack is spent for the throw (GroundStation::pack_spent) when the vehicle's thrust at full
+  // command at the voltage it reports falls below this multiple of the throw's planned peak: the
+  // feedback, the attitude's share of the motors and the pack's sag under the throw's load need
+  // the rest. Measured on the corner at half every extreme (hil/config/envelope/half_extremes.yaml,
+  // packs from 85 %, k 0.88): the throw's (42) height fell steadily from 1.1 times the peak on,
+  // and the first drop came at 1.07; the project's own vehicle flew 100 passes down to 1.08.
+  double pack_swap_margin = 1.15;
   // The arena's volume (runtime/attempt_admission.hpp): a throw whose path, pole or catch point
   // leaves it is refused before it is flown (`outside_arena_volume`). None: not checked.
   std::optional<ArenaVolume> arena_volume;

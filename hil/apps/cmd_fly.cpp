@@ -146,10 +146,15 @@ int cmd_fly(int argc, char** argv) {
           plant, seed, randomise ? trials::PlantDraw::drawn : trials::PlantDraw::as_given);
       config.record_time_series = !out_dir.empty();
       config.ground_station.adaptation_store_path = store_file;
+      // Between throws the person who puts the pole on swaps a spent pack; passes keep theirs.
+      config.swap_spent_packs = throws > 0;
       if (verbose) config.log = [](const std::string& line) { std::printf("%s\n", line.c_str()); };
       trials::SeriesRunner runner(config);
       results = runner.run(plans, print);
       print_identification(runner.ground_station(), runner.arena().plant());
+      if (runner.packs_swapped() > 0)
+        std::printf("         packs swapped between throws (spent for the throw): %d\n",
+                    runner.packs_swapped());
       if (!out_dir.empty()) {
         for (std::size_t i = 0; i < runner.time_series().size(); ++i)
           write_time_series(out_dir + "/attempt_" + std::to_string(i + 1) + ".csv", runner.time_series()[i]);

@@ -72,7 +72,8 @@ Plant::Plant(const PlantConfig& config, std::uint64_t seed)
     vehicle_inverse_mass_per_kg_[v] = 1.0 / vehicle_mass_kg_[v];
     motor_time_constant_s_[v] = vc.motor_time_constant_s * vc.motor_time_constant_scale[v];
     for (int i = 0; i < 4; ++i) motor_gain_[v][i] = vc.motor_gain[v][i] * vc.thrust_scale[v];
-    battery_[v].state_of_charge = config.battery.charge_start[v];
+    charge_start_[v] = config.battery.charge_start[v];
+    battery_[v].state_of_charge = charge_start_[v];
     battery_[v].voltage_V = battery_open_circuit_V(config.battery, battery_[v].state_of_charge);
   }
   pole_inertia_kgm2_ =
@@ -711,6 +712,13 @@ void Plant::step(double dt_s, const MotorCommands& vehicle1, const MotorCommands
   }
 }
 
+void Plant::swap_battery(pa::VehicleId vehicle) {
+  const std::size_t v = slot(vehicle);
+  charge_start_[v] = 1.0;
+  battery_[v] = BatteryState{};
+  battery_[v].voltage_V = battery_open_circuit_V(config_.battery, 1.0);
+}
+
 void Plant::load_batteries() {
   const BatteryConfig& bc = config_.battery;
   for (int v = 0; v < 2; ++v) {
@@ -718,7 +726,7 @@ void Plant::load_batteries() {
     double power_W = 0.0;
     for (const double f : vehicles_[v].motor_thrust_N)
       power_W += motor_electrical_power_W(f, config_.vehicle, config_.air_density_kgpm3);
-    b.state_of_charge = std::max(0.0, bc.charge_start[v] - b.charge_drawn_Ah / bc.capacity_Ah);
+    b.state_of_charge = std::max(0.0, charge_start_[v] - b.charge_drawn_Ah / bc.capacity_Ah);
     b.voltage_V = battery_terminal_V(battery_open_circuit_V(bc, b.state_of_charge), power_W,
                                      bc.internal_resistance_ohm);
     b.current_A = power_W / b.voltage_V;

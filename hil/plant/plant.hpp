@@ -154,6 +154,8 @@ class Plant {
   // `vehicle`'s battery as of the last step (with battery_enabled; otherwise at its start,
   // unloaded).
   const BatteryState& battery(pa::VehicleId vehicle) const { return battery_[slot(vehicle)]; }
+  // A full pack in place of `vehicle`'s (a person swapped it while the vehicle stood on the floor).
+  void swap_battery(pa::VehicleId vehicle);
   // The plate's centre (on its surface) and normal, inertial frame.
   Vec3 plate_centre_m(pa::VehicleId vehicle) const;
   Vec3 plate_normal(pa::VehicleId vehicle) const;
@@ -307,6 +309,7 @@ class Plant {
   PoleState pole_{};
   std::array<std::array<double, 4>, 2> target_thrust_N_{};
   std::array<BatteryState, 2> battery_{};
+  std::array<double, 2> charge_start_{1.0, 1.0};  // each pack's charge when it was put in
   std::array<PairMemory, kPairs> pairs_{};
   std::vector<PoleContactEvent> events_;
   bool pole_asleep_ = false;

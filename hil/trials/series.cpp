@@ -239,9 +239,25 @@ double required_travel(const Eigen::Vector2d& waiting_xy_m, const std::vector<Ve
 
 }  // namespace
 
+bool SeriesRunner::swap_pack(pa::VehicleId vehicle) {
+  if (config_.log) {
+    char line[160];
+    std::snprintf(line, sizeof line, "%9.3f  vehicle %d: pack spent at %.2f V, landing to swap it",
+                  arena_.t_s(), int(vehicle.node()), arena_.plant().battery(vehicle).voltage_V);
+    config_.log(line);
+  }
+  gs_.request_land(vehicle);
+  if (!run_until([&] { return gs_.task(vehicle) == Task::parked; }, 20.0)) return false;
+  arena_.plant().swap_battery(vehicle);
+  ++packs_swapped_;
+  gs_.request_take_off(vehicle);
+  return run_until([&] { return gs_.task(vehicle) == Task::hover; }, 15.0);
+}
+
 AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
   AttemptResult r;
   r.throw_number = number;
+
   if (config_.record_time_series) {
     series_.emplace_back();
     recording_ = &series_.back();
@@ -262,6 +278,13 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
   gs::runtime::AttemptRequest request;
   request.thrower =
       plan.stronger_throws && plan.place_pole ? gs_.stronger_thrower(plan.thrower) : plan.thrower;
+  // The thrower has no pole yet (the person puts it on): it can land for a fresh pack.
+  if (plan.place_pole && config_.swap_spent_packs && gs_.pack_spent(request.thrower) &&
+      !swap_pack(request.thrower)) {
+    r.outcome = ThrowOutcome::aborted;
+    r.abort_reason = "take_off_failed";
+    return r;
+  }
   request.catch_it = plan.catch_it;
   request.catch_offset_m = plan.catch_offset_m;
   request.target_xy_m = plan.target_xy_m;

@@ -97,6 +97,10 @@ struct SeriesConfig {
   // Measure the wall time of every sil::Arena::step (the plant, both firmware cores, the radios and
   // the motion capture: the arena alone, without the ground station or this runner's own work).
   bool time_arena = false;
+  // Before an attempt whose pole a person puts on, that person also swaps the thrower's pack when
+  // the ground station finds it spent (GroundStation::pack_spent): it lands, gets a full pack and
+  // takes off again. Passes fly on the packs they started with.
+  bool swap_spent_packs = false;
   // Called after every 1 ms step (diagnostics, tests that watch the truth).
   std::function<void(const sil::Arena&, const gs::runtime::GroundStation&)> on_step;
 };
@@ -123,12 +127,16 @@ class SeriesRunner {
   const std::vector<double>& ground_station_frame_times_s() const { return frame_times_s_; }
   // The summed wall time of the sil::Arena::step calls (time_arena), in seconds.
   double arena_time_s() const { return arena_time_s_; }
+  // How many packs were swapped (swap_spent_packs).
+  int packs_swapped() const { return packs_swapped_; }
 
  private:
   void step();
   TimeSample time_sample(double now) const;
   bool run_until(const std::function<bool()>& done, double timeout_s);
   AttemptResult fly(const AttemptPlan& plan, int number);
+  // Lands `vehicle`, swaps its pack and takes it off again; false if it did not come back to hover.
+  bool swap_pack(pa::VehicleId vehicle);
 
   SeriesConfig config_;
   sil::Arena arena_;
@@ -141,6 +149,7 @@ class SeriesRunner {
   std::vector<double> frame_times_s_;
   double arena_time_s_ = 0.0;
   std::array<pa::proto::Mode, 2> firmware_modes_{pa::proto::Mode::disarmed, pa::proto::Mode::disarmed};
+  int packs_swapped_ = 0;
 };
 
 }  // namespace hil::trials

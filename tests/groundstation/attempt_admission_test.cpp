@@ -152,6 +152,16 @@ TEST_CASE("A sagging pack lowers the ceiling by (V / V_ref)^2, never raises it")
         "needs 17.1");
 }
 
+TEST_CASE("A pack is spent when its ceiling falls below the margin times the peak, judged by its voltage") {
+  // k 1 at 12 V: (12 / 12.6)^2 * 20 = 18.14 m/s^2 against 1.15 * 15.7 = 18.06 (kept) and
+  // 1.15 * 15.8 = 18.17 (spent).
+  const VehicleThrust v{pa::kVehicle1, 1.0, 12.0};
+  CHECK_FALSE(gs::runtime::pack_spent(v, 15.7, 1.15, kSettings));
+  CHECK(gs::runtime::pack_spent(v, 15.8, 1.15, kSettings));
+  // No voltage reported: nothing to judge the pack by, however weak the vehicle.
+  CHECK_FALSE(gs::runtime::pack_spent(VehicleThrust{pa::kVehicle1, 0.5, 0.0}, 15.8, 1.15, kSettings));
+}
+
 TEST_CASE("Of two vehicles the one with the higher ceiling throws, the preferred on a tie") {
   const VehicleThrust strong{pa::kVehicle1, 1.0, 12.0};
   const VehicleThrust weak_pack{pa::kVehicle2, 1.0, 11.0};

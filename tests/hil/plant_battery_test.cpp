@@ -131,6 +131,25 @@ TEST_CASE("the battery sags under load and its voltage falls with the charge dra
                                  full.current_A * c.battery.internal_resistance_ohm));
 }
 
+TEST_CASE("a swapped pack is full, and drains from there") {
+  PlantConfig c = with_battery(0.4);
+  c.battery.capacity_Ah = 0.05;
+  Plant plant(c);
+  plant.set_vehicle(pa::kVehicle1, plant.hovering_vehicle(Vec3(0, 0, 20.0), 0.0));
+  for (int k = 0; k < 1000; ++k) plant.step(0.001, plant.hover_commands(pa::kVehicle1), kOff);
+  CHECK(plant.battery(pa::kVehicle1).state_of_charge < 0.4);
+  plant.swap_battery(pa::kVehicle1);
+  CHECK(plant.battery(pa::kVehicle1).state_of_charge == 1.0);
+  CHECK(plant.battery(pa::kVehicle1).voltage_V == Approx(12.6));
+  for (int k = 0; k < 1000; ++k) plant.step(0.001, plant.hover_commands(pa::kVehicle1), kOff);
+  const hil::BatteryState& b = plant.battery(pa::kVehicle1);
+  CHECK(b.state_of_charge < 1.0);
+  CHECK(b.state_of_charge == Approx(1.0 - b.charge_drawn_Ah / 0.05).epsilon(1e-3));
+  CHECK(b.voltage_V > 12.0);
+  // The other vehicle's pack is untouched.
+  CHECK(plant.battery(pa::kVehicle2).state_of_charge < 0.41);
+}
+
 TEST_CASE("with the battery off, a step makes the thrust of the law before the battery") {
   const PlantConfig c = plant_test::without_imu_errors();
   REQUIRE(c.battery.enabled == 0);

@@ -363,6 +363,29 @@ TEST_CASE("radio outages and motion-capture dropouts while the pole flies: holds
   for (std::size_t i = 1; i < s.results.size(); ++i) CHECK(s.results[i].outcome == ThrowOutcome::caught);
 }
 
+TEST_CASE("a thrower whose pack is spent lands, gets a full one and throws", "[hil][sil][runtime]") {
+  // Both packs at 30 %: about 11.2 V in hover, a ceiling of 0.79 a_full, below 1.15 times the
+  // Fig. 5 throw's peak. Vehicle 1 throws: its pack is swapped first; vehicle 2 only catches.
+  hil::trials::SeriesConfig config;
+  config.plant.battery.enabled = 1;
+  config.plant.battery.charge_start = {0.3, 0.3};
+  config.swap_spent_packs = true;
+  std::vector<std::string> log;
+  config.log = [&log](const std::string& line) { log.push_back(line); };
+  hil::trials::SeriesRunner runner(config);
+  const std::vector<hil::trials::AttemptResult> results = runner.run(hil::trials::catch_series(2));
+  INFO(joined(log));
+  REQUIRE(results.size() == 2);
+  CHECK(results[1].outcome == ThrowOutcome::caught);
+  CHECK(runner.packs_swapped() == 1);
+  CHECK(runner.arena().plant().battery(pa::kVehicle1).state_of_charge > 0.9);
+  CHECK(runner.arena().plant().battery(pa::kVehicle2).state_of_charge < 0.3);
+  bool landed = false;
+  for (const std::string& line : log)
+    landed |= line.find("vehicle 1: landing -> parked (landed)") != std::string::npos;
+  CHECK(landed);
+}
+
 TEST_CASE("a vehicle that leaves the arena's volume lands where it is", "[hil][sil][runtime]") {
   // A ceiling at 0.8 m, below the take-off height (1.0 m): both vehicles cross it climbing and
   // are sent to land.
