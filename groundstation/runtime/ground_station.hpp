@@ -254,7 +254,7 @@ class GroundStation {
   std::optional<planning::TargetThrow> target_throw_;  // the attempt's, when it throws to a target
   std::optional<ThrowEnd> throw_end_;                  // the throw's last tracked state near its end
   std::vector<adaptation::TimedPoleState> flight_;     // the pole's, from the launch to the impact
-  // The pole's resting end from the plate's centre as the throw started (arena frame).
+  // The pole's resting end from the plate's centre as the throw started, in the plate's axes.
   Eigen::Vector3d resting_offset_m_ = Eigen::Vector3d::Zero();
   std::optional<double> balanced_since_s_;
   std::optional<double> balanced_on_catcher_s_;
