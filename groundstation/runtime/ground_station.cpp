@@ -186,9 +186,14 @@ bool GroundStation::request_attempt(const AttemptRequest& request) {
 
 void GroundStation::on_frame(const pa::proto::Frame& frame, double now_s) {
   // The rates each vehicle reports, for its identification flight (the link's vehicles are the act's).
+  // A vehicle that reports its pack's voltage compensates for it on board (ThrustGainConfig).
   const std::optional<pa::proto::Message> m = link_.on_frame(frame, now_s);
   if (m && m->type == pa::proto::Type::telemetry_rates)
     vehicle_of(pa::VehicleId(m->node)).motors.flight().telemetry(now_s, m->telemetry_rates);
+  if (m && m->type == pa::proto::Type::telemetry_status) {
+    Vehicle& v = vehicle_of(pa::VehicleId(m->node));
+    v.thrust_gain.set_voltage_compensated(thrust_of(v.id).battery_V > 0.0);
+  }
   for (const link::ImpactReport& r : link_.take_impacts()) {
     if (impacts_.size() < kEventLogCapacity) impacts_.push_back(r);
     if (pa::is_act_vehicle(r.vehicle)) estimator_.report_impact(r.vehicle, r.t_s);
@@ -363,7 +368,6 @@ void GroundStation::send(Vehicle& v, model::VehicleInput u, double now_s) {
   v.motors.flight().command_sent(now_s, sent.omega_radps.head<2>());
   const double t_acts_s = now_s + config_.command_lead_s;
   v.thrust_gain.command(t_acts_s, sent.a_q_mps2);
-  v.thrust_gain.set_voltage_compensated(thrust_of(v.id).battery_V > 0.0);
   sent.a_q_mps2 *= gain;
   estimator_.set_command(v.id, t_acts_s, sent);
 }

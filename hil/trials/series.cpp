@@ -257,7 +257,6 @@ bool SeriesRunner::swap_pack(pa::VehicleId vehicle) {
 AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
   AttemptResult r;
   r.throw_number = number;
-
   if (config_.record_time_series) {
     series_.emplace_back();
     recording_ = &series_.back();
