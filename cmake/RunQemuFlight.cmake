@@ -28,6 +28,11 @@ if(NOT EXISTS "${CONSOLE}")
 endif()
 file(READ "${CONSOLE}" console)
 message("console:\n${console}")
+# QEMU is stopped wherever the image is: a last line cut short (" dshot=0,0") is not judged.
+string(FIND "${console}" "\n" last_newline REVERSE)
+if(last_newline GREATER_EQUAL 0)
+  string(SUBSTRING "${console}" 0 ${last_newline} console)
+endif()
 
 set(problems "")
 string(REGEX MATCHALL "\nflight: [a-z0-9]+ FAULT: motors held stopped t_ms=[0-9]+" periodic "${console}")
