@@ -21,6 +21,13 @@ LqrWeights hover_lqr_weights() {
   return w;
 }
 
+LqrWeights catch_lqr_weights() {
+  LqrWeights w = hover_lqr_weights();
+  w.state(hover::kX) *= 4.0;
+  w.state(hover::kY) *= 4.0;
+  return w;
+}
+
 LqrGain hover_lqr(const LqrWeights& weights, double gravity_mps2) {
   return solve_lqr(hover_linearisation(gravity_mps2), weights);
 }

@@ -55,6 +55,7 @@ TaskController::TaskController(const TaskControlSettings& settings, const model:
     : settings_(settings),
       limits_(limits),
       hover_(designed(control::hover_lqr())),
+      catch_(designed(control::hover_lqr(control::catch_lqr_weights()))),
       balancing_(designed(control::balancing_lqr())) {}
 
 // The integral shifts the LQR's reference position (p_ref = set point + k_i int e): a constant
@@ -145,8 +146,9 @@ TaskCommand TaskController::command(TaskState& s, const TaskFrame& f, const Flow
       }
       planning::CatchReference ref = flown.catch_trajectory->reference(f.t_act_s - flown.catch_start_s);
       if (flown.catch_height_shift) ref = planning::shifted(ref, flown.catch_height_shift->at(f.t_act_s));
-      // The hover LQR about the reference's state with its nominal inputs (46), (47) as feed
-      // forward: a time-varying reference tracked with the hover gains, which hold across the
+      // The catch LQR (the hover's, stiffer in xy: control::catch_lqr_weights) about the
+      // reference's state with its nominal inputs (46), (47) as feed forward: a time-varying
+      // reference tracked with hover-designed gains, which hold across the
       // manoeuvre's tilts (at most atan(a_max / g) ~ 23 degrees plus the xy correction's). The
       // integral learnt while waiting stays in force, frozen.
       control::HoverReference reference;
@@ -158,7 +160,7 @@ TaskCommand TaskController::command(TaskState& s, const TaskFrame& f, const Flow
       reference.thrust_mps2 = ref.thrust_mps2;
       reference.body_rates_radps = ref.body_rates_radps;
       s.set_point.position_m = ref.position_m;
-      out.input = clamped(control::hover_law(hover_, e.state, reference));
+      out.input = clamped(control::hover_law(catch_, e.state, reference));
       break;
     }
     default: break;

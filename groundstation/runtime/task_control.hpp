@@ -152,6 +152,7 @@ class TaskController {
   TaskControlSettings settings_;
   model::VehicleLimits limits_;
   control::LqrGain hover_;
+  control::LqrGain catch_;
   control::LqrGain balancing_;
 };
 

@@ -75,3 +75,37 @@ TEST_CASE("hover LQR: stable closed loop, and the nonlinear vehicle returns to h
   CHECK(thrust_max <= 20.0);
   CHECK(rate_max <= 10.0);
 }
+
+// The catch must put the plate under the pole's end within its 6 cm radius: from 6 cm off, the
+// catch's gain closes the gap to 1 cm sooner than the hover's, within the rate limit.
+TEST_CASE("catch LQR: stable, and closes a plate-sized gap sooner than the hover's") {
+  const auto time_to_1cm = [](const gs::control::LqrGain& lqr, double& rate_max) {
+    VehicleState s;
+    s.p_m = Eigen::Vector3d(0.06, 0.0, 0.0);
+    const double dt = 1e-3;
+    VehicleInput in;
+    rate_max = 0.0;
+    for (int k = 0; k < 5000; ++k) {
+      if (k % 5 == 0) {
+        Eigen::VectorXd u = -lqr.K * to_vector(s);
+        u(0) += pa::kGravity_mps2;
+        in = input_from(u);
+        rate_max = std::max(rate_max, in.omega_radps.cwiseAbs().maxCoeff());
+      }
+      s = gs::model::rk4_step([&](const VehicleState& x) { return gs::model::vehicle_dynamics(x, in); }, s,
+                              dt);
+      if (std::abs(s.p_m.x()) < 0.01 && std::abs(s.v_mps.x()) < 0.02) return k * dt;
+    }
+    return 1e9;
+  };
+  const auto hover = gs::control::hover_lqr();
+  const auto catching = gs::control::hover_lqr(gs::control::catch_lqr_weights());
+  REQUIRE(catching.ok);
+  CHECK((catching.closed_loop_eigenvalues.real().array() < 0.0).all());
+  double hover_rate = 0.0, catch_rate = 0.0;
+  const double hover_s = time_to_1cm(hover, hover_rate);
+  const double catch_s = time_to_1cm(catching, catch_rate);
+  INFO("hover " << hover_s << " s, catch " << catch_s << " s");
+  CHECK(catch_s < 0.9 * hover_s);
+  CHECK(catch_rate <= 10.0);
+}
