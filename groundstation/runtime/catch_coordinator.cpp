@@ -74,12 +74,13 @@ void CatchCoordinator::retime(double now_s, const CatchView& view, AttemptReport
   report.predicted_optimal = adaptation::OptimalCatch{pole.t_s + optimal.t_s - *report.launch_s,
                                                       optimal.catch_height_m, optimal.catch_point_m};
   if (now_s - *report.launch_s < settings_.verdict_delay_s) return;
-  const double height_m =
-      floored_catch_height_m(adapted_height_m_ + std::clamp(optimal.catch_height_m - adapted_height_m_,
-                                                            -settings_.retime_max_m, settings_.retime_max_m),
-                             settings_);
+  const double height_m = floored_catch_height_m(
+      adapted_height_m_ + std::clamp(optimal.catch_height_m - adapted_height_m_, -settings_.retime_max_m,
+                                     settings_.retime_up_max_m),
+      settings_);
+  const bool up = height_m > adapted_height_m_;
   shift_.retarget(now_s, height_m - adapted_height_m_, start_s_ + z_manoeuvre(adapted_height_m_).duration_s(),
-                  settings_.shift_max_accel_mps2);
+                  up ? settings_.shift_up_max_accel_mps2 : settings_.shift_max_accel_mps2);
   report.catch_height_m = adapted_height_m_ + shift_.target_m();
 }
 

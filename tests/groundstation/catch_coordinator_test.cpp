@@ -172,6 +172,23 @@ TEST_CASE("The retiming moves the catch's end height to this flight's (42), with
   CHECK(r.catch_height_m == height);
 }
 
+TEST_CASE("Upwards the retiming reaches farther than downwards") {
+  const Throw t;
+  CatchSettings s;
+  s.retime_max_m = 0.1;
+  s.retime_up_max_m = 0.2;
+  s.min_height_m = 0.0;
+  CatchCoordinator c(s, {});
+  AttemptReport r = waiting(t, 0.0);
+  r.catch_height_m -= 0.3;  // the adapted height 0.3 m below this flight's (42)
+  const double adapted = r.catch_height_m;
+  c.plan(r, t.launch_s, t.optimal.t_s);
+  r.launch_s = t.launch_s;
+  c.retime(t.launch_s + s.verdict_delay_s + 0.01, view(t, Task::catching, 0.0), r);
+  CHECK(r.catch_height_m == Approx(adapted + s.retime_up_max_m));
+  CHECK(c.height_shift().target_m() == Approx(s.retime_up_max_m));
+}
+
 TEST_CASE("No catch is planned below the floor, however low this flight's (42) lies") {
   const Throw t;
   CatchSettings s;
