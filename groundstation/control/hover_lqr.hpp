@@ -36,7 +36,7 @@ LqrGain hover_lqr(const LqrWeights& weights = hover_lqr_weights(), double gravit
 // hover is judged on half a metre, a catch on the plate's radius (6 cm): with the hover's
 // weights the plate trailed the pole's end by 5-7 cm at the impact where the catch manoeuvre
 // had moved it (its dive at 5.6 m/s^2 of thrust halves what a tilt does), and the pole fell past
-// the plate's rim (27 of 1000 envelope attempts missed so, none with these weights:
+// the plate's rim (27 of 1000 envelope attempts missed so, none when these weights came in:
 // `hil campaign --attempts 1000 --seed 1 --plant hil/config/envelope.yaml`, 943 -> 966 caught).
 LqrWeights catch_lqr_weights();
 

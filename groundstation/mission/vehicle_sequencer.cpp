@@ -18,6 +18,7 @@ std::string_view task_name(Task task) {
     case Task::clear: return "clear";
     case Task::landing: return "landing";
     case Task::failsafe: return "failsafe";
+    case Task::descend: return "descend";
   }
   return "?";
 }
@@ -62,6 +63,7 @@ std::string_view reason_name(Reason reason) {
     case Reason::missed: return "missed";
     case Reason::pole_upright: return "pole_upright";
     case Reason::pole_fallen: return "pole_fallen";
+    case Reason::near_floor: return "near_floor";
     case Reason::pole_down: return "pole_down";
   }
   return "?";

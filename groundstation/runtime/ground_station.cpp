@@ -185,11 +185,14 @@ bool GroundStation::request_attempt(const AttemptRequest& request) {
 }
 
 void GroundStation::on_frame(const pa::proto::Frame& frame, double now_s) {
-  // The rates each vehicle reports, for its identification flight (the link's vehicles are the act's).
-  // A vehicle that reports its pack's voltage compensates for it on board (ThrustGainConfig).
+  // The link's vehicles are the act's. The rates each vehicle reports, for its identification
+  // flight; its attitude, against motion capture's.
   const std::optional<pa::proto::Message> m = link_.on_frame(frame, now_s);
   if (m && m->type == pa::proto::Type::telemetry_rates)
     vehicle_of(pa::VehicleId(m->node)).motors.flight().telemetry(now_s, m->telemetry_rates);
+  if (m && m->type == pa::proto::Type::telemetry_attitude)
+    correct_onboard_tilt(vehicle_of(pa::VehicleId(m->node)), m->telemetry_attitude, now_s);
+  // A vehicle that reports its pack's voltage compensates for it on board (ThrustGainConfig).
   if (m && m->type == pa::proto::Type::telemetry_status) {
     Vehicle& v = vehicle_of(pa::VehicleId(m->node));
     v.thrust_gain.set_voltage_compensated(thrust_of(v.id).battery_V > 0.0);
@@ -251,7 +254,8 @@ void GroundStation::enter(Vehicle& v, double now_s) {
     context.catch_window_s = catch_.start(now_s, catch_height(), config_.catch_window_margin_s);
   }
   const TaskEntry entry =
-      enter_task(task, v.laws, v.requests, context, {config_.take_off_height_m, config_.clear_distance_m});
+      enter_task(task, v.laws, v.requests, context,
+                 {config_.take_off_height_m, config_.clear_distance_m, config_.land_handover_height_m});
   if (task == Task::arming) {
     v.commands.arming(entry.arm_after_disarm);
     // The lag kept from the vehicle's last accepted identification, before this flight's own.
@@ -347,11 +351,13 @@ void GroundStation::on_mocap(const estimation::MocapFrame& frame, double now_s) 
 }
 
 // A flying vehicle found beyond the arena's walls, floor or ceiling lands where it is, as if the
-// operator had asked: landing is the mission table's one way down under control, entered only on
-// a land request (vehicle_sequencer_test), and landing clears the request.
+// operator had asked: the descent is the mission table's one way down under control, entered only
+// on a land request (vehicle_sequencer_test), and it clears the request.
 void GroundStation::keep_inside_volume(Vehicle& v) {
   if (!config_.arena_volume || !estimator_.vehicle_initialised(v.id)) return;
-  if ((mission::kAirborne & mission::task_bit(v.sequencer.task())) == 0 || (v.requests & c::request_land))
+  const Task task = v.sequencer.task();
+  if ((mission::kAirborne & mission::task_bit(task)) == 0 || task == Task::descend ||
+      (v.requests & c::request_land))
     return;
   if (!outside_volume(estimator_.vehicle(v.id).state.p_m, *config_.arena_volume)) return;
   v.requests |= c::request_land;
@@ -412,6 +418,25 @@ void GroundStation::set_motor_lag(Vehicle& v, double lag_s, double now_s) {
 void GroundStation::set_inertia_scale(Vehicle& v, double scale, double now_s) {
   v.motors.inertia().sent(scale, link_.send_command(v.id, pa::proto::CommandCode::set_inertia_scale,
                                                     inertia_scale_argument(scale), now_s));
+}
+
+// The vehicle's gyro-held attitude set back onto motion capture's (estimation/onboard_tilt.hpp)
+// while the ground station flies it: its hold, its failsafe and a landing's end fly on it.
+void GroundStation::correct_onboard_tilt(Vehicle& v, const pa::proto::TelemetryAttitude& attitude,
+                                         double now_s) {
+  const link::VehicleLinkStatus& status = link_.status(v.id);
+  if (status.mode != pa::proto::Mode::flying || !flies_law(v.sequencer.task()) ||
+      !estimator_.vehicle_initialised(v.id) || !status.rates.valid)
+    return;
+  const model::VehicleState& s = estimator_.vehicle(v.id).state;
+  const Eigen::Quaterniond measured(model::rotation_inertial_from_body(s.phi_rad, s.theta_rad, s.psi_rad));
+  const auto& q = attitude.quaternion;
+  const Eigen::Quaterniond onboard(q[0], q[1], q[2], q[3]);
+  const auto& w = status.rates.value.rate_radps;
+  const double rate_radps = std::sqrt(double(w[0]) * w[0] + double(w[1]) * w[1] + double(w[2]) * w[2]);
+  if (const std::optional<Eigen::Vector2d> up = v.onboard_tilt.report(now_s, onboard, measured, rate_radps))
+    link_.send_command(v.id, pa::proto::CommandCode::correct_tilt, estimation::tilt_correction_argument(*up),
+                       now_s);
 }
 
 CatchView GroundStation::catch_view(const Vehicle& catcher) const {

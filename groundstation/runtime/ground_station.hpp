@@ -55,6 +55,7 @@
 #include "groundstation/control/task_laws.hpp"
 #include "groundstation/control/throw_frame.hpp"
 #include "groundstation/estimation/mocap_noise.hpp"
+#include "groundstation/estimation/onboard_tilt.hpp"
 #include "groundstation/estimation/rate_response.hpp"
 #include "groundstation/estimation/state_estimator.hpp"
 #include "groundstation/estimation/thrust_gain.hpp"
@@ -186,7 +187,8 @@ class GroundStation {
     estimation::ThrustGainEstimator thrust_gain;
     MotorEqualiser motors;  // each take-off's identification, the lag set on board
     estimation::MocapNoiseMeter noise;
-    double pole_trust_s = -1e9;  // when its pole filter's trust was last judged
+    estimation::OnboardTilt onboard_tilt;  // its own attitude against motion capture's
+    double pole_trust_s = -1e9;            // when its pole filter's trust was last judged
   };
 
   // std::out_of_range for a vehicle not of the act.
@@ -200,6 +202,7 @@ class GroundStation {
   void identify_motors(Vehicle& v, double now_s);
   void set_motor_lag(Vehicle& v, double lag_s, double now_s);      // COMMAND set_motor_time_constant
   void set_inertia_scale(Vehicle& v, double scale, double now_s);  // COMMAND set_inertia_scale
+  void correct_onboard_tilt(Vehicle& v, const pa::proto::TelemetryAttitude& attitude, double now_s);
   void judge_pole_trust(Vehicle& v);
   void keep_inside_volume(Vehicle& v);
   void measure_impact_energy(const Vehicle& catcher);

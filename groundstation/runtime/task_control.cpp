@@ -82,7 +82,8 @@ TaskCommand TaskController::command(TaskState& s, const TaskFrame& f, const Flow
     case Task::wait:
     case Task::retreat:
     case Task::clear:
-    case Task::rebalance: {
+    case Task::rebalance:
+    case Task::descend: {
       if (f.task == Task::wait) s.target_m = f.waiting_target_m;
       control::move_set_point(s.set_point, s.target_m, e.state.p_m, f.dt_s, c.carrot);
       const bool on_floor = f.task == Task::take_off && e.state.p_m.z() <= c.take_off_integral_height_m;

@@ -20,6 +20,10 @@ TaskEntry enter_task(mission::Task task, TaskState& laws, std::uint32_t& request
   TaskEntry entry;
   switch (task) {
     case Task::parked:
+      // Down, it has nothing left to land: a land asked meanwhile must not end its next take-off.
+      requests &= ~c::request_land;
+      laws.set_point.valid = false;
+      break;
     case Task::failsafe: laws.set_point.valid = false; break;
     case Task::arming:
       requests &= ~c::request_take_off;
@@ -71,6 +75,13 @@ TaskEntry enter_task(mission::Task task, TaskState& laws, std::uint32_t& request
       hold_here();
       break;
     }
+    case Task::descend:
+      // Straight down to the hand-over height; never up, for a vehicle already below it.
+      requests &= ~c::request_land;
+      laws.target_m =
+          Eigen::Vector3d(here.x(), here.y(), std::min(here.z(), settings.land_handover_height_m));
+      hold_here();
+      break;
     case Task::landing:
       requests &= ~c::request_land;
       entry.command = TaskEntryCommand{CommandCode::land, 0};

@@ -18,8 +18,9 @@
 namespace gs::runtime {
 
 struct TaskEntrySettings {
-  double take_off_height_m = 1.0;  // GroundStationConfig::take_off_height_m
-  double clear_distance_m = 1.0;   // GroundStationConfig::clear_distance_m
+  double take_off_height_m = 1.0;        // GroundStationConfig::take_off_height_m
+  double clear_distance_m = 1.0;         // GroundStationConfig::clear_distance_m
+  double land_handover_height_m = 0.25;  // GroundStationConfig::land_handover_height_m
   // A catcher this close to where the pole comes down has no direction away from it: it clears
   // along +y (the throw frame's side).
   double clear_min_away_m = 0.1;

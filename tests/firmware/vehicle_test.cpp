@@ -403,3 +403,31 @@ TEST_CASE("the scripted self-test flight passes on the host") {
   CHECK(r.descent_after_ms ==
         Approx(static_cast<double>(sup.hold_max_us + sup.hover_before_descent_us) / 1000.0).margin(2.0f));
 }
+
+TEST_CASE(
+    "in flight the attitude is turned onto motion capture's up; on the floor and out of range it is refused") {
+  Bench b;
+  b.settle(50);
+  const std::int32_t tilt = tilt_argument(300, -200);  // up at (0.03, -0.02) in the vehicle's frame
+  b.command(CommandCode::correct_tilt, tilt);
+  CHECK(b.last_ack()->reason == RefuseReason::not_flying);
+  b.command(CommandCode::arm);
+  b.settle(20);
+  b.settle(100, kG);
+  REQUIRE(b.vehicle.mode() == Mode::flying);
+  const fw::Vec3f up_before = b.vehicle.attitude().up_in_body();
+  CHECK(std::fabs(up_before[0]) < 1e-3f);  // level at rest, and no rates since
+  CHECK(std::fabs(up_before[1]) < 1e-3f);
+  for (std::int32_t bad : {tilt_argument(2001, 0), tilt_argument(0, -2001), tilt_argument(-32768, 0)}) {
+    b.command(CommandCode::correct_tilt, bad);
+    CHECK(b.last_ack()->reason == RefuseReason::bad_argument);
+  }
+  b.command(CommandCode::correct_tilt, tilt);
+  CHECK(b.last_ack()->result == AckResult::accepted);
+  // The body is level in the old frame: the true up, seen from the body, leans the same way.
+  const fw::Vec3f up = b.vehicle.attitude().up_in_body();
+  const float n = std::sqrt(1.0f + 0.03f * 0.03f + 0.02f * 0.02f);
+  CHECK(up[0] == Approx(0.03f / n).margin(1e-4));
+  CHECK(up[1] == Approx(-0.02f / n).margin(1e-4));
+  CHECK(up[2] == Approx(1.0f / n).margin(1e-4));
+}

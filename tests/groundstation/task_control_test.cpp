@@ -56,7 +56,7 @@ TEST_CASE("Which tasks fly a law: none landing or in failsafe, zero thrust parke
     CHECK(gs::runtime::fixed_command(t)->omega_radps.isZero());
   }
   for (Task t : {Task::take_off, Task::hover, Task::balance, Task::throwing, Task::release, Task::retreat,
-                 Task::wait, Task::catching, Task::rebalance, Task::clear}) {
+                 Task::wait, Task::catching, Task::rebalance, Task::clear, Task::descend}) {
     CHECK(gs::runtime::flies_law(t));
     CHECK_FALSE(gs::runtime::fixed_command(t));
   }

@@ -69,7 +69,7 @@ TEST_CASE("Which requests each entry clears, and which commands it sends") {
     std::optional<CommandCode> command;
   };
   const Row rows[] = {
-      {Task::parked, 0, std::nullopt},
+      {Task::parked, c::request_land, std::nullopt},
       {Task::arming, c::request_take_off, CommandCode::arm},
       {Task::take_off, 0, std::nullopt},
       {Task::hover, 0, std::nullopt},
@@ -83,6 +83,7 @@ TEST_CASE("Which requests each entry clears, and which commands it sends") {
       {Task::clear, c::request_abort | c::request_catch, std::nullopt},
       {Task::landing, c::request_land, CommandCode::land},
       {Task::failsafe, 0, std::nullopt},
+      {Task::descend, c::request_land, std::nullopt},
   };
   REQUIRE(std::size(rows) == static_cast<std::size_t>(gs::mission::kTaskCount));
   for (const Row& row : rows) {
@@ -113,6 +114,16 @@ TEST_CASE("Parked and failsafe drop the set point; take-off climbs from where it
   CHECK(e.laws.target_m == Eigen::Vector3d(1.0, 2.0, kSettings.take_off_height_m));
   CHECK(e.laws.set_point.position_m == here().here_m);
   CHECK(e.laws.take_off_ramp_mps2 == 0.0);
+}
+
+TEST_CASE("A landing descends straight down to the hand-over height, never up") {
+  const Entered high = enter(Task::descend);
+  CHECK(high.laws.target_m == Eigen::Vector3d(1.0, 2.0, kSettings.land_handover_height_m));
+  CHECK(high.laws.set_point.position_m == here().here_m);
+  CHECK(high.laws.set_point.valid);
+  TaskEntryContext low = here();
+  low.here_m.z() = 0.1;  // a take-off still on its feet
+  CHECK(enter(Task::descend, low).laws.target_m == low.here_m);
 }
 
 TEST_CASE("Hover and balance keep a valid carrot; hover after take-off identifies the motors") {

@@ -23,7 +23,7 @@ TEST_CASE("The gain is measured flying on thrust alone, above the floor; balanci
     CHECK(thrust_gain_sample(t, 1.0, 0.3, 0.57).load_mps2 == (t == Task::balance ? 0.57 : 0.0));
   }
   for (Task t : {Task::parked, Task::arming, Task::throwing, Task::release, Task::catching, Task::rebalance,
-                 Task::landing, Task::failsafe}) {
+                 Task::landing, Task::failsafe, Task::descend}) {
     CAPTURE(gs::mission::task_name(t));
     CHECK_FALSE(thrust_gain_sample(t, 1.0, 0.3, 0.57).steady);
   }

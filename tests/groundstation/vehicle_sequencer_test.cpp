@@ -44,7 +44,7 @@ using gs::mission::VehicleSequencer;
 namespace c = gs::mission::condition;
 
 constexpr std::uint32_t kAllBits = (std::uint32_t{1} << c::kCount) - 1u;
-constexpr int kReasonCount = static_cast<int>(Reason::pole_fallen) + 1;
+constexpr int kReasonCount = static_cast<int>(Reason::near_floor) + 1;
 constexpr int kRowCount = static_cast<int>(kTransitions.size());
 
 std::vector<Task> all_tasks() {
@@ -234,9 +234,10 @@ TEST_CASE("condition names follow the bits they name", "[sequencer]") {
   CHECK(seen == kAllBits);
 }
 
-TEST_CASE("the airborne set is the ten flying tasks", "[sequencer]") {
+TEST_CASE("the airborne set is the eleven flying tasks", "[sequencer]") {
   CHECK(kAirborne == tasks(Task::take_off, Task::hover, Task::balance, Task::throwing, Task::release,
-                           Task::retreat, Task::wait, Task::catching, Task::rebalance, Task::clear));
+                           Task::retreat, Task::wait, Task::catching, Task::rebalance, Task::clear,
+                           Task::descend));
   for (Task t : {Task::parked, Task::arming, Task::landing, Task::failsafe}) CHECK_FALSE(airborne(t));
 }
 
@@ -427,7 +428,13 @@ TEST_CASE("key transitions, written out", "[sequencer]") {
       {Task::arming, 0, Task::arming, Reason::none},
       {Task::take_off, c::at_height, Task::hover, Reason::airborne},
       {Task::take_off, c::armed, Task::take_off, Reason::none},
-      // Landing.
+      // Landing: flown down on motion capture, then LAND.
+      {Task::hover, c::armed | c::request_land, Task::descend, Reason::land_requested},
+      {Task::descend, c::armed, Task::descend, Reason::none},
+      {Task::descend, c::armed | c::request_land, Task::descend, Reason::none},  // asked again
+      {Task::descend, c::armed | c::at_target, Task::landing, Reason::near_floor},
+      {Task::descend, c::armed | c::at_target | c::estimate_lost, Task::failsafe, Reason::estimate_lost},
+      {Task::descend, c::at_target | c::vehicle_lost, Task::failsafe, Reason::vehicle_lost},
       {Task::landing, c::on_ground, Task::parked, Reason::landed},
       {Task::landing, c::on_ground | c::armed, Task::landing, Reason::none},  // down but still armed
       {Task::landing, c::armed, Task::landing, Reason::none},
@@ -514,16 +521,17 @@ TEST_CASE("estimate_lost in any airborne task (vehicle heard) always leads to fa
   CHECK(v.count == 0);
 }
 
-TEST_CASE("request_land in an airborne task always leads to landing unless the vehicle or estimate is lost",
-          "[sequencer]") {
+TEST_CASE(
+    "request_land in an airborne task always leads to the descent unless the vehicle or estimate is lost",
+    "[sequencer]") {
   Violations v;
   for (Task t : all_tasks()) {
-    if (!airborne(t)) continue;
+    if (!airborne(t) || t == Task::descend) continue;
     for_each_word(t, [&](std::uint32_t w) {
       w = (w | c::request_land) & ~(c::vehicle_lost | c::estimate_lost);
       const Transition* row = find_transition(t, w);
-      if (row == nullptr || row->to != Task::landing || row->reason != Reason::land_requested)
-        v.add(t, w, "not landing");
+      if (row == nullptr || row->to != Task::descend || row->reason != Reason::land_requested)
+        v.add(t, w, "not descending");
     });
   }
   INFO(v.first);
@@ -584,12 +592,17 @@ TEST_CASE("failsafe is left only to parked, and only once down, disarmed and hea
   CHECK(v.count == 0);
 }
 
-TEST_CASE("nothing but the operator's land leads into landing, and landing only ends down or lost",
-          "[sequencer]") {
+TEST_CASE(
+    "nothing but the operator's land leads into landing, through the descent, and landing only ends down or lost",
+    "[sequencer]") {
   for (int i = 0; i < kRowCount; ++i) {
     const Transition& r = kTransitions[static_cast<std::size_t>(i)];
     INFO(describe_row(i));
-    if (r.to == Task::landing) CHECK(r.reason == Reason::land_requested);
+    if (r.to == Task::descend) CHECK(r.reason == Reason::land_requested);
+    if (r.to == Task::landing) {
+      CHECK(r.from == tasks(Task::descend));
+      CHECK(r.reason == Reason::near_floor);
+    }
     if (in(r.from, Task::landing)) CHECK((r.to == Task::failsafe || r.to == Task::parked));
   }
 }
@@ -801,8 +814,10 @@ TEST_CASE("a throw and a catch, step by step", "[sequencer]") {
         {up | c::pole_free, Task::release, Reason::throw_ended},
         {up | c::pole_free | c::release_over, Task::retreat, Reason::released},
         {up | c::pole_free | c::at_target, Task::hover, Reason::clear_of_pole},
-        {up | c::request_land, Task::landing, Reason::land_requested},
-        {up | c::on_ground, Task::landing, Reason::land_requested},
+        {up | c::request_land, Task::descend, Reason::land_requested},
+        {up, Task::descend, Reason::land_requested},
+        {up | c::at_target, Task::landing, Reason::near_floor},
+        {up | c::on_ground, Task::landing, Reason::near_floor},
         {c::on_ground, Task::parked, Reason::landed},
     };
     VehicleSequencer s;

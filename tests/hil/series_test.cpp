@@ -404,7 +404,8 @@ TEST_CASE("a vehicle that leaves the arena's volume lands where it is", "[hil][s
   CHECK(runner.ground_station().volume_breaches() == 2);
   for (const pa::VehicleId v : pa::kActVehicles) {
     const std::string name = "vehicle " + std::to_string(v.node());
-    CHECK(logged(r, name + ": take_off -> landing (land_requested)"));
+    CHECK(logged(r, name + ": take_off -> descend (land_requested)"));
+    CHECK(logged(r, name + ": descend -> landing (near_floor)"));
     CHECK(logged(r, name + ": landing -> parked"));
     // The plant's truth: down on the floor.
     CHECK(runner.arena().plant().vehicle(v).body.position_m.z() < 0.2);

@@ -127,7 +127,8 @@ CommandResult Supervisor::handle_command(CommandCode code, const SupervisorInput
     case CommandCode::expect_catch:
     case CommandCode::catch_handled:
     case CommandCode::set_motor_time_constant:
-    case CommandCode::set_inertia_scale: break;
+    case CommandCode::set_inertia_scale:
+    case CommandCode::correct_tilt: break;
   }
   return refuse(RefuseReason::bad_argument);
 }

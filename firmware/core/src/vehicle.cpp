@@ -218,6 +218,24 @@ void Vehicle::handle_command(const Command& command, std::uint32_t now_us, bool 
                   set ? RefuseReason::none : RefuseReason::bad_argument);
       return;
     }
+    case CommandCode::correct_tilt: {
+      // In flight the attitude integrates the gyro alone, and drifts (measured: 4.5 degrees after
+      // five minutes and 30 throws and catches), which the on-board hold and failsafe would fly.
+      // Only while the ground station flies the vehicle on motion capture is its up current.
+      const std::int16_t x = pa::proto::tilt_x_counts(command.argument);
+      const std::int16_t y = pa::proto::tilt_y_counts(command.argument);
+      if (x < -pa::proto::kTiltMaxCounts || x > pa::proto::kTiltMaxCounts || y < -pa::proto::kTiltMaxCounts ||
+          y > pa::proto::kTiltMaxCounts) {
+        acknowledge(command, AckResult::refused, RefuseReason::bad_argument);
+      } else if (supervisor_.mode() != Mode::flying) {
+        acknowledge(command, AckResult::refused, RefuseReason::not_flying);
+      } else {
+        attitude_.correct_tilt(Vec3f{x * pa::proto::kTiltUnit, y * pa::proto::kTiltUnit, 1.0f});
+        inertial_.tilt_corrected();
+        acknowledge(command, AckResult::accepted, RefuseReason::none);
+      }
+      return;
+    }
   }
 }
 

@@ -152,8 +152,26 @@ enum class CommandCode : std::uint8_t {
   // argument: the vehicle's roll and pitch inertia over its airframe file's, identified, in per
   // mille (500..2000), which the rate loop takes as its inertia (fw/rate_controller.hpp); any mode
   set_inertia_scale = 7,
+  // argument: where up truly lies in the on-board attitude's inertial frame, as motion capture
+  // measures it: x in the high 16 bits, y in the low, signed, in 1e-4 (each within +-0.2); the
+  // firmware turns its estimate onto it (fw::AttitudeEstimator::correct_tilt); flying only
+  correct_tilt = 8,
 };
-inline constexpr std::uint8_t kCommandCodeMax = 7;
+inline constexpr std::uint8_t kCommandCodeMax = 8;
+// correct_tilt's argument from the true up's x and y, and back (kTiltUnit per count).
+inline constexpr float kTiltUnit = 1e-4f;
+inline constexpr std::int32_t kTiltMaxCounts = 2000;
+constexpr std::int32_t tilt_argument(std::int16_t x_counts, std::int16_t y_counts) {
+  return static_cast<std::int32_t>((static_cast<std::uint32_t>(static_cast<std::uint16_t>(x_counts)) << 16) |
+                                   static_cast<std::uint16_t>(y_counts));
+}
+constexpr std::int16_t tilt_x_counts(std::int32_t argument) {
+  return static_cast<std::int16_t>(static_cast<std::uint16_t>(static_cast<std::uint32_t>(argument) >> 16));
+}
+constexpr std::int16_t tilt_y_counts(std::int32_t argument) {
+  return static_cast<std::int16_t>(
+      static_cast<std::uint16_t>(static_cast<std::uint32_t>(argument) & 0xFFFFu));
+}
 
 enum class AckResult : std::uint8_t { accepted = 0, refused = 1, duplicate = 2 };
 inline constexpr std::uint8_t kAckResultMax = 2;

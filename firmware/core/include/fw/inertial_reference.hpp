@@ -78,6 +78,9 @@ class InertialReference {
 
   // Once per failsafe (rest_tilt_corrected() is false until the next rest).
   bool rest_tilt_corrected() const { return rest_tilt_corrected_; }
+  // Motion capture has set the tilt in flight (COMMAND correct_tilt): the lean taken at rest is
+  // gone with the rest of the error.
+  void tilt_corrected() { rest_tilt_corrected_ = true; }
   void correct_rest_tilt(AttitudeEstimator& attitude);
 
   float accel_bias_up_mps2() const { return accel_bias_up_mps2_; }
