@@ -7,7 +7,8 @@
 
 namespace gs::estimation {
 
-Eigen::Vector3d OnboardTilt::true_up_onboard(const Eigen::Quaterniond& onboard, const Eigen::Quaterniond& measured) {
+Eigen::Vector3d OnboardTilt::true_up_onboard(const Eigen::Quaterniond& onboard,
+                                             const Eigen::Quaterniond& measured) {
   return onboard.normalized() * (measured.normalized().conjugate() * Eigen::Vector3d::UnitZ());
 }
 

@@ -21,12 +21,12 @@
 namespace gs::estimation {
 
 struct OnboardTiltSettings {
-  double window_s = 1.0;          // each mean's span
-  int min_reports = 50;           // calm reports in it (they come every 10 ms)
-  double calm_rate_radps = 0.5;   // faster turns make the two attitudes' few ms apart count
+  double window_s = 1.0;         // each mean's span
+  int min_reports = 50;          // calm reports in it (they come every 10 ms)
+  double calm_rate_radps = 0.5;  // faster turns make the two attitudes' few ms apart count
   double correct_above_rad = 0.005;
-  double max_rad = 0.2;           // per axis, as the firmware bounds COMMAND correct_tilt
-  double settle_s = 0.3;          // after a correction, until the reports show it
+  double max_rad = 0.2;   // per axis, as the firmware bounds COMMAND correct_tilt
+  double settle_s = 0.3;  // after a correction, until the reports show it
 };
 
 class OnboardTilt {
@@ -44,7 +44,8 @@ class OnboardTilt {
 
   // The true up in the on-board inertial frame: up in the body as measured, turned by the
   // on-board attitude.
-  static Eigen::Vector3d true_up_onboard(const Eigen::Quaterniond& onboard, const Eigen::Quaterniond& measured);
+  static Eigen::Vector3d true_up_onboard(const Eigen::Quaterniond& onboard,
+                                         const Eigen::Quaterniond& measured);
 
  private:
   OnboardTiltSettings settings_;

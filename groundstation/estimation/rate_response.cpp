@@ -194,7 +194,16 @@ bool RateResponseFit::advance(int replays) {
         // The profile's two sides: the best (g, D) near the optimum's at tau* - h, then tau* + h.
         double& side = c[0] < best_[0] ? profile_low_ : profile_high_;
         side = std::min(side, e);
+        if (e < profile_best_error_) profile_best_ = c, profile_best_error_ = e;
       }
+      continue;
+    }
+    if (stage_ == kProfileStage && profile_best_error_ < best_error_ && profile_moves_ < kMaxProfileMoves) {
+      ++profile_moves_;
+      best_ = profile_best_;
+      best_error_ = profile_best_error_;
+      profile_low_ = profile_high_ = profile_best_error_ = std::numeric_limits<double>::infinity();
+      queue_profile();
       continue;
     }
     // The stage is over: the next one around the best, or the result.

@@ -384,10 +384,17 @@ void GroundStation::send(Vehicle& v, model::VehicleInput u, double now_s) {
 void GroundStation::identify_motors(Vehicle& v, double now_s) {
   for (OnBoardSetting* s : {&v.motors.lag(), &v.motors.inertia()})
     if (s->pending()) s->settle(link_.command_state(*s->pending()));
-  // The gentler flight after a saturated one, only while the vehicle hovers without the pole.
+  // The gentler flight after a saturated one, only while the vehicle hovers without the pole:
+  // in hover at once (the pole comes within seconds), or at its waiting point for a catch once it
+  // is there (a catcher goes to wait straight from its take-off; climbing there, the flight was
+  // fitted 16 % slow). The catch manoeuvre, seconds later, stops a flight not yet over.
   const Task task = v.sequencer.task();
-  if (task != Task::hover && task != Task::take_off) v.motors.cancel_gentle_identification();
-  if (task == Task::hover && v.motors.gentle_flight_due()) v.motors.start_gentle_identification(now_s);
+  if (task != Task::hover && task != Task::wait && task != Task::take_off)
+    v.motors.cancel_gentle_identification();
+  if (v.motors.gentle_flight_due() &&
+      (task == Task::hover ||
+       (task == Task::wait && (mission::condition_word(facts(v, now_s), config_.conditions) & c::at_target))))
+    v.motors.start_gentle_identification(now_s);
   const std::optional<estimation::IdentificationResult> result = v.motors.finish(now_s);
   if (!result) return;
   const std::optional<double> k =

@@ -28,9 +28,11 @@ Eigen::Quaterniond corrected(const Eigen::Quaterniond& onboard, const Eigen::Vec
 // by `error` on the inertial side and turned by its own heading.
 struct Hover {
   Eigen::Quaterniond error = about(Eigen::Vector3d(1.0, -2.0, 0.0), 0.03);
-  Eigen::Quaterniond frame = about(Eigen::Vector3d::UnitZ(), 2.0);  // its own heading, and the corrections taken
+  Eigen::Quaterniond frame =
+      about(Eigen::Vector3d::UnitZ(), 2.0);  // its own heading, and the corrections taken
   Eigen::Quaterniond truth(double t_s) const {
-    return about(Eigen::Vector3d::UnitZ(), 0.1 * t_s) * about(Eigen::Vector3d::UnitX(), 0.1 * std::sin(M_PI * t_s));
+    return about(Eigen::Vector3d::UnitZ(), 0.1 * t_s) *
+           about(Eigen::Vector3d::UnitX(), 0.1 * std::sin(M_PI * t_s));
   }
   Eigen::Quaterniond onboard(double t_s) const { return frame * error * truth(t_s); }
 };
@@ -74,8 +76,10 @@ TEST_CASE("a calm second's mean off by more than the noise is sent once, then th
 TEST_CASE("fast turns, too few reports and nonsense are not judged; a large tilt is corrected in steps") {
   const Hover h;
   OnboardTilt tilt;
-  for (int k = 0; k < 300; ++k) CHECK_FALSE(tilt.report(0.01 * k, h.onboard(0.01 * k), h.truth(0.01 * k), 3.0));
-  for (int k = 0; k < 300; k += 10) CHECK_FALSE(tilt.report(0.01 * k, h.onboard(0.01 * k), h.truth(0.01 * k), 0.1));
+  for (int k = 0; k < 300; ++k)
+    CHECK_FALSE(tilt.report(0.01 * k, h.onboard(0.01 * k), h.truth(0.01 * k), 3.0));
+  for (int k = 0; k < 300; k += 10)
+    CHECK_FALSE(tilt.report(0.01 * k, h.onboard(0.01 * k), h.truth(0.01 * k), 0.1));
   const Eigen::Quaterniond nan(NAN, 0.0, 0.0, 0.0);
   CHECK_FALSE(tilt.report(5.0, nan, h.truth(5.0), 0.1));
   CHECK_FALSE(tilt.report(NAN, h.onboard(5.0), h.truth(5.0), 0.1));
@@ -84,14 +88,15 @@ TEST_CASE("fast turns, too few reports and nonsense are not judged; a large tilt
   far.error = about(Eigen::Vector3d::UnitY(), 0.5);
   OnboardTilt big;
   std::optional<Eigen::Vector2d> up;
-  for (int k = 0; k <= 100 && !up; ++k) up = big.report(0.01 * k, far.onboard(0.01 * k), far.truth(0.01 * k), 0.1);
+  for (int k = 0; k <= 100 && !up; ++k)
+    up = big.report(0.01 * k, far.onboard(0.01 * k), far.truth(0.01 * k), 0.1);
   REQUIRE(up);
   CHECK(up->cwiseAbs().maxCoeff() == Approx(0.2));  // the firmware's bound
 }
 
 TEST_CASE("the command's argument carries the true up to 1e-4 and within the firmware's bound") {
-  for (const Eigen::Vector2d& up : {Eigen::Vector2d(0.0123, -0.0456), Eigen::Vector2d(-0.2, 0.2),
-                                    Eigen::Vector2d(0.0, -0.00004)}) {
+  for (const Eigen::Vector2d& up :
+       {Eigen::Vector2d(0.0123, -0.0456), Eigen::Vector2d(-0.2, 0.2), Eigen::Vector2d(0.0, -0.00004)}) {
     const std::int32_t a = gs::estimation::tilt_correction_argument(up);
     CHECK(pa::proto::tilt_x_counts(a) * 1e-4 == Approx(up.x()).margin(0.5e-4));
     CHECK(pa::proto::tilt_y_counts(a) * 1e-4 == Approx(up.y()).margin(0.5e-4));
