@@ -133,6 +133,11 @@ int replay(const trials::CampaignConfig& campaign, int k, const std::string& out
               r.abort_reason.empty() ? "" : ", ", r.abort_reason.c_str(),
               r.vehicle_crashed ? " (vehicle crashed)" : "");
   print_identification(runner.ground_station(), runner.arena().plant());
+  // An attempt whose take-off failed never flew: nothing was recorded.
+  if (runner.time_series().empty()) {
+    std::printf("no time series: the attempt was not flown\n");
+    return 0;
+  }
   const std::string path = out_dir + "/attempt_" + std::to_string(k) + ".csv";
   write_time_series(path, runner.time_series().front());
   std::printf("wrote %s\n", path.c_str());

@@ -205,6 +205,7 @@ std::vector<AttemptResult> SeriesRunner::run(const std::vector<AttemptPlan>& pla
       r.throw_number = static_cast<int>(i) + 1;
       r.outcome = ThrowOutcome::aborted;
       r.abort_reason = "take_off_failed";
+      r.vehicle_crashed = crashed_;  // a take-off can end so too
     }
     results.push_back(r);
     if (on_result) on_result(r);

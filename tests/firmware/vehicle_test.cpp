@@ -308,14 +308,26 @@ TEST_CASE("the same impact with no catch expected is reported as unexpected and 
   CHECK(b.vehicle.mode() == Mode::flying);
 }
 
-TEST_CASE("a crash in flight stops the motors") {
+TEST_CASE("a crash in flight stops a tumbling vehicle's motors; an upright one flies on") {
+  // Upright: a dropped pole striking the vehicle, say.
+  Bench upright;
+  take_off(upright);
+  for (int i = 0; i < 5; ++i) upright.tick(true, kG, kG + 120.0f);
+  upright.settle(30, kG);
+  const Message* strike = find_impact(upright, true);
+  REQUIRE(strike != nullptr);
+  CHECK(strike->impact.classification == ImpactClass::crash);
+  CHECK(upright.vehicle.mode() == Mode::flying);
+  CHECK(upright.tick(true, kG).motors_enabled);
+  // Rolled past 60 degrees (10 rad/s for 0.12 s), then the impact.
   Bench b;
   take_off(b);
+  b.gyro_radps = {10.0f, 0.0f, 0.0f};
+  for (int i = 0; i < 120; ++i) b.tick(true, kG);
+  b.gyro_radps = {};
+  REQUIRE(b.vehicle.attitude().tilt_cos() < 0.5f);
   for (int i = 0; i < 5; ++i) b.tick(true, kG, kG + 120.0f);
   b.settle(30, kG);
-  const Message* last = find_impact(b, true);
-  REQUIRE(last != nullptr);
-  CHECK(last->impact.classification == ImpactClass::crash);
   CHECK(b.vehicle.mode() == Mode::killed);
   CHECK(b.vehicle.failsafe_reason() == FailsafeReason::crash);
   CHECK_FALSE(b.tick(true, kG).motors_enabled);

@@ -6,14 +6,15 @@
 
 namespace fw {
 
-// In `mode`, the attitude's tilt cosine being `tilt_cos`. On the floor, and flying under the
-// ground's control, a crash stops the motors. In a hold or a failsafe the ground no longer
-// steers: a crash class there is mostly the pole landing on a plate cut during its catch
-// manoeuvre, or the floor met askew. A vehicle still upright keeps levelling and descending (the
-// floor then lands it, motors off) rather than falling from the height of a catch; one tilted to
-// `min_tilt_cos` or beyond is tumbling and is stopped.
+// In `mode`, the attitude's tilt cosine being `tilt_cos`. On the floor a crash stops the motors.
+// In the air a crash class is mostly the pole: landing on a plate cut during its catch manoeuvre,
+// a catch's own impact past the crash peak, a dropped pole falling onto the vehicle (270 m/s^2
+// on a vehicle hovering at 2.6 m, whose motors then stopped: it fell; envelope campaign seed 2,
+// attempts 361 and 844), or the floor met askew. A vehicle still upright flies on, under the ground's control or its own levelling
+// and descent (the floor then lands it, motors off), rather than falling from the height of a
+// catch; one tilted to `min_tilt_cos` or beyond is tumbling and is stopped.
 constexpr bool crash_stops_motors(pa::proto::Mode mode, float tilt_cos, float min_tilt_cos) {
-  return !on_board_flight(mode) || tilt_cos <= min_tilt_cos;
+  return !(mode == pa::proto::Mode::flying || on_board_flight(mode)) || tilt_cos <= min_tilt_cos;
 }
 
 }  // namespace fw
