@@ -90,6 +90,10 @@ void ThrustGainEstimator::measure() {
   const Eigen::Vector3d coefficients = ata.ldlt().solve(atz);
   if (std::abs(coefficients(1)) > config_.max_vertical_speed_mps) return;
   const double accel = 2.0 * coefficients(2);
+  if (std::abs(accel) > config_.max_vertical_accel_mps2) {
+    ++rejected_;
+    return;
+  }
   const double t_s = window_.back().t_s;
   // The random walk since the last measurement.
   if (updated_) {
