@@ -31,7 +31,7 @@ std::optional<Eigen::Vector2d> OnboardTilt::report(double t_s, const Eigen::Quat
   last_error_rad_ = std::atan(mean.norm());
   if (last_error_rad_ <= settings_.correct_above_rad) return std::nullopt;
   blocked_until_s_ = t_s + settings_.settle_s;
-  return mean.cwiseMax(-settings_.max_rad).cwiseMin(settings_.max_rad);
+  return mean;
 }
 
 std::int32_t tilt_correction_argument(const Eigen::Vector2d& true_up_xy) {

@@ -25,7 +25,6 @@ struct OnboardTiltSettings {
   int min_reports = 50;          // calm reports in it (they come every 10 ms)
   double calm_rate_radps = 0.5;  // faster turns make the two attitudes' few ms apart count
   double correct_above_rad = 0.005;
-  double max_rad = 0.2;   // per axis, as the firmware bounds COMMAND correct_tilt
   double settle_s = 0.3;  // after a correction, until the reports show it
 };
 
@@ -35,8 +34,8 @@ class OnboardTilt {
 
   // One on-board attitude report at t_s (body to the vehicle's own inertial frame), the vehicle's
   // attitude as motion capture estimates it (body to arena) and its body rates' magnitude. A
-  // correction is due when a window's mean is off: the true up's x and y in the on-board frame,
-  // each within max_rad; the window starts anew either way.
+  // correction is due when a window's mean is off: the true up's x and y in the on-board frame
+  // (tilt_correction_argument bounds them as the protocol does); the window starts anew either way.
   std::optional<Eigen::Vector2d> report(double t_s, const Eigen::Quaterniond& onboard,
                                         const Eigen::Quaterniond& measured, double rate_radps);
   // The last window's mean tilt, rad (for telemetry and tests).
@@ -56,7 +55,8 @@ class OnboardTilt {
   double last_error_rad_ = 0.0;
 };
 
-// COMMAND correct_tilt's argument (pa/protocol.hpp) for a correction report() gave.
+// COMMAND correct_tilt's argument (pa/protocol.hpp) for a correction report() gave, each axis
+// clamped to the protocol's kTiltMaxCounts (the firmware refuses more).
 std::int32_t tilt_correction_argument(const Eigen::Vector2d& true_up_xy);
 
 }  // namespace gs::estimation

@@ -117,6 +117,10 @@ VehicleThrust GroundStation::thrust_of(pa::VehicleId vehicle) const {
           status.vehicle_status.valid ? 1e-3 * status.vehicle_status.value.battery_mv : 0.0};
 }
 
+double GroundStation::thrust_ceiling_mps2(pa::VehicleId vehicle) const {
+  return runtime::thrust_ceiling_mps2(thrust_of(vehicle), thrust_admission(config_));
+}
+
 pa::VehicleId GroundStation::stronger_thrower(pa::VehicleId preferred) const {
   return runtime::stronger_thrower(thrust_of(preferred), thrust_of(pa::other_vehicle(preferred)),
                                    thrust_admission(config_));
@@ -392,8 +396,7 @@ void GroundStation::identify_motors(Vehicle& v, double now_s) {
   if (task != Task::hover && task != Task::wait && task != Task::take_off)
     v.motors.cancel_gentle_identification();
   if (v.motors.gentle_flight_due() &&
-      (task == Task::hover ||
-       (task == Task::wait && (mission::condition_word(facts(v, now_s), config_.conditions) & c::at_target))))
+      (task == Task::hover || (task == Task::wait && (v.sequencer.last_conditions() & c::at_target))))
     v.motors.start_gentle_identification(now_s);
   const std::optional<estimation::IdentificationResult> result = v.motors.finish(now_s);
   if (!result) return;
@@ -439,8 +442,7 @@ void GroundStation::correct_onboard_tilt(Vehicle& v, const pa::proto::TelemetryA
   const Eigen::Quaterniond measured(model::rotation_inertial_from_body(s.phi_rad, s.theta_rad, s.psi_rad));
   const auto& q = attitude.quaternion;
   const Eigen::Quaterniond onboard(q[0], q[1], q[2], q[3]);
-  const auto& w = status.rates.value.rate_radps;
-  const double rate_radps = std::sqrt(double(w[0]) * w[0] + double(w[1]) * w[1] + double(w[2]) * w[2]);
+  const double rate_radps = Eigen::Map<const Eigen::Vector3f>(status.rates.value.rate_radps.data()).norm();
   if (const std::optional<Eigen::Vector2d> up = v.onboard_tilt.report(now_s, onboard, measured, rate_radps))
     link_.send_command(v.id, pa::proto::CommandCode::correct_tilt, estimation::tilt_correction_argument(*up),
                        now_s);

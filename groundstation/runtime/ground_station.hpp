@@ -126,6 +126,10 @@ class GroundStation {
   // Whether `vehicle`'s pack no longer gives the Fig. 5 throw its margin
   // (GroundStationConfig::pack_swap_margin): land it and put in a fresh one before it throws.
   bool pack_spent(pa::VehicleId vehicle) const;
+  // Its motors as the attempt's admission checks them: thrust gain and reported pack voltage.
+  VehicleThrust thrust_of(pa::VehicleId vehicle) const;
+  // Its collective thrust at full command as measured now (attempt_admission.hpp).
+  double thrust_ceiling_mps2(pa::VehicleId vehicle) const;
   using Refusal = AttemptRefusal;  // runtime/attempt_admission.hpp
   static std::string_view refusal_name(Refusal refusal) { return runtime::refusal_name(refusal); }
   Refusal refusal_kind() const { return refusal_kind_; }
@@ -155,6 +159,10 @@ class GroundStation {
   const std::optional<estimation::IdentificationResult>& motor_identification(pa::VehicleId vehicle) const {
     return vehicle_of(vehicle).motors.identified();
   }
+  // Whether the vehicle flies an identification, or the gentler one after a saturated take-off's is
+  // due: the pole waits for it, since balancing the pole cancels the gentler one and leaves the
+  // motors unequalised.
+  bool identifying_motors(pa::VehicleId vehicle) const { return vehicle_of(vehicle).motors.identifying(); }
   const std::optional<estimation::MotorIdentification>& kept_motor_identification(
       pa::VehicleId vehicle) const {
     return identifications_.kept(vehicle);
@@ -207,8 +215,6 @@ class GroundStation {
   void keep_inside_volume(Vehicle& v);
   void measure_impact_energy(const Vehicle& catcher);
   void send(Vehicle& v, model::VehicleInput u, double now_s);
-  // Its motors as the attempt's admission checks them.
-  VehicleThrust thrust_of(pa::VehicleId vehicle) const;
   void enter(Vehicle& v, double now_s);
   void fly(Vehicle& v, double now_s, double dt_s);
   void update_attempt(double now_s);

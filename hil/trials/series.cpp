@@ -285,6 +285,10 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
     r.abort_reason = "take_off_failed";
     return r;
   }
+  // The person waits with the pole while the thrower re-flies a saturated identification: the pole
+  // put on cancels it, and the vehicle balanced and threw unequalised (a 58 ms thrower dropped the
+  // pole onto the catcher, which tumbled: envelope campaign seed 2, attempt 893).
+  if (plan.place_pole) run_until([&] { return !gs_.identifying_motors(request.thrower); }, 10.0);
   request.catch_it = plan.catch_it;
   request.catch_offset_m = plan.catch_offset_m;
   request.target_xy_m = plan.target_xy_m;
@@ -382,12 +386,14 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
   if (!impact_s && launch_s && floor_s) r.flight_s = *floor_s - *launch_s;
   const gs::mission::Reason end = report ? report->catcher_end : gs::mission::Reason::none;
   if (report && config_.log) {
-    char line[512];
+    const gs::runtime::VehicleThrust thrower_thrust = gs_.thrust_of(thrower);
+    char line[640];
     std::snprintf(
         line, sizeof line,
         "  ground station: waiting (%.3f, %.3f), last target (%.3f, %.3f), predicted (%.3f, %.3f) "
         "at %.3f s after launch, catching height %.3f (this throw's (42) predicted at %.3f m, "
-        "%.3f s), catcher at impact (%.3f, %.3f, %.3f); truth: lower end (%.3f, %.3f, %.3f) at %.3f s",
+        "%.3f s), catcher at impact (%.3f, %.3f, %.3f); truth: lower end (%.3f, %.3f, %.3f) at %.3f s; "
+        "thrower's thrust gain %.3f at %.2f V, ceiling %.1f m/s^2",
         report->waiting_xy_m.x(), report->waiting_xy_m.y(), report->last_target_xy_m.x(),
         report->last_target_xy_m.y(), report->predicted ? report->predicted->xy_m.x() : 0.0,
         report->predicted ? report->predicted->xy_m.y() : 0.0,
@@ -397,7 +403,8 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
         report->catcher_at_impact_m ? report->catcher_at_impact_m->x() : 0.0,
         report->catcher_at_impact_m ? report->catcher_at_impact_m->y() : 0.0,
         report->catcher_at_impact_m ? report->catcher_at_impact_m->z() : 0.0, r.catch_x_m, r.catch_y_m,
-        r.catch_height_m, r.flight_s);
+        r.catch_height_m, r.flight_s, thrower_thrust.gain, thrower_thrust.battery_V,
+        gs_.thrust_ceiling_mps2(thrower));
     config_.log(line);
   }
   const gs::mission::Reason throw_end = report ? report->thrower_end : gs::mission::Reason::none;
