@@ -93,6 +93,11 @@ Eigen::Vector3d GroundStation::waiting_target() const {
   return Eigen::Vector3d(xy.x(), xy.y(), catch_.z_manoeuvre(catch_height()).start_height_m());
 }
 Eigen::Vector3d GroundStation::throw_origin_target() const { return throw_start_m(frame_); }
+Eigen::Vector3d GroundStation::retreat_target() const {
+  Eigen::Vector3d target = throw_origin_target();
+  if (request_.thrower_catches_next) target.z() = std::max(target.z(), waiting_target().z());
+  return target;
+}
 const planning::ThrowTrajectory& GroundStation::flown_throw() const {
   return target_throw_ ? target_throw_->plan.plan.trajectory : throws_.plan().trajectory;
 }
@@ -250,7 +255,7 @@ void GroundStation::enter(Vehicle& v, double now_s) {
   context.reason = v.sequencer.last_reason();
   context.here_m = estimated ? estimator_.vehicle(v.id).state.p_m : v.laws.target_m;
   context.vehicle_mode = link_.status(v.id).mode;
-  context.retreat_target_m = throw_origin_target();
+  context.retreat_target_m = retreat_target();
   context.catch_target_xy_m = catch_.target_xy_m();
   context.identify_motors = config_.identify_motors;
   if (task == Task::catching) {
@@ -478,6 +483,13 @@ AttemptFacts GroundStation::attempt_facts(double now_s) const {
   return f;
 }
 
+bool GroundStation::at_throw_origin(const Vehicle& thrower) const {
+  if (!estimator_.vehicle_initialised(thrower.id)) return false;
+  const model::VehicleState& s = estimator_.vehicle(thrower.id).state;
+  return (s.p_m - throw_origin_target()).norm() < config_.attempt.thrower_at_origin_m &&
+         s.v_mps.norm() < config_.conditions.at_target_speed_mps;
+}
+
 void GroundStation::update_attempt(double now_s) {
   if (phase_ == AttemptPhase::idle) return;
   Vehicle& thrower = vehicle_of(request_.thrower);
@@ -495,7 +507,7 @@ void GroundStation::update_attempt(double now_s) {
       end_attempt(now_s);
       return;
     }
-    if (throw_due(phase_, request_.catch_it, thrower.sequencer.last_conditions(), catcher.sequencer.task(),
+    if (throw_due(phase_, request_.catch_it, at_throw_origin(thrower), catcher.sequencer.task(),
                   catcher.sequencer.last_conditions()))
       thrower.requests |= c::request_throw;
     if (row) phase_ = row->to;
@@ -519,6 +531,9 @@ void GroundStation::update_attempt(double now_s) {
   // The pole's free flight, from the launch to the impact, for the evaluation of (42).
   record_free_flight(flight_, estimator_.pole(), current_);
   hold_since(balanced_on_catcher_s_, catcher.sequencer.task() == Task::balance, now_s);
+  if (request_.thrower_catches_next && balanced_on_catcher_s_ &&
+      now_s - *balanced_on_catcher_s_ >= config_.attempt.pass_return_after_s)
+    catcher.laws.target_m = throw_start_m(throw_frame(catcher.id));
   // In flight: steps until none applies.
   facts = attempt_facts(now_s);
   const AttemptTransition* row = settle_attempt(phase_, attempt_conditions(facts, config_.attempt));
@@ -545,8 +560,8 @@ void GroundStation::end_attempt(double now_s) {
   reports_.push_back(current_);
   phase_ = AttemptPhase::idle;
   catch_.reset();
-  // Back to the start: the thrower to the throw's origin, the catcher to the next waiting point.
-  thrower.laws.target_m = throw_origin_target();
+  // Back to the start: the thrower to where it retreated, the catcher to the next waiting point.
+  thrower.laws.target_m = retreat_target();
   catcher.laws.target_m = waiting_target();
 }
 

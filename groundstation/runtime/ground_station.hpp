@@ -218,6 +218,7 @@ class GroundStation {
   void enter(Vehicle& v, double now_s);
   void fly(Vehicle& v, double now_s, double dt_s);
   void update_attempt(double now_s);
+  bool at_throw_origin(const Vehicle& thrower) const;  // AttemptThresholds::thrower_at_origin_m
   AttemptFacts attempt_facts(double now_s) const;
   CatchView catch_view(const Vehicle& catcher) const;
   void end_attempt(double now_s);
@@ -229,6 +230,9 @@ class GroundStation {
   Eigen::Vector3d waiting_target() const;
   // Where the thrower's centre of gravity hovers before the throw: the throw's origin.
   Eigen::Vector3d throw_origin_target() const;
+  // Where the thrower retreats after the release: over the throw's origin, at the origin's height
+  // or, in a pass (AttemptRequest::thrower_catches_next), at the waiting point's.
+  Eigen::Vector3d retreat_target() const;
   // The throw the attempt flies: the one planned to its target, else the Fig. 5 throw.
   const planning::ThrowTrajectory& flown_throw() const;
   const planning::ThrowTracker& flown_tracker() const;

@@ -39,6 +39,7 @@ std::vector<AttemptPlan> pass_series(int n) {
     AttemptPlan p;
     p.thrower = i % 2 == 0 ? pa::kVehicle1 : pa::kVehicle2;
     p.place_pole = i == 0;
+    p.thrower_catches_next = true;
     plans.push_back(p);
   }
   return plans;
@@ -292,6 +293,7 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
   request.catch_it = plan.catch_it;
   request.catch_offset_m = plan.catch_offset_m;
   request.target_xy_m = plan.target_xy_m;
+  request.thrower_catches_next = plan.thrower_catches_next;
   const std::size_t reports_before = gs_.attempts().size();
   const pa::VehicleId thrower = request.thrower;
   const pa::VehicleId catcher = pa::other_vehicle(thrower);

@@ -48,6 +48,8 @@ struct AttemptPlan {
   // Set: the thrower throws to this catch point (x y) instead of the Fig. 5 throw
   // (GroundStation's throw to a target); the catcher waits above it.
   std::optional<Eigen::Vector2d> target_xy_m = std::nullopt;
+  // A pass: the thrower catches the throw back (AttemptRequest::thrower_catches_next).
+  bool thrower_catches_next = false;
 };
 
 // The paper's series (Section VII-B): throw 1 adapts only, throws 2-7 practise with the catch

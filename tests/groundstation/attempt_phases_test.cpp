@@ -237,12 +237,12 @@ TEST_CASE("hold_since: when the state last began to hold, none while it does not
 TEST_CASE("throw_due: preparing, the thrower at the origin and the catcher waiting at its point") {
   namespace cond = gs::mission::condition;
   using gs::runtime::throw_due;
-  CHECK(throw_due(AttemptPhase::preparing, true, cond::at_target, Task::wait, cond::at_target));
-  CHECK_FALSE(throw_due(AttemptPhase::preparing, true, 0, Task::wait, cond::at_target));
-  CHECK_FALSE(throw_due(AttemptPhase::preparing, true, cond::at_target, Task::wait, 0));
-  CHECK_FALSE(throw_due(AttemptPhase::preparing, true, cond::at_target, Task::hover, cond::at_target));
-  CHECK(throw_due(AttemptPhase::preparing, false, cond::at_target, Task::hover, 0));  // no catch
+  CHECK(throw_due(AttemptPhase::preparing, true, true, Task::wait, cond::at_target));
+  CHECK_FALSE(throw_due(AttemptPhase::preparing, true, false, Task::wait, cond::at_target));
+  CHECK_FALSE(throw_due(AttemptPhase::preparing, true, true, Task::wait, 0));
+  CHECK_FALSE(throw_due(AttemptPhase::preparing, true, true, Task::hover, cond::at_target));
+  CHECK(throw_due(AttemptPhase::preparing, false, true, Task::hover, 0));  // no catch
   for (AttemptPhase p :
        {AttemptPhase::idle, AttemptPhase::throwing, AttemptPhase::flight, AttemptPhase::balancing})
-    CHECK_FALSE(throw_due(p, true, cond::at_target, Task::wait, cond::at_target));
+    CHECK_FALSE(throw_due(p, true, true, Task::wait, cond::at_target));
 }

@@ -133,6 +133,7 @@ struct Series {
   std::vector<hil::trials::AttemptResult> results;
   std::vector<std::string> log;
   bool crashed = false;
+  std::vector<double> throw_starts_s;  // the ground station's, attempt by attempt
 };
 
 Series fly(const std::vector<hil::trials::AttemptPlan>& plans, std::uint64_t seed) {
@@ -143,6 +144,7 @@ Series fly(const std::vector<hil::trials::AttemptPlan>& plans, std::uint64_t see
   hil::trials::SeriesRunner runner(config);
   s.results = runner.run(plans);
   for (const auto& r : s.results) s.crashed = s.crashed || r.vehicle_crashed;
+  for (const auto& a : runner.ground_station().attempts()) s.throw_starts_s.push_back(a.throw_start_s);
   return s;
 }
 
@@ -276,6 +278,15 @@ TEST_CASE("passes back and forth: vehicle 2 catches, balances and throws back to
   CHECK(s.results[3].catch_x_m > 3.0);
   CHECK(std::abs(s.results[2].catch_x_m) < 0.3);
   CHECK(std::abs(s.results[4].catch_x_m) < 0.3);
+  // The thrower retreats at the height it will wait at, and the catcher carries the pole down to
+  // its own throw's origin while the catch is judged: from one pass's throw to the next in under
+  // 11 s (15 s when the thrower retreated down to its origin and the catcher waited for the
+  // judgement, then for 5 cm at its origin).
+  REQUIRE(s.throw_starts_s.size() == 5);
+  for (std::size_t i = 2; i < s.throw_starts_s.size(); ++i) {
+    CAPTURE(i, s.throw_starts_s[i] - s.throw_starts_s[i - 1]);
+    CHECK(s.throw_starts_s[i] - s.throw_starts_s[i - 1] < 11.0);
+  }
 }
 
 TEST_CASE("a pass whose pole is not on its thrower is not flown", "[hil][sil][runtime][series]") {
