@@ -116,10 +116,12 @@ struct AttemptThresholds {
   double caught_after_s = 3.0;
   double attempt_timeout_s = 15.0;
   double pole_down_height_m = 0.25;  // the pole's centre below this: it lies on the floor
-  // The thrower is at the throw's origin this close (and slower than at_target's speed): the
-  // TV-LQR takes up the rest in the throw's first second. A vehicle balancing the pole closes its
-  // last decimetre at ~5 cm/s (the balancing LQR weighs the pole's tilt far above the position):
-  // with the 5 cm of at_target, a pass's thrower waited 3-4 s at its origin for it.
+  // In a pass (AttemptRequest::thrower_catches_next) the thrower is at the throw's origin this
+  // close (and slower than at_target's speed), else at at_target's 5 cm: the TV-LQR takes up the
+  // rest in the throw's first second. A vehicle balancing a caught pole closes its last decimetre
+  // at ~5 cm/s (the balancing LQR weighs the pole's tilt far above the position): with 5 cm, a
+  // pass's thrower waited 3-4 s at its origin. Passes only: a thrower given the pole by hand is at
+  // its origin already, and single throws keep the start their figures were measured with.
   double thrower_at_origin_m = 0.15;
   // A pass (AttemptRequest::thrower_catches_next): the catcher throws back next, and starts down
   // to its own throw's origin once the caught pole has balanced on it this long, while the catch is
@@ -131,9 +133,9 @@ struct AttemptThresholds {
 
 std::uint32_t attempt_conditions(const AttemptFacts& facts, const AttemptThresholds& thresholds);
 
-// Preparing, the thrower is asked to throw once it is at the throw's origin (within
-// AttemptThresholds::thrower_at_origin_m) and the catcher, if the attempt has one, waits at its
-// waiting point (at_target in its last condition word).
+// Preparing, the thrower is asked to throw once it is at the throw's origin (at_target, or within
+// AttemptThresholds::thrower_at_origin_m in a pass) and the catcher, if the attempt has one, waits
+// at its waiting point (at_target in its last condition word).
 inline bool throw_due(AttemptPhase phase, bool catch_it, bool thrower_at_origin, mission::Task catcher_task,
                       std::uint32_t catcher_conditions) {
   const bool catcher_ready = !catch_it || (catcher_task == mission::Task::wait &&

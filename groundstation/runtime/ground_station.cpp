@@ -484,6 +484,7 @@ AttemptFacts GroundStation::attempt_facts(double now_s) const {
 }
 
 bool GroundStation::at_throw_origin(const Vehicle& thrower) const {
+  if (!request_.thrower_catches_next) return (thrower.sequencer.last_conditions() & c::at_target) != 0;
   if (!estimator_.vehicle_initialised(thrower.id)) return false;
   const model::VehicleState& s = estimator_.vehicle(thrower.id).state;
   return (s.p_m - throw_origin_target()).norm() < config_.attempt.thrower_at_origin_m &&

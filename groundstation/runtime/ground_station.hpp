@@ -159,10 +159,6 @@ class GroundStation {
   const std::optional<estimation::IdentificationResult>& motor_identification(pa::VehicleId vehicle) const {
     return vehicle_of(vehicle).motors.identified();
   }
-  // Whether the vehicle flies an identification, or the gentler one after a saturated take-off's is
-  // due: the pole waits for it, since balancing the pole cancels the gentler one and leaves the
-  // motors unequalised.
-  bool identifying_motors(pa::VehicleId vehicle) const { return vehicle_of(vehicle).motors.identifying(); }
   const std::optional<estimation::MotorIdentification>& kept_motor_identification(
       pa::VehicleId vehicle) const {
     return identifications_.kept(vehicle);
@@ -218,7 +214,8 @@ class GroundStation {
   void enter(Vehicle& v, double now_s);
   void fly(Vehicle& v, double now_s, double dt_s);
   void update_attempt(double now_s);
-  bool at_throw_origin(const Vehicle& thrower) const;  // AttemptThresholds::thrower_at_origin_m
+  // at_target, or in a pass within AttemptThresholds::thrower_at_origin_m.
+  bool at_throw_origin(const Vehicle& thrower) const;
   AttemptFacts attempt_facts(double now_s) const;
   CatchView catch_view(const Vehicle& catcher) const;
   void end_attempt(double now_s);

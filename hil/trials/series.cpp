@@ -286,10 +286,6 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
     r.abort_reason = "take_off_failed";
     return r;
   }
-  // The person waits with the pole while the thrower re-flies a saturated identification: the pole
-  // put on cancels it, and the vehicle balanced and threw unequalised (a 58 ms thrower dropped the
-  // pole onto the catcher, which tumbled: envelope campaign seed 2, attempt 893).
-  if (plan.place_pole) run_until([&] { return !gs_.identifying_motors(request.thrower); }, 10.0);
   request.catch_it = plan.catch_it;
   request.catch_offset_m = plan.catch_offset_m;
   request.target_xy_m = plan.target_xy_m;
