@@ -126,8 +126,8 @@ struct AttemptThresholds {
   // A pass (AttemptRequest::thrower_catches_next): the catcher throws back next, and starts down
   // to its own throw's origin once the caught pole has balanced on it this long, while the catch is
   // judged, rather than after it. Measured on the envelope's passes (seeds 1-10): after 1 s a 59 ms
-  // catcher carried a still-shaking pole down and threw it so (seed 5: 3 passes); after 2.5 s,
-  // 100; runs of 100 passes in 3 of 10 seeds either way, 488 passes in all against 427.
+  // catcher carried a still-shaking pole down and threw it so (seed 5: 3 passes in a row against
+  // 100 after 2.5 s); 488 passes in all against 427 (docs/architecture.md, "A pass's cadence").
   double pass_return_after_s = 2.5;
 };
 
