@@ -26,21 +26,17 @@ std::optional<Eigen::Vector3d> attempt_event_origin(const std::string& detail) {
   return origin;
 }
 
+std::string pole_wanted_detail(bool waiting) { return waiting ? "waiting" : "not waiting"; }
+
+std::optional<bool> pole_wanted(const std::string& detail) {
+  if (detail == pole_wanted_detail(true)) return true;
+  if (detail == pole_wanted_detail(false)) return false;
+  return std::nullopt;
+}
+
 std::string task_change_detail(mission::Task from, mission::Task to, mission::Reason reason) {
   return std::string(mission::task_name(from)) + std::string(kArrow) + std::string(mission::task_name(to)) +
          " (" + std::string(mission::reason_name(reason)) + ")";
-}
-
-std::optional<mission::Task> task_change_to(const std::string& detail) {
-  const std::size_t arrow = detail.find(kArrow);
-  if (arrow == std::string::npos) return std::nullopt;
-  const std::size_t begin = arrow + kArrow.size();
-  const std::string name = detail.substr(begin, detail.find(" (", begin) - begin);
-  for (int t = 0; t < mission::kTaskCount; ++t) {
-    const auto task = static_cast<mission::Task>(t);
-    if (mission::task_name(task) == name) return task;
-  }
-  return std::nullopt;
 }
 
 }  // namespace gs::dds

@@ -1,7 +1,8 @@
 // The details of the events (arena.idl, pa_events) that a program reads back, written and read
 // here only: an attempt's (event_attempt: its number and the throw's origin, where the ground
-// station flies the thrower to wait for the pole) and a task change's (event_task_change). `hil
-// run`'s person hands the pole up from them. Pure functions.
+// station flies the thrower to wait for the pole), whether the thrower waits for it
+// (event_pole_wanted) and a task change's (event_task_change, for people). `hil run`'s person
+// hands the pole up from the first two. Pure functions.
 #pragma once
 
 #include <optional>
@@ -18,9 +19,12 @@ std::string attempt_event_detail(int number, const Eigen::Vector3d& origin_m);
 // The origin in such a detail; none for any other text.
 std::optional<Eigen::Vector3d> attempt_event_origin(const std::string& detail);
 
+// "waiting" or "not waiting" (event_pole_wanted).
+std::string pole_wanted_detail(bool waiting);
+// Whether such a detail says waiting; none for any other text.
+std::optional<bool> pole_wanted(const std::string& detail);
+
 // "retreat -> hover (clear_of_pole)".
 std::string task_change_detail(mission::Task from, mission::Task to, mission::Reason reason);
-// The task changed to in such a detail; none for any other text.
-std::optional<mission::Task> task_change_to(const std::string& detail);
 
 }  // namespace gs::dds

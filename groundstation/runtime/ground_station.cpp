@@ -483,6 +483,12 @@ AttemptFacts GroundStation::attempt_facts(double now_s) const {
   return f;
 }
 
+bool GroundStation::waiting_for_pole(pa::VehicleId vehicle) const {
+  const Vehicle& v = vehicle_of(vehicle);
+  return phase_ == AttemptPhase::preparing && vehicle == request_.thrower &&
+         v.sequencer.task() == Task::hover && !v.motors.identifying();
+}
+
 bool GroundStation::at_throw_origin(const Vehicle& thrower) const {
   if (!request_.thrower_catches_next) return (thrower.sequencer.last_conditions() & c::at_target) != 0;
   if (!estimator_.vehicle_initialised(thrower.id)) return false;

@@ -60,6 +60,9 @@ class MotorEqualiser {
   void start_gentle_identification(double now_s);
   // The vehicle is no longer free to fly it (it holds the pole, lands): not started, or stopped.
   void cancel_gentle_identification();
+  // An identification flight is flying, or the gentler one is due: a pole put on now would stop
+  // the one and cancel the other.
+  bool identifying() const { return gentle_due_ || flight_.running(); }
   static constexpr double kGentleAmplitude = 0.5;
 
   // The equaliser's lag (SET_MOTOR_TIME_CONSTANT) and the rate loop's inertia scale

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string_view>
+#include <utility>
 
 #include "groundstation/dds/event_detail.hpp"
 #include "groundstation/dds/mocap_conversion.hpp"
@@ -282,6 +283,11 @@ void Process::publish_changes(double now_s) {
     if (e.to == mission::Task::failsafe && e.from != mission::Task::failsafe)
       publish(pa_arena_event_failsafe, e.vehicle,
               "mission failsafe (" + str(mission::reason_name(e.reason)) + ")", now_s);
+  }
+  for (const pa::VehicleId v : pa::kActVehicles) {
+    const bool waiting = station_.waiting_for_pole(v);
+    if (waiting == std::exchange(waiting_for_pole_[pa::act_slot(v)], waiting)) continue;
+    publish(pa_arena_event_pole_wanted, v, dds::pole_wanted_detail(waiting), now_s);
   }
   for (const link::ImpactReport& i : station_.take_impacts()) {
     if (!i.final) continue;  // the final report of each impact, with its settled class

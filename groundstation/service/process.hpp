@@ -143,9 +143,10 @@ class Process {
   std::optional<double> last_stamp_s_;  // the latest frame's stamp on the ground clock
   std::int64_t stamp_offset_ns_ = 0;
   std::string first_unknown_body_;
-  pa::VehicleId thrower_ = pa::kVehicle1;  // of the latest attempt
-  std::array<VehicleSeen, 2> seen_{};      // by pa::act_slot()
-  int launch_published_ = 0;               // the attempt number whose launch was published
+  pa::VehicleId thrower_ = pa::kVehicle1;   // of the latest attempt
+  std::array<VehicleSeen, 2> seen_{};       // by pa::act_slot()
+  std::array<bool, 2> waiting_for_pole_{};  // as last published (event_pole_wanted), by pa::act_slot()
+  int launch_published_ = 0;                // the attempt number whose launch was published
   std::size_t attempts_published_ = 0;
   // The latest sequence numbers acted on (a ring): an operator console's retry is not acted on twice.
   std::array<std::uint32_t, 64> recent_{};

@@ -14,9 +14,9 @@
 namespace gs::service {
 namespace {
 
-constexpr const char* kEventNames[] = {"launch",      "impact",   "catch success", "catch miss",
-                                       "abort",       "failsafe", "vehicle lost",  "vehicle back",
-                                       "task change", "refused",  "accepted",      "attempt"};
+constexpr const char* kEventNames[] = {"launch",   "impact",       "catch success", "catch miss",  "abort",
+                                       "failsafe", "vehicle lost", "vehicle back",  "task change", "refused",
+                                       "accepted", "attempt",      "pole wanted"};
 
 std::string task_text(std::uint8_t task) {
   if (task >= mission::kTaskCount) return "task " + std::to_string(task);

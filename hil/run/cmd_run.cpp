@@ -188,16 +188,19 @@ class Runner {
 
   // The person standing by with the pole reads the ground station's events: an attempt that
   // begins (the operator's throw accepted) asks them to hand the pole up to its thrower at the
-  // throw's origin the event names, and the tasks say when the thrower waits for it (hovering).
+  // throw's origin the event names, and event_pole_wanted says when the thrower waits for it.
   void take_events() {
     while (const pa_arena_Event* e = events_.take()) {
       const pa::VehicleId vehicle(e->vehicle);
       if (!pa::is_act_vehicle(vehicle)) continue;
       const auto kind = gs::dds::raw_enum(e->kind);
-      if (kind == pa_arena_event_task_change) {
-        if (const std::optional<gs::mission::Task> task = gs::dds::task_change_to(e->detail))
-          exchange_.show_waiting_for_pole(
-              vehicle, *task == gs::mission::Task::hover || *task == gs::mission::Task::balance);
+      if (kind == pa_arena_event_pole_wanted) {
+        if (const std::optional<bool> waiting = gs::dds::pole_wanted(e->detail)) {
+          exchange_.show_waiting_for_pole(vehicle, *waiting);
+          std::printf("hil run: %.3f s: vehicle %u %s for the pole\n", exchange_.t_s(),
+                      static_cast<unsigned>(vehicle.node()), *waiting ? "waits" : "no longer waits");
+          std::fflush(stdout);
+        }
         continue;
       }
       const std::optional<Vec3> origin =

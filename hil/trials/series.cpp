@@ -104,10 +104,7 @@ void SeriesRunner::step() {
   }
   gs_.tick(now);
   // What the person standing by with the pole sees of each vehicle on the ground station.
-  const bool preparing = gs_.attempt_phase() == gs::runtime::AttemptPhase::preparing;
-  for (const pa::VehicleId v : pa::kActVehicles)
-    arena_.show_waiting_for_pole(v,
-                                 preparing && (gs_.task(v) == Task::hover || gs_.task(v) == Task::balance));
+  for (const pa::VehicleId v : pa::kActVehicles) arena_.show_waiting_for_pole(v, gs_.waiting_for_pole(v));
   for (const pa::proto::Frame& f : bus_.take()) arena_.send_from_ground(f);
   if (config_.log) {
     for (const gs::runtime::MissionEvent& e : gs_.take_events()) {

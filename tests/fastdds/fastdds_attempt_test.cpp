@@ -144,9 +144,9 @@ TEST_CASE("The ground station flies an attempt on poses Fast DDS publishes", "[f
     while (const pa_arena_Event* e = events.take()) {
       const auto kind = gs::dds::raw_enum(e->kind);
       const pa::VehicleId vehicle(e->vehicle);
-      if (kind == pa_arena_event_task_change && pa::is_act_vehicle(vehicle)) {
-        if (const std::optional<Task> task = gs::dds::task_change_to(e->detail))
-          arena.show_waiting_for_pole(vehicle, *task == Task::hover || *task == Task::balance);
+      if (kind == pa_arena_event_pole_wanted && pa::is_act_vehicle(vehicle)) {
+        if (const std::optional<bool> waiting = gs::dds::pole_wanted(e->detail))
+          arena.show_waiting_for_pole(vehicle, *waiting);
       } else if (kind == pa_arena_event_attempt && pa::is_act_vehicle(vehicle)) {
         if (const auto origin = gs::dds::attempt_event_origin(e->detail))
           arena.hand_pole_to(vehicle, *origin);

@@ -112,18 +112,23 @@ double peak_excitation(MotorEqualiser& e, double t0_s) {
 
 TEST_CASE("A flight the motors saturated is flown once more, gently; stopped when the pole comes") {
   MotorEqualiser e = equaliser();
+  CHECK_FALSE(e.identifying());
   e.start_identification(10.0);
+  CHECK(e.identifying());  // the pole waits
   const double designed = peak_excitation(e, 10.0);
   const auto saturated = fly(e, 10.0, true);
   REQUIRE(saturated);
   CHECK(saturated->refusal == IdentificationRefusal::saturated);
   REQUIRE(e.gentle_flight_due());
+  CHECK(e.identifying());  // still: the gentler flight is due
   e.start_gentle_identification(20.0);
   CHECK_FALSE(e.gentle_flight_due());
+  CHECK(e.identifying());
   CHECK(peak_excitation(e, 20.0) == Approx(MotorEqualiser::kGentleAmplitude * designed));
   const auto again = fly(e, 20.0, true);
   REQUIRE(again);
   CHECK_FALSE(e.gentle_flight_due());  // once only
+  CHECK_FALSE(e.identifying());
 
   SECTION("stopped when the vehicle takes the pole") {
     e.start_identification(30.0);

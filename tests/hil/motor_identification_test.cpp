@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "groundstation/adaptation/adaptation_store.hpp"
@@ -94,6 +95,43 @@ TEST_CASE("the envelope's hard catchers: a saturated flight flown again at the w
           Approx(id->identified->time_constant_s));
     CHECK_FALSE(r.vehicle_crashed);
   }
+}
+
+// The envelope campaign's (seed 2) attempt 893: the thrower (57.7 ms, inertia gain 1.19) saturated
+// its take-off's flight; the person put the pole on while the gentler flight was due, which
+// cancelled it, and the thrower balanced at 30 ms, dropped the pole onto the catcher, which
+// tumbled. The ground station shows the thrower waiting for the pole only once its identification
+// is flown (GroundStation::waiting_for_pole), and the person waits for that.
+TEST_CASE("the pole waits for the thrower's identification, its gentler flight included", "[hil][campaign]") {
+  hil::trials::CampaignConfig campaign;
+  std::string error;
+  REQUIRE(hil::load_plant_config(std::string(PA_SOURCE_DIR) + "/hil/config/envelope.yaml", campaign.plant,
+                                 error));
+  campaign.seed = 2;
+  const gs::adaptation::Learnt learnt = hil::trials::warm_up(campaign.plant, campaign.seed);
+  hil::trials::SeriesConfig config = hil::trials::attempt_config(campaign, learnt, 893);
+  std::optional<gs::estimation::IdentificationResult> at_pole;  // the thrower's as the pole went on
+  bool placed = false;
+  config.on_step = [&](const hil::sil::Arena& arena, const gs::runtime::GroundStation& station) {
+    const hil::Contact on = arena.plant().pole_contact();
+    if (placed || (on != hil::Contact::vehicle1 && on != hil::Contact::vehicle2)) return;
+    placed = true;
+    at_pole = station.motor_identification(on == hil::Contact::vehicle1 ? pa::kVehicle1 : pa::kVehicle2);
+  };
+  hil::trials::SeriesRunner runner(config);
+  const hil::trials::AttemptResult r = runner.run({hil::trials::campaign_attempt_plan()}).front();
+  const pa::VehicleId thrower(static_cast<std::uint8_t>(r.thrower));
+  REQUIRE(placed);
+  REQUIRE(at_pole);  // the identification was over when the pole went on: the gentler one's fit
+  CHECK(at_pole->identified);
+  const double lag_s = config.plant.vehicle.motor_time_constant_s *
+                       config.plant.vehicle.motor_time_constant_scale[pa::act_slot(thrower)];
+  std::printf("attempt 893 thrower %u: lag %.1f ms, equalised to %.1f ms before the pole; %s\n",
+              static_cast<unsigned>(thrower.node()), 1e3 * lag_s,
+              1e3 * runner.ground_station().equalised_motor_time_constant_s(thrower),
+              std::string(gs::adaptation::to_string(r.outcome)).c_str());
+  CHECK(runner.ground_station().equalised_motor_time_constant_s(thrower) == Approx(lag_s).epsilon(0.1));
+  CHECK_FALSE(r.vehicle_crashed);
 }
 
 TEST_CASE("a stored identification is set on board at arming, before the take-off's own fit") {
