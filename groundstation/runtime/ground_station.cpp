@@ -254,6 +254,7 @@ void GroundStation::enter(Vehicle& v, double now_s) {
   TaskEntryContext context;
   context.reason = v.sequencer.last_reason();
   context.here_m = estimated ? estimator_.vehicle(v.id).state.p_m : v.laws.target_m;
+  if (estimated) context.vertical_speed_mps = estimator_.vehicle(v.id).state.v_mps.z();
   context.vehicle_mode = link_.status(v.id).mode;
   context.retreat_target_m = retreat_target();
   context.catch_target_xy_m = catch_.target_xy_m();

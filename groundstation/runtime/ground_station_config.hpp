@@ -70,10 +70,10 @@ struct GroundStationConfig {
   // Where each vehicle stands on the floor before take-off (x, y), and the take-off height.
   std::array<Eigen::Vector2d, 2> home_xy_m{Eigen::Vector2d(-1.0, 0.0), Eigen::Vector2d(1.0, 0.0)};
   double take_off_height_m = 1.0;
-  // A landing flies down on motion capture to this height of the CG (the feet 0.2 m above the
-  // floor), then sends LAND: the firmware's descent, on its gyro-held attitude, flies only the
-  // last of it.
-  double land_handover_height_m = 0.25;
+  // A landing flies down on motion capture to this height of the CG (the feet 5 cm above the
+  // floor), then sends LAND with the vertical speed it measures: the firmware's descent, on its
+  // own estimate, flies only the last centimetres (docs/failsafe.md).
+  double land_handover_height_m = 0.1;
   // The task controllers' carrot, integral, take-off ramp, pole weight, release and throw
   // window (runtime/task_control.hpp).
   TaskControlSettings tasks;

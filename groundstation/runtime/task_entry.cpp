@@ -1,6 +1,7 @@
 #include "groundstation/runtime/task_entry.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace gs::runtime {
 
@@ -84,7 +85,11 @@ TaskEntry enter_task(mission::Task task, TaskState& laws, std::uint32_t& request
       break;
     case Task::landing:
       requests &= ~c::request_land;
-      entry.command = TaskEntryCommand{CommandCode::land, 0};
+      // The on-board descent starts from the speed motion capture measures (its own drifts).
+      entry.command = TaskEntryCommand{
+          CommandCode::land, static_cast<std::int32_t>(std::clamp(
+                                 std::lround(1e3 * context.vertical_speed_mps),
+                                 -long{pa::proto::kLandSpeedMax_mmps}, long{pa::proto::kLandSpeedMax_mmps}))};
       break;
   }
   return entry;

@@ -18,9 +18,9 @@
 namespace gs::runtime {
 
 struct TaskEntrySettings {
-  double take_off_height_m = 1.0;        // GroundStationConfig::take_off_height_m
-  double clear_distance_m = 1.0;         // GroundStationConfig::clear_distance_m
-  double land_handover_height_m = 0.25;  // GroundStationConfig::land_handover_height_m
+  double take_off_height_m = 1.0;       // GroundStationConfig::take_off_height_m
+  double clear_distance_m = 1.0;        // GroundStationConfig::clear_distance_m
+  double land_handover_height_m = 0.1;  // GroundStationConfig::land_handover_height_m
   // A catcher this close to where the pole comes down has no direction away from it: it clears
   // along +y (the throw frame's side).
   double clear_min_away_m = 0.1;
@@ -34,6 +34,7 @@ struct TaskEntryContext {
   mission::Reason reason = mission::Reason::none;  // the transition's
   // Its estimated position; the task's target before its estimate exists.
   Eigen::Vector3d here_m = Eigen::Vector3d::Zero();
+  double vertical_speed_mps = 0.0;  // its estimated vertical speed; 0 before its estimate exists
   pa::proto::Mode vehicle_mode = pa::proto::Mode::disarmed;     // as the link last heard it
   Eigen::Vector3d retreat_target_m = Eigen::Vector3d::Zero();   // the throw's origin, for the thrower
   Eigen::Vector2d catch_target_xy_m = Eigen::Vector2d::Zero();  // where the pole comes down

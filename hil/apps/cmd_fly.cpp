@@ -146,8 +146,8 @@ int cmd_fly(int argc, char** argv) {
           plant, seed, randomise ? trials::PlantDraw::drawn : trials::PlantDraw::as_given);
       config.record_time_series = !out_dir.empty();
       config.ground_station.adaptation_store_path = store_file;
-      // Between throws the person who puts the pole on swaps a spent pack; passes keep theirs.
-      config.swap_spent_packs = throws > 0;
+      // Before a throw or a pass, a spent pack is swapped (SeriesConfig::swap_spent_packs).
+      config.swap_spent_packs = throws > 0 || passes > 0;
       if (verbose) config.log = [](const std::string& line) { std::printf("%s\n", line.c_str()); };
       trials::SeriesRunner runner(config);
       results = runner.run(plans, print);

@@ -99,15 +99,21 @@ Plant::Plant(const PlantConfig& config, std::uint64_t seed)
   }
   vehicles_[0] = parked_vehicle(-1.0, 0.0, 0.0, pa::kVehicle1);
   vehicles_[1] = parked_vehicle(1.0, 0.0, 0.0, pa::kVehicle2);
-  // The pole lies still on the floor, each end sunk by half its weight over the floor's stiffness.
-  const double sink_m =
-      config.pole.mass_kg * config.gravity_mps2 / (2.0 * config.contact.floor_stiffness_Npm);
-  pole_ = make_pole(Vec3(0.0, 0.0, config.contact.floor_height_m - sink_m), Vec3::UnitY(), Vec3::Zero(),
-                    Vec3::Zero());
+  pole_ = pole_on_floor(Vec3::Zero());
   for (int p = 0; p < kPairs; ++p) reset_pair(p);
   pole_asleep_ = true;
   events_.clear();
 }
+
+PoleState Plant::pole_on_floor(const Vec3& centre_xy_m) const {
+  // Still on the floor, each end sunk by half its weight over the floor's stiffness.
+  const double sink_m =
+      config_.pole.mass_kg * config_.gravity_mps2 / (2.0 * config_.contact.floor_stiffness_Npm);
+  return make_pole(Vec3(centre_xy_m.x(), centre_xy_m.y(), config_.contact.floor_height_m - sink_m),
+                   Vec3::UnitY(), Vec3::Zero(), Vec3::Zero());
+}
+
+void Plant::lay_pole_on_floor(const Vec3& centre_xy_m) { set_pole(pole_on_floor(centre_xy_m)); }
 
 // --- state builders ------------------------------------------------------------------------
 

@@ -75,6 +75,9 @@ class Plant {
   void set_pole(const PoleState& state);
   // The pole put upright on `vehicle`'s plate, moving with it: a person handing it up.
   void place_pole_on(pa::VehicleId vehicle);
+  // The pole taken off whatever holds it and laid still on the floor, its centre below
+  // `centre_xy_m` and its axis along y: a person taking it down.
+  void lay_pole_on_floor(const Vec3& centre_xy_m);
 
   // Advances by dt_s (rounded to whole nanoseconds; non-finite or negative does nothing) with
   // the motor commands held over the interval.
@@ -168,6 +171,8 @@ class Plant {
  private:
   // The contact pairs: pole end e with surface s at e * 3 + s; vehicle v's foot f with the floor
   // at 6 + 4 v + f.
+  // The pole lying still on the floor below `centre_xy_m`, along y.
+  PoleState pole_on_floor(const Vec3& centre_xy_m) const;
   static constexpr int kPolePairs = 6;
   static constexpr int kPairs = 14;
   struct PairMemory {

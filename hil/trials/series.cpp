@@ -245,6 +245,9 @@ bool SeriesRunner::swap_pack(pa::VehicleId vehicle) {
                   arena_.t_s(), int(vehicle.node()), arena_.plant().battery(vehicle).voltage_V);
     config_.log(line);
   }
+  // Taken down 2 m aside of the act's line, where neither vehicle lands or takes off.
+  if (arena_.plant().pole_contact() == contact_of(plate_of(vehicle)))
+    arena_.plant().lay_pole_on_floor(Vec3(0.0, -2.0, 0.0));
   gs_.request_land(vehicle);
   if (!run_until([&] { return gs_.task(vehicle) == Task::parked; }, 20.0)) return false;
   arena_.plant().swap_battery(vehicle);
@@ -276,12 +279,16 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
   gs::runtime::AttemptRequest request;
   request.thrower =
       plan.stronger_throws && plan.place_pole ? gs_.stronger_thrower(plan.thrower) : plan.thrower;
-  // The thrower has no pole yet (the person puts it on): it can land for a fresh pack.
-  if (plan.place_pole && config_.swap_spent_packs && gs_.pack_spent(request.thrower) &&
-      !swap_pack(request.thrower)) {
-    r.outcome = ThrowOutcome::aborted;
-    r.abort_reason = "take_off_failed";
-    return r;
+  // A spent pack is swapped before the throw: the person takes the pole down if the thrower holds
+  // it, the thrower lands for a fresh pack, and the pole goes up again as for a first throw.
+  bool place_pole = plan.place_pole;
+  if (config_.swap_spent_packs && gs_.pack_spent(request.thrower)) {
+    if (!swap_pack(request.thrower)) {
+      r.outcome = ThrowOutcome::aborted;
+      r.abort_reason = "take_off_failed";
+      return r;
+    }
+    place_pole = true;
   }
   request.catch_it = plan.catch_it;
   request.catch_offset_m = plan.catch_offset_m;
@@ -298,7 +305,7 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
   }
 
   // The person stands by to put the pole on the thrower hovering at the throw's origin.
-  if (plan.place_pole) arena_.hand_pole_to(thrower, gs_.throw_frame(thrower).origin_m);
+  if (place_pole) arena_.hand_pole_to(thrower, gs_.throw_frame(thrower).origin_m);
   bool pushed = false;
   std::optional<double> throw_start_s, launch_s, impact_s, floor_s;
   double upright_since_s = -1.0;  // < 0: not upright on the catcher

@@ -99,9 +99,10 @@ struct SeriesConfig {
   // Measure the wall time of every sil::Arena::step (the plant, both firmware cores, the radios and
   // the motion capture: the arena alone, without the ground station or this runner's own work).
   bool time_arena = false;
-  // Before an attempt whose pole a person puts on, that person also swaps the thrower's pack when
-  // the ground station finds it spent (GroundStation::pack_spent): it lands, gets a full pack and
-  // takes off again. Passes fly on the packs they started with.
+  // Before an attempt, a person swaps the thrower's pack when the ground station finds it spent
+  // (GroundStation::pack_spent): they take the pole down if the thrower holds it (a pass), the
+  // thrower lands, gets a full pack and takes off again, and the pole is put on as for a first
+  // throw. Off: every vehicle flies on the pack it started with.
   bool swap_spent_packs = false;
   // Called after every 1 ms step (diagnostics, tests that watch the truth).
   std::function<void(const sil::Arena&, const gs::runtime::GroundStation&)> on_step;

@@ -350,6 +350,35 @@ TEST_CASE("the failsafe removes the tilt the accelerometer's bias gave the estim
   CHECK(static_cast<double>(tilt()) < 0.05 * lean);
 }
 
+TEST_CASE("LAND's descent starts from the vertical speed the ground measures, not the drifted one") {
+  // In flight the accelerometer reads 0.05 m/s^2 less along up than at rest (a bias that moved):
+  // over a minute the speed integrated in flight reads the hovering vehicle sinking at ~2 m/s,
+  // from which the descent would climb. LAND says the vehicle is still; it sinks.
+  Bench b;
+  b.settle(3000);
+  take_off(b);
+  b.accel_bias_mps2 = {0.0f, 0.0f, -0.05f};
+  const auto mean_motor = [](const fw::TickOutput& out) {
+    float sum = 0;
+    for (const float m : out.motor_command) sum += m;
+    return sum / 4;
+  };
+  float hover = 0;
+  for (int i = 0; i < 60000; ++i) hover = mean_motor(b.tick(true, kG));
+  b.command(CommandCode::land, 0);
+  REQUIRE(b.last_ack());
+  CHECK(b.last_ack()->result == AckResult::accepted);
+  REQUIRE(b.vehicle.mode() == Mode::failsafe_descent);
+  float descending = 0;
+  for (int i = 0; i < 20; ++i) descending = mean_motor(b.tick(true, -1));
+  CHECK(descending < 0.95f * hover);
+
+  b.command(CommandCode::land, kLandSpeedMax_mmps + 1);  // out of range: refused, nothing changes
+  REQUIRE(b.last_ack());
+  CHECK(b.last_ack()->result == AckResult::refused);
+  CHECK(b.last_ack()->reason == RefuseReason::bad_argument);
+}
+
 TEST_CASE("the vehicle reports itself: heartbeats, telemetry and time-sync replies") {
   Bench b;
   b.queue(TimesyncRequest{123456, 1});

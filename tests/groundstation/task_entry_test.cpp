@@ -122,8 +122,21 @@ TEST_CASE("A landing descends straight down to the hand-over height, never up") 
   CHECK(high.laws.set_point.position_m == here().here_m);
   CHECK(high.laws.set_point.valid);
   TaskEntryContext low = here();
-  low.here_m.z() = 0.1;  // a take-off still on its feet
+  low.here_m.z() = 0.06;  // a take-off still on its feet
   CHECK(enter(Task::descend, low).laws.target_m == low.here_m);
+}
+
+TEST_CASE("LAND carries the vertical speed motion capture measures, in mm/s within the protocol's bound") {
+  TaskEntryContext context = here();
+  context.vertical_speed_mps = -0.1234;
+  const Entered e = enter(Task::landing, context);
+  REQUIRE(e.entry.command);
+  CHECK(e.entry.command->code == CommandCode::land);
+  CHECK(e.entry.command->argument == -123);
+  context.vertical_speed_mps = 9.0;  // an estimate gone wild is sent as the bound, never past it
+  CHECK(enter(Task::landing, context).entry.command->argument == pa::proto::kLandSpeedMax_mmps);
+  context.vertical_speed_mps = -9.0;
+  CHECK(enter(Task::landing, context).entry.command->argument == -pa::proto::kLandSpeedMax_mmps);
 }
 
 TEST_CASE("Hover and balance keep a valid carrot; hover after take-off identifies the motors") {

@@ -61,6 +61,20 @@ TEST_CASE("20 vehicles drawn from the envelope: motor lag within 10 %, thrust ga
   CHECK(vehicles == 20);
 }
 
+namespace {
+
+// The arena envelope's campaign with `seed` (hil campaign --plant hil/config/envelope.yaml).
+hil::trials::CampaignConfig envelope_campaign(std::uint64_t seed) {
+  hil::trials::CampaignConfig campaign;
+  std::string error;
+  REQUIRE(hil::load_plant_config(std::string(PA_SOURCE_DIR) + "/hil/config/envelope.yaml", campaign.plant,
+                                 error));
+  campaign.seed = seed;
+  return campaign;
+}
+
+}  // namespace
+
 // Two catchers of the envelope campaign (seed 1) that flew unequalised at 30 ms and dropped the
 // pole, one crashing: attempt 287's (59.7 ms, weak) saturated its take-off's flight while it climbed
 // to its waiting point, and its gentler flight was due only in hover, where a catcher never goes;
@@ -69,11 +83,7 @@ TEST_CASE("20 vehicles drawn from the envelope: motor lag within 10 %, thrust ga
 TEST_CASE("the envelope's hard catchers: a saturated flight flown again at the waiting point, a fit off "
           "the grid's best",
           "[hil][campaign]") {
-  hil::trials::CampaignConfig campaign;
-  std::string error;
-  REQUIRE(hil::load_plant_config(std::string(PA_SOURCE_DIR) + "/hil/config/envelope.yaml", campaign.plant,
-                                 error));
-  campaign.seed = 1;
+  const hil::trials::CampaignConfig campaign = envelope_campaign(1);
   const gs::adaptation::Learnt learnt = hil::trials::warm_up(campaign.plant, campaign.seed);
   for (const int attempt : {287, 675}) {
     const hil::trials::SeriesConfig config = hil::trials::attempt_config(campaign, learnt, attempt);
@@ -103,11 +113,7 @@ TEST_CASE("the envelope's hard catchers: a saturated flight flown again at the w
 // tumbled. The ground station shows the thrower waiting for the pole only once its identification
 // is flown (GroundStation::waiting_for_pole), and the person waits for that.
 TEST_CASE("the pole waits for the thrower's identification, its gentler flight included", "[hil][campaign]") {
-  hil::trials::CampaignConfig campaign;
-  std::string error;
-  REQUIRE(hil::load_plant_config(std::string(PA_SOURCE_DIR) + "/hil/config/envelope.yaml", campaign.plant,
-                                 error));
-  campaign.seed = 2;
+  const hil::trials::CampaignConfig campaign = envelope_campaign(2);
   const gs::adaptation::Learnt learnt = hil::trials::warm_up(campaign.plant, campaign.seed);
   hil::trials::SeriesConfig config = hil::trials::attempt_config(campaign, learnt, 893);
   std::optional<gs::estimation::IdentificationResult> at_pole;  // the thrower's as the pole went on

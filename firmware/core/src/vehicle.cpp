@@ -186,9 +186,22 @@ void Vehicle::handle_command(const Command& command, std::uint32_t now_us, bool 
     case CommandCode::arm:
     case CommandCode::disarm:
     case CommandCode::land: {
+      const bool land = command.code == CommandCode::land;
+      if (land && (command.argument < -kLandSpeedMax_mmps || command.argument > kLandSpeedMax_mmps)) {
+        acknowledge(command, AckResult::refused, RefuseReason::bad_argument);
+        return;
+      }
       const Mode before = supervisor_.mode();
       const CommandResult r = supervisor_.handle_command(command.code, inputs_);
       if (r.accepted && command.code == CommandCode::arm && before != Mode::armed) rate_controller_.reset();
+      if (r.accepted && land) {
+        // The descent starts from the vertical speed motion capture measures, not from the one
+        // integrated in flight: that one drifts with the accelerometer's bias over minutes, and
+        // read as sinking it had a vehicle handed LAND 10 cm above the floor climb to 5 m.
+        const float vz_mps = static_cast<float>(command.argument) * 1e-3f;
+        inertial_.follow_vz(vz_mps);
+        failsafe_.start(vz_mps);
+      }
       acknowledge(command, r.accepted ? AckResult::accepted : AckResult::refused, r.reason);
       return;
     }

@@ -141,9 +141,12 @@ inline constexpr std::uint16_t kMotorMax16 = 65535;       // TELEMETRY_MOTORS, 1
 // Enumerations carried in frames
 // ---------------------------------------------------------------------------------------
 enum class CommandCode : std::uint8_t {
-  arm = 1,            // needs disarmed, a live ground heartbeat and zero thrust
-  disarm = 2,         // motors off; also clears a latched KILL
-  land = 3,           // controlled descent, then motors off on the ground
+  arm = 1,     // needs disarmed, a live ground heartbeat and zero thrust
+  disarm = 2,  // motors off; also clears a latched KILL
+  // argument: the vehicle's vertical speed as motion capture measures it, in mm/s (within
+  // +-kLandSpeedMax_mmps), which the on-board descent starts from; controlled descent, then motors
+  // off on the ground
+  land = 3,
   expect_catch = 4,   // argument: catch window in ms; impacts inside it are catches
   catch_handled = 5,  // the ground station has taken over after an impact
   // argument: the motors' identified time constant in us (10000..100000), which the firmware
@@ -158,6 +161,7 @@ enum class CommandCode : std::uint8_t {
   correct_tilt = 8,
 };
 inline constexpr std::uint8_t kCommandCodeMax = 8;
+inline constexpr std::int32_t kLandSpeedMax_mmps = 5000;  // LAND's argument
 // correct_tilt's argument from the true up's x and y, and back (kTiltUnit per count).
 inline constexpr float kTiltUnit = 1e-4f;
 inline constexpr std::int32_t kTiltMaxCounts = 2000;
