@@ -12,7 +12,8 @@ std::uint32_t condition_word(const ConditionFacts& f, const ConditionThresholds&
   if (f.command_failed) w |= c::command_failed;
   if (f.estimated) {
     if (f.position_m.z() >= f.target_m.z() - t.at_height_margin_m) w |= c::at_height;
-    if ((f.position_m - f.target_m).norm() < t.at_target_m && f.velocity_mps.norm() < t.at_target_speed_mps)
+    if ((f.position_m - f.target_m).norm() < f.at_target_within_m.value_or(t.at_target_m) &&
+        f.velocity_mps.norm() < t.at_target_speed_mps)
       w |= c::at_target;
   }
   // While the vehicle holds the pole, the pole counts as on the plate as long as the latest

@@ -30,6 +30,9 @@ struct ConditionFacts {
   Eigen::Vector3d velocity_mps = Eigen::Vector3d::Zero();
   Eigen::Vector3d target_m = Eigen::Vector3d::Zero();     // where the task wants the centre of gravity
   Eigen::Vector3d set_point_m = Eigen::Vector3d::Zero();  // the carrot its law flies about now
+  // How close counts as at the target, in place of the thresholds' at_target_m: a pass's thrower
+  // at its throw's origin (runtime::AttemptThresholds::thrower_at_origin_m).
+  std::optional<double> at_target_within_m;
   // The pole: the latest pose's end nearest this vehicle's plate, from the plate (set while the
   // vehicle holds the pole: throwing, rebalance, balance); the estimator's mode call.
   std::optional<double> pole_end_from_plate_m;

@@ -28,9 +28,12 @@ struct AttemptRequest {
   // height. The catcher waits above it. The planner is given the point moved against the mean miss
   // of the throws to targets before (adaptation::Learner::target_miss_m).
   std::optional<Eigen::Vector2d> target_xy_m;
-  // A pass back and forth: the thrower catches the throw back, so it retreats to the height it
-  // will wait at, above its throw's origin, rather than down to the origin. Flown down and climbed
-  // back at the carrot's 1 m/s, those 4 m were 8 s of a 15 s pass (hil fly --passes).
+  // A pass back and forth: the thrower catches the throw back. Three things shorten the pass
+  // (docs/architecture.md, "A pass's cadence"): the thrower retreats to the height it will wait
+  // at, above its throw's origin, rather than down to the origin (flown down and climbed back at
+  // the carrot's 1 m/s, those 4 m were 8 s of a 15 s pass); it throws from within
+  // AttemptThresholds::thrower_at_origin_m of its origin; and the catcher carries the pole down to
+  // its own origin once it has balanced AttemptThresholds::pass_return_after_s.
   bool thrower_catches_next = false;
 };
 

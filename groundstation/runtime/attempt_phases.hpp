@@ -116,8 +116,8 @@ struct AttemptThresholds {
   double caught_after_s = 3.0;
   double attempt_timeout_s = 15.0;
   double pole_down_height_m = 0.25;  // the pole's centre below this: it lies on the floor
-  // In a pass (AttemptRequest::thrower_catches_next) the thrower is at the throw's origin this
-  // close (and slower than at_target's speed), else at at_target's 5 cm: the TV-LQR takes up the
+  // In a pass (AttemptRequest::thrower_catches_next) the thrower preparing is at_target at the
+  // throw's origin this close (mission::ConditionFacts::at_target_within_m), else at 5 cm: the TV-LQR takes up the
   // rest in the throw's first second. A vehicle balancing a caught pole closes its last decimetre
   // at ~5 cm/s (the balancing LQR weighs the pole's tilt far above the position): with 5 cm, a
   // pass's thrower waited 3-4 s at its origin. Passes only: a thrower given the pole by hand is at

@@ -51,6 +51,8 @@ mission::ConditionFacts condition_facts(const VehicleView& v, const link::Vehicl
   f.pole_on_floor =
       in_flight && attempt.pole_seen_height_m && *attempt.pole_seen_height_m < attempt.pole_down_height_m;
   f.throw_duration_s = attempt.throw_duration_s;
+  if (attempt.phase == AttemptPhase::preparing && v.id == attempt.thrower)
+    f.at_target_within_m = attempt.thrower_at_origin_m;
   f.catcher = attempt.catch_it && v.id != attempt.thrower && attempt.phase != AttemptPhase::idle;
   f.catch_due =
       (attempt.phase == AttemptPhase::throwing || attempt.phase == AttemptPhase::flight) && attempt.catch_due;

@@ -41,6 +41,9 @@ struct AttemptView {
   std::optional<double> pole_seen_height_m;        // the pole's centre, last seen
   std::optional<estimation::MocapPose> pole_pose;  // the latest pose of the pole
   double pole_down_height_m = 0.25;                // AttemptThresholds::pole_down_height_m
+  // A pass: the thrower preparing is at its throw's origin this close
+  // (AttemptThresholds::thrower_at_origin_m).
+  std::optional<double> thrower_at_origin_m;
 };
 
 mission::ConditionFacts condition_facts(const VehicleView& vehicle, const link::VehicleLinkStatus& link,

@@ -245,6 +245,7 @@ mission::ConditionFacts GroundStation::facts(const Vehicle& v, double now_s) con
   if (last_pole_pose_) attempt.pole_seen_height_m = last_pole_pose_->p_m.z();
   attempt.pole_pose = last_pole_pose_;
   attempt.pole_down_height_m = config_.attempt.pole_down_height_m;
+  if (request_.thrower_catches_next) attempt.thrower_at_origin_m = config_.attempt.thrower_at_origin_m;
   return condition_facts(vehicle, link_.status(v.id), estimator_, attempt, now_s);
 }
 
@@ -490,14 +491,6 @@ bool GroundStation::waiting_for_pole(pa::VehicleId vehicle) const {
          v.sequencer.task() == Task::hover && !v.motors.identifying();
 }
 
-bool GroundStation::at_throw_origin(const Vehicle& thrower) const {
-  if (!request_.thrower_catches_next) return (thrower.sequencer.last_conditions() & c::at_target) != 0;
-  if (!estimator_.vehicle_initialised(thrower.id)) return false;
-  const model::VehicleState& s = estimator_.vehicle(thrower.id).state;
-  return (s.p_m - throw_origin_target()).norm() < config_.attempt.thrower_at_origin_m &&
-         s.v_mps.norm() < config_.conditions.at_target_speed_mps;
-}
-
 void GroundStation::update_attempt(double now_s) {
   if (phase_ == AttemptPhase::idle) return;
   Vehicle& thrower = vehicle_of(request_.thrower);
@@ -515,7 +508,8 @@ void GroundStation::update_attempt(double now_s) {
       end_attempt(now_s);
       return;
     }
-    if (throw_due(phase_, request_.catch_it, at_throw_origin(thrower), catcher.sequencer.task(),
+    const bool thrower_at_origin = (thrower.sequencer.last_conditions() & c::at_target) != 0;
+    if (throw_due(phase_, request_.catch_it, thrower_at_origin, catcher.sequencer.task(),
                   catcher.sequencer.last_conditions()))
       thrower.requests |= c::request_throw;
     if (row) phase_ = row->to;

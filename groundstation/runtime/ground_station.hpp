@@ -221,8 +221,6 @@ class GroundStation {
   void enter(Vehicle& v, double now_s);
   void fly(Vehicle& v, double now_s, double dt_s);
   void update_attempt(double now_s);
-  // at_target, or in a pass within AttemptThresholds::thrower_at_origin_m.
-  bool at_throw_origin(const Vehicle& thrower) const;
   AttemptFacts attempt_facts(double now_s) const;
   CatchView catch_view(const Vehicle& catcher) const;
   void end_attempt(double now_s);

@@ -117,6 +117,23 @@ TEST_CASE("The pole on the floor counts only in an attempt's flight, below pole_
   CHECK_FALSE(facts(catcher(), heard(pa::proto::Mode::armed), a).pole_on_floor);
 }
 
+TEST_CASE("A pass's thrower preparing is at its origin within the pass's distance; no one else") {
+  AttemptView a;
+  a.phase = AttemptPhase::preparing;
+  a.thrower = pa::kVehicle2;
+  CHECK_FALSE(facts(catcher(), heard(pa::proto::Mode::armed), a).at_target_within_m);  // not a pass
+  a.thrower_at_origin_m = 0.15;
+  REQUIRE(facts(catcher(), heard(pa::proto::Mode::armed), a).at_target_within_m);
+  CHECK(*facts(catcher(), heard(pa::proto::Mode::armed), a).at_target_within_m == 0.15);
+  a.thrower = pa::kVehicle1;  // the other vehicle's target keeps the thresholds' distance
+  CHECK_FALSE(facts(catcher(), heard(pa::proto::Mode::armed), a).at_target_within_m);
+  a.thrower = pa::kVehicle2;
+  for (AttemptPhase p : {AttemptPhase::idle, AttemptPhase::throwing, AttemptPhase::flight}) {
+    a.phase = p;
+    CHECK_FALSE(facts(catcher(), heard(pa::proto::Mode::armed), a).at_target_within_m);
+  }
+}
+
 TEST_CASE("Balanced for: since the pole settled") {
   AttemptView a;
   CHECK_FALSE(facts(catcher(), heard(pa::proto::Mode::armed), a).balanced_for_s);

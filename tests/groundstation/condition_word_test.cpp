@@ -83,6 +83,14 @@ TEST_CASE("At height from the margin below the target; at target within distance
   CHECK(condition_names(condition_word(f, t)) == "armed|at_height|at_target");
   f.velocity_mps.y() = t.at_target_speed_mps;  // at the speed bound: moving
   CHECK(condition_names(condition_word(f, t)) == "armed|at_height");
+  // A wider distance in the facts (a pass's thrower at its origin) replaces the thresholds'.
+  f = hovering();
+  f.position_m.x() += 2.0 * t.at_target_m;
+  CHECK(condition_names(condition_word(f, t)) == "armed|at_height");
+  f.at_target_within_m = 3.0 * t.at_target_m;
+  CHECK(condition_names(condition_word(f, t)) == "armed|at_height|at_target");
+  f.velocity_mps.y() = t.at_target_speed_mps;  // the speed bound stays
+  CHECK(condition_names(condition_word(f, t)) == "armed|at_height");
 }
 
 TEST_CASE("The pole on the plate: the estimator's call, or an end at the plate while holding") {
