@@ -11,9 +11,12 @@
 // against x' and alpha': a shift the tracking loop undoes) barely moves the end state, and the
 // correction barely moves along it either, by at most gain s / (s^2 + lambda) = 0.3 % of the
 // error a throw, so it cannot wander. A plant that follows a shifted reference 30 % less or more
-// than the model in any component keeps every eigenvalue inside; the bounds keep the correction
+// than the model in any component keeps every eigenvalue inside, and the five directions that
+// matter still lose at least 1 % of their error a throw (0.989 at worst); the bounds keep the correction
 // finite whatever the plant does, and a spoiled throw is not learnt from (throw_learning_test.cpp).
 #include <catch2/catch.hpp>
+
+#include <algorithm>
 #include <cstdio>
 
 #include <Eigen/Eigenvalues>
@@ -61,14 +64,23 @@ TEST_CASE("the throw's learning converges on the model's sensitivity and on plan
 
   // The plant follows each component of the shifted reference 0.7 or 1.3 times as far as the
   // model says (every sign pattern of the six columns).
+  // The spectral radius shows that none diverges; it is set by the near-null sixth direction
+  // (1 - O(1e-5)), so the rate is the next eigenvalue's, the slowest of the five that matter.
   double worst = 0.0;
+  double worst_rate = 0.0;  // the second largest eigenvalue's magnitude
   for (int pattern = 0; pattern < 64; ++pattern) {
     LaunchMatrix plant = g;
     for (int j = 0; j < 6; ++j) plant.col(j) *= (pattern >> j) & 1 ? 1.3 : 0.7;
-    worst = std::max(worst, spectral_radius(identity - settings.gain * inverse * plant));
+    const LaunchMatrix iteration = identity - settings.gain * inverse * plant;
+    Eigen::Matrix<double, 6, 1> magnitudes = iteration.eigenvalues().cwiseAbs();
+    std::sort(magnitudes.data(), magnitudes.data() + magnitudes.size());
+    worst = std::max(worst, magnitudes(5));
+    worst_rate = std::max(worst_rate, magnitudes(4));
   }
-  std::printf("worst spectral radius on plants 30 %% off the model: %.3f\n", worst);
+  std::printf("plants 30 %% off the model: worst spectral radius %.6f, worst second eigenvalue %.3f\n", worst,
+              worst_rate);
   CHECK(worst < 1.0);
+  CHECK(worst_rate < 0.99);  // the five directions still lose at least 1 % of their error a throw
 }
 
 TEST_CASE("a repeating launch error is learnt away and the correction settles within its bounds",
