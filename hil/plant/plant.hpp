@@ -169,10 +169,10 @@ class Plant {
                              const Vec3& rate_radps);
 
  private:
-  // The contact pairs: pole end e with surface s at e * 3 + s; vehicle v's foot f with the floor
-  // at 6 + 4 v + f.
   // The pole lying still on the floor below `centre_xy_m`, along y.
   PoleState pole_on_floor(const Vec3& centre_xy_m) const;
+  // The contact pairs: pole end e with surface s at e * 3 + s; vehicle v's foot f with the floor
+  // at 6 + 4 v + f.
   static constexpr int kPolePairs = 6;
   static constexpr int kPairs = 14;
   struct PairMemory {

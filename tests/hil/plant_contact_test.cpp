@@ -245,6 +245,22 @@ TEST_CASE("the floor stops a falling pole, which ends up lying on it") {
   CHECK(plant.pole().body.position_m.z() == Approx(1.0 - 0.5 * 9.81 * 0.01).epsilon(1e-9));
 }
 
+TEST_CASE("a pole taken down off a plate lies still on the floor where it was laid") {
+  Plant plant(quiet());
+  plant.set_vehicle(pa::kVehicle2, plant.hovering_vehicle(Vec3(0, 0, 2.0), 0.0));
+  plant.place_pole_on(pa::kVehicle2);
+  plant.step(0.01, kOff, plant.hover_commands(pa::kVehicle2));
+  REQUIRE(plant.pole_contact() == Contact::vehicle2);
+  plant.lay_pole_on_floor(Vec3(0.0, -2.0, 5.0));  // the height is the floor's, whatever is asked
+  for (int k = 0; k < 500; ++k) plant.step(0.001, kOff, plant.hover_commands(pa::kVehicle2));
+  CHECK(plant.pole_contact() == Contact::floor);
+  CHECK(plant.pole_end_contact(0) == Contact::floor);
+  CHECK(plant.pole_end_contact(1) == Contact::floor);
+  CHECK(plant.pole().body.position_m.head<2>().isApprox(Eigen::Vector2d(0.0, -2.0), 1e-6));
+  CHECK(std::abs(plant.pole().body.position_m.z()) < 1e-3);
+  CHECK(plant.pole_asleep());
+}
+
 TEST_CASE("a new plant starts at rest: vehicles parked, the pole asleep on the floor") {
   Plant plant(quiet());
   CHECK(plant.vehicle_on_floor(pa::kVehicle1));
