@@ -447,6 +447,12 @@ void StateEstimator::update_pole(const PoleMeasurement& m) {
     if (inn[k].valid) ll[k] = inn[k].log_likelihood;
     if (v >= 0) favoured[k] = impact_report_pending(v);
   }
+  // A pole pressed firmly onto its plate is not free (StateEstimatorConfig::pressed_min_mps2).
+  if (const int j = slot_of_mode(active); j >= 0 && vehicles_[j].initialised()) {
+    const NormalForceEstimate f = on_[j].normal_force(plates[j]);
+    if (f.value_mps2 > std::max(config_.pressed_min_mps2, config_.pressed_sigmas * f.sigma_mps2))
+      ll[mode_index(PoleMode::free)].reset();
+  }
   if (active == PoleMode::free && launched_from_ >= 0 && t_s_ - launch_t_s_ < config_.launch_hold_off_s) {
     ll[mode_index(on_vehicle_mode(pa::kActVehicles[launched_from_]))].reset();
   }
