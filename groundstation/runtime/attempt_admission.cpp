@@ -26,10 +26,15 @@ Admission admit_request(bool attempt_running, pa::VehicleId thrower) {
   return {};
 }
 
-double peak_thrust_mps2(const planning::ThrowTrajectory& trajectory) {
+double peak_thrust_mps2(const planning::ThrowTrajectory& trajectory, double pole_to_vehicle_mass) {
   double peak_mps2 = 0.0;
-  for (const model::PlanarInput<double>& u : trajectory.input)
-    peak_mps2 = std::max(peak_mps2, u(model::planar::kThrust));
+  for (std::size_t i = 0; i < trajectory.input.size(); ++i) {
+    const model::PlanarInput<double>& u = trajectory.input[i];
+    const model::PlanarState<double> s =
+        i < trajectory.state.size() ? trajectory.state[i] : model::PlanarState<double>::Zero();
+    const double push_mps2 = model::planar_normal_force_per_mass_mps2(s, u, trajectory.params);
+    peak_mps2 = std::max(peak_mps2, u(model::planar::kThrust) + pole_to_vehicle_mass * push_mps2);
+  }
   return peak_mps2;
 }
 
@@ -73,7 +78,9 @@ Admission admit_vehicles(const planning::ThrowTrajectory* flown, const VehicleTh
                          const std::optional<VehicleThrust>& catcher, const ThrustAdmission& settings) {
   if (flown == nullptr)
     return {AttemptRefusal::target_not_planned, "the throw to the target cannot be planned"};
-  if (std::string why = thrust_shortfall(thrower, peak_thrust_mps2(*flown), "throw", settings); !why.empty())
+  if (std::string why = thrust_shortfall(thrower, peak_thrust_mps2(*flown, settings.pole_to_vehicle_mass),
+                                         "throw", settings);
+      !why.empty())
     return {AttemptRefusal::too_weak, why};
   if (catcher) {
     if (std::string why = thrust_shortfall(*catcher, settings.catch_peak_mps2, "catch", settings);

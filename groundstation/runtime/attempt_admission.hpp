@@ -50,6 +50,7 @@ struct ThrustAdmission {
   double min_thrust_fraction = 0.9;
   double battery_reference_voltage_V = 12.6;
   double catch_peak_mps2 = pa::kGravity_mps2 + 4.19;  // g plus the catch manoeuvre's a_max
+  double pole_to_vehicle_mass = 0.0;                  // m_p / m_q: the pole's push the thrower carries
 };
 
 // Before anything is planned: one attempt at a time, thrown by a vehicle of the act.
@@ -79,8 +80,9 @@ bool outside_volume(const Eigen::Vector3d& p_m, const ArenaVolume& volume);
 Admission admit_volume(const planning::ThrowReach& reach, const control::ThrowFrame& frame,
                        const Eigen::Vector3d& catch_point_m, const ArenaVolume& volume);
 
-// The highest collective thrust the trajectory commands.
-double peak_thrust_mps2(const planning::ThrowTrajectory& trajectory);
+// The highest collective thrust the trajectory needs: its a_q and the pole's push on the plate,
+// m_p / m_q of its F_N (what the throw's feed-forward adds, planning::ThrowFeedForward).
+double peak_thrust_mps2(const planning::ThrowTrajectory& trajectory, double pole_to_vehicle_mass);
 
 // The vehicle's thrust at full command, k a_full (V / V_ref)^2 (no sag without a reported voltage).
 double thrust_ceiling_mps2(const VehicleThrust& vehicle, const ThrustAdmission& settings);

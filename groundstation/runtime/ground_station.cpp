@@ -35,7 +35,7 @@ adaptation::Learner make_learner(const GroundStationConfig& config, const planni
 
 ThrustAdmission thrust_admission(const GroundStationConfig& config) {
   return {config.airframe_thrust_max_mps2, config.min_thrust_fraction, config.battery_reference_voltage_V,
-          pa::kGravity_mps2 + config.catching.a_max_mps2};
+          pa::kGravity_mps2 + config.catching.a_max_mps2, config.tasks.pole_weight_mps2 / pa::kGravity_mps2};
 }
 
 }  // namespace
@@ -132,8 +132,10 @@ pa::VehicleId GroundStation::stronger_thrower(pa::VehicleId preferred) const {
 }
 
 bool GroundStation::pack_spent(pa::VehicleId vehicle) const {
-  return runtime::pack_spent(thrust_of(vehicle), peak_thrust_mps2(throws_.plan().trajectory),
-                             config_.pack_swap_margin, thrust_admission(config_));
+  const ThrustAdmission admission = thrust_admission(config_);
+  return runtime::pack_spent(thrust_of(vehicle),
+                             peak_thrust_mps2(throws_.plan().trajectory, admission.pole_to_vehicle_mass),
+                             config_.pack_swap_margin, admission);
 }
 
 bool GroundStation::request_attempt(const AttemptRequest& request) {

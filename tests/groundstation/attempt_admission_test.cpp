@@ -103,9 +103,11 @@ TEST_CASE("A throw to a target that could not be planned is refused before any t
   CHECK(a.why == "the throw to the target cannot be planned");
 }
 
-TEST_CASE("The throw's peak is the trajectory's highest thrust") {
-  CHECK(peak_thrust_mps2(throw_peaking_at(17.1)) == 17.1);
-  CHECK(peak_thrust_mps2(gs::planning::ThrowTrajectory{}) == 0.0);
+TEST_CASE("The throw's peak is the trajectory's highest thrust and the pole's push the thrower carries") {
+  CHECK(peak_thrust_mps2(throw_peaking_at(17.1), 0.0) == 17.1);
+  CHECK(peak_thrust_mps2(gs::planning::ThrowTrajectory{}, 0.05) == 0.0);
+  // The pole upright and still on the plate presses with all of a_q: m_p / m_q of it added.
+  CHECK(peak_thrust_mps2(throw_peaking_at(17.1), 0.05) == Approx(17.1 * 1.05));
 }
 
 TEST_CASE("The thrower is refused below min_thrust_fraction of the throw's peak, exactly at the edge") {
