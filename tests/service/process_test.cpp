@@ -457,3 +457,10 @@ TEST_CASE("Operator command names round-trip, and the answer prefix is what op l
   CHECK_FALSE(gs::service::command_from_name("takeoff"));
   CHECK(gs::service::answer_prefix(42) == "command 42:");
 }
+
+TEST_CASE("A pole_wanted detail round-trips, and any other text says nothing") {
+  for (const bool waiting : {true, false})
+    CHECK(gs::dds::pole_wanted(gs::dds::pole_wanted_detail(waiting)) == waiting);
+  for (const char* other : {"", "Waiting", "waiting ", "not", "attempt 3, pole at 0.000 0.000 2.000"})
+    CHECK_FALSE(gs::dds::pole_wanted(other).has_value());
+}
