@@ -18,15 +18,10 @@ Eigen::VectorXd lateral_balancing_state(const Eigen::VectorXd& balancing_state) 
 model::VehicleInput throw_command(const ThrowTracker& tracker, const control::LqrGain& balancing, double t_s,
                                   const model::PlanarState<double>& planar_state,
                                   const Eigen::VectorXd& balancing_state, const model::VehicleLimits& limits,
-                                  const ThrowFeedForward& feedforward) {
+                                  double feedforward_lead_s) {
   namespace bal = control::balancing;
-  const ThrowTrajectory& plan = tracker.reference();
-  const double ahead_s = tracker.feedforward_time_s(t_s, feedforward.lead_s);
-  model::PlanarInput<double> planar = tracker.command(t_s, planar_state, feedforward.lead_s);
-  planar(model::planar::kThrust) +=
-      feedforward.pole_to_vehicle_mass *
-      model::planar_normal_force_per_mass_mps2(plan.state_at(ahead_s), plan.input_at(ahead_s), plan.params);
-  planar = saturate(planar, limits);
+  const model::PlanarInput<double> planar =
+      saturate(tracker.command(t_s, planar_state, feedforward_lead_s), limits);
   const Eigen::VectorXd lateral = -balancing.K * lateral_balancing_state(balancing_state);
   const double omega_max = limits.omega_max_radps;
   model::VehicleInput u;
@@ -42,7 +37,7 @@ ThrowStep throw_step(const ThrowTracker& tracker, const control::LqrGain& balanc
                      const Eigen::Vector3d& resting_offset_m, const model::VehicleState& vehicle,
                      const model::PoleState& pole, double half_length_m,
                      const model::PlanarState<double>& reference_shift, const model::VehicleLimits& limits,
-                     const ThrowFeedForward& feedforward) {
+                     double feedforward_lead_s) {
   const control::Pivot resting = frame.to_frame(control::Pivot{plate.p_m + resting_offset_m, plate.v_mps});
   const model::VehicleState vehicle_in_frame = frame.to_frame(vehicle);
   const model::PoleState pole_in_frame = frame.to_frame(pole);
@@ -50,7 +45,8 @@ ThrowStep throw_step(const ThrowTracker& tracker, const control::LqrGain& balanc
   step.state = control::planar_throw_state(resting, vehicle_in_frame, pole_in_frame, Eigen::Vector3d::Zero());
   const Eigen::VectorXd b = control::balancing_state(resting, vehicle_in_frame, pole_in_frame, half_length_m,
                                                      Eigen::Vector3d::Zero());
-  step.input = throw_command(tracker, balancing, t_s, step.state - reference_shift, b, limits, feedforward);
+  step.input =
+      throw_command(tracker, balancing, t_s, step.state - reference_shift, b, limits, feedforward_lead_s);
   step.input.omega_radps = frame.body_rates_to_vehicle(step.input.omega_radps);
   return step;
 }

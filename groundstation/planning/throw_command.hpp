@@ -26,24 +26,10 @@ namespace gs::planning {
 // eq. (31) (balancing_lqr.hpp order), both relative to the plan's origin at plan time t_s;
 // `balancing` the balancing LQR (balancing_lqr()). The thrust and the rates are clamped into the
 // box of eq. (1), (2). Precondition: tracker.valid(), balancing.K is 4 x 13.
-//
-// What the throw's feed-forward adds to the plan's inputs for the vehicle flown.
-// `lead_s`: how much longer than the design's the vehicle's motors lag (identified; throw_step
-// says why the plan is read that much ahead).
-// `pole_to_vehicle_mass`: m_p / m_q. The planar model of eq. (4), (5) leaves out the pole's
-// push on the plate, which the vehicle carries: the plate-normal force F_N of the plan
-// (planar_normal_force_per_mass_mps2) is added as F_N / m_q, the pole's weight at rest (what the
-// balancing law adds) and about 6 % of the thrust at the throw's peak. Left to the feedback, that
-// 6 % made the vehicle lag its plan until the thrust saturated: on a weak thrower 24.6 m/s^2
-// asked at the throw's end against a plan's 17.1.
-struct ThrowFeedForward {
-  double lead_s = 0.0;
-  double pole_to_vehicle_mass = 0.0;
-};
 model::VehicleInput throw_command(const ThrowTracker& tracker, const control::LqrGain& balancing, double t_s,
                                   const model::PlanarState<double>& planar_state,
                                   const Eigen::VectorXd& balancing_state, const model::VehicleLimits& limits,
-                                  const ThrowFeedForward& feedforward = {});
+                                  double feedforward_lead_s = 0.0);
 
 // s_qp with the throw plane's components (x, z, vx, vz, pitch, a, a') set to zero: what the
 // lateral balancing sees.
@@ -60,7 +46,8 @@ Eigen::VectorXd lateral_balancing_state(const Eigen::VectorXd& balancing_state);
 // x falling short by about 13 times the offset along the throw (0.5 m at 3.8 cm, seed 5's
 // passes after a catch; full batteries' 100 passes: 76 in a row, then all 100).
 //
-// The feed-forward's lead (ThrowFeedForward::lead_s): the firmware's equaliser makes a slow motor respond as the design's with a lead-lag
+// `feedforward_lead_s`: how much longer than the design's the vehicle's motors lag (identified).
+// The firmware's equaliser makes a slow motor respond as the design's with a lead-lag
 // (fw/motor_lag_equaliser.hpp), except where the lead saturates: at the throw's end the plan cuts
 // the thrust from ~23 m/s^2 to its minimum within 50 ms, the lead asks for less than nothing, and
 // the thrust falls at the motor's own pace, pushing the pole on for the lag's difference. The pole
@@ -78,6 +65,6 @@ ThrowStep throw_step(const ThrowTracker& tracker, const control::LqrGain& balanc
                      const Eigen::Vector3d& resting_offset_m, const model::VehicleState& vehicle,
                      const model::PoleState& pole, double half_length_m,
                      const model::PlanarState<double>& reference_shift, const model::VehicleLimits& limits,
-                     const ThrowFeedForward& feedforward = {});
+                     double feedforward_lead_s = 0.0);
 
 }  // namespace gs::planning

@@ -38,12 +38,8 @@ Eigen::Matrix<double, 2, 7> ThrowTracker::gain(double t_s) const {
 
 model::PlanarInput<double> ThrowTracker::command(double t_s, const model::PlanarState<double>& s,
                                                  double feedforward_lead_s) const {
-  return reference_.input_at(feedforward_time_s(t_s, feedforward_lead_s)) -
-         gain(t_s) * (s - reference_.state_at(t_s));
-}
-
-double ThrowTracker::feedforward_time_s(double t_s, double feedforward_lead_s) const {
-  return std::min(t_s + std::max(feedforward_lead_s, 0.0), reference_.duration_s());
+  const double ahead_s = std::min(t_s + std::max(feedforward_lead_s, 0.0), reference_.duration_s());
+  return reference_.input_at(ahead_s) - gain(t_s) * (s - reference_.state_at(t_s));
 }
 
 model::PlanarInput<double> saturate(const model::PlanarInput<double>& u, const model::VehicleLimits& limits) {

@@ -48,8 +48,6 @@ class ThrowTracker {
   // `feedforward_lead_s` ahead (held at T; planning::throw_step in throw_command.hpp says why).
   model::PlanarInput<double> command(double t_s, const model::PlanarState<double>& s,
                                      double feedforward_lead_s = 0.0) const;
-  // The plan time the feed-forward is read at: t + lead, held at T.
-  double feedforward_time_s(double t_s, double feedforward_lead_s) const;
 
  private:
   ThrowTrajectory reference_;

@@ -81,7 +81,8 @@ Admission admit_volume(const planning::ThrowReach& reach, const control::ThrowFr
                        const Eigen::Vector3d& catch_point_m, const ArenaVolume& volume);
 
 // The highest collective thrust the trajectory needs: its a_q and the pole's push on the plate,
-// m_p / m_q of its F_N (what the throw's feed-forward adds, planning::ThrowFeedForward).
+// m_p / m_q of its F_N, which the planar model of eq. (4), (5) leaves out and the vehicle carries
+// (the throw's feedback supplies it: 6 % of the thrust at the peak).
 double peak_thrust_mps2(const planning::ThrowTrajectory& trajectory, double pole_to_vehicle_mass);
 
 // The vehicle's thrust at full command, k a_full (V / V_ref)^2 (no sag without a reported voltage).

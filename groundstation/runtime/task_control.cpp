@@ -128,7 +128,7 @@ TaskCommand TaskController::command(TaskState& s, const TaskFrame& f, const Flow
       const planning::ThrowStep step = planning::throw_step(
           *flown.tracker, balancing_, tau, flown.frame, control::Pivot{f.plate.p_m, f.plate.v_mps},
           f.plate.inertial_from_body * flown.resting_offset_m, e.state, f.pole.state, L, shift, limits_,
-          planning::ThrowFeedForward{f.motor_lead_s, c.pole_weight_mps2 / pa::kGravity_mps2});
+          f.motor_lead_s);
       if (tau >= duration_s - c.launch_state_window_s) out.throw_end = ThrowEnd{tau, step.state};
       out.input = clamped(step.input);
       break;

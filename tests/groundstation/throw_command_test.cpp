@@ -2,7 +2,6 @@
 // balancing LQR's lateral rows across it.
 #include "groundstation/planning/throw_command.hpp"
 
-#include <algorithm>
 #include <catch2/catch.hpp>
 
 #include <Eigen/Geometry>
@@ -56,41 +55,6 @@ TEST_CASE("in the throw's plane the command is the planar TV-LQR's, saturated", 
     CHECK(u.omega_radps.x() == 0.0);
     CHECK(u.omega_radps.z() == 0.0);
   }
-}
-
-TEST_CASE("the vehicle carries the pole's push on the plate: m_p / m_q of the plan's F_N is added",
-          "[throw_command]") {
-  const Setup& s = setup();
-  const gs::planning::ThrowTrajectory& plan = s.tracker.reference();
-  const double ratio = 0.03 / 0.52;  // the pole's mass against the vehicle's
-  const Eigen::VectorXd sqp = Eigen::VectorXd::Zero(bal::kStateSize);
-  for (double t : {0.0, 1.0, 2.0, 2.2}) {
-    const gs::model::PlanarState<double> x = plan.state_at(t);
-    const double without =
-        gs::planning::throw_command(s.tracker, s.balancing, t, x, sqp, s.problem.limits).a_q_mps2;
-    const double with =
-        gs::planning::throw_command(s.tracker, s.balancing, t, x, sqp, s.problem.limits, {0.0, ratio})
-            .a_q_mps2;
-    const double f_n =
-        gs::model::planar_normal_force_per_mass_mps2(plan.state_at(t), plan.input_at(t), plan.params);
-    CHECK(with == Approx(std::min(without + ratio * f_n, s.problem.limits.a_q_max_mps2)));
-  }
-  // At rest on the plan's start the push is the pole's weight, what the balancing law adds.
-  const double f_rest =
-      gs::model::planar_normal_force_per_mass_mps2(plan.state_at(0.0), plan.input_at(0.0), plan.params);
-  CHECK(ratio * f_rest == Approx(ratio * plan.input_at(0.0)(planar::kThrust)).epsilon(0.01));
-  // Read at the lead's time, as the plan's inputs are.
-  const double lead_s = 0.03;
-  const gs::model::PlanarState<double> x = plan.state_at(1.5);
-  const double led =
-      gs::planning::throw_command(s.tracker, s.balancing, 1.5, x, sqp, s.problem.limits, {lead_s, ratio})
-          .a_q_mps2;
-  const double led_only =
-      gs::planning::throw_command(s.tracker, s.balancing, 1.5, x, sqp, s.problem.limits, {lead_s, 0.0})
-          .a_q_mps2;
-  CHECK(led - led_only ==
-        Approx(ratio * gs::model::planar_normal_force_per_mass_mps2(
-                           plan.state_at(1.5 + lead_s), plan.input_at(1.5 + lead_s), plan.params)));
 }
 
 TEST_CASE("across the plane the pole is balanced by the balancing LQR's lateral rows", "[throw_command]") {
