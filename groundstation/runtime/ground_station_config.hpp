@@ -116,7 +116,7 @@ struct GroundStationConfig {
   // at 0.8 (k a_q,max = 16.0 m/s^2) 19 of 19 caught; at 0.77 the take-off fails. At 0.95 the
   // corner 10 % heavier at thrust 0.9 (k 0.818) was refused from throw 10 of 50 on (its k read
   // 1 % low), every throw before it caught (both with a_q,max as the ceiling). With a_full: thrower
-  // k >= 0.62 and catcher k >= 0.51 at full charge.
+  // k >= 0.66 (0.62 against the peak without the push) and catcher k >= 0.51 at full charge.
   double min_thrust_fraction = 0.9;
   // A pack is spent for the throw (GroundStation::pack_spent) when the vehicle's thrust at full
   // command at the voltage it reports falls below this multiple of the throw's planned peak: the
