@@ -46,9 +46,13 @@ double thrust_ceiling_mps2(const VehicleThrust& vehicle, const ThrustAdmission& 
   return vehicle.gain * sag * settings.full_thrust_mps2;
 }
 
-bool pack_spent(const VehicleThrust& vehicle, double needed_mps2, double margin,
+bool pack_spent(const VehicleThrust& vehicle, double needed_mps2, const PackSwap& swap,
                 const ThrustAdmission& settings) {
-  return vehicle.battery_V > 0.0 && thrust_ceiling_mps2(vehicle, settings) < margin * needed_mps2;
+  if (!(vehicle.battery_V > 0.0)) return false;
+  const double wanted_mps2 = swap.margin * needed_mps2;
+  const double fresh_mps2 = vehicle.gain * settings.full_thrust_mps2;
+  const double floor_mps2 = fresh_mps2 >= wanted_mps2 ? wanted_mps2 : swap.weak_sag * fresh_mps2;
+  return thrust_ceiling_mps2(vehicle, settings) < floor_mps2;
 }
 
 pa::VehicleId stronger_thrower(const VehicleThrust& first, const VehicleThrust& second,

@@ -98,10 +98,20 @@ double thrust_ceiling_mps2(const VehicleThrust& vehicle, const ThrustAdmission& 
 pa::VehicleId stronger_thrower(const VehicleThrust& first, const VehicleThrust& second,
                                const ThrustAdmission& settings);
 
-// Whether the vehicle's pack is spent for a part whose peak is `needed_mps2`: its thrust ceiling at
-// the voltage it reports below `margin` times that. False without a reported voltage (nothing to
-// judge the pack by).
-bool pack_spent(const VehicleThrust& vehicle, double needed_mps2, double margin,
+// When a vehicle's pack is spent for a part (pack_spent).
+struct PackSwap {
+  // Its thrust ceiling at the voltage it reports below this multiple of the part's peak.
+  double margin = 1.15;
+  // A vehicle that even on a fresh pack falls short of the margin (a weak airframe, heavy or with
+  // worn motors) would swap before every throw for nothing: it swaps once its ceiling has sagged
+  // below this fraction of its fresh pack's, k a_full (the corner 10 % heavy at thrust 0.9, whose
+  // fresh pack gives 20.1 m/s^2 against the margin's 20.7, swapped 49 times in 50 throws).
+  double weak_sag = 0.95;
+};
+
+// Whether the vehicle's pack is spent for a part whose peak is `needed_mps2` (PackSwap). False
+// without a reported voltage (nothing to judge the pack by).
+bool pack_spent(const VehicleThrust& vehicle, double needed_mps2, const PackSwap& swap,
                 const ThrustAdmission& settings);
 
 // Empty if the vehicle's thrust ceiling is at least min_thrust_fraction of `needed_mps2`, else

@@ -81,7 +81,8 @@ class CatchCoordinator {
   // the launch expected at `launch_s`.
   void plan(const AttemptReport& report, double launch_s, double catch_instant_s);
   // Before the verdicts: this throw's optimal catch (42), moving the catch's end height (in
-  // `report`, reached by height_shift()) within bounds for retime_s after the launch.
+  // `report`, reached by height_shift()) within bounds for retime_s after the launch. The shift
+  // ends with the manoeuvre, or at (42)'s instant when that is later.
   void retime(double now_s, const CatchView& view, AttemptReport& report);
   // At every frame from the throw's start: the catch point predicted, the manoeuvre re-planned,
   // the verdicts judged once the prediction has converged; the report's prediction and travel.

@@ -135,7 +135,7 @@ bool GroundStation::pack_spent(pa::VehicleId vehicle) const {
   const ThrustAdmission admission = thrust_admission(config_);
   return runtime::pack_spent(thrust_of(vehicle),
                              peak_thrust_mps2(throws_.plan().trajectory, admission.pole_to_vehicle_mass),
-                             config_.pack_swap_margin, admission);
+                             config_.pack_swap, admission);
 }
 
 bool GroundStation::request_attempt(const AttemptRequest& request) {

@@ -124,7 +124,7 @@ class GroundStation {
   // measured now, `preferred` on a tie (attempt_admission.hpp): the one to throw when either may.
   pa::VehicleId stronger_thrower(pa::VehicleId preferred) const;
   // Whether `vehicle`'s pack no longer gives the Fig. 5 throw its margin
-  // (GroundStationConfig::pack_swap_margin): land it and put in a fresh one before it throws.
+  // (GroundStationConfig::pack_swap): land it and put in a fresh one before it throws.
   bool pack_spent(pa::VehicleId vehicle) const;
   // Its motors as the attempt's admission checks them: thrust gain and reported pack voltage.
   VehicleThrust thrust_of(pa::VehicleId vehicle) const;

@@ -119,15 +119,16 @@ struct GroundStationConfig {
   // k >= 0.66 (0.62 against the peak without the push) and catcher k >= 0.51 at full charge.
   double min_thrust_fraction = 0.9;
   // A pack is spent for the throw (GroundStation::pack_spent) when the vehicle's thrust at full
-  // command at the voltage it reports falls below this multiple of the throw's planned peak: the
+  // command at the voltage it reports falls below `margin` times the throw's planned peak: the
   // feedback, the attitude's share of the motors and the pack's sag under the throw's load need
   // the rest. Measured on the corner at half every extreme (hil/config/envelope/half_extremes.yaml,
   // packs from 85 %, k 0.88): the throw's (42) height fell steadily from 1.1 times the peak on,
   // and the first drop came at 1.07; the project's own vehicle flew 100 passes down to 1.08 (all
   // against the peak without the pole's push, 17.1). With the push in the peak (18.0) the same
   // margin swaps at 1.22 of the old peak: on the arena envelope's passes throwers had dropped at
-  // ceilings of 19.8-20.1 m/s^2 (1.16-1.18 of the old), packs the old margin called full.
-  double pack_swap_margin = 1.15;
+  // ceilings of 19.8-20.1 m/s^2 (1.16-1.18 of the old), packs the old margin called full. A
+  // vehicle short of that even on a fresh pack swaps by `weak_sag` instead (PackSwap).
+  PackSwap pack_swap;
   // The arena's volume (runtime/attempt_admission.hpp): a throw whose path, pole or catch point
   // leaves it is refused before it is flown (`outside_arena_volume`). None: not checked.
   std::optional<ArenaVolume> arena_volume;

@@ -157,11 +157,24 @@ TEST_CASE("A sagging pack lowers the ceiling by (V / V_ref)^2, never raises it")
 TEST_CASE("A pack is spent when its ceiling falls below the margin times the peak, judged by its voltage") {
   // k 1 at 12 V: (12 / 12.6)^2 * 20 = 18.14 m/s^2 against 1.15 * 15.7 = 18.06 (kept) and
   // 1.15 * 15.8 = 18.17 (spent).
+  const gs::runtime::PackSwap swap{1.15, 0.95};
   const VehicleThrust v{pa::kVehicle1, 1.0, 12.0};
-  CHECK_FALSE(gs::runtime::pack_spent(v, 15.7, 1.15, kSettings));
-  CHECK(gs::runtime::pack_spent(v, 15.8, 1.15, kSettings));
+  CHECK_FALSE(gs::runtime::pack_spent(v, 15.7, swap, kSettings));
+  CHECK(gs::runtime::pack_spent(v, 15.8, swap, kSettings));
   // No voltage reported: nothing to judge the pack by, however weak the vehicle.
-  CHECK_FALSE(gs::runtime::pack_spent(VehicleThrust{pa::kVehicle1, 0.5, 0.0}, 15.8, 1.15, kSettings));
+  CHECK_FALSE(gs::runtime::pack_spent(VehicleThrust{pa::kVehicle1, 0.5, 0.0}, 15.8, swap, kSettings));
+}
+
+TEST_CASE("A vehicle short of the margin on a fresh pack swaps once its pack has sagged, not every throw") {
+  // k 0.9: a fresh pack gives 18 m/s^2, short of 1.15 * 16 = 18.4; spent below 0.95 * 18 = 17.1,
+  // which (V / 12.6)^2 reaches at 12.281 V.
+  const gs::runtime::PackSwap swap{1.15, 0.95};
+  CHECK_FALSE(gs::runtime::pack_spent(VehicleThrust{pa::kVehicle1, 0.9, 12.6}, 16.0, swap, kSettings));
+  CHECK_FALSE(gs::runtime::pack_spent(VehicleThrust{pa::kVehicle1, 0.9, 12.29}, 16.0, swap, kSettings));
+  CHECK(gs::runtime::pack_spent(VehicleThrust{pa::kVehicle1, 0.9, 12.27}, 16.0, swap, kSettings));
+  // A vehicle that a fresh pack gives the margin keeps to it: k 0.93 (18.6 m/s^2 fresh) is spent at
+  // 12.5 V (18.3), above 0.95 of its fresh ceiling.
+  CHECK(gs::runtime::pack_spent(VehicleThrust{pa::kVehicle1, 0.93, 12.5}, 16.0, swap, kSettings));
 }
 
 TEST_CASE("Of two vehicles the one with the higher ceiling throws, the preferred on a tie") {

@@ -203,3 +203,28 @@ TEST_CASE("No catch is planned below the floor, however low this flight's (42) l
   c.retime(t.launch_s + 0.2, view(t, Task::catching, 0.0), r);
   CHECK(r.catch_height_m == Approx(s.min_height_m));  // down to (42) by the bound, held at the floor
 }
+
+TEST_CASE("For a pole later than the learnt instant the shift ends at rest when it arrives") {
+  const Throw t;
+  CatchSettings s;
+  s.min_height_m = 0.0;
+  const double arrival_s = t.launch_s + t.optimal.t_s;
+  for (const double learnt_early_s : {0.2, -0.1}) {
+    CAPTURE(learnt_early_s);
+    CatchCoordinator c(s, {});
+    AttemptReport r = waiting(t, 0.0);
+    r.catch_height_m += 0.6;  // the adapted height above this flight's (42)
+    const double adapted = r.catch_height_m;
+    c.plan(r, t.launch_s, t.optimal.t_s - learnt_early_s);
+    r.launch_s = t.launch_s;
+    const double manoeuvre_end_s = c.start_s() + c.z_manoeuvre(adapted).duration_s();
+    const double end_s = std::max(manoeuvre_end_s, arrival_s);
+    c.retime(t.launch_s + s.verdict_delay_s + 0.01, view(t, Task::catching, 0.0), r);
+    CHECK(r.catch_height_m == Approx(t.optimal.catch_height_m).margin(0.01));
+    const double target = c.height_shift().target_m();
+    CHECK(c.height_shift().at(end_s).z_m == Approx(target));
+    CHECK(c.height_shift().at(end_s - 1e-6).dz_mps == Approx(0.0).margin(1e-4));
+    // Still on its way at the manoeuvre's end when the pole comes later than learnt.
+    if (arrival_s > manoeuvre_end_s) CHECK(c.height_shift().at(manoeuvre_end_s).z_m > target + 0.01);
+  }
+}
