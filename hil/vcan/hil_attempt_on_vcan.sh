@@ -23,11 +23,13 @@ key=$files/test_link.key
 # same seed, but the operator's commands reach the ground station at plant times set by the guest's
 # wall clock (when `op` ran), so the take-off and the throw start at other plant times than in
 # process and the noise each meets differs. Over seeds 1-5 in process (`hil fly --throws 1
-# --no-trial --seed S --verbose`) the catcher's position at the impact spreads by 3.2 cm in x,
-# 2.4 cm in y and 5.4 cm in z: each run settles on its own thrust gain from its own poses (before
-# the gain was measured, seeds 1-3 spread by 1.2 cm in z; the five processes then met 4.1 cm).
-# Twice that.
-tolerance_m=0.1
+# --no-trial --seed S --verbose`) the catcher's position at the impact spreads by 4.5 cm in x,
+# 4.8 cm in y and 12.6 cm in z (3.201-3.327 m): this first throw's catch is retimed from the
+# nominal height 0.8 m down to its own (42), which each run predicts from its own noisy poses
+# (5.4 cm in z when the tolerance was first set at 0.1 m, which the five processes then met at
+# 0.147 m once in CI). Twice the spread, rounded up.
+tolerance_xy_m=0.1
+tolerance_z_m=0.25
 pids=
 . "$files/arena_scenario.sh"
 
@@ -84,8 +86,8 @@ check 'grep -q "^ *1  caught" "$out/in_process.txt"' "in process the throw was n
 say "catcher at impact: five processes ($here) m, in process ($there) m"
 check '[ -n "$here" ] && [ -n "$there" ]' "no catch point to compare"
 if [ -n "$here" ] && [ -n "$there" ]; then
-  check "echo $here $there | awk -v tol=$tolerance_m '{ for (i = 1; i <= 3; ++i) { d = \$i - \$(i + 3); if (d < 0) d = -d; if (d > tol) exit 1 } }'" \
-    "the catch points differ by more than $tolerance_m m in an axis"
+  check "echo $here $there | awk -v xy=$tolerance_xy_m -v z=$tolerance_z_m '{ for (i = 1; i <= 3; ++i) { d = \$i - \$(i + 3); if (d < 0) d = -d; if (d > (i < 3 ? xy : z)) exit 1 } }'" \
+    "the catch points differ by more than $tolerance_xy_m m in x or y or $tolerance_z_m m in z"
 fi
 cp "$out/logs/truth.csv" "$out/"
 for f in "$out"/logs/*; do say "$(basename "$f"): $(wc -l <"$f") lines"; done
