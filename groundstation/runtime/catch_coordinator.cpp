@@ -57,11 +57,11 @@ void CatchCoordinator::plan(const AttemptReport& report, double launch_s, double
 // manoeuvre in time stepped its z reference by up to 0.4 m, which the hover gains chased to the
 // impact (the plate 0.13 m above the planned height at the median catch). A pole that comes
 // early meets the plate on its last centimetres of descent; for one that comes late the shift
-// (smooth, from its own state) ends when the pole arrives. First 300 envelope attempts (`hil campaign --attempts 300 --plant
-// hil/config/envelope.yaml`, seed 1): the height stepped within 0.5 m and the time within
-// 0.15 s, 234 caught; the height shifted within 0.5 m, the time stepped, 246; the height shifted
-// within 1.0 m from 0.1 s after the launch, the time kept, 262 (from 0.05 s: 257 of a like run;
-// a window of 0.5 s: 255).
+// (smooth, from its own state) ends when the pole arrives. First 300 envelope attempts (`hil
+// campaign --attempts 300 --plant hil/config/envelope.yaml`, seed 1): the height stepped within
+// 0.5 m and the time within 0.15 s, 234 caught; the height shifted within 0.5 m, the time
+// stepped, 246; the height shifted within 1.0 m from 0.1 s after the launch, the time kept, 262
+// (from 0.05 s: 257 of a like run; a window of 0.5 s: 255).
 void CatchCoordinator::retime(double now_s, const CatchView& view, AttemptReport& report) {
   const estimation::PoleEstimate& pole = view.pole;
   if (!flying(pole, report) || now_s - *report.launch_s > settings_.retime_s) return;
