@@ -33,6 +33,18 @@ adaptation::Learner make_learner(const GroundStationConfig& config, const planni
                              config.learnt, config.adaptation_store_path);
 }
 
+VehicleAdaptationSettings adaptation_settings(const GroundStationConfig& config) {
+  return {config.thrust_gain,
+          config.compensate_thrust_gain,
+          config.thrust_gain_min_height_m,
+          config.tasks.pole_weight_mps2,
+          config.rate_loop,
+          config.rate_response,
+          config.pole_trust,
+          config.limits,
+          config.airframe_thrust_max_mps2};
+}
+
 ThrustAdmission thrust_admission(const GroundStationConfig& config) {
   return {config.airframe_thrust_max_mps2, config.min_thrust_fraction, config.battery_reference_voltage_V,
           pa::kGravity_mps2 + config.catching.a_max_mps2, config.tasks.pole_weight_mps2 / pa::kGravity_mps2};
@@ -49,14 +61,10 @@ GroundStation::GroundStation(link::FrameBus& bus, const GroundStationConfig& con
       learner_(make_learner(config, throws_)),
       identifications_({config.rate_loop.design_time_constant_s, config.motor_lag_tolerance_fraction},
                        config.adaptation_store_path, learner_.adaptation_settings()),
-      catch_(config.catching, input_limits(config.limits)) {
+      catch_(config.catching, input_limits(config.limits)),
+      vehicles_{Vehicle(pa::kVehicle1, adaptation_settings(config)),
+                Vehicle(pa::kVehicle2, adaptation_settings(config))} {
   frame_ = throw_frame(pa::kVehicle1);
-  for (Vehicle& v : vehicles_) {
-    v.thrust_gain = estimation::ThrustGainEstimator(config_.thrust_gain);
-    v.motors = MotorEqualiser(
-        IdentificationFlight(estimation::RateResponseIdentifier(config_.rate_loop, config_.rate_response)),
-        config_.rate_loop.design_time_constant_s);
-  }
 }
 
 const GroundStation::Vehicle& GroundStation::vehicle_of(pa::VehicleId id) const {
@@ -118,7 +126,7 @@ void GroundStation::request_kill(std::optional<pa::VehicleId> vehicle, pa::proto
 
 VehicleThrust GroundStation::thrust_of(pa::VehicleId vehicle) const {
   const link::VehicleLinkStatus& status = link_.status(vehicle);
-  return {vehicle, vehicle_of(vehicle).thrust_gain.gain(),
+  return {vehicle, vehicle_of(vehicle).adaptation.thrust_gain().gain(),
           status.vehicle_status.valid ? 1e-3 * status.vehicle_status.value.battery_mv : 0.0};
 }
 
@@ -200,13 +208,15 @@ void GroundStation::on_frame(const pa::proto::Frame& frame, double now_s) {
   // flight; its attitude, against motion capture's.
   const std::optional<pa::proto::Message> m = link_.on_frame(frame, now_s);
   if (m && m->type == pa::proto::Type::telemetry_rates)
-    vehicle_of(pa::VehicleId(m->node)).motors.flight().telemetry(now_s, m->telemetry_rates);
+    vehicle_of(pa::VehicleId(m->node))
+        .adaptation.identification_flight()
+        .telemetry(now_s, m->telemetry_rates);
   if (m && m->type == pa::proto::Type::telemetry_attitude)
     correct_onboard_tilt(vehicle_of(pa::VehicleId(m->node)), m->telemetry_attitude, now_s);
   // A vehicle that reports its pack's voltage compensates for it on board (ThrustGainConfig).
   if (m && m->type == pa::proto::Type::telemetry_status) {
     Vehicle& v = vehicle_of(pa::VehicleId(m->node));
-    v.thrust_gain.set_voltage_compensated(thrust_of(v.id).battery_V > 0.0);
+    v.adaptation.set_voltage_compensated(thrust_of(v.id).battery_V > 0.0);
   }
   for (const link::ImpactReport& r : link_.take_impacts()) {
     if (impacts_.size() < kEventLogCapacity) impacts_.push_back(r);
@@ -217,7 +227,11 @@ void GroundStation::on_frame(const pa::proto::Frame& frame, double now_s) {
 // A vehicle that landed arms only from disarmed: its DISARM, once accepted, is followed by the ARM.
 void GroundStation::tick(double now_s) {
   link_.tick(now_s);
-  for (Vehicle& v : vehicles_) identify_motors(v, now_s);
+  for (Vehicle& v : vehicles_) {
+    v.adaptation.settle([&](const link::CommandHandle& h) { return link_.command_state(h); });
+    const bool at_target = (v.sequencer.last_conditions() & c::at_target) != 0;
+    set_on_board(v, v.adaptation.identify(now_s, v.sequencer.task(), at_target, identifications_), now_s);
+  }
   for (Vehicle& v : vehicles_) {
     if (v.commands.pending() &&
         v.commands.settle(link_.command_state(*v.commands.pending()), v.sequencer.task() == Task::arming))
@@ -271,15 +285,11 @@ void GroundStation::enter(Vehicle& v, double now_s) {
                  {config_.take_off_height_m, config_.clear_distance_m, config_.land_handover_height_m});
   if (task == Task::arming) {
     v.commands.arming(entry.arm_after_disarm);
-    // The lag kept from the vehicle's last accepted identification, before this flight's own.
-    if (const std::optional<double> lag_s = identifications_.lag_at_arming(v.id))
-      set_motor_lag(v, *lag_s, now_s);
-    if (const std::optional<double> scale = identifications_.inertia_scale_to_set(v.id, 1.0))
-      set_inertia_scale(v, *scale, now_s);
+    set_on_board(v, v.adaptation.at_arming(identifications_), now_s);
   }
   if (entry.command)
     v.commands.sent(link_.send_command(v.id, entry.command->code, entry.command->argument, now_s));
-  if (entry.start_identification) v.motors.start_identification(now_s);
+  if (entry.start_identification) v.adaptation.start_identification(now_s);
   const Eigen::Vector3d& here = context.here_m;
   if (task == Task::balance) balanced_since_s_.reset();
   // Where on the plate the pole rests as the throw starts (see the throwing task's control).
@@ -312,7 +322,8 @@ void GroundStation::fly(Vehicle& v, double now_s, double dt_s) {
   f.plate = ahead_->plate(v.id);
   f.half_length_m = ahead_->pole_model().half_length_m;
   if (task == Task::wait) f.waiting_target_m = waiting_target();
-  f.motor_lead_s = std::max(0.0, v.motors.equalised_s() - config_.rate_loop.design_time_constant_s);
+  f.motor_lead_s =
+      std::max(0.0, v.adaptation.motors().equalised_s() - config_.rate_loop.design_time_constant_s);
   FlownThrow flown{&flown_throw(),
                    &flown_tracker(),
                    frame_,
@@ -336,15 +347,8 @@ void GroundStation::on_mocap(const estimation::MocapFrame& frame, double now_s) 
     const std::optional<estimation::MocapPose>& pose = frame.vehicle[pa::act_slot(v.id)];
     if (!pose) continue;
     v.last_pose_s = now_s;
-    const Task task = v.sequencer.task();
-    v.noise.add(frame.t_s, *pose,
-                task == Task::parked || task == Task::hover || task == Task::balance || task == Task::wait);
-    if (now_s - v.pole_trust_s >= config_.pole_trust.judge_period_s) {
-      v.pole_trust_s = now_s;
-      judge_pole_trust(v);
-    }
-    measure_thrust_gain(v.thrust_gain, v.sequencer.task(), now_s, *pose, config_.thrust_gain_min_height_m,
-                        config_.tasks.pole_weight_mps2);
+    if (const std::optional<double> sigma = v.adaptation.on_pose(frame.t_s, now_s, *pose, v.sequencer.task()))
+      estimator_.set_pole_measurement_sigma(v.id, *sigma, *sigma);
   }
   if (frame.pole) last_pole_pose_ = *frame.pole;
   // The estimator predicted, states only, to when the commands act (latency compensation).
@@ -377,68 +381,17 @@ void GroundStation::keep_inside_volume(Vehicle& v) {
   ++volume_breaches_;
 }
 
-// The setpoint carries a_q / k (the vehicle delivers k a_q); the estimator's model is told what
-// the vehicle delivers, the thrust-gain estimator what it was commanded.
-void GroundStation::send(Vehicle& v, model::VehicleInput u, double now_s) {
-  const double gain = config_.compensate_thrust_gain ? v.thrust_gain.gain() : 1.0;
-  u.a_q_mps2 = compensated_thrust_mps2(u.a_q_mps2, gain, config_.limits, config_.airframe_thrust_max_mps2);
-  u.omega_radps.head<2>() += v.motors.flight().excitation(now_s);
-  model::VehicleInput sent = link_.send_setpoint(v.id, u);
-  v.motors.flight().command_sent(now_s, sent.omega_radps.head<2>());
+// The estimator's model is told what the vehicle delivers (vehicle_adaptation.hpp).
+void GroundStation::send(Vehicle& v, const model::VehicleInput& u, double now_s) {
+  const model::VehicleInput sent = link_.send_setpoint(v.id, v.adaptation.setpoint(u, now_s));
   const double t_acts_s = now_s + config_.command_lead_s;
-  v.thrust_gain.command(t_acts_s, sent.a_q_mps2);
-  sent.a_q_mps2 *= gain;
-  estimator_.set_command(v.id, t_acts_s, sent);
+  estimator_.set_command(v.id, t_acts_s, v.adaptation.delivered(sent, now_s, t_acts_s));
 }
 
-// The identification flight's fit once it is over, recorded; a lag that differs from the
-// equaliser's by more than the fit's accuracy goes on board, and so does a lighter inertia for
-// the rate loop (IdentificationMemory::inertia_scale_to_set). A refused fit keeps what is set.
-void GroundStation::identify_motors(Vehicle& v, double now_s) {
-  for (OnBoardSetting* s : {&v.motors.lag(), &v.motors.inertia()})
-    if (s->pending()) s->settle(link_.command_state(*s->pending()));
-  // The gentler flight after a saturated one, only while the vehicle hovers without the pole:
-  // in hover at once (the pole comes within seconds), or at its waiting point for a catch once it
-  // is there (a catcher goes to wait straight from its take-off; climbing there, the flight was
-  // fitted 16 % slow). The catch manoeuvre, seconds later, stops a flight not yet over.
-  const Task task = v.sequencer.task();
-  if (task != Task::hover && task != Task::wait && task != Task::take_off)
-    v.motors.cancel_gentle_identification();
-  if (v.motors.gentle_flight_due() &&
-      (task == Task::hover || (task == Task::wait && (v.sequencer.last_conditions() & c::at_target))))
-    v.motors.start_gentle_identification(now_s);
-  const std::optional<estimation::IdentificationResult> result = v.motors.finish(now_s);
-  if (!result) return;
-  const std::optional<double> k =
-      v.thrust_gain.measurements() > 0 ? std::optional(v.thrust_gain.gain()) : std::nullopt;
-  if (const std::optional<double> lag_s =
-          identifications_.finished(v.id, *result, k, now_s, v.motors.equalised_s()))
-    set_motor_lag(v, *lag_s, now_s);
-  if (!result->identified) return;
-  if (const std::optional<double> scale =
-          identifications_.inertia_scale_to_set(v.id, v.motors.inertia_scale()))
-    set_inertia_scale(v, *scale, now_s);
+void GroundStation::set_on_board(Vehicle& v, const std::vector<OnBoardCommand>& commands, double now_s) {
+  for (const OnBoardCommand& command : commands)
+    v.adaptation.sent(command, link_.send_command(v.id, command.code, command.argument, now_s));
 }
-
-void GroundStation::judge_pole_trust(Vehicle& v) {
-  const std::optional<estimation::MocapNoise> noise = v.noise.noise();
-  const double sigma =
-      estimation::pole_measurement_sigma(v.motors.equalised_s(),
-                                         noise ? std::max(noise->position_sigma_m, noise->attitude_sigma_rad)
-                                               : std::numeric_limits<double>::quiet_NaN(),
-                                         config_.pole_trust);
-  estimator_.set_pole_measurement_sigma(v.id, sigma, sigma);
-}
-
-void GroundStation::set_motor_lag(Vehicle& v, double lag_s, double now_s) {
-  v.motors.lag().sent(lag_s, link_.send_command(v.id, pa::proto::CommandCode::set_motor_time_constant,
-                                                motor_lag_argument_us(lag_s), now_s));
-}
-void GroundStation::set_inertia_scale(Vehicle& v, double scale, double now_s) {
-  v.motors.inertia().sent(scale, link_.send_command(v.id, pa::proto::CommandCode::set_inertia_scale,
-                                                    inertia_scale_argument(scale), now_s));
-}
-
 // The vehicle's gyro-held attitude set back onto motion capture's (estimation/onboard_tilt.hpp)
 // while the ground station flies it: its hold, its failsafe and a landing's end fly on it.
 void GroundStation::correct_onboard_tilt(Vehicle& v, const pa::proto::TelemetryAttitude& attitude,
@@ -452,9 +405,9 @@ void GroundStation::correct_onboard_tilt(Vehicle& v, const pa::proto::TelemetryA
   const auto& q = attitude.quaternion;
   const Eigen::Quaterniond onboard(q[0], q[1], q[2], q[3]);
   const double rate_radps = Eigen::Map<const Eigen::Vector3f>(status.rates.value.rate_radps.data()).norm();
-  if (const std::optional<Eigen::Vector2d> up = v.onboard_tilt.report(now_s, onboard, measured, rate_radps))
-    link_.send_command(v.id, pa::proto::CommandCode::correct_tilt, estimation::tilt_correction_argument(*up),
-                       now_s);
+  if (const std::optional<OnBoardCommand> command =
+          v.adaptation.tilt_correction(now_s, onboard, measured, rate_radps))
+    set_on_board(v, {*command}, now_s);
 }
 
 CatchView GroundStation::catch_view(const Vehicle& catcher) const {
@@ -490,7 +443,7 @@ AttemptFacts GroundStation::attempt_facts(double now_s) const {
 bool GroundStation::waiting_for_pole(pa::VehicleId vehicle) const {
   const Vehicle& v = vehicle_of(vehicle);
   return phase_ == AttemptPhase::preparing && vehicle == request_.thrower &&
-         v.sequencer.task() == Task::hover && !v.motors.identifying();
+         v.sequencer.task() == Task::hover && !v.adaptation.motors().identifying();
 }
 
 void GroundStation::update_attempt(double now_s) {

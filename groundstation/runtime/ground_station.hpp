@@ -3,8 +3,8 @@
 // throw book, the catch coordinator and the learner, and is driven from outside by three calls
 // and nothing else:
 //   on_mocap(frame, now)  a motion-capture frame arrived: the laws' time step
-//                        (frame_interval.hpp), estimator update, each vehicle's thrust-gain
-//                        sample (thrust_compensation.hpp), the attempt's phases
+//                        (frame_interval.hpp), estimator update, each vehicle's pose to its
+//                        adaptation (vehicle_adaptation.hpp), the attempt's phases
 //                        (attempt_phases.hpp), then for each vehicle its condition facts and word
 //                        (condition_facts.hpp), its sequencer step, the new task's entry actions
 //                        (task_entry.hpp) and its task's law (task_control.hpp) to a setpoint,
@@ -13,7 +13,7 @@
 //                        decoded once by the link, the rates routed to the identification;
 //   tick(now)            link housekeeping (heartbeats, retries, TIMESYNC, lost vehicles), the
 //                        mission commands (link/mission_commands.hpp), the motors' identification
-//                        and the lag set on board (motor_equaliser.hpp).
+//                        and the lag and inertia set on board (vehicle_adaptation.hpp).
 // No clock, no thread: `now` is the ground clock, which is also the clock the motion capture
 // stamps its frames with (in simulation both are the plant's time). The same object runs in the
 // lockstep arena (hil/sil), in `hil run`'s plant exchange and in `groundstation run`
@@ -54,9 +54,6 @@
 #include "groundstation/adaptation/learner.hpp"
 #include "groundstation/control/task_laws.hpp"
 #include "groundstation/control/throw_frame.hpp"
-#include "groundstation/estimation/mocap_noise.hpp"
-#include "groundstation/estimation/onboard_tilt.hpp"
-#include "groundstation/estimation/rate_response.hpp"
 #include "groundstation/estimation/state_estimator.hpp"
 #include "groundstation/estimation/thrust_gain.hpp"
 #include "groundstation/link/ground_link.hpp"
@@ -73,11 +70,10 @@
 #include "groundstation/runtime/condition_facts.hpp"
 #include "groundstation/runtime/frame_interval.hpp"
 #include "groundstation/runtime/ground_station_config.hpp"
-#include "groundstation/runtime/motor_equaliser.hpp"
 #include "groundstation/runtime/task_control.hpp"
 #include "groundstation/runtime/task_entry.hpp"
 #include "groundstation/runtime/throw_geometry.hpp"
-#include "groundstation/runtime/thrust_compensation.hpp"
+#include "groundstation/runtime/vehicle_adaptation.hpp"
 
 namespace gs::runtime {
 
@@ -158,23 +154,23 @@ class GroundStation {
   bool waiting_for_pole(pa::VehicleId vehicle) const;
   // The vehicle's thrust gain as measured in flight (1: the airframe file's).
   const estimation::ThrustGainEstimator& thrust_gain(pa::VehicleId vehicle) const {
-    return vehicle_of(vehicle).thrust_gain;
+    return vehicle_of(vehicle).adaptation.thrust_gain();
   }
   // The vehicle's latest motor identification (none before its first take-off's is over; refused
   // or not), the last accepted one (possibly from the store, an earlier run's), and the lag its
   // firmware's equaliser is set to as far as the ground station knows (acknowledged).
   const std::optional<estimation::IdentificationResult>& motor_identification(pa::VehicleId vehicle) const {
-    return vehicle_of(vehicle).motors.identified();
+    return vehicle_of(vehicle).adaptation.motors().identified();
   }
   const std::optional<estimation::MotorIdentification>& kept_motor_identification(
       pa::VehicleId vehicle) const {
     return identifications_.kept(vehicle);
   }
   double equalised_motor_time_constant_s(pa::VehicleId vehicle) const {
-    return vehicle_of(vehicle).motors.equalised_s();
+    return vehicle_of(vehicle).adaptation.motors().equalised_s();
   }
   double on_board_inertia_scale(pa::VehicleId vehicle) const {
-    return vehicle_of(vehicle).motors.inertia_scale();
+    return vehicle_of(vehicle).adaptation.motors().inertia_scale();
   }
   const estimation::StateEstimator& estimator() const { return estimator_; }
   const link::GroundLink& link() const { return link_; }
@@ -188,18 +184,15 @@ class GroundStation {
 
  private:
   struct Vehicle {
-    explicit Vehicle(pa::VehicleId vehicle) : id(vehicle) {}
+    Vehicle(pa::VehicleId vehicle, const VehicleAdaptationSettings& settings)
+        : id(vehicle), adaptation(vehicle, settings) {}
     pa::VehicleId id;
     mission::VehicleSequencer sequencer;
     TaskState laws;  // target, carrot, integral, take-off ramp
     std::uint32_t requests = 0;
     link::MissionCommands commands;  // ARM, DISARM, LAND, EXPECT_CATCH, CATCH_HANDLED
     double last_pose_s = -1e9;
-    estimation::ThrustGainEstimator thrust_gain;
-    MotorEqualiser motors;  // each take-off's identification, the lag set on board
-    estimation::MocapNoiseMeter noise;
-    estimation::OnboardTilt onboard_tilt;  // its own attitude against motion capture's
-    double pole_trust_s = -1e9;            // when its pole filter's trust was last judged
+    VehicleAdaptation adaptation;  // thrust gain, motors, pose noise, on-board tilt
   };
 
   // std::out_of_range for a vehicle not of the act.
@@ -210,14 +203,11 @@ class GroundStation {
   Vehicle& other(const Vehicle& v) { return vehicle_of(pa::other_vehicle(v.id)); }
   void request_all(std::uint32_t request);  // to both vehicles' sequencers
   mission::ConditionFacts facts(const Vehicle& v, double now_s) const;
-  void identify_motors(Vehicle& v, double now_s);
-  void set_motor_lag(Vehicle& v, double lag_s, double now_s);      // COMMAND set_motor_time_constant
-  void set_inertia_scale(Vehicle& v, double scale, double now_s);  // COMMAND set_inertia_scale
+  void set_on_board(Vehicle& v, const std::vector<OnBoardCommand>& commands, double now_s);
   void correct_onboard_tilt(Vehicle& v, const pa::proto::TelemetryAttitude& attitude, double now_s);
-  void judge_pole_trust(Vehicle& v);
   void keep_inside_volume(Vehicle& v);
   void measure_impact_energy(const Vehicle& catcher);
-  void send(Vehicle& v, model::VehicleInput u, double now_s);
+  void send(Vehicle& v, const model::VehicleInput& u, double now_s);
   void enter(Vehicle& v, double now_s);
   void fly(Vehicle& v, double now_s, double dt_s);
   void update_attempt(double now_s);
@@ -242,13 +232,13 @@ class GroundStation {
   GroundStationConfig config_;
   link::GroundLink link_;
   estimation::StateEstimator estimator_;
-  std::array<Vehicle, 2> vehicles_{Vehicle(pa::kVehicle1), Vehicle(pa::kVehicle2)};  // by pa::act_slot()
   planning::ThrowBook throws_;
   TaskController tasks_;
   adaptation::Learner learner_;
   adaptation::IdentificationMemory identifications_;  // after learner_, which creates the store
   adaptation::CatchEnergyCorrection catch_energy_;
   CatchCoordinator catch_;
+  std::array<Vehicle, 2> vehicles_;  // by pa::act_slot()
   std::vector<MissionEvent> events_;
   std::vector<link::ImpactReport> impacts_;
   // The estimator predicted to when this frame's commands act (latency compensation).

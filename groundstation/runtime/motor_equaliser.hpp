@@ -50,6 +50,7 @@ class MotorEqualiser {
       : flight_(flight), lag_(design_lag_s), inertia_(1.0) {}
 
   IdentificationFlight& flight() { return flight_; }
+  const IdentificationFlight& flight() const { return flight_; }
   // Starts this take-off's identification flight against the lag set on board.
   void start_identification(double now_s);
   // A take-off's flight refused because the motors saturated is flown once more, its doublets
