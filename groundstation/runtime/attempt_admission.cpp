@@ -50,7 +50,7 @@ bool pack_spent(const VehicleThrust& vehicle, double needed_mps2, const PackSwap
                 const ThrustAdmission& settings) {
   if (!(vehicle.battery_V > 0.0)) return false;
   const double wanted_mps2 = swap.margin * needed_mps2;
-  const double fresh_mps2 = vehicle.gain * settings.full_thrust_mps2;
+  const double fresh_mps2 = thrust_ceiling_mps2({vehicle.vehicle, vehicle.gain, 0.0}, settings);  // no sag
   const double floor_mps2 = fresh_mps2 >= wanted_mps2 ? wanted_mps2 : swap.weak_sag * fresh_mps2;
   return thrust_ceiling_mps2(vehicle, settings) < floor_mps2;
 }

@@ -1,11 +1,11 @@
 // The ground-station runtime: the one object that flies the mission, as a loop over named
-// pieces. It owns the estimator, the link, both vehicles' sequencers, the task controllers, the
-// throw book, the catch coordinator and the learner, and is driven from outside by three calls
-// and nothing else:
+// pieces. It owns the estimator, the link, both vehicles (act_vehicle.hpp), the task
+// controllers, the throw book, the learner and the attempt (attempt_runner.hpp), and is driven
+// from outside by three calls and nothing else:
 //   on_mocap(frame, now)  a motion-capture frame arrived: the laws' time step
 //                        (frame_interval.hpp), estimator update, each vehicle's pose to its
-//                        adaptation (vehicle_adaptation.hpp), the attempt's phases
-//                        (attempt_phases.hpp), then for each vehicle its condition facts and word
+//                        adaptation (vehicle_adaptation.hpp), the attempt's step
+//                        (attempt_runner.hpp), then for each vehicle its condition facts and word
 //                        (condition_facts.hpp), its sequencer step, the new task's entry actions
 //                        (task_entry.hpp) and its task's law (task_control.hpp) to a setpoint,
 //                        its thrust over the gain;
@@ -34,9 +34,10 @@
 // that it comes to rest at the catching height at the expected catching instant, re-plans its
 // xy correction to the latest catch-point prediction at every frame and tracks it in closed loop
 // (catch_coordinator.hpp); after the impact it holds still while the pole swings up, then
-// balances it. Attempts are admitted by attempt_admission.hpp and closed by attempt_close.hpp:
-// throw by throw the learner (adaptation/learner.hpp, Section VI) moves the catching height, the
-// waiting point and the offset bias.
+// balances it. The attempt runner admits attempts (attempt_admission.hpp), steps their phases
+// (attempt_phases.hpp) and closes them (attempt_close.hpp): throw by throw the learner
+// (adaptation/learner.hpp, Section VI) moves the catching height, the waiting point and the
+// offset bias.
 #pragma once
 
 #include <array>
@@ -49,7 +50,6 @@
 
 #include <Eigen/Core>
 
-#include "groundstation/adaptation/catch_energy.hpp"
 #include "groundstation/adaptation/identification_memory.hpp"
 #include "groundstation/adaptation/learner.hpp"
 #include "groundstation/control/task_laws.hpp"
@@ -62,17 +62,16 @@
 #include "groundstation/mission/vehicle_sequencer.hpp"
 #include "groundstation/model/vehicle_limits.hpp"
 #include "groundstation/planning/throw_book.hpp"
+#include "groundstation/runtime/act_vehicle.hpp"
 #include "groundstation/runtime/attempt.hpp"
 #include "groundstation/runtime/attempt_admission.hpp"
-#include "groundstation/runtime/attempt_close.hpp"
 #include "groundstation/runtime/attempt_phases.hpp"
-#include "groundstation/runtime/catch_coordinator.hpp"
+#include "groundstation/runtime/attempt_runner.hpp"
 #include "groundstation/runtime/condition_facts.hpp"
 #include "groundstation/runtime/frame_interval.hpp"
 #include "groundstation/runtime/ground_station_config.hpp"
 #include "groundstation/runtime/task_control.hpp"
 #include "groundstation/runtime/task_entry.hpp"
-#include "groundstation/runtime/throw_geometry.hpp"
 #include "groundstation/runtime/vehicle_adaptation.hpp"
 
 namespace gs::runtime {
@@ -93,6 +92,8 @@ class GroundStation {
   // Throws std::runtime_error when the throw cannot be planned, adaptation::StoreError when the
   // adaptation store cannot be opened (the message names the file).
   GroundStation(link::FrameBus& bus, const GroundStationConfig& config = {});
+  GroundStation(const GroundStation&) = delete;  // its pieces hold references to each other
+  GroundStation& operator=(const GroundStation&) = delete;
 
   void on_mocap(const estimation::MocapFrame& frame, double now_s);
   void on_frame(const pa::proto::Frame& frame, double now_s);
@@ -128,15 +129,15 @@ class GroundStation {
   double thrust_ceiling_mps2(pa::VehicleId vehicle) const;
   using Refusal = AttemptRefusal;  // runtime/attempt_admission.hpp
   static std::string_view refusal_name(Refusal refusal) { return runtime::refusal_name(refusal); }
-  Refusal refusal_kind() const { return refusal_kind_; }
+  Refusal refusal_kind() const { return attempt_.refusal_kind(); }
   // How often a flying vehicle was found outside the arena's volume and sent to land.
   std::uint64_t volume_breaches() const { return volume_breaches_; }
-  const std::string& refusal() const { return refusal_; }  // in words, with the numbers
+  const std::string& refusal() const { return attempt_.refusal(); }  // in words, with the numbers
 
-  AttemptPhase attempt_phase() const { return phase_; }
+  AttemptPhase attempt_phase() const { return attempt_.phase(); }
   // Completed attempts, oldest first.
-  const std::vector<AttemptReport>& attempts() const { return reports_; }
-  const AttemptReport& current_attempt() const { return current_; }
+  const std::vector<AttemptReport>& attempts() const { return attempt_.reports(); }
+  const AttemptReport& current_attempt() const { return attempt_.current(); }
   // The mission events since the last call, oldest first (at most kEventLogCapacity).
   std::vector<MissionEvent> take_events() { return std::exchange(events_, {}); }
   // The vehicles' IMPACT reports since the last call, oldest first (at most kEventLogCapacity).
@@ -178,56 +179,24 @@ class GroundStation {
   adaptation::Learnt learnt() const { return learner_.learnt(); }
   const GroundStationConfig& config() const { return config_; }
   // The catching height (lower pole end) expected for the next throw, arena frame.
-  double catch_height() const;
+  double catch_height() const { return attempt_.catch_height(); }
   // Where and in which direction a vehicle throws (see GroundStationConfig::throw_yaw_rad).
   control::ThrowFrame throw_frame(pa::VehicleId thrower) const;
 
  private:
-  struct Vehicle {
-    Vehicle(pa::VehicleId vehicle, const VehicleAdaptationSettings& settings)
-        : id(vehicle), adaptation(vehicle, settings) {}
-    pa::VehicleId id;
-    mission::VehicleSequencer sequencer;
-    TaskState laws;  // target, carrot, integral, take-off ramp
-    std::uint32_t requests = 0;
-    link::MissionCommands commands;  // ARM, DISARM, LAND, EXPECT_CATCH, CATCH_HANDLED
-    double last_pose_s = -1e9;
-    VehicleAdaptation adaptation;  // thrust gain, motors, pose noise, on-board tilt
-  };
-
   // std::out_of_range for a vehicle not of the act.
-  const Vehicle& vehicle_of(pa::VehicleId vehicle) const;
-  Vehicle& vehicle_of(pa::VehicleId vehicle) {
-    return const_cast<Vehicle&>(std::as_const(*this).vehicle_of(vehicle));
+  const ActVehicle& vehicle_of(pa::VehicleId vehicle) const;
+  ActVehicle& vehicle_of(pa::VehicleId vehicle) {
+    return const_cast<ActVehicle&>(std::as_const(*this).vehicle_of(vehicle));
   }
-  Vehicle& other(const Vehicle& v) { return vehicle_of(pa::other_vehicle(v.id)); }
   void request_all(std::uint32_t request);  // to both vehicles' sequencers
-  mission::ConditionFacts facts(const Vehicle& v, double now_s) const;
-  void set_on_board(Vehicle& v, const std::vector<OnBoardCommand>& commands, double now_s);
-  void correct_onboard_tilt(Vehicle& v, const pa::proto::TelemetryAttitude& attitude, double now_s);
-  void keep_inside_volume(Vehicle& v);
-  void measure_impact_energy(const Vehicle& catcher);
-  void send(Vehicle& v, const model::VehicleInput& u, double now_s);
-  void enter(Vehicle& v, double now_s);
-  void fly(Vehicle& v, double now_s, double dt_s);
-  void update_attempt(double now_s);
-  AttemptFacts attempt_facts(double now_s) const;
-  CatchView catch_view(const Vehicle& catcher) const;
-  void end_attempt(double now_s);
-  // The catch point (lower end, x y) expected for the next throw, arena frame (throw_geometry.hpp).
-  Eigen::Vector2d waiting_xy() const;
-  std::optional<Eigen::Vector3d> aimed_m() const;  // the target throw's aim, if the attempt has one
-  // The catcher's waiting point for the next throw: above the catch point, at the height the z
-  // manoeuvre starts from (eq. (49)).
-  Eigen::Vector3d waiting_target() const;
-  // Where the thrower's centre of gravity hovers before the throw: the throw's origin.
-  Eigen::Vector3d throw_origin_target() const;
-  // Where the thrower retreats after the release: over the throw's origin, at the origin's height
-  // or, in a pass (AttemptRequest::thrower_catches_next), at the waiting point's.
-  Eigen::Vector3d retreat_target() const;
-  // The throw the attempt flies: the one planned to its target, else the Fig. 5 throw.
-  const planning::ThrowTrajectory& flown_throw() const;
-  const planning::ThrowTracker& flown_tracker() const;
+  mission::ConditionFacts facts(const ActVehicle& v, double now_s) const;
+  void set_on_board(ActVehicle& v, const std::vector<OnBoardCommand>& commands, double now_s);
+  void correct_onboard_tilt(ActVehicle& v, const pa::proto::TelemetryAttitude& attitude, double now_s);
+  void keep_inside_volume(ActVehicle& v);
+  void send(ActVehicle& v, const model::VehicleInput& u, double now_s);
+  void enter(ActVehicle& v, double now_s);
+  void fly(ActVehicle& v, double now_s, double dt_s);
 
   GroundStationConfig config_;
   link::GroundLink link_;
@@ -236,33 +205,14 @@ class GroundStation {
   TaskController tasks_;
   adaptation::Learner learner_;
   adaptation::IdentificationMemory identifications_;  // after learner_, which creates the store
-  adaptation::CatchEnergyCorrection catch_energy_;
-  CatchCoordinator catch_;
-  std::array<Vehicle, 2> vehicles_;  // by pa::act_slot()
+  AttemptRunner attempt_;                             // after what it reads: estimator_, learner_, throws_
+  ActVehicles vehicles_;
   std::vector<MissionEvent> events_;
   std::vector<link::ImpactReport> impacts_;
   // The estimator predicted to when this frame's commands act (latency compensation).
   std::optional<estimation::StateEstimator> ahead_;
-  std::optional<double> last_mocap_s_;                   // the last frame's arrival
-  std::optional<estimation::MocapPose> last_pole_pose_;  // the pole's latest pose
-
-  // The attempt.
-  control::ThrowFrame frame_;  // its thrower's throw frame (the last attempt's when idle)
-  AttemptPhase phase_ = AttemptPhase::idle;
-  AttemptRequest request_;
-  AttemptReport current_;
-  std::vector<AttemptReport> reports_;
-  int attempt_count_ = 0;
+  std::optional<double> last_mocap_s_;  // the last frame's arrival
   std::uint64_t volume_breaches_ = 0;
-  Refusal refusal_kind_ = Refusal::none;  // why the last request_attempt() was refused
-  std::string refusal_;
-  std::optional<planning::TargetThrow> target_throw_;  // the attempt's, when it throws to a target
-  std::optional<ThrowEnd> throw_end_;                  // the throw's last tracked state near its end
-  std::vector<adaptation::TimedPoleState> flight_;     // the pole's, from the launch to the impact
-  // The pole's resting end from the plate's centre as the throw started, in the plate's axes.
-  Eigen::Vector3d resting_offset_m_ = Eigen::Vector3d::Zero();
-  std::optional<double> balanced_since_s_;
-  std::optional<double> balanced_on_catcher_s_;
 };
 
 }  // namespace gs::runtime

@@ -62,7 +62,8 @@ gs::estimation::IdentificationResult slow_and_heavy() {
 
 }  // namespace
 
-TEST_CASE("The measured gain divides the setpoint's thrust, and the estimator is told what the vehicle delivers") {
+TEST_CASE(
+    "The measured gain divides the setpoint's thrust, and the estimator is told what the vehicle delivers") {
   VehicleAdaptation a(pa::kVehicle1, settings());
   gs::model::VehicleInput law;
   law.a_q_mps2 = 9.81;
@@ -108,7 +109,7 @@ TEST_CASE("Poses judge the pole filter's trust once a period, from the motor lag
 TEST_CASE("What identification keeps is set at arming, and counts on board once acknowledged") {
   gs::adaptation::IdentificationMemory memory({0.03, 0.1}, "", adaptation_test::nominal_settings());
   VehicleAdaptation a(pa::kVehicle1, settings());
-  CHECK(a.at_arming(memory).empty());  // nothing kept: the firmware's own
+  CHECK(a.at_arming(memory).empty());                          // nothing kept: the firmware's own
   CHECK(a.identify(1.0, Task::hover, false, memory).empty());  // no flight flown
 
   memory.finished(pa::kVehicle1, slow_and_heavy(), std::nullopt, 1.0, 0.03);
@@ -125,7 +126,8 @@ TEST_CASE("What identification keeps is set at arming, and counts on board once 
   a.sent(commands[0], CommandHandle{pa::kVehicle1, 1, 1});
   a.sent(commands[1], CommandHandle{pa::kVehicle1, 2, 2});
   // The lag acknowledged, the inertia's still in flight.
-  a.settle([](const CommandHandle& h) { return h.serial == 1 ? CommandState::accepted : CommandState::pending; });
+  a.settle(
+      [](const CommandHandle& h) { return h.serial == 1 ? CommandState::accepted : CommandState::pending; });
   CHECK(a.motors().equalised_s() == 0.045);
   CHECK(a.motors().inertia_scale() == 1.0);
   // The inertia's refused: the file's stays.
