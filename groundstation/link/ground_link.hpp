@@ -61,6 +61,7 @@
 
 #include "groundstation/link/frame_bus.hpp"
 #include "groundstation/model/vehicle.hpp"
+#include "pa/constants.hpp"
 #include "pa/link_auth.hpp"
 #include "pa/protocol.hpp"
 #include "pa/vehicle_id.hpp"
@@ -85,8 +86,8 @@ struct GroundLinkConfig {
   // and ground heartbeat, docs/failsafe.md): shorter silences are a radio fading (100 ms outages,
   // two or three back to back), not a lost vehicle; a dead firmware is reported within 0.3 s.
   double vehicle_timeout_s = 0.3;
-  double link_quality_window_s = 1.0;        // at most kHeartbeatHistory vehicle heartbeat periods
-  double vehicle_heartbeat_period_s = 0.02;  // the vehicle's VEHICLE_HEARTBEAT period (fw::LinkConfig)
+  double link_quality_window_s = 1.0;  // at most kHeartbeatHistory vehicle heartbeat periods
+  double vehicle_heartbeat_period_s = pa::kVehicleHeartbeatPeriod_us / 1e6;  // the vehicle's (fw::LinkConfig)
 };
 
 enum class CommandState : std::uint8_t {

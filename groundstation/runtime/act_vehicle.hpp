@@ -20,8 +20,8 @@ struct ActVehicle {
       : id(vehicle), adaptation(vehicle, settings) {}
   pa::VehicleId id;
   mission::VehicleSequencer sequencer;
-  TaskState laws;              // target, carrot, integral, take-off ramp
-  std::uint32_t requests = 0;  // mission::condition::request_* bits
+  TaskState laws;                  // target, carrot, integral, take-off ramp
+  std::uint32_t requests = 0;      // mission::condition::request_* bits
   link::MissionCommands commands;  // ARM, DISARM, LAND, EXPECT_CATCH, CATCH_HANDLED
   double last_pose_s = -1e9;
   VehicleAdaptation adaptation;  // thrust gain, motors, pose noise, on-board tilt

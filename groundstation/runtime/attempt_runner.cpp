@@ -229,8 +229,8 @@ AttemptFacts AttemptRunner::facts(double now_s, const ActVehicles& vehicles) con
 }
 
 bool AttemptRunner::waiting_for_pole(const ActVehicle& v) const {
-  return phase_ == AttemptPhase::preparing && v.id == request_.thrower &&
-         v.sequencer.task() == Task::hover && !v.adaptation.motors().identifying();
+  return phase_ == AttemptPhase::preparing && v.id == request_.thrower && v.sequencer.task() == Task::hover &&
+         !v.adaptation.motors().identifying();
 }
 
 void AttemptRunner::update(double now_s, ActVehicles& vehicles) {

@@ -379,6 +379,21 @@ std::string Process::summary() const {
     out +=
         "motion capture: stamps the clocks cannot explain (in the future or older than the limit): are the "
         "motion-capture host's and this host's clocks synchronised? Those frames were timed by arrival\n";
+  // The leg from the ground station to each vehicle and back: TIMESYNC's round trip (the radio
+  // both ways and up to a tick on board), half of which bounds the clock offset's error.
+  for (const pa::VehicleId v : pa::kActVehicles) {
+    const link::VehicleLinkStatus& s = station_.link().status(v);
+    char line[256];
+    if (!s.heard)
+      std::snprintf(line, sizeof line, "vehicle %u: never heard\n", static_cast<unsigned>(v.node()));
+    else
+      std::snprintf(line, sizeof line,
+                    "vehicle %u: link quality %.2f, TIMESYNC round trip %.1f ms (latest), clock offset known "
+                    "within %.1f ms\n",
+                    static_cast<unsigned>(v.node()), s.link_quality, 1e3 * s.round_trip_s,
+                    1e3 * s.clock_uncertainty_s);
+    out += line;
+  }
   return out;
 }
 

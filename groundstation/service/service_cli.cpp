@@ -11,12 +11,15 @@
 #include <csignal>
 #include <cstdio>
 #include <iostream>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "groundstation/apps/commands.hpp"
+#include "groundstation/link/link_budget.hpp"
 #include "groundstation/service/process.hpp"
+#include "groundstation/service/radio_bus.hpp"
 #include "groundstation/service/socketcan_bus.hpp"
 #include "groundstation/service/status_view.hpp"
 #include "pa/command_line.hpp"
@@ -65,7 +68,7 @@ void add_domain_option(CLI::App& app, unsigned& domain) {
 
 // On CLOCK_MONOTONIC, the clock the motion capture stamps its frames with: a step every
 // kStepPeriodMs, and every frame read between the steps. Returns the exit code.
-int run_on_monotonic_clock(service::SocketCanBus& bus, service::Process& process) {
+int run_on_monotonic_clock(service::GroundBus& bus, service::Process& process) {
   double next_step_s = monotonic_s();
   pa::proto::Frame frame;
   while (g_stop == 0) {
@@ -92,7 +95,7 @@ int run_on_monotonic_clock(service::SocketCanBus& bus, service::Process& process
 // The HIL plant's clock (hil run --ground-clock, docs/hil.md): each HIL_CLOCK is a step at the
 // plant's time, once the motion-capture frames it counts are in; HIL_CLOCK_DONE tells the plant
 // it may step on. Frames read in between carry the latest step's time. Returns the exit code.
-int run_on_plant_clock(service::SocketCanBus& bus, service::Process& process, std::uint64_t& late_mocap) {
+int run_on_plant_clock(service::GroundBus& bus, service::Process& process, std::uint64_t& late_mocap) {
   // The plant publishes the motion capture before it sends the HIL_CLOCK that counts it; DDS on
   // one host delivers it in microseconds, so a frame missing this long was lost.
   constexpr auto kMocapWait = 1s;
@@ -125,6 +128,15 @@ int run_on_plant_clock(service::SocketCanBus& bus, service::Process& process, st
   return 0;
 }
 
+// "1=/dev/ttyUSB0": a vehicle of the act and its radio's port.
+std::optional<service::RadioPort> radio_port(const std::string& text) {
+  const std::size_t eq = text.find('=');
+  if (eq == std::string::npos || eq + 1 >= text.size()) return std::nullopt;
+  const std::string node = text.substr(0, eq);
+  if (node != "1" && node != "2") return std::nullopt;
+  return service::RadioPort{pa::VehicleId(static_cast<std::uint8_t>(node[0] - '0')), text.substr(eq + 1)};
+}
+
 // A sequence number no earlier `op` is likely to have used: the ground station acts on each once.
 std::uint32_t fresh_sequence_number() {
   std::uint32_t n = 0;
@@ -146,18 +158,32 @@ int cmd_run(int argc, char** argv) {
   CLI::App app("", "groundstation run");
   pa::cli::describe(
       app,
-      "usage: groundstation run --can IFACE --domain D --key1 FILE --key2 FILE [--store FILE] [--hil-clock]\n"
+      "usage: groundstation run (--can IFACE | --radio N=PORT... [--baud B]) --domain D --key1 FILE --key2 FILE\n"
+      "       [--store FILE] [--hil-clock]\n"
       "       [--mocap-vehicle1 NAME] [--mocap-vehicle2 NAME] [--mocap-pole NAME] [--mocap-latency S]\n"
       "       [--arena-volume XMIN YMIN ZMIN XMAX YMAX ZMAX]",
-      "Runs the ground station: the vehicles on the ground CAN bus, the motion capture (ROS 2's\n"
-      "NamedPoseArray on /poses, as motion_capture_tracking publishes it), operator commands,\n"
-      "telemetry and events on the arena's DDS domain (docs/groundstation.md).\n"
-      "Ctrl-C ends it with a summary.",
-      "Exit codes: 0 ended by a signal, 1 failed (no CAN socket, a DDS error), 2 bad arguments.");
-  app.add_option("--can", interface_name, "the ground SocketCAN bus (for example can0, vcan0)")
-      ->type_name("IFACE")
-      ->required()
-      ->check(pa::cli::non_empty("needs an interface name"));
+      "Runs the ground station: the vehicles on the ground CAN bus or each on its serial radio\n"
+      "(docs/arena.md), the motion capture (ROS 2's NamedPoseArray on /poses, as\n"
+      "motion_capture_tracking publishes it), operator commands, telemetry and events on the\n"
+      "arena's DDS domain (docs/groundstation.md). Ctrl-C ends it with a summary.",
+      "Exit codes: 0 ended by a signal, 1 failed (no CAN socket, a radio's port, a DDS error), 2 bad\n"
+      "arguments (a radio too slow for the act among them).");
+  CLI::Option* can_option =
+      app.add_option("--can", interface_name, "the ground SocketCAN bus (for example can0, vcan0)")
+          ->type_name("IFACE")
+          ->check(pa::cli::non_empty("needs an interface name"));
+  std::vector<std::string> radios;
+  CLI::Option* radio_option =
+      app.add_option("--radio", radios,
+                     "vehicle N's serial radio modem, N=PORT (for example 1=/dev/ttyUSB0); once per vehicle")
+          ->type_name("N=PORT")
+          ->excludes(can_option);
+  can_option->excludes(radio_option);
+  unsigned baud = 115200;
+  app.add_option("--baud", baud,
+                 "the radios' serial rate (default 115200); refused if the act's frames do not fit")
+      ->type_name("B")
+      ->needs(radio_option);
   add_domain_option(app, domain);
   app.add_option("--key1", key_paths[0], "vehicle 1's link key: a file of 32 hex digits")
       ->type_name("FILE")
@@ -201,6 +227,24 @@ int cmd_run(int argc, char** argv) {
     std::fprintf(stderr, "groundstation run: error: %s\n", problem.c_str());
     return 2;
   }
+  if (interface_name.empty() && radios.empty()) {
+    std::fprintf(stderr,
+                 "groundstation run: error: needs the vehicles' bus: --can IFACE or --radio N=PORT\n");
+    return 2;
+  }
+  std::vector<service::RadioPort> radio_ports;
+  for (const std::string& radio : radios) {
+    const std::optional<service::RadioPort> port = radio_port(radio);
+    if (!port) {
+      std::fprintf(
+          stderr,
+          "groundstation run: error: --radio %s: needs N=PORT with N a vehicle of the act (1 or 2) and a "
+          "port, for example 1=/dev/ttyUSB0\n",
+          radio.c_str());
+      return 2;
+    }
+    radio_ports.push_back(*port);
+  }
   runtime::GroundStationConfig config;
   config.adaptation_store_path = store_path;
   if (!volume.empty()) {
@@ -235,7 +279,30 @@ int cmd_run(int argc, char** argv) {
 
   try {
     // The bus first: without it there is nothing to fly, and its message says how to get one.
-    service::SocketCanBus bus(interface_name);
+    std::unique_ptr<service::GroundBus> bus_owner;
+    if (radio_ports.empty()) {
+      bus_owner = std::make_unique<service::SocketCanBus>(interface_name);
+    } else {
+      if (!service::RadioBus::supported_baud(baud)) {
+        std::fprintf(stderr, "groundstation run: error: --baud %u: not a serial rate (9600 to 921600)\n",
+                     baud);
+        return 2;
+      }
+      // Each radio carries one vehicle's frames: refused when they would not fit its line.
+      const link::LinkBudget budget = link::radio_link_budget(baud, pa::kMocapRate_Hz, config.link);
+      std::printf("groundstation run: %s\n", link::describe(budget).c_str());
+      if (!budget.fits()) {
+        std::fprintf(
+            stderr,
+            "groundstation run: error: the act's frames do not fit a %u-baud radio (%.0f %% and %.0f %% "
+            "of its line, at most %.0f %%): set the modems faster\n",
+            baud, 100.0 * budget.to_vehicle.utilisation, 100.0 * budget.from_vehicle.utilisation,
+            100.0 * link::kMaxRadioUtilisation);
+        return 2;
+      }
+      bus_owner = std::make_unique<service::RadioBus>(radio_ports, baud);
+    }
+    service::GroundBus& bus = *bus_owner;
     const dds::Domain dds_domain(static_cast<dds_domainid_t>(domain));
     const dds::Participant participant(dds_domain);
     service::ProcessConfig process_config;
@@ -246,7 +313,11 @@ int cmd_run(int argc, char** argv) {
 
     std::signal(SIGINT, on_signal);
     std::signal(SIGTERM, on_signal);
-    std::printf("groundstation run: on %s, DDS domain %u, %s\n", interface_name.c_str(), domain,
+    std::string on = interface_name;
+    for (const service::RadioPort& port : radio_ports)
+      on += (on.empty() ? "" : ", ") +
+            ("vehicle " + std::to_string(port.vehicle.node()) + "'s radio " + port.path);
+    std::printf("groundstation run: on %s, DDS domain %u, %s\n", on.c_str(), domain,
                 hil_clock ? "on the HIL plant's clock" : "on CLOCK_MONOTONIC");
     std::printf(
         "groundstation run: motion capture from %s: vehicle 1 '%s', vehicle 2 '%s', pole '%s', latency to "
@@ -264,6 +335,7 @@ int cmd_run(int argc, char** argv) {
       std::printf("HIL clock: %llu steps whose motion-capture frame did not come within 1 s\n",
                   static_cast<unsigned long long>(late_mocap));
     std::fputs(process.summary().c_str(), stdout);
+    std::fputs(bus.summary().c_str(), stdout);
     return code;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "groundstation run: error: %s\n", e.what());

@@ -17,12 +17,13 @@ using gs::mission::Task;
 using namespace gs::runtime;
 namespace c = gs::mission::condition;
 
-gs::adaptation::Learner learner_for(const GroundStationConfig& config, const gs::planning::ThrowBook& throws) {
+gs::adaptation::Learner learner_for(const GroundStationConfig& config,
+                                    const gs::planning::ThrowBook& throws) {
   const gs::planning::ThrowTrajectory& plan = throws.plan().trajectory;
   return gs::adaptation::Learner(
       config.learning, gs::adaptation::nominal_adaptation_settings(config.estimator.free_flight.pole), 0.8,
-      gs::planning::launch_state_of(plan.state_at(plan.duration_s())), gs::adaptation::LaunchMatrix::Identity(),
-      std::nullopt, "");
+      gs::planning::launch_state_of(plan.state_at(plan.duration_s())),
+      gs::adaptation::LaunchMatrix::Identity(), std::nullopt, "");
 }
 
 struct Rig {
@@ -61,7 +62,8 @@ void take_off(ActVehicle& v, double& t_s) {
 
 }  // namespace
 
-TEST_CASE("An attempt is admitted once at a time: the thrower to its throw's origin, the catcher asked to catch") {
+TEST_CASE(
+    "An attempt is admitted once at a time: the thrower to its throw's origin, the catcher asked to catch") {
   Rig rig;
   REQUIRE(rig.request(AttemptRequest{}));
   CHECK(rig.runner.phase() == AttemptPhase::preparing);
@@ -113,7 +115,8 @@ TEST_CASE("The throw is asked for once the thrower is at its origin and the catc
   CHECK(rig.runner.phase() == AttemptPhase::preparing);
 
   // The thrower balances and throws: the attempt notes the throw's start and plans the catch.
-  step(rig.thrower(), {c::pole_on_self | c::pole_upright, c::pole_on_self | c::request_throw | c::settled}, t);
+  step(rig.thrower(), {c::pole_on_self | c::pole_upright, c::pole_on_self | c::request_throw | c::settled},
+       t);
   REQUIRE(rig.thrower().sequencer.task() == Task::throwing);
   const double thrown_s = rig.thrower().sequencer.task_since_s();
   rig.runner.update(t, rig.vehicles);
@@ -161,7 +164,8 @@ TEST_CASE("A catcher lost before the throw ends the attempt; both vehicles are s
   CHECK(rig.catcher().laws.target_m == rig.runner.waiting_target());
 }
 
-TEST_CASE("The laws fly the Fig. 5 throw with the thrower's learnt correction, a throw to a target its own plan") {
+TEST_CASE(
+    "The laws fly the Fig. 5 throw with the thrower's learnt correction, a throw to a target its own plan") {
   Rig rig;
   REQUIRE(rig.request(AttemptRequest{}));
   FlownThrow flown = rig.runner.flown();

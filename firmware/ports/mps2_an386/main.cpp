@@ -10,11 +10,11 @@
 #include "fw/drivers/dshot.hpp"
 #include "fw/drivers/mpu6000.hpp"
 #include "fw/drivers/omnibus_f4.hpp"
-#include "fw/drivers/serial_frame.hpp"
 #include "fw/link_guard.hpp"
 #include "fw/mixer.hpp"
 #include "fw/selftest.hpp"
 #include "instruction_counter.hpp"
+#include "pa/serial_frame.hpp"
 
 namespace {
 
@@ -92,7 +92,7 @@ std::array<std::uint8_t, 14> g_burst = {0x00, 0x12, 0xFF, 0xE0, 0x08, 0x05, 0x0A
 fw::Motors g_command = {0.41f, 0.43f, 0.39f, 0.45f};
 fw::ImuSample g_sample;
 std::array<fw::drivers::dshot::Pulses, 4> g_pulses;
-std::array<std::uint8_t, fw::drivers::serial_frame::kMaxBytes> g_link_bytes;
+std::array<std::uint8_t, pa::serial_frame::kMaxBytes> g_link_bytes;
 pa::proto::Frame g_frame{0x131, 8, {1, 2, 3, 4, 5, 6, 7, 8}};
 
 // Hands the globals' addresses to an empty asm that may read and write them, so the compiler
@@ -113,7 +113,7 @@ __attribute__((noinline)) void step() {
     g_pulses[board::kMotorPad[i]] =
         fw::drivers::dshot::pulses(fw::drivers::dshot::frame(value, false), board::kDshot600);
   }
-  (void)fw::drivers::serial_frame::encode(g_frame, g_link_bytes);
+  (void)pa::serial_frame::encode(g_frame, g_link_bytes);
   escape();
 }
 }  // namespace flight_drivers

@@ -8,7 +8,7 @@
 
 namespace stm32f405::flight {
 
-Uart& link();     // USART1: the ground link (fw/drivers/serial_frame.hpp frames)
+Uart& link();     // USART1: the ground link (pa/serial_frame.hpp frames)
 Uart& console();  // USART3: status lines
 void on_millisecond();
 std::uint32_t milliseconds();

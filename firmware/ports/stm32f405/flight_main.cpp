@@ -3,9 +3,11 @@
 // talking to the ground over a UART radio link. Start-up: clocks, the microsecond clock (TIM5),
 // console and link UARTs, battery ADC, LED, motor outputs (held at motor stop), then the IMU; a missing or wrong IMU
 // is reported on the console and by the LED, and the motors stay stopped. The 1 kHz loop is
-// the IMU's data-ready interrupt; a 1 ms SysTick beat does the housekeeping.
+// the IMU's data-ready interrupt (with no IMU, the beat: see main); a 1 ms SysTick beat does the
+// housekeeping.
 #include <array>
 #include <cstdint>
+#include <limits>
 
 #include "clock.hpp"
 #include "cortex_m/runtime.hpp"
@@ -13,11 +15,11 @@
 #include "flight_io.hpp"
 #include "fw/config.hpp"
 #include "fw/drivers/omnibus_f4.hpp"
-#include "fw/drivers/serial_frame.hpp"
 #include "imu_spi.hpp"
 #include "link_identity.hpp"
 #include "microsecond_clock.hpp"
 #include "motor_output.hpp"
+#include "pa/serial_frame.hpp"
 #include "pins.hpp"
 #include "registers.hpp"
 #include "vehicle_node.hpp"
@@ -33,14 +35,14 @@ namespace {
 using namespace stm32f4;
 namespace board = fw::drivers::omnibus_f4;
 namespace mpu = fw::drivers::mpu6000;
-namespace serial_frame = fw::drivers::serial_frame;
+namespace serial_frame = pa::serial_frame;
 
 Uart g_link;
 Uart g_console;
 volatile std::uint32_t g_ms = 0;
 
-// Without a tick for this long (IMU gone or never there) the motors are stopped: the core
-// cannot fly without its samples.
+// Without an IMU sample for this long (IMU gone or never there) the motors are stopped: the
+// core cannot fly without its samples.
 constexpr std::uint32_t kImuSilenceMs = 20;
 constexpr std::uint32_t kBatteryPeriodMs = 10;
 constexpr std::uint32_t kStatusPeriodMs = 1000;
@@ -244,17 +246,24 @@ int main() {
   s.motors_ready = MotorOutput::init(s.clock.apb1_timer_hz);
   MotorOutput::stop();
   s.imu = Imu::init(s.clock.apb2_hz);
-  const bool fault = s.imu.status != fw::drivers::mpu6000::Status::ok || !s.motors_ready;
+  const bool imu_fault = s.imu.status != fw::drivers::mpu6000::Status::ok;
+  const bool fault = imu_fault || !s.motors_ready;
   report(fault ? "boot FAULT: motors held stopped" : "boot ok");
 
   // The composition root: the one vehicle, built once the clocks are known.
   static VehicleNode<FlightIo> node(make_config(s), s.clock.sysclk_hz / 1000000u, FlightIo{});
-  fw::drivers::serial_frame::Decoder decoder;
+  pa::serial_frame::Decoder decoder;
   start_millisecond_beat(s.clock.sysclk_hz);
 
   std::uint32_t last_ms = milliseconds();
   std::uint32_t last_tick_ms = last_ms;
   std::uint32_t last_status_ms = last_ms;
+  // What the core is given in place of a sample when there is no IMU: NaN, which it does not use
+  // (imu_ok false), so the supervisor sees the IMU lost and refuses ARM.
+  constexpr float kNoReading = std::numeric_limits<float>::quiet_NaN();
+  fw::ImuSample no_imu{};
+  no_imu.gyro_radps = {kNoReading, kNoReading, kNoReading};
+  no_imu.accel_mps2 = {kNoReading, kNoReading, kNoReading};
   for (;;) {
     // Frames from the ground, a bounded number per pass.
     std::uint8_t byte;
@@ -278,6 +287,16 @@ int main() {
     const std::uint32_t ms = milliseconds();
     if (ms != last_ms) {
       last_ms = ms;
+      // With no IMU the beat ticks the core instead, so the ground link stays up: heartbeat,
+      // session and telemetry go out, and COMMAND (ARM refused) and KILL are handled. Not a
+      // sample: last_tick_ms and last_sample keep to the real ones.
+      if (imu_fault) {
+        no_imu.t_us = FlightMicrosecondClock::now_us();
+        node.on_imu_sample(no_imu);
+        s.ticks = node.stats().ticks;
+        s.tick_cycles_max = node.stats().tick_cycles_max;
+      }
+      // After the tick, so that a fault's motor stop has the last word.
       if (fault || ms - last_tick_ms > kImuSilenceMs) {
         MotorOutput::stop();  // refreshed every millisecond
         s.motors_enabled = false;
@@ -294,7 +313,8 @@ int main() {
     g_console.kick();
 
     // Sleep until the next interrupt; masked across the check so one arriving in between
-    // still wakes the core (WFI wakes on a pending interrupt even when masked).
+    // still wakes the core (WFI wakes on a pending interrupt even when masked). With no IMU the
+    // next tick is the beat's, and SysTick wakes it.
     const std::uint32_t saved = stm32f4::irq_save();
     if (!Imu::sample_pending() && !g_link.rx_pending() && milliseconds() == last_ms) asm volatile("wfi");
     stm32f4::irq_restore(saved);

@@ -26,4 +26,13 @@ inline constexpr unsigned kImuRate_Hz = 1000;
 inline constexpr unsigned kMocapRate_Hz = 200;
 inline constexpr unsigned kImuPeriod_us = 1000000u / kImuRate_Hz;
 
+// The vehicle's periodic frames (docs/protocol.md): what its firmware sends by default
+// (fw::LinkConfig) and what the ground station's radio link budget counts.
+inline constexpr unsigned kLinkSessionPeriod_us = 100000;       // LINK_SESSION, 10 Hz
+inline constexpr unsigned kVehicleHeartbeatPeriod_us = 20000;   // VEHICLE_HEARTBEAT, 50 Hz
+inline constexpr unsigned kTelemetryRatesPeriod_us = 5000;      // 200 Hz
+inline constexpr unsigned kTelemetryAttitudePeriod_us = 10000;  // 100 Hz
+inline constexpr unsigned kTelemetryMotorsPeriod_us = 10000;    // 100 Hz
+inline constexpr unsigned kTelemetryStatusPeriod_us = 100000;   // 10 Hz
+
 }  // namespace pa

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 
+#include "pa/constants.hpp"
 #include "pa/link_auth.hpp"
 #include "pa/vehicle_id.hpp"
 
@@ -119,12 +120,12 @@ struct LinkConfig {
   // by the port from its entropy source.
   pa::auth::Key key{};
   std::uint32_t session_nonce = 0;
-  std::uint32_t link_session_period_us = 100000;  // LINK_SESSION at 10 Hz
-  std::uint32_t heartbeat_period_us = 20000;      // VEHICLE_HEARTBEAT at 50 Hz
-  std::uint32_t telemetry_rates_period_us = 5000;
-  std::uint32_t telemetry_attitude_period_us = 10000;
-  std::uint32_t telemetry_motors_period_us = 10000;
-  std::uint32_t telemetry_status_period_us = 100000;
+  std::uint32_t link_session_period_us = pa::kLinkSessionPeriod_us;
+  std::uint32_t heartbeat_period_us = pa::kVehicleHeartbeatPeriod_us;
+  std::uint32_t telemetry_rates_period_us = pa::kTelemetryRatesPeriod_us;
+  std::uint32_t telemetry_attitude_period_us = pa::kTelemetryAttitudePeriod_us;
+  std::uint32_t telemetry_motors_period_us = pa::kTelemetryMotorsPeriod_us;
+  std::uint32_t telemetry_status_period_us = pa::kTelemetryStatusPeriod_us;
 };
 
 struct VehicleConfig {

@@ -75,7 +75,7 @@ inline constexpr Pin kLed{'B', 5, 0};
 inline constexpr bool kLedActiveLow = true;
 
 // The ground link: USART1 (TX PA9, RX PA10, AF7) to a radio modem at 115200 baud carrying
-// fw/drivers/serial_frame.hpp frames; the text console: USART3 (TX PB10, RX PB11, AF7).
+// pa/serial_frame.hpp frames; the text console: USART3 (TX PB10, RX PB11, AF7).
 inline constexpr Pin kLinkTx{'A', 9, 7}, kLinkRx{'A', 10, 7};
 inline constexpr Pin kConsoleTx{'B', 10, 7}, kConsoleRx{'B', 11, 7};
 inline constexpr std::uint32_t kLinkBaud = 115200, kConsoleBaud = 115200;

@@ -1,5 +1,6 @@
 // The vehicle-bus frames (pa::proto::Frame: 11-bit identifier, 0-8 bytes) over a byte stream,
-// for a radio modem on a UART where the board has no CAN transceiver:
+// for a transparent radio modem on a serial line: the one framing both ends use (the flight
+// image on its UART, the ground station on the modem's port, groundstation/service/radio_bus.hpp):
 //
 //   0x7E | id low 8 bits | id high 3 bits + length << 4 | payload (length bytes) | CRC-8
 //
@@ -15,7 +16,7 @@
 
 #include "pa/protocol.hpp"
 
-namespace fw::drivers::serial_frame {
+namespace pa::serial_frame {
 
 inline constexpr std::uint8_t kSync = 0x7E;
 inline constexpr std::size_t kMaxBytes = 1 + 2 + pa::proto::kMaxPayload + 1;
@@ -120,4 +121,4 @@ class Decoder {
   DecoderStats stats_{};
 };
 
-}  // namespace fw::drivers::serial_frame
+}  // namespace pa::serial_frame

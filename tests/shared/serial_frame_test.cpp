@@ -1,4 +1,5 @@
-// Vehicle-bus frames over a UART: the byte layout, the CRC, and resynchronisation after noise.
+// Vehicle-bus frames over a serial line (pa/serial_frame.hpp): the byte layout, the CRC, and
+// resynchronisation after noise.
 #include <catch2/catch.hpp>
 
 #include <array>
@@ -6,11 +7,11 @@
 #include <string>
 #include <vector>
 
-#include "fw/drivers/serial_frame.hpp"
+#include "pa/serial_frame.hpp"
 
 namespace {
 
-namespace sf = fw::drivers::serial_frame;
+namespace sf = pa::serial_frame;
 using pa::proto::Frame;
 
 Frame make(std::uint16_t id, std::vector<std::uint8_t> payload) {
