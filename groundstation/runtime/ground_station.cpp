@@ -250,6 +250,7 @@ void GroundStation::set_on_board(ActVehicle& v, const std::vector<OnBoardCommand
   for (const OnBoardCommand& command : commands)
     v.adaptation.sent(command, link_.send_command(v.id, command.code, command.argument, now_s));
 }
+
 // The vehicle's gyro-held attitude set back onto motion capture's (estimation/onboard_tilt.hpp)
 // while the ground station flies it: its hold, its failsafe and a landing's end fly on it.
 void GroundStation::correct_onboard_tilt(ActVehicle& v, const pa::proto::TelemetryAttitude& attitude,
