@@ -34,9 +34,10 @@ std::optional<bool> pole_wanted(const std::string& detail) {
   return std::nullopt;
 }
 
-std::string task_change_detail(mission::Task from, mission::Task to, mission::Reason reason) {
+std::string task_change_detail(mission::Task from, mission::Task to, mission::Reason reason,
+                               const std::string& why) {
   return std::string(mission::task_name(from)) + std::string(kArrow) + std::string(mission::task_name(to)) +
-         " (" + std::string(mission::reason_name(reason)) + ")";
+         " (" + std::string(mission::reason_name(reason)) + ")" + (why.empty() ? "" : ": " + why);
 }
 
 }  // namespace gs::dds

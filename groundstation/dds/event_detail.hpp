@@ -24,7 +24,9 @@ std::string pole_wanted_detail(bool waiting);
 // Whether such a detail says waiting; none for any other text.
 std::optional<bool> pole_wanted(const std::string& detail);
 
-// "retreat -> hover (clear_of_pole)".
-std::string task_change_detail(mission::Task from, mission::Task to, mission::Reason reason);
+// "retreat -> hover (clear_of_pole)"; with `why` (a failed command's answer, MissionEvent::why)
+// "arming -> parked (arm_failed): ARM refused: imu_unhealthy".
+std::string task_change_detail(mission::Task from, mission::Task to, mission::Reason reason,
+                               const std::string& why = {});
 
 }  // namespace gs::dds

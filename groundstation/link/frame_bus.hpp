@@ -1,7 +1,7 @@
-// The ground CAN bus as the link sees it: somewhere to queue frames for transmission. Two
-// faces: InMemoryFrameBus for simulation and tests (the caller collects what was sent and
-// carries it to the vehicles), and service::SocketCanBus for the vehicles' CAN bus and the radio
-// bridge (groundstation/service/socketcan_bus.hpp).
+// The ground station's bus to its vehicles as the link sees it: somewhere to queue frames for
+// transmission. InMemoryFrameBus for simulation and tests (the caller collects what was sent and
+// carries it to the vehicles); in the process, the ground CAN bus or each vehicle's serial radio
+// (groundstation/service/ground_bus.hpp).
 //
 // Receiving is not part of the interface: whoever reads the bus hands each frame to
 // GroundLink::on_frame with the ground time it was read, so the link needs no thread or clock.

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 
 #include "groundstation/link/mission_commands.hpp"
 #include "groundstation/mission/vehicle_sequencer.hpp"
@@ -23,6 +24,7 @@ struct ActVehicle {
   TaskState laws;                  // target, carrot, integral, take-off ramp
   std::uint32_t requests = 0;      // mission::condition::request_* bits
   link::MissionCommands commands;  // ARM, DISARM, LAND, EXPECT_CATCH, CATCH_HANDLED
+  std::string command_failure;     // why the last mission command failed ("ARM refused: killed")
   double last_pose_s = -1e9;
   VehicleAdaptation adaptation;  // thrust gain, motors, pose noise, on-board tilt
 };

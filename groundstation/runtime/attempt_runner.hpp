@@ -40,6 +40,8 @@ class AttemptRunner {
   // The references are the runtime's, and outlive the runner.
   AttemptRunner(const GroundStationConfig& config, const estimation::StateEstimator& estimator,
                 adaptation::Learner& learner, planning::ThrowBook& throws);
+  AttemptRunner(const AttemptRunner&) = delete;  // it holds the runtime's pieces by reference
+  AttemptRunner& operator=(const AttemptRunner&) = delete;
 
   // Starts an attempt; false (and nothing changes, refusal() says why) while one is running, for
   // a vehicle not of the act, when a throw to a target cannot be planned, when a vehicle's

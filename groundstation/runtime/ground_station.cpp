@@ -1,6 +1,7 @@
 #include "groundstation/runtime/ground_station.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <stdexcept>
 
 #include "groundstation/planning/catching_instant.hpp"
@@ -25,6 +26,16 @@ adaptation::Learner make_learner(const GroundStationConfig& config, const planni
                              adaptation::damped_inverse(adaptation::throw_sensitivity(throws.tracker()),
                                                         config.learning.throw_learning.damping),
                              config.learnt, config.adaptation_store_path);
+}
+
+// "ARM refused: imu_unhealthy", "ARM not answered": what the vehicle made of a command that failed.
+std::string command_failure(const link::CommandOutcome& outcome) {
+  const std::string command = pa::proto::command_code_name(outcome.code);
+  std::string upper;
+  for (const char ch : command) upper += static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+  if (outcome.state == link::CommandState::refused)
+    return upper + " refused: " + pa::proto::refuse_reason_name(outcome.reason);
+  return upper + " not answered";
 }
 
 VehicleAdaptationSettings adaptation_settings(const GroundStationConfig& config) {
@@ -130,9 +141,12 @@ void GroundStation::tick(double now_s) {
     set_on_board(v, v.adaptation.identify(now_s, v.sequencer.task(), at_target, identifications_), now_s);
   }
   for (ActVehicle& v : vehicles_) {
-    if (v.commands.pending() &&
-        v.commands.settle(link_.command_state(*v.commands.pending()), v.sequencer.task() == Task::arming))
+    if (!v.commands.pending()) continue;
+    const link::CommandOutcome outcome = link_.command_outcome(*v.commands.pending());
+    if (v.commands.settle(outcome.state, v.sequencer.task() == Task::arming))
       v.commands.sent(link_.send_command(v.id, pa::proto::CommandCode::arm, 0, now_s));
+    else if (outcome.state != link::CommandState::pending && outcome.state != link::CommandState::accepted)
+      v.command_failure = command_failure(outcome);  // failed just now
   }
 }
 
@@ -217,8 +231,11 @@ void GroundStation::on_mocap(const estimation::MocapFrame& frame, double now_s) 
   for (ActVehicle& v : vehicles_) {
     const Task before = v.sequencer.task();
     if (v.sequencer.step(mission::condition_word(facts(v, now_s), config_.conditions), now_s)) {
-      if (events_.size() < kEventLogCapacity)
-        events_.push_back({now_s, v.id, before, v.sequencer.task(), v.sequencer.last_reason()});
+      if (events_.size() < kEventLogCapacity) {
+        const mission::Reason reason = v.sequencer.last_reason();
+        events_.push_back({now_s, v.id, before, v.sequencer.task(), reason,
+                           reason == mission::Reason::arm_failed ? v.command_failure : std::string()});
+      }
       enter(v, now_s);
     }
     fly(v, now_s, dt_s);

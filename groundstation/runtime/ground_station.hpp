@@ -9,7 +9,7 @@
 //                        (condition_facts.hpp), its sequencer step, the new task's entry actions
 //                        (task_entry.hpp) and its task's law (task_control.hpp) to a setpoint,
 //                        its thrust over the gain;
-//   on_frame(frame, now)  a frame from the ground CAN bus (heartbeats, acks, IMPACT, TIMESYNC),
+//   on_frame(frame, now)  a frame from the vehicles (heartbeats, acks, IMPACT, TIMESYNC),
 //                        decoded once by the link, the rates routed to the identification;
 //   tick(now)            link housekeeping (heartbeats, retries, TIMESYNC, lost vehicles), the
 //                        mission commands (link/mission_commands.hpp), the motors' identification
@@ -83,6 +83,8 @@ struct MissionEvent {
   mission::Task from = mission::Task::parked;
   mission::Task to = mission::Task::parked;
   mission::Reason reason = mission::Reason::none;
+  // For a command that failed (arm_failed): the vehicle's answer, "ARM refused: imu_unhealthy".
+  std::string why;
 };
 
 class GroundStation {
@@ -114,8 +116,9 @@ class GroundStation {
   // whatever the mission is doing: never gated. std::out_of_range for a vehicle not of the act.
   void request_kill(std::optional<pa::VehicleId> vehicle, pa::proto::KillReason reason);
   // Starts an attempt; false (and nothing changes, refusal() says why) while one is running, for
-  // a vehicle not of the act, when a throw to a target cannot be planned, or when a vehicle's
-  // measured thrust gain leaves it short of what its part needs (see min_thrust_margin).
+  // a vehicle not of the act, when a throw to a target cannot be planned, when a vehicle's
+  // measured thrust leaves it short of what its part needs (GroundStationConfig::
+  // min_thrust_fraction), or when the throw would leave the arena's volume (AttemptRunner).
   bool request_attempt(const AttemptRequest& request);
   // Of `preferred` and the other vehicle of the act, the one with the higher thrust ceiling as
   // measured now, `preferred` on a tie (attempt_admission.hpp): the one to throw when either may.

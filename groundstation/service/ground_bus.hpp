@@ -12,8 +12,8 @@ namespace gs::service {
 
 class GroundBus : public link::FrameBus {
  public:
-  // Waits up to timeout_ms for a frame (0: only what has arrived). False on timeout, and when the
-  // bus has failed for good (failed() then says so).
+  // Waits up to timeout_ms for a frame (0: only what has arrived). False when none came, possibly
+  // before the timeout (the caller loops), and when the bus has failed for good (failed() says so).
   virtual bool read(pa::proto::Frame& out, int timeout_ms) = 0;
   virtual bool failed() const = 0;
   virtual const char* message() const = 0;

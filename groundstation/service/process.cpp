@@ -277,7 +277,8 @@ void Process::publish_telemetry(double now_s) {
 
 void Process::publish_changes(double now_s) {
   for (const runtime::MissionEvent& e : station_.take_events()) {
-    publish(pa_arena_event_task_change, e.vehicle, dds::task_change_detail(e.from, e.to, e.reason), now_s);
+    publish(pa_arena_event_task_change, e.vehicle, dds::task_change_detail(e.from, e.to, e.reason, e.why),
+            now_s);
     if (is_abort(e.reason))
       publish(pa_arena_event_abort, e.vehicle, str(mission::reason_name(e.reason)), now_s);
     if (e.to == mission::Task::failsafe && e.from != mission::Task::failsafe)
@@ -386,6 +387,9 @@ std::string Process::summary() const {
     char line[256];
     if (!s.heard)
       std::snprintf(line, sizeof line, "vehicle %u: never heard\n", static_cast<unsigned>(v.node()));
+    else if (!s.clock_synced)
+      std::snprintf(line, sizeof line, "vehicle %u: link quality %.2f, no TIMESYNC answered\n",
+                    static_cast<unsigned>(v.node()), s.link_quality);
     else
       std::snprintf(line, sizeof line,
                     "vehicle %u: link quality %.2f, TIMESYNC round trip %.1f ms (latest), clock offset known "

@@ -53,14 +53,20 @@ RadioBus::RadioBus(std::vector<RadioPort> ports, unsigned baud) : baud_(baud) {
     }
   } catch (...) {
     for (Radio& r : radios_)
-      if (r.fd >= 0) ::close(r.fd);
+      if (r.fd >= 0) close_port(r.fd);
     throw;
   }
 }
 
 RadioBus::~RadioBus() {
   for (Radio& r : radios_)
-    if (r.fd >= 0) ::close(r.fd);
+    if (r.fd >= 0) close_port(r.fd);
+}
+
+// A tty's close waits up to its closing_wait (30 s) for output to drain: a failed modem's would.
+void RadioBus::close_port(int fd) {
+  ::tcflush(fd, TCOFLUSH);
+  ::close(fd);
 }
 
 void RadioBus::open_port(Radio& radio) {
@@ -89,8 +95,9 @@ void RadioBus::open_port(Radio& radio) {
 }
 
 void RadioBus::fail(Radio& radio, const char* what, int error) {
-  ::close(radio.fd);
+  close_port(radio.fd);
   radio.fd = -1;
+  counters_.lost_bytes += radio.output.size();
   radio.output.clear();
   radio.retry_at = Clock::now() + kRetryPeriod;
   ++counters_.port_failures;
@@ -118,7 +125,7 @@ bool RadioBus::send(const pa::proto::Frame& frame) {
   bool sent = false;
   for (Radio& r : radios_) {
     if (node != pa::proto::kBroadcastNode && node != r.port.vehicle.node()) continue;
-    if (n == 0 || r.fd < 0 || r.output.size() + n > kOutputCapacity) {
+    if (n == 0 || r.fd < 0 || r.output.size() + kFrameRoom > kOutputCapacity) {
       ++counters_.unsent;
       continue;
     }
@@ -215,7 +222,8 @@ std::string RadioBus::summary() const {
   return "radios: frames in " + u(c.frames_in) + ", out " + u(c.frames_out) + "; bytes in " + u(c.bytes_in) +
          ", out " + u(c.bytes_out) + "; dropped: " + u(c.crc_errors) + " bad CRC, " + u(c.bad_headers) +
          " bad headers, " + u(c.foreign) + " from another node, " + u(c.unsent) + " unsent, " + u(c.unread) +
-         " unread; port failures " + u(c.port_failures) + ", reopened " + u(c.reopened) + "\n";
+         " unread; port failures " + u(c.port_failures) + " (" + u(c.lost_bytes) +
+         " bytes lost with them), reopened " + u(c.reopened) + "\n";
 }
 
 }  // namespace gs::service

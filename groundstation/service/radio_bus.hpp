@@ -37,8 +37,9 @@ struct RadioCounters {
   std::uint64_t crc_errors = 0;   // noise, or a frame cut short
   std::uint64_t bad_headers = 0;  // a reserved bit set or a length above 8
   std::uint64_t foreign = 0;      // from a node other than the radio's vehicle
-  std::uint64_t unsent = 0;       // frames dropped: the port closed, or its output queue full
-  std::uint64_t unread = 0;       // frames dropped: read() not called for a thousand of them
+  std::uint64_t unsent = 0;       // frames not queued: no port open, the queue full, or invalid
+  std::uint64_t unread = 0;       // frames dropped: more than kInputCapacity waiting to be read
+  std::uint64_t lost_bytes = 0;   // queued for a port that then failed
   std::uint64_t port_failures = 0;
   std::uint64_t reopened = 0;
 };
@@ -68,6 +69,9 @@ class RadioBus final : public GroundBus {
  private:
   static constexpr std::size_t kOutputCapacity = 4096;  // bytes queued per port: 0.36 s at 115200
   static constexpr std::size_t kInputCapacity = 1024;   // frames read and not yet taken
+  // A frame is queued only with room for one more after it: the AUTH the link sends right after a
+  // ground frame, without which the vehicle drops the frame.
+  static constexpr std::size_t kFrameRoom = 2 * pa::serial_frame::kMaxBytes;
   struct Radio {
     RadioPort port;
     int fd = -1;
@@ -79,6 +83,7 @@ class RadioBus final : public GroundBus {
 
   void open_port(Radio& radio);  // throws std::runtime_error
   void fail(Radio& radio, const char* what, int error);
+  static void close_port(int fd);  // without waiting for unsent output
   void retry_closed();
   void flush(Radio& radio);
   void drain(Radio& radio);  // reads what the port has into frames_

@@ -1,7 +1,10 @@
 // `groundstation run`, `op` and `watch` (docs/groundstation.md): the ground station as a
-// real-time process between the ground CAN bus and the arena's DDS topics, an operator's one-shot
-// command, and a live status view. The loop's work is in Process (process.hpp); this file holds
-// only what a test cannot drive: the clock, the socket, signals and the terminal.
+// real-time process between the vehicles (the ground CAN bus, or each vehicle's serial radio) and
+// the arena's DDS topics, an operator's one-shot command, and a live status view. The loop's work
+// is in Process (process.hpp); this file holds only what a test cannot drive: the clock, the bus,
+// signals and the terminal.
+#include <limits.h>
+#include <stdlib.h>
 #include <sys/random.h>
 #include <time.h>
 #include <unistd.h>
@@ -10,6 +13,7 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -220,7 +224,8 @@ int cmd_run(int argc, char** argv) {
       ->type_name("M");
   app.add_flag("--hil-clock", hil_clock,
                "run on a HIL plant's time, a step per HIL_CLOCK frame (hil run --ground-clock), not on "
-               "CLOCK_MONOTONIC");
+               "CLOCK_MONOTONIC")
+      ->excludes(radio_option);  // the plant's clock comes on the ground CAN bus
   if (const std::optional<int> code = pa::cli::parse(app, argc, argv, std::cout, std::cerr)) return *code;
 
   if (const std::string problem = dds::check_body_names(mocap.names); !problem.empty()) {
@@ -242,6 +247,18 @@ int cmd_run(int argc, char** argv) {
           "port, for example 1=/dev/ttyUSB0\n",
           radio.c_str());
       return 2;
+    }
+    for (const service::RadioPort& other : radio_ports) {
+      // The same port twice would split its bytes between two readers: noise on both.
+      char a[PATH_MAX], b[PATH_MAX];
+      const bool same_port = ::realpath(port->path.c_str(), a) != nullptr &&
+                             ::realpath(other.path.c_str(), b) != nullptr && std::strcmp(a, b) == 0;
+      if (other.vehicle == port->vehicle || same_port) {
+        std::fprintf(
+            stderr, "groundstation run: error: --radio %s: %s\n", radio.c_str(),
+            same_port ? "that port is another vehicle's radio already" : "that vehicle has a radio already");
+        return 2;
+      }
     }
     radio_ports.push_back(*port);
   }
@@ -284,8 +301,11 @@ int cmd_run(int argc, char** argv) {
       bus_owner = std::make_unique<service::SocketCanBus>(interface_name);
     } else {
       if (!service::RadioBus::supported_baud(baud)) {
-        std::fprintf(stderr, "groundstation run: error: --baud %u: not a serial rate (9600 to 921600)\n",
-                     baud);
+        std::fprintf(
+            stderr,
+            "groundstation run: error: --baud %u: not a serial rate (9600, 19200, 38400, 57600, 115200, "
+            "230400, 460800, 921600)\n",
+            baud);
         return 2;
       }
       // Each radio carries one vehicle's frames: refused when they would not fit its line.

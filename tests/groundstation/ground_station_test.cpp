@@ -3,6 +3,9 @@
 // tested in the lockstep arena, tests/hil/series_test.cpp.)
 #include <catch2/catch.hpp>
 
+#include <optional>
+#include <vector>
+
 #include "groundstation/link/frame_bus.hpp"
 #include "groundstation/runtime/ground_station.hpp"
 
@@ -93,4 +96,70 @@ TEST_CASE("A throw that would leave the arena's volume is refused before it is f
   CHECK(low.refusal_kind() == GroundStation::Refusal::outside_volume);
   CHECK(low.refusal().find("the throw reaches z = ") == 0);
   CHECK(low.current_attempt().number == 0);
+}
+
+namespace {
+
+template <class M>
+pa::proto::Frame from_vehicle1(const M& message) {
+  pa::proto::Frame f;
+  REQUIRE(pa::proto::encode(message, pa::kVehicle1.node(), f));
+  return f;
+}
+
+// A vehicle 1 on the floor that speaks to the link (heartbeats, its session), hears the ground
+// station and is seen by the motion capture, for `seconds` from `t_s` at 200 Hz; returns the frames the station sent.
+std::vector<pa::proto::Frame> sit_on_the_floor(GroundStation& station, gs::link::InMemoryFrameBus& bus,
+                                               double& t_s, double seconds) {
+  std::vector<pa::proto::Frame> sent;
+  for (const double end = t_s + seconds; t_s < end; t_s += 0.005) {
+    pa::proto::VehicleHeartbeat heartbeat{};
+    heartbeat.uptime_ms = static_cast<std::uint32_t>(1e3 * t_s);
+    heartbeat.mode = pa::proto::Mode::disarmed;
+    heartbeat.flags = pa::proto::kFlagGroundHeartbeatOk;  // it hears the ground; its IMU is not ok
+    station.on_frame(from_vehicle1(heartbeat), t_s);
+    station.on_frame(from_vehicle1(pa::proto::LinkSession{0xC0FFEE, 0}), t_s);
+    gs::estimation::MocapFrame frame;
+    frame.t_s = t_s;
+    frame.vehicle[0] = gs::estimation::MocapPose{};
+    station.on_mocap(frame, t_s);
+    station.tick(t_s);
+    for (const pa::proto::Frame& f : bus.take()) sent.push_back(f);
+  }
+  return sent;
+}
+
+}  // namespace
+
+TEST_CASE("A vehicle that refuses ARM is parked again, and the event says what it answered") {
+  gs::link::InMemoryFrameBus bus;
+  GroundStation station(bus, keyed());
+  double t = 1.0;
+  sit_on_the_floor(station, bus, t, 0.5);
+  station.take_events();
+  station.request_take_off(pa::kVehicle1);
+  std::optional<pa::proto::Command> arm;
+  for (const pa::proto::Frame& f : sit_on_the_floor(station, bus, t, 0.05)) {
+    pa::proto::Message m;
+    if (pa::proto::decode(f, m) == pa::proto::DecodeStatus::ok && m.type == pa::proto::Type::command)
+      arm = m.command;
+  }
+  REQUIRE(station.task(pa::kVehicle1) == gs::mission::Task::arming);
+  REQUIRE(arm);
+  REQUIRE(arm->code == pa::proto::CommandCode::arm);
+  // Its IMU is missing: ARM refused.
+  station.on_frame(from_vehicle1(pa::proto::CommandAck{
+                       arm->seq, pa::proto::CommandCode::arm, pa::proto::AckResult::refused,
+                       pa::proto::Mode::disarmed, pa::proto::RefuseReason::imu_unhealthy}),
+                   t);
+  sit_on_the_floor(station, bus, t, 0.05);
+  CHECK(station.task(pa::kVehicle1) == gs::mission::Task::parked);
+  bool told = false;
+  for (const gs::runtime::MissionEvent& e : station.take_events()) {
+    if (e.vehicle != pa::kVehicle1 || e.to != gs::mission::Task::parked) continue;
+    CHECK(e.reason == gs::mission::Reason::arm_failed);
+    CHECK(e.why == "ARM refused: imu_unhealthy");
+    told = true;
+  }
+  CHECK(told);
 }

@@ -464,3 +464,13 @@ TEST_CASE("A pole_wanted detail round-trips, and any other text says nothing") {
   for (const char* other : {"", "Waiting", "waiting ", "not", "attempt 3, pole at 0.000 0.000 2.000"})
     CHECK_FALSE(gs::dds::pole_wanted(other).has_value());
 }
+
+TEST_CASE("A task change names its tasks and reason, and what the vehicle answered when a command failed") {
+  using gs::mission::Reason;
+  using gs::mission::Task;
+  CHECK(gs::dds::task_change_detail(Task::retreat, Task::hover, Reason::clear_of_pole) ==
+        "retreat -> hover (clear_of_pole)");
+  CHECK(gs::dds::task_change_detail(Task::arming, Task::parked, Reason::arm_failed,
+                                    "ARM refused: imu_unhealthy") ==
+        "arming -> parked (arm_failed): ARM refused: imu_unhealthy");
+}

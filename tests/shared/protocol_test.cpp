@@ -6,6 +6,7 @@
 #include <cstring>
 #include <limits>
 #include <random>
+#include <string>
 
 #include "pa/protocol.hpp"
 
@@ -352,4 +353,18 @@ TEST_CASE("random frames never crash the decoder, and what it accepts re-encodes
     REQUIRE(std::memcmp(again.data.data(), f.data.data(), f.len) == 0);
   }
   CHECK(accepted > 50000);
+}
+
+TEST_CASE("Every command and refusal has its name for operators; values out of range are unknown") {
+  using namespace pa::proto;
+  for (std::uint8_t c = 1; c <= kCommandCodeMax; ++c)
+    CHECK(std::string(command_code_name(static_cast<CommandCode>(c))) != "unknown");
+  CHECK(std::string(command_code_name(CommandCode::arm)) == "arm");
+  CHECK(std::string(command_code_name(CommandCode::correct_tilt)) == "correct_tilt");
+  CHECK(std::string(command_code_name(static_cast<CommandCode>(kCommandCodeMax + 1))) == "unknown");
+  for (std::uint8_t r = 0; r <= kRefuseReasonMax; ++r)
+    CHECK(std::string(refuse_reason_name(static_cast<RefuseReason>(r))) != "unknown");
+  CHECK(std::string(refuse_reason_name(RefuseReason::imu_unhealthy)) == "imu_unhealthy");
+  CHECK(std::string(refuse_reason_name(RefuseReason::bad_argument)) == "bad_argument");
+  CHECK(std::string(refuse_reason_name(static_cast<RefuseReason>(kRefuseReasonMax + 1))) == "unknown");
 }

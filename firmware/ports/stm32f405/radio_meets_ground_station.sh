@@ -13,6 +13,10 @@ if [ $# -ne 5 ]; then
   exit 2
 fi
 qemu=$1 image=$2 ground_station=$3 key=$4 work=$5
+if ! command -v "$qemu" > /dev/null; then
+  echo "FAIL: no QEMU ($qemu): make deps installs qemu-system-arm"
+  exit 1
+fi
 if [ ! -x "$ground_station" ]; then
   echo "FAIL: no ground station at $ground_station: build the host preset first (make host)"
   exit 1

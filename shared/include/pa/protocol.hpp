@@ -193,6 +193,35 @@ enum class RefuseReason : std::uint8_t {
 };
 inline constexpr std::uint8_t kRefuseReasonMax = 8;
 
+// Names for logs and operators ("arm", "imu_unhealthy"); "unknown" out of range.
+constexpr const char* command_code_name(CommandCode code) {
+  switch (code) {
+    case CommandCode::arm: return "arm";
+    case CommandCode::disarm: return "disarm";
+    case CommandCode::land: return "land";
+    case CommandCode::expect_catch: return "expect_catch";
+    case CommandCode::catch_handled: return "catch_handled";
+    case CommandCode::set_motor_time_constant: return "set_motor_time_constant";
+    case CommandCode::set_inertia_scale: return "set_inertia_scale";
+    case CommandCode::correct_tilt: return "correct_tilt";
+  }
+  return "unknown";
+}
+constexpr const char* refuse_reason_name(RefuseReason reason) {
+  switch (reason) {
+    case RefuseReason::none: return "none";
+    case RefuseReason::not_disarmed: return "not_disarmed";
+    case RefuseReason::no_ground_heartbeat: return "no_ground_heartbeat";
+    case RefuseReason::thrust_not_zero: return "thrust_not_zero";
+    case RefuseReason::bad_session_token: return "bad_session_token";
+    case RefuseReason::imu_unhealthy: return "imu_unhealthy";
+    case RefuseReason::killed: return "killed";
+    case RefuseReason::not_flying: return "not_flying";
+    case RefuseReason::bad_argument: return "bad_argument";
+  }
+  return "unknown";
+}
+
 // Vehicle modes, as the supervisor reports them. hold is the setpoint stream paused (a radio
 // fading): the vehicle levels and hovers on board and follows the stream again when it resumes;
 // it is not a failsafe until it lasts (firmware/core/include/fw/supervisor.hpp).
