@@ -21,6 +21,8 @@ packages=(
   # Debian's kernel and its CAN modules, a static busybox for the initramfs, candump
   qemu-system-x86 linux-image-amd64 busybox-static can-utils
   python3 python3-matplotlib
+  # ROS 2's .msg parser: the project's messages (groundstation/dds/pa_msgs) become IDL at build time
+  python3-rosidl
   # the report's check in a browser (tests/report/check_report.py --chromium)
   chromium
   # campaigns on a Slurm cluster: the test starts a one-node Slurm with munge (scripts/slurm-campaign.sh)

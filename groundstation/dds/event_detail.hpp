@@ -1,7 +1,7 @@
-// The details of the events (arena.idl, pa_events) that a program reads back, written and read
-// here only: an attempt's (event_attempt: its number and the throw's origin, where the ground
+// The details of the events (pa_msgs' Event on rt/pa/events) that a program reads back, written
+// and read here only: an attempt's (ATTEMPT: its number and the throw's origin, where the ground
 // station flies the thrower to wait for the pole), whether the thrower waits for it
-// (event_pole_wanted) and a task change's (event_task_change, for people). `hil run`'s person
+// (POLE_WANTED) and a task change's (TASK_CHANGE, for people). `hil run`'s person
 // hands the pole up from the first two. Pure functions.
 #pragma once
 

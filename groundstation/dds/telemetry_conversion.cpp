@@ -7,8 +7,46 @@
 namespace gs::dds {
 namespace {
 
-pa_arena_Vec3 vec3(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
-Eigen::Vector3d vec3(const pa_arena_Vec3& v) { return {v.x, v.y, v.z}; }
+// The messages' constants are the ground station's and the protocol's enums, value for value, so
+// that a ROS 2 tool reads the task and the vehicle's mode by the .msg file's names.
+using mission::Task;
+template <class Enum>
+constexpr bool same(int constant, Enum value) {
+  return constant == static_cast<int>(value);
+}
+static_assert(same(pa_msgs_msg_VehicleTelemetry_Constants_TASK_PARKED, Task::parked));
+static_assert(same(pa_msgs_msg_VehicleTelemetry_Constants_TASK_ARMING, Task::arming));
+static_assert(same(pa_msgs_msg_VehicleTelemetry_Constants_TASK_TAKE_OFF, Task::take_off));
+static_assert(same(pa_msgs_msg_VehicleTelemetry_Constants_TASK_HOVER, Task::hover));
+static_assert(same(pa_msgs_msg_VehicleTelemetry_Constants_TASK_BALANCE, Task::balance));
+static_assert(same(pa_msgs_msg_VehicleTelemetry_Constants_TASK_THROWING, Task::throwing));
+static_assert(same(pa_msgs_msg_VehicleTelemetry_Constants_TASK_RELEASE, Task::release));
+static_assert(same(pa_msgs_msg_VehicleTelemetry_Constants_TASK_RETREAT, Task::retreat));
+static_assert(same(pa_msgs_msg_VehicleTelemetry_Constants_TASK_WAIT, Task::wait));
+static_assert(same(pa_msgs_msg_VehicleTelemetry_Constants_TASK_CATCHING, Task::catching));
+static_assert(same(pa_msgs_msg_VehicleTelemetry_Constants_TASK_REBALANCE, Task::rebalance));
+static_assert(same(pa_msgs_msg_VehicleTelemetry_Constants_TASK_CLEAR, Task::clear));
+static_assert(same(pa_msgs_msg_VehicleTelemetry_Constants_TASK_LANDING, Task::landing));
+static_assert(same(pa_msgs_msg_VehicleTelemetry_Constants_TASK_FAILSAFE, Task::failsafe));
+static_assert(same(pa_msgs_msg_VehicleTelemetry_Constants_TASK_DESCEND, Task::descend));
+static_assert(mission::kTaskCount == 15, "a task added: add it to VehicleTelemetry.msg and here");
+using pa::proto::Mode;
+static_assert(same(pa_msgs_msg_VehicleTelemetry_Constants_MODE_DISARMED, Mode::disarmed));
+static_assert(same(pa_msgs_msg_VehicleTelemetry_Constants_MODE_ARMED, Mode::armed));
+static_assert(same(pa_msgs_msg_VehicleTelemetry_Constants_MODE_FLYING, Mode::flying));
+static_assert(same(pa_msgs_msg_VehicleTelemetry_Constants_MODE_FAILSAFE_HOVER, Mode::failsafe_hover));
+static_assert(same(pa_msgs_msg_VehicleTelemetry_Constants_MODE_FAILSAFE_DESCENT, Mode::failsafe_descent));
+static_assert(same(pa_msgs_msg_VehicleTelemetry_Constants_MODE_LANDED, Mode::landed));
+static_assert(same(pa_msgs_msg_VehicleTelemetry_Constants_MODE_KILLED, Mode::killed));
+static_assert(same(pa_msgs_msg_VehicleTelemetry_Constants_MODE_HOLD, Mode::hold));
+static_assert(pa::proto::kModeMax == 7, "a mode added: add it to VehicleTelemetry.msg and here");
+
+geometry_msgs_msg_dds__Point_ point(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+geometry_msgs_msg_dds__Vector3_ vector3(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+template <class Message>
+Eigen::Vector3d eigen(const Message& v) {
+  return {v.x, v.y, v.z};
+}
 
 }  // namespace
 
@@ -19,76 +57,76 @@ Eigen::Quaterniond vehicle_attitude(const model::VehicleState& s) {
          Eigen::AngleAxisd(s.phi_rad, Eigen::Vector3d::UnitX());
 }
 
-pa_arena_Estimate vehicle_estimate_to_dds(const estimation::VehicleEstimate& estimate) {
-  const model::VehicleState& s = estimate.state;
-  const Eigen::Quaterniond q = vehicle_attitude(s);
-  pa_arena_Estimate out{};
-  out.position_m = vec3(s.p_m);
-  out.velocity_mps = vec3(s.v_mps);
-  out.attitude = {q.w(), q.x(), q.y(), q.z()};
-  out.rate_radps = vec3(estimate.body_rates_radps);
-  return out;
+std::string vehicle_telemetry_topic(pa::VehicleId vehicle) {
+  if (!pa::is_act_vehicle(vehicle)) return {};
+  return "rt/pa/vehicle" + std::to_string(vehicle.node()) + "/telemetry";
 }
 
-pa_arena_LinkState link_state_to_dds(const link::VehicleLinkStatus& status) {
-  if (!status.heard) return pa_arena_link_unheard;
-  return status.lost ? pa_arena_link_lost : pa_arena_link_up;
+std::uint8_t link_state_to_ros(const link::VehicleLinkStatus& status) {
+  if (!status.heard) return link_state::kUnheard;
+  return status.lost ? link_state::kLost : link_state::kUp;
 }
 
-pa_arena_VehicleTelemetry vehicle_telemetry_to_dds(
-    pa::VehicleId vehicle, double t_s, const link::VehicleLinkStatus& status, mission::Task task,
-    const std::optional<estimation::VehicleEstimate>& estimate) {
-  pa_arena_VehicleTelemetry out{};
+VehicleTelemetry vehicle_telemetry_to_ros(pa::VehicleId vehicle, std::int64_t stamp_ns,
+                                          const link::VehicleLinkStatus& status, mission::Task task,
+                                          const std::optional<estimation::VehicleEstimate>& estimate) {
+  VehicleTelemetry out{};
+  out.stamp = ros_time(stamp_ns);
   out.vehicle = vehicle.node();
-  out.time_ns = to_nanoseconds(t_s);
-  out.link = link_state_to_dds(status);
-  out.mode = static_cast<std::uint8_t>(task);
+  out.link = link_state_to_ros(status);
+  out.task = static_cast<std::uint8_t>(task);
   out.vehicle_mode = static_cast<std::uint8_t>(status.mode);
   out.estimate_valid = estimate.has_value();
-  if (estimate) out.estimate = vehicle_estimate_to_dds(*estimate);
+  if (estimate) {
+    const model::VehicleState& s = estimate->state;
+    const Eigen::Quaterniond q = vehicle_attitude(s);
+    out.position = point(s.p_m);
+    out.velocity = vector3(s.v_mps);
+    out.orientation = {q.x(), q.y(), q.z(), q.w()};  // ROS: (x, y, z, w)
+    out.body_rate = vector3(estimate->body_rates_radps);
+  }
   return out;
 }
 
-pa_arena_PoleMode pole_mode_to_dds(estimation::PoleMode mode) {
+std::uint8_t pole_mode_to_ros(estimation::PoleMode mode) {
   switch (mode) {
-    case estimation::PoleMode::on_vehicle1: return pa_arena_pole_on_vehicle1;
-    case estimation::PoleMode::on_vehicle2: return pa_arena_pole_on_vehicle2;
+    case estimation::PoleMode::on_vehicle1: return pole_mode::kOnVehicle1;
+    case estimation::PoleMode::on_vehicle2: return pole_mode::kOnVehicle2;
     case estimation::PoleMode::free: break;
   }
-  return pa_arena_pole_free;
+  return pole_mode::kFree;
 }
 
-estimation::PoleMode pole_mode_from_dds(pa_arena_PoleMode mode) {
+std::optional<estimation::PoleMode> pole_mode_from_ros(std::uint8_t mode) {
   switch (mode) {
-    case pa_arena_pole_on_vehicle1: return estimation::PoleMode::on_vehicle1;
-    case pa_arena_pole_on_vehicle2: return estimation::PoleMode::on_vehicle2;
-    case pa_arena_pole_free: break;
+    case pole_mode::kFree: return estimation::PoleMode::free;
+    case pole_mode::kOnVehicle1: return estimation::PoleMode::on_vehicle1;
+    case pole_mode::kOnVehicle2: return estimation::PoleMode::on_vehicle2;
+    default: return std::nullopt;
   }
-  return estimation::PoleMode::free;
 }
 
-pa_arena_PoleState pole_state_to_dds(const model::PoleState& state) {
-  return {vec3(state.p_m), vec3(state.v_mps), vec3(state.n), vec3(state.omega_radps)};
-}
-
-model::PoleState pole_state_from_dds(const pa_arena_PoleState& state) {
-  return {vec3(state.position_m), vec3(state.velocity_mps), vec3(state.direction), vec3(state.rate_radps)};
-}
-
-pa_arena_PoleTelemetry pole_telemetry_to_dds(const estimation::PoleEstimate& pole, double t_s,
-                                             const std::optional<CatchForecast>& forecast) {
-  pa_arena_PoleTelemetry out{};
-  out.time_ns = to_nanoseconds(t_s);
+PoleTelemetry pole_telemetry_to_ros(const estimation::PoleEstimate& pole, std::int64_t stamp_ns,
+                                    const std::optional<CatchForecast>& forecast) {
+  PoleTelemetry out{};
+  out.stamp = ros_time(stamp_ns);
   out.estimate_valid = pole.valid;
-  out.mode = pole_mode_to_dds(pole.mode);
-  out.estimate = pole_state_to_dds(pole.state);
+  out.mode = pole_mode_to_ros(pole.mode);
+  out.position = point(pole.state.p_m);
+  out.velocity = vector3(pole.state.v_mps);
+  out.direction = vector3(pole.state.n);
+  out.angular_velocity = vector3(pole.state.omega_radps);
   out.catch_predicted = forecast.has_value();
   if (forecast) {
-    out.catch_time_ns = to_nanoseconds(forecast->t_s);
-    out.catch_point_m = vec3(forecast->point_m);
+    out.catch_stamp = ros_time(forecast->stamp_ns);
+    out.catch_point = point(forecast->point_m);
     out.catch_vehicle = forecast->catcher.node();
   }
   return out;
+}
+
+model::PoleState pole_state_from_ros(const PoleTelemetry& t) {
+  return {eigen(t.position), eigen(t.velocity), eigen(t.direction), eigen(t.angular_velocity)};
 }
 
 }  // namespace gs::dds

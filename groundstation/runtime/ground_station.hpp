@@ -151,7 +151,7 @@ class GroundStation {
   mission::Task task(pa::VehicleId vehicle) const { return vehicle_of(vehicle).sequencer.task(); }
   // Whether `vehicle` waits for a person to put the pole on: the thrower of an attempt being
   // prepared, hovering, its identification flown. The one rule for whoever hands the pole up
-  // (`pa_events`' event_pole_wanted in an arena, the simulated person in-process): a pole put on
+  // (the POLE_WANTED event on /pa/events in an arena, the simulated person in-process): a pole put on
   // during an identification stops it or cancels its gentler re-flight, and the motors stay
   // unequalised (arena envelope campaign seed 2, attempt 893: a 58 ms thrower balanced at 30 ms,
   // dropped the pole onto the catcher, which tumbled).

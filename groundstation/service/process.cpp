@@ -16,13 +16,13 @@ namespace {
 using mission::Reason;
 
 struct CommandName {
-  pa_arena_CommandKind kind;
+  std::uint8_t kind;
   const char* name;
 };
 constexpr CommandName kCommandNames[] = {
-    {pa_arena_command_take_off, "take-off"}, {pa_arena_command_throw, "throw"},
-    {pa_arena_command_abort, "abort"},       {pa_arena_command_land, "land"},
-    {pa_arena_command_kill, "kill"},
+    {dds::command_kind::kTakeOff, "take-off"}, {dds::command_kind::kThrow, "throw"},
+    {dds::command_kind::kAbort, "abort"},      {dds::command_kind::kLand, "land"},
+    {dds::command_kind::kKill, "kill"},
 };
 
 std::string str(std::string_view s) { return std::string(s); }
@@ -37,13 +37,13 @@ bool is_lost(Reason reason) { return reason == Reason::vehicle_lost || reason ==
 
 }  // namespace
 
-std::string command_name(pa_arena_CommandKind kind) {
+std::string command_name(std::uint8_t kind) {
   for (const CommandName& c : kCommandNames)
     if (c.kind == kind) return c.name;
   return "unknown command " + std::to_string(static_cast<int>(kind));
 }
 
-std::optional<pa_arena_CommandKind> command_from_name(const std::string& name) {
+std::optional<std::uint8_t> command_from_name(const std::string& name) {
   for (const CommandName& c : kCommandNames)
     if (name == c.name) return c.kind;
   return std::nullopt;
@@ -59,7 +59,10 @@ Process::Process(link::FrameBus& bus, const dds::Participant& participant,
       config_(process),
       mocap_(participant),
       commands_(participant),
-      vehicle_telemetry_(participant),
+      vehicle_telemetry_{dds::Writer<dds::VehicleTelemetry>(
+                             participant, dds::vehicle_telemetry_topic(pa::kVehicle1).c_str()),
+                         dds::Writer<dds::VehicleTelemetry>(
+                             participant, dds::vehicle_telemetry_topic(pa::kVehicle2).c_str())},
       pole_telemetry_(participant),
       events_(participant),
       vehicle_poses_{
@@ -89,17 +92,17 @@ void Process::step(double now_s) {
 
 void Process::take_commands(double now_s) {
   // The topic keeps up to 16: KILLs among them are acted on before the rest.
-  std::array<pa_arena_OperatorCommand, 16> taken{};
+  std::array<dds::OperatorCommand, 16> taken{};
   std::size_t count = 0;
   while (count < taken.size()) {
-    const pa_arena_OperatorCommand* c = commands_.take();
+    const dds::OperatorCommand* c = commands_.take();
     if (c == nullptr) break;
     taken[count++] = *c;
   }
   for (std::size_t i = 0; i < count; ++i)
-    if (dds::raw_enum(taken[i].kind) == pa_arena_command_kill) act_on(taken[i], now_s);
+    if (taken[i].kind == dds::command_kind::kKill) act_on(taken[i], now_s);
   for (std::size_t i = 0; i < count; ++i)
-    if (dds::raw_enum(taken[i].kind) != pa_arena_command_kill) act_on(taken[i], now_s);
+    if (taken[i].kind != dds::command_kind::kKill) act_on(taken[i], now_s);
 }
 
 bool Process::seen_before(std::uint32_t sequence_number) {
@@ -111,10 +114,9 @@ bool Process::seen_before(std::uint32_t sequence_number) {
   return false;
 }
 
-void Process::act_on(const pa_arena_OperatorCommand& command, double now_s) {
-  const std::int32_t kind = dds::raw_enum(command.kind);
-  if (kind < pa_arena_command_take_off || kind > pa_arena_command_kill) {
-    answer(command, false, "command kind " + std::to_string(kind) + " refused: unknown", now_s);
+void Process::act_on(const dds::OperatorCommand& command, double now_s) {
+  if (!dds::is_command_kind(command.kind)) {
+    answer(command, false, "command kind " + std::to_string(command.kind) + " refused: unknown", now_s);
     return;
   }
   const std::string name = command_name(command.kind);
@@ -125,7 +127,7 @@ void Process::act_on(const pa_arena_OperatorCommand& command, double now_s) {
            now_s);
     return;
   }
-  if (command.kind == pa_arena_command_kill) {
+  if (command.kind == dds::command_kind::kKill) {
     seen_before(command.sequence_number);
     station_.request_kill(all ? std::nullopt : std::optional<pa::VehicleId>(target),
                           pa::proto::KillReason::operator_request);
@@ -140,19 +142,19 @@ void Process::act_on(const pa_arena_OperatorCommand& command, double now_s) {
     return;
   }
   switch (command.kind) {
-    case pa_arena_command_take_off:
-    case pa_arena_command_land:
-    case pa_arena_command_abort:
+    case dds::command_kind::kTakeOff:
+    case dds::command_kind::kLand:
+    case dds::command_kind::kAbort:
       if (!all) {
         answer(command, false, name + " refused: it acts on both vehicles (target 0)", now_s);
         return;
       }
-      if (command.kind == pa_arena_command_take_off) station_.request_take_off();
-      if (command.kind == pa_arena_command_land) station_.request_land();
-      if (command.kind == pa_arena_command_abort) station_.request_abort();
+      if (command.kind == dds::command_kind::kTakeOff) station_.request_take_off();
+      if (command.kind == dds::command_kind::kLand) station_.request_land();
+      if (command.kind == dds::command_kind::kAbort) station_.request_abort();
       answer(command, true, name + " requested", now_s);
       return;
-    case pa_arena_command_throw: {
+    case dds::command_kind::kThrow: {
       runtime::AttemptRequest request;
       if (!all) request.thrower = target;
       if (!station_.request_attempt(request)) {
@@ -165,7 +167,7 @@ void Process::act_on(const pa_arena_OperatorCommand& command, double now_s) {
              "throw: attempt " + std::to_string(number) + " with vehicle " +
                  std::to_string(request.thrower.node()) + " throwing",
              now_s);
-      publish(pa_arena_event_attempt, request.thrower,
+      publish(dds::event_kind::kAttempt, request.thrower,
               dds::attempt_event_detail(number, station_.throw_frame(request.thrower).origin_m), now_s);
       return;
     }
@@ -173,11 +175,11 @@ void Process::act_on(const pa_arena_OperatorCommand& command, double now_s) {
   }
 }
 
-void Process::answer(const pa_arena_OperatorCommand& command, bool accepted, const std::string& detail,
+void Process::answer(const dds::OperatorCommand& command, bool accepted, const std::string& detail,
                      double now_s) {
   ++(accepted ? counters_.commands_accepted : counters_.commands_refused);
   const pa::VehicleId target(command.target);
-  publish(accepted ? pa_arena_event_command_accepted : pa_arena_event_command_refused,
+  publish(accepted ? dds::event_kind::kCommandAccepted : dds::event_kind::kCommandRefused,
           pa::is_act_vehicle(target) ? std::optional<pa::VehicleId>(target) : std::nullopt,
           answer_prefix(command.sequence_number) + " " + detail, now_s);
 }
@@ -241,29 +243,33 @@ void Process::on_mocap(const dds::NamedPoseArray& message, double now_s) {
   station_.on_mocap(in.frame, now_s);
 }
 
+std::int64_t Process::ros_time_ns(double now_s) const {
+  return dds::to_nanoseconds(now_s) + stamp_offset_ns_;
+}
+
 void Process::publish_telemetry(double now_s) {
   const estimation::StateEstimator& estimator = station_.estimator();
+  const std::int64_t stamp_ns = ros_time_ns(now_s);
   for (const pa::VehicleId v : pa::kActVehicles) {
     std::optional<estimation::VehicleEstimate> estimate;
     if (estimator.vehicle_initialised(v)) estimate = estimator.vehicle(v);
-    vehicle_telemetry_.write(
-        dds::vehicle_telemetry_to_dds(v, now_s, station_.link().status(v), station_.task(v), estimate));
+    vehicle_telemetry_[pa::act_slot(v)].write(
+        dds::vehicle_telemetry_to_ros(v, stamp_ns, station_.link().status(v), station_.task(v), estimate));
     ++counters_.telemetry_published;
   }
   std::optional<dds::CatchForecast> forecast;
   const runtime::AttemptReport& attempt = station_.current_attempt();
   if (station_.attempt_phase() == runtime::AttemptPhase::flight && attempt.predicted && attempt.launch_s) {
     dds::CatchForecast f;
-    f.t_s = *attempt.launch_s + attempt.predicted->t_s;
+    f.stamp_ns = ros_time_ns(*attempt.launch_s + attempt.predicted->t_s);
     f.point_m =
         Eigen::Vector3d(attempt.predicted->xy_m.x(), attempt.predicted->xy_m.y(), station_.catch_height());
     f.catcher = pa::other_vehicle(thrower_);
     forecast = f;
   }
-  pole_telemetry_.write(dds::pole_telemetry_to_dds(estimator.pole(), now_s, forecast));
+  pole_telemetry_.write(dds::pole_telemetry_to_ros(estimator.pole(), stamp_ns, forecast));
   ++counters_.telemetry_published;
-  // The same estimates as ROS 2 poses, stamped with ROS's time (the stamps' clock).
-  const std::int64_t stamp_ns = dds::to_nanoseconds(now_s) + stamp_offset_ns_;
+  // The same estimates as ROS 2 poses.
   for (const pa::VehicleId v : pa::kActVehicles) {
     if (!estimator.vehicle_initialised(v)) continue;
     vehicle_poses_[pa::act_slot(v)].write(dds::vehicle_pose_to_ros(estimator.vehicle(v), stamp_ns));
@@ -277,30 +283,30 @@ void Process::publish_telemetry(double now_s) {
 
 void Process::publish_changes(double now_s) {
   for (const runtime::MissionEvent& e : station_.take_events()) {
-    publish(pa_arena_event_task_change, e.vehicle, dds::task_change_detail(e.from, e.to, e.reason, e.why),
+    publish(dds::event_kind::kTaskChange, e.vehicle, dds::task_change_detail(e.from, e.to, e.reason, e.why),
             now_s);
     if (is_abort(e.reason))
-      publish(pa_arena_event_abort, e.vehicle, str(mission::reason_name(e.reason)), now_s);
+      publish(dds::event_kind::kAbort, e.vehicle, str(mission::reason_name(e.reason)), now_s);
     if (e.to == mission::Task::failsafe && e.from != mission::Task::failsafe)
-      publish(pa_arena_event_failsafe, e.vehicle,
+      publish(dds::event_kind::kFailsafe, e.vehicle,
               "mission failsafe (" + str(mission::reason_name(e.reason)) + ")", now_s);
   }
   for (const pa::VehicleId v : pa::kActVehicles) {
     const bool waiting = station_.waiting_for_pole(v);
     if (waiting == std::exchange(waiting_for_pole_[pa::act_slot(v)], waiting)) continue;
-    publish(pa_arena_event_pole_wanted, v, dds::pole_wanted_detail(waiting), now_s);
+    publish(dds::event_kind::kPoleWanted, v, dds::pole_wanted_detail(waiting), now_s);
   }
   for (const link::ImpactReport& i : station_.take_impacts()) {
     if (!i.final) continue;  // the final report of each impact, with its settled class
     char detail[96];
     std::snprintf(detail, sizeof detail, "class %d, peak %.1f m/s^2", static_cast<int>(i.classification),
                   static_cast<double>(i.peak_mps2));
-    publish(pa_arena_event_impact, i.vehicle, detail, now_s);
+    publish(dds::event_kind::kImpact, i.vehicle, detail, now_s);
   }
   const runtime::AttemptReport& current = station_.current_attempt();
   if (current.launch_s && current.number != launch_published_) {
     launch_published_ = current.number;
-    publish(pa_arena_event_launch, std::nullopt, "attempt " + std::to_string(current.number), now_s);
+    publish(dds::event_kind::kLaunch, std::nullopt, "attempt " + std::to_string(current.number), now_s);
   }
   const std::vector<runtime::AttemptReport>& done = station_.attempts();
   for (; attempts_published_ < done.size(); ++attempts_published_) {
@@ -315,18 +321,19 @@ void Process::publish_changes(double now_s) {
       detail += at;
     }
     if (!r.caught && is_lost(r.catcher_end))
-      publish(pa_arena_event_abort, pa::other_vehicle(thrower_),
+      publish(dds::event_kind::kAbort, pa::other_vehicle(thrower_),
               "catch aborted: the catcher is " + str(mission::reason_name(r.catcher_end)), now_s);
-    publish(r.caught ? pa_arena_event_catch_success : pa_arena_event_catch_miss, std::nullopt, detail, now_s);
+    publish(r.caught ? dds::event_kind::kCatchSuccess : dds::event_kind::kCatchMiss, std::nullopt, detail,
+            now_s);
   }
   for (const pa::VehicleId v : pa::kActVehicles) {
     const link::VehicleLinkStatus& s = station_.link().status(v);
     VehicleSeen& seen = seen_[pa::act_slot(v)];
-    if (s.heard && s.lost && !seen.lost) publish(pa_arena_event_vehicle_lost, v, "no heartbeat", now_s);
+    if (s.heard && s.lost && !seen.lost) publish(dds::event_kind::kVehicleLost, v, "no heartbeat", now_s);
     if (s.heard && !s.lost && seen.lost)
-      publish(pa_arena_event_vehicle_back, v, seen.heard ? "heartbeats again" : "first heartbeat", now_s);
+      publish(dds::event_kind::kVehicleBack, v, seen.heard ? "heartbeats again" : "first heartbeat", now_s);
     if (s.failsafe != seen.failsafe && s.failsafe != pa::proto::FailsafeReason::none)
-      publish(pa_arena_event_failsafe, v,
+      publish(dds::event_kind::kFailsafe, v,
               "the vehicle reports failsafe reason " + std::to_string(static_cast<int>(s.failsafe)), now_s);
     seen.heard = s.heard;
     seen.lost = s.lost;
@@ -334,10 +341,10 @@ void Process::publish_changes(double now_s) {
   }
 }
 
-void Process::publish(pa_arena_EventKind kind, std::optional<pa::VehicleId> vehicle,
-                      const std::string& detail, double now_s) {
-  pa_arena_Event e{};
-  e.time_ns = dds::to_nanoseconds(now_s);
+void Process::publish(std::uint8_t kind, std::optional<pa::VehicleId> vehicle, const std::string& detail,
+                      double now_s) {
+  dds::Event e{};
+  e.stamp = dds::ros_time(ros_time_ns(now_s));
   e.kind = kind;
   e.vehicle = vehicle ? vehicle->node() : 0;
   // The IDL bounds the detail (a fixed array in C): a longer one is cut.

@@ -23,10 +23,12 @@
 // future, or older than max_stamp_age_s: the two hosts' clocks are not synchronised) is counted,
 // and the frame is placed at its arrival time less latency_s instead.
 //
-// Operator commands (pa_operator_commands): take_off, land and abort act on both vehicles (target
-// 0); throw starts an attempt with the target (default vehicle 1) as the thrower; kill goes to
-// the target or to both. Each command is answered with one event, command_accepted or
-// command_refused, whose detail begins "command <sequence number>:". A sequence number is acted
+// What the process publishes is ROS 2's and pa_msgs' (docs/dds.md), stamped with ROS time: the
+// ground clock plus the same system offset. Operator commands (pa_msgs' OperatorCommand on
+// rt/pa/operator_commands): TAKE_OFF, LAND and ABORT act on both vehicles (target 0); THROW starts
+// an attempt with the target (default vehicle 1) as the thrower; KILL goes to the target or to
+// both. Each command is answered with one event, COMMAND_ACCEPTED or COMMAND_REFUSED, whose detail
+// begins "command <sequence number>:". A sequence number is acted
 // on once (a repeat is refused), except KILL, which is always sent again. Only a target that is
 // no vehicle of the act is refused to a KILL.
 #pragma once
@@ -39,6 +41,7 @@
 
 #include "groundstation/dds/dds.hpp"
 #include "groundstation/dds/mocap_conversion.hpp"
+#include "groundstation/dds/pa_msgs.hpp"
 #include "groundstation/dds/ros2_telemetry.hpp"
 #include "groundstation/link/frame_bus.hpp"
 #include "groundstation/runtime/ground_station.hpp"
@@ -117,24 +120,25 @@ class Process {
   };
 
   void take_commands(double now_s);
-  void act_on(const pa_arena_OperatorCommand& command, double now_s);
-  void answer(const pa_arena_OperatorCommand& command, bool accepted, const std::string& detail,
-              double now_s);
+  void act_on(const dds::OperatorCommand& command, double now_s);
+  void answer(const dds::OperatorCommand& command, bool accepted, const std::string& detail, double now_s);
   void take_mocap(double now_s);
   void on_mocap(const dds::NamedPoseArray& message, double now_s);
+  // ROS time at ground time now_s: what every sample the process writes is stamped with.
+  std::int64_t ros_time_ns(double now_s) const;
   void publish_telemetry(double now_s);
   void publish_changes(double now_s);
-  void publish(pa_arena_EventKind kind, std::optional<pa::VehicleId> vehicle, const std::string& detail,
+  void publish(std::uint8_t kind, std::optional<pa::VehicleId> vehicle, const std::string& detail,
                double now_s);
   bool seen_before(std::uint32_t sequence_number);
 
   runtime::GroundStation station_;
   ProcessConfig config_;
   dds::Reader<dds::NamedPoseArray> mocap_;
-  dds::Reader<pa_arena_OperatorCommand> commands_;
-  dds::Writer<pa_arena_VehicleTelemetry> vehicle_telemetry_;
-  dds::Writer<pa_arena_PoleTelemetry> pole_telemetry_;
-  dds::Writer<pa_arena_Event> events_;
+  dds::Reader<dds::OperatorCommand> commands_;
+  std::array<dds::Writer<dds::VehicleTelemetry>, 2> vehicle_telemetry_;  // by pa::act_slot()
+  dds::Writer<dds::PoleTelemetry> pole_telemetry_;
+  dds::Writer<dds::Event> events_;
   std::array<dds::Writer<dds::PoseStamped>, 2> vehicle_poses_;  // by pa::act_slot()
   dds::Writer<dds::PoseStamped> pole_pose_;
 
@@ -156,8 +160,8 @@ class Process {
 };
 
 // The name of an operator command as `groundstation op` spells it ("take-off", "throw", ...).
-std::string command_name(pa_arena_CommandKind kind);
-std::optional<pa_arena_CommandKind> command_from_name(const std::string& name);
+std::string command_name(std::uint8_t kind);
+std::optional<std::uint8_t> command_from_name(const std::string& name);
 // The detail an answer to `sequence_number` begins with: "command 17:".
 std::string answer_prefix(std::uint32_t sequence_number);
 

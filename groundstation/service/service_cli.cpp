@@ -392,8 +392,8 @@ int cmd_op(int argc, char** argv) {
   try {
     const dds::Domain dds_domain(static_cast<dds_domainid_t>(domain));
     const dds::Participant participant(dds_domain);
-    dds::Writer<pa_arena_OperatorCommand> commands(participant);
-    dds::Reader<pa_arena_Event> events(participant);
+    dds::Writer<dds::OperatorCommand> commands(participant);
+    dds::Reader<dds::Event> events(participant);
     const auto timeout =
         std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(timeout_s));
     const auto end = std::chrono::steady_clock::now() + timeout;
@@ -402,10 +402,10 @@ int cmd_op(int argc, char** argv) {
     if (!commands.wait_for_readers(1, timeout)) {
       std::fprintf(stderr,
                    "groundstation op: no ground station on DDS domain %u (nothing reads %s within %.1f s)\n",
-                   domain, dds::Topic<pa_arena_OperatorCommand>::kName, timeout_s);
+                   domain, dds::Topic<dds::OperatorCommand>::kName, timeout_s);
       return kExitNoAnswer;
     }
-    pa_arena_OperatorCommand c{};
+    dds::OperatorCommand c{};
     c.kind = *service::command_from_name(command);
     c.target = static_cast<std::uint8_t>(vehicle);
     c.sequence_number = fresh_sequence_number();
@@ -415,12 +415,12 @@ int cmd_op(int argc, char** argv) {
     for (;;) {
       const auto left = end - std::chrono::steady_clock::now();
       if (left <= 0ns) break;
-      const pa_arena_Event* e = events.wait_take(left);
+      const dds::Event* e = events.wait_take(left);
       if (e == nullptr) break;
-      const bool answer = dds::raw_enum(e->kind) == pa_arena_event_command_accepted ||
-                          dds::raw_enum(e->kind) == pa_arena_event_command_refused;
+      const bool answer =
+          e->kind == dds::event_kind::kCommandAccepted || e->kind == dds::event_kind::kCommandRefused;
       if (!answer || std::string(e->detail).rfind(prefix, 0) != 0) continue;
-      const bool accepted = dds::raw_enum(e->kind) == pa_arena_event_command_accepted;
+      const bool accepted = e->kind == dds::event_kind::kCommandAccepted;
       std::printf("%s %s\n", accepted ? "accepted:" : "refused:", e->detail);
       return accepted ? 0 : kExitRefused;
     }

@@ -14,25 +14,28 @@
 namespace gs::service {
 
 struct EventLine {
-  std::int64_t time_ns = 0;
-  std::int32_t kind = pa_arena_event_task_change;  // as on the wire: any value
+  std::int64_t stamp_ns = 0;                         // ROS time
+  std::uint8_t kind = dds::event_kind::kTaskChange;  // as on the wire: any value
   std::uint8_t vehicle = 0;
   std::string detail;
 };
 
 struct StatusView {
-  static constexpr std::size_t kEvents = 6;                          // the latest events shown
-  std::array<std::optional<pa_arena_VehicleTelemetry>, 2> vehicles;  // by pa::act_slot()
-  std::optional<pa_arena_PoleTelemetry> pole;
+  static constexpr std::size_t kEvents = 6;                      // the latest events shown
+  std::array<std::optional<dds::VehicleTelemetry>, 2> vehicles;  // by pa::act_slot()
+  std::optional<dds::PoleTelemetry> pole;
   std::deque<EventLine> events;  // oldest first
 
   bool has_telemetry() const { return pole || vehicles[0] || vehicles[1]; }
   bool has_all_telemetry() const { return pole && vehicles[0] && vehicles[1]; }
-  void add(const pa_arena_VehicleTelemetry& telemetry);  // other vehicles than the act's are ignored
-  void add(const pa_arena_Event& event);
+  void add(const dds::VehicleTelemetry& telemetry);  // other vehicles than the act's are ignored
+  void add(const dds::Event& event);
 };
 
-std::string event_kind_name(std::int32_t kind);
+std::string event_kind_name(std::uint8_t kind);
+// A ROS time as the time of day, UTC: "13:04:59.250" (under --hil-clock the plant's time,
+// from "00:00:00.000").
+std::string time_of_day_text(std::int64_t stamp_ns);
 // One line per vehicle, one for the pole, then the latest events. Vehicles never heard of say so.
 std::string render_status(const StatusView& view);
 
@@ -40,16 +43,18 @@ std::string render_status(const StatusView& view);
 class StatusWatch {
  public:
   explicit StatusWatch(const dds::Participant& participant);
-  // Waits up to `timeout` for a vehicle telemetry sample, then takes everything that arrived.
+  // Waits up to `timeout` for a pole telemetry sample (published with the vehicles' each period),
+  // then takes everything that arrived.
   void wait_and_take(std::chrono::nanoseconds timeout);
   const StatusView& view() const { return view_; }
 
  private:
   void take_all();
 
-  dds::Reader<pa_arena_VehicleTelemetry> vehicles_;
-  dds::Reader<pa_arena_PoleTelemetry> pole_;
-  dds::Reader<pa_arena_Event> events_;
+  dds::Reader<dds::VehicleTelemetry> vehicle1_;
+  dds::Reader<dds::VehicleTelemetry> vehicle2_;
+  dds::Reader<dds::PoleTelemetry> pole_;
+  dds::Reader<dds::Event> events_;
   StatusView view_;
 };
 

@@ -111,7 +111,7 @@ struct Options {
 class Runner {
  public:
   Runner(const Options& options, PlantExchange& exchange, std::vector<std::unique_ptr<Bus>>& buses,
-         gs::dds::Writer<gs::dds::NamedPoseArray>& mocap, gs::dds::Reader<pa_arena_Event>& events,
+         gs::dds::Writer<gs::dds::NamedPoseArray>& mocap, gs::dds::Reader<gs::dds::Event>& events,
          std::ofstream* truth)
       : options_(options), exchange_(exchange), buses_(buses), mocap_(mocap), events_(events), truth_(truth) {
     for (const auto& bus : buses_) fds_.push_back(pollfd{bus->can.fd(), POLLIN, 0});
@@ -188,13 +188,13 @@ class Runner {
 
   // The person standing by with the pole reads the ground station's events: an attempt that
   // begins (the operator's throw accepted) asks them to hand the pole up to its thrower at the
-  // throw's origin the event names, and event_pole_wanted says when the thrower waits for it.
+  // throw's origin the event names (ATTEMPT), and POLE_WANTED says when the thrower waits for it.
   void take_events() {
-    while (const pa_arena_Event* e = events_.take()) {
+    while (const gs::dds::Event* e = events_.take()) {
       const pa::VehicleId vehicle(e->vehicle);
       if (!pa::is_act_vehicle(vehicle)) continue;
-      const auto kind = gs::dds::raw_enum(e->kind);
-      if (kind == pa_arena_event_pole_wanted) {
+      const std::uint8_t kind = e->kind;
+      if (kind == gs::dds::event_kind::kPoleWanted) {
         if (const std::optional<bool> waiting = gs::dds::pole_wanted(e->detail)) {
           exchange_.show_waiting_for_pole(vehicle, *waiting);
           std::printf("hil run: %.3f s: vehicle %u %s for the pole\n", exchange_.t_s(),
@@ -204,7 +204,7 @@ class Runner {
         continue;
       }
       const std::optional<Vec3> origin =
-          kind == pa_arena_event_attempt ? gs::dds::attempt_event_origin(e->detail) : std::nullopt;
+          kind == gs::dds::event_kind::kAttempt ? gs::dds::attempt_event_origin(e->detail) : std::nullopt;
       if (!origin) continue;
       exchange_.hand_pole_to(vehicle, *origin);
       std::printf(
@@ -328,7 +328,7 @@ class Runner {
   PlantExchange& exchange_;
   std::vector<std::unique_ptr<Bus>>& buses_;
   gs::dds::Writer<gs::dds::NamedPoseArray>& mocap_;
-  gs::dds::Reader<pa_arena_Event>& events_;
+  gs::dds::Reader<gs::dds::Event>& events_;
   std::ofstream* truth_;
   std::vector<pollfd> fds_;
   gs::dds::MocapMessage message_;
@@ -516,7 +516,7 @@ int cmd_run(int argc, char** argv) {
     const gs::dds::Domain domain(static_cast<dds_domainid_t>(o.domain));
     const gs::dds::Participant participant(domain);
     gs::dds::Writer<gs::dds::NamedPoseArray> mocap(participant);
-    gs::dds::Reader<pa_arena_Event> events(participant);
+    gs::dds::Reader<gs::dds::Event> events(participant);
 
     std::signal(SIGINT, on_signal);
     std::signal(SIGTERM, on_signal);

@@ -26,7 +26,7 @@ TEST_CASE("A mocap bridge in another process is heard on loopback and hears a co
   gs::dds::Domain domain(kDomain, gs::dds::loopback_config());
   gs::dds::Participant participant(domain);
   gs::dds::Reader<gs::dds::NamedPoseArray> mocap(participant);
-  gs::dds::Writer<pa_arena_OperatorCommand> commands(participant);
+  gs::dds::Writer<gs::dds::OperatorCommand> commands(participant);
 
   const pid_t child = dds_test::start_peer({std::to_string(kDomain), tag, std::to_string(sequence)});
   REQUIRE(child > 0);
@@ -48,8 +48,8 @@ TEST_CASE("A mocap bridge in another process is heard on loopback and hears a co
   }
   CHECK(heard);
 
-  pa_arena_OperatorCommand command{};
-  command.kind = pa_arena_command_kill;
+  gs::dds::OperatorCommand command{};
+  command.kind = gs::dds::command_kind::kKill;
   command.sequence_number = sequence;
   if (heard) {
     // The peer's reader is matched by now (its writer is); reliable delivery does the rest.

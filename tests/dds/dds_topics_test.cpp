@@ -4,14 +4,13 @@
 // on the host's network (or a concurrent run of this test) takes part. Every wait is bounded.
 #include "groundstation/dds/dds.hpp"
 
-#include <algorithm>
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <cstring>
 #include <string>
-#include <vector>
 
 #include "groundstation/dds/mocap_conversion.hpp"
+#include "groundstation/dds/telemetry_conversion.hpp"
 
 using namespace std::chrono_literals;
 using gs::dds::Domain;
@@ -35,7 +34,8 @@ struct Arena {
 // A writer and a reader of T's topic in a domain of their own, matched.
 template <class T>
 struct Link {
-  explicit Link(dds_domainid_t id) : arena(id), writer(arena.publisher), reader(arena.subscriber) {
+  explicit Link(dds_domainid_t id, const char* name = gs::dds::Topic<T>::kName)
+      : arena(id), writer(arena.publisher, name), reader(arena.subscriber, name) {
     REQUIRE(writer.wait_for_readers(1, kWait));
   }
   Arena arena;
@@ -43,37 +43,24 @@ struct Link {
   Reader<T> reader;
 };
 
-pa_arena_Estimate estimate(double base) {
-  pa_arena_Estimate e{};
-  e.position_m = {base, base + 1, base + 2};
-  e.velocity_mps = {base + 3, base + 4, base + 5};
-  e.attitude = {1.0, 0.0, 0.0, 0.0};
-  e.rate_radps = {base + 6, base + 7, base + 8};
-  return e;
-}
-
-void check_equal(const pa_arena_Vec3& a, const pa_arena_Vec3& b) {
+template <class A, class B>
+void check_equal(const A& a, const B& b) {
   CHECK(a.x == b.x);
   CHECK(a.y == b.y);
   CHECK(a.z == b.z);
 }
 
-void check_equal(const pa_arena_Estimate& a, const pa_arena_Estimate& b) {
-  check_equal(a.position_m, b.position_m);
-  check_equal(a.velocity_mps, b.velocity_mps);
-  CHECK(a.attitude.w == b.attitude.w);
-  CHECK(a.attitude.x == b.attitude.x);
-  check_equal(a.rate_radps, b.rate_radps);
-}
-
-pa_arena_Event event(std::int64_t time_ns, pa_arena_EventKind kind, std::uint8_t vehicle,
-                     const char* detail) {
-  pa_arena_Event e{};
-  e.time_ns = time_ns;
+gs::dds::Event event(std::int64_t stamp_ns, std::uint8_t kind, std::uint8_t vehicle, const char* detail) {
+  gs::dds::Event e{};
+  e.stamp = gs::dds::ros_time(stamp_ns);
   e.kind = kind;
   e.vehicle = vehicle;
   std::strncpy(e.detail, detail, sizeof e.detail - 1);
   return e;
+}
+
+std::int64_t stamp_ns(const builtin_interfaces_msg_dds__Time_& stamp) {
+  return gs::dds::stamp_nanoseconds(stamp);
 }
 
 }  // namespace
@@ -115,92 +102,116 @@ TEST_CASE("The motion-capture topic has ROS 2's names", "[dds]") {
         "motion_capture_tracking_interfaces::msg::dds_::NamedPoseArray_");
 }
 
+TEST_CASE("The project's topics have ROS 2's names and pa_msgs' types", "[dds]") {
+  CHECK(gs::dds::vehicle_telemetry_topic(pa::kVehicle2) == "rt/pa/vehicle2/telemetry");
+  CHECK(gs::dds::vehicle_telemetry_topic(pa::VehicleId(3)).empty());
+  CHECK(std::string(gs::dds::Topic<gs::dds::PoleTelemetry>::kName) == "rt/pa/pole/telemetry");
+  CHECK(std::string(gs::dds::Topic<gs::dds::Event>::kName) == "rt/pa/events");
+  CHECK(std::string(gs::dds::Topic<gs::dds::OperatorCommand>::kName) == "rt/pa/operator_commands");
+  CHECK(std::string(gs::dds::Topic<gs::dds::VehicleTelemetry>::descriptor()->m_typename) ==
+        "pa_msgs::msg::dds_::VehicleTelemetry_");
+  CHECK(std::string(gs::dds::Topic<gs::dds::PoleTelemetry>::descriptor()->m_typename) ==
+        "pa_msgs::msg::dds_::PoleTelemetry_");
+  CHECK(std::string(gs::dds::Topic<gs::dds::Event>::descriptor()->m_typename) ==
+        "pa_msgs::msg::dds_::Event_");
+  CHECK(std::string(gs::dds::Topic<gs::dds::OperatorCommand>::descriptor()->m_typename) ==
+        "pa_msgs::msg::dds_::OperatorCommand_");
+}
+
 TEST_CASE("Vehicle telemetry arrives whole", "[dds]") {
-  Link<pa_arena_VehicleTelemetry> link(102);
+  const std::string topic = gs::dds::vehicle_telemetry_topic(pa::kVehicle2);
+  Link<gs::dds::VehicleTelemetry> link(102, topic.c_str());
   auto& writer = link.writer;
   auto& reader = link.reader;
 
-  pa_arena_VehicleTelemetry sent{};
+  gs::dds::VehicleTelemetry sent{};
+  sent.stamp = gs::dds::ros_time(1'700'000'000'123'456'789);
   sent.vehicle = pa::kVehicle2.node();
-  sent.time_ns = 123'456'789;
-  sent.link = pa_arena_link_up;
-  sent.mode = 4;
+  sent.link = gs::dds::link_state::kUp;
+  sent.task = 4;
   sent.vehicle_mode = 3;
   sent.estimate_valid = true;
-  sent.estimate = estimate(10.0);
+  sent.position = {10.0, 11.0, 12.0};
+  sent.velocity = {13.0, 14.0, 15.0};
+  sent.orientation = {0.0, 0.0, 0.6, 0.8};
+  sent.body_rate = {16.0, 17.0, 18.0};
   writer.write(sent);
 
   const auto* got = reader.wait_take(kWait);
   REQUIRE(got != nullptr);
+  CHECK(stamp_ns(got->stamp) == 1'700'000'000'123'456'789);
   CHECK(got->vehicle == pa::kVehicle2.node());
-  CHECK(got->time_ns == sent.time_ns);
-  CHECK(got->link == pa_arena_link_up);
-  CHECK(got->mode == 4);
+  CHECK(got->link == gs::dds::link_state::kUp);
+  CHECK(got->task == 4);
   CHECK(got->vehicle_mode == 3);
   CHECK(got->estimate_valid);
-  check_equal(got->estimate, sent.estimate);
+  check_equal(got->position, sent.position);
+  check_equal(got->velocity, sent.velocity);
+  check_equal(got->orientation, sent.orientation);
+  CHECK(got->orientation.w == 0.8);
+  check_equal(got->body_rate, sent.body_rate);
 }
 
 TEST_CASE("Pole telemetry arrives whole", "[dds]") {
-  Link<pa_arena_PoleTelemetry> link(103);
+  Link<gs::dds::PoleTelemetry> link(103);
   auto& writer = link.writer;
   auto& reader = link.reader;
 
-  pa_arena_PoleTelemetry sent{};
-  sent.time_ns = 5'000'000'000;
+  gs::dds::PoleTelemetry sent{};
+  sent.stamp = gs::dds::ros_time(5'000'000'000);
   sent.estimate_valid = true;
-  sent.mode = pa_arena_pole_free;
-  sent.estimate.position_m = {0.1, 0.2, 2.5};
-  sent.estimate.velocity_mps = {1.0, 0.0, 3.0};
-  sent.estimate.direction = {0.0, 0.6, 0.8};
-  sent.estimate.rate_radps = {0.5, -2.0, 1.5};
+  sent.mode = gs::dds::pole_mode::kFree;
+  sent.position = {0.1, 0.2, 2.5};
+  sent.velocity = {1.0, 0.0, 3.0};
+  sent.direction = {0.0, 0.6, 0.8};
+  sent.angular_velocity = {0.5, -2.0, 1.5};
   sent.catch_predicted = true;
-  sent.catch_time_ns = 5'600'000'000;
-  sent.catch_point_m = {1.0, 0.1, 1.3};
+  sent.catch_stamp = gs::dds::ros_time(5'600'000'000);
+  sent.catch_point = {1.0, 0.1, 1.3};
   sent.catch_vehicle = pa::kVehicle2.node();
   writer.write(sent);
 
   const auto* got = reader.wait_take(kWait);
   REQUIRE(got != nullptr);
-  CHECK(got->time_ns == sent.time_ns);
-  CHECK(got->mode == pa_arena_pole_free);
-  check_equal(got->estimate.position_m, sent.estimate.position_m);
-  check_equal(got->estimate.velocity_mps, sent.estimate.velocity_mps);
-  check_equal(got->estimate.direction, sent.estimate.direction);
-  check_equal(got->estimate.rate_radps, sent.estimate.rate_radps);
+  CHECK(stamp_ns(got->stamp) == 5'000'000'000);
+  CHECK(got->mode == gs::dds::pole_mode::kFree);
+  check_equal(got->position, sent.position);
+  check_equal(got->velocity, sent.velocity);
+  check_equal(got->direction, sent.direction);
+  check_equal(got->angular_velocity, sent.angular_velocity);
   CHECK(got->catch_predicted);
-  CHECK(got->catch_time_ns == sent.catch_time_ns);
-  check_equal(got->catch_point_m, sent.catch_point_m);
+  CHECK(stamp_ns(got->catch_stamp) == 5'600'000'000);
+  check_equal(got->catch_point, sent.catch_point);
   CHECK(got->catch_vehicle == pa::kVehicle2.node());
 }
 
 TEST_CASE("An event arrives whole", "[dds]") {
-  Link<pa_arena_Event> link(104);
+  Link<gs::dds::Event> link(104);
   auto& writer = link.writer;
   auto& reader = link.reader;
 
-  writer.write(event(42, pa_arena_event_catch_success, pa::kVehicle2.node(), "caught at 1.31 m"));
+  writer.write(event(42, gs::dds::event_kind::kCatchSuccess, pa::kVehicle2.node(), "caught at 1.31 m"));
   const auto* got = reader.wait_take(kWait);
   REQUIRE(got != nullptr);
-  CHECK(got->time_ns == 42);
-  CHECK(got->kind == pa_arena_event_catch_success);
+  CHECK(stamp_ns(got->stamp) == 42);
+  CHECK(got->kind == gs::dds::event_kind::kCatchSuccess);
   CHECK(got->vehicle == pa::kVehicle2.node());
   CHECK(std::string(got->detail) == "caught at 1.31 m");
 }
 
 TEST_CASE("An operator command arrives whole", "[dds]") {
-  Link<pa_arena_OperatorCommand> link(105);
+  Link<gs::dds::OperatorCommand> link(105);
   auto& writer = link.writer;
   auto& reader = link.reader;
 
-  pa_arena_OperatorCommand sent{};
-  sent.kind = pa_arena_command_kill;
+  gs::dds::OperatorCommand sent{};
+  sent.kind = gs::dds::command_kind::kKill;
   sent.target = 0;
   sent.sequence_number = 7;
   writer.write(sent);
   const auto* got = reader.wait_take(kWait);
   REQUIRE(got != nullptr);
-  CHECK(got->kind == pa_arena_command_kill);
+  CHECK(got->kind == gs::dds::command_kind::kKill);
   CHECK(got->target == 0);
   CHECK(got->sequence_number == 7);
 }
@@ -258,68 +269,80 @@ TEST_CASE("A mocap reader takes into the same sequence buffer frame after frame"
   }
 }
 
-TEST_CASE("Vehicle telemetry keeps the latest sample of each vehicle", "[dds]") {
-  Link<pa_arena_VehicleTelemetry> link(107);
-  auto& writer = link.writer;
-  auto& reader = link.reader;
+TEST_CASE("Vehicle telemetry keeps the latest sample of each vehicle, on its own topic", "[dds]") {
+  // ROS 2 messages have no keys: a topic per vehicle, so that vehicle 1's updates never push
+  // vehicle 2's out of a reader's cache.
+  Arena arena(107);
+  const std::string topic1 = gs::dds::vehicle_telemetry_topic(pa::kVehicle1);
+  const std::string topic2 = gs::dds::vehicle_telemetry_topic(pa::kVehicle2);
+  Writer<gs::dds::VehicleTelemetry> writer1(arena.publisher, topic1.c_str());
+  Writer<gs::dds::VehicleTelemetry> writer2(arena.publisher, topic2.c_str());
+  Reader<gs::dds::VehicleTelemetry> reader1(arena.subscriber, topic1.c_str());
+  Reader<gs::dds::VehicleTelemetry> reader2(arena.subscriber, topic2.c_str());
+  REQUIRE(writer1.wait_for_readers(1, kWait));
+  REQUIRE(writer2.wait_for_readers(1, kWait));
 
-  pa_arena_VehicleTelemetry t{};
+  gs::dds::VehicleTelemetry t{};
   t.vehicle = pa::kVehicle1.node();
-  t.time_ns = 1;
-  writer.write(t);
-  t.time_ns = 2;
-  writer.write(t);
+  t.stamp = gs::dds::ros_time(1);
+  writer1.write(t);
+  t.stamp = gs::dds::ros_time(2);
+  writer1.write(t);
   t.vehicle = pa::kVehicle2.node();
-  t.time_ns = 3;
-  writer.write(t);
+  t.stamp = gs::dds::ros_time(3);
+  writer2.write(t);
 
-  std::vector<std::pair<int, std::int64_t>> got;
-  while (got.size() < 2) {
-    const auto* s = reader.wait_take(kWait);
+  // Keep last 1: vehicle 1's first sample was replaced; vehicle 2's is there.
+  std::int64_t last1 = 0;
+  while (last1 != 2) {
+    const auto* s = reader1.wait_take(kWait);
     REQUIRE(s != nullptr);
-    got.emplace_back(s->vehicle, s->time_ns);
+    CHECK(s->vehicle == 1);
+    last1 = stamp_ns(s->stamp);
   }
-  CHECK(reader.take() == nullptr);
-  std::sort(got.begin(), got.end());
-  CHECK(got[0] == std::pair<int, std::int64_t>{1, 2});  // vehicle 1's first sample replaced
-  CHECK(got[1] == std::pair<int, std::int64_t>{2, 3});  // vehicle 2's not pushed out by vehicle 1's
+  const auto* s = reader2.wait_take(kWait);
+  REQUIRE(s != nullptr);
+  CHECK(s->vehicle == 2);
+  CHECK(stamp_ns(s->stamp) == 3);
+  CHECK(reader1.take() == nullptr);
+  CHECK(reader2.take() == nullptr);
 }
 
 TEST_CASE("A late event reader receives the events published before it joined", "[dds]") {
   Arena arena(108);
-  Writer<pa_arena_Event> writer(arena.publisher);
-  writer.write(event(1, pa_arena_event_launch, pa::kVehicle1.node(), "launch"));
-  writer.write(event(2, pa_arena_event_impact, pa::kVehicle2.node(), "impact"));
-  writer.write(event(3, pa_arena_event_catch_miss, pa::kVehicle2.node(), "missed"));
+  Writer<gs::dds::Event> writer(arena.publisher);
+  writer.write(event(1, gs::dds::event_kind::kLaunch, pa::kVehicle1.node(), "launch"));
+  writer.write(event(2, gs::dds::event_kind::kImpact, pa::kVehicle2.node(), "impact"));
+  writer.write(event(3, gs::dds::event_kind::kCatchMiss, pa::kVehicle2.node(), "missed"));
 
-  Reader<pa_arena_Event> late(arena.subscriber);
+  Reader<gs::dds::Event> late(arena.subscriber);
   for (std::int64_t t = 1; t <= 3; ++t) {
     const auto* got = late.wait_take(kWait);
     REQUIRE(got != nullptr);
-    CHECK(got->time_ns == t);  // reliable: all of them, in order
+    CHECK(stamp_ns(got->stamp) == t);  // reliable: all of them, in order
   }
   CHECK(late.take() == nullptr);
 }
 
 TEST_CASE("A late command reader does not receive commands sent before it joined", "[dds]") {
   Arena arena(109);
-  Writer<pa_arena_OperatorCommand> writer(arena.publisher);
-  pa_arena_OperatorCommand command{};
-  command.kind = pa_arena_command_throw;
+  Writer<gs::dds::OperatorCommand> writer(arena.publisher);
+  gs::dds::OperatorCommand command{};
+  command.kind = gs::dds::command_kind::kThrow;
   command.target = pa::kVehicle1.node();
   command.sequence_number = 1;
   writer.write(command);  // before any ground station listened: must not be acted on
 
-  Reader<pa_arena_OperatorCommand> late(arena.subscriber);
+  Reader<gs::dds::OperatorCommand> late(arena.subscriber);
   REQUIRE(writer.wait_for_readers(1, kWait));
-  command.kind = pa_arena_command_land;
+  command.kind = gs::dds::command_kind::kLand;
   command.sequence_number = 2;
   writer.write(command);
   // Volatile: a historical sample would have been delivered before the new one.
   const auto* got = late.wait_take(kWait);
   REQUIRE(got != nullptr);
   CHECK(got->sequence_number == 2);
-  CHECK(got->kind == pa_arena_command_land);
+  CHECK(got->kind == gs::dds::command_kind::kLand);
 }
 
 TEST_CASE("The loopback configuration starts a domain and carries a sample", "[dds]") {
@@ -328,11 +351,11 @@ TEST_CASE("The loopback configuration starts a domain and carries a sample", "[d
   Domain domain(110, gs::dds::loopback_config());
   Participant publisher(domain);
   Participant subscriber(domain);
-  Writer<pa_arena_Event> writer(publisher);
-  Reader<pa_arena_Event> reader(subscriber);
+  Writer<gs::dds::Event> writer(publisher);
+  Reader<gs::dds::Event> reader(subscriber);
   REQUIRE(writer.wait_for_readers(1, kWait));
   const std::string tag = "loopback " + std::to_string(reinterpret_cast<std::uintptr_t>(&domain));
-  writer.write(event(9, pa_arena_event_abort, 0, tag.c_str()));
+  writer.write(event(9, gs::dds::event_kind::kAbort, 0, tag.c_str()));
   bool found = false;
   const auto end = std::chrono::steady_clock::now() + kWait;
   while (!found && std::chrono::steady_clock::now() < end) {

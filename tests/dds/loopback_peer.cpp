@@ -24,7 +24,7 @@ int main(int argc, char** argv) {
   gs::dds::Domain domain(domain_id, gs::dds::loopback_config());
   gs::dds::Participant participant(domain);
   gs::dds::Writer<gs::dds::NamedPoseArray> mocap(participant);
-  gs::dds::Reader<pa_arena_OperatorCommand> commands(participant);
+  gs::dds::Reader<gs::dds::OperatorCommand> commands(participant);
 
   gs::estimation::MocapPose pose;
   pose.p_m = Eigen::Vector3d(1.0, 2.0, 3.0);

@@ -35,10 +35,11 @@ TEST_CASE("A vehicle's estimate is a PoseStamped in the world frame, w last", "[
   CHECK(pose.pose.orientation.y == q.y());
   CHECK(pose.pose.orientation.z == q.z());
   CHECK(pose.pose.orientation.w == q.w());
-  // The same attitude the pa_vehicle_telemetry topic carries (w first there).
-  const pa_arena_Estimate telemetry = gs::dds::vehicle_estimate_to_dds(e);
-  CHECK(telemetry.attitude.w == q.w());
-  CHECK(telemetry.attitude.x == q.x());
+  // The same orientation the vehicle's telemetry carries.
+  const auto telemetry = gs::dds::vehicle_telemetry_to_ros(pa::kVehicle1, 0, gs::link::VehicleLinkStatus{},
+                                                           gs::mission::Task::hover, e);
+  CHECK(telemetry.orientation.w == q.w());
+  CHECK(telemetry.orientation.x == q.x());
 }
 
 TEST_CASE("The pole's pose turns z onto its axis", "[dds]") {

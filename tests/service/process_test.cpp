@@ -4,6 +4,7 @@
 // (122-126, 129, 130, 132-136); every wait is bounded.
 #include "groundstation/service/process.hpp"
 
+#include <array>
 #include <catch2/catch.hpp>
 #include <chrono>
 #include <cstring>
@@ -14,6 +15,7 @@
 
 #include "groundstation/dds/event_detail.hpp"
 #include "groundstation/dds/mocap_conversion.hpp"
+#include "groundstation/dds/telemetry_conversion.hpp"
 #include "groundstation/service/status_view.hpp"
 
 using namespace std::chrono_literals;
@@ -46,11 +48,10 @@ struct Rig {
     REQUIRE(events.wait_for_writers(1, kWait));
   }
 
-  // `kind` as an integer: a peer can send any value (written through memcpy, as an enum
-  // variable may not hold a value no enumerator has).
-  void send(std::int32_t kind, std::uint8_t target, std::uint32_t sequence_number) {
-    pa_arena_OperatorCommand c{};
-    std::memcpy(&c.kind, &kind, sizeof kind);
+  // Any `kind`: a peer can send any value.
+  void send(std::uint8_t kind, std::uint8_t target, std::uint32_t sequence_number) {
+    gs::dds::OperatorCommand c{};
+    c.kind = kind;
     c.target = target;
     c.sequence_number = sequence_number;
     commands.write(c);
@@ -67,7 +68,7 @@ struct Rig {
 
   // Steps until an answer to `sequence_number` arrives (or the wait ends), then a few more steps
   // in which a second answer would show up; every answer to it seen so far.
-  std::vector<pa_arena_Event> answers_to(std::uint32_t sequence_number) {
+  std::vector<gs::dds::Event> answers_to(std::uint32_t sequence_number) {
     const auto end = std::chrono::steady_clock::now() + kWait;
     int more_steps = 5;
     while (more_steps > 0 && std::chrono::steady_clock::now() < end) {
@@ -80,17 +81,17 @@ struct Rig {
   }
 
   void collect(std::chrono::nanoseconds wait) {
-    for (const pa_arena_Event* e = events.wait_take(wait); e != nullptr; e = events.take()) {
-      if (e->kind == pa_arena_event_command_accepted || e->kind == pa_arena_event_command_refused)
+    for (const gs::dds::Event* e = events.wait_take(wait); e != nullptr; e = events.take()) {
+      if (e->kind == gs::dds::event_kind::kCommandAccepted || e->kind == gs::dds::event_kind::kCommandRefused)
         answers.push_back(*e);
-      if (e->kind == pa_arena_event_attempt) attempts.push_back(*e);
+      if (e->kind == gs::dds::event_kind::kAttempt) attempts.push_back(*e);
     }
   }
 
-  std::vector<pa_arena_Event> of(std::uint32_t sequence_number) const {
+  std::vector<gs::dds::Event> of(std::uint32_t sequence_number) const {
     const std::string prefix = gs::service::answer_prefix(sequence_number) + " ";
-    std::vector<pa_arena_Event> found;
-    for (const pa_arena_Event& e : answers)
+    std::vector<gs::dds::Event> found;
+    for (const gs::dds::Event& e : answers)
       if (std::strncmp(e.detail, prefix.c_str(), prefix.size()) == 0) found.push_back(e);
     return found;
   }
@@ -109,43 +110,43 @@ struct Rig {
   gs::dds::Participant station_side;
   gs::dds::Participant console_side;
   Process process;
-  gs::dds::Writer<pa_arena_OperatorCommand> commands;
-  gs::dds::Reader<pa_arena_Event> events;
+  gs::dds::Writer<gs::dds::OperatorCommand> commands;
+  gs::dds::Reader<gs::dds::Event> events;
   double now_s = 10.0;
-  std::vector<pa_arena_Event> answers;   // every answer seen, oldest first
-  std::vector<pa_arena_Event> attempts;  // every attempt event seen, oldest first
+  std::vector<gs::dds::Event> answers;   // every answer seen, oldest first
+  std::vector<gs::dds::Event> attempts;  // every attempt event seen, oldest first
 };
 
 }  // namespace
 
 TEST_CASE("An operator command gets exactly one answer naming its sequence number; a repeat is refused") {
   Rig rig(122);
-  rig.send(pa_arena_command_take_off, 0, 17);
-  const std::vector<pa_arena_Event> first = rig.answers_to(17);
+  rig.send(gs::dds::command_kind::kTakeOff, 0, 17);
+  const std::vector<gs::dds::Event> first = rig.answers_to(17);
   REQUIRE(first.size() == 1);
-  CHECK(first[0].kind == pa_arena_event_command_accepted);
+  CHECK(first[0].kind == gs::dds::event_kind::kCommandAccepted);
   CHECK(std::string(first[0].detail) == "command 17: take-off requested");
 
-  rig.send(pa_arena_command_land, 0, 17);
-  const std::vector<pa_arena_Event> both = rig.answers_to(17);
+  rig.send(gs::dds::command_kind::kLand, 0, 17);
+  const std::vector<gs::dds::Event> both = rig.answers_to(17);
   REQUIRE(both.size() == 2);
-  CHECK(both[1].kind == pa_arena_event_command_refused);
+  CHECK(both[1].kind == gs::dds::event_kind::kCommandRefused);
   CHECK(std::string(both[1].detail).find("acted on already") != std::string::npos);
 
-  rig.send(pa_arena_command_land, 0, 18);
-  const std::vector<pa_arena_Event> next = rig.answers_to(18);
+  rig.send(gs::dds::command_kind::kLand, 0, 18);
+  const std::vector<gs::dds::Event> next = rig.answers_to(18);
   REQUIRE(next.size() == 1);
-  CHECK(next[0].kind == pa_arena_event_command_accepted);
+  CHECK(next[0].kind == gs::dds::event_kind::kCommandAccepted);
   CHECK(rig.process.counters().commands_accepted == 2);
   CHECK(rig.process.counters().commands_refused == 1);
 }
 
 TEST_CASE("An accepted throw begins an attempt: its event names the thrower, a refused one has none") {
   Rig rig(130);
-  rig.send(pa_arena_command_throw, 2, 7);
-  const std::vector<pa_arena_Event> answer = rig.answers_to(7);
+  rig.send(gs::dds::command_kind::kThrow, 2, 7);
+  const std::vector<gs::dds::Event> answer = rig.answers_to(7);
   REQUIRE(answer.size() == 1);
-  CHECK(answer[0].kind == pa_arena_event_command_accepted);
+  CHECK(answer[0].kind == gs::dds::event_kind::kCommandAccepted);
   REQUIRE(rig.attempts.size() == 1);
   CHECK(rig.attempts[0].vehicle == 2);  // what hil run hands the pole up to
   // and where it waits for the pole: vehicle 2 throws back from where vehicle 1's throws come down
@@ -155,10 +156,10 @@ TEST_CASE("An accepted throw begins an attempt: its event names the thrower, a r
   CHECK(origin->z() == Approx(2.0));
   CHECK(origin->head<2>().norm() > 1.0);
 
-  rig.send(pa_arena_command_throw, 1, 8);  // an attempt is running
-  const std::vector<pa_arena_Event> refused = rig.answers_to(8);
+  rig.send(gs::dds::command_kind::kThrow, 1, 8);  // an attempt is running
+  const std::vector<gs::dds::Event> refused = rig.answers_to(8);
   REQUIRE(refused.size() == 1);
-  CHECK(refused[0].kind == pa_arena_event_command_refused);
+  CHECK(refused[0].kind == gs::dds::event_kind::kCommandRefused);
   CHECK(rig.attempts.size() == 1);
 }
 
@@ -167,7 +168,7 @@ TEST_CASE(
   Rig rig(123);
   rig.hear_vehicles();
   rig.bus.take();
-  rig.send(pa_arena_command_kill, 2, 5);
+  rig.send(gs::dds::command_kind::kKill, 2, 5);
   REQUIRE(rig.answers_to(5).size() == 1);
   std::vector<pa::proto::Message> kills = rig.sent_of_type(pa::proto::Type::kill);
   REQUIRE_FALSE(kills.empty());
@@ -177,10 +178,10 @@ TEST_CASE(
   }
 
   // The same sequence number again: a KILL is never refused as a repeat.
-  rig.send(pa_arena_command_kill, 0, 5);
-  const std::vector<pa_arena_Event> both = rig.answers_to(5);
+  rig.send(gs::dds::command_kind::kKill, 0, 5);
+  const std::vector<gs::dds::Event> both = rig.answers_to(5);
   REQUIRE(both.size() == 2);
-  CHECK(both[1].kind == pa_arena_event_command_accepted);
+  CHECK(both[1].kind == gs::dds::event_kind::kCommandAccepted);
   kills = rig.sent_of_type(pa::proto::Type::kill);
   bool to_vehicle[2] = {false, false};
   for (const pa::proto::Message& m : kills) {
@@ -197,17 +198,17 @@ TEST_CASE("Unknown commands and malformed targets are refused with a reason, nev
   rig.hear_vehicles();  // so that a KILL acted on would reach the bus
   rig.bus.take();
   rig.send(99, 0, 1);
-  rig.send(pa_arena_command_throw, 9, 2);
-  rig.send(pa_arena_command_take_off, 1, 3);  // take-off acts on both vehicles only
-  rig.send(pa_arena_command_kill, 200, 4);
-  const std::vector<pa_arena_Event> unknown = rig.answers_to(1);
+  rig.send(gs::dds::command_kind::kThrow, 9, 2);
+  rig.send(gs::dds::command_kind::kTakeOff, 1, 3);  // take-off acts on both vehicles only
+  rig.send(gs::dds::command_kind::kKill, 200, 4);
+  const std::vector<gs::dds::Event> unknown = rig.answers_to(1);
   REQUIRE(unknown.size() == 1);
-  CHECK(unknown[0].kind == pa_arena_event_command_refused);
+  CHECK(unknown[0].kind == gs::dds::event_kind::kCommandRefused);
   CHECK(std::string(unknown[0].detail).find("unknown") != std::string::npos);
   for (std::uint32_t n = 2; n <= 4; ++n) {
-    const std::vector<pa_arena_Event> a = rig.answers_to(n);
+    const std::vector<gs::dds::Event> a = rig.answers_to(n);
     REQUIRE(a.size() == 1);
-    CHECK(a[0].kind == pa_arena_event_command_refused);
+    CHECK(a[0].kind == gs::dds::event_kind::kCommandRefused);
   }
   CHECK(rig.process.counters().commands_refused == 4);
   CHECK(rig.process.counters().kills == 0);
@@ -401,35 +402,41 @@ TEST_CASE("Telemetry is published at its rate, for both vehicles and the pole") 
   gs::service::ProcessConfig config;
   config.telemetry_period_s = 1.0 / 32.0;  // exact in binary: the steps below land on it
   Rig rig(126, config);
-  gs::dds::Reader<pa_arena_VehicleTelemetry> vehicles(rig.console_side);
-  gs::dds::Reader<pa_arena_PoleTelemetry> pole(rig.console_side);
-  REQUIRE(vehicles.wait_for_writers(1, kWait));
+  // Stamped with ROS time: the ground clock plus the system clock's offset.
+  constexpr std::int64_t kOffset_ns = 1'796'600'000'000'000'000;
+  rig.process.set_stamp_offset(kOffset_ns);
+  std::array<gs::dds::Reader<gs::dds::VehicleTelemetry>, 2> vehicles{
+      gs::dds::Reader<gs::dds::VehicleTelemetry>(rig.console_side,
+                                                 gs::dds::vehicle_telemetry_topic(pa::kVehicle1).c_str()),
+      gs::dds::Reader<gs::dds::VehicleTelemetry>(rig.console_side,
+                                                 gs::dds::vehicle_telemetry_topic(pa::kVehicle2).c_str())};
+  gs::dds::Reader<gs::dds::PoleTelemetry> pole(rig.console_side);
+  for (const auto& reader : vehicles) REQUIRE(reader.wait_for_writers(1, kWait));
   REQUIRE(pole.wait_for_writers(1, kWait));
 
   // 64 steps of 1/256 s: telemetry at steps 0, 8, ..., 56.
   for (int i = 0; i < 64; ++i) rig.process.step(10.0 + i / 256.0);
   CHECK(rig.process.counters().telemetry_published == 8 * 3);
 
-  bool seen[2] = {false, false};
-  for (int i = 0; i < 2; ++i) {
-    const pa_arena_VehicleTelemetry* t = vehicles.wait_take(kWait);
+  const std::int64_t last_ns = gs::dds::to_nanoseconds(10.0 + 56 / 256.0) + kOffset_ns;
+  for (const pa::VehicleId v : pa::kActVehicles) {
+    // Keep last 1: the newest sample of each vehicle, on its own topic.
+    const gs::dds::VehicleTelemetry* t = vehicles[pa::act_slot(v)].wait_take(kWait);
     REQUIRE(t != nullptr);
-    REQUIRE(pa::is_act_vehicle(pa::VehicleId(t->vehicle)));
-    seen[pa::act_slot(pa::VehicleId(t->vehicle))] = true;
-    CHECK(t->link == pa_arena_link_unheard);  // no vehicle on the bus
-    CHECK(t->time_ns == gs::dds::to_nanoseconds(10.0 + 56 / 256.0));
+    CHECK(t->vehicle == v.node());
+    CHECK(t->link == gs::dds::link_state::kUnheard);  // no vehicle on the bus
+    CHECK(gs::dds::stamp_nanoseconds(t->stamp) == last_ns);
   }
-  CHECK(seen[0]);
-  CHECK(seen[1]);
-  const pa_arena_PoleTelemetry* p = pole.wait_take(kWait);
+  const gs::dds::PoleTelemetry* p = pole.wait_take(kWait);
   REQUIRE(p != nullptr);
+  CHECK(gs::dds::stamp_nanoseconds(p->stamp) == last_ns);
   CHECK_FALSE(p->estimate_valid);
   CHECK_FALSE(p->catch_predicted);
 }
 
 TEST_CASE("A vehicle heard, then silent, is announced back and then lost; its failsafe is announced") {
   Rig rig(129);
-  gs::dds::Reader<pa_arena_Event> events(rig.console_side);
+  gs::dds::Reader<gs::dds::Event> events(rig.console_side);
   REQUIRE(events.wait_for_writers(1, kWait));
   pa::proto::Frame heartbeat;
   REQUIRE(pa::proto::encode(pa::proto::VehicleHeartbeat{500, pa::proto::Mode::failsafe_hover, 0, 0,
@@ -440,7 +447,7 @@ TEST_CASE("A vehicle heard, then silent, is announced back and then lost; its fa
   rig.process.step(rig.now_s + 1.0);  // past the link's vehicle timeout (0.3 s)
 
   std::vector<std::string> lines;
-  for (const pa_arena_Event* e = events.wait_take(kWait); e != nullptr; e = events.wait_take(100ms))
+  for (const gs::dds::Event* e = events.wait_take(kWait); e != nullptr; e = events.wait_take(100ms))
     if (e->vehicle == 2) lines.push_back(gs::service::event_kind_name(e->kind) + ": " + e->detail);
   REQUIRE(lines.size() == 3);
   CHECK(lines[0] == "vehicle back: first heartbeat");
@@ -450,7 +457,7 @@ TEST_CASE("A vehicle heard, then silent, is announced back and then lost; its fa
 
 TEST_CASE("Operator command names round-trip, and the answer prefix is what op looks for") {
   for (const char* name : {"take-off", "land", "abort", "throw", "kill"}) {
-    const std::optional<pa_arena_CommandKind> kind = gs::service::command_from_name(name);
+    const std::optional<std::uint8_t> kind = gs::service::command_from_name(name);
     REQUIRE(kind);
     CHECK(gs::service::command_name(*kind) == name);
   }

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <string>
 
+#include "groundstation/dds/mocap_conversion.hpp"
 #include "groundstation/mission/vehicle_sequencer.hpp"
 
 using gs::service::render_status;
@@ -14,24 +15,24 @@ using gs::service::StatusView;
 
 namespace {
 
-pa_arena_VehicleTelemetry vehicle(std::uint8_t id, pa_arena_LinkState link, double x) {
-  pa_arena_VehicleTelemetry t{};
+gs::dds::VehicleTelemetry vehicle(std::uint8_t id, std::uint8_t link, double x) {
+  gs::dds::VehicleTelemetry t{};
   t.vehicle = id;
-  t.time_ns = 1'000'000'000;
+  t.stamp = gs::dds::ros_time(1'000'000'000);
   t.link = link;
-  t.mode = static_cast<std::uint8_t>(gs::mission::Task::hover);
+  t.task = static_cast<std::uint8_t>(gs::mission::Task::hover);
   t.vehicle_mode = 2;  // flying
   t.estimate_valid = true;
-  t.estimate.position_m = {x, 0.5, 1.25};
-  t.estimate.velocity_mps = {3.0, 4.0, 0.0};
-  t.estimate.attitude = {1.0, 0.0, 0.0, 0.0};
+  t.position = {x, 0.5, 1.25};
+  t.velocity = {3.0, 4.0, 0.0};
+  t.orientation = {0.0, 0.0, 0.0, 1.0};
   return t;
 }
 
-pa_arena_Event event(std::int64_t time_ns, std::int32_t kind, std::uint8_t id, const char* detail) {
-  pa_arena_Event e{};
-  e.time_ns = time_ns;
-  std::memcpy(&e.kind, &kind, sizeof kind);  // any value, as from the wire
+gs::dds::Event event(std::int64_t stamp_ns, std::uint8_t kind, std::uint8_t id, const char* detail) {
+  gs::dds::Event e{};
+  e.stamp = gs::dds::ros_time(stamp_ns);
+  e.kind = kind;  // any value, as from the wire
   e.vehicle = id;
   std::strncpy(e.detail, detail, sizeof e.detail - 1);
   return e;
@@ -56,22 +57,24 @@ TEST_CASE("Nothing heard: each vehicle and the pole say so") {
 
 TEST_CASE("Vehicles, the pole in flight with its catch prediction, and the latest events") {
   StatusView view;
-  view.add(vehicle(1, pa_arena_link_up, -1.0));
-  view.add(vehicle(2, pa_arena_link_lost, 1.0));
-  view.add(vehicle(7, pa_arena_link_up, 9.0));  // not of the act: ignored
-  pa_arena_PoleTelemetry pole{};
-  pole.time_ns = 2'000'000'000;
+  view.add(vehicle(1, gs::dds::link_state::kUp, -1.0));
+  view.add(vehicle(2, gs::dds::link_state::kLost, 1.0));
+  view.add(vehicle(7, gs::dds::link_state::kUp, 9.0));  // not of the act: ignored
+  gs::dds::PoleTelemetry pole{};
+  pole.stamp = gs::dds::ros_time(2'000'000'000);
   pole.estimate_valid = true;
-  pole.mode = pa_arena_pole_free;
-  pole.estimate.position_m = {0.25, 0.0, 3.5};
+  pole.mode = gs::dds::pole_mode::kFree;
+  pole.position = {0.25, 0.0, 3.5};
   pole.catch_predicted = true;
-  pole.catch_time_ns = 2'500'000'000;
-  pole.catch_point_m = {0.75, -0.25, 2.0};
+  pole.catch_stamp = gs::dds::ros_time(2'500'000'000);
+  pole.catch_point = {0.75, -0.25, 2.0};
   pole.catch_vehicle = 2;
   view.pole = pole;
   for (int i = 0; i < 8; ++i)
-    view.add(event(i * 1'000'000'000LL, pa_arena_event_task_change, 1, "take_off -> hover"));
-  view.add(event(9'000'000'000, pa_arena_event_command_accepted, 0, "command 3: throw: attempt 1"));
+    view.add(event(i * 1'000'000'000LL, gs::dds::event_kind::kTaskChange, 1, "take_off -> hover"));
+  // ROS time: the system clock's time of day, UTC (2026-12-07 13:04:59.250).
+  view.add(event(1'796'648'699'250'000'000, gs::dds::event_kind::kCommandAccepted, 0,
+                 "command 3: throw: attempt 1"));
 
   REQUIRE(view.has_telemetry());
   CHECK(view.has_all_telemetry());
@@ -84,25 +87,33 @@ TEST_CASE("Vehicles, the pole in flight with its catch prediction, and the lates
   CHECK(contains(text, "at  -1.00   0.50   1.25 m  speed  5.00 m/s"));
   CHECK(contains(text, "catch by vehicle 2 in 0.50 s at 0.75 -0.25 2.00 m"));
   CHECK(contains(text, "accepted"));
+  CHECK(contains(text, "13:04:59.250  accepted"));
+  CHECK(contains(text, "00:00:07.000  task change"));
   CHECK(contains(text, "command 3: throw: attempt 1"));
   REQUIRE(view.events.size() == StatusView::kEvents);  // only the latest kept
-  CHECK(view.events.back().kind == pa_arena_event_command_accepted);
-  CHECK(view.events.front().time_ns == 3'000'000'000);  // events at 3..7 s and 9 s
+  CHECK(view.events.back().kind == gs::dds::event_kind::kCommandAccepted);
+  CHECK(view.events.front().stamp_ns == 3'000'000'000);  // events at 3..7 s and the last
 }
 
 TEST_CASE("Values out of range are shown as numbers, not indexed past a table") {
   StatusView view;
-  pa_arena_VehicleTelemetry t = vehicle(1, pa_arena_link_up, 0.0);
-  t.mode = 200;
+  gs::dds::VehicleTelemetry t = vehicle(1, 17, 0.0);
+  t.task = 200;
   t.vehicle_mode = 99;
   t.estimate_valid = false;
   view.add(t);
   CHECK(view.has_telemetry());
   CHECK_FALSE(view.has_all_telemetry());  // vehicle 2 and the pole not heard
   view.add(event(0, 50, 0, "?"));
+  gs::dds::PoleTelemetry pole{};
+  pole.estimate_valid = true;
+  pole.mode = 9;
+  view.pole = pole;
   const std::string text = render_status(view);
+  CHECK(contains(text, "link unknown"));
   CHECK(contains(text, "task 200"));
   CHECK(contains(text, "mode 99"));
   CHECK(contains(text, "no estimate"));
   CHECK(contains(text, "event 50"));
+  CHECK(contains(text, "pole       mode 9"));
 }

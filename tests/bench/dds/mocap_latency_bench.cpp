@@ -109,7 +109,7 @@ void BM_MocapDeliveryLatencyAcrossProcesses(benchmark::State& state) {
   gs::dds::Domain domain(121, gs::dds::loopback_config());
   gs::dds::Participant participant(domain);
   gs::dds::Reader<gs::dds::NamedPoseArray> reader(participant);
-  gs::dds::Writer<pa_arena_OperatorCommand> commands(participant);
+  gs::dds::Writer<gs::dds::OperatorCommand> commands(participant);
 
   const std::string tag = "bench" + std::to_string(getpid());
   const pid_t peer = dds_test::start_peer({"121", tag, std::to_string(getpid()), "1000", "STAMP"});
@@ -141,8 +141,8 @@ void BM_MocapDeliveryLatencyAcrossProcesses(benchmark::State& state) {
           1e-3 * static_cast<double>(steady_ns() - gs::dds::stamp_nanoseconds(frame->header.stamp)));
     }
   }
-  pa_arena_OperatorCommand stop{};
-  stop.kind = pa_arena_command_kill;
+  gs::dds::OperatorCommand stop{};
+  stop.kind = gs::dds::command_kind::kKill;
   stop.sequence_number = static_cast<std::uint32_t>(getpid());
   commands.wait_for_readers(1, 2s);
   commands.write(stop);

@@ -11,7 +11,7 @@
 // frames go to on_frame, each motion-capture frame it delivered is converted to the DDS sample and
 // published (an in-process participant on domain 131, used by no other test), then step() runs,
 // and what the Process sent goes to the arena's ground bus. The take-off is an operator command
-// on pa_operator_commands, as `groundstation op take-off` sends it. Measured while both vehicles
+// on /pa/operator_commands, as `groundstation op take-off` sends it. Measured while both vehicles
 // hover (the runtime's task, and above kAirborne_m on the plant's truth), for kHover_s of
 // simulated time, one flight per iteration from its own seed; the arena's stepping is not.
 //
@@ -95,8 +95,8 @@ class Flight {
   bool connected() { return mocap_.wait_for_readers(1, 5s) && commands_.wait_for_readers(1, 5s); }
 
   void take_off() {
-    pa_arena_OperatorCommand c{};
-    c.kind = pa_arena_command_take_off;
+    gs::dds::OperatorCommand c{};
+    c.kind = gs::dds::command_kind::kTakeOff;
     c.sequence_number = 1;
     commands_.write(c);
   }
@@ -150,7 +150,7 @@ class Flight {
   StampingBus bus_;
   gs::service::Process process_;
   gs::dds::Writer<gs::dds::NamedPoseArray> mocap_;
-  gs::dds::Writer<pa_arena_OperatorCommand> commands_;
+  gs::dds::Writer<gs::dds::OperatorCommand> commands_;
   gs::dds::MocapMessage message_;
   std::uint64_t not_taken_ = 0;
   std::uint64_t without_rate_thrust_ = 0;
