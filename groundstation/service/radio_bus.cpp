@@ -46,6 +46,8 @@ RadioBus::RadioBus(std::vector<RadioPort> ports, unsigned baud) : baud_(baud) {
       if (ports[i].vehicle == ports[j].vehicle)
         throw std::runtime_error("radio: two ports for vehicle " + std::to_string(ports[i].vehicle.node()));
   radios_.reserve(ports.size());
+  poll_fds_.reserve(ports.size());
+  polled_.reserve(ports.size());
   try {
     for (RadioPort& port : ports) {
       radios_.push_back(Radio{std::move(port), -1, {}, {}, {}, {}});
@@ -186,8 +188,11 @@ void RadioBus::drain(Radio& radio) {
 bool RadioBus::read(pa::proto::Frame& out, int timeout_ms) {
   retry_closed();
   if (frames_.empty()) {
-    std::vector<pollfd> fds;
-    std::vector<Radio*> polled;
+    // Kept between calls (reserved for every radio at construction): the loop allocates nothing.
+    std::vector<pollfd>& fds = poll_fds_;
+    std::vector<Radio*>& polled = polled_;
+    fds.clear();
+    polled.clear();
     for (Radio& r : radios_) {
       if (r.fd < 0) continue;
       flush(r);

@@ -11,6 +11,8 @@
 // vehicle and the mission as its failsafe. Never fatal: failed() stays false.
 #pragma once
 
+#include <poll.h>
+
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
@@ -90,6 +92,8 @@ class RadioBus final : public GroundBus {
 
   unsigned baud_;
   std::vector<Radio> radios_;
+  std::vector<pollfd> poll_fds_;  // read()'s, by radio polled
+  std::vector<Radio*> polled_;
   std::deque<pa::proto::Frame> frames_;
   RadioCounters counters_;
   std::string message_;

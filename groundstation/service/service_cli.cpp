@@ -137,8 +137,10 @@ std::optional<service::RadioPort> radio_port(const std::string& text) {
   const std::size_t eq = text.find('=');
   if (eq == std::string::npos || eq + 1 >= text.size()) return std::nullopt;
   const std::string node = text.substr(0, eq);
-  if (node != "1" && node != "2") return std::nullopt;
-  return service::RadioPort{pa::VehicleId(static_cast<std::uint8_t>(node[0] - '0')), text.substr(eq + 1)};
+  if (node.size() != 1 || node[0] < '0' || node[0] > '9') return std::nullopt;
+  const pa::VehicleId vehicle(static_cast<std::uint8_t>(node[0] - '0'));
+  if (!pa::is_act_vehicle(vehicle)) return std::nullopt;
+  return service::RadioPort{vehicle, text.substr(eq + 1)};
 }
 
 // A sequence number no earlier `op` is likely to have used: the ground station acts on each once.

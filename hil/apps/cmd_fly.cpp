@@ -3,13 +3,17 @@
 // judged on the plant's truth. Prints a table per throw and a summary beside the paper's figures;
 // with --out writes DIR/throws.csv (one row per attempt), DIR/attempt_<n>.csv (its time series)
 // and DIR/report.html (hil/apps/report.hpp; not with --no-report). Columns: docs/report.md.
+// `--firmware qemu --pil-image ELF`: processor in the loop, each vehicle flown by the flight image
+// in its own QEMU (hil/sil/emulated_firmware.hpp) instead of the core in process; prints what the
+// ticks cost in guest instructions and the wall time per simulated second.
 #include <algorithm>
+#include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -28,7 +32,8 @@ namespace {
 using gs::adaptation::ThrowOutcome;
 
 constexpr const char* kUsage =
-    "usage: hil fly (--series paper | --throws N | --passes N | --targets N) [--seed S] [--plant FILE] [--randomise] [--out DIR [--no-report]] [--store FILE] [--verbose]";
+    "usage: hil fly (--series paper | --throws N | --passes N | --targets N) [--seed S] [--plant FILE] [--randomise] [--out DIR [--no-report]] [--store FILE] [--land] [--verbose]\n"
+    "               [--firmware host | --firmware qemu --pil-image ELF [--qemu PATH] [--icount-shift N] [--pil-timeout S]]";
 
 int usage(const std::string& message) {
   std::cerr << "hil fly: " << message << "\n" << kUsage << "\n";
@@ -56,12 +61,113 @@ void print_target_summary(const std::vector<trials::AttemptResult>& results) {
               describe(predicted).c_str(), describe(impact).c_str());
 }
 
+// Processor in the loop: what each image's ticks cost in guest instructions (every step's
+// HIL_TICK_COST, through the series' on_step), by phase of the act, against the self-test's
+// budget (firmware/ports/mps2_an386: 1,500 instructions per 1 kHz tick), and the wall time.
+// A vehicle's phase is its ground-station task, except the impact: the catcher's first
+// kImpactWindow_s after the pole touched its plate while it was catching (the firmware's impact
+// detection, classification and catch reaction start in it).
+class TickCosts {
+ public:
+  static constexpr std::uint32_t kBudget = 1500;
+  static constexpr double kImpactWindow_s = 0.1;
+  enum Phase : std::size_t { ground, hover, balance, throwing, catching, impact, landing, failsafe, kPhases };
+  static constexpr std::array<const char*, kPhases> kNames = {"ground (parked, arming)",
+                                                              "hover (take-off, hover, wait, retreat, clear)",
+                                                              "balance",
+                                                              "throw (throw, release)",
+                                                              "catch (before the impact)",
+                                                              "impact (first 0.1 s)",
+                                                              "landing",
+                                                              "failsafe"};
+
+  void watch(trials::SeriesConfig& config) {
+    config.on_step = [this](const sil::Arena& arena, const gs::runtime::GroundStation& gs) {
+      for (const pa::VehicleId v : pa::kActVehicles) {
+        const std::optional<std::uint32_t> n = arena.vehicle(v).last_tick_instructions();
+        if (!n) continue;
+        const std::size_t i = pa::act_slot(v);
+        const gs::mission::Task task = gs.task(v);
+        const bool touched =
+            arena.plant().pole_contact() == (v == pa::kVehicle1 ? Contact::vehicle1 : Contact::vehicle2);
+        if (task == gs::mission::Task::catching && touched && !impact_start_s_[i])
+          impact_start_s_[i] = arena.t_s();
+        // Caught, the catcher rebalances and balances within milliseconds: the window runs on.
+        if (task != gs::mission::Task::catching && task != gs::mission::Task::rebalance &&
+            task != gs::mission::Task::balance)
+          impact_start_s_[i].reset();
+        const bool in_impact = impact_start_s_[i] && arena.t_s() - *impact_start_s_[i] < kImpactWindow_s;
+        phases_[i][in_impact ? impact : phase(task)].add(*n);
+        all_[i].add(*n);
+      }
+    };
+  }
+  void print(double simulated_s, double wall_s) const {
+    for (const pa::VehicleId v : pa::kActVehicles) {
+      const std::size_t i = pa::act_slot(v);
+      const Stats& a = all_[i];
+      std::printf(
+          "     pil vehicle %d: %llu ticks, guest instructions per tick mean %.0f, max %u (budget %u)\n",
+          int(v.node()), static_cast<unsigned long long>(a.n), a.mean(), a.max, kBudget);
+      for (std::size_t p = 0; p < kPhases; ++p) {
+        const Stats& s = phases_[i][p];
+        if (s.n == 0) continue;
+        std::printf("         %-46s %6llu ticks  mean %5.0f  max %5u%s\n", kNames[p],
+                    static_cast<unsigned long long>(s.n), s.mean(), s.max,
+                    s.max > kBudget ? "  over budget" : "");
+      }
+    }
+    std::printf("     pil: %.3f simulated s in %.1f s of wall time, %.2f s per simulated s\n", simulated_s,
+                wall_s, simulated_s > 0.0 ? wall_s / simulated_s : 0.0);
+  }
+
+ private:
+  static Phase phase(gs::mission::Task task) {
+    using gs::mission::Task;
+    switch (task) {
+      case Task::parked:
+      case Task::arming: return ground;
+      case Task::balance:
+      case Task::rebalance: return balance;
+      case Task::throwing:
+      case Task::release: return throwing;
+      case Task::catching: return catching;
+      case Task::landing:
+      case Task::descend: return landing;
+      case Task::failsafe: return failsafe;
+      case Task::take_off:
+      case Task::hover:
+      case Task::retreat:
+      case Task::wait:
+      case Task::clear: break;
+    }
+    return hover;
+  }
+  struct Stats {
+    std::uint64_t n = 0;
+    double sum = 0.0;
+    std::uint32_t max = 0;
+    void add(std::uint32_t x) {
+      ++n;
+      sum += x;
+      max = std::max(max, x);
+    }
+    double mean() const { return n > 0 ? sum / static_cast<double>(n) : 0.0; }
+  };
+  std::array<Stats, 2> all_{};
+  std::array<std::array<Stats, kPhases>, 2> phases_{};
+  std::array<std::optional<double>, 2> impact_start_s_{};
+};
+
 }  // namespace
 
 int cmd_fly(int argc, char** argv) {
   std::string series, plant_file, out_dir, store_file;
   std::uint64_t throws = 0, passes = 0, targets = 0, seed = 1;
-  bool randomise = false, verbose = false, no_report = false, no_trial = false;
+  bool randomise = false, verbose = false, no_report = false, no_trial = false, land = false;
+  std::string firmware = "host", pil_image, qemu = "qemu-system-arm";
+  std::optional<std::uint64_t> icount_shift;
+  double pil_timeout_s = 10.0;
   CLI::App app("", "hil fly");
   pa::cli::describe(
       app, kUsage,
@@ -96,11 +202,47 @@ int cmd_fly(int argc, char** argv) {
       ->type_name("DIR");
   app.add_flag("--no-report", no_report, "with --out: the CSV files only, no report.html");
   app.add_option("--store", store_file, "the ground station's adaptation store")->type_name("FILE");
+  app.add_flag("--land", land, "after the last attempt the pole is taken down and both vehicles land");
   app.add_flag("--verbose", verbose, "print the mission log");
+  app.add_option("--firmware", firmware,
+                 "what flies the vehicles: the firmware core in process (host, the default) or the flight "
+                 "image in QEMU, one per vehicle (qemu: processor in the loop)")
+      ->type_name("host|qemu")
+      ->check(pa::cli::one_of({"host", "qemu"}, "must be 'host' or 'qemu'"));
+  app.add_option("--pil-image", pil_image, "with --firmware qemu: the PIL image (fw_mps2_an386_pil.elf)")
+      ->type_name("ELF");
+  app.add_option("--qemu", qemu, "with --firmware qemu: the emulator (default qemu-system-arm)")
+      ->type_name("PATH");
+  std::string shift_help = "with --firmware qemu: QEMU's -icount shift, the image's PA_MPS2_ICOUNT_SHIFT";
+  if (sil::kImageIcountShift) shift_help += " (default " + std::to_string(*sil::kImageIcountShift) + ")";
+  app.add_option("--icount-shift", icount_shift, shift_help)
+      ->type_name("N")
+      ->check(pa::cli::count(0, 10, "needs a count 0..10"));
+  app.add_option("--pil-timeout", pil_timeout_s,
+                 "with --firmware qemu: seconds of wall time to wait for each tick's answer (default 10)")
+      ->type_name("S")
+      ->check(pa::cli::number_in(0.01, 3600.0, "needs seconds 0.01..3600"));
   if (const std::optional<int> code = pa::cli::parse(app, argc, argv, std::cout, std::cerr)) return *code;
   if (int(!series.empty()) + int(throws > 0) + int(passes > 0) + int(targets > 0) != 1)
     return usage("give exactly one of --series paper, --throws N, --passes N and --targets N");
   if (no_trial && throws == 0) return usage("--no-trial goes with --throws N");
+  std::optional<sil::EmulatorConfig> emulator;
+  if (firmware == "qemu") {
+    if (pil_image.empty()) return usage("--firmware qemu needs --pil-image ELF");
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(pil_image, ec))
+      return usage("--pil-image '" + pil_image + "' is not a file (build it with the cortex-m4 preset)");
+    emulator.emplace();
+    emulator->image = pil_image;
+    emulator->qemu = qemu;
+    if (icount_shift) emulator->icount_shift = static_cast<int>(*icount_shift);
+    if (!emulator->icount_shift)
+      return usage("--firmware qemu needs --icount-shift N (this build could not read the image's)");
+    emulator->answer_timeout_s = pil_timeout_s;
+  } else if (!pil_image.empty() || icount_shift || app.count("--qemu") > 0 ||
+             app.count("--pil-timeout") > 0) {
+    return usage("--pil-image, --qemu, --icount-shift and --pil-timeout go with --firmware qemu");
+  }
 
   PlantConfig plant;
   if (!plant_file.empty()) {
@@ -127,6 +269,10 @@ int cmd_fly(int argc, char** argv) {
   }
 
   std::vector<trials::AttemptResult> results;
+  TickCosts tick_costs;
+  double simulated_s = 0.0;
+  bool landed = true;
+  const auto wall_start = std::chrono::steady_clock::now();
   try {
     std::printf(
         "throw  outcome          flight_s  height_m  catch_x_m  catch_y_m  travel_m  energy_err_J  abort\n");
@@ -148,9 +294,14 @@ int cmd_fly(int argc, char** argv) {
       config.ground_station.adaptation_store_path = store_file;
       // Before a throw or a pass, a spent pack is swapped (SeriesConfig::swap_spent_packs).
       config.swap_spent_packs = throws > 0 || passes > 0;
+      config.land_after = land;
+      config.arena.emulated_firmware = emulator;
+      if (emulator) tick_costs.watch(config);
       if (verbose) config.log = [](const std::string& line) { std::printf("%s\n", line.c_str()); };
       trials::SeriesRunner runner(config);
       results = runner.run(plans, print);
+      simulated_s += runner.simulated_time_s();
+      landed = runner.landed();
       print_identification(runner.ground_station(), runner.arena().plant());
       if (runner.packs_swapped() > 0)
         std::printf("         packs swapped between throws (spent for the throw): %d\n",
@@ -171,10 +322,15 @@ int cmd_fly(int argc, char** argv) {
         config.ground_station.learnt = learnt;
         config.ground_station.adaptation_store_path = store_file;
         config.record_time_series = !out_dir.empty();
+        config.land_after = land && i + 1 == plans.size();
+        config.arena.emulated_firmware = emulator;
+        if (emulator) tick_costs.watch(config);
         if (verbose) config.log = [](const std::string& line) { std::printf("%s\n", line.c_str()); };
         trials::SeriesRunner runner(config);
         std::vector<trials::AttemptPlan> one{plans[i]};
         trials::AttemptResult r = runner.run(one).front();
+        simulated_s += runner.simulated_time_s();
+        if (config.land_after) landed = runner.landed();
         learnt = runner.ground_station().learnt();
         if (!out_dir.empty() && !runner.time_series().empty())
           write_time_series(out_dir + "/attempt_" + std::to_string(i + 1) + ".csv",
@@ -193,7 +349,12 @@ int cmd_fly(int argc, char** argv) {
   } catch (const gs::adaptation::StoreError& e) {
     std::cerr << "hil fly: " << e.what() << "\n";
     return 2;
+  } catch (const sil::EmulatedFirmwareError& e) {
+    std::fflush(stdout);
+    std::cerr << "hil fly: " << e.what() << "\n";
+    return 1;
   }
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
   // The summary in plain words, beside the paper's figures (Section VII-B, Fig. 10).
   std::map<std::string, int> counts;
   int caught = 0, catches = 0, impacts = 0;
@@ -236,6 +397,8 @@ int cmd_fly(int argc, char** argv) {
                            [](const trials::AttemptResult& r) { return r.vehicle_crashed; })
                   ? "yes"
                   : "NO");
+  if (land) std::printf("         both vehicles landed after the last attempt: %s\n", landed ? "yes" : "NO");
+  if (emulator) tick_costs.print(simulated_s, wall_s);
   if (!out_dir.empty()) {
     std::ofstream csv(out_dir + "/throws.csv");
     trials::write_csv(csv, trials::fly_throws_columns(), results);

@@ -41,12 +41,14 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "hil/plant/mocap.hpp"
 #include "hil/plant/plant.hpp"
 #include "hil/radio/radio_bridge.hpp"
 #include "hil/run/plant_exchange.hpp"
+#include "hil/sil/emulated_firmware.hpp"
 #include "hil/sil/firmware_vehicle.hpp"
 #include "pa/protocol.hpp"
 
@@ -55,6 +57,11 @@ namespace hil::sil {
 struct ArenaConfig {
   // Both vehicles' radios (each seeded from the arena's seed, see above).
   RadioConfig radio{};
+  // Which firmware flies the vehicles: none, the core compiled for this host, in process (the
+  // default); set, the flight image in QEMU, processor in the loop, one QEMU per vehicle
+  // (emulated_firmware.hpp), built from the same configurations. The arena is then as slow as
+  // QEMU, steps in the same lockstep, and cannot be copied.
+  std::optional<EmulatorConfig> emulated_firmware;
 };
 
 class Arena {
@@ -64,9 +71,12 @@ class Arena {
   // std::invalid_argument for a plant whose IMU is not the firmware's 1 kHz, a radio
   // configuration out of range, or whatever the Plant constructor throws.
   Arena(const PlantConfig& plant, const ArenaConfig& config, std::uint64_t seed);
+  // With emulated firmware it also throws what EmulatedFirmware's constructor throws (QEMU not
+  // started or not connected).
   // A copy carries on from the same state (plant, firmwares, radios, what waits for the ground)
   // and evolves exactly as the original would under the same ground calls: a mission flown once
-  // can be forked at any step (hil/trials/cuts.hpp).
+  // can be forked at any step (hil/trials/cuts.hpp). An arena with emulated firmware cannot be
+  // copied (std::logic_error): the images' states are in their QEMU processes.
 
   Plant& plant() { return exchange_.plant(); }
   const Plant& plant() const { return exchange_.plant(); }
@@ -76,8 +86,11 @@ class Arena {
   const run::PlantExchange& exchange() const { return exchange_; }
 
   // The firmware of pa::kVehicle1 or pa::kVehicle2; throws std::out_of_range for any other
-  // vehicle.
+  // vehicle. What to read of it with either firmware: observe(), setpoint_age_us(), and with
+  // emulated firmware last_tick_instructions(), what its latest tick (this step's) cost.
   const FirmwareVehicle& vehicle(pa::VehicleId vehicle) const;
+  // Whether the flight images in QEMU fly the vehicles (ArenaConfig::emulated_firmware).
+  bool emulated_firmware() const { return firmware_.front().emulated(); }
 
   double t_s() const { return exchange_.t_s(); }
   double period_s() const { return exchange_.period_s(); }  // 1 ms, the firmware's IMU period
@@ -104,7 +117,9 @@ class Arena {
   // is due by t_k, the person hands the pole up if ready, the plant steps, its new IMU samples go
   // on the vehicle buses, the downlink and motion-capture frames due by t_(k+1) are collected for
   // the ground), then each firmware reads its bus, runs its tick and answers; what it sent is
-  // offered to its radio at t_(k+1).
+  // offered to its radio at t_(k+1). Emulated firmware: both images get their buses before
+  // either answer is awaited, so they run their ticks at the same time; EmulatedFirmwareError
+  // when one does not answer.
   void step();
 
   // Frames that arrived on the ground bus since the last call, oldest first (within one step,

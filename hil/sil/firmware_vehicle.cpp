@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "hil/run/hil_frames.hpp"
 #include "pa/constants.hpp"
@@ -49,21 +50,82 @@ pa::auth::Key simulation_key(pa::VehicleId vehicle) {
 }
 
 FirmwareVehicle::FirmwareVehicle(const fw::VehicleConfig& config)
-    : vehicle_(config.link.vehicle), node_(config.link.vehicle.node()), node_impl_(config) {
+    : vehicle_(config.link.vehicle), node_(config.link.vehicle.node()), node_impl_(std::in_place, config) {
   if (!pa::is_act_vehicle(vehicle_))
     throw std::invalid_argument("no plant vehicle has node " + std::to_string(node_) + " (1 or 2)");
   inbox_.reserve(16);
   sent_.reserve(64);
 }
 
-void FirmwareVehicle::on_imu(const ImuSample& sample) {
-  const auto collect = [this](const Frame& f) { sent_.push_back(f); };
-  for (const Frame& f : inbox_) node_impl_.on_frame(f, collect);
-  inbox_.clear();
+FirmwareVehicle::FirmwareVehicle(const fw::VehicleConfig& config, const EmulatorConfig& emulator)
+    : vehicle_(config.link.vehicle), node_(config.link.vehicle.node()) {
+  if (!pa::is_act_vehicle(vehicle_))
+    throw std::invalid_argument("no plant vehicle has node " + std::to_string(node_) + " (1 or 2)");
+  emulated_.image = std::make_unique<EmulatedFirmware>(config, emulator);
+  inbox_.reserve(16);
+  sent_.reserve(64);
+}
 
+namespace {
+[[noreturn]] void refuse_copy() {
+  throw std::logic_error(
+      "a vehicle flown by its emulated image (QEMU) cannot be copied: the image's state is in its QEMU "
+      "process; fork missions (hil cuts) with the firmware in process");
+}
+}  // namespace
+
+FirmwareVehicle::Emulated::Emulated(const Emulated& other) {
+  if (other.image) refuse_copy();
+}
+
+FirmwareVehicle::Emulated& FirmwareVehicle::Emulated::operator=(const Emulated& other) {
+  if (other.image || image) refuse_copy();
+  return *this;
+}
+
+const fw::Vehicle& FirmwareVehicle::firmware() const {
+  if (!node_impl_)
+    throw std::logic_error("vehicle " + std::to_string(node_) +
+                           " is flown by its emulated image: no fw::Vehicle in process (read observe())");
+  return node_impl_->vehicle();
+}
+
+FirmwareObservation FirmwareVehicle::observe() const {
+  if (emulated_.image) return emulated_.image->observe();
+  const fw::Vehicle& fw = node_impl_->vehicle();
+  FirmwareObservation o;
+  o.mode = fw.mode();
+  o.failsafe_reason = fw.failsafe_reason();
+  o.impact_count = fw.impact_count();
+  o.setpoint = fw.link().setpoint();
+  return o;
+}
+
+std::uint32_t FirmwareVehicle::setpoint_age_us(std::uint32_t now_us) const {
+  if (emulated_.image) return emulated_.image->setpoint_age_us(now_us);
+  return node_impl_->vehicle().link().setpoint_age_us(now_us);
+}
+
+std::optional<std::uint32_t> FirmwareVehicle::last_tick_instructions() const {
+  if (emulated_.image) return emulated_.image->last_tick_instructions();
+  return std::nullopt;
+}
+
+void FirmwareVehicle::on_imu(const ImuSample& sample) {
   const std::uint16_t tick = hil_tick(sample);
-  const std::size_t first_reply = sent_.size();
-  for (const Frame& f : hil_imu_frames(sample, node_)) node_impl_.on_frame(f, collect);
+  std::size_t first_reply = sent_.size();
+  if (emulated_.image) {
+    std::vector<Frame> bus;
+    bus.swap(inbox_);
+    for (const Frame& f : hil_imu_frames(sample, node_)) bus.push_back(f);
+    for (const Frame& f : emulated_.image->on_bus(bus)) sent_.push_back(f);
+  } else {
+    const auto collect = [this](const Frame& f) { sent_.push_back(f); };
+    for (const Frame& f : inbox_) node_impl_->on_frame(f, collect);
+    inbox_.clear();
+    first_reply = sent_.size();
+    for (const Frame& f : hil_imu_frames(sample, node_)) node_impl_->on_frame(f, collect);
+  }
   ++samples_fed_;
 
   // The HIL_MOTORS answer for this tick comes first (hil_vehicle_node.hpp); it is the plant's,
@@ -80,10 +142,25 @@ void FirmwareVehicle::on_imu(const ImuSample& sample) {
 }
 
 std::vector<Frame> FirmwareVehicle::on_bus(const std::vector<Frame>& frames) {
+  if (emulated_.image) return emulated_.image->on_bus(frames);
   std::vector<Frame> sent;
   const auto collect = [&sent](const Frame& f) { sent.push_back(f); };
-  for (const Frame& f : frames) node_impl_.on_frame(f, collect);
+  for (const Frame& f : frames) node_impl_->on_frame(f, collect);
   return sent;
+}
+
+void FirmwareVehicle::write_bus(const std::vector<Frame>& frames) {
+  if (emulated_.image) {
+    emulated_.image->write_bus(frames);
+    return;
+  }
+  const auto collect = [this](const Frame& f) { answer_.push_back(f); };
+  for (const Frame& f : frames) node_impl_->on_frame(f, collect);
+}
+
+std::vector<Frame> FirmwareVehicle::read_answer() {
+  if (emulated_.image) return emulated_.image->read_answer();
+  return std::exchange(answer_, {});
 }
 
 std::vector<Frame> FirmwareVehicle::take_sent() {

@@ -18,15 +18,23 @@
 // Ground-to-vehicle frames go straight to the vehicle's bus here (inject()). The arena
 // (arena.hpp) instead hands the firmware its whole vehicle bus as hil::run::PlantExchange writes
 // it (on_bus()): radio frames, the IMU sample and back the answer, on the same frames.
+//
+// The same vehicle bus also reaches the real flight image in QEMU, processor in the loop
+// (emulated_firmware.hpp): a FirmwareVehicle built with an EmulatorConfig runs its firmware
+// there instead of in process, in the same lockstep and with the same answers; it has no
+// fw::Vehicle here (firmware() throws), so what callers read of either is observe().
 #pragma once
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <vector>
 
 #include "fw/config.hpp"
 #include "hil/plant/plant.hpp"
+#include "hil/sil/emulated_firmware.hpp"
+#include "hil/sil/firmware_observation.hpp"
 #include "hil_vehicle_node.hpp"
 #include "pa/protocol.hpp"
 
@@ -54,12 +62,25 @@ fw::VehicleConfig firmware_config_for(
 // station and its simulated vehicles agree. Real vehicles get theirs at flashing time.
 pa::auth::Key simulation_key(pa::VehicleId vehicle);
 
-// One plant vehicle flown by one firmware core.
+// One plant vehicle flown by one firmware core: in process, or the flight image in QEMU.
 class FirmwareVehicle {
  public:
-  // Flies the plant vehicle `config.link.vehicle` is; throws std::invalid_argument for a vehicle
-  // other than pa::kVehicle1 and pa::kVehicle2.
+  // Flies the plant vehicle `config.link.vehicle` is with the core in process; throws
+  // std::invalid_argument for a vehicle other than pa::kVehicle1 and pa::kVehicle2.
   explicit FirmwareVehicle(const fw::VehicleConfig& config);
+  // The same with the flight image in QEMU, built from the same `config` (EmulatedFirmware's
+  // constructor throws what it throws).
+  FirmwareVehicle(const fw::VehicleConfig& config, const EmulatorConfig& emulator);
+  // An in-process vehicle copies (the arena forks missions so, hil/trials/cuts.hpp); copying an
+  // emulated one throws std::logic_error: its state is in its QEMU process, which is not shared.
+  FirmwareVehicle(const FirmwareVehicle&) = default;
+  FirmwareVehicle& operator=(const FirmwareVehicle&) = default;
+  FirmwareVehicle(FirmwareVehicle&&) noexcept = default;
+  FirmwareVehicle& operator=(FirmwareVehicle&&) noexcept = default;
+  ~FirmwareVehicle() = default;
+
+  // Whether the firmware is the flight image in QEMU.
+  bool emulated() const { return static_cast<bool>(emulated_.image); }
 
   pa::VehicleId vehicle() const { return vehicle_; }
 
@@ -85,17 +106,45 @@ class FirmwareVehicle {
   // returns every frame it sent meanwhile, HIL_MOTORS included, oldest first. Beside the
   // inject() / on_imu() / take_sent() path, whose counters and motor commands it leaves alone.
   std::vector<pa::proto::Frame> on_bus(const std::vector<pa::proto::Frame>& frames);
+  // on_bus() in two halves, so that the arena lets every emulated image run its tick at the same
+  // time: write_bus() hands the frames over (in process: runs them), read_answer() returns what
+  // on_bus() would have (emulated: waits for it, EmulatedFirmwareError when it does not come).
+  void write_bus(const std::vector<pa::proto::Frame>& frames);
+  std::vector<pa::proto::Frame> read_answer();
 
-  // The firmware itself, read only (mode, failsafe reason, attitude estimate...).
-  const fw::Vehicle& firmware() const { return node_impl_.vehicle(); }
+  // The firmware itself, read only (mode, failsafe reason, attitude estimate...); in process
+  // only: throws std::logic_error for the emulated image.
+  const fw::Vehicle& firmware() const;
+  // Mode, failsafe reason, impact count and setpoint: in process the core's own, emulated what
+  // its frames say (EmulatedFirmware::observe()).
+  FirmwareObservation observe() const;
+  // How old the latest setpoint is at `now_us` on the firmware's clock (kNoSetpoint before the
+  // first): fw::CommandLink::setpoint_age_us() in process, EmulatedFirmware's otherwise.
+  std::uint32_t setpoint_age_us(std::uint32_t now_us) const;
+  // What the latest tick cost the emulated image in guest instructions (HIL_TICK_COST); none
+  // in process.
+  std::optional<std::uint32_t> last_tick_instructions() const;
 
   std::uint64_t samples_fed() const { return samples_fed_; }
   std::uint64_t missed_ticks() const { return missed_ticks_; }
 
  private:
+  // The emulated image, if any: copying it is refused, not shared.
+  struct Emulated {
+    Emulated() = default;
+    Emulated(const Emulated& other);
+    Emulated& operator=(const Emulated& other);
+    Emulated(Emulated&&) noexcept = default;
+    Emulated& operator=(Emulated&&) noexcept = default;
+    ~Emulated() = default;
+    std::unique_ptr<EmulatedFirmware> image;
+  };
+
   pa::VehicleId vehicle_;
-  std::uint8_t node_;  // vehicle_'s, on the wire
-  fw::posix::HilVehicleNode node_impl_;
+  std::uint8_t node_;                                   // vehicle_'s, on the wire
+  std::optional<fw::posix::HilVehicleNode> node_impl_;  // in process
+  Emulated emulated_;
+  std::vector<pa::proto::Frame> answer_;  // in process: written, not read yet
   std::vector<pa::proto::Frame> inbox_;
   std::vector<pa::proto::Frame> sent_;
   MotorCommands motors_{};

@@ -164,6 +164,10 @@ std::string_view cut_phase_name(CutPhase phase) {
 }
 
 CutResult fly_cut(const sil::Arena& at_cut, const CutLimits& limits) {
+  // A cut forks the mission: the arena is copied, which the images in QEMU cannot be.
+  if (at_cut.emulated_firmware())
+    throw std::invalid_argument(
+        "cuts fork the mission's arena, which needs the firmware in process, not emulated");
   sil::Arena arena(at_cut);
   arena.silence_uplink();
   arena.take_ground_frames();
@@ -182,15 +186,15 @@ CutResult fly_cut(const sil::Arena& at_cut, const CutLimits& limits) {
   const Plant& plant = arena.plant();
   for (const pa::VehicleId v : pa::kActVehicles) {
     const std::size_t i = pa::act_slot(v);
-    const fw::Vehicle& fw = arena.vehicle(v).firmware();
+    const sil::FirmwareVehicle& fw = arena.vehicle(v);
     const RigidBodyState& body = plant.vehicle(v).body;
     // The firmware's clock is its last IMU sample's, the arena's time (firmware_vehicle.hpp).
     const auto now_us = static_cast<std::uint32_t>(std::llround(t_cut * 1e6));
-    const std::uint32_t age_us = fw.link().setpoint_age_us(now_us);
-    watch[i].last_setpoint_s = age_us == 0xFFFFFFFFu ? t_cut : t_cut - 1e-6 * age_us;
+    const std::uint32_t age_us = fw.setpoint_age_us(now_us);
+    watch[i].last_setpoint_s = age_us == sil::kNoSetpoint ? t_cut : t_cut - 1e-6 * age_us;
     watch[i].at_cut_m = body.position_m;
     VehicleCut& c = r.vehicles[i];
-    c.mode_at_cut = pa::proto::mode_name(fw.mode());
+    c.mode_at_cut = pa::proto::mode_name(fw.observe().mode);
     c.height_m = body.position_m.z();
     c.tilt_at_cut_rad = c.max_tilt_rad = tilt_of(body);
   }
@@ -217,7 +221,8 @@ CutResult fly_cut(const sil::Arena& at_cut, const CutLimits& limits) {
       Watch& w = watch[i];
       if (w.done) continue;
       VehicleCut& c = r.vehicles[i];
-      const fw::Vehicle& fw = arena.vehicle(v).firmware();
+      const sil::FirmwareVehicle& fw = arena.vehicle(v);
+      const pa::proto::Mode mode = fw.observe().mode;
       const RigidBodyState& body = plant.vehicle(v).body;
       const double tilt = tilt_of(body);
       // A setpoint that reached the vehicle before the cut may still be under its link guard's
@@ -225,12 +230,11 @@ CutResult fly_cut(const sil::Arena& at_cut, const CutLimits& limits) {
       // received, as the firmware stamps it.
       if (c.failsafe_after_s < 0.0) {
         const auto now_us = static_cast<std::uint32_t>(std::llround(t * 1e6));
-        const std::uint32_t age_us = fw.link().setpoint_age_us(now_us);
-        if (age_us != 0xFFFFFFFFu) w.last_setpoint_s = std::max(w.last_setpoint_s, t - 1e-6 * age_us);
+        const std::uint32_t age_us = fw.setpoint_age_us(now_us);
+        if (age_us != sil::kNoSetpoint) w.last_setpoint_s = std::max(w.last_setpoint_s, t - 1e-6 * age_us);
       }
       const double since = t - w.last_setpoint_s;
-      if (c.failsafe_after_s < 0.0 && fw::on_board_flight(fw.mode()))
-        c.failsafe_after_s = since;  // a hold first
+      if (c.failsafe_after_s < 0.0 && fw::on_board_flight(mode)) c.failsafe_after_s = since;  // a hold first
       if (!w.levelled) c.max_tilt_rad = std::max(c.max_tilt_rad, tilt);
       if (!w.levelled && c.failsafe_after_s >= 0.0 && tilt < limits.level_tilt_rad &&
           body.rate_body_radps.cwiseAbs().maxCoeff() < limits.level_rate_radps) {
@@ -247,7 +251,7 @@ CutResult fly_cut(const sil::Arena& at_cut, const CutLimits& limits) {
       const MotorCommands& motors = arena.exchange().motor_commands(v);
       c.motors_off =
           std::all_of(motors.command.begin(), motors.command.end(), [](double m) { return m == 0.0; });
-      c.final_mode = pa::proto::mode_name(fw.mode());
+      c.final_mode = pa::proto::mode_name(mode);
       c.landed = c.motors_off && on_floor;  // the firmware may say landed or killed
       // Over once the motors are off on the floor (landed, or killed and fallen).
       if (c.motors_off && on_floor && c.touchdown_after_s >= 0.0) {

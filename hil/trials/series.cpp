@@ -138,16 +138,16 @@ void SeriesRunner::step() {
     gs_.take_impacts();
   }
   for (const pa::VehicleId vehicle : pa::kActVehicles) {
-    const fw::Vehicle& fw = arena_.vehicle(vehicle).firmware();
-    if (fw.mode() == pa::proto::Mode::killed) crashed_ = true;
+    const sil::FirmwareObservation fw = arena_.vehicle(vehicle).observe();
+    if (fw.mode == pa::proto::Mode::killed) crashed_ = true;
     const std::size_t i = pa::act_slot(vehicle);
-    if (config_.log && fw.mode() != firmware_modes_[i]) {
+    if (config_.log && fw.mode != firmware_modes_[i]) {
       char line[160];
       std::snprintf(line, sizeof line, "%9.3f  firmware %d: mode %d, failsafe reason %d, impacts %d", now,
-                    int(vehicle.node()), int(fw.mode()), int(fw.failsafe_reason()), int(fw.impact_count()));
+                    int(vehicle.node()), int(fw.mode), int(fw.failsafe_reason), int(fw.impact_count));
       config_.log(line);
     }
-    firmware_modes_[i] = fw.mode();
+    firmware_modes_[i] = fw.mode;
   }
   if (config_.on_step) config_.on_step(arena_, gs_);
   if (recording_ != nullptr && std::lround(now * 1000.0) % 10 == 0) recording_->push_back(time_sample(now));
@@ -172,7 +172,7 @@ TimeSample SeriesRunner::time_sample(double now) const {
     s.plate_m[i] = p.plate_centre_m(vehicle);
     s.plate_normal[i] = p.plate_normal(vehicle);
     s.pole_end_m[i] = pole_end_m(p.pole(), p.config().pole, static_cast<int>(i));
-    const pa::proto::RateThrust& cmd = arena_.vehicle(vehicle).firmware().link().setpoint();
+    const pa::proto::RateThrust cmd = arena_.vehicle(vehicle).observe().setpoint;
     s.thrust_cmd_mps2[i] = cmd.thrust_mps2;
     s.rate_cmd_radps[i] = Vec3(cmd.rate_radps[0], cmd.rate_radps[1], cmd.rate_radps[2]);
   }
@@ -208,7 +208,26 @@ std::vector<AttemptResult> SeriesRunner::run(const std::vector<AttemptPlan>& pla
     results.push_back(r);
     if (on_result) on_result(r);
   }
+  if (config_.land_after && airborne) land();
   return results;
+}
+
+void SeriesRunner::land() {
+  // The person takes the pole down from whichever plate holds it, 2 m aside of the act's line
+  // (as for a pack swap), then both vehicles land.
+  Plant& plant = arena_.plant();
+  for (const pa::VehicleId v : pa::kActVehicles)
+    if (plant.pole_contact() == contact_of(plate_of(v))) plant.lay_pole_on_floor(Vec3(0.0, -2.0, 0.0));
+  gs_.request_land();
+  landed_ = run_until(
+      [&] { return gs_.task(pa::kVehicle1) == Task::parked && gs_.task(pa::kVehicle2) == Task::parked; },
+      20.0);
+  if (config_.log) {
+    char line[120];
+    std::snprintf(line, sizeof line, "%9.3f  both vehicles %s", arena_.t_s(),
+                  landed_ ? "landed and parked" : "NOT parked 20 s after the landing was requested");
+    config_.log(line);
+  }
 }
 
 namespace {

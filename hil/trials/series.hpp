@@ -104,7 +104,11 @@ struct SeriesConfig {
   // thrower lands, gets a full pack and takes off again, and the pole is put on as for a first
   // throw. Off: every vehicle flies on the pack it started with.
   bool swap_spent_packs = false;
-  // Called after every 1 ms step (diagnostics, tests that watch the truth).
+  // After the last attempt, the person takes the pole down and both vehicles land (landed()).
+  bool land_after = false;
+  // Called after every 1 ms step (diagnostics, tests that watch the truth). With emulated
+  // firmware (arena.emulated_firmware), arena.vehicle(v).last_tick_instructions() is what that
+  // step's tick cost each image.
   std::function<void(const sil::Arena&, const gs::runtime::GroundStation&)> on_step;
 };
 
@@ -112,7 +116,9 @@ class SeriesRunner {
  public:
   explicit SeriesRunner(const SeriesConfig& config);
 
-  // Takes off, then flies the attempts in order, calling `on_result` after each.
+  // Takes off, then flies the attempts in order, calling `on_result` after each, then lands
+  // (land_after). With emulated firmware, throws sil::EmulatedFirmwareError when an image stops
+  // answering.
   std::vector<AttemptResult> run(const std::vector<AttemptPlan>& plans,
                                  const std::function<void(const AttemptResult&)>& on_result = {});
 
@@ -132,6 +138,9 @@ class SeriesRunner {
   double arena_time_s() const { return arena_time_s_; }
   // How many packs were swapped (swap_spent_packs).
   int packs_swapped() const { return packs_swapped_; }
+  // Whether both vehicles were parked on the floor within 20 s of the landing asked for after
+  // the last attempt (land_after; false without it, or when the take-off failed).
+  bool landed() const { return landed_; }
 
  private:
   void step();
@@ -140,6 +149,7 @@ class SeriesRunner {
   AttemptResult fly(const AttemptPlan& plan, int number);
   // Lands `vehicle`, swaps its pack and takes it off again; false if it did not come back to hover.
   bool swap_pack(pa::VehicleId vehicle);
+  void land();
 
   SeriesConfig config_;
   sil::Arena arena_;
@@ -153,6 +163,7 @@ class SeriesRunner {
   double arena_time_s_ = 0.0;
   std::array<pa::proto::Mode, 2> firmware_modes_{pa::proto::Mode::disarmed, pa::proto::Mode::disarmed};
   int packs_swapped_ = 0;
+  bool landed_ = false;
 };
 
 }  // namespace hil::trials

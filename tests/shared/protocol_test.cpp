@@ -345,6 +345,7 @@ TEST_CASE("random frames never crash the decoder, and what it accepts re-encodes
       case Type::hil_clock: ok = encode(m.hil_clock, m.node, again); break;
       case Type::hil_clock_done: ok = encode(m.hil_clock_done, m.node, again); break;
       case Type::hil_battery: ok = encode(m.hil_battery, m.node, again); break;
+      case Type::hil_tick_cost: ok = encode(m.hil_tick_cost, m.node, again); break;
     }
     REQUIRE(ok);
     REQUIRE(again.id == f.id);

@@ -3,7 +3,9 @@
 // the plant's tick clock, so a run is reproducible); the motor outputs go back as HIL_MOTORS
 // with the same tick, followed by whatever the firmware has to send; HIL_BATTERY is the pack's
 // voltage, the reading a flight image takes from its ADC. Shared by the SocketCAN
-// process and the in-memory simulation. No heap.
+// process, the in-memory simulation and the mps2-an386 processor-in-the-loop image
+// (firmware/ports/mps2_an386/pil_main.cpp, which includes this header and defines its own
+// monotonic_ns()). No heap.
 #pragma once
 
 #include <array>
@@ -50,7 +52,8 @@ class HilVehicleNode {
     now_us_ = sample.t_us;
     const std::uint64_t start_ns = monotonic_ns();
     const TickOutput out = vehicle_.tick(sample);
-    vehicle_.note_tick_time_us(static_cast<std::uint32_t>((monotonic_ns() - start_ns) / 1000u));
+    last_tick_ns_ = monotonic_ns() - start_ns;
+    vehicle_.note_tick_time_us(static_cast<std::uint32_t>(last_tick_ns_ / 1000u));
     if (vehicle_.mode() != mode_) {
       changes_[change_count_ % kChanges] =
           ModeChange{now_us_, mode_, vehicle_.mode(), vehicle_.failsafe_reason(),
@@ -66,6 +69,9 @@ class HilVehicleNode {
   }
 
   const Vehicle& vehicle() const { return vehicle_; }
+  // How long the last Vehicle::tick took on monotonic_ns()'s clock, the readings' own cost
+  // included (0 before the first tick).
+  std::uint64_t last_tick_ns() const { return last_tick_ns_; }
   // The oldest mode change not taken yet; the ring keeps the latest kChanges.
   bool take_mode_change(ModeChange& out) {
     if (change_count_ - changes_taken_ > kChanges) changes_taken_ = change_count_ - kChanges;
@@ -74,13 +80,17 @@ class HilVehicleNode {
     return true;
   }
 
- private:
+  // The port's clock, which times each tick (defined once per port: CLOCK_MONOTONIC on Linux,
+  // the instruction counter's virtual nanoseconds on the mps2-an386 PIL image). Public so a port
+  // can measure what a reading costs.
   static std::uint64_t monotonic_ns();
 
+ private:
   Vehicle vehicle_;
   HilImuAssembler imu_{};
   std::uint8_t node_;
   std::uint32_t now_us_ = 0;
+  std::uint64_t last_tick_ns_ = 0;
   static constexpr std::uint32_t kChanges = 8;
   std::array<ModeChange, kChanges> changes_{};
   std::uint32_t change_count_ = 0;

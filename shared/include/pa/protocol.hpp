@@ -56,6 +56,7 @@ enum class Type : std::uint8_t {
   hil_clock = 0x14,
   hil_clock_done = 0x15,
   hil_battery = 0x16,
+  hil_tick_cost = 0x17,
 };
 
 enum class Direction : std::uint8_t {
@@ -75,7 +76,7 @@ struct TypeInfo {
 };
 
 // The catalogue. docs/protocol.md lists the same rows (checked by tests/shared/protocol_doc_test).
-inline constexpr std::array<TypeInfo, 21> kCatalogue{{
+inline constexpr std::array<TypeInfo, 22> kCatalogue{{
     {Type::kill, "KILL", 3, Direction::ground_to_vehicle},
     {Type::command, "COMMAND", 8, Direction::ground_to_vehicle},
     {Type::rate_thrust, "RATE_THRUST", 8, Direction::ground_to_vehicle},
@@ -97,6 +98,7 @@ inline constexpr std::array<TypeInfo, 21> kCatalogue{{
     {Type::hil_clock, "HIL_CLOCK", 8, Direction::plant_to_ground},
     {Type::hil_clock_done, "HIL_CLOCK_DONE", 4, Direction::ground_to_plant},
     {Type::hil_battery, "HIL_BATTERY", 2, Direction::plant_to_vehicle},
+    {Type::hil_tick_cost, "HIL_TICK_COST", 6, Direction::vehicle_to_plant},
 }};
 
 // Constant-time lookup: the 7-bit type indexes a table built at compile time.
@@ -393,6 +395,12 @@ struct HilClockDone {
 struct HilBattery {
   std::uint16_t voltage_mv;  // 0..65.535 V
 };
+// What one tick of an emulated flight image cost, in guest instructions (processor in the loop:
+// the image counts them exactly under QEMU's -icount). Sent just before the tick's HIL_MOTORS.
+struct HilTickCost {
+  std::uint16_t tick;  // as in HIL_MOTORS
+  std::uint32_t instructions;
+};
 struct TelemetryStatus {
   std::uint16_t tick_time_max_us;  // longest 1 kHz tick since the last report
   std::uint16_t battery_mv;
@@ -427,6 +435,7 @@ struct Message {
     HilClock hil_clock;
     HilClockDone hil_clock_done;
     HilBattery hil_battery;
+    HilTickCost hil_tick_cost;
   };
   Message() : kill{} {}
 };
@@ -707,6 +716,15 @@ inline bool encode(const HilBattery& m, std::uint8_t node, Frame& out) {
   return true;
 }
 
+inline bool encode(const HilTickCost& m, std::uint8_t node, Frame& out) {
+  if (!valid_node(node)) return false;
+  Frame f = detail::start(Type::hil_tick_cost, node);
+  detail::put_u16(&f.data[0], m.tick);
+  detail::put_u32(&f.data[2], m.instructions);
+  out = f;
+  return true;
+}
+
 // ---------------------------------------------------------------------------------------
 // Decoding: every path is a fixed sequence of checks, so a malformed frame costs no more
 // than a good one. `out` is written only on success.
@@ -834,6 +852,7 @@ inline DecodeStatus decode(const Frame& f, Message& out) {
     case Type::hil_clock: m.hil_clock = HilClock{get_u32(d), get_u32(d + 4)}; break;
     case Type::hil_clock_done: m.hil_clock_done = HilClockDone{get_u32(d)}; break;
     case Type::hil_battery: m.hil_battery = HilBattery{get_u16(d)}; break;
+    case Type::hil_tick_cost: m.hil_tick_cost = HilTickCost{get_u16(d), get_u32(d + 2)}; break;
   }
   out = m;
   return DecodeStatus::ok;
