@@ -1,7 +1,7 @@
 # The front door (as PX4 does): wraps the CMake presets for people who just want to build,
 # try and test. `make demo` and `make test` install what is missing on Debian 12 first.
 .PHONY: all deps host host-sanitize firmware cortex-m4 stm32f405 demo test test-host test-sanitize \
-        test-firmware test-fuzz fuzz-build fuzz hil bench flash clean help
+        test-firmware test-fuzz fuzz-build fuzz hil pil bench flash clean help
 
 JOBS ?= $(shell nproc)
 # make flash: the HIL image; make flash BOARD=omnibusf4: the flight image (DShot600);
@@ -9,6 +9,7 @@ JOBS ?= $(shell nproc)
 # vehicle's link key (docs/security.md), required.
 BOARD ?=
 FUZZ_SECONDS ?= 600
+PIL_SEED ?= 1
 
 all: host firmware
 
@@ -16,6 +17,7 @@ help:
 	@echo "make demo       install what is missing, build, fly the firmware self-test (host and Cortex-M4 in QEMU)"
 	@echo "make test       install what is missing, build every preset, run every test"
 	@echo "make hil        run the HIL tests on virtual CAN (fw_vehicle on SocketCAN, in a QEMU guest; docs/hil.md)"
+	@echo "make pil        fly the paper's series on the Cortex-M4 image in QEMU and compare it with the host's core (PIL_SEED, default 1)"
 	@echo "make bench      run the benchmarks (bench_firmware, bench_planning, ...)"
 	@echo "make fuzz       run every libFuzzer target FUZZ_SECONDS (default 600) on its corpus (tests/fuzz)"
 	@echo "make firmware   build the Cortex-M4 images (mps2-an386, the stm32f405 HIL and flight images)"
@@ -58,6 +60,11 @@ test-host: host
 # SocketCAN, in a QEMU guest with Debian's kernel (scripts/hil-vm.sh, docs/hil.md).
 hil: host
 	ctest --preset host -L hil
+
+# Processor in the loop: the paper's series on the Cortex-M4 image in QEMU, one per vehicle,
+# against the same series on the host's core (scripts/pil.sh, docs/hil.md); some minutes.
+pil: host cortex-m4
+	@scripts/pil.sh build/host/hil/hil build/cortex-m4/firmware/ports/mps2_an386/fw_mps2_an386_pil.elf build/pil $(PIL_SEED)
 
 test-sanitize: host-sanitize
 	ctest --preset host-sanitize

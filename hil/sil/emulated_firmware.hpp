@@ -1,4 +1,4 @@
-// Processor in the loop (docs/architecture.md "Three ways to run the same code"): one vehicle's
+// Processor in the loop (docs/architecture.md "Four ways to run the same code"): one vehicle's
 // firmware as the real cross-compiled Cortex-M4 flight image (fw_mps2_an386_pil, built by the
 // cortex-m4 preset: firmware/ports/mps2_an386/pil_main.cpp) running in qemu-system-arm, behind
 // the same vehicle bus the in-process core has (FirmwareVehicle::on_bus()).

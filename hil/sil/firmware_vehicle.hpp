@@ -1,4 +1,4 @@
-// In-process software-in-the-loop (docs/architecture.md "Three ways to run the same code"): a truth
+// In-process software-in-the-loop (docs/architecture.md "Four ways to run the same code"): a truth
 // plant vehicle flown by the real firmware core through the same HIL port the SocketCAN process
 // uses (fw::posix::HilVehicleNode), in lockstep and without a wall clock.
 //
