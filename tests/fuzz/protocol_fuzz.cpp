@@ -41,6 +41,7 @@ bool re_encode(const Message& m, Frame& out) {
     case Type::hil_clock: return encode(m.hil_clock, m.node, out);
     case Type::hil_clock_done: return encode(m.hil_clock_done, m.node, out);
     case Type::hil_battery: return encode(m.hil_battery, m.node, out);
+    case Type::hil_tick_cost: return encode(m.hil_tick_cost, m.node, out);
   }
   return false;
 }
