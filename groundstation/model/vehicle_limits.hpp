@@ -15,6 +15,7 @@ struct VehicleLimits {
   double a_q_min_mps2 = 0.0;     // eq. (1), > 0
   double a_q_max_mps2 = 0.0;     // eq. (1), > a_q_min
   double omega_max_radps = 0.0;  // eq. (2), > 0, per body axis
+  bool operator==(const VehicleLimits&) const = default;
 };
 
 struct VehicleLimitsLoad {

@@ -27,6 +27,7 @@ struct ThrowTrackingWeights {
       (model::PlanarState<double>() << 0.05, 0.05, 0.2, 0.2, 0.1, 0.02, 0.2).finished();
   model::PlanarInput<double> input_tolerance = model::PlanarInput<double>(2.0, 2.0);
   double terminal_factor = 1.0;
+  bool operator==(const ThrowTrackingWeights&) const = default;
 
   Eigen::MatrixXd Q() const;
   Eigen::MatrixXd R() const;

@@ -56,7 +56,7 @@ GroundStation::GroundStation(link::FrameBus& bus, const GroundStationConfig& con
     : config_(config),
       link_(bus, {pa::kActVehicles.begin(), pa::kActVehicles.end()}, config.link),
       estimator_(config.estimator),
-      throws_(config.limits, config.throw_tracking),
+      throws_(config.limits, config.throw_tracking, config.fig5_throw),
       tasks_(config.tasks, config.limits),
       learner_(make_learner(config, throws_)),
       identifications_({config.rate_loop.design_time_constant_s, config.motor_lag_tolerance_fraction},

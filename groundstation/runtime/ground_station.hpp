@@ -180,6 +180,8 @@ class GroundStation {
   const link::GroundLink& link() const { return link_; }
   const adaptation::AdaptationState& adaptation() const { return learner_.state(); }
   adaptation::Learnt learnt() const { return learner_.learnt(); }
+  // The Fig. 5 throw this ground station flies, for others of its configuration to share.
+  const std::shared_ptr<const planning::Fig5Throw>& fig5_throw() const { return throws_.fig5(); }
   const GroundStationConfig& config() const { return config_; }
   // The catching height (lower pole end) expected for the next throw, arena frame.
   double catch_height() const { return attempt_.catch_height(); }

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <array>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -20,6 +21,7 @@
 #include "groundstation/mission/condition_word.hpp"
 #include "groundstation/model/planar_pole_vehicle.hpp"
 #include "groundstation/model/vehicle_limits.hpp"
+#include "groundstation/planning/throw_book.hpp"
 #include "groundstation/planning/throw_tracking.hpp"
 #include "groundstation/runtime/attempt_admission.hpp"
 #include "groundstation/runtime/attempt_phases.hpp"
@@ -162,6 +164,10 @@ struct GroundStationConfig {
     w.input_tolerance(model::planar::kPitchRate) = 0.25;
     return w;
   }();
+  // The Fig. 5 throw already planned for `limits` and `throw_tracking` (planning::plan_fig5_throw,
+  // or another ground station's GroundStation::fig5_throw()): not planned again. Null, or planned
+  // for other limits or weights: planned at construction.
+  std::shared_ptr<const planning::Fig5Throw> fig5_throw;
   // The catch manoeuvre (Section V, Fig. 7; catch_coordinator.hpp). Beyond the paper:
   // - xy_lead_s: the xy correction starts 0.5 s before t3 (catch_trajectory.hpp), 1.15 s instead
   //   of 0.65 s for the same travel. Measured under the radio-outage profile from a cold start (a

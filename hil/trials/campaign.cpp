@@ -11,10 +11,10 @@
 namespace hil::trials {
 namespace {
 
-CampaignAttempt fly(const CampaignConfig& config, const gs::adaptation::Learnt& learnt, int attempt) {
+CampaignAttempt fly(const CampaignConfig& config, const WarmUp& warm, int attempt) {
   CampaignAttempt a;
   a.seed = attempt_seed(config.seed, attempt);
-  SeriesConfig series = attempt_config(config, learnt, attempt);
+  SeriesConfig series = attempt_config(config, warm, attempt);
   a.plant = series.plant;
   SeriesRunner runner(series);
   a.result = runner.run({campaign_attempt_plan()}).front();
@@ -30,16 +30,17 @@ AttemptPlan campaign_attempt_plan() {
   return plan;
 }
 
-SeriesConfig attempt_config(const CampaignConfig& config, const gs::adaptation::Learnt& learnt, int attempt) {
+SeriesConfig attempt_config(const CampaignConfig& config, const WarmUp& warm, int attempt) {
   SeriesConfig series = trial_config(config.plant, attempt_seed(config.seed, attempt), PlantDraw::drawn);
-  series.ground_station.learnt = learnt;
+  series.ground_station.learnt = warm.learnt;
+  series.ground_station.fig5_throw = warm.fig5_throw;
   return series;
 }
 
-gs::adaptation::Learnt warm_up(const PlantConfig& plant, std::uint64_t seed) {
+WarmUp warm_up(const PlantConfig& plant, std::uint64_t seed) {
   SeriesRunner runner(trial_config(plant, seed, PlantDraw::as_given));
   runner.run({AttemptPlan{false}});
-  return runner.ground_station().learnt();
+  return {runner.ground_station().learnt(), runner.ground_station().fig5_throw()};
 }
 
 Schema<CampaignAttempt> campaign_throws_columns(const PlantConfig& plant) {
@@ -94,7 +95,7 @@ std::vector<CampaignAttempt> run_campaign(
   const AttemptRange range = shard_attempts(config.attempts, config.shard);
   const int count = range.last - range.first + 1;
   if (count < 1) return {};
-  const gs::adaptation::Learnt learnt = warm_up(config.plant, config.seed);
+  const WarmUp warm = warm_up(config.plant, config.seed);
 
   // The plants are drawn here too (a draw is cheap and deterministic): the workers report only
   // the referee's results.
@@ -107,7 +108,7 @@ std::vector<CampaignAttempt> run_campaign(
   }
   std::vector<const CampaignAttempt*> done;
   run_on_workers(
-      count, config.jobs, [&](int i) { return encode_result(fly(config, learnt, i).result); },
+      count, config.jobs, [&](int i) { return encode_result(fly(config, warm, i).result); },
       [&](int i, const std::string& report) {
         AttemptResult r;
         if (!decode_result(report, r))

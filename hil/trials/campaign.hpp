@@ -19,6 +19,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -62,17 +63,22 @@ struct CampaignAttempt {
 };
 
 // What the ground station learns from one throw (adapt only) on `plant`, flown with `seed`:
-// where a campaign's ground stations start.
-gs::adaptation::Learnt warm_up(const PlantConfig& plant, std::uint64_t seed);
+// where a campaign's ground stations start; and the Fig. 5 throw it planned, which theirs (of the
+// same configuration) fly without planning it again.
+struct WarmUp {
+  gs::adaptation::Learnt learnt;
+  std::shared_ptr<const gs::planning::Fig5Throw> fig5_throw;
+};
+WarmUp warm_up(const PlantConfig& plant, std::uint64_t seed);
 
 // The one attempt each campaign attempt flies: the person places the pole, either vehicle may
 // throw and the one with the higher thrust ceiling does, as an arena would choose
 // (GroundStation::stronger_thrower); the other catches.
 AttemptPlan campaign_attempt_plan();
 
-// Attempt `attempt` (1..N) of the campaign as a series of one throw from `learnt` (the warm-up's):
+// Attempt `attempt` (1..N) of the campaign as a series of one throw from the warm-up's state:
 // what a worker flies, and `hil campaign --replay` again in the open.
-SeriesConfig attempt_config(const CampaignConfig& config, const gs::adaptation::Learnt& learnt, int attempt);
+SeriesConfig attempt_config(const CampaignConfig& config, const WarmUp& warm, int attempt);
 
 // Flies the campaign's share config.shard (all of it by default), returned in attempt order.
 // `progress` is called in the calling process after each attempt with the results so far (in

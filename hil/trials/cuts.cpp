@@ -52,10 +52,11 @@ class PhaseTracker {
 long step_index(double t_s) { return std::lround(t_s * 1000.0); }
 
 // Flies mission `mission` with `on_step(step, phase, arena)` after every step.
-void fly_mission(const CutsConfig& config, const gs::adaptation::Learnt& learnt, std::uint64_t seed,
+void fly_mission(const CutsConfig& config, const WarmUp& warm, std::uint64_t seed,
                  const std::function<void(long, std::optional<CutPhase>, const sil::Arena&)>& on_step) {
   SeriesConfig series = trial_config(config.plant, seed, PlantDraw::drawn);
-  series.ground_station.learnt = learnt;
+  series.ground_station.learnt = warm.learnt;
+  series.ground_station.fig5_throw = warm.fig5_throw;
   series.rest_before_take_off_s = kRestBeforeTakeOff_s;
   PhaseTracker phases;
   series.on_step = [&](const sil::Arena& arena, const gs::runtime::GroundStation& gs) {
@@ -65,8 +66,7 @@ void fly_mission(const CutsConfig& config, const gs::adaptation::Learnt& learnt,
   runner.run({AttemptPlan{}});
 }
 
-std::vector<CutResult> fly_group(const CutsConfig& config, const gs::adaptation::Learnt& learnt,
-                                 int mission) {
+std::vector<CutResult> fly_group(const CutsConfig& config, const WarmUp& warm, int mission) {
   const std::uint64_t seed = attempt_seed(config.seed, mission);
   // Where each phase begins and ends (steps), from a first flight.
   // And when the mission itself lost each vehicle (tilted past kLostTilt_rad), if it did: a
@@ -74,7 +74,7 @@ std::vector<CutResult> fly_group(const CutsConfig& config, const gs::adaptation:
   std::array<long, kCutPhaseCount> first{}, last{};
   first.fill(-1);
   std::array<long, 2> lost{-1, -1};
-  fly_mission(config, learnt, seed, [&](long k, std::optional<CutPhase> phase, const sil::Arena& arena) {
+  fly_mission(config, warm, seed, [&](long k, std::optional<CutPhase> phase, const sil::Arena& arena) {
     for (const pa::VehicleId v : pa::kActVehicles) {
       long& at = lost[pa::act_slot(v)];
       if (at < 0 && tilt_of(arena.plant().vehicle(v).body) > kLostTilt_rad) at = k;
@@ -102,7 +102,7 @@ std::vector<CutResult> fly_group(const CutsConfig& config, const gs::adaptation:
 
   std::vector<CutResult> results;
   std::size_t next = 0;
-  fly_mission(config, learnt, seed, [&](long k, std::optional<CutPhase> phase, const sil::Arena& arena) {
+  fly_mission(config, warm, seed, [&](long k, std::optional<CutPhase> phase, const sil::Arena& arena) {
     for (; next < plan.size() && plan[next].first <= k; ++next) {
       CutResult r = fly_cut(arena, config.limits);
       r.cut = plan[next].second;
@@ -350,12 +350,12 @@ Schema<CutRow> cuts_csv_columns() {
 std::vector<CutResult> run_cuts(const CutsConfig& config, const std::function<void(int)>& progress) {
   if (config.cuts < 1 || config.jobs < 1 || config.cuts_per_mission < 1)
     throw std::runtime_error("cuts need cuts, jobs and cuts per mission >= 1");
-  const gs::adaptation::Learnt learnt = warm_up(config.plant, config.seed);
+  const WarmUp warm = warm_up(config.plant, config.seed);
   const int missions = (config.cuts + config.cuts_per_mission - 1) / config.cuts_per_mission;
   std::vector<CutResult> all(static_cast<std::size_t>(config.cuts));
   int done = 0;
   run_on_workers(
-      missions, config.jobs, [&](int m) { return encode_cuts(fly_group(config, learnt, m)); },
+      missions, config.jobs, [&](int m) { return encode_cuts(fly_group(config, warm, m)); },
       [&](int m, const std::string& report) {
         std::vector<CutResult> cuts;
         if (!decode_cuts(report, cuts))

@@ -23,6 +23,25 @@ TEST_CASE("The book plans the Fig. 5 throw and its TV-LQR, or refuses limits it 
   CHECK_THROWS_AS(ThrowBook(gs::model::VehicleLimits{1.0, 5.0, 10.0}, {}), std::runtime_error);
 }
 
+TEST_CASE("A Fig. 5 throw planned for the same limits and weights is shared, another is planned anew") {
+  const auto planned = gs::planning::plan_fig5_throw(kLimits, {});
+  const ThrowBook shared(kLimits, {}, planned);
+  CHECK(shared.fig5() == planned);
+  CHECK(&shared.tracker() == &planned->tracker);
+  const ThrowBook own(kLimits, {});
+  CHECK(own.plan().trajectory.duration_s() == planned->plan.trajectory.duration_s());
+  // Planned for other limits, or other weights: not this book's throw.
+  const gs::model::VehicleLimits slower{1.0, 20.0, 8.0};
+  const ThrowBook other_limits(slower, {}, planned);
+  CHECK(other_limits.fig5() != planned);
+  CHECK(other_limits.fig5()->limits == slower);
+  gs::planning::ThrowTrackingWeights heavier;
+  heavier.terminal_factor = 2.0;
+  const ThrowBook other_weights(kLimits, heavier, planned);
+  CHECK(other_weights.fig5() != planned);
+  CHECK(other_weights.fig5()->weights == heavier);
+}
+
 TEST_CASE("A throw to a target comes down on the point aimed at, against the miss learnt") {
   ThrowBook book(kLimits, {});
   const Eigen::Vector3d origin(0.0, 0.0, 2.0), target(0.0, 3.5, 1.3);

@@ -84,9 +84,9 @@ TEST_CASE("the envelope's hard catchers: a saturated flight flown again at the w
           "the grid's best",
           "[hil][campaign]") {
   const hil::trials::CampaignConfig campaign = envelope_campaign(1);
-  const gs::adaptation::Learnt learnt = hil::trials::warm_up(campaign.plant, campaign.seed);
+  const hil::trials::WarmUp warm = hil::trials::warm_up(campaign.plant, campaign.seed);
   for (const int attempt : {287, 675}) {
-    const hil::trials::SeriesConfig config = hil::trials::attempt_config(campaign, learnt, attempt);
+    const hil::trials::SeriesConfig config = hil::trials::attempt_config(campaign, warm, attempt);
     hil::trials::SeriesRunner runner(config);
     const hil::trials::AttemptResult r = runner.run({hil::trials::campaign_attempt_plan()}).front();
     const pa::VehicleId catcher = pa::other_vehicle(pa::VehicleId(static_cast<std::uint8_t>(r.thrower)));
@@ -114,8 +114,8 @@ TEST_CASE("the envelope's hard catchers: a saturated flight flown again at the w
 // is flown (GroundStation::waiting_for_pole), and the person waits for that.
 TEST_CASE("the pole waits for the thrower's identification, its gentler flight included", "[hil][campaign]") {
   const hil::trials::CampaignConfig campaign = envelope_campaign(2);
-  const gs::adaptation::Learnt learnt = hil::trials::warm_up(campaign.plant, campaign.seed);
-  hil::trials::SeriesConfig config = hil::trials::attempt_config(campaign, learnt, 893);
+  const hil::trials::WarmUp warm = hil::trials::warm_up(campaign.plant, campaign.seed);
+  hil::trials::SeriesConfig config = hil::trials::attempt_config(campaign, warm, 893);
   std::optional<gs::estimation::IdentificationResult> at_pole;  // the thrower's as the pole went on
   bool placed = false;
   config.on_step = [&](const hil::sil::Arena& arena, const gs::runtime::GroundStation& station) {
