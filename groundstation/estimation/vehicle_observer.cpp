@@ -46,17 +46,7 @@ void VehicleObserver::reset(const MocapPose& pose) {
   initialised_ = true;
 }
 
-Eigen::Vector3d VehicleObserver::eulerAngles() const { return {att_x_[0](0), att_x_[1](0), att_x_[2](0)}; }
-
-// u = ^I_B R(eta) e_z a_q - g e_z, eq. (4).
-Eigen::Vector3d VehicleObserver::model_acceleration(double a_q_mps2) const {
-  const Eigen::Vector3d eta = eulerAngles();
-  model::VehicleState s;
-  s.phi_rad = eta(0);
-  s.theta_rad = eta(1);
-  s.psi_rad = eta(2);
-  return model::vehicle_acceleration_mps2(s, a_q_mps2, params_.gravity_mps2);
-}
+model::EulerTrig VehicleObserver::attitude() const { return {att_x_[0](0), att_x_[1](0), att_x_[2](0)}; }
 
 void VehicleObserver::predict(double dt_s, const model::VehicleInput* command, Propagation propagation) {
   if (!initialised_ || !(dt_s > 0.0) || !std::isfinite(dt_s)) return;
@@ -64,11 +54,13 @@ void VehicleObserver::predict(double dt_s, const model::VehicleInput* command, P
 
   // The acceleration and Euler rate the filter currently believes in, kept continuous when the
   // input model changes (d and delta take up the difference).
-  const Eigen::Vector3d acc_before = estimate().acceleration_mps2;
-  const Eigen::Vector3d rate_before = estimate().euler_rates_radps;
+  const model::EulerTrig eta = attitude();
+  const VehicleEstimate before = estimate(eta);
+  const Eigen::Vector3d& acc_before = before.acceleration_mps2;
+  const Eigen::Vector3d& rate_before = before.euler_rates_radps;
   if (commanded && !commanded_) {
     thrust_mps2_ = (acc_before + Eigen::Vector3d(0.0, 0.0, params_.gravity_mps2)).norm();
-    rates_radps_ = estimate().body_rates_radps;
+    rates_radps_ = before.body_rates_radps;
     rate_derivative_radps2_.setZero();
   }
 
@@ -85,11 +77,11 @@ void VehicleObserver::predict(double dt_s, const model::VehicleInput* command, P
     double mean_weight = 0.0;
     lag(params_.thrust_time_constant_s, decay, mean_weight);
     const double a_c = command->a_q_mps2;
-    u = model_acceleration(a_c + (thrust_mps2_ - a_c) * mean_weight);
+    // u = ^I_B R(eta) e_z a_q - g e_z, eq. (4).
+    u = model::vehicle_acceleration_mps2(eta, a_c + (thrust_mps2_ - a_c) * mean_weight, params_.gravity_mps2);
     thrust_mps2_ = a_c + (thrust_mps2_ - a_c) * decay;
     const Eigen::Vector3d w_mean = propagate_rates(dt_s, command->omega_radps);
-    const Eigen::Vector3d eta = eulerAngles();
-    r = model::euler_rates_from_body_rates(eta(0), eta(1), w_mean);  // (5)
+    r = model::euler_rates_from_body_rates(eta, w_mean);  // (5)
   }
   if (commanded != commanded_) {
     for (int i = 0; i < 3; ++i) {
@@ -225,12 +217,13 @@ VehicleUpdateResult VehicleObserver::update(const MocapPose& pose) {
   return result;
 }
 
-VehicleEstimate VehicleObserver::estimate() const {
+VehicleEstimate VehicleObserver::estimate() const { return estimate(attitude()); }
+
+VehicleEstimate VehicleObserver::estimate(const model::EulerTrig& eta) const {
   VehicleEstimate e;
-  const Eigen::Vector3d eta = eulerAngles();
-  e.state.phi_rad = eta(0);
-  e.state.theta_rad = eta(1);
-  e.state.psi_rad = eta(2);
+  e.state.phi_rad = eta.phi_rad;
+  e.state.theta_rad = eta.theta_rad;
+  e.state.psi_rad = eta.psi_rad;
   Eigen::Vector3d d;
   Eigen::Vector3d delta;
   for (int i = 0; i < 3; ++i) {
@@ -247,19 +240,19 @@ VehicleEstimate VehicleObserver::estimate() const {
   e.euler_rates_radps = delta;
   if (commanded_) {
     // The inputs re-evaluated at the current attitude and applied thrust.
-    e.acceleration_mps2 += model_acceleration(thrust_mps2_);
-    e.euler_rates_radps += model::euler_rates_from_body_rates(eta(0), eta(1), rates_radps_);
+    e.acceleration_mps2 += model::vehicle_acceleration_mps2(eta, thrust_mps2_, params_.gravity_mps2);
+    e.euler_rates_radps += model::euler_rates_from_body_rates(eta, rates_radps_);
     e.body_rate_derivative_radps2 = rate_derivative_radps2_;
   }
-  e.body_rates_radps = model::body_rates_from_euler_rates(eta(0), eta(1), e.euler_rates_radps);
+  e.body_rates_radps = model::body_rates_from_euler_rates(eta, e.euler_rates_radps);
   return e;
 }
 
 PlateKinematics VehicleObserver::plate() const {
-  const VehicleEstimate e = estimate();
+  const model::EulerTrig eta = attitude();
+  const VehicleEstimate e = estimate(eta);
   PlateKinematics k;
-  k.inertial_from_body =
-      model::rotation_inertial_from_body(e.state.phi_rad, e.state.theta_rad, e.state.psi_rad);
+  k.inertial_from_body = model::rotation_inertial_from_body(eta);
   const Eigen::Vector3d r_h = params_.plate_height_m * k.inertial_from_body.col(2);
   const Eigen::Vector3d omega_inertial = k.inertial_from_body * e.body_rates_radps;
   k.p_m = e.state.p_m + r_h;

@@ -138,8 +138,10 @@ class VehicleObserver {
   const Eigen::Matrix2d& attitude_covariance(int axis) const { return att_p_[axis]; }
 
  private:
-  Eigen::Vector3d model_acceleration(double a_q_mps2) const;
-  Eigen::Vector3d eulerAngles() const;
+  // The estimate at its attitude's sines and cosines (attitude()), which predict() and plate()
+  // share with it.
+  model::EulerTrig attitude() const;
+  VehicleEstimate estimate(const model::EulerTrig& attitude) const;
   Eigen::Vector3d propagate_rates(double dt_s, const Eigen::Vector3d& command_radps);
 
   VehicleObserverParams params_;
