@@ -149,9 +149,11 @@ void StateEstimator::advance_to(double t_s) {
     return;
   }
   const double max_step = config_.max_step_s > 0.0 ? config_.max_step_s : 0.005;
+  if (!(t_s_ < t_s - kTimeEps_s)) return;
+  std::array<PlateKinematics, 2> at_step = plates();
   while (t_s_ < t_s - kTimeEps_s) {
     const double next = next_command_change(t_s_, std::min(t_s, t_s_ + max_step));
-    step(next - t_s_);
+    step(next - t_s_, at_step);
     t_s_ = next;
     drop_old_commands(t_s_);
   }
@@ -168,16 +170,22 @@ void StateEstimator::start_over(double t_s) {
   ++start_overs_;
 }
 
-void StateEstimator::step(double h) {
-  std::array<PlateKinematics, 2> before;
-  std::array<PlateKinematics, 2> after;
+std::array<PlateKinematics, 2> StateEstimator::plates() const {
+  std::array<PlateKinematics, 2> out;
+  for (int i = 0; i < 2; ++i) {
+    if (vehicles_[i].initialised()) out[i] = vehicles_[i].plate();
+  }
+  return out;
+}
+
+void StateEstimator::step(double h, std::array<PlateKinematics, 2>& plates) {
+  const std::array<PlateKinematics, 2> before = plates;
   for (int i = 0; i < 2; ++i) {
     if (!vehicles_[i].initialised()) continue;
-    before[i] = vehicles_[i].plate();
     vehicles_[i].predict(h, command_at(i, t_s_), propagation_);
-    after[i] = vehicles_[i].plate();
+    plates[i] = vehicles_[i].plate();
   }
-  if (pole_seen_) step_pole(h, before, after);
+  if (pole_seen_) step_pole(h, before, plates);
 }
 
 void StateEstimator::step_pole(double h, const std::array<PlateKinematics, 2>& before,

@@ -226,7 +226,10 @@ class StateEstimator {
   const model::VehicleInput* command_at(int index, double t_s) const;
   double next_command_change(double after_t_s, double until_t_s) const;
   void drop_old_commands(double t_s);
-  void step(double h);
+  // One step; `plates` holds the vehicles' plates at its start and then at its end (the next
+  // step's start: computed once for both).
+  void step(double h, std::array<PlateKinematics, 2>& plates);
+  std::array<PlateKinematics, 2> plates() const;
   void step_pole(double h, const std::array<PlateKinematics, 2>& before,
                  const std::array<PlateKinematics, 2>& after);
   void switch_to(PoleMode mode, SwitchReason reason, double event_t_s, double detected_t_s);
