@@ -192,6 +192,9 @@ void StateEstimator::step_pole(double h, const std::array<PlateKinematics, 2>& b
                                const std::array<PlateKinematics, 2>& after) {
   const PoleMode active = selector_.active();
   const model::PoleParams& params = config_.on_vehicle.pole;
+  // A prediction (mean only, predicted()) is read for the active mode alone, and a switch inside
+  // it seeds the new mode from the old: its candidates are not propagated (a third of its cost).
+  const bool candidates = propagation_ == Propagation::mean_and_covariance;
   if (active == PoleMode::free) {
     const PoleFreeFlightEkf start = free_;
     free_.predict(h, propagation_);
@@ -219,7 +222,7 @@ void StateEstimator::step_pole(double h, const std::array<PlateKinematics, 2>& b
       reseed_candidates();
       return;
     }
-    for (int i = 0; i < 2; ++i) {
+    for (int i = 0; i < 2 && candidates; ++i) {
       if (on_candidate_valid_[i]) on_[i].predict(h, 0.5 * (before[i].a_mps2 + after[i].a_mps2), propagation_);
     }
     return;
@@ -253,7 +256,7 @@ void StateEstimator::step_pole(double h, const std::array<PlateKinematics, 2>& b
     reseed_candidates();
     return;
   }
-  free_.predict(h, propagation_);  // the free-flight candidate
+  if (candidates) free_.predict(h, propagation_);  // the free-flight candidate
 }
 
 // ---------------------------------------------------------------------------------------------
