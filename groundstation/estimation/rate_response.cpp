@@ -19,9 +19,11 @@ struct Replay {
   double squared_error = std::numeric_limits<double>::infinity();
   double lag_product = 0.0;  // sum of each residual times the one before it (per axis)
 };
+// Stops once the squared error reaches stop_at (see squared_error()).
 Replay replay(const RateLoopConfig& loop, const std::vector<RateCommandSample>& commands,
               const std::vector<RateTelemetrySample>& telemetry, double equalised_time_constant_s,
-              double time_constant_s, double inertia_gain, double round_trip_s, double inertia_scale) {
+              double time_constant_s, double inertia_gain, double round_trip_s, double inertia_scale,
+              double stop_at = std::numeric_limits<double>::infinity()) {
   Replay out;
   if (commands.empty() || telemetry.empty()) return out;
   const double ratio = equalised_time_constant_s / loop.design_time_constant_s;
@@ -61,6 +63,7 @@ Replay replay(const RateLoopConfig& loop, const std::vector<RateCommandSample>& 
     out.squared_error += residual.matrix().squaredNorm();
     out.lag_product += (residual * last_residual).sum();
     last_residual = residual;
+    if (out.squared_error >= stop_at) return out;
   }
   return out;
 }
@@ -102,9 +105,9 @@ double RateResponseIdentifier::squared_error(const std::vector<RateCommandSample
                                              const std::vector<RateTelemetrySample>& telemetry,
                                              double equalised_time_constant_s, double time_constant_s,
                                              double inertia_gain, double round_trip_s,
-                                             double inertia_scale) const {
+                                             double inertia_scale, double stop_at) const {
   return replay(loop_, commands, telemetry, equalised_time_constant_s, time_constant_s, inertia_gain,
-                round_trip_s, inertia_scale)
+                round_trip_s, inertia_scale, stop_at)
       .squared_error;
 }
 
@@ -186,8 +189,13 @@ bool RateResponseFit::advance(int replays) {
     if (next_ < queue_.size()) {
       if (replays-- <= 0) return false;
       const Eigen::Vector3d& c = queue_[next_++];
-      const double e =
-          identifier_.squared_error(commands_, telemetry_, equalised_s_, c[0], c[1], c[2], inertia_scale_);
+      // Only a candidate better than the best so far (or than its profile side's) counts: a replay
+      // stops once it cannot be (most do, early: a third of the fit's time).
+      const double stop_at = stage_ < kProfileStage
+                                 ? best_error_
+                                 : std::max(c[0] < best_[0] ? profile_low_ : profile_high_, profile_best_error_);
+      const double e = identifier_.squared_error(commands_, telemetry_, equalised_s_, c[0], c[1], c[2],
+                                                 inertia_scale_, stop_at);
       if (stage_ < kProfileStage) {
         if (e < best_error_) best_ = c, best_error_ = e;
       } else {

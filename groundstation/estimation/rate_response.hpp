@@ -126,11 +126,14 @@ class RateResponseIdentifier {
   const RateLoopConfig& loop() const { return loop_; }
   const RateResponseSettings& settings() const { return settings_; }
 
-  // The squared error of one candidate (for tests and the fit's refinement).
+  // The squared error of one candidate (for tests and the fit's refinement). The replay stops
+  // once the sum reaches `stop_at` (it only grows): the value is then at least stop_at, which is
+  // all a search that already has a candidate that good needs to know.
   double squared_error(const std::vector<RateCommandSample>& commands,
                        const std::vector<RateTelemetrySample>& telemetry, double equalised_time_constant_s,
                        double time_constant_s, double inertia_gain, double round_trip_s,
-                       double inertia_scale = 1.0) const;
+                       double inertia_scale = 1.0,
+                       double stop_at = std::numeric_limits<double>::infinity()) const;
 
  private:
   RateLoopConfig loop_;
