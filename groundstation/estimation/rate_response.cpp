@@ -104,8 +104,8 @@ Eigen::Vector2d RateResponseIdentifier::excitation(double elapsed_s) const {
 double RateResponseIdentifier::squared_error(const std::vector<RateCommandSample>& commands,
                                              const std::vector<RateTelemetrySample>& telemetry,
                                              double equalised_time_constant_s, double time_constant_s,
-                                             double inertia_gain, double round_trip_s,
-                                             double inertia_scale, double stop_at) const {
+                                             double inertia_gain, double round_trip_s, double inertia_scale,
+                                             double stop_at) const {
   return replay(loop_, commands, telemetry, equalised_time_constant_s, time_constant_s, inertia_gain,
                 round_trip_s, inertia_scale, stop_at)
       .squared_error;
@@ -191,9 +191,9 @@ bool RateResponseFit::advance(int replays) {
       const Eigen::Vector3d& c = queue_[next_++];
       // Only a candidate better than the best so far (or than its profile side's) counts: a replay
       // stops once it cannot be (most do, early: a third of the fit's time).
-      const double stop_at = stage_ < kProfileStage
-                                 ? best_error_
-                                 : std::max(c[0] < best_[0] ? profile_low_ : profile_high_, profile_best_error_);
+      const double stop_at = stage_ < kProfileStage ? best_error_
+                                                    : std::max(c[0] < best_[0] ? profile_low_ : profile_high_,
+                                                               profile_best_error_);
       const double e = identifier_.squared_error(commands_, telemetry_, equalised_s_, c[0], c[1], c[2],
                                                  inertia_scale_, stop_at);
       if (stage_ < kProfileStage) {

@@ -88,6 +88,9 @@ TEST_CASE("the envelope's hard catchers: a saturated flight flown again at the w
   for (const int attempt : {287, 675}) {
     const hil::trials::SeriesConfig config = hil::trials::attempt_config(campaign, warm, attempt);
     hil::trials::SeriesRunner runner(config);
+    // The attempt flies the warm-up's Fig. 5 throw, not one planned again.
+    REQUIRE(warm.fig5_throw);
+    CHECK(runner.ground_station().fig5_throw() == warm.fig5_throw);
     const hil::trials::AttemptResult r = runner.run({hil::trials::campaign_attempt_plan()}).front();
     const pa::VehicleId catcher = pa::other_vehicle(pa::VehicleId(static_cast<std::uint8_t>(r.thrower)));
     const double lag_s = config.plant.vehicle.motor_time_constant_s *
