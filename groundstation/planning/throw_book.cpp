@@ -6,26 +6,13 @@
 #include "groundstation/control/throw_frame.hpp"
 
 namespace gs::planning {
-namespace {
-
-ThrowProblem problem_within(const model::VehicleLimits& limits) {
-  ThrowProblem problem;
-  problem.limits = limits;
-  return problem;
-}
-
-ThrowPlan planned(const ThrowProblem& problem) {
-  ThrowPlan plan = plan_throw(problem);
-  if (!plan.success) throw std::runtime_error("the throw could not be planned: " + plan.status);
-  return plan;
-}
-
-}  // namespace
 
 std::shared_ptr<const Fig5Throw> plan_fig5_throw(const model::VehicleLimits& limits,
                                                  const ThrowTrackingWeights& weights) {
-  const ThrowProblem problem = problem_within(limits);
-  ThrowPlan plan = planned(problem);
+  ThrowProblem problem;
+  problem.limits = limits;
+  ThrowPlan plan = plan_throw(problem);
+  if (!plan.success) throw std::runtime_error("the throw could not be planned: " + plan.status);
   ThrowTracker tracker(plan.trajectory, weights);
   if (!tracker.valid()) throw std::runtime_error("the throw's TV-LQR could not be designed");
   return std::make_shared<const Fig5Throw>(
