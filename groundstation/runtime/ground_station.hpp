@@ -152,7 +152,7 @@ class GroundStation {
   // Whether `vehicle` waits for a person to put the pole on: the thrower of an attempt being
   // prepared, hovering, its identification flown. The one rule for whoever hands the pole up
   // (the POLE_WANTED event on /pa/events in an arena, the simulated person in-process): a pole put on
-  // during an identification stops it or cancels its gentler re-flight, and the motors stay
+  // during an identification stops it or cancels its retry, and the motors stay
   // unequalised (arena envelope campaign seed 2, attempt 893: a 58 ms thrower balanced at 30 ms,
   // dropped the pole onto the catcher, which tumbled).
   bool waiting_for_pole(pa::VehicleId vehicle) const;

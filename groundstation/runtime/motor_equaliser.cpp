@@ -19,27 +19,28 @@ void OnBoardSetting::settle(link::CommandState state) {
 }
 
 void MotorEqualiser::start_identification(double now_s) {
-  gentle_ = gentle_due_ = false;
+  retrying_ = retry_due_ = false;
   flight_.start(now_s, lag_.value(), inertia_.value());
 }
 
-void MotorEqualiser::start_gentle_identification(double now_s) {
-  gentle_ = true;
-  gentle_due_ = false;
-  flight_.start(now_s, lag_.value(), inertia_.value(), kGentleAmplitude);
+void MotorEqualiser::start_retry(double now_s) {
+  retrying_ = true;
+  retry_due_ = false;
+  flight_.start(now_s, lag_.value(), inertia_.value(), retry_amplitude_);
 }
 
-void MotorEqualiser::cancel_gentle_identification() {
-  gentle_due_ = false;
-  if (gentle_ && flight_.running()) flight_.stop();
-  gentle_ = false;
+void MotorEqualiser::cancel_retry() {
+  retry_due_ = false;
+  if (retrying_ && flight_.running()) flight_.stop();
+  retrying_ = false;
 }
 
 std::optional<estimation::IdentificationResult> MotorEqualiser::finish(double now_s) {
   std::optional<estimation::IdentificationResult> result = flight_.finish(now_s);
   if (!result) return result;
   identified_ = result;
-  gentle_due_ = !gentle_ && result->refusal == estimation::IdentificationRefusal::saturated;
+  retry_due_ = !retrying_ && !result->identified;
+  retry_amplitude_ = result->refusal == estimation::IdentificationRefusal::saturated ? kGentleAmplitude : 1.0;
   return result;
 }
 

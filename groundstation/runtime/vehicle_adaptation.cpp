@@ -58,10 +58,10 @@ std::vector<OnBoardCommand> VehicleAdaptation::identify(double now_s, mission::T
   // In hover at once (the pole comes within seconds), or at its waiting point for a catch once it
   // is there (a catcher goes to wait straight from its take-off; climbing there, the flight was
   // fitted 16 % slow). The catch manoeuvre, seconds later, stops a flight not yet over.
-  if (task != Task::hover && task != Task::wait && task != Task::take_off)
-    motors_.cancel_gentle_identification();
-  if (motors_.gentle_flight_due() && (task == Task::hover || (task == Task::wait && at_target)))
-    motors_.start_gentle_identification(now_s);
+  // A retry is flown still, at the target (a thrower climbs to the throw's origin in hover).
+  if (task != Task::hover && task != Task::wait && task != Task::take_off) motors_.cancel_retry();
+  if (motors_.retry_due() && (task == Task::hover || task == Task::wait) && at_target)
+    motors_.start_retry(now_s);
   std::vector<OnBoardCommand> commands;
   const std::optional<estimation::IdentificationResult> result = motors_.finish(now_s);
   if (!result) return commands;

@@ -63,10 +63,10 @@ class VehicleAdaptation {
   // earlier run's), to set as it arms, before this flight's own.
   std::vector<OnBoardCommand> at_arming(const adaptation::IdentificationMemory& memory) const;
   // The identification flight over a tick of `task` (`at_target`: the task's target reached): the
-  // gentler re-flight started only while the vehicle hovers without the pole, and a finished
-  // flight's fit recorded; a lag that differs from the equaliser's by more than the fit's accuracy
-  // goes on board, and so does a lighter inertia for the rate loop. A refused fit keeps what is
-  // set.
+  // retry of a refused flight started only while the vehicle holds its target without the pole,
+  // and a finished flight's fit recorded; a lag that differs from the equaliser's by more than the
+  // fit's accuracy goes on board, and so does a lighter inertia for the rate loop. A refused fit
+  // keeps what is set.
   std::vector<OnBoardCommand> identify(double now_s, mission::Task task, bool at_target,
                                        adaptation::IdentificationMemory& memory);
   // The lag's and inertia's commands in flight come to what `state_of(handle)` says.

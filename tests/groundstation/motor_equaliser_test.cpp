@@ -110,7 +110,7 @@ double peak_excitation(MotorEqualiser& e, double t0_s) {
 
 }  // namespace
 
-TEST_CASE("A flight the motors saturated is flown once more, gently; stopped when the pole comes") {
+TEST_CASE("A refused flight is flown again once, gently if it saturated; stopped when the pole comes") {
   MotorEqualiser e = equaliser();
   CHECK_FALSE(e.identifying());
   e.start_identification(10.0);
@@ -119,28 +119,39 @@ TEST_CASE("A flight the motors saturated is flown once more, gently; stopped whe
   const auto saturated = fly(e, 10.0, true);
   REQUIRE(saturated);
   CHECK(saturated->refusal == IdentificationRefusal::saturated);
-  REQUIRE(e.gentle_flight_due());
-  CHECK(e.identifying());  // still: the gentler flight is due
-  e.start_gentle_identification(20.0);
-  CHECK_FALSE(e.gentle_flight_due());
+  REQUIRE(e.retry_due());
+  CHECK(e.identifying());  // still: the retry is due
+  e.start_retry(20.0);
+  CHECK_FALSE(e.retry_due());
   CHECK(e.identifying());
   CHECK(peak_excitation(e, 20.0) == Approx(MotorEqualiser::kGentleAmplitude * designed));
   const auto again = fly(e, 20.0, true);
   REQUIRE(again);
-  CHECK_FALSE(e.gentle_flight_due());  // once only
+  CHECK_FALSE(e.retry_due());  // once only
   CHECK_FALSE(e.identifying());
 
   SECTION("stopped when the vehicle takes the pole") {
     e.start_identification(30.0);
     fly(e, 30.0, true);
-    e.start_gentle_identification(40.0);
-    e.cancel_gentle_identification();
+    e.start_retry(40.0);
+    e.cancel_retry();
     CHECK_FALSE(e.flight().running());
     CHECK(e.flight().excitation(40.5).isZero());
   }
+  SECTION("a flight refused for another reason is flown again as designed") {
+    e.start_identification(30.0);
+    std::optional<gs::estimation::IdentificationResult> silent;  // no telemetry came back
+    for (double t = 30.0; t < 31.6; t += 0.005) e.flight().command_sent(t, e.flight().excitation(t));
+    for (int i = 0; i < 10 && !silent; ++i) silent = e.finish(32.0);
+    REQUIRE(silent);
+    CHECK(silent->refusal == IdentificationRefusal::no_telemetry);
+    REQUIRE(e.retry_due());
+    e.start_retry(40.0);
+    CHECK(peak_excitation(e, 40.0) == Approx(designed));
+  }
   SECTION("a take-off's flight is not stopped by it") {
     e.start_identification(30.0);
-    e.cancel_gentle_identification();
+    e.cancel_retry();
     CHECK(e.flight().running());
   }
 }
