@@ -23,6 +23,7 @@ VehicleObserver::VehicleObserver(const VehicleObserverParams& params) : params_(
 
 void VehicleObserver::reset(const MocapPose& pose) {
   if (!is_usable_pose(pose)) return;
+  plate_.reset();
   const EulerZyx e = euler_zyx_from_quaternion(pose.q);
   const double eta[3] = {e.phi_rad, e.theta_rad, e.psi_rad};
   const double sp = params_.mocap_position_sigma_m;
@@ -50,6 +51,7 @@ model::EulerTrig VehicleObserver::attitude() const { return {att_x_[0](0), att_x
 
 void VehicleObserver::predict(double dt_s, const model::VehicleInput* command, Propagation propagation) {
   if (!initialised_ || !(dt_s > 0.0) || !std::isfinite(dt_s)) return;
+  plate_.reset();
   const bool commanded = command != nullptr && finite_input(*command);
 
   // The acceleration and Euler rate the filter currently believes in, kept continuous when the
@@ -190,6 +192,7 @@ VehicleUpdateResult VehicleObserver::update(const MocapPose& pose) {
     return result;
   }
   rejections_ = 0;
+  plate_.reset();
   const EulerZyx e = euler_zyx_from_quaternion(pose.q);
   const double eta[3] = {e.phi_rad, e.theta_rad, e.psi_rad};
   const double rp = params_.mocap_position_sigma_m * params_.mocap_position_sigma_m;
@@ -248,7 +251,12 @@ VehicleEstimate VehicleObserver::estimate(const model::EulerTrig& eta) const {
   return e;
 }
 
-PlateKinematics VehicleObserver::plate() const {
+const PlateKinematics& VehicleObserver::plate() const {
+  if (!plate_) plate_ = plate_now();
+  return *plate_;
+}
+
+PlateKinematics VehicleObserver::plate_now() const {
   const model::EulerTrig eta = attitude();
   const VehicleEstimate e = estimate(eta);
   PlateKinematics k;

@@ -35,6 +35,7 @@
 
 #include <Eigen/Dense>
 #include <array>
+#include <optional>
 
 #include "groundstation/estimation/mocap_pose.hpp"
 #include "groundstation/estimation/propagation.hpp"
@@ -128,7 +129,10 @@ class VehicleObserver {
   VehicleUpdateResult update(const MocapPose& pose);
 
   VehicleEstimate estimate() const;
-  PlateKinematics plate() const;
+  // Kept until the next predict, update or reset: the estimator reads a plate some 25 times a
+  // motion-capture frame (steps, contact gates, latency compensation), and each costs the
+  // attitude's three sines and cosines and the estimate.
+  const PlateKinematics& plate() const;
   const VehicleObserverParams& params() const { return params_; }
 
   // The per-axis filters, exposed for tests: (p, v, d) and (eta, delta) with covariances.
@@ -142,6 +146,7 @@ class VehicleObserver {
   // share with it.
   model::EulerTrig attitude() const;
   VehicleEstimate estimate(const model::EulerTrig& attitude) const;
+  PlateKinematics plate_now() const;
   Eigen::Vector3d propagate_rates(double dt_s, const Eigen::Vector3d& command_radps);
 
   VehicleObserverParams params_;
@@ -155,6 +160,7 @@ class VehicleObserver {
   std::array<Eigen::Vector2d, 3> att_x_;
   std::array<Eigen::Matrix2d, 3> att_p_;
   int rejections_ = 0;
+  mutable std::optional<PlateKinematics> plate_;  // plate() since the state last changed
 };
 
 }  // namespace gs::estimation

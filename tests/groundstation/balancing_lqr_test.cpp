@@ -85,7 +85,7 @@ TEST_CASE("balancing LQR: the nonlinear planar pole on a vehicle returns upright
   gs::model::PlanarState<double> s = gs::model::PlanarState<double>::Zero();
   s(pl::kAlpha) = 5.0 * M_PI / 180.0;
   s(pl::kX) = 0.2;
-  gs::model::PlanarInput<double> u;
+  gs::model::PlanarInput<double> u = gs::model::PlanarInput<double>::Zero();
   double thrust_min = 1e9, thrust_max = 0.0, rate_max = 0.0, alpha_max = 0.0;
   const double dt = 1e-3;
   for (int k = 0; k < 10000; ++k) {

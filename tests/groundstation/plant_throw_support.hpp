@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -115,18 +116,19 @@ class CatchCheck {
     const hil::PoleConfig& pole = plant.config().pole;
     const hil::Vec3 a = hil::pole_end_m(plant.pole(), pole, 0), b = hil::pole_end_m(plant.pole(), pole, 1);
     const hil::Vec3 low = a.z() < b.z() ? a : b;
-    if (launched && !crossing_t_s_ && previous_low_ && previous_low_->z() > height_m_ &&
-        low.z() <= height_m_) {
+    if (launched && std::isnan(crossing_t_s_) && previous_low_z_m_ > height_m_ && low.z() <= height_m_) {
       crossing_t_s_ = t_s;
       crossing_m_ = low;
     }
-    previous_low_ = low;
+    previous_low_z_m_ = low.z();
   }
   void predicted(double t_s, const gs::planning::CatchPointPrediction& p) {
     predictions_.emplace_back(t_s, p);
   }
 
-  const std::optional<double>& crossing_t_s() const { return crossing_t_s_; }
+  std::optional<double> crossing_t_s() const {
+    return std::isnan(crossing_t_s_) ? std::nullopt : std::optional<double>(crossing_t_s_);
+  }
   const hil::Vec3& crossing_m() const { return crossing_m_; }  // valid once crossing_t_s() is set
   // The figures both plant-throw tests bound: the miss of the prediction 0.1 s after the release
   // and 0.15 s before the crossing. Empty when the pole never came down through the height.
@@ -136,8 +138,8 @@ class CatchCheck {
     double before_crossing_m;
   };
   std::optional<Errors> errors(double release_t_s) const {
-    if (!crossing_t_s_) return std::nullopt;
-    return Errors{*crossing_t_s_, error_at(release_t_s + 0.1), error_at(*crossing_t_s_ - 0.15)};
+    if (std::isnan(crossing_t_s_)) return std::nullopt;
+    return Errors{crossing_t_s_, error_at(release_t_s + 0.1), error_at(crossing_t_s_ - 0.15)};
   }
   // The horizontal miss of the first prediction made at or after t_s from `point` (by default the
   // true crossing; 1e9 when there is none or it found no crossing).
@@ -152,8 +154,9 @@ class CatchCheck {
 
  private:
   double height_m_;
-  std::optional<hil::Vec3> previous_low_;
-  std::optional<double> crossing_t_s_;
+  double previous_low_z_m_ = std::numeric_limits<double>::quiet_NaN();  // NaN before the first step
+  // NaN until the crossing (GCC 12 at -O3 warns falsely on an optional's payload here).
+  double crossing_t_s_ = std::numeric_limits<double>::quiet_NaN();
   hil::Vec3 crossing_m_ = hil::Vec3::Zero();
   std::vector<std::pair<double, gs::planning::CatchPointPrediction>> predictions_;
 };

@@ -35,7 +35,7 @@ Flight fly(const PlanarState<double>& start, const ThrowProblem& problem, Contro
   PlanarState<double> s = start;
   const double h = 1e-4;
   const int steps = static_cast<int>(std::lround(problem.duration_s / h));
-  PlanarInput<double> u;
+  PlanarInput<double> u = PlanarInput<double>::Zero();
   for (int k = 0; k < steps; ++k) {
     const double t = k * h;
     if (k % 50 == 0) u = gs::planning::saturate(control(t, s), problem.limits);
