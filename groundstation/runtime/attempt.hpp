@@ -39,6 +39,17 @@ struct AttemptRequest {
 
 enum class AttemptPhase : std::uint8_t { idle, preparing, throwing, flight, balancing };
 
+// What ended an attempt (the row of attempt_phases.hpp's table that took it to idle).
+enum class AttemptEnd : std::uint8_t {
+  none,                 // not ended
+  catcher_lost,         // before the throw: the thrower keeps balancing the pole
+  motors_unidentified,  // before the throw: a vehicle whose motors are not known flies no act
+  throw_abandoned,      // aborted, or the pole fell, before the launch
+  caught,               // balanced on the catcher for caught_after_s
+  pole_down,
+  timed_out,
+};
+
 // The ground station's own account of an attempt (the referee in hil judges with the truth).
 struct AttemptReport {
   int number = 0;
@@ -51,6 +62,7 @@ struct AttemptReport {
   mission::Reason catcher_end = mission::Reason::none;  // what ended the catch (caught, out_of_reach...)
   // what ended the throw (throw_ended, pole_left_early...)
   mission::Reason thrower_end = mission::Reason::none;
+  AttemptEnd end = AttemptEnd::none;  // what ended the attempt
   Eigen::Vector2d waiting_xy_m = Eigen::Vector2d::Zero();
   Eigen::Vector2d last_target_xy_m = Eigen::Vector2d::Zero();
   std::optional<adaptation::CatchPoint> predicted;  // the latest catch-point prediction (lower end)

@@ -15,8 +15,8 @@ std::string_view phase_name(AttemptPhase phase) {
 
 std::string_view attempt_condition_name(int bit) {
   static constexpr std::array<std::string_view, attempt_condition::kCount> kNames = {
-      "catcher_lost",      "thrower_throwing", "thrower_releasing", "launched",
-      "catcher_balancing", "balanced_long",    "pole_down",         "timed_out"};
+      "catcher_lost",  "thrower_throwing", "thrower_releasing", "launched",           "catcher_balancing",
+      "balanced_long", "pole_down",        "timed_out",         "motors_unidentified"};
   return bit >= 0 && bit < attempt_condition::kCount ? kNames[static_cast<std::size_t>(bit)] : "?";
 }
 
@@ -28,6 +28,7 @@ std::string_view attempt_end_name(AttemptEnd end) {
   switch (end) {
     case AttemptEnd::none: return "none";
     case AttemptEnd::catcher_lost: return "catcher_lost";
+    case AttemptEnd::motors_unidentified: return "motors_unidentified";
     case AttemptEnd::throw_abandoned: return "throw_abandoned";
     case AttemptEnd::caught: return "caught";
     case AttemptEnd::pole_down: return "pole_down";
@@ -56,6 +57,7 @@ std::uint32_t attempt_conditions(const AttemptFacts& f, const AttemptThresholds&
   std::uint32_t w = 0;
   if (f.catch_it && f.catcher_task == Task::failsafe && !f.impact && !f.catcher_end_noted)
     w |= ac::catcher_lost;
+  if (f.motors_unidentified) w |= ac::motors_unidentified;
   if (f.thrower_task == Task::throwing) w |= ac::thrower_throwing;
   if (f.thrower_task == Task::release) w |= ac::thrower_releasing;
   // Only a call at the end of the throw (see the conditions on the flip-flops during it).

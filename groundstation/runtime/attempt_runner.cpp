@@ -31,11 +31,13 @@ ThrustAdmission thrust_admission(const GroundStationConfig& config) {
 }
 
 AttemptRunner::AttemptRunner(const GroundStationConfig& config, const estimation::StateEstimator& estimator,
-                             adaptation::Learner& learner, planning::ThrowBook& throws)
+                             adaptation::Learner& learner, planning::ThrowBook& throws,
+                             const adaptation::IdentificationMemory& identifications)
     : config_(config),
       estimator_(estimator),
       learner_(learner),
       throws_(throws),
+      identifications_(identifications),
       catch_(config.catching, input_limits(config.limits)) {
   frame_ = throw_frame(pa::kVehicle1);
 }
@@ -225,12 +227,20 @@ AttemptFacts AttemptRunner::facts(double now_s, const ActVehicles& vehicles) con
   if (s && s->to == estimation::PoleMode::free) f.free_flight_call_s = s->event_t_s;
   f.catcher_balancing_since_s = balanced_on_catcher_s_;
   if (last_pole_pose_) f.pole_seen_height_m = last_pole_pose_->p_m.z();
+  f.motors_unidentified =
+      motors_unidentified(vehicle_of(vehicles, request_.thrower)) ||
+      (request_.catch_it && motors_unidentified(vehicle_of(vehicles, pa::other_vehicle(request_.thrower))));
   return f;
 }
 
+bool AttemptRunner::motors_unidentified(const ActVehicle& v) const {
+  return v.adaptation.motors().refused() && !identifications_.kept(v.id);
+}
+
+// Not while the identification flies, nor once it is refused: the attempt ends at the next frame.
 bool AttemptRunner::waiting_for_pole(const ActVehicle& v) const {
   return phase_ == AttemptPhase::preparing && v.id == request_.thrower && v.sequencer.task() == Task::hover &&
-         !v.adaptation.motors().identifying();
+         !v.adaptation.motors().identifying() && !motors_unidentified(v);
 }
 
 void AttemptRunner::update(double now_s, ActVehicles& vehicles) {
@@ -247,6 +257,7 @@ void AttemptRunner::update(double now_s, ActVehicles& vehicles) {
   if (phase_bit(phase_) & kBeforeLaunch) {
     const AttemptTransition* row = find_attempt_transition(phase_, conditions);
     if (row && row->to == AttemptPhase::idle) {
+      current_.end = row->reason;
       end(now_s, vehicles);
       return;
     }
@@ -282,6 +293,7 @@ void AttemptRunner::update(double now_s, ActVehicles& vehicles) {
   now = facts(now_s, vehicles);
   const AttemptTransition* row = settle_attempt(phase_, attempt_conditions(now, config_.attempt));
   if (row && row->to == AttemptPhase::idle) {
+    current_.end = row->reason;
     if (row->reason == AttemptEnd::caught) current_.caught = true;
     end(now_s, vehicles);
   }

@@ -16,6 +16,7 @@
 #include <Eigen/Core>
 
 #include "groundstation/adaptation/catch_energy.hpp"
+#include "groundstation/adaptation/identification_memory.hpp"
 #include "groundstation/adaptation/learner.hpp"
 #include "groundstation/control/throw_frame.hpp"
 #include "groundstation/estimation/state_estimator.hpp"
@@ -39,7 +40,8 @@ class AttemptRunner {
  public:
   // The references are the runtime's, and outlive the runner.
   AttemptRunner(const GroundStationConfig& config, const estimation::StateEstimator& estimator,
-                adaptation::Learner& learner, planning::ThrowBook& throws);
+                adaptation::Learner& learner, planning::ThrowBook& throws,
+                const adaptation::IdentificationMemory& identifications);
   AttemptRunner(const AttemptRunner&) = delete;  // it holds the runtime's pieces by reference
   AttemptRunner& operator=(const AttemptRunner&) = delete;
 
@@ -87,6 +89,9 @@ class AttemptRunner {
 
  private:
   const adaptation::AdaptationState& adaptation() const { return learner_.state(); }
+  // The vehicle's take-off identification and its retry were refused and none is kept for it
+  // (AttemptFacts::motors_unidentified).
+  bool motors_unidentified(const ActVehicle& vehicle) const;
   // The catch point (lower end, x y) expected for the next throw, arena frame (throw_geometry.hpp).
   Eigen::Vector2d waiting_xy() const;
   std::optional<Eigen::Vector3d> aimed_m() const;  // the target throw's aim, if the attempt has one
@@ -107,6 +112,7 @@ class AttemptRunner {
   const estimation::StateEstimator& estimator_;
   adaptation::Learner& learner_;
   planning::ThrowBook& throws_;
+  const adaptation::IdentificationMemory& identifications_;
   adaptation::CatchEnergyCorrection catch_energy_;
   CatchCoordinator catch_;
   std::optional<estimation::MocapPose> last_pole_pose_;

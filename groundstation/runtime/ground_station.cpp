@@ -61,7 +61,7 @@ GroundStation::GroundStation(link::FrameBus& bus, const GroundStationConfig& con
       learner_(make_learner(config, throws_)),
       identifications_({config.rate_loop.design_time_constant_s, config.motor_lag_tolerance_fraction},
                        config.adaptation_store_path, learner_.adaptation_settings()),
-      attempt_(config_, estimator_, learner_, throws_),
+      attempt_(config_, estimator_, learner_, throws_, identifications_),
       vehicles_{ActVehicle(pa::kVehicle1, adaptation_settings(config)),
                 ActVehicle(pa::kVehicle2, adaptation_settings(config))} {}
 

@@ -69,6 +69,9 @@ class MotorEqualiser {
   // and cancel the other.
   bool identifying() const { return retry_due_ || flight_.running(); }
   static constexpr double kGentleAmplitude = 0.5;
+  // The take-off's flight and its retry are over (or the retry was cancelled), and the last fit
+  // was refused: what the equaliser is set to was not measured on this take-off.
+  bool refused() const { return identified_ && !identified_->identified && !identifying(); }
 
   // The equaliser's lag (SET_MOTOR_TIME_CONSTANT) and the rate loop's inertia scale
   // (SET_INERTIA_SCALE) on board.

@@ -323,6 +323,9 @@ void Process::publish_changes(double now_s) {
     if (!r.caught && is_lost(r.catcher_end))
       publish(dds::event_kind::kAbort, pa::other_vehicle(thrower_),
               "catch aborted: the catcher is " + str(mission::reason_name(r.catcher_end)), now_s);
+    if (r.end == runtime::AttemptEnd::motors_unidentified)
+      publish(dds::event_kind::kAbort, std::nullopt,
+              "attempt ended before the throw: a vehicle's motors could not be identified", now_s);
     publish(r.caught ? dds::event_kind::kCatchSuccess : dds::event_kind::kCatchMiss, std::nullopt, detail,
             now_s);
   }

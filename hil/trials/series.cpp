@@ -435,9 +435,11 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
     // The throw itself failed (the pole left the plate before T, or it was aborted): the
     // catcher had nothing to catch.
     r.outcome = ThrowOutcome::aborted;
-    r.abort_reason = throw_end == gs::mission::Reason::none
-                         ? "no_throw"
-                         : std::string(gs::mission::reason_name(throw_end));
+    const gs::runtime::AttemptEnd ended = report ? report->end : gs::runtime::AttemptEnd::none;
+    r.abort_reason = throw_end != gs::mission::Reason::none ? std::string(gs::mission::reason_name(throw_end))
+                     : ended == gs::runtime::AttemptEnd::motors_unidentified
+                         ? std::string(gs::runtime::attempt_end_name(ended))
+                         : "no_throw";
   } else if (end == gs::mission::Reason::out_of_reach || end == gs::mission::Reason::infeasible ||
              end == gs::mission::Reason::abort_requested) {
     r.outcome = ThrowOutcome::aborted;

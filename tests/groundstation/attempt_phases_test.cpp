@@ -49,10 +49,11 @@ TEST_CASE("Phase, condition and end names are distinct and never '?'") {
   CHECK(names.count("?") == 0);
   CHECK(attempt_condition_name(ac::kCount) == "?");
   names.clear();
-  for (AttemptEnd e : {AttemptEnd::none, AttemptEnd::catcher_lost, AttemptEnd::throw_abandoned,
-                       AttemptEnd::caught, AttemptEnd::pole_down, AttemptEnd::timed_out})
+  for (AttemptEnd e :
+       {AttemptEnd::none, AttemptEnd::catcher_lost, AttemptEnd::motors_unidentified,
+        AttemptEnd::throw_abandoned, AttemptEnd::caught, AttemptEnd::pole_down, AttemptEnd::timed_out})
     names.insert(gs::runtime::attempt_end_name(e));
-  CHECK(names.size() == 6);
+  CHECK(names.size() == 7);
   CHECK(names.count("?") == 0);
   CHECK(attempt_condition_names(0) == "0");
   CHECK(attempt_condition_names(ac::launched | ac::pole_down) == "launched|pole_down");
@@ -83,6 +84,11 @@ TEST_CASE("The attempt's course, written out") {
         "preparing --[thrower_throwing]--> throwing (none)");
   CHECK(step(AttemptPhase::preparing, ac::catcher_lost | ac::thrower_throwing) ==
         "preparing --[catcher_lost|thrower_throwing]--> idle (catcher_lost)");
+  CHECK(step(AttemptPhase::preparing, ac::motors_unidentified) ==
+        "preparing --[motors_unidentified]--> idle (motors_unidentified)");
+  // Once thrown, the motors' identification no longer matters: the pole is in the air.
+  CHECK(step(AttemptPhase::throwing, ac::motors_unidentified | ac::thrower_throwing) ==
+        "throwing stays under thrower_throwing|motors_unidentified");
   CHECK(step(AttemptPhase::throwing, ac::thrower_throwing) == "throwing stays under thrower_throwing");
   CHECK(step(AttemptPhase::throwing, ac::thrower_releasing) == "throwing stays under thrower_releasing");
   CHECK(step(AttemptPhase::throwing, ac::thrower_releasing | ac::launched) ==
@@ -113,10 +119,10 @@ TEST_CASE("Properties over every condition word") {
       const auto* row = find_attempt_transition(p, w);
       if (row == nullptr) continue;
       INFO(step(p, w));
-      // Before the throw only the catcher lost ends it; in flight nothing but the four ends and
-      // the catcher's balance moves it.
+      // Before the throw only the catcher lost or motors not identified end it; in flight nothing
+      // but the four ends and the catcher's balance moves it.
       if (p == AttemptPhase::preparing && row->to == AttemptPhase::idle)
-        CHECK(row->reason == AttemptEnd::catcher_lost);
+        CHECK((row->reason == AttemptEnd::catcher_lost || row->reason == AttemptEnd::motors_unidentified));
       if (p == AttemptPhase::preparing && row->to != AttemptPhase::idle)
         CHECK((w & ac::thrower_throwing) != 0);
       // The launch is never skipped: flight comes only from throwing, with the call.
@@ -179,6 +185,10 @@ TEST_CASE("Each condition bit from its facts") {
   f.catcher_end_noted = false;
   f.catch_it = false;  // no catcher
   CHECK((attempt_conditions(f, t) & ac::catcher_lost) == 0);
+
+  f = in_flight();
+  f.motors_unidentified = true;
+  CHECK((attempt_conditions(f, t) & ac::motors_unidentified) != 0);
 
   f = in_flight();
   f.thrower_task = Task::throwing;

@@ -31,7 +31,9 @@ struct Rig {
   gs::estimation::StateEstimator estimator{config.estimator};
   gs::planning::ThrowBook throws{config.limits, config.throw_tracking};
   gs::adaptation::Learner learner = learner_for(config, throws);
-  AttemptRunner runner{config, estimator, learner, throws};
+  gs::adaptation::IdentificationMemory identifications{
+      {}, "", gs::adaptation::nominal_adaptation_settings(config.estimator.free_flight.pole)};
+  AttemptRunner runner{config, estimator, learner, throws, identifications};
   ActVehicles vehicles{ActVehicle(pa::kVehicle1, {}), ActVehicle(pa::kVehicle2, {})};
   int thrust_asked = 0;
   double gain = 1.0;  // both vehicles' thrust gain, as thrust_of reports it
@@ -50,6 +52,14 @@ struct Rig {
 void step(ActVehicle& v, std::initializer_list<std::uint32_t> words, double& t_s) {
   for (const std::uint32_t word : words) {
     v.sequencer.step(word | c::armed, t_s);
+    t_s += 0.005;
+  }
+}
+// Flies `v`'s identification flight, hovering at its target, until its fit is in; no telemetry
+// comes back, so it is refused (no_telemetry).
+void fly_refused_identification(ActVehicle& v, gs::adaptation::IdentificationMemory& memory, double& t_s) {
+  for (int i = 0; i < 1000 && v.adaptation.motors().flight().running(); ++i) {
+    v.adaptation.identify(t_s, Task::hover, true, memory);
     t_s += 0.005;
   }
 }
@@ -162,6 +172,29 @@ TEST_CASE("A catcher lost before the throw ends the attempt; both vehicles are s
   CHECK(rig.catcher().requests == 0);
   CHECK(rig.thrower().laws.target_m == throw_start_m(rig.runner.throw_frame(pa::kVehicle1)));
   CHECK(rig.catcher().laws.target_m == rig.runner.waiting_target());
+}
+
+TEST_CASE("A thrower whose motors could not be identified ends the attempt before the pole goes up") {
+  Rig rig;
+  double t = 10.0;
+  take_off(rig.thrower(), t);
+  REQUIRE(rig.request(AttemptRequest{}));
+  rig.thrower().adaptation.start_identification(t);
+  fly_refused_identification(rig.thrower(), rig.identifications, t);  // the take-off's flight
+  REQUIRE(rig.thrower().adaptation.motors().identified());
+  CHECK(rig.thrower().adaptation.motors().retry_due());
+  rig.runner.update(t, rig.vehicles);
+  CHECK(rig.runner.phase() == AttemptPhase::preparing);  // the retry is due: the pole waits
+  rig.thrower().adaptation.identify(t, Task::hover, true, rig.identifications);  // starts it
+  REQUIRE(rig.thrower().adaptation.motors().flight().running());
+  fly_refused_identification(rig.thrower(), rig.identifications, t);
+  REQUIRE(rig.thrower().adaptation.motors().refused());
+  CHECK_FALSE(rig.runner.waiting_for_pole(rig.thrower()));  // not even until the next frame
+  rig.runner.update(t, rig.vehicles);
+  CHECK(rig.runner.phase() == AttemptPhase::idle);
+  REQUIRE(rig.runner.reports().size() == 1);
+  CHECK(rig.runner.reports()[0].end == AttemptEnd::motors_unidentified);
+  CHECK(rig.catcher().requests == 0);
 }
 
 TEST_CASE(

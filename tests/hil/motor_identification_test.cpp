@@ -176,6 +176,31 @@ TEST_CASE("a thrower's refused identification is flown again at the throw's orig
   }
 }
 
+// The same corner's attempt 14: a 70 ms thrower whose take-off's flight and retry were both refused
+// (not confident) was handed the pole, balanced at 30 ms, dropped it, and its attitude diverged
+// in hover until the firmware stopped it. The attempt now ends before the pole goes up.
+TEST_CASE("a thrower whose motors could not be identified is not handed the pole", "[hil][campaign]") {
+  const hil::trials::CampaignConfig campaign = campaign_on("hil/config/envelope/motors_60ms.yaml", 1);
+  const hil::trials::WarmUp warm = hil::trials::warm_up(campaign.plant, campaign.seed);
+  hil::trials::SeriesConfig config = hil::trials::attempt_config(campaign, warm, 14);
+  bool pole_went_up = false;
+  config.on_step = [&](const hil::sil::Arena& arena, const gs::runtime::GroundStation&) {
+    const hil::Contact on = arena.plant().pole_contact();
+    pole_went_up = pole_went_up || on == hil::Contact::vehicle1 || on == hil::Contact::vehicle2;
+  };
+  hil::trials::SeriesRunner runner(config);
+  const hil::trials::AttemptResult r = runner.run({hil::trials::campaign_attempt_plan()}).front();
+  const pa::VehicleId thrower(static_cast<std::uint8_t>(r.thrower));
+  const auto& id = runner.ground_station().motor_identification(thrower);
+  REQUIRE(id);
+  INFO("thrower " << int(thrower.node()) << ": " << gs::estimation::refusal_name(id->refusal));
+  CHECK_FALSE(id->identified);
+  CHECK(r.outcome == gs::adaptation::ThrowOutcome::aborted);
+  CHECK(r.abort_reason == "motors_unidentified");
+  CHECK_FALSE(pole_went_up);
+  CHECK_FALSE(r.vehicle_crashed);
+}
+
 TEST_CASE("a stored identification is set on board at arming, before the take-off's own fit") {
   // A store whose vehicle 1 was identified at 50 ms in an earlier run; the default plant's motors
   // lag 30 ms. The ground station sets 50 ms as vehicle 1 arms, so its take-off's fit runs with
