@@ -72,6 +72,24 @@ hil::trials::CampaignConfig campaign_on(const std::string& plant, std::uint64_t 
   return campaign;
 }
 
+// The motor lag campaign attempt `attempt`'s plant gave `vehicle`, its `role` in the attempt
+// flown as `r`: the ground station identified it, within 10 % (printed beside the truth).
+void check_identified(const hil::trials::SeriesConfig& config, const hil::trials::SeriesRunner& runner,
+                      int attempt, const char* role, pa::VehicleId vehicle,
+                      const hil::trials::AttemptResult& r) {
+  const double lag_s = config.plant.vehicle.motor_time_constant_s *
+                       config.plant.vehicle.motor_time_constant_scale[pa::act_slot(vehicle)];
+  const auto& id = runner.ground_station().motor_identification(vehicle);
+  INFO("attempt " << attempt << ": " << role << " " << int(vehicle.node()) << ", lag " << lag_s << " s, "
+                  << (id ? gs::estimation::refusal_name(id->refusal) : "no identification"));
+  REQUIRE(id);
+  REQUIRE(id->identified);
+  std::printf("attempt %d %s %u: lag %.1f ms identified %.1f ms; %s\n", attempt, role,
+              static_cast<unsigned>(vehicle.node()), 1e3 * lag_s, 1e3 * id->identified->time_constant_s,
+              std::string(gs::adaptation::to_string(r.outcome)).c_str());
+  CHECK(id->identified->time_constant_s == Approx(lag_s).epsilon(0.1));
+}
+
 // The arena envelope's campaign with `seed` (hil campaign --plant hil/config/envelope.yaml).
 hil::trials::CampaignConfig envelope_campaign(std::uint64_t seed) {
   return campaign_on("hil/config/envelope.yaml", seed);
@@ -97,19 +115,9 @@ TEST_CASE("the envelope's hard catchers: a saturated flight flown again at the w
     CHECK(runner.ground_station().fig5_throw() == warm.fig5_throw);
     const hil::trials::AttemptResult r = runner.run({hil::trials::campaign_attempt_plan()}).front();
     const pa::VehicleId catcher = pa::other_vehicle(pa::VehicleId(static_cast<std::uint8_t>(r.thrower)));
-    const double lag_s = config.plant.vehicle.motor_time_constant_s *
-                         config.plant.vehicle.motor_time_constant_scale[pa::act_slot(catcher)];
-    const auto& id = runner.ground_station().motor_identification(catcher);
-    INFO("attempt " << attempt << ": catcher " << int(catcher.node()) << ", lag " << lag_s << " s, "
-                    << (id ? gs::estimation::refusal_name(id->refusal) : "no identification"));
-    REQUIRE(id);
-    REQUIRE(id->identified);
-    std::printf("attempt %d catcher %u: lag %.1f ms identified %.1f ms; %s\n", attempt,
-                static_cast<unsigned>(catcher.node()), 1e3 * lag_s, 1e3 * id->identified->time_constant_s,
-                std::string(gs::adaptation::to_string(r.outcome)).c_str());
-    CHECK(id->identified->time_constant_s == Approx(lag_s).epsilon(0.1));
+    check_identified(config, runner, attempt, "catcher", catcher, r);
     CHECK(runner.ground_station().equalised_motor_time_constant_s(catcher) ==
-          Approx(id->identified->time_constant_s));
+          Approx(runner.ground_station().motor_identification(catcher)->identified->time_constant_s));
     CHECK_FALSE(r.vehicle_crashed);
   }
 }
@@ -159,18 +167,8 @@ TEST_CASE("a thrower's refused identification is flown again at the throw's orig
     const hil::trials::SeriesConfig config = hil::trials::attempt_config(campaign, warm, attempt);
     hil::trials::SeriesRunner runner(config);
     const hil::trials::AttemptResult r = runner.run({hil::trials::campaign_attempt_plan()}).front();
-    const pa::VehicleId thrower(static_cast<std::uint8_t>(r.thrower));
-    const double lag_s = config.plant.vehicle.motor_time_constant_s *
-                         config.plant.vehicle.motor_time_constant_scale[pa::act_slot(thrower)];
-    const auto& id = runner.ground_station().motor_identification(thrower);
-    INFO("attempt " << attempt << ": thrower " << int(thrower.node()) << ", lag " << lag_s << " s, "
-                    << (id ? gs::estimation::refusal_name(id->refusal) : "no identification"));
-    REQUIRE(id);
-    REQUIRE(id->identified);
-    std::printf("attempt %d thrower %u: lag %.1f ms identified %.1f ms; %s\n", attempt,
-                static_cast<unsigned>(thrower.node()), 1e3 * lag_s, 1e3 * id->identified->time_constant_s,
-                std::string(gs::adaptation::to_string(r.outcome)).c_str());
-    CHECK(id->identified->time_constant_s == Approx(lag_s).epsilon(0.1));
+    check_identified(config, runner, attempt, "thrower", pa::VehicleId(static_cast<std::uint8_t>(r.thrower)),
+                     r);
     CHECK(r.outcome == gs::adaptation::ThrowOutcome::caught);
     CHECK_FALSE(r.vehicle_crashed);
   }
