@@ -62,6 +62,7 @@ StateEstimator::StateEstimator(const StateEstimatorConfig& config)
 // Commands and impact reports
 
 void StateEstimator::set_command(pa::VehicleId vehicle, double t_s, const model::VehicleInput& input) {
+  pole_estimate_.reset();
   if (!pa::is_act_vehicle(vehicle) || !std::isfinite(t_s) || !std::isfinite(input.a_q_mps2) ||
       !input.omega_radps.allFinite()) {
     return;
@@ -120,11 +121,13 @@ void StateEstimator::drop_old_commands(double t_s) {
 
 void StateEstimator::set_pole_measurement_sigma(pa::VehicleId vehicle, double position_m,
                                                 double direction_rad) {
+  pole_estimate_.reset();
   if (!pa::is_act_vehicle(vehicle) || !(position_m > 0.0) || !(direction_rad > 0.0)) return;
   on_[pa::act_slot(vehicle)].set_measurement_sigma(position_m, direction_rad);
 }
 
 void StateEstimator::report_impact(pa::VehicleId vehicle, double t_s) {
+  pole_estimate_.reset();
   if (!pa::is_act_vehicle(vehicle) || !std::isfinite(t_s)) return;
   impact_report_t_s_[pa::act_slot(vehicle)] = t_s;
 }
@@ -138,6 +141,7 @@ bool StateEstimator::impact_report_pending(int index) const {
 // Propagation
 
 void StateEstimator::advance_to(double t_s) {
+  pole_estimate_.reset();
   if (!std::isfinite(t_s)) return;
   if (!started_) {
     t_s_ = t_s;
@@ -157,6 +161,8 @@ void StateEstimator::advance_to(double t_s) {
     t_s_ = next;
     drop_old_commands(t_s_);
   }
+  free_.predict(free_behind_s_, propagation_);
+  free_behind_s_ = 0.0;
 }
 
 void StateEstimator::start_over(double t_s) {
@@ -165,6 +171,7 @@ void StateEstimator::start_over(double t_s) {
   on_candidate_valid_ = {};
   impact_report_t_s_ = {kNan, kNan};
   pole_rejections_ = 0;
+  free_behind_s_ = 0.0;
   t_s_ = t_s;
   drop_old_commands(t_s_);
   ++start_overs_;
@@ -248,6 +255,7 @@ void StateEstimator::step_pole(double h, const std::array<PlateKinematics, 2>& b
     seed.covariance.block<3, 3>(PoleFreeFlightEkf::kW, PoleFreeFlightEkf::kW) +=
         sw * sw * Eigen::Matrix3d::Identity();
     free_.reset(seed.state, seed.covariance, drag_scale_, config_.drag_scale_sigma);
+    free_behind_s_ = 0.0;
     free_.predict((1.0 - frac) * h, propagation_);
     switch_to(PoleMode::free, lost_geometry ? SwitchReason::filter_invalid : SwitchReason::contact_force,
               t_s_ + frac * h, t_s_ + h);
@@ -256,7 +264,10 @@ void StateEstimator::step_pole(double h, const std::array<PlateKinematics, 2>& b
     reseed_candidates();
     return;
   }
-  if (candidates) free_.predict(h, propagation_);  // the free-flight candidate
+  // The free-flight candidate does not depend on the commands or the plates: it is propagated
+  // once at the end of advance_to() instead of in each command step (3.6 a frame, each a 13 x 13
+  // covariance step), no step longer than its max_step_s.
+  if (candidates) free_behind_s_ += h;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -319,6 +330,7 @@ void StateEstimator::reseed_candidates() {
 // Measurements
 
 void StateEstimator::update(const MocapFrame& frame) {
+  pole_estimate_.reset();
   if (!std::isfinite(frame.t_s)) return;
   if (started_ && frame.t_s < t_s_ - kTimeEps_s) {
     ++frames_out_of_order_;
@@ -497,12 +509,16 @@ void StateEstimator::update_pole(const PoleMeasurement& m) {
   }
   pole_health_.innovation(inn[mode_index(selector_.active())].nis);
 
+  // A free-flight candidate not accumulating evidence is re-seeded below whatever its correction
+  // (reseed_candidates resets its state, covariance and drag scale): it is not corrected.
+  const int j = slot_of_mode(selector_.active());
+  const bool free_reseeded = j >= 0 && vehicles_[j].initialised() && !selector_.accumulating(PoleMode::free);
   for (PoleMode mode : kPoleModes) {
     const int k = mode_index(mode);
     if (!evaluated[k] || !inn[k].valid) continue;
     const int v = slot_of_mode(mode);
     if (v < 0) {
-      free_.update(m, inn[k]);
+      if (!free_reseeded) free_.update(m, inn[k]);
     } else {
       on_[v].update(m, plates[v], inn[k]);
     }
@@ -514,6 +530,11 @@ void StateEstimator::update_pole(const PoleMeasurement& m) {
 // Outputs
 
 PoleEstimate StateEstimator::pole() const {
+  if (!pole_estimate_) pole_estimate_ = pole_now();
+  return *pole_estimate_;
+}
+
+PoleEstimate StateEstimator::pole_now() const {
   PoleEstimate e;
   e.valid = pole_seen_;
   e.t_s = t_s_;

@@ -6,7 +6,8 @@
 // One update (a motion-capture frame at t):
 //  1. Everything is propagated to t in steps of at most max_step_s, split at command changes:
 //     the vehicles by their observers (commands drive them), the pole's active mode and its
-//     candidates by their EKFs. Dropped frames are coasted through the same way, the
+//     candidates by their EKFs (the free-flight candidate, which no command or plate drives,
+//     once over the whole interval). Dropped frames are coasted through the same way, the
 //     covariances growing with the process noise.
 //     Hard evidence is checked inside each step, and the switch is placed at the event:
 //       - launch: in an on-vehicle mode, the plate's normal force F_N (pole_on_vehicle_ekf.hpp)
@@ -238,6 +239,7 @@ class StateEstimator {
   void initialise_pole(const PoleMeasurement& m, SwitchReason reason);
   void update_pole(const PoleMeasurement& m);
   void learn_pole_length(const MocapFrame& frame);
+  PoleEstimate pole_now() const;
   bool impact_report_pending(int index) const;
 
   StateEstimatorConfig config_;
@@ -249,6 +251,7 @@ class StateEstimator {
   std::array<double, 2> impact_report_t_s_;
   bool pole_seen_ = false;
   PoleFreeFlightEkf free_;
+  double free_behind_s_ = 0.0;  // the free-flight candidate's propagation owed (step_pole)
   std::array<PoleOnVehicleEkf, 2> on_;
   std::array<bool, 2> on_candidate_valid_{};
   ModeSelector selector_;
@@ -267,6 +270,9 @@ class StateEstimator {
   int pole_rejections_ = 0;
   std::array<ModeSwitch, kSwitchLogCapacity> switch_log_{};
   std::uint64_t switch_count_ = 0;
+  // pole() since the state last changed (every non-const public method resets it): the runtime
+  // reads it about three times a frame, each an on-vehicle filter's conversion to free flight.
+  mutable std::optional<PoleEstimate> pole_estimate_;
 };
 
 }  // namespace gs::estimation

@@ -678,3 +678,41 @@ TEST_CASE("a pole pressed onto its plate is taken for free flight less often on 
               guarded_n, unguarded_n);
   CHECK(guarded_n < unguarded_n);
 }
+
+// pole() is kept until the state changes: read after every call it must be what an estimator
+// that was never read gives, through a launch, a flight, an impact and coasted frames (a stale
+// estimate would show at the first frame after any change).
+TEST_CASE("the pole estimate read between calls is the one a fresh read gives", "[estimation]") {
+  const Recording rec = estimation_test::record_throw(WorldParams{}, 3, ThrowOptions{});
+  StateEstimator read(estimator_for());
+  StateEstimator unread(estimator_for());
+  int frames = 0;
+  int mismatches = 0;
+  for (const Frame& f : rec.frames) {
+    for (StateEstimator* e : {&read, &unread}) {
+      if (frames % 50 == 49) {
+        e->advance_to(f.t_s);  // a frame lost: coasted
+      } else {
+        e->update(to_mocap(f));
+      }
+    }
+    const StateEstimator copy = unread;  // read from a copy: `unread` itself is never read
+    const gs::estimation::PoleEstimate a = read.pole();
+    const gs::estimation::PoleEstimate b = copy.pole();
+    const bool same = a.valid == b.valid && a.t_s == b.t_s && a.mode == b.mode &&
+                      a.state.p_m == b.state.p_m && a.state.v_mps == b.state.v_mps &&
+                      a.state.n == b.state.n && a.state.omega_radps == b.state.omega_radps &&
+                      a.covariance == b.covariance && a.drag_scale == b.drag_scale;
+    mismatches += same ? 0 : 1;
+    ++frames;
+    for (StateEstimator* e : {&read, &unread}) {
+      e->set_command(pa::kVehicle1, f.t_s, to_input(f.command[0]));
+      e->set_command(pa::kVehicle2, f.t_s, to_input(f.command[1]));
+    }
+    (void)read.pole();  // kept into the next frame's update
+  }
+  std::printf("pole() read after every call: %d of %d frames differ from a fresh read\n", mismatches, frames);
+  CHECK(frames > 200);
+  CHECK(read.switch_count() >= 3);  // the initial mode, the launch, the impact
+  CHECK(mismatches == 0);
+}
