@@ -124,8 +124,10 @@ std::string render_status(const StatusView& view) {
 }
 
 StatusWatch::StatusWatch(const dds::Participant& participant)
-    : vehicle1_(participant, dds::vehicle_telemetry_topic(pa::kVehicle1).c_str()),
-      vehicle2_(participant, dds::vehicle_telemetry_topic(pa::kVehicle2).c_str()),
+    : vehicles_{dds::Reader<dds::VehicleTelemetry>(participant,
+                                                   dds::vehicle_telemetry_topic(pa::kVehicle1).c_str()),
+                dds::Reader<dds::VehicleTelemetry>(participant,
+                                                   dds::vehicle_telemetry_topic(pa::kVehicle2).c_str())},
       pole_(participant),
       events_(participant) {}
 
@@ -135,8 +137,9 @@ void StatusWatch::wait_and_take(std::chrono::nanoseconds timeout) {
 }
 
 void StatusWatch::take_all() {
-  while (const dds::VehicleTelemetry* t = vehicle1_.take()) view_.add(*t);
-  while (const dds::VehicleTelemetry* t = vehicle2_.take()) view_.add(*t);
+  for (dds::Reader<dds::VehicleTelemetry>& vehicle : vehicles_) {
+    while (const dds::VehicleTelemetry* t = vehicle.take()) view_.add(*t);
+  }
   while (const dds::PoleTelemetry* p = pole_.take()) view_.pole = *p;
   while (const dds::Event* e = events_.take()) view_.add(*e);
 }

@@ -51,8 +51,7 @@ class StatusWatch {
  private:
   void take_all();
 
-  dds::Reader<dds::VehicleTelemetry> vehicle1_;
-  dds::Reader<dds::VehicleTelemetry> vehicle2_;
+  std::array<dds::Reader<dds::VehicleTelemetry>, 2> vehicles_;  // vehicle 1, vehicle 2
   dds::Reader<dds::PoleTelemetry> pole_;
   dds::Reader<dds::Event> events_;
   StatusView view_;
