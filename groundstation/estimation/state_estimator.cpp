@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace gs::estimation {
 namespace {
@@ -155,9 +156,10 @@ void StateEstimator::advance_to(double t_s) {
   const double max_step = config_.max_step_s > 0.0 ? config_.max_step_s : 0.005;
   if (!(t_s_ < t_s - kTimeEps_s)) return;
   std::array<PlateKinematics, 2> at_step = plates();
+  std::optional<NormalForceEstimate> force_at_step;
   while (t_s_ < t_s - kTimeEps_s) {
     const double next = next_command_change(t_s_, std::min(t_s, t_s_ + max_step));
-    step(next - t_s_, at_step);
+    step(next - t_s_, at_step, force_at_step);
     t_s_ = next;
     drop_old_commands(t_s_);
   }
@@ -185,19 +187,22 @@ std::array<PlateKinematics, 2> StateEstimator::plates() const {
   return out;
 }
 
-void StateEstimator::step(double h, std::array<PlateKinematics, 2>& plates) {
+void StateEstimator::step(double h, std::array<PlateKinematics, 2>& plates,
+                          std::optional<NormalForceEstimate>& normal_force) {
   const std::array<PlateKinematics, 2> before = plates;
   for (int i = 0; i < 2; ++i) {
     if (!vehicles_[i].initialised()) continue;
     vehicles_[i].predict(h, command_at(i, t_s_), propagation_);
     plates[i] = vehicles_[i].plate();
   }
-  if (pole_seen_) step_pole(h, before, plates);
+  if (pole_seen_) step_pole(h, before, plates, normal_force);
 }
 
 void StateEstimator::step_pole(double h, const std::array<PlateKinematics, 2>& before,
-                               const std::array<PlateKinematics, 2>& after) {
+                               const std::array<PlateKinematics, 2>& after,
+                               std::optional<NormalForceEstimate>& normal_force) {
   const PoleMode active = selector_.active();
+  const std::optional<NormalForceEstimate> carried = std::exchange(normal_force, std::nullopt);
   const model::PoleParams& params = config_.on_vehicle.pole;
   // A prediction (mean only, predicted()) is read for the active mode alone, and a switch inside
   // it seeds the new mode from the old: its candidates are not propagated (a third of its cost).
@@ -238,7 +243,7 @@ void StateEstimator::step_pole(double h, const std::array<PlateKinematics, 2>& b
   const int j = slot_of_mode(active);
   if (!vehicles_[j].initialised()) return;
   const PoleOnVehicleEkf start = on_[j];
-  const NormalForceEstimate f0 = start.normal_force(before[j]);
+  const NormalForceEstimate f0 = carried ? *carried : start.normal_force(before[j]);
   on_[j].predict(h, 0.5 * (before[j].a_mps2 + after[j].a_mps2), propagation_);
   const NormalForceEstimate f1 = on_[j].normal_force(after[j]);
   const double threshold = -(config_.launch_margin_mps2 + config_.launch_sigmas * f1.sigma_mps2);
@@ -264,6 +269,7 @@ void StateEstimator::step_pole(double h, const std::array<PlateKinematics, 2>& b
     reseed_candidates();
     return;
   }
+  normal_force = f1;  // the next step's start, in this mode on this plate
   // The free-flight candidate does not depend on the commands or the plates: it is propagated
   // once at the end of advance_to() instead of in each command step (3.6 a frame, each a 13 x 13
   // covariance step), no step longer than its max_step_s.

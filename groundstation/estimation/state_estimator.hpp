@@ -228,11 +228,14 @@ class StateEstimator {
   double next_command_change(double after_t_s, double until_t_s) const;
   void drop_old_commands(double t_s);
   // One step; `plates` holds the vehicles' plates at its start and then at its end (the next
-  // step's start: computed once for both).
-  void step(double h, std::array<PlateKinematics, 2>& plates);
+  // step's start: computed once for both), and `normal_force` likewise the plate's normal force
+  // under the pole in an on-vehicle mode (none: computed at the start).
+  void step(double h, std::array<PlateKinematics, 2>& plates,
+            std::optional<NormalForceEstimate>& normal_force);
   std::array<PlateKinematics, 2> plates() const;
   void step_pole(double h, const std::array<PlateKinematics, 2>& before,
-                 const std::array<PlateKinematics, 2>& after);
+                 const std::array<PlateKinematics, 2>& after,
+                 std::optional<NormalForceEstimate>& normal_force);
   void switch_to(PoleMode mode, SwitchReason reason, double event_t_s, double detected_t_s);
   void start_over(double t_s);
   void reseed_candidates();

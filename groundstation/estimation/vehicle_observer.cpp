@@ -55,14 +55,13 @@ void VehicleObserver::predict(double dt_s, const model::VehicleInput* command, P
   const bool commanded = command != nullptr && finite_input(*command);
 
   // The acceleration and Euler rate the filter currently believes in, kept continuous when the
-  // input model changes (d and delta take up the difference).
+  // input model changes (d and delta take up the difference): only then is it evaluated.
   const model::EulerTrig eta = attitude();
-  const VehicleEstimate before = estimate(eta);
-  const Eigen::Vector3d& acc_before = before.acceleration_mps2;
-  const Eigen::Vector3d& rate_before = before.euler_rates_radps;
+  std::optional<VehicleEstimate> before;
+  if (commanded != commanded_) before = estimate(eta);
   if (commanded && !commanded_) {
-    thrust_mps2_ = (acc_before + Eigen::Vector3d(0.0, 0.0, params_.gravity_mps2)).norm();
-    rates_radps_ = before.body_rates_radps;
+    thrust_mps2_ = (before->acceleration_mps2 + Eigen::Vector3d(0.0, 0.0, params_.gravity_mps2)).norm();
+    rates_radps_ = before->body_rates_radps;
     rate_derivative_radps2_.setZero();
   }
 
@@ -85,10 +84,10 @@ void VehicleObserver::predict(double dt_s, const model::VehicleInput* command, P
     const Eigen::Vector3d w_mean = propagate_rates(dt_s, command->omega_radps);
     r = model::euler_rates_from_body_rates(eta, w_mean);  // (5)
   }
-  if (commanded != commanded_) {
+  if (before) {
     for (int i = 0; i < 3; ++i) {
-      trans_x_[i](2) = acc_before(i) - u(i);
-      att_x_[i](1) = rate_before(i) - r(i);
+      trans_x_[i](2) = before->acceleration_mps2(i) - u(i);
+      att_x_[i](1) = before->euler_rates_radps(i) - r(i);
     }
     commanded_ = commanded;
   }
