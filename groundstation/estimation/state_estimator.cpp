@@ -155,11 +155,10 @@ void StateEstimator::advance_to(double t_s) {
   }
   const double max_step = config_.max_step_s > 0.0 ? config_.max_step_s : 0.005;
   if (!(t_s_ < t_s - kTimeEps_s)) return;
-  std::array<PlateKinematics, 2> at_step = plates();
   std::optional<NormalForceEstimate> force_at_step;
   while (t_s_ < t_s - kTimeEps_s) {
     const double next = next_command_change(t_s_, std::min(t_s, t_s_ + max_step));
-    step(next - t_s_, at_step, force_at_step);
+    step(next - t_s_, force_at_step);
     t_s_ = next;
     drop_old_commands(t_s_);
   }
@@ -179,23 +178,24 @@ void StateEstimator::start_over(double t_s) {
   ++start_overs_;
 }
 
-std::array<PlateKinematics, 2> StateEstimator::plates() const {
-  std::array<PlateKinematics, 2> out;
+void StateEstimator::step(double h, std::optional<NormalForceEstimate>& normal_force) {
+  // The plates the pole's step reads: both in free flight (impacts), else only the active one's
+  // (a vehicle's plate is kept until its state changes, so a step's start is the last one's end).
+  const int active = slot_of_mode(selector_.active());
+  const auto read = [&](int i) {
+    return pole_seen_ && vehicles_[i].initialised() && (active < 0 || active == i);
+  };
+  std::array<PlateKinematics, 2> before;
+  std::array<PlateKinematics, 2> after;
   for (int i = 0; i < 2; ++i) {
-    if (vehicles_[i].initialised()) out[i] = vehicles_[i].plate();
+    if (read(i)) before[i] = vehicles_[i].plate();
   }
-  return out;
-}
-
-void StateEstimator::step(double h, std::array<PlateKinematics, 2>& plates,
-                          std::optional<NormalForceEstimate>& normal_force) {
-  const std::array<PlateKinematics, 2> before = plates;
   for (int i = 0; i < 2; ++i) {
     if (!vehicles_[i].initialised()) continue;
     vehicles_[i].predict(h, command_at(i, t_s_), propagation_);
-    plates[i] = vehicles_[i].plate();
+    if (read(i)) after[i] = vehicles_[i].plate();
   }
-  if (pole_seen_) step_pole(h, before, plates, normal_force);
+  if (pole_seen_) step_pole(h, before, after, normal_force);
 }
 
 void StateEstimator::step_pole(double h, const std::array<PlateKinematics, 2>& before,

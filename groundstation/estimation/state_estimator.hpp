@@ -227,12 +227,10 @@ class StateEstimator {
   const model::VehicleInput* command_at(int index, double t_s) const;
   double next_command_change(double after_t_s, double until_t_s) const;
   void drop_old_commands(double t_s);
-  // One step; `plates` holds the vehicles' plates at its start and then at its end (the next
-  // step's start: computed once for both), and `normal_force` likewise the plate's normal force
-  // under the pole in an on-vehicle mode (none: computed at the start).
-  void step(double h, std::array<PlateKinematics, 2>& plates,
-            std::optional<NormalForceEstimate>& normal_force);
-  std::array<PlateKinematics, 2> plates() const;
+  // One step; `normal_force` holds the plate's normal force under the pole at its start in an
+  // on-vehicle mode (none: computed there), and then at its end (the next step's start: computed
+  // once for both).
+  void step(double h, std::optional<NormalForceEstimate>& normal_force);
   void step_pole(double h, const std::array<PlateKinematics, 2>& before,
                  const std::array<PlateKinematics, 2>& after,
                  std::optional<NormalForceEstimate>& normal_force);
