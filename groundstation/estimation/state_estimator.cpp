@@ -63,7 +63,6 @@ StateEstimator::StateEstimator(const StateEstimatorConfig& config)
 // Commands and impact reports
 
 void StateEstimator::set_command(pa::VehicleId vehicle, double t_s, const model::VehicleInput& input) {
-  pole_estimate_.reset();
   if (!pa::is_act_vehicle(vehicle) || !std::isfinite(t_s) || !std::isfinite(input.a_q_mps2) ||
       !input.omega_radps.allFinite()) {
     return;
@@ -122,13 +121,11 @@ void StateEstimator::drop_old_commands(double t_s) {
 
 void StateEstimator::set_pole_measurement_sigma(pa::VehicleId vehicle, double position_m,
                                                 double direction_rad) {
-  pole_estimate_.reset();
   if (!pa::is_act_vehicle(vehicle) || !(position_m > 0.0) || !(direction_rad > 0.0)) return;
   on_[pa::act_slot(vehicle)].set_measurement_sigma(position_m, direction_rad);
 }
 
 void StateEstimator::report_impact(pa::VehicleId vehicle, double t_s) {
-  pole_estimate_.reset();
   if (!pa::is_act_vehicle(vehicle) || !std::isfinite(t_s)) return;
   impact_report_t_s_[pa::act_slot(vehicle)] = t_s;
 }
@@ -327,9 +324,14 @@ void StateEstimator::reseed_candidates() {
   }
   const int j = slot_of_mode(active);
   on_candidate_valid_ = {false, false};
-  if (selector_.accumulating(PoleMode::free) || !vehicles_[j].initialised()) return;
+  if (!free_candidate_reseeded()) return;
   const FreeFlightSeed seed = free_flight_seed_from_on_vehicle(on_[j], vehicles_[j].plate());
   free_.reset(seed.state, seed.covariance, drag_scale_, config_.drag_scale_sigma);
+}
+
+bool StateEstimator::free_candidate_reseeded() const {
+  const int j = slot_of_mode(selector_.active());
+  return j >= 0 && vehicles_[j].initialised() && !selector_.accumulating(PoleMode::free);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -515,10 +517,9 @@ void StateEstimator::update_pole(const PoleMeasurement& m) {
   }
   pole_health_.innovation(inn[mode_index(selector_.active())].nis);
 
-  // A free-flight candidate not accumulating evidence is re-seeded below whatever its correction
-  // (reseed_candidates resets its state, covariance and drag scale): it is not corrected.
-  const int j = slot_of_mode(selector_.active());
-  const bool free_reseeded = j >= 0 && vehicles_[j].initialised() && !selector_.accumulating(PoleMode::free);
+  // A free-flight candidate re-seeded below (reseed_candidates resets its state, covariance and
+  // drag scale) is not corrected first.
+  const bool free_reseeded = free_candidate_reseeded();
   for (PoleMode mode : kPoleModes) {
     const int k = mode_index(mode);
     if (!evaluated[k] || !inn[k].valid) continue;

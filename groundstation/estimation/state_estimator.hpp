@@ -237,6 +237,9 @@ class StateEstimator {
   void switch_to(PoleMode mode, SwitchReason reason, double event_t_s, double detected_t_s);
   void start_over(double t_s);
   void reseed_candidates();
+  // Whether reseed_candidates() re-seeds the free-flight candidate from the active plate's filter
+  // (an on-vehicle mode whose vehicle is known, the candidate gathering no evidence).
+  bool free_candidate_reseeded() const;
   void initialise_pole(const PoleMeasurement& m, SwitchReason reason);
   void update_pole(const PoleMeasurement& m);
   void learn_pole_length(const MocapFrame& frame);
@@ -271,8 +274,10 @@ class StateEstimator {
   int pole_rejections_ = 0;
   std::array<ModeSwitch, kSwitchLogCapacity> switch_log_{};
   std::uint64_t switch_count_ = 0;
-  // pole() since the state last changed (every non-const public method resets it): the runtime
-  // reads it about three times a frame, each an on-vehicle filter's conversion to free flight.
+  // pole() since the state last changed (update and advance_to reset it; a command, an impact
+  // report or a filter's measurement sigma changes nothing it reads until then): the runtime reads
+  // it several times a frame, between the commands it sends, each an on-vehicle filter's
+  // conversion to free flight.
   mutable std::optional<PoleEstimate> pole_estimate_;
 };
 
