@@ -115,10 +115,18 @@ void PoleFreeFlightEkf::step(double h, Propagation propagation) {
 
   // Discretised to second order in h: Phi = I + F h + (F h)^2 / 2 and
   // Q_d = M h + (F M + M F^T) h^2 / 2 (the h^3 term is below 1e-3 of M h at 5 ms steps).
+  // Nothing depends on the position, so F's first three columns are zero, and so are those of
+  // G = Phi - I: Phi P Phi^T = A + A G^T with A = P + G P, each product over the ten others
+  // (a third fewer multiplications than the full 13 x 13 ones, the same matrix to rounding).
+  static_assert(kP == 0 && kV == 3, "the position's columns come first");
+  constexpr int kMoving = kSize - kV;  // the columns of F that are not zero
   const StateCovariance fh = f * h;
-  const StateCovariance phi = StateCovariance::Identity() + fh + 0.5 * small_product(fh, fh);
+  StateCovariance g = fh;
+  g.rightCols<kMoving>() +=
+      0.5 * small_product(fh.rightCols<kMoving>(), fh.bottomRightCorner<kMoving, kMoving>());
+  const StateCovariance a = p_ + small_product(g.rightCols<kMoving>(), p_.bottomRows<kMoving>());
   const StateCovariance qd = m * h + 0.5 * h * h * (fm + fm.transpose());
-  p_ = congruence(phi, p_) + qd;
+  p_ = a + small_product(a.rightCols<kMoving>(), g.rightCols<kMoving>().transpose()) + qd;
 
   state_ = model::pole_free_flight_step(state_, h, scaled_model());
   normalise();

@@ -73,14 +73,17 @@ PoleInnovation pole_innovation(const LinearisedPoleMeasurement<N>& m, const Eige
 
 // The Kalman correction for a valid innovation `inn` of `m`: returns the state step K nu and
 // updates P in the Joseph form (kept symmetric), which stays positive definite when K is off.
+// (I - K H) P (I - K H)^T is formed as A - (A H^T) K^T with A = P - K (P H^T)^T (P symmetric):
+// products with the 5 measurement columns instead of two N x N x N ones, the same matrix to
+// rounding.
 template <int N>
 Eigen::Matrix<double, N, 1> kalman_correction(const LinearisedPoleMeasurement<N>& m,
                                               const PoleInnovation& inn, Eigen::Matrix<double, N, N>& p) {
   const PoleMeasurementMatrix s_inverse = inn.s.llt().solve(PoleMeasurementMatrix::Identity());
-  const Eigen::Matrix<double, N, kPoleMeasurementSize> k =
-      small_product(small_product(p, m.h.transpose()), s_inverse);
-  const Eigen::Matrix<double, N, N> ikh = Eigen::Matrix<double, N, N>::Identity() - small_product(k, m.h);
-  p = congruence(ikh, p) + congruence(k, m.r);
+  const Eigen::Matrix<double, N, kPoleMeasurementSize> ph = small_product(p, m.h.transpose());
+  const Eigen::Matrix<double, N, kPoleMeasurementSize> k = small_product(ph, s_inverse);
+  const Eigen::Matrix<double, N, N> a = p - small_product(k, ph.transpose());
+  p = a - small_product(small_product(a, m.h.transpose()), k.transpose()) + congruence(k, m.r);
   p = 0.5 * (p + p.transpose()).eval();
   return k * m.nu;
 }
