@@ -160,6 +160,37 @@ TEST_CASE("the free-flight Jacobian matches central differences of eq. (20)", "[
   const PoleState d1 = gs::model::pole_free_flight_derivative(s0, params.pole);
   const PoleState d0 = gs::model::pole_free_flight_derivative(s0, gs::model::without_drag(params.pole));
   CHECK((f.block<3, 1>(3, 12) - (d1.v_mps - d0.v_mps)).norm() < 1e-9);
+  // Nothing depends on the position: the covariance step multiplies over the other ten columns
+  // only (PoleFreeFlightEkf::step), exactly so while these are zero.
+  CHECK(f.leftCols<3>().isZero(0.0));
+}
+
+// kalman_correction forms the Joseph update from products with the measurement's five columns;
+// it is the textbook (I - K H) P (I - K H)^T + K R K^T, K = P H^T S^-1, to rounding.
+TEST_CASE("the Kalman correction's Joseph update is the textbook one", "[estimation]") {
+  constexpr int N = PoleFreeFlightEkf::kSize;
+  std::mt19937_64 rng(7);
+  std::normal_distribution<double> gauss;
+  for (int trial = 0; trial < 20; ++trial) {
+    Eigen::Matrix<double, N, N> a;
+    for (double& x : a.reshaped()) x = gauss(rng);
+    const Eigen::Matrix<double, N, N> p0 = a * a.transpose() + 0.1 * Eigen::Matrix<double, N, N>::Identity();
+    gs::estimation::LinearisedPoleMeasurement<N> m;
+    for (double& x : m.h.reshaped()) x = gauss(rng);
+    for (double& x : m.nu) x = gauss(rng);
+    m.r = gs::estimation::pole_measurement_noise(0.002, 0.01);
+    const gs::estimation::PoleInnovation inn = gs::estimation::pole_innovation(m, p0);
+    REQUIRE(inn.valid);
+    Eigen::Matrix<double, N, N> p = p0;
+    const Eigen::Matrix<double, N, 1> dx = gs::estimation::kalman_correction(m, inn, p);
+
+    const Eigen::Matrix<double, N, 5> k = p0 * m.h.transpose() * inn.s.inverse();
+    const Eigen::Matrix<double, N, N> ikh = Eigen::Matrix<double, N, N>::Identity() - k * m.h;
+    const Eigen::Matrix<double, N, N> joseph = ikh * p0 * ikh.transpose() + k * m.r * k.transpose();
+    CHECK((p - joseph).norm() < 1e-10 * p0.norm());
+    CHECK((p - p.transpose()).norm() == 0.0);
+    CHECK((dx - k * m.nu).norm() < 1e-10 * (1.0 + dx.norm()));
+  }
 }
 
 TEST_CASE("the free-flight EKF is consistent on the truth world's flight", "[estimation]") {
