@@ -6,16 +6,14 @@
 // than their map, more drag than the coefficients say) leaves the same error at the launch every
 // time: the feedback only reacts to it. After throw k, with the launch-state error
 //     e_k = s_flown(T) - s_planned(T)        (x, z, x', z', alpha, alpha' of the Fig. 5 state)
-// the next throw tracks the plan shifted by a correction c, blended in over the throw (zero at
-// its start, where the plan starts from hover, and c at T):
-//     s_ref(tau) = s_planned(tau) + sigma(tau / T) c,   sigma(u) = 3u^2 - 2u^3,
-// and c moves against the error:
+// the next throw tracks the plan shifted by a correction c, blended in over the throw
+// (planning/throw_correction.hpp: s_ref(tau) = s_planned(tau) + sigma(tau / T) c), and c moves
+// against the error:
 //     c_{k+1} = c_k - gain (G^T G + lambda I)^-1 G^T e_k.
-// G is the sensitivity of the flown end state to c: the tracking loop follows a shifted
-// reference only in part, and a shift of one component moves others (a higher velocity
-// reference also moves the position). It comes from the closed loop linearised along the plan,
-//     ds' = (A - B K) ds + B K sigma c,   G c = ds(T),
-// with the TV-LQR's K (throw_sensitivity). G is far from diagonal (an alpha shift moves x most)
+// G is the sensitivity of the flown end state to c (planning::end_shift_sensitivity, carried by
+// the shared Fig. 5 throw): the tracking loop follows a shifted reference only in part, and a
+// shift of one component moves others (a higher velocity reference also moves the position).
+// G is far from diagonal (an alpha shift moves x most)
 // and its plain inverse has entries near 20, which amplify the difference between the model's G
 // and the plant's (its rate loop, latencies, the drag): in the closed loop with motors 5 % weak
 // and 30 % more drag (tests/hil/throw_learning_test.cpp) the plain inverse and lambda 0.01
@@ -57,10 +55,6 @@ struct ThrowCorrection {
   int throws = 0;                                 // errors learnt from
 };
 
-// G for the tracker's plan and gains (see above), by integrating the linearised closed loop in
-// steps of step_s.
-LaunchMatrix throw_sensitivity(const planning::ThrowTracker& tracker, double step_s = 0.001);
-
 // (G^T G + lambda I)^-1 G^T.
 LaunchMatrix damped_inverse(const LaunchMatrix& g, double lambda);
 
@@ -69,10 +63,5 @@ ThrowCorrection learn_from_throw(const ThrowCorrection& correction, const planni
                                  const planning::PlanarLaunchState& planned,
                                  const ThrowLearningSettings& settings,
                                  const LaunchMatrix& inverse_sensitivity);
-
-// The shift of the reference at tau into a throw of duration T: sigma(tau / T) c in the planar
-// state's layout (theta unshifted).
-model::PlanarState<double> reference_shift(const ThrowCorrection& correction, double tau_s,
-                                           double duration_s);
 
 }  // namespace gs::adaptation

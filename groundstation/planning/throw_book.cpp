@@ -15,8 +15,9 @@ std::shared_ptr<const Fig5Throw> plan_fig5_throw(const model::VehicleLimits& lim
   if (!plan.success) throw std::runtime_error("the throw could not be planned: " + plan.status);
   ThrowTracker tracker(plan.trajectory, weights);
   if (!tracker.valid()) throw std::runtime_error("the throw's TV-LQR could not be designed");
+  const EndShiftSensitivity sensitivity = end_shift_sensitivity(tracker);
   return std::make_shared<const Fig5Throw>(
-      Fig5Throw{limits, weights, problem, std::move(plan), std::move(tracker)});
+      Fig5Throw{limits, weights, problem, std::move(plan), std::move(tracker), sensitivity});
 }
 
 ThrowBook::ThrowBook(const model::VehicleLimits& limits, const ThrowTrackingWeights& weights,

@@ -11,6 +11,7 @@
 
 #include "groundstation/model/vehicle_limits.hpp"
 #include "groundstation/planning/target_throw.hpp"
+#include "groundstation/planning/throw_correction.hpp"
 #include "groundstation/planning/throw_planner.hpp"
 #include "groundstation/planning/throw_problem.hpp"
 #include "groundstation/planning/throw_tracking.hpp"
@@ -33,6 +34,7 @@ struct Fig5Throw {
   ThrowProblem problem;
   ThrowPlan plan;
   ThrowTracker tracker;
+  EndShiftSensitivity end_shift_sensitivity;  // G of the learnt throw (throw_correction.hpp)
   bool planned_for(const model::VehicleLimits& l, const ThrowTrackingWeights& w) const {
     return limits == l && weights == w;
   }

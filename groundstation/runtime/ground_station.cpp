@@ -23,7 +23,7 @@ adaptation::Learner make_learner(const GroundStationConfig& config, const planni
   return adaptation::Learner(config.learning, adaptation::nominal_adaptation_settings(pole),
                              nominal.found ? nominal.t_s : config.fallback_catch_instant_s,
                              planned_launch(throws),
-                             adaptation::damped_inverse(adaptation::throw_sensitivity(throws.tracker()),
+                             adaptation::damped_inverse(throws.fig5()->end_shift_sensitivity,
                                                         config.learning.throw_learning.damping),
                              config.learnt, config.adaptation_store_path);
 }

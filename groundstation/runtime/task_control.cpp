@@ -7,6 +7,7 @@
 #include "groundstation/control/balancing_lqr.hpp"
 #include "groundstation/control/hover_lqr.hpp"
 #include "groundstation/planning/throw_command.hpp"
+#include "groundstation/planning/throw_correction.hpp"
 #include "pa/constants.hpp"
 
 namespace gs::runtime {
@@ -123,7 +124,7 @@ TaskCommand TaskController::command(TaskState& s, const TaskFrame& f, const Flow
       // cost); taken as the throw starts, since the filter's estimate of it moves while the
       // throw accelerates (the learnt throw's error grew, throw_learning_test).
       const model::PlanarState<double> shift =
-          flown.correction ? adaptation::reference_shift(*flown.correction, tau, duration_s)
+          flown.correction ? planning::reference_shift(flown.correction->end_shift, tau, duration_s)
                            : model::PlanarState<double>::Zero();
       const planning::ThrowStep step = planning::throw_step(
           *flown.tracker, balancing_, tau, flown.frame, control::Pivot{f.plate.p_m, f.plate.v_mps},

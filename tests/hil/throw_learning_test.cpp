@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "groundstation/planning/throw_correction.hpp"
 #include "hil/trials/series.hpp"
 
 namespace {
@@ -71,9 +72,9 @@ TEST_CASE("a throw's launch error moves the correction against it, within bounds
   CHECK(gs::adaptation::learn_from_throw(once, flown, planned, settings, kIdentity).end_shift ==
         once.end_shift);
   // The reference shift is zero at the throw's start and the whole correction at its end.
-  CHECK(gs::adaptation::reference_shift(once, 0.0, 2.5).isZero());
-  CHECK(gs::adaptation::reference_shift(once, 2.5, 2.5)(gs::model::planar::kVz) == Approx(0.1));
-  CHECK(gs::adaptation::reference_shift(once, 1.25, 2.5)(gs::model::planar::kVz) == Approx(0.05));
+  CHECK(gs::planning::reference_shift(once.end_shift, 0.0, 2.5).isZero());
+  CHECK(gs::planning::reference_shift(once.end_shift, 2.5, 2.5)(gs::model::planar::kVz) == Approx(0.1));
+  CHECK(gs::planning::reference_shift(once.end_shift, 1.25, 2.5)(gs::model::planar::kVz) == Approx(0.05));
 }
 
 TEST_CASE("with weak motors and high drag the learning takes 40 % off the launch error after 10 throws",
