@@ -13,13 +13,13 @@
 // G is the sensitivity of the flown end state to c (planning::end_shift_sensitivity, carried by
 // the shared Fig. 5 throw): the tracking loop follows a shifted reference only in part, and a
 // shift of one component moves others (a higher velocity reference also moves the position).
-// G is far from diagonal (an alpha shift moves x most)
-// and its plain inverse has entries near 20, which amplify the difference between the model's G
-// and the plant's (its rate loop, latencies, the drag): in the closed loop with motors 5 % weak
-// and 30 % more drag (tests/hil/throw_learning_test.cpp) the plain inverse and lambda 0.01
-// diverged, lambda 0.1 to 1 oscillated, and lambda 3 brought the error down steadily, to 0.4 to
-// 0.5 of the first throw's from the 8th throw on; with G the identity the position overshot (a
-// velocity correction moved x as much as the x correction did). Each correction component is
+// G is far from diagonal (an alpha shift moves x most) and its plain inverse has entries near
+// 20, which amplify the difference between the model's G and the plant's (its rate loop,
+// latencies, the drag): in the closed loop with motors 5 % weak and 30 % more drag
+// (tests/hil/throw_learning_test.cpp) the plain inverse and lambda 0.01 diverged, lambda 0.1 to
+// 1 oscillated, and lambda 3 brought the error down steadily, to 0.4 to 0.5 of the first throw's
+// from the 8th throw on; with G the identity the position overshot (a velocity correction moved
+// x as much as the x correction did). Each correction component is
 // bounded, and a throw whose error exceeds a bound is not learnt from (a launch far from the plan
 // is a failed or spoiled throw, not a model error that repeats).
 //
@@ -28,9 +28,9 @@
 // current epoch rebuilds it.
 #pragma once
 
-#include "groundstation/model/planar_pole_vehicle.hpp"
+#include <Eigen/Core>
+
 #include "groundstation/planning/catching_instant.hpp"
-#include "groundstation/planning/throw_tracking.hpp"
 
 namespace gs::adaptation {
 

@@ -21,7 +21,7 @@ namespace gs::planning {
 using EndShift = Eigen::Matrix<double, 6, 1>;             // c, in launch-state order
 using EndShiftSensitivity = Eigen::Matrix<double, 6, 6>;  // G
 
-// sigma(tau / T) c as a planar state (tau clamped to [0, T]).
+// sigma(tau / T) c as a planar state (tau clamped to [0, T]; the vehicle's pitch theta unshifted).
 model::PlanarState<double> reference_shift(const EndShift& end_shift, double tau_s, double duration_s);
 
 // G for the tracker's plan and gains, integrating the linearised closed loop (RK4) in steps of
