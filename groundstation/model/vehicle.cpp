@@ -75,8 +75,8 @@ namespace {
 // angle overloads evaluate no yaw.
 // The columns of W are the body-frame images of the three Euler axes: e_x for phi',
 // R_x(phi) e_y for theta', R_x(phi) R_y(theta) e_z for psi'. That is the printed matrix of (5).
-Eigen::Vector3d body_rates_from_euler_rates(double sp, double cp, double st, double ct,
-                                            const Eigen::Vector3d& euler_rates_radps) {
+Eigen::Vector3d body_rates_from_trig(double sp, double cp, double st, double ct,
+                                     const Eigen::Vector3d& euler_rates_radps) {
   Eigen::Matrix3d w;
   w << 1.0, 0.0, -st, 0.0, cp, sp * ct, 0.0, -sp, cp * ct;
   return w * euler_rates_radps;
@@ -86,8 +86,8 @@ Eigen::Vector3d body_rates_from_euler_rates(double sp, double cp, double st, dou
 //   phi'   = Omega_x + tan(theta) (sin(phi) Omega_y + cos(phi) Omega_z)
 //   theta' = cos(phi) Omega_y - sin(phi) Omega_z
 //   psi'   = (sin(phi) Omega_y + cos(phi) Omega_z) / cos(theta)
-Eigen::Vector3d euler_rates_from_body_rates(double sp, double cp, double ct, double theta_rad,
-                                            const Eigen::Vector3d& body_rates_radps) {
+Eigen::Vector3d euler_rates_from_trig(double sp, double cp, double ct, double theta_rad,
+                                      const Eigen::Vector3d& body_rates_radps) {
   const double yz = sp * body_rates_radps.y() + cp * body_rates_radps.z();
   return {body_rates_radps.x() + std::tan(theta_rad) * yz,
           cp * body_rates_radps.y() - sp * body_rates_radps.z(), yz / ct};
@@ -96,23 +96,23 @@ Eigen::Vector3d euler_rates_from_body_rates(double sp, double cp, double ct, dou
 }  // namespace
 
 Eigen::Vector3d body_rates_from_euler_rates(const EulerTrig& a, const Eigen::Vector3d& euler_rates_radps) {
-  return body_rates_from_euler_rates(a.sin_phi, a.cos_phi, a.sin_theta, a.cos_theta, euler_rates_radps);
+  return body_rates_from_trig(a.sin_phi, a.cos_phi, a.sin_theta, a.cos_theta, euler_rates_radps);
 }
 
 Eigen::Vector3d body_rates_from_euler_rates(double phi_rad, double theta_rad,
                                             const Eigen::Vector3d& euler_rates_radps) {
-  return body_rates_from_euler_rates(std::sin(phi_rad), std::cos(phi_rad), std::sin(theta_rad),
-                                     std::cos(theta_rad), euler_rates_radps);
+  return body_rates_from_trig(std::sin(phi_rad), std::cos(phi_rad), std::sin(theta_rad), std::cos(theta_rad),
+                              euler_rates_radps);
 }
 
 Eigen::Vector3d euler_rates_from_body_rates(const EulerTrig& a, const Eigen::Vector3d& body_rates_radps) {
-  return euler_rates_from_body_rates(a.sin_phi, a.cos_phi, a.cos_theta, a.theta_rad, body_rates_radps);
+  return euler_rates_from_trig(a.sin_phi, a.cos_phi, a.cos_theta, a.theta_rad, body_rates_radps);
 }
 
 Eigen::Vector3d euler_rates_from_body_rates(double phi_rad, double theta_rad,
                                             const Eigen::Vector3d& body_rates_radps) {
-  return euler_rates_from_body_rates(std::sin(phi_rad), std::cos(phi_rad), std::cos(theta_rad), theta_rad,
-                                     body_rates_radps);
+  return euler_rates_from_trig(std::sin(phi_rad), std::cos(phi_rad), std::cos(theta_rad), theta_rad,
+                               body_rates_radps);
 }
 
 // ^I_B R e_z is the third row of ^B_I R = R_x R_y R_z.

@@ -53,6 +53,7 @@ class ThrowBook {
   const ThrowProblem& problem() const { return fig5_->problem; }
   const ThrowPlan& plan() const { return fig5_->plan; }
   const ThrowTracker& tracker() const { return fig5_->tracker; }
+  const EndShiftSensitivity& end_shift_sensitivity() const { return fig5_->end_shift_sensitivity; }
   const std::shared_ptr<const Fig5Throw>& fig5() const { return fig5_; }
 
   // A throw from `origin_m` whose pole comes down on `target_m` (its lower end at the optimal

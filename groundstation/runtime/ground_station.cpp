@@ -20,12 +20,11 @@ adaptation::Learner make_learner(const GroundStationConfig& config, const planni
   const model::PoleParams& pole = config.estimator.free_flight.pole;
   const planning::CatchingInstant nominal = planning::find_catching_instant(
       planning::pole_state_at_launch(planning::fig5_launch_state(), pole), pole);
-  return adaptation::Learner(config.learning, adaptation::nominal_adaptation_settings(pole),
-                             nominal.found ? nominal.t_s : config.fallback_catch_instant_s,
-                             planned_launch(throws),
-                             adaptation::damped_inverse(throws.fig5()->end_shift_sensitivity,
-                                                        config.learning.throw_learning.damping),
-                             config.learnt, config.adaptation_store_path);
+  return adaptation::Learner(
+      config.learning, adaptation::nominal_adaptation_settings(pole),
+      nominal.found ? nominal.t_s : config.fallback_catch_instant_s, planned_launch(throws),
+      adaptation::damped_inverse(throws.end_shift_sensitivity(), config.learning.throw_learning.damping),
+      config.learnt, config.adaptation_store_path);
 }
 
 // "ARM refused: imu_unhealthy", "ARM not answered": what the vehicle made of a command that failed.

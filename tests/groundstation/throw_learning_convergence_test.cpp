@@ -43,7 +43,7 @@ double spectral_radius(const LaunchMatrix& m) { return m.eigenvalues().cwiseAbs(
 TEST_CASE("the throw's learning converges on the model's sensitivity and on plants 30 % off it",
           "[throw_learning]") {
   const gs::adaptation::ThrowLearningSettings settings;
-  const LaunchMatrix g = book().fig5()->end_shift_sensitivity;
+  const LaunchMatrix g = book().end_shift_sensitivity();
   const LaunchMatrix inverse = gs::adaptation::damped_inverse(g, settings.damping);
   const LaunchMatrix identity = LaunchMatrix::Identity();
 
@@ -86,7 +86,7 @@ TEST_CASE("the throw's learning converges on the model's sensitivity and on plan
 TEST_CASE("a repeating launch error is learnt away and the correction settles within its bounds",
           "[throw_learning]") {
   const gs::adaptation::ThrowLearningSettings settings;
-  const LaunchMatrix g = book().fig5()->end_shift_sensitivity;
+  const LaunchMatrix g = book().end_shift_sensitivity();
   const LaunchMatrix inverse = gs::adaptation::damped_inverse(g, settings.damping);
   const gs::planning::PlanarLaunchState planned = gs::planning::fig5_launch_state();
   // A weak thrower's error: launched 0.3 m/s slow upwards, 5 cm low, 0.03 rad less tilted.
