@@ -38,4 +38,9 @@ std::optional<double> PoleLengthLearner::learnt() const {
   return mean_m_;
 }
 
+std::optional<double> PoleLengthLearner::estimate() const {
+  if (count_ == 0) return std::nullopt;
+  return mean_m_;
+}
+
 }  // namespace gs::estimation

@@ -377,13 +377,13 @@ void StateEstimator::learn_pole_length(const MocapFrame& frame) {
   const std::optional<double> sample = pole_half_length_sample(
       *frame.vehicle[i], *frame.pole, config_.vehicle.plate_height_m, config_.pole_length);
   if (!sample || !pole_length_.add(*sample)) return;
-  const std::optional<double> learnt = pole_length_.learnt();
+  const std::optional<double> length = pole_length_.estimate();
   // A tenth of a millimetre changes nothing the filters could tell; skip the copies.
-  if (!learnt || std::abs(*learnt - config_.on_vehicle.pole.half_length_m) < 1e-4) return;
-  config_.on_vehicle.pole.half_length_m = *learnt;
-  config_.free_flight.pole.half_length_m = *learnt;
-  free_.set_pole_half_length(*learnt);
-  for (PoleOnVehicleEkf& filter : on_) filter.set_pole_half_length(*learnt);
+  if (!length || std::abs(*length - config_.on_vehicle.pole.half_length_m) < 1e-4) return;
+  config_.on_vehicle.pole.half_length_m = *length;
+  config_.free_flight.pole.half_length_m = *length;
+  free_.set_pole_half_length(*length);
+  for (PoleOnVehicleEkf& filter : on_) filter.set_pole_half_length(*length);
 }
 
 void StateEstimator::initialise_pole(const PoleMeasurement& m, SwitchReason reason) {

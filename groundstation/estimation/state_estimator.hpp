@@ -59,8 +59,8 @@ struct StateEstimatorConfig {
   ModeSelectorParams selector;
   PlateContactGate candidate_gate;  // where an on-vehicle candidate is seeded at all
   // The pole's half length learnt while it rests on a plate (pole_length.hpp), in force in the
-  // filters from the moment it is learnt; false: the configured L throughout. The learner's
-  // nominal is the configured L.
+  // filters from its first sample on (the mean so far until it is learnt); false: the configured
+  // L throughout. The learner's nominal is the configured L.
   bool learn_pole_length = true;
   PoleLengthParams pole_length;
   // After a switch the innovations do not switch again for this long: a freshly seeded filter's
