@@ -32,7 +32,10 @@ double pole_measurement_sigma(double motor_lag_s, double mocap_noise, const Pole
   return trust.trusting_sigma + f * (trust.wary_sigma - trust.trusting_sigma);
 }
 
-PoleOnVehicleEkf::PoleOnVehicleEkf(const PoleOnVehicleEkfParams& params) : params_(params) {}
+PoleOnVehicleEkf::PoleOnVehicleEkf(const PoleOnVehicleEkfParams& params)
+    : params_(params),
+      gain_position_sigma_m_(params.mocap_position_sigma_m),
+      gain_direction_sigma_rad_(params.mocap_direction_sigma_rad) {}
 
 void PoleOnVehicleEkf::reset(const StateVector& state, const StateCovariance& covariance,
                              double direction_sign) {
@@ -133,15 +136,31 @@ LinearisedPoleMeasurement<PoleOnVehicleEkf::kSize> PoleOnVehicleEkf::linearise(
   out.h.block<3, 2>(0, kA) = dr;
   out.h.block<3, 2>(0, kOx) = plate.inertial_from_body.leftCols<2>();
   out.h.block<2, 2>(3, kA) = b.transpose() * dr / length;
-  out.r = pole_measurement_noise(params_.mocap_position_sigma_m, params_.mocap_direction_sigma_rad,
-                                 plate.position_variance_m2);
+  out.r =
+      pole_measurement_noise(gain_position_sigma_m_, gain_direction_sigma_rad_, plate.position_variance_m2);
   return out;
 }
 
 PoleInnovation PoleOnVehicleEkf::innovation(const PoleMeasurement& measurement,
                                             const PlateKinematics& plate) const {
   if (!valid_) return {};
-  return pole_innovation(linearise(measurement, plate), p_);
+  const LinearisedPoleMeasurement<kSize> m = linearise(measurement, plate);
+  PoleInnovation inn = pole_innovation(m, p_);
+  if (gain_position_sigma_m_ == params_.mocap_position_sigma_m &&
+      gain_direction_sigma_rad_ == params_.mocap_direction_sigma_rad) {
+    return inn;
+  }
+  // The gain's S stays (the update uses it); the evidence is judged on the motion capture's
+  // noise (set_measurement_sigma).
+  const PoleMeasurementMatrix judged =
+      inn.s - m.r +
+      pole_measurement_noise(params_.mocap_position_sigma_m, params_.mocap_direction_sigma_rad,
+                             plate.position_variance_m2);
+  const PoleInnovation evidence = make_pole_innovation(inn.nu, judged);
+  inn.valid = inn.valid && evidence.valid;
+  inn.nis = evidence.nis;
+  inn.log_likelihood = evidence.log_likelihood;
+  return inn;
 }
 
 PoleInnovation PoleOnVehicleEkf::update(const PoleMeasurement& measurement, const PlateKinematics& plate) {

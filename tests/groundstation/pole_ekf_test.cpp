@@ -363,7 +363,8 @@ TEST_CASE("a vehicle with slower motors or in noisier poses trusts them less", "
   CHECK(pole_measurement_sigma(nan, nan, trust) == trust.trusting_sigma);
 }
 
-TEST_CASE("an on-vehicle EKF that trusts the poses less moves less towards one", "[estimation]") {
+TEST_CASE("an on-vehicle EKF that trusts the poses less moves less towards one, judged as any other",
+          "[estimation]") {
   // Both filters start from the same upright pole; one pose 5 mm aside pulls each.
   gs::estimation::PlateKinematics plate;
   plate.p_m = Eigen::Vector3d(0.0, 0.0, 1.0);
@@ -376,12 +377,21 @@ TEST_CASE("an on-vehicle EKF that trusts the poses less moves less towards one",
   PoleOnVehicleEkf trusting;
   PoleOnVehicleEkf wary;
   wary.set_measurement_sigma(3e-3, 3e-3);
-  CHECK(wary.params().mocap_position_sigma_m == 3e-3);
-  CHECK(wary.params().mocap_direction_sigma_rad == 3e-3);
+  CHECK(wary.gain_position_sigma_m() == 3e-3);
+  CHECK(wary.gain_direction_sigma_rad() == 3e-3);
   trusting.reset(seed->state, seed->covariance, seed->direction_sign);
   wary.reset(seed->state, seed->covariance, seed->direction_sign);
   PoleMeasurement m{s.p_m, s.n};
   m.p_m.x() += 0.005;
+  // The gain's innovation covariance is the wary one, the evidence the same: the mode selector
+  // judges both against the same motion capture.
+  const gs::estimation::PoleInnovation inn_trusting = trusting.innovation(m, plate);
+  const gs::estimation::PoleInnovation inn_wary = wary.innovation(m, plate);
+  REQUIRE(inn_trusting.valid);
+  REQUIRE(inn_wary.valid);
+  CHECK(inn_wary.s(0, 0) > inn_trusting.s(0, 0) + 7e-6);
+  CHECK(inn_wary.nis == Approx(inn_trusting.nis).epsilon(1e-9));
+  CHECK(inn_wary.log_likelihood == Approx(inn_trusting.log_likelihood).epsilon(1e-9));
   trusting.update(m, plate);
   wary.update(m, plate);
   const double moved_trusting = (trusting.state() - seed->state).norm();

@@ -212,6 +212,25 @@ TEST_CASE("no mode switch during a balanced hover", "[estimation]") {
   CHECK(max_error < 0.005);
 }
 
+TEST_CASE("a pole filter that trusts the poses less is judged as any other: no switch in a balanced hover",
+          "[estimation]") {
+  // A slow-motored vehicle's pole filter gives the poses 3 mm (PoleTrust). Judged on its own
+  // sigma, its log-likelihood lost about 5.5 nats a frame to the free-flight candidate's on
+  // 1 mm, and the selector called the balanced pole free and back every few frames.
+  const Recording rec = estimation_test::record_balanced_hover(WorldParams{}, 7, 5.0);
+  REQUIRE_FALSE(rec.launch_t);
+  StateEstimator est(estimator_for());
+  est.set_pole_measurement_sigma(pa::kVehicle1, 3e-3, 3e-3);
+  run(rec, est);
+  int innovation_switches = 0;
+  for (const gs::estimation::ModeSwitch& s : est.recent_switches())
+    innovation_switches += s.reason == gs::estimation::SwitchReason::innovation ? 1 : 0;
+  std::printf("balanced hover, 5 s, the pole filter at 3 mm: %d switches on the innovations\n",
+              innovation_switches);
+  CHECK(innovation_switches == 0);
+  CHECK(est.mode() == PoleMode::on_vehicle1);
+}
+
 TEST_CASE("the pole's half length is learnt while it is balanced, and used by the filters", "[estimation]") {
   WorldParams world;
   world.pole_half_length_m = pa::kPoleHalfLength_m - 0.013;  // 2 % short of the configured L
