@@ -296,6 +296,7 @@ void StateEstimator::switch_to(PoleMode mode, SwitchReason reason, double event_
   s.reason = reason;
   switch_log_[switch_count_ % kSwitchLogCapacity] = s;
   ++switch_count_;
+  ++switch_count_by_reason_[static_cast<int>(reason)];
   mode_since_s_ = event_t_s;
   last_switch_detected_s_ = detected_t_s;
   if (mode != PoleMode::free) impact_report_t_s_[slot_of_mode(mode)] = kNan;

@@ -149,6 +149,7 @@ enum class SwitchReason : std::uint8_t {
   filter_invalid,  // the active on-vehicle filter lost its geometry (pole fell over)
   reinitialised,   // no mode explained the pole's poses: started over from them
 };
+inline constexpr int kSwitchReasonCount = static_cast<int>(SwitchReason::reinitialised) + 1;
 std::string_view switch_reason_name(SwitchReason reason);
 
 struct ModeSwitch {
@@ -198,6 +199,11 @@ class StateEstimator {
 
   EstimatorHealth health(double t_now_s) const;
   std::uint64_t switch_count() const { return switch_count_; }
+  // Those for one reason: a campaign counts the switches on the innovations, the selector's
+  // health (a balanced pole called free and back is a filter that explains its poses badly).
+  std::uint64_t switch_count(SwitchReason reason) const {
+    return switch_count_by_reason_[static_cast<int>(reason)];
+  }
   std::uint64_t start_over_count() const { return start_overs_; }
   std::optional<ModeSwitch> last_switch() const;
   // Up to kSwitchLogCapacity most recent switches, oldest first.
@@ -274,6 +280,7 @@ class StateEstimator {
   int pole_rejections_ = 0;
   std::array<ModeSwitch, kSwitchLogCapacity> switch_log_{};
   std::uint64_t switch_count_ = 0;
+  std::array<std::uint64_t, kSwitchReasonCount> switch_count_by_reason_{};
   // pole() since the state last changed (update and advance_to reset it; a command, an impact
   // report or a filter's measurement sigma changes nothing it reads until then): the runtime reads
   // it several times a frame, between the commands it sends, each an on-vehicle filter's

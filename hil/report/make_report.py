@@ -27,7 +27,7 @@ NO_MATPLOTLIB = 3
 # The columns of throws.csv before a campaign's drawn parameters.
 RESULT_COLUMNS = {"throw", "outcome", "flight_s", "catch_height_m", "catch_x_m", "catch_y_m", "travel_m",
                   "energy_error_J", "abort_reason", "vehicle_crashed", "seed", "planned_height_m",
-                  "optimal_height_m", "thrower"}
+                  "optimal_height_m", "thrower", "innovation_switches"}
 NOT_A_CATCH = {"throw_only", "offset_practice"}  # attempts that did not try to catch
 ANIMATION_PERIOD_S = 0.02  # 50 Hz
 OUTCOME_COLOURS = {"caught": "tab:green", "dropped": "tab:orange", "missed": "tab:red", "aborted": "tab:purple",

@@ -21,6 +21,7 @@ const Schema<AttemptResult>& attempt_schema() {
       field("predicted_target_miss_m", &R::predicted_target_miss_m, "%.4f"),
       field("target_miss_m", &R::target_miss_m, "%.4f"),
       field("thrower", &R::thrower),
+      field("innovation_switches", &R::innovation_switches),
   };
   return schema;
 }

@@ -32,6 +32,9 @@ struct AttemptResult {
   // catch-point prediction and the true impact were (-1: none).
   double predicted_target_miss_m = -1.0;
   double target_miss_m = -1.0;
+  // The ground station's pole mode switches on the innovations during the attempt (its
+  // estimator's health, not the referee's judgement): a balanced pole called free and back.
+  int innovation_switches = 0;
 };
 
 // Every field of AttemptResult, in the order of throws.csv's columns and then the rest.

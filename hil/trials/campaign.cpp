@@ -49,7 +49,7 @@ Schema<CampaignAttempt> campaign_throws_columns(const PlantConfig& plant) {
   for (const Field<AttemptResult>& f :
        columns(attempt_schema(), {"throw", "outcome", "flight_s", "catch_height_m", "catch_x_m", "catch_y_m",
                                   "travel_m", "energy_error_J", "abort_reason", "vehicle_crashed",
-                                  "planned_height_m", "optimal_height_m", "thrower"}))
+                                  "planned_height_m", "optimal_height_m", "thrower", "innovation_switches"}))
     out.push_back(column_of<CampaignAttempt>(f, result));
   out.push_back(field("seed", &CampaignAttempt::seed));
   const std::vector<DrawnParameter> drawn = drawn_parameters(plant);

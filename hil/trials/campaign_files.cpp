@@ -88,7 +88,9 @@ std::string shard_name(CampaignShard s) { return std::to_string(s.index) + "/" +
 std::string campaign_summary(const std::vector<AttemptResult>& results) {
   std::map<std::string, int> failures;
   int caught = 0, crashed = 0;
+  long long innovation_switches = 0;
   for (const AttemptResult& r : results) {
+    innovation_switches += r.innovation_switches;
     if (r.outcome == gs::adaptation::ThrowOutcome::caught) {
       ++caught;
     } else {
@@ -111,7 +113,9 @@ std::string campaign_summary(const std::vector<AttemptResult>& results) {
     out += line + cause + "\n";
   }
   out += "  vehicles crashed in " + std::to_string(crashed) + " attempts\n";
-  return out;
+  std::snprintf(line, sizeof line, "  pole mode switches on the innovations: %lld (%.2f an attempt)\n",
+                innovation_switches, static_cast<double>(innovation_switches) / n);
+  return out + line;
 }
 
 std::string plant_hash(const PlantConfig& plant) {

@@ -2,7 +2,8 @@
 // whole: one writer for both, so that merged shards are the one-process campaign byte for byte.
 //
 // A campaign's folder: throws.csv (a row per attempt: campaign_throws_columns()) and summary.txt
-// (campaign_summary(): the catch rate with its interval, the failures by cause, the crashes).
+// (campaign_summary(): the catch rate with its interval, the failures by cause, the crashes, the
+// ground station's pole mode switches on the innovations).
 //
 // A shard's folder (`hil campaign --shard K/N --out DIR`), what the merge needs and no more:
 //   plant.yaml    the nominal plant, canonical (format_plant_config(): every value exact)

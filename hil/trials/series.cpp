@@ -314,6 +314,8 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
   request.target_xy_m = plan.target_xy_m;
   request.thrower_catches_next = plan.thrower_catches_next;
   const std::size_t reports_before = gs_.attempts().size();
+  const std::uint64_t innovation_switches_before =
+      gs_.estimator().switch_count(gs::estimation::SwitchReason::innovation);
   const pa::VehicleId thrower = request.thrower;
   const pa::VehicleId catcher = pa::other_vehicle(thrower);
   r.thrower = thrower.node();
@@ -457,6 +459,8 @@ AttemptResult SeriesRunner::fly(const AttemptPlan& plan, int number) {
     r.outcome = ThrowOutcome::missed;
   }
   if (!r.impact) r.energy_error_J = 0.0;
+  r.innovation_switches = static_cast<int>(
+      gs_.estimator().switch_count(gs::estimation::SwitchReason::innovation) - innovation_switches_before);
   if (report) r.planned_height_m = report->catch_height_m;
   if (report && report->predicted_optimal) r.optimal_height_m = report->predicted_optimal->height_m;
   if (report)

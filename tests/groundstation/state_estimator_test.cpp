@@ -222,12 +222,17 @@ TEST_CASE("a pole filter that trusts the poses less is judged as any other: no s
   StateEstimator est(estimator_for());
   est.set_pole_measurement_sigma(pa::kVehicle1, 3e-3, 3e-3);
   run(rec, est);
-  int innovation_switches = 0;
+  using gs::estimation::SwitchReason;
+  int logged = 0;
   for (const gs::estimation::ModeSwitch& s : est.recent_switches())
-    innovation_switches += s.reason == gs::estimation::SwitchReason::innovation ? 1 : 0;
-  std::printf("balanced hover, 5 s, the pole filter at 3 mm: %d switches on the innovations\n",
-              innovation_switches);
-  CHECK(innovation_switches == 0);
+    logged += s.reason == SwitchReason::innovation ? 1 : 0;
+  const std::uint64_t counted = est.switch_count(SwitchReason::innovation);
+  std::printf("balanced hover, 5 s, the pole filter at 3 mm: %llu switches on the innovations\n",
+              static_cast<unsigned long long>(counted));
+  CHECK(counted == 0);
+  CHECK(logged == 0);
+  CHECK(est.switch_count(SwitchReason::initial) == 1);
+  CHECK(est.switch_count() == 1);
   CHECK(est.mode() == PoleMode::on_vehicle1);
 }
 
@@ -263,6 +268,12 @@ TEST_CASE("the pole's half length is learnt while it is balanced, and used by th
   std::printf("mode switches after the initial one: %d learning (%d after 1 s), %d on the configured L\n",
               switches_after(learning, 0.0), switches_after(learning, 1.0), switches_after(fixed, 0.0));
   CHECK(switches_after(learning, 0.0) == 0);
+  // The count by reason is the log's (41 switches fit its 64 entries).
+  int logged = 0;
+  for (const gs::estimation::ModeSwitch& s : fixed.recent_switches())
+    logged += s.reason == gs::estimation::SwitchReason::innovation ? 1 : 0;
+  CHECK(logged > 10);
+  CHECK(fixed.switch_count(gs::estimation::SwitchReason::innovation) == static_cast<std::uint64_t>(logged));
   CHECK(fixed.pole_model().half_length_m == pa::kPoleHalfLength_m);
 }
 

@@ -1,6 +1,6 @@
 // A campaign (hil/trials/campaign.hpp): its results depend on the seed alone, whatever the number of
 // worker processes; the drawn parameters it records are the plant's own keys (the workers'
-// reports: trial_records_test.cpp).
+// reports: trial_records_test.cpp); its summary adds up the attempts.
 #include "hil/trials/campaign.hpp"
 
 #include <catch2/catch.hpp>
@@ -9,6 +9,7 @@
 #include <string>
 
 #include "hil/plant/randomisation.hpp"
+#include "hil/trials/campaign_files.hpp"
 #include "hil/trials/trial_config.hpp"
 
 TEST_CASE("the drawn parameters are the plant configuration's keys", "[hil][campaign]") {
@@ -50,4 +51,21 @@ TEST_CASE("a campaign is reproducible from its seed whatever the number of worke
     // The attempts differ from each other: each flew its own draw.
   }
   CHECK(one[0].plant.mocap.latency_s != one[1].plant.mocap.latency_s);
+}
+
+TEST_CASE("the summary counts the catches, the failures by cause, crashes and switches on the innovations",
+          "[hil][campaign]") {
+  using hil::trials::AttemptResult;
+  std::vector<AttemptResult> results(4);
+  for (AttemptResult& r : results) r.outcome = gs::adaptation::ThrowOutcome::caught;
+  results[1].outcome = gs::adaptation::ThrowOutcome::dropped;
+  results[1].vehicle_crashed = true;
+  results[2].innovation_switches = 3;
+  results[3].innovation_switches = 7;
+  const std::string summary = hil::trials::campaign_summary(results);
+  INFO(summary);
+  CHECK(summary.rfind("campaign: 3 of 4 attempts caught", 0) == 0);
+  CHECK(summary.find("     1  dropped\n") != std::string::npos);
+  CHECK(summary.find("vehicles crashed in 1 attempts\n") != std::string::npos);
+  CHECK(summary.find("pole mode switches on the innovations: 10 (2.50 an attempt)\n") != std::string::npos);
 }

@@ -35,6 +35,7 @@ AttemptResult distinct_result() {
   r.predicted_target_miss_m = 0.0123;
   r.target_miss_m = 0.0456;
   r.thrower = 2;
+  r.innovation_switches = 11;
   return r;
 }
 
@@ -55,6 +56,7 @@ void check_same(const AttemptResult& a, const AttemptResult& b) {
   CHECK(a.predicted_target_miss_m == b.predicted_target_miss_m);
   CHECK(a.target_miss_m == b.target_miss_m);
   CHECK(a.thrower == b.thrower);
+  CHECK(a.innovation_switches == b.innovation_switches);
 }
 
 hil::trials::CutResult distinct_cut() {
@@ -132,7 +134,7 @@ TEST_CASE("a worker's report carries every field of an attempt's result exactly"
   const std::vector<std::string> mine = hil::trials::split(hil::trials::encode_result(r), '\t');
   REQUIRE(defaults.size() == schema.size());
   REQUIRE(mine.size() == schema.size());
-  CHECK(schema.size() == 16);  // a field added to AttemptResult belongs in its schema
+  CHECK(schema.size() == 17);  // a field added to AttemptResult belongs in its schema
   for (std::size_t i = 0; i < schema.size(); ++i) {
     INFO(schema[i].name);
     CHECK(mine[i] != defaults[i]);
@@ -189,14 +191,16 @@ TEST_CASE("the CSV files keep their columns and formats", "[hil][trials]") {
   a.seed = 1000004;
   const auto columns = hil::trials::campaign_throws_columns(a.plant);
   const std::string header = hil::trials::csv_header(columns);
-  CHECK(header.rfind("throw,outcome,flight_s,catch_height_m,catch_x_m,catch_y_m,travel_m,energy_error_J,"
-                     "abort_reason,vehicle_crashed,planned_height_m,optimal_height_m,thrower,seed,",
-                     0) == 0);
+  CHECK(
+      header.rfind(
+          "throw,outcome,flight_s,catch_height_m,catch_x_m,catch_y_m,travel_m,energy_error_J,"
+          "abort_reason,vehicle_crashed,planned_height_m,optimal_height_m,thrower,innovation_switches,seed,",
+          0) == 0);
   CHECK(
       hil::trials::csv_row(columns, a)
           .rfind(
               "7,aborted_out_of_reach,1.0123,2.0123,3.6000,-0.0100,0.0700,-0.00312,out_of_reach,1,1.9877,2.1235,2,"
-              "1000004,",
+              "11,1000004,",
               0) == 0);
 
   const hil::trials::CutResult cut = distinct_cut();
