@@ -482,7 +482,8 @@ void StateEstimator::update_pole(const PoleMeasurement& m) {
   // A pole pressed firmly onto its plate is not free (StateEstimatorConfig::pressed_min_mps2).
   if (const int j = slot_of_mode(active); j >= 0 && vehicles_[j].initialised()) {
     const NormalForceEstimate f = on_[j].normal_force(plates[j]);
-    if (f.value_mps2 > std::max(config_.pressed_min_mps2, config_.pressed_sigmas * f.sigma_mps2))
+    if (throwing_[j] ||
+        f.value_mps2 > std::max(config_.pressed_min_mps2, config_.pressed_sigmas * f.sigma_mps2))
       ll[mode_index(PoleMode::free)].reset();
   }
   if (active == PoleMode::free && launched_from_ >= 0 && t_s_ - launch_t_s_ < config_.launch_hold_off_s) {

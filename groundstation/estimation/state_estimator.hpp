@@ -172,6 +172,13 @@ class StateEstimator {
   void set_command(pa::VehicleId vehicle, double t_s, const model::VehicleInput& input);
   // An impact the vehicle's firmware reported, at t_s on the estimator's clock.
   void report_impact(pa::VehicleId vehicle, double t_s);
+  // Whether `vehicle` is throwing (the runtime's task `throwing`): the pole it holds is pushed
+  // on and leaves by its normal force (the launch), not by the innovations. The pressed guard
+  // (pressed_min_mps2) let a switch through where a slow thrower's last 50 ms pressed less, and
+  // the free filter then ran on a pole still pushed: the catch was missed (docs/architecture.md).
+  void set_throwing(pa::VehicleId vehicle, bool throwing) {
+    if (pa::is_act_vehicle(vehicle)) throwing_[pa::act_slot(vehicle)] = throwing;
+  }
   // How far the pole filter on `vehicle` trusts the motion capture (PoleTrust).
   void set_pole_measurement_sigma(pa::VehicleId vehicle, double position_m, double direction_rad);
   // Processes a frame; frames older than the estimator's time are counted and ignored.
@@ -259,6 +266,7 @@ class StateEstimator {
   std::array<VehicleObserver, 2> vehicles_;
   std::array<CommandQueue, 2> commands_;
   std::array<double, 2> impact_report_t_s_;
+  std::array<bool, 2> throwing_{};
   bool pole_seen_ = false;
   PoleFreeFlightEkf free_;
   double free_behind_s_ = 0.0;  // the free-flight candidate's propagation owed (step_pole)

@@ -213,6 +213,7 @@ void GroundStation::fly(ActVehicle& v, double now_s, double dt_s) {
 void GroundStation::on_mocap(const estimation::MocapFrame& frame, double now_s) {
   const double dt_s = frame_interval_s(last_mocap_s_, now_s, config_.frame_interval);
   last_mocap_s_ = now_s;
+  for (const ActVehicle& v : vehicles_) estimator_.set_throwing(v.id, v.sequencer.task() == Task::throwing);
   estimator_.update(frame);
   for (ActVehicle& v : vehicles_) {
     const std::optional<estimation::MocapPose>& pose = frame.vehicle[pa::act_slot(v.id)];
