@@ -113,7 +113,7 @@ class PoleOnVehicleEkf {
   // NIS and log-likelihood stay on params().mocap_*: the mode selector weighs each mode's
   // filter against the same motion capture, and a filter judged on its own larger sigma gained
   // its log-determinant's 5.5 nats a frame at 3 mm (the free-flight candidate, judged on 1 mm,
-  // won the switch every few frames on the envelope's slow-motored corner: 140 times an
+  // won the switch every few frames on the envelope's slow-motored corner: 139 times an
   // attempt).
   void set_measurement_sigma(double position_m, double direction_rad) {
     gain_position_sigma_m_ = position_m;

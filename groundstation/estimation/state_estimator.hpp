@@ -21,7 +21,9 @@
 //     switches at once when the measured pole's lower end is at that plate, and otherwise
 //     favours that mode in the CUSUM selection (mode_selector.hpp) for impact_report_window_s
 //     (the CUSUM rests for switch_hold_off_s after any switch, and does not weigh the plate the
-//     pole was launched from for launch_hold_off_s after the launch); a pose no filter explains is
+//     pole was launched from for launch_hold_off_s after the launch, nor free flight for a pole
+//     pressed onto its plate or on a throwing vehicle); each filter is judged on the motion
+//     capture's noise, whatever its gain trusts; a pose no filter explains is
 //     rejected as a glitch (re-initialising after several in a row); then all evaluated filters
 //     are corrected and the candidates not accumulating evidence are re-seeded from the chosen
 //     estimate (pole_mode_conversion.hpp).
