@@ -71,6 +71,18 @@ PoleInnovation pole_innovation(const LinearisedPoleMeasurement<N>& m, const Eige
   return make_pole_innovation(m.nu, congruence(m.h, p) + m.r);
 }
 
+// The same with the NIS and log-likelihood judged on H P H^T + judged_r (the motion capture's
+// own noise) while s, which the gain uses, keeps the filter's m.r: a filter that trusts the poses
+// less is weighed by the mode selector as any other (pole_on_vehicle_ekf.hpp).
+template <int N>
+PoleInnovation pole_innovation(const LinearisedPoleMeasurement<N>& m, const Eigen::Matrix<double, N, N>& p,
+                               const PoleMeasurementMatrix& judged_r) {
+  const PoleMeasurementMatrix hph = congruence(m.h, p);
+  PoleInnovation inn = make_pole_innovation(m.nu, hph + judged_r);
+  inn.s = hph + m.r;
+  return inn;
+}
+
 // The Kalman correction for a valid innovation `inn` of `m`: returns the state step K nu and
 // updates P in the Joseph form (kept symmetric), which stays positive definite when K is off.
 // (I - K H) P (I - K H)^T is formed as A - (A H^T) K^T with A = P - K (P H^T)^T (P symmetric):

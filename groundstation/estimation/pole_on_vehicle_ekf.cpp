@@ -144,23 +144,11 @@ LinearisedPoleMeasurement<PoleOnVehicleEkf::kSize> PoleOnVehicleEkf::linearise(
 PoleInnovation PoleOnVehicleEkf::innovation(const PoleMeasurement& measurement,
                                             const PlateKinematics& plate) const {
   if (!valid_) return {};
-  const LinearisedPoleMeasurement<kSize> m = linearise(measurement, plate);
-  PoleInnovation inn = pole_innovation(m, p_);
-  if (gain_position_sigma_m_ == params_.mocap_position_sigma_m &&
-      gain_direction_sigma_rad_ == params_.mocap_direction_sigma_rad) {
-    return inn;
-  }
-  // The gain's S stays (the update uses it); the evidence is judged on the motion capture's
-  // noise (set_measurement_sigma).
-  const PoleMeasurementMatrix judged =
-      inn.s - m.r +
+  // Judged on the motion capture's noise whatever the gain trusts (set_measurement_sigma).
+  return pole_innovation(
+      linearise(measurement, plate), p_,
       pole_measurement_noise(params_.mocap_position_sigma_m, params_.mocap_direction_sigma_rad,
-                             plate.position_variance_m2);
-  const PoleInnovation evidence = make_pole_innovation(inn.nu, judged);
-  inn.valid = inn.valid && evidence.valid;
-  inn.nis = evidence.nis;
-  inn.log_likelihood = evidence.log_likelihood;
-  return inn;
+                             plate.position_variance_m2));
 }
 
 PoleInnovation PoleOnVehicleEkf::update(const PoleMeasurement& measurement, const PlateKinematics& plate) {

@@ -113,6 +113,13 @@ int unmatched_switches(const ThrowRun& r, double launch_frames = 2.0) {
   return n;
 }
 
+// The switches for `reason` in the estimator's log (its last kSwitchLogCapacity).
+int logged_switches(const StateEstimator& est, gs::estimation::SwitchReason reason) {
+  int n = 0;
+  for (const gs::estimation::ModeSwitch& s : est.recent_switches()) n += s.reason == reason ? 1 : 0;
+  return n;
+}
+
 double catch_error(const StateEstimator& est, const Recording& rec, double* dt_out = nullptr) {
   const gs::estimation::PoleEstimate e = est.pole();
   const gs::planning::CatchPointPrediction p =
@@ -223,9 +230,7 @@ TEST_CASE("a pole filter that trusts the poses less is judged as any other: no s
   est.set_pole_measurement_sigma(pa::kVehicle1, 3e-3, 3e-3);
   run(rec, est);
   using gs::estimation::SwitchReason;
-  int logged = 0;
-  for (const gs::estimation::ModeSwitch& s : est.recent_switches())
-    logged += s.reason == SwitchReason::innovation ? 1 : 0;
+  const int logged = logged_switches(est, SwitchReason::innovation);
   const std::uint64_t counted = est.switch_count(SwitchReason::innovation);
   std::printf("balanced hover, 5 s, the pole filter at 3 mm: %llu switches on the innovations\n",
               static_cast<unsigned long long>(counted));
@@ -269,9 +274,7 @@ TEST_CASE("the pole's half length is learnt while it is balanced, and used by th
               switches_after(learning, 0.0), switches_after(learning, 1.0), switches_after(fixed, 0.0));
   CHECK(switches_after(learning, 0.0) == 0);
   // The count by reason is the log's (41 switches fit its 64 entries).
-  int logged = 0;
-  for (const gs::estimation::ModeSwitch& s : fixed.recent_switches())
-    logged += s.reason == gs::estimation::SwitchReason::innovation ? 1 : 0;
+  const int logged = logged_switches(fixed, gs::estimation::SwitchReason::innovation);
   CHECK(logged > 10);
   CHECK(fixed.switch_count(gs::estimation::SwitchReason::innovation) == static_cast<std::uint64_t>(logged));
   CHECK(fixed.pole_model().half_length_m == pa::kPoleHalfLength_m);
