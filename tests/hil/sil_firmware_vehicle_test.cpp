@@ -498,7 +498,10 @@ TEST_CASE("SIL: a body-rate step is tracked by the true vehicle as the rate loop
                       double(fwc.airframe.motor_time_constant_s), 0.001, 0.3, 0.5);
 
   // Pitch at 1 rad/s for 0.3 s, then 0. Each frame goes out between the 200 Hz frames, so the
-  // firmware reads it on the next tick: the end of that tick is the step's t = 0.
+  // firmware reads it on the next tick: the end of that tick is the step's t = 0. The link guard
+  // checks one ground frame at a time, so the step waits until it has checked the stream's; the
+  // stop, 300 ticks later, meets the same phase of the 20-tick pattern of ground frames.
+  while (ground.vehicle().firmware().guard().queued() > 0) ground.tick();
   ground.rate_radps = {0.0f, 1.0f, 0.0f};
   ground.send_setpoint();
   ground.tick();

@@ -153,8 +153,20 @@ TickOutput Vehicle::tick(const ImuSample& imu) {
   const bool killed_this_tick = link_.take_kill(kill_reason);
   if (killed_this_tick) supervisor_.kill(now_us);
 
-  Command command{};
-  while (link_.take_command(command)) handle_command(command, now_us, killed_this_tick);
+  // A command waits for a tick that sends no telemetry (two or more of every ten, so at most
+  // 7 ms), one a tick: its acknowledgement and the mode change it may bring are the heaviest work
+  // on the ground and in a landing, and with a telemetry frame on top the ARM's and the LAND's
+  // ticks went over the tick's budget. (The guard passes at most one frame in three ticks, so the
+  // queue drains.) A KILL supersedes the commands still waiting, as it does the frames queued
+  // before it in the guard: they came before it, and are refused.
+  if (link_.command_waiting()) {
+    Command command{};
+    if (killed_this_tick) {
+      while (link_.take_command(command)) acknowledge(command, AckResult::refused, RefuseReason::killed);
+    } else if (!telemetry_due() && link_.take_command(command)) {
+      handle_command(command, now_us);
+    }
+  }
 
   TimesyncRequest request{};
   std::uint32_t received_us = 0;
@@ -171,15 +183,9 @@ TickOutput Vehicle::tick(const ImuSample& imu) {
   link_.set_session_rebind(supervisor_.may_follow_new_session());
 }
 
-void Vehicle::handle_command(const Command& command, std::uint32_t now_us, bool killed_this_tick) {
+void Vehicle::handle_command(const Command& command, std::uint32_t now_us) {
   if (!link_.has_session() || command.session_token != link_.session_token()) {
     acknowledge(command, AckResult::refused, RefuseReason::bad_session_token);
-    return;
-  }
-  // The KILL latch does not keep the order of arrival: within one tick an ARM may have come after
-  // the KILL, after a DISARM that cleared it. KILL wins: the motors stay off at least this tick.
-  if (killed_this_tick && command.code == CommandCode::arm) {
-    acknowledge(command, AckResult::refused, RefuseReason::killed);
     return;
   }
   switch (command.code) {
@@ -191,9 +197,9 @@ void Vehicle::handle_command(const Command& command, std::uint32_t now_us, bool 
         acknowledge(command, AckResult::refused, RefuseReason::bad_argument);
         return;
       }
-      const Mode before = supervisor_.mode();
+      // (An ARM needs no reset of the rate loop here: armed, the vehicle idles on the floor, whose
+      // ticks reset it until lift-off.)
       const CommandResult r = supervisor_.handle_command(command.code, inputs_);
-      if (r.accepted && command.code == CommandCode::arm && before != Mode::armed) rate_controller_.reset();
       if (r.accepted && land) {
         // The descent starts from the vertical speed motion capture measures, not from the one
         // integrated in flight: that one drifts with the accelerometer's bias over minutes, and
@@ -402,15 +408,17 @@ void Vehicle::track_flight(std::uint32_t) {
 // makes the heaviest ticks) a tick that will also send telemetry leaves its step to the next.
 [[gnu::always_inline]] inline void Vehicle::check_ground_frame(std::uint32_t) {
   const Action action = supervisor_.action();
-  if (action == Action::level_hover || action == Action::descend) {
-    bool telemetry_due = false;
-    for (std::size_t i = 0; i < kTelemetryTasks; ++i)
-      telemetry_due = telemetry_due || tasks_[i].countdown_ticks == 1;
-    if (telemetry_due) return;
-  }
+  if ((action == Action::level_hover || action == Action::descend) && telemetry_due()) return;
   Message verified;
   std::uint32_t received_us = 0;
   if (guard_.verify_next(verified, received_us)) link_.on_message(verified, received_us);
+}
+
+// Whether this tick's periodic tasks will send a telemetry frame.
+[[gnu::always_inline]] inline bool Vehicle::telemetry_due() const {
+  bool due = false;
+  for (std::size_t i = 0; i < kTelemetryTasks; ++i) due = due || tasks_[i].countdown_ticks == 1;
+  return due;
 }
 
 void Vehicle::note_tick_time_us(std::uint32_t us) {

@@ -4,7 +4,7 @@
 # with the plant: the take-off, one throw caught by vehicle 2 (no trial throw), then the pole
 # taken down and both vehicles landed. Checks from what hil fly writes and prints: throws.csv's
 # one attempt caught, no vehicle crashed, both landed, and every tick's guest instructions
-# reported (HIL_TICK_COST) for both vehicles.
+# reported (HIL_TICK_COST) for both vehicles, no phase's worst tick over the budget hil prints.
 # Usage: pil_flies_one_attempt.sh QEMU IMAGE ICOUNT_SHIFT HIL WORKDIR
 set -euo pipefail
 if [ $# -ne 5 ]; then
@@ -42,6 +42,9 @@ else
 fi
 grep -q "no vehicle crashed: yes" "$work/fly.txt" || problems+=("a vehicle crashed")
 grep -q "both vehicles landed after the last attempt: yes" "$work/fly.txt" || problems+=("the vehicles did not both land")
+if grep -q "over budget" "$work/fly.txt"; then
+  problems+=("a phase's worst tick went over the budget ($(grep -m1 -o 'budget [0-9]*' "$work/fly.txt"))")
+fi
 for v in 1 2; do
   grep -Eq "pil vehicle $v: [1-9][0-9]* ticks, guest instructions per tick mean [1-9]" "$work/fly.txt" ||
     problems+=("no guest instruction counts for vehicle $v")

@@ -57,6 +57,7 @@ class CommandLink {
     return true;
   }
   bool take_command(pa::proto::Command& out) { return commands_.pop(out); }
+  bool command_waiting() const { return !commands_.empty(); }
   bool take_timesync(pa::proto::TimesyncRequest& request, std::uint32_t& received_us) {
     if (!timesync_pending_) return false;
     timesync_pending_ = false;

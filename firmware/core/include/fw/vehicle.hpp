@@ -92,9 +92,9 @@ class Vehicle {
   void choose_setpoint(float dt_s, Vec3f& rate_radps, float& thrust_mps2);
   TickOutput control_and_mix(float dt_s, const Vec3f& rate_radps, float thrust_mps2);
   void run_periodic_tasks(std::uint32_t now_us);
+  bool telemetry_due() const;  // whether this tick's periodic tasks send a frame
 
-  // `killed_this_tick`: a KILL was taken in this tick (ARM is refused then).
-  void handle_command(const pa::proto::Command& command, std::uint32_t now_us, bool killed_this_tick);
+  void handle_command(const pa::proto::Command& command, std::uint32_t now_us);
   void acknowledge(const pa::proto::Command& command, pa::proto::AckResult result,
                    pa::proto::RefuseReason reason);
   void update_inputs(std::uint32_t now_us);  // inputs_ for this tick, crash false
