@@ -38,6 +38,7 @@ struct Bench {
   fw::Vec3f accel_bias_mps2{};  // what the accelerometer reads more than the specific force
 
   Bench() : vehicle(config) { signer.start_session(kNonce, 0); }
+  explicit Bench(const fw::VehicleConfig& c) : config(c), vehicle(config) { signer.start_session(kNonce, 0); }
 
   // As the ground sends it: the frame, then its AUTH. The vehicle checks it over its next ticks.
   template <class M>
@@ -235,6 +236,24 @@ TEST_CASE("a command waits for a tick that sends no telemetry, at most 7 ms") {
   }
   CHECK(waited > 0);  // some offsets met a telemetry tick
   CHECK(longest <= 7);
+
+  // Periods that leave no tick without telemetry: the command is acted on all the same, within
+  // the wait's bound.
+  fw::VehicleConfig every_tick = keyed_config();
+  every_tick.link.telemetry_rates_period_us = 1000;
+  Bench b(every_tick);
+  b.settle(50);
+  b.queue(Command{CommandCode::arm, b.cmd_seq++, kToken, 0});
+  while (b.vehicle.guard().queued() > 0) b.tick(false);
+  int ticks = 0;
+  while (b.vehicle.link().command_waiting() && ticks < 20) {
+    b.tick(false);
+    ++ticks;
+  }
+  CHECK(ticks <= 10);
+  REQUIRE(b.last_ack() != nullptr);
+  CHECK(b.last_ack()->result == AckResult::accepted);
+  CHECK(b.vehicle.mode() == Mode::armed);
 }
 
 TEST_CASE("a KILL supersedes the commands still waiting for their tick: refused, the KILL latched") {

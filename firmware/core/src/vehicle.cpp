@@ -153,17 +153,21 @@ TickOutput Vehicle::tick(const ImuSample& imu) {
   const bool killed_this_tick = link_.take_kill(kill_reason);
   if (killed_this_tick) supervisor_.kill(now_us);
 
-  // A command waits for a tick that sends no telemetry (two or more of every ten, so at most
-  // 7 ms), one a tick: its acknowledgement and the mode change it may bring are the heaviest work
-  // on the ground and in a landing, and with a telemetry frame on top the ARM's and the LAND's
-  // ticks went over the tick's budget. (The guard passes at most one frame in three ticks, so the
-  // queue drains.) A KILL supersedes the commands still waiting, as it does the frames queued
-  // before it in the guard: they came before it, and are refused.
+  // A command waits for a tick that sends no telemetry (two or more of every ten with the default
+  // periods, so at most 7 ms; never more than kCommandWaitMaxTicks whatever the periods), one a
+  // tick: its acknowledgement and the mode change it may bring are the heaviest work on the ground
+  // and in a landing, and with a telemetry frame on top the ARM's and the LAND's ticks went over
+  // the tick's budget. (The guard passes at most one frame in three ticks, so the queue drains.)
+  // A KILL supersedes the commands still waiting, as it does the frames queued before it in the
+  // guard: they came before it, and are refused.
   if (link_.command_waiting()) {
     Command command{};
     if (killed_this_tick) {
       while (link_.take_command(command)) acknowledge(command, AckResult::refused, RefuseReason::killed);
-    } else if (!telemetry_due() && link_.take_command(command)) {
+      command_waited_ticks_ = 0;
+    } else if ((!telemetry_due() || ++command_waited_ticks_ >= kCommandWaitMaxTicks) &&
+               link_.take_command(command)) {
+      command_waited_ticks_ = 0;
       handle_command(command, now_us);
     }
   }

@@ -123,6 +123,10 @@ class Vehicle {
   static constexpr std::size_t kTelemetryTasks = 6;  // the first six send frames
   std::array<PeriodicTask, kTelemetryTasks + 1> tasks_;
 
+  // The longest a command waits for a tick without telemetry (handle_link).
+  static constexpr std::uint32_t kCommandWaitMaxTicks = 10;
+  std::uint32_t command_waited_ticks_ = 0;
+
   bool started_ = false;
   std::uint32_t last_imu_us_ = 0;
   std::uint32_t ticks_ = 0;
