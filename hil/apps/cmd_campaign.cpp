@@ -167,7 +167,8 @@ int cmd_campaign(int argc, char** argv) {
   std::uint64_t replay_attempt = 0;
   app.add_option("--replay", replay_attempt,
                  "fly attempt K alone, its mission log printed; writes DIR/attempt_K.csv")
-      ->type_name("K");
+      ->type_name("K")
+      ->check(pa::cli::count(1, 1000000, "needs an attempt's number 1..1000000"));
   std::string shard_text;
   app.add_option("--shard", shard_text,
                  "fly only shard K of N (its block of the attempts) and write DIR as a shard folder")
