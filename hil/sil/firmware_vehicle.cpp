@@ -115,10 +115,10 @@ void FirmwareVehicle::on_imu(const ImuSample& sample) {
   const std::uint16_t tick = hil_tick(sample);
   std::size_t first_reply = sent_.size();
   if (emulated_.image) {
-    std::vector<Frame> bus;
-    bus.swap(inbox_);
-    for (const Frame& f : hil_imu_frames(sample, node_)) bus.push_back(f);
-    for (const Frame& f : emulated_.image->on_bus(bus)) sent_.push_back(f);
+    // The radio's frames first, then the sample's, as the core's bus has them below.
+    for (const Frame& f : hil_imu_frames(sample, node_)) inbox_.push_back(f);
+    for (const Frame& f : emulated_.image->on_bus(inbox_)) sent_.push_back(f);
+    inbox_.clear();
   } else {
     const auto collect = [this](const Frame& f) { sent_.push_back(f); };
     for (const Frame& f : inbox_) node_impl_->on_frame(f, collect);
