@@ -1,5 +1,7 @@
 #include "hil/trials/attempt_result.hpp"
 
+#include "pa/vehicle_id.hpp"
+
 namespace hil::trials {
 
 const Schema<AttemptResult>& attempt_schema() {
@@ -34,6 +36,12 @@ Schema<AttemptResult> fly_throws_columns() {
 
 std::string encode_result(const AttemptResult& r) { return encode(attempt_schema(), r); }
 
-bool decode_result(const std::string& line, AttemptResult& r) { return decode(attempt_schema(), line, r); }
+// A line that decodes but that no attempt could have written (a thrower outside the act, a
+// negative count: a shard's file damaged or edited) is refused as one that does not decode.
+bool decode_result(const std::string& line, AttemptResult& r) {
+  return decode(attempt_schema(), line, r) &&
+         (r.thrower == pa::kVehicle1.node() || r.thrower == pa::kVehicle2.node()) &&
+         r.innovation_switches >= 0;
+}
 
 }  // namespace hil::trials

@@ -44,7 +44,8 @@ const Schema<AttemptResult>& attempt_schema();
 Schema<AttemptResult> fly_throws_columns();
 
 // One attempt's result as one line and back (the workers' reports; tab-separated, no newline,
-// every field of attempt_schema()).
+// every field of attempt_schema()). decode_result() is false for a line that does not decode or
+// holds a result no attempt gives (a thrower outside the act, negative switches).
 std::string encode_result(const AttemptResult& r);
 bool decode_result(const std::string& line, AttemptResult& r);
 

@@ -157,6 +157,20 @@ TEST_CASE("an attempt's report with an empty last field or unreadable fields", "
   line = hil::trials::encode_result(r);
   line.replace(line.find("\taborted_out_of_reach\t"), 22, "\tpractice\t");  // no outcome's name
   CHECK_FALSE(hil::trials::decode_result(line, back));
+  // Fields that decode but hold what no attempt gives: a thrower outside the act, negative switches
+  // (the schema's last two fields).
+  const auto with_last_two = [&](const std::string& thrower, const std::string& switches) {
+    std::vector<std::string> fields = hil::trials::split(hil::trials::encode_result(r), '\t');
+    fields[fields.size() - 2] = thrower;
+    fields.back() = switches;
+    std::string joined = fields.front();
+    for (std::size_t i = 1; i < fields.size(); ++i) joined += "\t" + fields[i];
+    return joined;
+  };
+  CHECK(hil::trials::decode_result(with_last_two("1", "0"), back));
+  CHECK_FALSE(hil::trials::decode_result(with_last_two("7", "0"), back));
+  CHECK_FALSE(hil::trials::decode_result(with_last_two("0", "0"), back));
+  CHECK_FALSE(hil::trials::decode_result(with_last_two("2", "-5"), back));
 }
 
 TEST_CASE("a worker's cut report carries every field of its cuts exactly", "[hil][trials][cuts]") {
