@@ -4,6 +4,7 @@
 // report that does not read is refused, and the CSV files keep their columns and formats.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -157,20 +158,26 @@ TEST_CASE("an attempt's report with an empty last field or unreadable fields", "
   line = hil::trials::encode_result(r);
   line.replace(line.find("\taborted_out_of_reach\t"), 22, "\tpractice\t");  // no outcome's name
   CHECK_FALSE(hil::trials::decode_result(line, back));
-  // Fields that decode but hold what no attempt gives: a thrower outside the act, negative switches
-  // (the schema's last two fields).
-  const auto with_last_two = [&](const std::string& thrower, const std::string& switches) {
+  // Fields that decode but hold what no attempt gives: a thrower outside the act, negative switches.
+  const auto& schema = hil::trials::attempt_schema();
+  const auto index_of = [&](const std::string& name) {
+    const auto it = std::find_if(schema.begin(), schema.end(), [&](const auto& f) { return f.name == name; });
+    REQUIRE(it != schema.end());
+    return static_cast<std::size_t>(it - schema.begin());
+  };
+  const std::size_t thrower = index_of("thrower"), switches = index_of("innovation_switches");
+  const auto with = [&](const std::string& thrower_text, const std::string& switches_text) {
     std::vector<std::string> fields = hil::trials::split(hil::trials::encode_result(r), '\t');
-    fields[fields.size() - 2] = thrower;
-    fields.back() = switches;
+    fields[thrower] = thrower_text;
+    fields[switches] = switches_text;
     std::string joined = fields.front();
     for (std::size_t i = 1; i < fields.size(); ++i) joined += "\t" + fields[i];
     return joined;
   };
-  CHECK(hil::trials::decode_result(with_last_two("1", "0"), back));
-  CHECK_FALSE(hil::trials::decode_result(with_last_two("7", "0"), back));
-  CHECK_FALSE(hil::trials::decode_result(with_last_two("0", "0"), back));
-  CHECK_FALSE(hil::trials::decode_result(with_last_two("2", "-5"), back));
+  CHECK(hil::trials::decode_result(with("1", "0"), back));
+  CHECK_FALSE(hil::trials::decode_result(with("7", "0"), back));
+  CHECK_FALSE(hil::trials::decode_result(with("0", "0"), back));
+  CHECK_FALSE(hil::trials::decode_result(with("2", "-5"), back));
 }
 
 TEST_CASE("a worker's cut report carries every field of its cuts exactly", "[hil][trials][cuts]") {
