@@ -24,3 +24,17 @@ function(pa_run_qemu machine timeout_s status_var output_var)
   set(${status_var} "${status}" PARENT_SCOPE)
   set(${output_var} "${output}" PARENT_SCOPE)
 endfunction()
+
+# Sets <var> to the whole number the image printed in <output_var> on a line `<name>: N`; fails,
+# naming the script, when there is no such line or its value is not a whole number.
+function(pa_qemu_printed_number output_var name var)
+  get_filename_component(script "${CMAKE_SCRIPT_MODE_FILE}" NAME)
+  if(NOT "${${output_var}}" MATCHES "(^|\n)${name}: ([^\r\n]*)")
+    message(FATAL_ERROR "${script}: the image printed no '${name}: N' line")
+  endif()
+  set(value "${CMAKE_MATCH_2}")
+  if(NOT value MATCHES "^[0-9]+$")
+    message(FATAL_ERROR "${script}: '${name}: ${value}' is not a whole number")
+  endif()
+  set(${var} "${value}" PARENT_SCOPE)
+endfunction()

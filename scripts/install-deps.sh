@@ -17,6 +17,8 @@ packages=(
   clang libclang-rt-14-dev
   gcc-arm-none-eabi binutils-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib
   qemu-system-arm
+  # scripts/tick-profile.sh: gdb for the Arm image, single-stepping one tick in QEMU
+  gdb-multiarch
   # HIL on virtual CAN in a QEMU guest when this kernel has no CAN sockets (scripts/hil-vm.sh):
   # Debian's kernel and its CAN modules, a static busybox for the initramfs, candump
   qemu-system-x86 linux-image-amd64 busybox-static can-utils

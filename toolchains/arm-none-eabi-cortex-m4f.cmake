@@ -17,10 +17,12 @@ set(CMAKE_NM arm-none-eabi-nm CACHE FILEPATH "")
 set(CMAKE_TRY_COMPILE_TARGET_TYPE STATIC_LIBRARY)
 
 set(PA_MCU_FLAGS "-mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard")
-# No heap, no exceptions, no RTTI, no static-init guards or atexit registration.
-set(CMAKE_C_FLAGS_INIT "${PA_MCU_FLAGS} -ffunction-sections -fdata-sections")
+# No heap, no exceptions, no RTTI, no static-init guards or atexit registration. Debug information
+# (-g) stays in the ELF: the code is the same without it (the flashed binaries compare equal), and
+# gdb and scripts/tick-profile.sh name the inlined steps of a tick with it.
+set(CMAKE_C_FLAGS_INIT "${PA_MCU_FLAGS} -g -ffunction-sections -fdata-sections")
 set(CMAKE_CXX_FLAGS_INIT
-    "${PA_MCU_FLAGS} -ffunction-sections -fdata-sections -fno-exceptions -fno-rtti -fno-threadsafe-statics -fno-use-cxa-atexit")
+    "${PA_MCU_FLAGS} -g -ffunction-sections -fdata-sections -fno-exceptions -fno-rtti -fno-threadsafe-statics -fno-use-cxa-atexit")
 set(CMAKE_ASM_FLAGS_INIT "${PA_MCU_FLAGS}")
 set(CMAKE_EXE_LINKER_FLAGS_INIT "${PA_MCU_FLAGS} -nostartfiles -Wl,--gc-sections --specs=nano.specs")
 

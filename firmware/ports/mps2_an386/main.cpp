@@ -28,19 +28,24 @@ class InstructionProbe final : public fw::selftest::TickProbe {
   void before_tick() override { start_ = InstructionCounter::counts(); }
   void after_tick() override {
     const std::uint64_t elapsed = InstructionCounter::counts() - start_;
-    if (elapsed > max_counts_) max_counts_ = elapsed;
+    if (elapsed > max_counts_) {
+      max_counts_ = elapsed;
+      max_tick_ = ticks_;
+    }
     total_counts_ += elapsed;
     ++ticks_;
   }
 
   std::uint64_t max_counts() const { return max_counts_; }
   std::uint64_t mean_counts() const { return ticks_ == 0 ? 0 : total_counts_ / ticks_; }
+  std::uint32_t max_tick() const { return max_tick_; }  // the worst tick's number, from 0
 
  private:
   std::uint64_t start_ = 0;
   std::uint64_t max_counts_ = 0;
   std::uint64_t total_counts_ = 0;
   std::uint32_t ticks_ = 0;
+  std::uint32_t max_tick_ = 0;
 };
 
 // The probe's own cost: an empty bracket through the same virtual calls the self-test makes
@@ -226,6 +231,7 @@ int main() {
       .text("tick_instructions_max: ")
       .fixed(net_instructions(probe.max_counts(), overhead), 0)
       .emit();
+  ConsoleLine().text("tick_instructions_max_at_tick: ").u32(probe.max_tick()).emit();
   // The flight image's tick: the worst core tick plus its drivers' pure work per sample.
   const float drivers = instructions_beyond_empty_call(flight_drivers::step);
   print_figure("flight_driver_instructions", drivers, 0);
