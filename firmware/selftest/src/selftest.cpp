@@ -23,13 +23,13 @@ constexpr pa::auth::Key kLinkKey{0x53, 0x45, 0x4C, 0x46, 0x54, 0x45, 0x53, 0x54,
 constexpr std::uint32_t kNonce = 0x5E1F7E57u;
 
 // The script, in ticks (ms).
-constexpr std::uint32_t kArmAt = 200;
+constexpr std::uint32_t kArmAt = 202;    // handled at 208, in the tick that finishes its check
 constexpr std::uint32_t kClimbAt = 300;  // up to 1 m
 constexpr std::uint32_t kHoverAt = 1700;
 constexpr std::uint32_t kManoeuvreAt = 2500;  // roll and pitch rate sines
 constexpr std::uint32_t kManoeuvreEnd = 3500;
 constexpr std::uint32_t kExpectCatchAt = 3800;
-constexpr std::uint32_t kImpactAt = 4200;  // the pole lands on the plate
+constexpr std::uint32_t kImpactAt = 4207;  // the pole lands on the plate (detected at 4209)
 constexpr std::uint32_t kImpactPulse = 8;  // half-sine contact, ms
 constexpr float kImpactPeak_N = 23.6f;     // 0.03 kg at 4 m/s stopped in 8 ms
 constexpr std::uint32_t kHandledAt = 4300;
@@ -37,7 +37,12 @@ constexpr std::uint32_t kTiltAt = 4800;      // a small roll so the failsafe has
 constexpr std::uint32_t kLinkLossAt = 5000;  // setpoints repeat an old sequence from here
 constexpr std::uint32_t kEnd = 9500;
 
-constexpr std::uint32_t kSetpointPeriod = 5;    // 200 Hz
+constexpr std::uint32_t kSetpointPeriod = 5;  // 200 Hz
+// The setpoints' phase: each is checked by the link guard over the three ticks after it, so the
+// impact's detection falls in a tick that finishes a check and is due to send TELEMETRY_RATES,
+// the heaviest frame: the worst tick the budget must hold. scripts/tick-profile.sh shows what a
+// tick carries (docs/hil.md), should a change move these coincidences.
+constexpr std::uint32_t kSetpointPhase = 2;
 constexpr std::uint32_t kHeartbeatPeriod = 20;  // 50 Hz
 // The battery as the flight image reads it, between ticks at 100 Hz: at the reference voltage,
 // where the synthetic motors make the thrust they are commanded (the compensation's factor is
@@ -138,7 +143,8 @@ Result run(TickProbe* probe) {
     Vec3f rate{};
     float thrust = 0;
     script_setpoint(tick, plant, rate, thrust);
-    if (tick % kSetpointPeriod == 0) ground.setpoint(vehicle, tick, rate, thrust, tick < kLinkLossAt);
+    if (tick % kSetpointPeriod == kSetpointPhase)
+      ground.setpoint(vehicle, tick, rate, thrust, tick < kLinkLossAt);
     if (tick == kArmAt) ground.command(vehicle, tick, CommandCode::arm, 0);
     if (tick == kExpectCatchAt) ground.command(vehicle, tick, CommandCode::expect_catch, 1000);
     if (tick == kHandledAt) ground.command(vehicle, tick, CommandCode::catch_handled, 0);

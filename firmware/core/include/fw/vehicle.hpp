@@ -93,6 +93,7 @@ class Vehicle {
   TickOutput control_and_mix(float dt_s, const Vec3f& rate_radps, float thrust_mps2);
   void run_periodic_tasks(std::uint32_t now_us);
   bool telemetry_due() const;  // whether this tick's periodic tasks send a frame
+  void skip_due_telemetry();   // this tick's periodic frames wait a period
 
   void handle_command(const pa::proto::Command& command, std::uint32_t now_us);
   void acknowledge(const pa::proto::Command& command, pa::proto::AckResult result,
