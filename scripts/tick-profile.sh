@@ -47,8 +47,8 @@ here=$(cd "$(dirname "$0")" && pwd)
 PA_TICK=$tick PA_PORT=$port PA_PCS="$work/pcs" \
   gdb-multiarch -q -batch -x "$here/tick_profile.py" "$image" > "$work/gdb.out" 2>&1 || true
 if [ ! -s "$work/pcs" ]; then
-  echo "tick-profile: gdb could not step tick $tick of $image:" >&2
-  cat "$work/gdb.out" >&2
+  echo "tick-profile: gdb could not step tick $tick of $image; its last words:" >&2
+  tail -n 4 "$work/gdb.out" >&2
   exit 1
 fi
 

@@ -22,11 +22,16 @@ entry.delete()
 # stack no deeper than at the entry (a recursive call would pass the address deeper).
 return_to = int(gdb.parse_and_eval("$lr")) & ~1
 entry_sp = int(gdb.parse_and_eval("$sp"))
+# A tick is a few thousand instructions; one that does not return within a hundred times its
+# budget is reported, not stepped forever.
+LIMIT = 150000
 pcs = []
 while True:
     pc = int(gdb.parse_and_eval("$pc"))
     if pc == return_to and int(gdb.parse_and_eval("$sp")) >= entry_sp:
         break
+    if len(pcs) == LIMIT:
+        raise gdb.GdbError("tick-profile: tick %d did not return within %d instructions" % (tick, LIMIT))
     pcs.append(pc)
     gdb.execute("stepi", to_string=True)
 gdb.execute("kill")
