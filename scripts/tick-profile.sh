@@ -34,7 +34,7 @@ cleanup() {
 }
 trap cleanup EXIT
 
-# A free port for QEMU's gdb stub (the kernel picks it; tests run side by side).
+# A free port for QEMU's gdb server, -gdb (the kernel picks it; tests run side by side).
 port=$(python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
 qemu-system-arm -M mps2-an386 -cpu cortex-m4 -nographic -monitor none -serial none -kernel "$image" \
   -semihosting-config enable=on,target=native -icount shift="$shift_n" \
@@ -56,9 +56,7 @@ python3 - "$image" "$tick" "$work/pcs" <<'EOF'
 import collections, subprocess, sys
 
 image, tick, pcs_file = sys.argv[1], sys.argv[2], sys.argv[3]
-pcs = [line.strip() for line in open(pcs_file) if line.strip()]
-if not pcs:
-    sys.exit("tick-profile: no instruction was recorded")
+pcs = [line.strip() for line in open(pcs_file) if line.strip()]  # not empty: checked above
 # addr2line -a -f -i: for each address its own line, then a function and a place per inlined
 # level, innermost first.
 unique = sorted(set(pcs), key=lambda p: int(p, 16))

@@ -1,4 +1,4 @@
-# Run inside gdb by scripts/tick-profile.sh: connects to QEMU's gdb stub, stops at the call of
+# Run inside gdb by scripts/tick-profile.sh: connects to QEMU's gdb server, stops at the call of
 # fw::Vehicle::tick numbered PA_TICK (from 0), single-steps it until it returns to its caller and
 # writes the address of every instruction it executed, one per line, to PA_PCS (only when it
 # stepped the whole tick).
